@@ -1,0 +1,48 @@
+#include "geometry/segment_checks.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+namespace contactnn::geometry {
+
+bool passes_segment_test(const Vec3& m, const Vec3& next, const Vec3& prev, const Vec3& s) {
+  const Vec3 c1 = next - m;
+  const Vec3 c2 = prev - m;
+  const Vec3 c1xc2 = c1.cross(c2);
+  const double area = c1xc2.norm();
+  if (!(area > 0.0)) return false;
+  const Vec3 unit_normal = c1xc2 / area;                 // Eq 6
+  const Vec3 t = s - m;
+  const Vec3 r = t - t.dot(unit_normal) * unit_normal;  // Eq 5
+  const Vec3 c1xr = c1.cross(r);
+  return c1xr.dot(c1xc2) > 0.0 && c1xr.dot(r.cross(c2)) > 0.0;  // Eqs 3, 4
+}
+
+bool first_node_is_nearest(const std::array<Vec3, 4>& nodes, const Vec3& s) {
+  const double to_a = (s - nodes[0]).squaredNorm();
+  return to_a <= (s - nodes[1]).squaredNorm() && to_a <= (s - nodes[2]).squaredNorm() &&
+         to_a <= (s - nodes[3]).squaredNorm();
+}
+
+std::array<double, 4> interior_angles_degrees(const std::array<Vec3, 4>& nodes) {
+  std::array<double, 4> angles{};
+  for (int i = 0; i < 4; ++i) {
+    const Vec3 to_next = nodes[(i + 1) % 4] - nodes[i];
+    const Vec3 to_prev = nodes[(i + 3) % 4] - nodes[i];
+    // atan2 of |cross| and dot is accurate near 0 and 180 degrees, where acos of the cosine is not.
+    angles[i] = std::atan2(to_next.cross(to_prev).norm(), to_next.dot(to_prev)) * 180.0 / std::numbers::pi;
+  }
+  return angles;
+}
+
+bool is_convex(const std::array<Vec3, 4>& nodes) {
+  const Vec3 reference = (nodes[1] - nodes[0]).cross(nodes[3] - nodes[0]);
+  for (int i = 0; i < 4; ++i) {
+    const Vec3 corner = (nodes[(i + 1) % 4] - nodes[i]).cross(nodes[(i + 3) % 4] - nodes[i]);
+    if (!(corner.dot(reference) > 0.0)) return false;
+  }
+  return true;
+}
+
+}  // namespace contactnn::geometry
