@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 namespace contactnn::geometry {
@@ -43,6 +44,25 @@ bool is_convex(const std::array<Vec3, 4>& nodes) {
     if (!(corner.dot(reference) > 0.0)) return false;
   }
   return true;
+}
+
+}  // namespace contactnn::geometry
+
+namespace contactnn::geometry {
+
+bool is_degenerate_segment(const std::array<Vec3, 4>& nodes) {
+  double longest = 0.0;
+  double shortest = std::numeric_limits<double>::infinity();
+  for (int i = 0; i < 4; ++i) {
+    for (int j = i + 1; j < 4; ++j) {
+      const double distance = (nodes[i] - nodes[j]).norm();
+      longest = std::max(longest, distance);
+      shortest = std::min(shortest, distance);
+    }
+  }
+  if (!(longest > 0.0) || !(shortest > 1e-10 * longest)) return true;
+  const double twice_area = (nodes[2] - nodes[0]).cross(nodes[3] - nodes[1]).norm();
+  return !(0.5 * twice_area > 1e-12 * longest * longest);
 }
 
 }  // namespace contactnn::geometry

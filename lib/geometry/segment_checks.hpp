@@ -25,3 +25,11 @@ namespace contactnn::geometry {
 [[nodiscard]] bool is_convex(const std::array<Vec3, 4>& nodes);
 
 }  // namespace contactnn::geometry
+
+namespace contactnn::geometry {
+
+/// True when the segment cannot carry a projection: two nodes closer than 1e-10 of the longest node
+/// distance (coincident), or the area |AC x BD|/2 below 1e-12 of its square (collinear or collapsed).
+[[nodiscard]] bool is_degenerate_segment(const std::array<Vec3, 4>& nodes);
+
+}  // namespace contactnn::geometry

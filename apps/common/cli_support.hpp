@@ -1,0 +1,49 @@
+// What every contactnn app does the same way: the error boundary, the --config file, the effective config
+// written beside the outputs, and progress lines. CLI11 appears only under apps/.
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <chrono>
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <string>
+
+namespace contactnn::cli {
+
+/// Parses the command line and runs `body` inside the error boundary of every app:
+///  - CLI11 parse errors print CLI11's message and return 2 (0 for --help);
+///  - contactnn::Error prints "error: <message>" and returns its exit code (README "Exit codes");
+///  - any other std::exception prints "error: internal: ..." and returns 1.
+/// Nothing below main exits the process.
+int run(CLI::App& app, int argc, char** argv, const std::function<int()>& body);
+
+/// Adds `--config FILE` reading section [section] of a TOML file; keys in that section that are not
+/// options of the app are an error (CLI11 would ignore them by default). Sections of other apps are skipped.
+void add_config_option(CLI::App& app, const std::string& section);
+
+/// Writes the effective configuration (every option's final value, defaults included) as TOML under
+/// [section] to `<output>.config.toml`, atomically.
+void write_effective_config(const CLI::App& app, const std::string& section, const std::filesystem::path& output);
+
+/// The effective configuration as TOML text (for provenance attributes in output files).
+[[nodiscard]] std::string effective_config(const CLI::App& app, const std::string& section);
+
+/// Adds the exit-code table to the app's --help footer.
+void add_exit_code_footer(CLI::App& app);
+
+/// A one-line progress display on stderr ("\r"-updated), rate and ETA included; silent when `quiet`.
+class Progress {
+ public:
+  Progress(std::string label, bool quiet);
+  void update(std::int64_t done, std::int64_t total);
+  void finish();
+
+ private:
+  std::string label_;
+  bool quiet_;
+  bool printed_ = false;
+  std::chrono::steady_clock::time_point start_;
+};
+
+}  // namespace contactnn::cli

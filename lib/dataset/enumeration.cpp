@@ -1,0 +1,175 @@
+#include "dataset/enumeration.hpp"
+
+#include <omp.h>
+
+#include <atomic>
+#include <chrono>
+#include <cmath>
+
+#include "core/error.hpp"
+#include "dataset/labeller.hpp"
+#include "geometry/segment_checks.hpp"
+
+namespace contactnn::dataset {
+
+using geometry::Configuration;
+using geometry::Vec3;
+
+std::vector<double> grid_values(double limit, int points) {
+  CONTACTNN_REQUIRE(points >= 1, "a grid needs at least 1 point per axis, got " << points);
+  CONTACTNN_REQUIRE(limit > 0.0, "grid limit must be positive, got " << limit);
+  std::vector<double> values(static_cast<std::size_t>(points));
+  // limit (2k + 1 - n) / n: symmetric about 0 to the last bit, and exactly 0 at the middle of an odd grid.
+  for (int k = 0; k < points; ++k) {
+    values[static_cast<std::size_t>(k)] = limit * static_cast<double>(2 * k + 1 - points) / static_cast<double>(points);
+  }
+  return values;
+}
+
+namespace {
+
+/// A geometric candidate as grid indices (compact: the full list can be large).
+struct Candidate {
+  std::int32_t d, c, s;
+};
+
+/// splitmix64: a counter-based generator, so configuration i's normals do not depend on thread order.
+std::uint64_t splitmix64(std::uint64_t& state) {
+  std::uint64_t z = (state += 0x9E3779B97F4A7C15ULL);
+  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
+  z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
+  return z ^ (z >> 31);
+}
+double uniform01(std::uint64_t& state) { return static_cast<double>(splitmix64(state) >> 11) * 0x1.0p-53; }
+
+/// Node normals tilted from each corner's own segment normal by a uniformly random direction and a tilt
+/// whose tangent is uniform in [0, max_tangent) (the paper's "tangent ... below 0.2").
+std::array<Vec3, 4> random_normals(const std::array<Vec3, 4>& nodes, double max_tangent, std::uint64_t& state) {
+  std::array<Vec3, 4> normals;
+  for (int i = 0; i < 4; ++i) {
+    const Vec3 corner =
+        (nodes[(i + 1) % 4] - nodes[i]).cross(nodes[(i + 3) % 4] - nodes[i]).normalized();
+    const Vec3 t1 = corner.unitOrthogonal();
+    const Vec3 t2 = corner.cross(t1);
+    const double tangent = max_tangent * uniform01(state);
+    const double phi = 2.0 * M_PI * uniform01(state);
+    normals[i] = (corner + tangent * (std::cos(phi) * t1 + std::sin(phi) * t2)).normalized();
+  }
+  return normals;
+}
+
+}  // namespace
+
+LabelledSet enumerate_configurations(const EnumerationOptions& options, EnumerationSummary& summary,
+                                     const ProgressFn& progress) {
+  const auto start_time = std::chrono::steady_clock::now();
+  const DomainFilters& filters = options.filters;
+  const SurfaceKind kind = options.surface;
+  CONTACTNN_REQUIRE(options.normal_sets >= 1, "normal_sets must be >= 1, got " << options.normal_sets);
+  const auto dxy = grid_values(filters.xy_limit, options.d_xy_points);
+  const auto cxy = grid_values(filters.xy_limit, options.c_xy_points);
+  const auto cz = grid_values(filters.z_limit, options.c_z_points);
+  const auto sxy = grid_values(filters.xy_limit, options.s_xy_points);
+  const auto sz = grid_values(filters.z_limit, options.s_z_points);
+
+  // 1. Geometric candidates, in grid order. Node D lies in the xy-plane with y_D > 0 (the frame of SPEC 4);
+  //    the S filters need only A, B, D, so C is looped innermost.
+  std::vector<Vec3> d_nodes, c_nodes, s_nodes;
+  for (double x : dxy)
+    for (double y : dxy)
+      if (y > 0.0) d_nodes.emplace_back(x, y, 0.0);
+  for (double x : cxy)
+    for (double y : cxy)
+      for (double z : cz) c_nodes.emplace_back(x, y, z);
+  for (double x : sxy)
+    for (double y : sxy)
+      for (double z : sz) s_nodes.emplace_back(x, y, z);
+  summary.grid_points = static_cast<std::int64_t>(dxy.size() * dxy.size()) *
+                        static_cast<std::int64_t>(c_nodes.size()) * static_cast<std::int64_t>(s_nodes.size());
+
+  std::vector<Candidate> candidates;
+  const Vec3 a = Vec3::Zero();
+  const Vec3 b(1.0, 0.0, 0.0);
+  for (std::size_t id = 0; id < d_nodes.size(); ++id) {
+    const Vec3& d = d_nodes[id];
+    if (filters.ad_not_longer_than_ab && !(d.squaredNorm() <= 1.0)) continue;
+    for (std::size_t is = 0; is < s_nodes.size(); ++is) {
+      const Vec3& s = s_nodes[is];
+      const double to_a = s.squaredNorm();
+      if (filters.nearest_node_a && (to_a > (s - b).squaredNorm() || to_a > (s - d).squaredNorm())) continue;
+      if (filters.segment_test_a && !geometry::passes_segment_test(a, b, d, s)) continue;
+      for (std::size_t ic = 0; ic < c_nodes.size(); ++ic) {
+        Configuration config{{a, b, c_nodes[ic], d}, s, {}};
+        // The full filter (C's checks; S's again, cheaply). Normals are drawn later so as to pass.
+        if (!filters.accepts(config, SurfaceKind::kBilinear)) continue;
+        candidates.push_back({static_cast<std::int32_t>(id), static_cast<std::int32_t>(ic), static_cast<std::int32_t>(is)});
+      }
+    }
+  }
+  const std::int64_t sets = kind == SurfaceKind::kGregory ? options.normal_sets : 1;
+  const std::int64_t total = static_cast<std::int64_t>(candidates.size()) * sets;
+  summary.geometric_kept = total;
+
+  // 2. Label every candidate in parallel into preallocated arrays; row order is fixed by the index.
+  LabelledSet all;
+  all.resize(total, kind);
+  std::atomic<std::int64_t> done{0};
+  auto last_report = std::chrono::steady_clock::now();
+#pragma omp parallel for schedule(dynamic, 1024)
+  for (std::int64_t row = 0; row < total; ++row) {
+    const Candidate& cand = candidates[static_cast<std::size_t>(row / sets)];
+    Configuration config{{a, b, c_nodes[static_cast<std::size_t>(cand.c)], d_nodes[static_cast<std::size_t>(cand.d)]},
+                         s_nodes[static_cast<std::size_t>(cand.s)],
+                         {}};
+    if (kind == SurfaceKind::kGregory) {
+      std::uint64_t state = options.seed * 0x100000001B3ULL + static_cast<std::uint64_t>(row);
+      config.normals = random_normals(config.nodes, filters.max_normal_tilt_tangent, state);
+    }
+    const Label label = label_configuration(config, kind, options.projection);
+    for (int f = 0; f < feature_count(kind); ++f) all.features(row, f) = label.features[static_cast<std::size_t>(f)];
+    all.labels(row, 0) = label.param[0];
+    all.labels(row, 1) = label.param[1];
+    all.gap[row] = label.gap;
+    all.iterations[row] = label.iterations;
+    all.status[static_cast<std::size_t>(row)] = label.status;
+    all.scale[row] = label.scale;
+    const std::int64_t finished = ++done;
+    if (progress && omp_get_thread_num() == 0 && (finished & 1023) == 0) {
+      const auto now = std::chrono::steady_clock::now();
+      if (now - last_report > std::chrono::milliseconds(500)) {
+        last_report = now;
+        progress(finished, total);
+      }
+    }
+  }
+  if (progress) progress(total, total);
+
+  // 3. Counts, then (optionally) keep only projections inside the segment.
+  std::int64_t kept = 0;
+  for (std::int64_t row = 0; row < total; ++row) {
+    const Status status = all.status[static_cast<std::size_t>(row)];
+    ++summary.status_counts[static_cast<std::size_t>(status)];
+    if (!options.require_projection_inside || status == Status::kOk) ++kept;
+  }
+  LabelledSet result;
+  result.resize(kept, kind);
+  result.filters = filters;
+  std::int64_t out = 0;
+  for (std::int64_t row = 0; row < total; ++row) {
+    const Status status = all.status[static_cast<std::size_t>(row)];
+    if (options.require_projection_inside && status != Status::kOk) continue;
+    result.features.row(out) = all.features.row(row);
+    result.labels.row(out) = all.labels.row(row);
+    result.gap[out] = all.gap[row];
+    result.iterations[out] = all.iterations[row];
+    result.status[static_cast<std::size_t>(out)] = status;
+    result.scale[out] = all.scale[row];
+    ++summary.iteration_histogram[static_cast<std::size_t>(std::min(all.iterations[row], 63))];
+    ++out;
+  }
+  summary.kept = kept;
+  summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_time).count();
+  return result;
+}
+
+}  // namespace contactnn::dataset

@@ -1,0 +1,34 @@
+// Labels one world configuration: normalise (SPEC 4), build the surface, project (SPEC 2). The one place
+// that dispatches on the surface kind, so a new surface slots in here and nowhere else.
+#pragma once
+
+#include <array>
+
+#include "core/conventions.hpp"
+#include "geometry/affine_frame.hpp"
+#include "projection/newton_projection.hpp"
+
+namespace contactnn::dataset {
+
+/// The label of one configuration. Coordinates and gap are finite whenever status is ok or outside.
+struct Label {
+  std::array<double, 2> param{0.0, 0.0};  ///< (xi, eta) bilinear, (u, v) Gregory
+  double gap = 0.0;                       ///< in world units: gap in the frame / scale
+  int iterations = 0;
+  Status status = Status::kInvalid;
+  double scale = 0.0;                     ///< raw-to-normalised scale 1/|AB| (0 if no frame)
+  std::array<double, 16> features{};     ///< normalised inputs (first feature_count(kind) used)
+};
+
+/// Labels `world`: invalid for a non-finite input, degenerate when the frame does not exist or the segment
+/// is collapsed (is_degenerate_segment) or a Gregory node normal is unusable; otherwise project_point's
+/// status in the normalised frame, where the projection is computed (scale-free tolerances).
+[[nodiscard]] Label label_configuration(const geometry::Configuration& world, SurfaceKind kind,
+                                        const projection::ProjectionOptions& options = {});
+
+/// Projects a configuration already in the normalised frame (gap in frame units, scale 1).
+[[nodiscard]] projection::ProjectionResult project_normalised(const geometry::Configuration& normalised,
+                                                              SurfaceKind kind,
+                                                              const projection::ProjectionOptions& options = {});
+
+}  // namespace contactnn::dataset
