@@ -1,0 +1,52 @@
+#include "geometry/segment_checks.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace contactnn::geometry {
+namespace {
+
+const std::array<Vec3, 4> kSquare = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0), Vec3(0, 1, 0)};
+
+TEST(SegmentChecks, SegmentTestAcceptsOnlyTheWedgeBetweenTheTwoEdgesAtTheNode) {
+  const Vec3 a = kSquare[0], b = kSquare[1], d = kSquare[3];
+  EXPECT_TRUE(passes_segment_test(a, b, d, Vec3(0.3, 0.2, 0.5)));    // inside the wedge, above
+  EXPECT_TRUE(passes_segment_test(a, b, d, Vec3(0.3, 0.2, -0.5)));   // below: r is the in-plane part
+  EXPECT_FALSE(passes_segment_test(a, b, d, Vec3(-0.3, 0.2, 0.0)));  // behind AD
+  EXPECT_FALSE(passes_segment_test(a, b, d, Vec3(0.3, -0.2, 0.0)));  // behind AB
+  EXPECT_FALSE(passes_segment_test(a, b, d, Vec3(0.3, 0.0, 0.0)));   // on AB: Eq 3 is strict
+  EXPECT_FALSE(passes_segment_test(a, b, d, Vec3(-0.3, -0.3, 0.0))); // opposite wedge
+}
+
+TEST(SegmentChecks, NearestNodeAllowsTiesAndRejectsCloserNodes) {
+  EXPECT_TRUE(first_node_is_nearest(kSquare, Vec3(0.2, 0.3, 1)));
+  EXPECT_TRUE(first_node_is_nearest(kSquare, Vec3(0.5, 0.3, 1)));  // tie with B
+  EXPECT_FALSE(first_node_is_nearest(kSquare, Vec3(0.6, 0.3, 1)));
+}
+
+TEST(SegmentChecks, InteriorAnglesAndConvexity) {
+  const auto square = interior_angles_degrees(kSquare);
+  for (double angle : square) EXPECT_NEAR(angle, 90.0, 1e-12);
+  EXPECT_TRUE(is_convex(kSquare));
+  const std::array<Vec3, 4> dart = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0.3, 0.3, 0), Vec3(0, 1, 0)};  // reflex at C
+  EXPECT_FALSE(is_convex(dart));
+  const std::array<Vec3, 4> clockwise = {kSquare[0], kSquare[3], kSquare[2], kSquare[1]};
+  EXPECT_TRUE(is_convex(clockwise));  // convexity is judged against its own normal (B-A) x (D-A)
+  const auto dart_angles = interior_angles_degrees(dart);
+  EXPECT_NEAR(dart_angles[0], 90.0, 1e-12);
+  // The angle between the edges at C is reported (< 180); the dart is caught by is_convex, not by angles.
+  const double expected_c = std::acos(-0.42 / 0.58) * 180.0 / M_PI;  // CD = (-0.3, 0.7), CB = (0.7, -0.3)
+  EXPECT_NEAR(dart_angles[2], expected_c, 1e-9);
+}
+
+TEST(SegmentChecks, DegenerateSegmentsAreRecognised) {
+  EXPECT_FALSE(is_degenerate_segment(kSquare));
+  EXPECT_TRUE(is_degenerate_segment({Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0)}));  // B = C
+  EXPECT_TRUE(is_degenerate_segment({Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(2, 0, 0), Vec3(3, 0, 0)}));  // collinear
+  EXPECT_TRUE(is_degenerate_segment({Vec3(1, 1, 1), Vec3(1, 1, 1), Vec3(1, 1, 1), Vec3(1, 1, 1)}));  // a point
+  EXPECT_FALSE(is_degenerate_segment({Vec3(0, 0, 0), Vec3(1e3, 0, 0), Vec3(1e3, 1, 0), Vec3(0, 1, 0)}));  // 1e3:1
+}
+
+}  // namespace
+}  // namespace contactnn::geometry
