@@ -1,0 +1,107 @@
+// Row kernels of the one-pattern (online) path, written on Eigen's SIMD packets. Rows are short (8 to 48
+// values), so Eigen's general expressions spend more on alignment peeling per row than on arithmetic;
+// these use unaligned packet loads and a scalar tail, and no allocation.
+#pragma once
+
+#include <Eigen/Core>
+
+#include "mlp/activation.hpp"
+
+namespace contactnn::mlp::simd {
+
+template <class Real>
+using Packet = typename Eigen::internal::packet_traits<Real>::type;
+template <class Real>
+inline constexpr int kWidth = Eigen::internal::unpacket_traits<Packet<Real>>::size;
+
+/// u[j] = sigmoid(u[j], gain) for j < n, in packets: the rational approximation is a long dependent chain
+/// per value, which packets overlap.
+template <class Real>
+inline void sigmoid_inplace(Real* u, int n, Real gain) {
+  using namespace Eigen::internal;
+  using P = Packet<Real>;
+  constexpr int L = kWidth<Real>;
+  const P gv = pset1<P>(gain);
+  int j = 0;
+  for (; j + L <= n; j += L) pstoreu(u + j, sigmoid_packet(ploadu<P>(u + j), gv));
+  for (; j < n; ++j) u[j] = sigmoid(u[j], gain);
+}
+
+/// out[j] = sigmoid(sum_i w[j][i] x[i] - theta[j], gain) for j < rows (w row-major rows x cols), Eqs 12-13.
+template <class Real>
+inline void sigmoid_rows(const Real* w, const Real* theta, const Real* x, int rows, int cols, Real gain, Real* out) {
+  using namespace Eigen::internal;
+  using P = Packet<Real>;
+  constexpr int L = kWidth<Real>;
+  const int full = cols - cols % L;
+  int j = 0;
+  for (; j + 4 <= rows; j += 4) {
+    const Real* w0 = w + static_cast<std::size_t>(j) * cols;
+    const Real* w1 = w0 + cols;
+    const Real* w2 = w1 + cols;
+    const Real* w3 = w2 + cols;
+    P a0 = pset1<P>(Real(0)), a1 = a0, a2 = a0, a3 = a0;
+    for (int i = 0; i < full; i += L) {
+      const P xv = ploadu<P>(x + i);
+      a0 = pmadd(ploadu<P>(w0 + i), xv, a0);
+      a1 = pmadd(ploadu<P>(w1 + i), xv, a1);
+      a2 = pmadd(ploadu<P>(w2 + i), xv, a2);
+      a3 = pmadd(ploadu<P>(w3 + i), xv, a3);
+    }
+    Real u0 = predux(a0) - theta[j], u1 = predux(a1) - theta[j + 1];
+    Real u2 = predux(a2) - theta[j + 2], u3 = predux(a3) - theta[j + 3];
+    for (int i = full; i < cols; ++i) {
+      u0 += w0[i] * x[i];
+      u1 += w1[i] * x[i];
+      u2 += w2[i] * x[i];
+      u3 += w3[i] * x[i];
+    }
+    out[j] = u0;
+    out[j + 1] = u1;
+    out[j + 2] = u2;
+    out[j + 3] = u3;
+  }
+  for (; j < rows; ++j) {
+    const Real* wj = w + static_cast<std::size_t>(j) * cols;
+    P a = pset1<P>(Real(0));
+    for (int i = 0; i < full; i += L) a = pmadd(ploadu<P>(wj + i), ploadu<P>(x + i), a);
+    Real u = predux(a) - theta[j];
+    for (int i = full; i < cols; ++i) u += wj[i] * x[i];
+    out[j] = u;
+  }
+  sigmoid_inplace(out, rows, gain);
+}
+
+/// y[i] += s * x[i] for i < n.
+template <class Real>
+inline void axpy(Real s, const Real* x, Real* y, int n) {
+  using namespace Eigen::internal;
+  using P = Packet<Real>;
+  constexpr int L = kWidth<Real>;
+  const P sv = pset1<P>(s);
+  int i = 0;
+  for (; i + L <= n; i += L) pstoreu(y + i, pmadd(sv, ploadu<P>(x + i), ploadu<P>(y + i)));
+  for (; i < n; ++i) y[i] += s * x[i];
+}
+
+/// v[i] = alpha v[i] - step a[i];  w[i] += v[i]  for i < n (one row of a momentum update).
+template <class Real>
+inline void momentum_row(Real alpha, Real step, const Real* a, Real* v, Real* w, int n) {
+  using namespace Eigen::internal;
+  using P = Packet<Real>;
+  constexpr int L = kWidth<Real>;
+  const P av = pset1<P>(alpha), sv = pset1<P>(step);
+  int i = 0;
+  for (; i + L <= n; i += L) {
+    const P vv = psub(pmul(av, ploadu<P>(v + i)), pmul(sv, ploadu<P>(a + i)));
+    pstoreu(v + i, vv);
+    pstoreu(w + i, padd(ploadu<P>(w + i), vv));
+  }
+  for (; i < n; ++i) {
+    const Real vi = alpha * v[i] - step * a[i];
+    v[i] = vi;
+    w[i] += vi;
+  }
+}
+
+}  // namespace contactnn::mlp::simd
