@@ -1,0 +1,131 @@
+#include "geometry/gregory_patch.hpp"
+
+#include <Eigen/Geometry>
+
+#include "core/error.hpp"
+#include "geometry/bilinear_patch.hpp"
+
+namespace contactnn::geometry {
+
+namespace {
+
+/// SPEC 3 edge point E(X->Y) = X + (1/3)(I - n_X n_X^T)(Y - X): the third point of the edge's cubic
+/// lies in X's tangent plane, which makes the patch normal at X equal to n_X.
+Vec3 edge_point(const Vec3& x, const Vec3& n_x, const Vec3& y) {
+  const Vec3 chord = y - x;
+  return x + (chord - n_x.dot(chord) * n_x) / 3.0;
+}
+
+struct InteriorPair {
+  Vec3 near_x, near_y;
+};
+
+/// Chiyokura-Kimura interior points of the edge walked counter-clockwise from X to Y, with X' and Y'
+/// the other neighbours of X and Y (SPEC 3). The cross-boundary tangent along the edge is made
+/// b(t) = k(t) a(t) + h(t) c(t), with k, h linear in t, a(t) linear between the edge's binormals a0, a3
+/// and c(t) the edge's own tangent; b(t) then depends only on the edge's two nodes and normals, so the
+/// patch on the other side of the edge shares the tangent plane span(a(t), c(t)) (G1). b1, b2 are the
+/// inner Bernstein coefficients of that cubic.
+InteriorPair interior_points(const Vec3& x, const Vec3& n_x, const Vec3& x_other, const Vec3& y,
+                             const Vec3& n_y, const Vec3& y_other) {
+  const Vec3 y1 = edge_point(x, n_x, y);
+  const Vec3 y2 = edge_point(y, n_y, x);
+  const Vec3 c0 = y1 - x, c1 = y2 - y1, c2 = y - y2;
+  const Vec3 b0 = edge_point(x, n_x, x_other) - x;
+  const Vec3 b3 = edge_point(y, n_y, y_other) - y;
+  const Vec3 a0 = n_x.cross(y - x).normalized();
+  const Vec3 a3 = n_y.cross(y - x).normalized();
+  // a0 and c0 are an orthogonal basis of X's tangent plane, which holds b0: b0 = k0 a0 + h0 c0 exactly.
+  const double k0 = a0.dot(b0), h0 = c0.dot(b0) / c0.dot(c0);
+  const double k1 = a3.dot(b3), h1 = c2.dot(b3) / c2.dot(c2);
+  const Vec3 b1 = ((k0 + k1) * a0 + k0 * a3 + 2.0 * h0 * c1 + h1 * c0) / 3.0;
+  const Vec3 b2 = ((k0 + k1) * a3 + k1 * a0 + 2.0 * h1 * c1 + h0 * c2) / 3.0;
+  return InteriorPair{y1 + b1, y2 + b2};
+}
+
+const char* defect_name(GregoryDefect defect) {
+  switch (defect) {
+    case GregoryDefect::kNone:
+      return "none";
+    case GregoryDefect::kNonFinite:
+      return "a non-finite node or normal component";
+    case GregoryDefect::kZeroNormal:
+      return "a node normal of zero length";
+    case GregoryDefect::kDegenerateEdge:
+      return "an edge of zero length or a node normal parallel to an edge";
+  }
+  return "unknown";
+}
+
+}  // namespace
+
+GregoryDefect GregoryPatch::diagnose(const std::array<Vec3, 4>& nodes, const std::array<Vec3, 4>& normals) {
+  for (int i = 0; i < 4; ++i) {
+    if (!nodes[i].allFinite() || !normals[i].allFinite()) return GregoryDefect::kNonFinite;
+  }
+  std::array<Vec3, 4> unit{};
+  for (int i = 0; i < 4; ++i) {
+    // stableNorm: a finite normal of any positive length, however large or small, is accepted.
+    if (!(normals[i].stableNorm() > 0.0)) return GregoryDefect::kZeroNormal;
+    unit[i] = normals[i].stableNormalized();
+  }
+  const double min_projected = kMinProjectedEdgeRatio * max_node_distance(nodes);
+  for (int i = 0; i < 4; ++i) {
+    for (const int neighbour : {(i + 1) % 4, (i + 3) % 4}) {
+      const Vec3 chord = nodes[neighbour] - nodes[i];
+      const Vec3 projected = chord - unit[i].dot(chord) * unit[i];
+      if (!(projected.norm() > min_projected)) return GregoryDefect::kDegenerateEdge;
+    }
+  }
+  return GregoryDefect::kNone;
+}
+
+GregoryPatch::GregoryPatch(const std::array<Vec3, 4>& nodes, const std::array<Vec3, 4>& normals)
+    : nodes_(nodes) {
+  const GregoryDefect defect = diagnose(nodes, normals);
+  CONTACTNN_REQUIRE(defect == GregoryDefect::kNone,
+                    "GregoryPatch: the nodes and node normals define no patch: " << defect_name(defect));
+  for (int i = 0; i < 4; ++i) normals_[i] = normals[i].stableNormalized();
+  characteristic_length_ = max_node_distance(nodes_);
+
+  const Vec3 &a = nodes_[0], &b = nodes_[1], &c = nodes_[2], &d = nodes_[3];
+  const Vec3 &na = normals_[0], &nb = normals_[1], &nc = normals_[2], &nd = normals_[3];
+  auto at = [this](int i, int j) -> Vec3& { return control_[control_index(i, j)]; };
+  auto inner = [this](int i, int j, int k) -> Vec3& { return control_[interior_index(i, j, k)]; };
+
+  at(0, 0) = a;
+  at(3, 0) = b;
+  at(3, 3) = c;
+  at(0, 3) = d;
+  at(1, 0) = edge_point(a, na, b);
+  at(2, 0) = edge_point(b, nb, a);
+  at(3, 1) = edge_point(b, nb, c);
+  at(3, 2) = edge_point(c, nc, b);
+  at(2, 3) = edge_point(c, nc, d);
+  at(1, 3) = edge_point(d, nd, c);
+  at(0, 2) = edge_point(d, nd, a);
+  at(0, 1) = edge_point(a, na, d);
+
+  // Edge X->Y, X' = node before X, Y' = node after Y (counter-clockwise).
+  const InteriorPair ab = interior_points(a, na, d, b, nb, c);
+  const InteriorPair bc = interior_points(b, nb, a, c, nc, d);
+  const InteriorPair cd = interior_points(c, nc, b, d, nd, a);
+  const InteriorPair da = interior_points(d, nd, c, a, na, b);
+  inner(1, 1, 0) = ab.near_x;  // P110
+  inner(2, 1, 0) = ab.near_y;  // P210
+  inner(2, 1, 1) = bc.near_x;  // P211
+  inner(2, 2, 1) = bc.near_y;  // P221
+  inner(2, 2, 0) = cd.near_x;  // P220
+  inner(1, 2, 0) = cd.near_y;  // P120
+  inner(1, 2, 1) = da.near_x;  // P121
+  inner(1, 1, 1) = da.near_y;  // P111
+
+  for (int k = 0; k < 16; ++k) base_[k] = control_[k];
+  for (int k = 0; k < 4; ++k) {
+    const int i = 1 + (k & 1), j = 1 + (k >> 1);
+    base_[control_index(i, j)] = control_[interior_index(i, j, 1)];
+    delta_[k] = control_[interior_index(i, j, 0)] - control_[interior_index(i, j, 1)];
+  }
+}
+
+}  // namespace contactnn::geometry
