@@ -2,6 +2,7 @@
 
 #include "core/error.hpp"
 #include "geometry/bilinear_patch.hpp"
+#include "geometry/gregory_patch.hpp"
 #include "geometry/segment_checks.hpp"
 
 namespace contactnn::dataset {
@@ -11,10 +12,19 @@ projection::ProjectionResult project_normalised(const geometry::Configuration& n
   switch (kind) {
     case SurfaceKind::kBilinear:
       return projection::project_point(geometry::BilinearPatch(normalised.nodes), normalised.slave, options);
-    case SurfaceKind::kGregory:
-      break;
+    case SurfaceKind::kGregory: {
+      const auto defect = geometry::GregoryPatch::diagnose(normalised.nodes, normalised.normals);
+      if (defect != geometry::GregoryDefect::kNone) {
+        projection::ProjectionResult result;
+        result.param = projection::domain_centre(kind);
+        result.status = defect == geometry::GregoryDefect::kNonFinite ? Status::kInvalid : Status::kDegenerate;
+        return result;
+      }
+      return projection::project_point(geometry::GregoryPatch(normalised.nodes, normalised.normals),
+                                       normalised.slave, options);
+    }
   }
-  throw InvalidArgument("the Gregory surface is not implemented yet in this build");
+  throw InvalidArgument("unknown surface kind " + std::to_string(static_cast<int>(kind)));
 }
 
 Label label_configuration(const geometry::Configuration& world, SurfaceKind kind,

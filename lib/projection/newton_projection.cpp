@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "geometry/bilinear_patch.hpp"
+#include "geometry/gregory_patch.hpp"
 
 namespace contactnn::projection {
 
@@ -58,7 +59,7 @@ RunResult damped_newton(const SurfaceT& surface, const Vec3& slave, std::array<d
   const ParamDomain domain = param_domain(SurfaceT::kKind);
   const double width = domain.hi - domain.lo;
   const double margin =
-      options.box_margin > 0.0 ? options.box_margin : (SurfaceT::kKind == SurfaceKind::kBilinear ? 4.0 : 0.5);
+      options.box_margin > 0.0 ? options.box_margin : (SurfaceT::kKind == SurfaceKind::kBilinear ? 4.0 : 0.1);
   const double box_lo = domain.lo - margin * width;
   const double box_hi = domain.hi + margin * width;
   const double l2 = length * length;
@@ -246,6 +247,7 @@ ProjectionResult newton_until_converged(const SurfaceT& surface, const Vec3& sla
   template ProjectionResult newton_until_converged<SurfaceT>(const SurfaceT&, const Vec3&, std::array<double, 2>, \
                                                              int, double);
 CONTACTNN_INSTANTIATE_PROJECTION(geometry::BilinearPatch)
+CONTACTNN_INSTANTIATE_PROJECTION(geometry::GregoryPatch)
 #undef CONTACTNN_INSTANTIATE_PROJECTION
 
 }  // namespace contactnn::projection

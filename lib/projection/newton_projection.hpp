@@ -22,8 +22,9 @@ struct ProjectionOptions {
   double domain_margin = 1e-10;
   /// Iterates are kept inside the domain enlarged by this many domain widths on each side; 0 picks the
   /// surface's default: 4 for the bilinear facet (defined everywhere; a distorted quad's stationary point
-  /// may lie far outside), 0.5 for the Gregory patch (SPEC 3: its denominators vanish on lines through
-  /// the corners outside [0,1]^2, so iterates must not wander).
+  /// may lie far outside), 0.1 for the Gregory patch (SPEC 3: its denominators vanish on lines through
+  /// the corners outside [0,1]^2; [-0.1, 1.1]^2 meets them only in short pieces next to the corners).
+  /// A solution beyond the box is reported as no_convergence, not outside.
   double box_margin = 0.0;
   /// Starts per parameter direction: a starts_per_axis x starts_per_axis grid inside the domain.
   /// 1 means the segment centre only; 3 or more finds the nearer root on warped quads (SPEC 2).

@@ -6,6 +6,7 @@
 
 #include "dataset/labeller.hpp"
 #include "geometry/bilinear_patch.hpp"
+#include "geometry/gregory_patch.hpp"
 #include "test_support.hpp"
 
 namespace contactnn::projection {
@@ -206,6 +207,91 @@ TEST(NewtonProjection, PlainNewtonConvergesToTheReferenceOnThePaperDomain) {
   // Measured: about 80% (plain Newton from the centre ends in another root, outside, or diverges for the
   // rest, which is why the labels use the multi-start solver). A broken plain Newton scores near 0.
   EXPECT_GT(close_after_10, total * 3 / 4);
+}
+
+}  // namespace
+}  // namespace contactnn::projection
+
+namespace contactnn::projection {
+namespace {
+
+using geometry::GregoryPatch;
+
+std::array<Vec3, 4> tilted_normals(const std::array<Vec3, 4>& nodes, std::mt19937_64& rng, double max_tangent) {
+  std::uniform_real_distribution<double> u(-1, 1);
+  std::array<Vec3, 4> normals;
+  for (int i = 0; i < 4; ++i) {
+    const Vec3 corner = (nodes[(i + 1) % 4] - nodes[i]).cross(nodes[(i + 3) % 4] - nodes[i]).normalized();
+    Vec3 tilt(u(rng), u(rng), u(rng));
+    tilt -= tilt.dot(corner) * corner;
+    normals[i] = (corner + max_tangent * 0.7 * tilt).normalized();
+  }
+  return normals;
+}
+
+TEST(NewtonProjectionGregory, FlatPatchWithPlaneNormalsProjectsLikeTheBilinearFacet) {
+  std::mt19937_64 rng(41);
+  for (int k = 0; k < 100; ++k) {
+    Configuration c = testing::random_paper_configuration(rng);
+    c.nodes[2].z() = 0.0;  // flat
+    const std::array<Vec3, 4> up = {Vec3(0, 0, 1), Vec3(0, 0, 1), Vec3(0, 0, 1), Vec3(0, 0, 1)};
+    const ProjectionResult bilinear = project_point(geometry::BilinearPatch(c.nodes), c.slave);
+    const ProjectionResult gregory = project_point(GregoryPatch(c.nodes, up), c.slave);
+    if (bilinear.status != Status::kOk) continue;
+    ASSERT_EQ(gregory.status, Status::kOk) << k;
+    EXPECT_NEAR(gregory.param[0], 0.5 * (bilinear.param[0] + 1), kSolverTol) << k;  // SPEC 1: u = (xi+1)/2
+    EXPECT_NEAR(gregory.param[1], 0.5 * (bilinear.param[1] + 1), kSolverTol) << k;
+    EXPECT_NEAR(gregory.gap, bilinear.gap, kSolverTol) << k;
+  }
+}
+
+TEST(NewtonProjectionGregory, AgreesWithIndependentDenseSearchOnTiltedNormals) {
+  std::mt19937_64 rng(43);
+  dataset::DomainFilters gregory_filters;
+  gregory_filters.min_angle_degrees = 60;
+  gregory_filters.max_angle_degrees = 120;
+  int compared = 0;
+  for (int k = 0; k < 40; ++k) {
+    Configuration c = testing::random_paper_configuration(rng);
+    while (!gregory_filters.accepts(c, SurfaceKind::kBilinear)) c = testing::random_paper_configuration(rng);
+    const GregoryPatch p(c.nodes, tilted_normals(c.nodes, rng, 0.2));
+    const ProjectionResult r = project_point(p, c.slave);
+    const auto oracle = testing::oracle_closest_point(p, c.slave, 301);
+    if (oracle[0] < 1e-6 || oracle[0] > 1 - 1e-6 || oracle[1] < 1e-6 || oracle[1] > 1 - 1e-6) continue;
+    ASSERT_EQ(r.status, Status::kOk) << k;
+    EXPECT_NEAR(r.param[0], oracle[0], kOracleTol) << k;
+    EXPECT_NEAR(r.param[1], oracle[1], kOracleTol) << k;
+    ++compared;
+  }
+  EXPECT_GT(compared, 5);
+}
+
+TEST(NewtonProjectionGregory, LabelsAreInvariantUnderRigidMotionAndScale) {
+  std::mt19937_64 rng(47);
+  std::uniform_real_distribution<double> log_scale(-4, 4), t(-100, 100);
+  for (int k = 0; k < 60; ++k) {
+    Configuration c = testing::random_paper_configuration(rng);
+    c.normals = tilted_normals(c.nodes, rng, 0.2);
+    const dataset::Label unit = dataset::label_configuration(c, SurfaceKind::kGregory);
+    const double scale = std::pow(10.0, log_scale(rng));
+    const Configuration moved =
+        testing::transform(c, testing::random_rotation(rng), scale, scale * Vec3(t(rng), t(rng), t(rng)));
+    const dataset::Label label = dataset::label_configuration(moved, SurfaceKind::kGregory);
+    ASSERT_EQ(label.status, unit.status) << k;
+    if (unit.status != Status::kOk) continue;
+    EXPECT_NEAR(label.param[0], unit.param[0], 1e-10) << k;
+    EXPECT_NEAR(label.param[1], unit.param[1], 1e-10) << k;
+  }
+}
+
+TEST(NewtonProjectionGregory, NormalInTheSegmentPlaneIsDegenerateAndNaNIsInvalid) {
+  Configuration c{{Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0), Vec3(0, 1, 0)}, Vec3(0.3, 0.3, 0.2), {}};
+  for (auto& n : c.normals) n = Vec3(0, 0, 1);
+  EXPECT_EQ(dataset::label_configuration(c, SurfaceKind::kGregory).status, Status::kOk);
+  c.normals[1] = Vec3(1, 0, 0);  // parallel to edge AB
+  EXPECT_EQ(dataset::label_configuration(c, SurfaceKind::kGregory).status, Status::kDegenerate);
+  c.normals[1] = Vec3(0, 0, NAN);
+  EXPECT_EQ(dataset::label_configuration(c, SurfaceKind::kGregory).status, Status::kInvalid);
 }
 
 }  // namespace
