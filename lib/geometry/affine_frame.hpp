@@ -52,7 +52,9 @@ enum class NormaliseFailure { kNonFinite, kDegenerate };
 
 /// Maps a world configuration into the normalised frame. For Gregory the normals are normalised to unit
 /// length and rotated; a normal with zero length, or with n_z <= 0 in the frame (pointing away from or
-/// parallel to the segment), makes the configuration degenerate.
+/// parallel to the segment), makes the configuration degenerate. So does a segment that is collapsed up
+/// to the rounding of its world coordinates (is_degenerate_segment with noise eps * max|x| * scale): e.g.
+/// collinear nodes 1e5 element sizes from the origin, whose rounding leaves an area of ~1e-11 in the frame.
 /// @return the normalised configuration, or the reason it does not exist.
 struct NormaliseOutcome {
   std::optional<NormalisedConfiguration> value;

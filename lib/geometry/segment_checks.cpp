@@ -50,7 +50,7 @@ bool is_convex(const std::array<Vec3, 4>& nodes) {
 
 namespace contactnn::geometry {
 
-bool is_degenerate_segment(const std::array<Vec3, 4>& nodes) {
+bool is_degenerate_segment(const std::array<Vec3, 4>& nodes, double coordinate_noise) {
   double longest = 0.0;
   double shortest = std::numeric_limits<double>::infinity();
   for (int i = 0; i < 4; ++i) {
@@ -60,9 +60,10 @@ bool is_degenerate_segment(const std::array<Vec3, 4>& nodes) {
       shortest = std::min(shortest, distance);
     }
   }
-  if (!(longest > 0.0) || !(shortest > 1e-10 * longest)) return true;
+  const double noise = 16.0 * coordinate_noise;
+  if (!(longest > 0.0) || !(shortest > std::max(1e-10 * longest, noise))) return true;
   const double twice_area = (nodes[2] - nodes[0]).cross(nodes[3] - nodes[1]).norm();
-  return !(0.5 * twice_area > 1e-12 * longest * longest);
+  return !(0.5 * twice_area > std::max(1e-12 * longest, noise) * longest);
 }
 
 }  // namespace contactnn::geometry
