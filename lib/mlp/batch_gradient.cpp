@@ -242,7 +242,10 @@ double BatchGradient<Real>::run(const Network<Real>& network, const PanelPattern
   const std::size_t n_tiles = (seg.panel_end - seg.panel_begin + kTilePanels - 1) / kTilePanels;
   const std::size_t P = parameter_count_;
   constexpr int L = kLanes<Real>;
-#pragma omp parallel for num_threads(threads_) schedule(static)
+  // No more threads than tiles: a small segment (a validation set, a mini-batch) does not pay for waking
+  // threads with nothing to do. The slots, and so the result, do not depend on it.
+  const int active = static_cast<int>(std::min<std::size_t>(static_cast<std::size_t>(threads_), std::max<std::size_t>(n_tiles, 1)));
+#pragma omp parallel for num_threads(active) schedule(static)
   for (int s = 0; s < kSlots; ++s) {
     const ScopedFlushDenormals flush;  // per thread: MXCSR is thread state
     Workspace& ws = workspaces_[static_cast<std::size_t>(omp_get_thread_num())];

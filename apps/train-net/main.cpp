@@ -1,0 +1,293 @@
+// train-net: trains a sigmoid multi-layer network to map normalised configurations to local coordinates.
+//
+// Description:
+//   Reads a dataset of gen-configs, draws the training and validation patterns at random from its rows with
+//   status ok (the paper: "1000 patterns are randomly selected for training"), trains a fully connected
+//   sigmoid network (Eqs 12-14) by back-propagation with momentum, online (the paper's ordinary BP) or in
+//   (mini-)batches, and writes the frozen network: weights, scaling, training domain, provenance.
+//   Checkpoints are written every N epochs and --resume continues one bit-identically.
+//
+// Sample runs:
+//   train-net --config configs/bilinear-paper.toml --data data/bilinear.h5 --output data/weights/bilinear-8.h5
+//   train-net --config configs/bilinear-paper.toml --data data/bilinear.h5 --output /tmp/b.h5 --hidden 32,16
+//   train-net --config configs/bilinear-paper.toml --data data/bilinear.h5 --output /tmp/b.h5
+//             --checkpoint-every 500 --resume --export-header /tmp/bilinear_8.h   (one line)
+//
+// Writes:
+//   OUTPUT                   the network file (README "Network file"), atomically
+//   OUTPUT.config.toml       the effective [train-net] configuration
+//   OUTPUT.checkpoint.h5     with --checkpoint-every N: network plus trainer state, every N epochs
+//   FILE.h                   with --export-header: a self-contained C99 header of the network
+//   a progress line on stderr (at most 4 per second) and a summary on stdout.
+#include <omp.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <sstream>
+
+#include "cli_support.hpp"
+#include "core/error.hpp"
+#include "io/csv.hpp"
+#include "io/dataset_file.hpp"
+#include "io/network_file.hpp"
+#include "mlp/export_c_header.hpp"
+#include "mlp/pattern_selection.hpp"
+#include "mlp/random.hpp"
+#include "mlp/trainer.hpp"
+
+namespace {
+
+using namespace contactnn;
+using Clock = std::chrono::steady_clock;
+using mlp::MatrixRM;
+
+/// What the app decides beyond mlp::TrainOptions (every default here is documented in --help and README).
+struct NetSettings {
+  std::string hidden = "8";          ///< hidden layer sizes, comma-separated
+  double u0 = 2.0;                   ///< U0 of Eq 12
+  std::string precision = "float";   ///< float or double
+  std::size_t train_count = 1000;    ///< training patterns drawn from the ok rows
+  double validation_fraction = 0.2;  ///< validation patterns = this * train_count, disjoint from training
+  double target_low = 0.1;           ///< sigmoid value of the domain's lower end
+  double target_high = 0.9;          ///< sigmoid value of the domain's upper end
+};
+
+std::vector<int> parse_hidden(const std::string& text) {
+  std::vector<int> sizes;
+  std::stringstream in(text);
+  std::string item;
+  while (std::getline(in, item, ',')) {
+    std::size_t used = 0;
+    int n = 0;
+    try {
+      n = std::stoi(item, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    CONTACTNN_REQUIRE(used == item.size() && n >= 1 && n <= 4096,
+                      "--hidden: expected comma-separated layer sizes in 1..4096, got '" << text << "'");
+    sizes.push_back(n);
+  }
+  CONTACTNN_REQUIRE(!sizes.empty(), "--hidden: at least one hidden layer size is needed");
+  return sizes;
+}
+
+std::string c_prefix(const std::filesystem::path& header) {
+  std::string p = header.stem().string();
+  for (char& c : p) {
+    if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+  }
+  if (p.empty() || std::isdigit(static_cast<unsigned char>(p[0]))) p = "net_" + p;
+  return p;
+}
+
+std::string format_duration(double seconds) {
+  char buf[32];
+  const long s = std::lround(std::max(0.0, seconds));
+  std::snprintf(buf, sizeof buf, "%ld:%02ld:%02ld", s / 3600, (s / 60) % 60, s % 60);
+  return buf;
+}
+
+template <class Real>
+int train(const NetSettings& net_settings, mlp::TrainOptions options, const std::string& data_path,
+          const std::filesystem::path& output, int checkpoint_every, bool resume, const std::string& header_path,
+          bool quiet, const std::string& config_toml) {
+  // 3. Data: the dataset, its rows with status ok, the training and validation draw.
+  const dataset::LabelledSet set = io::read_dataset(data_path);
+  const std::string checksum = io::file_checksum(data_path);
+  std::vector<std::uint32_t> ok_rows;
+  for (Eigen::Index r = 0; r < set.size(); ++r) {
+    if (set.status[static_cast<std::size_t>(r)] == Status::kOk) ok_rows.push_back(static_cast<std::uint32_t>(r));
+  }
+  const auto validation_count =
+      static_cast<std::size_t>(std::llround(net_settings.validation_fraction * static_cast<double>(net_settings.train_count)));
+  const mlp::PatternSelection selection = mlp::select_patterns(ok_rows, net_settings.train_count, validation_count,
+                                                               mlp::Rng::derive_seed(options.seed, 1));
+  const int n_features = feature_count(set.surface);
+  MatrixRM<double> train_raw(static_cast<Eigen::Index>(selection.training.size()), n_features);
+  for (Eigen::Index r = 0; r < train_raw.rows(); ++r) train_raw.row(r) = set.features.row(selection.training[r]);
+
+  // 4. Network: architecture, scaling from the training inputs, weights from the seed.
+  std::vector<int> sizes{n_features};
+  for (int n : parse_hidden(net_settings.hidden)) sizes.push_back(n);
+  sizes.push_back(2);
+  const ParamDomain domain_range = param_domain(set.surface);
+  mlp::Scaling scaling = mlp::Scaling::from_inputs(train_raw, 2, domain_range.lo, domain_range.hi);
+  scaling.target_low = net_settings.target_low;
+  scaling.target_high = net_settings.target_high;
+  scaling.validate(n_features, 2);
+  mlp::Network<Real> network(sizes, net_settings.u0, scaling);
+  network.initialize(mlp::Rng::derive_seed(options.seed, 0));
+  auto scaled = [&](const std::vector<std::uint32_t>& rows, MatrixRM<Real>& x, MatrixRM<Real>& t) {
+    x.resize(static_cast<Eigen::Index>(rows.size()), n_features);
+    t.resize(static_cast<Eigen::Index>(rows.size()), 2);
+    for (Eigen::Index r = 0; r < x.rows(); ++r) {
+      for (int i = 0; i < n_features; ++i) x(r, i) = static_cast<Real>(scaling.scale_input(i, set.features(rows[r], i)));
+      for (int k = 0; k < 2; ++k) t(r, k) = static_cast<Real>(scaling.scale_target(k, set.labels(rows[r], k)));
+    }
+  };
+  MatrixRM<Real> train_x, train_t, val_x, val_t;
+  scaled(selection.training, train_x, train_t);
+  scaled(selection.validation, val_x, val_t);
+  const dataset::TrainingDomain domain = dataset::TrainingDomain::from_features(
+      set.surface, set.features.data(), static_cast<long>(set.size()), set.status, set.filters);
+
+  io::NetworkProvenance provenance;
+  provenance.config_toml = config_toml;
+  provenance.seed = options.seed;
+  provenance.dataset_path = data_path;
+  provenance.dataset_checksum = checksum;
+  provenance.training_mode = std::string(mlp::to_string(options.mode));
+  provenance.training_patterns = static_cast<std::int64_t>(selection.training.size());
+  provenance.validation_patterns = static_cast<std::int64_t>(selection.validation.size());
+
+  // 5. Trainer, resumed from the checkpoint when asked.
+  mlp::Trainer<Real> trainer(network, options, train_x, train_t, val_x, val_t);
+  std::filesystem::path checkpoint_path = output;
+  checkpoint_path += ".checkpoint.h5";
+  if (resume) {
+    const io::TrainedNetwork<Real> saved = io::read_network<Real>(checkpoint_path);
+    CONTACTNN_REQUIRE_AS(FormatError, saved.network.layer_sizes() == sizes && saved.network.u0() == network.u0(),
+                         "checkpoint '" << checkpoint_path.string()
+                                        << "' holds another architecture or U0 than this run asks for");
+    CONTACTNN_REQUIRE_AS(FormatError,
+                         saved.provenance.seed == options.seed && saved.provenance.dataset_checksum == checksum,
+                         "checkpoint '" << checkpoint_path.string() << "' was written for seed "
+                                        << saved.provenance.seed << " and dataset " << saved.provenance.dataset_checksum
+                                        << ", this run has seed " << options.seed << " and dataset " << checksum);
+    network.parameters() = saved.network.parameters();
+    trainer.restore(io::read_training_state<Real>(checkpoint_path, network));
+    if (!quiet) std::fprintf(stderr, "resuming from %s at epoch %d\n", checkpoint_path.string().c_str(), trainer.state().epoch);
+  }
+
+  // 6. Epochs: progress line, checkpoints.
+  const auto start = Clock::now();
+  auto last_print = start - std::chrono::seconds(1);
+  const int first_epoch = trainer.state().epoch;
+  auto print_progress = [&](const mlp::EpochReport& r, bool force) {
+    const auto now = Clock::now();
+    if (quiet || (!force && now - last_print < std::chrono::milliseconds(250))) return;
+    last_print = now;
+    const double elapsed = std::chrono::duration<double>(now - start).count();
+    const double epochs_done = r.epoch - first_epoch;
+    const double rate = elapsed > 0 ? epochs_done / elapsed : 0.0;
+    const double eta = rate > 0 ? (options.epochs - r.epoch) / rate : 0.0;
+    std::fprintf(stderr, "\repoch %d/%d  train %.4e  val %.4e (best %.4e @%d)  %.3g patterns/s  ETA %s   ", r.epoch,
+                 options.epochs, r.training_loss, r.validation_loss, trainer.state().best_validation_loss,
+                 trainer.state().best_epoch, rate * static_cast<double>(train_x.rows()), format_duration(eta).c_str());
+    std::fflush(stderr);
+  };
+  mlp::EpochReport last{};
+  trainer.train([&](const mlp::EpochReport& r) {
+    last = r;
+    print_progress(r, false);
+    if (checkpoint_every > 0 && r.epoch % checkpoint_every == 0) {
+      provenance.epochs_run = r.epoch;
+      provenance.training_loss = r.training_loss;
+      provenance.validation_loss = r.validation_loss;
+      io::write_network(checkpoint_path, network, domain, provenance, &trainer.state());
+    }
+    return true;
+  });
+  if (last.epoch > 0) print_progress(last, true);
+  if (!quiet) std::fprintf(stderr, "\n");
+  const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
+
+  // 7. The frozen network, its config and (optionally) its C header.
+  const auto& state = trainer.state();
+  provenance.epochs_run = state.epoch;
+  provenance.best_epoch = options.restore_best && val_x.rows() > 0 ? state.best_epoch : 0;
+  provenance.training_loss = state.training_loss;
+  provenance.validation_loss = val_x.rows() > 0 && options.restore_best ? state.best_validation_loss : state.validation_loss;
+  io::write_network(output, network, domain, provenance);
+  if (!header_path.empty()) {
+    mlp::CHeaderOptions h;
+    h.prefix = c_prefix(header_path);
+    h.surface = set.surface;
+    h.domain_min = domain.feature_min;
+    h.domain_max = domain.feature_max;
+    h.description = "network " + output.filename().string() + ", dataset " + data_path + " (" + checksum + "), seed " +
+                    std::to_string(options.seed);
+    io::write_text_atomically(header_path, mlp::export_c_header(network, h));
+  }
+
+  // 8. Summary: losses and the mean |error| over every ok row of the dataset (label units).
+  const MatrixRM<double> predicted = mlp::predict(network, set.features);
+  double abs_error[2] = {0, 0};
+  for (std::uint32_t r : ok_rows) {
+    for (int k = 0; k < 2; ++k) abs_error[k] += std::abs(predicted(r, k) - set.labels(r, k));
+  }
+  const auto names = coordinate_names(set.surface);
+  std::printf("train-net summary\n");
+  std::printf("  network          ");
+  for (std::size_t l = 0; l < sizes.size(); ++l) std::printf("%s%d", l ? "-" : "", sizes[l]);
+  std::printf(" (%s, U0 = %g), %s mode\n", std::is_same_v<Real, float> ? "float" : "double", network.u0(),
+              provenance.training_mode.c_str());
+  std::printf("  patterns         %zu training, %zu validation (of %zu ok rows)\n", selection.training.size(),
+              selection.validation.size(), ok_rows.size());
+  std::printf("  epochs           %d (kept parameters of epoch %lld), %.2f s\n", state.epoch,
+              static_cast<long long>(provenance.best_epoch ? provenance.best_epoch : state.epoch), seconds);
+  std::printf("  mean E_p         training %.4e, validation %.4e\n", provenance.training_loss, provenance.validation_loss);
+  std::printf("  all ok rows      mean |%s error| %.5f, mean |%s error| %.5f  (%zu rows)\n",
+              std::string(names[0]).c_str(), abs_error[0] / static_cast<double>(ok_rows.size()),
+              std::string(names[1]).c_str(), abs_error[1] / static_cast<double>(ok_rows.size()), ok_rows.size());
+  std::printf("  written          %s\n", output.string().c_str());
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  using namespace contactnn;
+  CLI::App app{"train-net: train a sigmoid network (paper Eqs 12-14) by back-propagation with momentum"};
+  cli::add_exit_code_footer(app);
+  cli::add_config_option(app, "train-net");
+
+  // 1. Options. Defaults live in mlp::TrainOptions and NetSettings; flags only map onto them.
+  mlp::TrainOptions options;
+  NetSettings net;
+  std::string data, output, header, mode = std::string(mlp::to_string(options.mode));
+  int threads = 0, checkpoint_every = 0;
+  bool resume = false, quiet = false;
+  app.add_option("--data", data, "dataset .h5 written by gen-configs")->required()->check(CLI::ExistingFile);
+  app.add_option("--output", output, "network file (.h5) to write")->required();
+  app.add_option("--hidden", net.hidden, "hidden layer sizes, comma-separated (8 or 32,16)");
+  app.add_option("--u0", net.u0, "U0 of the sigmoid O = 1/(1+exp(-2U/U0))")->check(CLI::PositiveNumber);
+  app.add_option("--precision", net.precision, "float or double arithmetic")->check(CLI::IsMember({"float", "double"}));
+  app.add_option("--mode", mode, "online (one update per pattern) or batch")->check(CLI::IsMember({"online", "batch"}));
+  app.add_option("--batch_size", options.batch_size, "batch mode: patterns per update, 0 = all (full batch)");
+  app.add_option("--learning_rate", options.learning_rate, "eta of dw = momentum dw - eta dE/dw")->check(CLI::PositiveNumber);
+  app.add_option("--momentum", options.momentum, "momentum (alpha) in [0, 1)")->check(CLI::Range(0.0, 0.999999));
+  app.add_option("--epochs", options.epochs, "maximum epochs (the paper's training iterations)")->check(CLI::Range(1, 100000000));
+  app.add_option("--patience", options.patience, "stop after this many epochs without a better validation error; 0 = never")
+      ->check(CLI::NonNegativeNumber);
+  app.add_option("--restore_best", options.restore_best, "keep the parameters of the best validation error");
+  app.add_option("--train_count", net.train_count, "training patterns drawn from the rows with status ok")
+      ->check(CLI::PositiveNumber);
+  app.add_option("--validation_fraction", net.validation_fraction, "validation patterns per training pattern")
+      ->check(CLI::Range(0.0, 10.0));
+  app.add_option("--target_low", net.target_low, "sigmoid value the domain's lower end maps to")->check(CLI::Range(0.0, 1.0));
+  app.add_option("--target_high", net.target_high, "sigmoid value the domain's upper end maps to")->check(CLI::Range(0.0, 1.0));
+  app.add_option("--seed", options.seed, "seed of the pattern draw, the initial weights and the shuffles");
+  app.add_option("--threads", threads, "OpenMP threads (0: OpenMP's default)")->check(CLI::NonNegativeNumber);
+  app.add_option("--checkpoint-every", checkpoint_every, "write OUTPUT.checkpoint.h5 every N epochs (0: never)")
+      ->check(CLI::NonNegativeNumber);
+  app.add_flag("--resume", resume, "continue from OUTPUT.checkpoint.h5");
+  app.add_option("--export-header", header, "also write the network as a C99 header FILE.h");
+  app.add_flag("--quiet", quiet, "no progress line");
+
+  return cli::run(app, argc, argv, [&]() -> int {
+    // 2. Threads and mode.
+    if (threads > 0) omp_set_num_threads(threads);
+    options.threads = threads;
+    options.mode = mlp::training_mode_from_string(mode);
+    const std::string config = cli::effective_config(app, "train-net");
+    const int rc = net.precision == "double"
+                       ? train<double>(net, options, data, output, checkpoint_every, resume, header, quiet, config)
+                       : train<float>(net, options, data, output, checkpoint_every, resume, header, quiet, config);
+    cli::write_effective_config(app, "train-net", output);
+    return rc;
+  });
+}
