@@ -86,14 +86,15 @@ inline void all_unit_rows(int rows, const Real* w, std::size_t stride_r, std::si
 // JB x IB (j, i), accumulators in registers for the whole tile.
 template <class Real, int JB, int IB>
 inline void gradient_block(const Real* delta, const Real* act, int n_out, int n_in, int j0, int i0, int panels,
-                           Real* lane_gradient) {
+                           bool first, Real* lane_gradient) {
   using P = PacketOf<Real>;
   constexpr int L = kLanes<Real>;
   constexpr int PW = kPanelWidth<Real>;
   P acc[JB][IB];
   for (int r = 0; r < JB; ++r)
     for (int c = 0; c < IB; ++c)
-      acc[r][c] = pload<P>(lane_gradient + (static_cast<std::size_t>(j0 + r) * n_in + i0 + c) * L);
+      acc[r][c] = first ? pset1<P>(Real(0))
+                        : pload<P>(lane_gradient + (static_cast<std::size_t>(j0 + r) * n_in + i0 + c) * L);
   for (int k = 0; k < panels; ++k) {
     const Real* d = delta + static_cast<std::size_t>(k) * n_out * PW + static_cast<std::size_t>(j0) * PW;
     const Real* a = act + static_cast<std::size_t>(k) * n_in * PW + static_cast<std::size_t>(i0) * PW;
@@ -112,24 +113,24 @@ inline void gradient_block(const Real* delta, const Real* act, int n_out, int n_
 
 template <class Real, int JB, int IB>
 inline void gradient_block_cols(int ib, const Real* delta, const Real* act, int n_out, int n_in, int j0, int i0,
-                                int panels, Real* g) {
+                                int panels, bool first, Real* g) {
   if constexpr (IB > 0) {
     if (ib == IB) {
-      gradient_block<Real, JB, IB>(delta, act, n_out, n_in, j0, i0, panels, g);
+      gradient_block<Real, JB, IB>(delta, act, n_out, n_in, j0, i0, panels, first, g);
     } else {
-      gradient_block_cols<Real, JB, IB - 1>(ib, delta, act, n_out, n_in, j0, i0, panels, g);
+      gradient_block_cols<Real, JB, IB - 1>(ib, delta, act, n_out, n_in, j0, i0, panels, first, g);
     }
   }
 }
 
 template <class Real, int JB>
 inline void gradient_block_any(int jb, int ib, const Real* delta, const Real* act, int n_out, int n_in, int j0,
-                               int i0, int panels, Real* g) {
+                               int i0, int panels, bool first, Real* g) {
   if constexpr (JB > 0) {
     if (jb == JB) {
-      gradient_block_cols<Real, JB, kGradCols>(ib, delta, act, n_out, n_in, j0, i0, panels, g);
+      gradient_block_cols<Real, JB, kGradCols>(ib, delta, act, n_out, n_in, j0, i0, panels, first, g);
     } else {
-      gradient_block_any<Real, JB - 1>(jb, ib, delta, act, n_out, n_in, j0, i0, panels, g);
+      gradient_block_any<Real, JB - 1>(jb, ib, delta, act, n_out, n_in, j0, i0, panels, first, g);
     }
   }
 }
@@ -177,6 +178,13 @@ void PanelPatterns<Real>::assign(const MatrixRM<Real>& inputs, const MatrixRM<Re
       Real* m = mask_.data() + p * PW;
       const std::size_t base = first_pattern + (p - seg.panel_begin) * PW;
       for (int lane = 0; lane < PW; ++lane) {
+        // Shuffled rows are scattered over more than L2: fetch a few patterns ahead.
+        constexpr int kAhead = 8;
+        if ((p - seg.panel_begin) * PW + lane + kAhead < seg.pattern_count) {
+          const std::size_t ahead = order[base + lane + kAhead];
+          __builtin_prefetch(inputs.data() + ahead * n_in_);
+          __builtin_prefetch(targets.data() + ahead * n_out_);
+        }
         const bool real = (p - seg.panel_begin) * PW + lane < seg.pattern_count;
         const Real* x = real ? inputs.data() + static_cast<std::size_t>(order[base + lane]) * n_in_ : nullptr;
         const Real* t = real ? targets.data() + static_cast<std::size_t>(order[base + lane]) * n_out_ : nullptr;
@@ -213,6 +221,7 @@ BatchGradient<Real>::BatchGradient(const Network<Real>& network, int threads)
   }
   slot_gradient_.assign(static_cast<std::size_t>(kSlots) * parameter_count_, Real(0));
   slot_loss_.assign(kSlots, 0.0);
+  slot_used_.assign(kSlots, 0);
 }
 
 template <class Real>
@@ -251,15 +260,16 @@ double BatchGradient<Real>::run(const Network<Real>& network, const PanelPattern
     Workspace& ws = workspaces_[static_cast<std::size_t>(omp_get_thread_num())];
     const std::size_t tile_begin = n_tiles * s / kSlots;
     const std::size_t tile_end = n_tiles * (s + 1) / kSlots;
-    if (kBackward) std::fill(ws.lane_gradient.begin(), ws.lane_gradient.end(), Real(0));
+    slot_used_[s] = tile_end > tile_begin;
     double slot_loss = 0.0;
     for (std::size_t t = tile_begin; t < tile_end; ++t) {
       const std::size_t panel = seg.panel_begin + t * kTilePanels;
       const std::size_t count = std::min<std::size_t>(kTilePanels, seg.panel_end - panel);
-      slot_loss += static_cast<double>(run_tile<kBackward>(network, patterns, panel, count, ws));
+      // The slot's first tile starts the per-lane sums at zero: no separate clearing pass.
+      slot_loss += static_cast<double>(run_tile<kBackward>(network, patterns, panel, count, t == tile_begin, ws));
     }
     slot_loss_[s] = slot_loss;
-    if (kBackward) {
+    if (kBackward && slot_used_[s]) {
       Real* out = slot_gradient_.data() + static_cast<std::size_t>(s) * P;
       const Real* lanes = ws.lane_gradient.data();
       for (std::size_t p = 0; p < P; ++p) out[p] = predux(pload<PacketOf<Real>>(lanes + p * L));
@@ -275,7 +285,9 @@ double BatchGradient<Real>::run(const Network<Real>& network, const PanelPattern
   if (kBackward) {
     for (std::size_t p = 0; p < P; ++p) {
       double sum = 0.0;
-      for (int s = 0; s < kSlots; ++s) sum += static_cast<double>(slot_gradient_[static_cast<std::size_t>(s) * P + p]);
+      for (int s = 0; s < kSlots; ++s) {
+        if (slot_used_[s]) sum += static_cast<double>(slot_gradient_[static_cast<std::size_t>(s) * P + p]);
+      }
       gradient[p] = static_cast<Real>(sum);
     }
   }
@@ -285,7 +297,7 @@ double BatchGradient<Real>::run(const Network<Real>& network, const PanelPattern
 template <class Real>
 template <bool kBackward>
 Real BatchGradient<Real>::run_tile(const Network<Real>& network, const PanelPatterns<Real>& patterns,
-                                   std::size_t panel_begin, std::size_t panel_count, Workspace& ws) {
+                                   std::size_t panel_begin, std::size_t panel_count, bool first, Workspace& ws) {
   using P = PacketOf<Real>;
   constexpr int L = kLanes<Real>;
   constexpr int PW = kPanelWidth<Real>;
@@ -357,12 +369,12 @@ Real BatchGradient<Real>::run_tile(const Network<Real>& network, const PanelPatt
         const int jb = std::min(kGradRows, n_out - j0);
         for (int i0 = 0; i0 < n_in; i0 += kGradCols) {
           gradient_block_any<Real, kGradRows>(jb, std::min(kGradCols, n_in - i0), d, below, n_out, n_in, j0, i0,
-                                              panels, g);
+                                              panels, first, g);
         }
       }
       Real* gt = ws.lane_gradient.data() + network.threshold_offset(l) * L;
       for (int j = 0; j < n_out; ++j) {
-        P acc = pload<P>(gt + j * L);
+        P acc = first ? pset1<P>(Real(0)) : pload<P>(gt + j * L);
         for (int kk = 0; kk < panels; ++kk) {
           const Real* dj = d + static_cast<std::size_t>(kk) * n_out * PW + j * PW;
           acc = padd(acc, padd(padd(pload<P>(dj), pload<P>(dj + L)), padd(pload<P>(dj + 2 * L), pload<P>(dj + 3 * L))));

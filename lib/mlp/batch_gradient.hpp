@@ -92,7 +92,7 @@ class BatchGradient {
              Real* gradient);
   template <bool kBackward>
   Real run_tile(const Network<Real>& network, const PanelPatterns<Real>& patterns, std::size_t panel_begin,
-                std::size_t panel_count, Workspace& ws);
+                std::size_t panel_count, bool first, Workspace& ws);
 
   std::vector<int> sizes_;
   std::size_t parameter_count_;
@@ -101,6 +101,7 @@ class BatchGradient {
   std::vector<Workspace> workspaces_;
   AlignedVector<Real> slot_gradient_;  // kSlots x parameter_count
   std::vector<double> slot_loss_;
+  std::vector<char> slot_used_;  // a slot with no tile (small segments) contributes nothing
 };
 
 }  // namespace contactnn::mlp
