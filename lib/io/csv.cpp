@@ -2,6 +2,7 @@
 
 #include <charconv>
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <sstream>
 #include <unordered_set>
@@ -25,11 +26,21 @@ bool is_blank(std::string_view line) { return trim(line).empty(); }
 
 bool parse_double(std::string_view field, double& value) {
   field = trim(field);
-  if (!field.empty() && field.front() == '+') field.remove_prefix(1);
+  if (!field.empty() && field.front() == '+') {
+    field.remove_prefix(1);
+    if (!field.empty() && (field.front() == '-' || field.front() == '+')) return false;  // "+-1"
+  }
   if (field.empty()) return false;
   const char* end = field.data() + field.size();
   const auto result = std::from_chars(field.data(), end, value);
-  return result.ec == std::errc() && result.ptr == end;
+  if (result.ptr != end) return false;
+  if (result.ec == std::errc::result_out_of_range) {
+    // A well-formed number beyond double's range (1e400, 1e-400): rounded as IEEE does, to +-inf (the row
+    // is then invalid) or to 0, rather than reported as "not a number". strtod does that rounding.
+    value = std::strtod(std::string(field).c_str(), nullptr);
+    return true;
+  }
+  return result.ec == std::errc();
 }
 
 std::size_t CsvTable::column(std::string_view name) const {
@@ -53,8 +64,9 @@ CsvTable parse_csv(std::string_view text, const std::filesystem::path& name) {
   table.path = name;
   const std::string file = "'" + name.string() + "'";
 
-  // Splits the text into records of fields, honouring quotes (which may span lines).
-  std::size_t pos = 0;
+  // Splits the text into records of fields, honouring quotes (which may span lines). A UTF-8 byte-order
+  // mark (spreadsheet exports) is not part of the first column's name.
+  std::size_t pos = text.substr(0, 3) == "\xEF\xBB\xBF" ? 3 : 0;
   std::size_t line = 1;
   bool have_header = false;
   while (pos < text.size()) {

@@ -25,7 +25,7 @@ struct CsvTable {
 };
 
 /// Reads a CSV file: comma-separated, RFC 4180 double quotes allowed, LF or CRLF line ends, blank lines
-/// skipped. FormatError (naming file and line) for: an empty file, a header without data rows, a
+/// skipped, a leading UTF-8 byte-order mark ignored. FormatError (naming file and line) for: an empty file, a header without data rows, a
 /// duplicate or empty column name, a row whose field count differs from the header's, an unterminated
 /// quote. IoError if the file cannot be opened.
 [[nodiscard]] CsvTable read_csv(const std::filesystem::path& path);
@@ -34,7 +34,8 @@ struct CsvTable {
 [[nodiscard]] CsvTable parse_csv(std::string_view text, const std::filesystem::path& name);
 
 /// Parses a whole field as a number (leading/trailing blanks allowed, a leading '+' allowed);
-/// false if the field is not exactly one number. nan/inf accepted.
+/// false if the field is not exactly one number. nan/inf accepted; a number beyond double's range
+/// rounds to +-inf or 0 as in IEEE arithmetic.
 [[nodiscard]] bool parse_double(std::string_view field, double& value);
 
 /// Appends one CSV row to `out`, quoting fields that contain a comma, quote or line break.

@@ -48,7 +48,7 @@ dataset::LabelledSet read_dataset(const std::filesystem::path& path) {
   const Hdf5File file(path, Hdf5File::Mode::kRead);
   require_file_kind(file, kDatasetFileKind, kDatasetSchemaVersion);
   dataset::LabelledSet set;
-  set.surface = surface_from_string(file.read_string_attribute("/", "surface"));
+  set.surface = read_surface_attribute(file, "/", "surface");
   set.config_toml = file.read_string_attribute("/", "config");
   set.features = file.read_matrix<double>("features");
   set.labels = file.read_matrix<double>("labels");

@@ -43,7 +43,7 @@ void write_domain(Hdf5File& file, const std::string& group, const dataset::Train
 
 dataset::TrainingDomain read_domain(const Hdf5File& file, const std::string& group) {
   dataset::TrainingDomain domain;
-  domain.surface = surface_from_string(file.read_string_attribute(group + "/filters", "surface"));
+  domain.surface = read_surface_attribute(file, group + "/filters", "surface");
   domain.feature_min = file.read_vector<double>(group + "/feature_min");
   domain.feature_max = file.read_vector<double>(group + "/feature_max");
   const auto expected = static_cast<std::size_t>(feature_count(domain.surface));

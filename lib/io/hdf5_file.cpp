@@ -2,6 +2,8 @@
 
 #include <hdf5.h>
 
+#include <limits>
+#include <new>
 #include <sstream>
 
 #include "core/error.hpp"
@@ -99,6 +101,30 @@ std::vector<hsize_t> dataset_dims(hid_t dataset) {
   return dims;
 }
 
+/// A corrupt object header can claim any dimensions. Before anything is allocated, the element count must
+/// fit in the storage the file holds for the dataset (contiguous layout, the one Hdf5File writes; other
+/// layouts cannot be checked this way, and a failed allocation is still reported as FormatError).
+void require_stored(hid_t dataset, const std::filesystem::path& path, const std::string& name,
+                    const std::vector<hsize_t>& dims) {
+  hsize_t count = 1;
+  bool overflow = false;
+  for (const hsize_t d : dims) {
+    if (d != 0 && count > std::numeric_limits<hsize_t>::max() / d) overflow = true;
+    count *= d;
+  }
+  const Handle type(H5Dget_type(dataset), H5Tclose);
+  const Handle create_props(H5Dget_create_plist(dataset), H5Pclose);
+  const std::size_t element = type.valid() ? H5Tget_size(type.get()) : 0;
+  if (!create_props.valid() || H5Pget_layout(create_props.get()) != H5D_CONTIGUOUS) return;
+  const hsize_t stored = H5Dget_storage_size(dataset);
+  std::ostringstream shape;
+  for (std::size_t i = 0; i < dims.size(); ++i) shape << (i > 0 ? "x" : "") << dims[i];
+  CONTACTNN_REQUIRE_AS(FormatError, !overflow && element > 0 && count <= stored / element,
+                       "dataset " << where(path, name) << " claims " << shape.str() << " elements of " << element
+                                  << " bytes but the file stores " << stored
+                                  << " bytes for it (the file is truncated or corrupt)");
+}
+
 Handle open_attribute(hid_t file, const std::filesystem::path& path, const std::string& object,
                       const std::string& name) {
   const std::string label = object + "@" + name;
@@ -179,7 +205,14 @@ MatrixRM<T> Hdf5File::read_matrix(const std::string& name) const {
   const auto dims = dataset_dims(dataset.get());
   CONTACTNN_REQUIRE_AS(FormatError, dims.size() == 2,
                        "dataset " << where(path_, name) << " has rank " << dims.size() << ", expected a 2-D matrix");
-  MatrixRM<T> matrix(static_cast<Eigen::Index>(dims[0]), static_cast<Eigen::Index>(dims[1]));
+  require_stored(dataset.get(), path_, name, dims);
+  MatrixRM<T> matrix;
+  try {
+    matrix.resize(static_cast<Eigen::Index>(dims[0]), static_cast<Eigen::Index>(dims[1]));
+  } catch (const std::bad_alloc&) {
+    throw FormatError("dataset " + where(path_, name) + " claims " + std::to_string(dims[0]) + "x" +
+                      std::to_string(dims[1]) + " elements: more than memory holds (corrupt?)");
+  }
   CONTACTNN_REQUIRE_AS(FormatError,
                        matrix.size() == 0 ||
                            H5Dread(dataset.get(), native_type<T>(), H5S_ALL, H5S_ALL, H5P_DEFAULT, matrix.data()) >= 0,
@@ -193,7 +226,14 @@ std::vector<T> Hdf5File::read_vector(const std::string& name) const {
   const auto dims = dataset_dims(dataset.get());
   CONTACTNN_REQUIRE_AS(FormatError, dims.size() == 1,
                        "dataset " << where(path_, name) << " has rank " << dims.size() << ", expected a 1-D vector");
-  std::vector<T> values(dims[0]);
+  require_stored(dataset.get(), path_, name, dims);
+  std::vector<T> values;
+  try {
+    values.resize(dims[0]);
+  } catch (const std::bad_alloc&) {
+    throw FormatError("dataset " + where(path_, name) + " claims " + std::to_string(dims[0]) +
+                      " elements: more than memory holds (corrupt?)");
+  }
   CONTACTNN_REQUIRE_AS(FormatError,
                        values.empty() ||
                            H5Dread(dataset.get(), native_type<T>(), H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()) >= 0,
@@ -239,7 +279,14 @@ std::string Hdf5File::read_string_attribute(const std::string& object, const std
   Handle type(H5Aget_type(attribute.get()), H5Tclose);
   CONTACTNN_REQUIRE_AS(FormatError, H5Tget_class(type.get()) == H5T_STRING && H5Tis_variable_str(type.get()) == 0,
                        "attribute " << where(path_, object + "@" + name) << " is not a fixed-length string");
-  std::string value(H5Tget_size(type.get()), '\0');
+  // An attribute cannot be longer than the file: a larger size is a corrupt header, not an allocation.
+  hsize_t file_size = 0;
+  H5Fget_filesize(file_id_, &file_size);
+  const std::size_t size = H5Tget_size(type.get());
+  CONTACTNN_REQUIRE_AS(FormatError, size <= file_size,
+                       "attribute " << where(path_, object + "@" + name) << " claims " << size << " bytes in a file of "
+                                    << file_size << " (corrupt)");
+  std::string value(size, '\0');
   CONTACTNN_REQUIRE_AS(FormatError, H5Aread(attribute.get(), type.get(), value.data()) >= 0,
                        "cannot read attribute " << where(path_, object + "@" + name));
   value.resize(value.find_last_not_of('\0') == std::string::npos ? 0 : value.find_last_not_of('\0') + 1);
@@ -282,6 +329,15 @@ void require_file_kind(const Hdf5File& file, std::string_view expected_kind, std
   CONTACTNN_REQUIRE_AS(FormatError, version == expected_version,
                        "'" << path << "' has " << expected_kind << " schema version " << version << ", expected "
                            << expected_version);
+}
+
+SurfaceKind read_surface_attribute(const Hdf5File& file, const std::string& object, const std::string& name) {
+  const std::string value = file.read_string_attribute(object, name);
+  for (const SurfaceKind kind : {SurfaceKind::kBilinear, SurfaceKind::kGregory}) {
+    if (value == to_string(kind)) return kind;
+  }
+  throw FormatError("attribute " + where(file.path(), object + "@" + name) + " is '" + value +
+                    "', expected 'bilinear' or 'gregory'");
 }
 
 #define CONTACTNN_INSTANTIATE(T)                                                      \

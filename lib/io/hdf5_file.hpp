@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+#include "core/conventions.hpp"
+
 namespace contactnn::io {
 
 template <class T>
@@ -65,5 +67,10 @@ class Hdf5File {
 /// (a network is not a dataset) and `schema_version` must equal `expected_version`. FormatError with
 /// both sides of the mismatch and the file name otherwise.
 void require_file_kind(const Hdf5File& file, std::string_view expected_kind, std::int64_t expected_version);
+
+/// String attribute `name` of `object` read as a surface kind ("bilinear" or "gregory"). FormatError naming
+/// the file, the attribute and the value found otherwise (a corrupt or foreign file, not a usage error).
+[[nodiscard]] SurfaceKind read_surface_attribute(const Hdf5File& file, const std::string& object,
+                                                 const std::string& name);
 
 }  // namespace contactnn::io
