@@ -53,7 +53,7 @@ Real OnlineBackprop<Real>::train_pattern(Network<Real>& network, Real* velocity,
     Real* u = activations_[1].data();
     const Real* theta = network.thresholds(0);
     for (int j = 0; j < n_out; ++j) u[j] = -theta[j];
-    for (int i = 0; i < n_in; ++i) simd::axpy(x[i], w0t_.data() + static_cast<std::size_t>(i) * n_out, u, n_out);
+    simd::add_transposed_product(w0t_.data(), x, n_in, n_out, u);
     simd::sigmoid_inplace(u, n_out, gain);
   }
   for (int l = 1; l < n_layers; ++l) {

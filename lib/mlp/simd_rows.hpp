@@ -72,6 +72,43 @@ inline void sigmoid_rows(const Real* w, const Real* theta, const Real* x, int ro
   sigmoid_inplace(out, rows, gain);
 }
 
+/// NP packets of columns from j: u[j..] += sum_i x[i] wt[i][j..], accumulated in registers.
+template <class Real, int NP>
+inline void add_transposed_block(const Real* wt, const Real* x, int rows, int cols, int j, Real* u) {
+  using namespace Eigen::internal;
+  using P = Packet<Real>;
+  constexpr int L = kWidth<Real>;
+  P a[NP];
+  for (int k = 0; k < NP; ++k) a[k] = ploadu<P>(u + j + k * L);
+  for (int i = 0; i < rows; ++i) {
+    const P xi = pset1<P>(x[i]);
+    const Real* w = wt + static_cast<std::size_t>(i) * cols + j;
+    for (int k = 0; k < NP; ++k) a[k] = pmadd(xi, ploadu<P>(w + k * L), a[k]);
+  }
+  for (int k = 0; k < NP; ++k) pstoreu(u + j + k * L, a[k]);
+}
+
+/// u[j] += sum_i x[i] wt[i][j] for j < cols (wt row-major rows x cols): a product with a transposed weight
+/// matrix, summed in registers over i in blocks of up to 4 packets, so that no store-to-load chain runs
+/// through u and several FMA chains overlap.
+template <class Real>
+inline void add_transposed_product(const Real* wt, const Real* x, int rows, int cols, Real* u) {
+  constexpr int L = kWidth<Real>;
+  int j = 0;
+  for (; j + 4 * L <= cols; j += 4 * L) add_transposed_block<Real, 4>(wt, x, rows, cols, j, u);
+  switch ((cols - j) / L) {
+    case 3: add_transposed_block<Real, 3>(wt, x, rows, cols, j, u); j += 3 * L; break;
+    case 2: add_transposed_block<Real, 2>(wt, x, rows, cols, j, u); j += 2 * L; break;
+    case 1: add_transposed_block<Real, 1>(wt, x, rows, cols, j, u); j += L; break;
+    default: break;
+  }
+  for (; j < cols; ++j) {
+    Real a = u[j];
+    for (int i = 0; i < rows; ++i) a += x[i] * wt[static_cast<std::size_t>(i) * cols + j];
+    u[j] = a;
+  }
+}
+
 /// y[i] += s * x[i] for i < n.
 template <class Real>
 inline void axpy(Real s, const Real* x, Real* y, int n) {
