@@ -12,18 +12,22 @@
 namespace contactnn::cli {
 
 /// Parses the command line and runs `body` inside the error boundary of every app:
-///  - CLI11 parse errors print CLI11's message and return 2 (0 for --help);
+///  - CLI11 parse errors print CLI11's message and return 2 (0 for --help); an error in the --config file
+///    (unknown key, bad value) names the file, the line and the key;
 ///  - contactnn::Error prints "error: <message>" and returns its exit code (README "Exit codes");
 ///  - any other std::exception prints "error: internal: ..." and returns 1.
 /// Nothing below main exits the process.
 int run(CLI::App& app, int argc, char** argv, const std::function<int()>& body);
 
 /// Adds `--config FILE` reading section [section] of a TOML file; keys in that section that are not
-/// options of the app are an error (CLI11 would ignore them by default). Sections of other apps are skipped.
+/// options of the app are an error (CLI11 would ignore them by default). Sections of other apps are skipped;
+/// a section no app has, a malformed section header, or a key before any section is an error. Options added
+/// after this call capture their defaults (shown by --help, written by write_effective_config).
 void add_config_option(CLI::App& app, const std::string& section);
 
-/// Writes the effective configuration (every option's final value, defaults included) as TOML under
-/// [section] to `<output>.config.toml`, atomically.
+/// Writes the effective configuration (every option's final value, defaults included; options without a
+/// value, such as an absent --input, are left out) as TOML under [section] to `<output>.config.toml`,
+/// atomically. The file can be given back with --config.
 void write_effective_config(const CLI::App& app, const std::string& section, const std::filesystem::path& output);
 
 /// The effective configuration as TOML text (for provenance attributes in output files).
