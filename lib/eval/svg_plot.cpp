@@ -1,0 +1,156 @@
+#include "eval/svg_plot.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <vector>
+
+#include "core/error.hpp"
+
+namespace contactnn::eval {
+
+namespace {
+
+// Layout in SVG user units: the plot area sits inside the margins, which hold the tick labels, axis
+// labels and title.
+constexpr double kWidth = 760.0;
+constexpr double kHeight = 460.0;
+constexpr double kLeft = 90.0;
+constexpr double kRight = 30.0;
+constexpr double kTop = 50.0;
+constexpr double kBottom = 90.0;
+
+std::string number(double x) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%.2f", x);
+  return buffer;
+}
+
+std::string count_text(std::int64_t count) { return std::to_string(count); }
+
+}  // namespace
+
+std::string xml_escape(std::string_view text) {
+  std::string out;
+  out.reserve(text.size());
+  for (const char c : text) {
+    switch (c) {
+      case '&': out += "&amp;"; break;
+      case '<': out += "&lt;"; break;
+      case '>': out += "&gt;"; break;
+      case '"': out += "&quot;"; break;
+      case '\'': out += "&apos;"; break;
+      default: out += c;
+    }
+  }
+  return out;
+}
+
+std::vector<double> nice_ticks(double lo, double hi, int target) {
+  CONTACTNN_REQUIRE(std::isfinite(lo) && std::isfinite(hi) && lo < hi, "nice_ticks: bad range [" << lo << ", " << hi << "]");
+  const double step = nice_ceil((hi - lo) / std::max(target, 1));
+  std::vector<double> ticks;
+  const double first = std::ceil(lo / step - 1e-9);
+  const double last = std::floor(hi / step + 1e-9);
+  for (double k = first; k <= last; k += 1.0) {
+    const double t = k * step;
+    ticks.push_back(std::abs(t) < 1e-12 * step ? 0.0 : t);  // no "-0"
+  }
+  return ticks;
+}
+
+std::string tick_label(double value, double step) {
+  char buffer[32];
+  for (int digits = 1; digits <= 6; ++digits) {
+    std::snprintf(buffer, sizeof buffer, "%.*g", digits, value);
+    if (std::abs(std::strtod(buffer, nullptr) - value) <= 1e-9 * std::abs(step)) return buffer;
+  }
+  std::snprintf(buffer, sizeof buffer, "%.6g", value);
+  return buffer;
+}
+
+std::string histogram_svg(const Histogram& h, const PlotLabels& labels) {
+  CONTACTNN_REQUIRE(h.bins() >= 1 && h.lo < h.hi, "histogram_svg: empty histogram");
+  const double plot_w = kWidth - kLeft - kRight;
+  const double plot_h = kHeight - kTop - kBottom;
+  // At least 5 on the count axis, so that its ticks are whole numbers.
+  const std::int64_t max_count = std::max<std::int64_t>(5, *std::max_element(h.counts.begin(), h.counts.end()));
+  std::vector<double> y_ticks = nice_ticks(0.0, static_cast<double>(max_count), 5);
+  const double y_step = y_ticks.size() >= 2 ? y_ticks[1] - y_ticks[0] : 1.0;
+  // The y axis ends at the first tick at or above the largest count, and that tick is labelled.
+  if (y_ticks.back() < static_cast<double>(max_count)) y_ticks.push_back(y_ticks.back() + y_step);
+  const double y_top = y_ticks.back();
+  const auto x_of = [&](double x) { return kLeft + (x - h.lo) / (h.hi - h.lo) * plot_w; };
+  const auto y_of = [&](double c) { return kTop + plot_h - c / y_top * plot_h; };
+
+  std::string s;
+  s += "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n";
+  s += "<svg xmlns=\"http://www.w3.org/2000/svg\" version=\"1.1\" width=\"" + number(kWidth) + "\" height=\"" +
+       number(kHeight) + "\" viewBox=\"0 0 " + number(kWidth) + " " + number(kHeight) + "\">\n";
+  s += "  <title>" + xml_escape(labels.title) + "</title>\n";
+  s += "  <rect x=\"0\" y=\"0\" width=\"" + number(kWidth) + "\" height=\"" + number(kHeight) + "\" fill=\"white\"/>\n";
+  s += "  <text x=\"" + number(kWidth / 2) + "\" y=\"28\" text-anchor=\"middle\" font-family=\"sans-serif\" "
+       "font-size=\"15\">" + xml_escape(labels.title) + "</text>\n";
+
+  // Bars.
+  s += "  <g fill=\"#4a74b0\" stroke=\"none\">\n";
+  for (int k = 0; k < h.bins(); ++k) {
+    const std::int64_t c = h.counts[static_cast<std::size_t>(k)];
+    if (c == 0) continue;
+    const double x0 = x_of(h.edge(k));
+    const double x1 = x_of(h.edge(k + 1));
+    const double y = y_of(static_cast<double>(c));
+    s += "    <rect x=\"" + number(x0) + "\" y=\"" + number(y) + "\" width=\"" + number(std::max(x1 - x0, 0.5)) +
+         "\" height=\"" + number(kTop + plot_h - y) + "\"/>\n";
+  }
+  s += "  </g>\n";
+
+  // Axes, ticks and tick labels.
+  s += "  <g stroke=\"black\" stroke-width=\"1\" fill=\"none\">\n";
+  s += "    <line x1=\"" + number(kLeft) + "\" y1=\"" + number(kTop + plot_h) + "\" x2=\"" + number(kLeft + plot_w) +
+       "\" y2=\"" + number(kTop + plot_h) + "\"/>\n";
+  s += "    <line x1=\"" + number(kLeft) + "\" y1=\"" + number(kTop) + "\" x2=\"" + number(kLeft) + "\" y2=\"" +
+       number(kTop + plot_h) + "\"/>\n";
+  const std::vector<double> x_ticks = nice_ticks(h.lo, h.hi, 8);
+  for (const double t : x_ticks) {
+    s += "    <line x1=\"" + number(x_of(t)) + "\" y1=\"" + number(kTop + plot_h) + "\" x2=\"" + number(x_of(t)) +
+         "\" y2=\"" + number(kTop + plot_h + 5) + "\"/>\n";
+  }
+  for (const double t : y_ticks) {
+    s += "    <line x1=\"" + number(kLeft - 5) + "\" y1=\"" + number(y_of(t)) + "\" x2=\"" + number(kLeft) +
+         "\" y2=\"" + number(y_of(t)) + "\"/>\n";
+  }
+  s += "  </g>\n";
+  s += "  <g font-family=\"sans-serif\" font-size=\"11\" fill=\"black\">\n";
+  const double x_step = x_ticks.size() >= 2 ? x_ticks[1] - x_ticks[0] : h.hi - h.lo;
+  for (const double t : x_ticks) {
+    s += "    <text x=\"" + number(x_of(t)) + "\" y=\"" + number(kTop + plot_h + 18) + "\" text-anchor=\"middle\">" +
+         xml_escape(tick_label(t, x_step)) + "</text>\n";
+  }
+  for (const double t : y_ticks) {
+    // Counts are whole numbers: written in full, not in exponent form.
+    const std::string label = y_step >= 1.0 ? std::to_string(std::llround(t)) : tick_label(t, y_step);
+    s += "    <text x=\"" + number(kLeft - 8) + "\" y=\"" + number(y_of(t) + 4) + "\" text-anchor=\"end\">" +
+         xml_escape(label) + "</text>\n";
+  }
+  s += "  </g>\n";
+
+  // Axis labels and the outlier footnote.
+  s += "  <text x=\"" + number(kLeft + plot_w / 2) + "\" y=\"" + number(kTop + plot_h + 42) +
+       "\" text-anchor=\"middle\" font-family=\"sans-serif\" font-size=\"13\">" + xml_escape(labels.x_label) +
+       "</text>\n";
+  s += "  <text x=\"20\" y=\"" + number(kTop + plot_h / 2) + "\" text-anchor=\"middle\" font-family=\"sans-serif\" "
+       "font-size=\"13\" transform=\"rotate(-90 20 " + number(kTop + plot_h / 2) + ")\">" +
+       xml_escape(labels.y_label) + "</text>\n";
+  s += "  <text x=\"" + number(kLeft) + "\" y=\"" + number(kHeight - 14) +
+       "\" font-family=\"sans-serif\" font-size=\"11\" fill=\"#444444\">" +
+       xml_escape(std::to_string(h.bins()) + " bins over [" + tick_label(h.lo, x_step) + ", " +
+                  tick_label(h.hi, x_step) + "]; outside the plot: " + count_text(h.underflow) + " below, " +
+                  count_text(h.overflow) + " above; " + count_text(h.excluded) + " failures not plotted") +
+       "</text>\n";
+  s += "</svg>\n";
+  return s;
+}
+
+}  // namespace contactnn::eval

@@ -1,0 +1,211 @@
+// Smoke tests of the evaluate-net app on a tiny study: gen-configs makes a small dataset, a small network is
+// made for it, evaluate-net writes a report (every method listed, SVG well-formed) and labels a user's CSV
+// (rows and order kept, statuses right); bad command lines fail with a clear message and exit code.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "eval/methods.hpp"
+#include "eval/placement.hpp"
+#include "io/csv.hpp"
+#include "io/dataset_file.hpp"
+#include "io/network_file.hpp"
+#include "xml_check.hpp"
+
+namespace contactnn::eval {
+namespace {
+
+namespace fs = std::filesystem;
+
+const fs::path kBin = CONTACTNN_BINARY_DIR;
+const fs::path kSource = CONTACTNN_SOURCE_DIR;
+
+std::string read_file(const fs::path& p) {
+  std::ifstream in(p);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+/// Runs a shell command, stdout and stderr into `log`; returns the exit status.
+int run(const std::string& command, const fs::path& log) {
+  const int status = std::system((command + " > '" + log.string() + "' 2>&1").c_str());
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+class EvaluateNetApp : public ::testing::Test {
+ protected:
+  // One tiny dataset and network for every test of the suite (made once: the suite stays fast).
+  static void SetUpTestSuite() {
+    dir_ = fs::path(::testing::TempDir()) / "contactnn_evaluate_net_app";
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+    const std::string gen = (kBin / "apps/gen-configs/gen-configs").string();
+    ASSERT_EQ(run(gen + " --quiet --threads 2 --output " + (dir_ / "tiny.h5").string() +
+                      " --d_xy_points 8 --c_xy_points 6 --c_z_points 2 --s_xy_points 8 --s_z_points 2",
+                  dir_ / "gen.log"),
+              0)
+        << read_file(dir_ / "gen.log");
+    make_network();
+  }
+  // CONTACTNN_KEEP_TEST_OUTPUT=1 keeps the directory for a look at the files.
+  static void TearDownTestSuite() {
+    if (std::getenv("CONTACTNN_KEEP_TEST_OUTPUT") == nullptr) fs::remove_all(dir_);
+  }
+
+  /// An 8-8-2 network for the tiny dataset: trained by train-net for a few epochs where it is built, else
+  /// seeded random weights with the dataset's scaling and domain. Its accuracy is irrelevant here, only
+  /// that evaluate-net reads and applies a real network file.
+  static void make_network() {
+    const dataset::LabelledSet set = io::read_dataset(dir_ / "tiny.h5");
+    set_ = set;
+#ifdef CONTACTNN_HAVE_TRAIN_NET
+    const std::string train = (kBin / "apps/train-net/train-net").string();
+    ASSERT_EQ(run(train + " --quiet --threads 2 --data " + (dir_ / "tiny.h5").string() + " --output " +
+                      (dir_ / "net.h5").string() + " --hidden 8 --epochs 20 --train_count 100 --seed 3",
+                  dir_ / "train.log"),
+              0)
+        << read_file(dir_ / "train.log");
+    domain_ = io::read_network<float>(dir_ / "net.h5").domain;
+#else
+    const mlp::Scaling scaling = mlp::Scaling::from_inputs(set.features, 2, -1.0, 1.0);
+    mlp::Network<float> network({8, 8, 2}, 1.0, scaling);
+    network.initialize(42);
+    const dataset::TrainingDomain domain = dataset::TrainingDomain::from_features(
+        set.surface, set.features.data(), static_cast<long>(set.size()), set.status, set.filters);
+    io::write_network(dir_ / "net.h5", network, domain, io::NetworkProvenance{});
+    domain_ = domain;
+#endif
+  }
+
+  static std::string evaluate_net() { return (kBin / "apps/evaluate-net/evaluate-net").string(); }
+
+  static inline fs::path dir_;
+  static inline dataset::LabelledSet set_;
+  static inline dataset::TrainingDomain domain_;
+};
+
+TEST_F(EvaluateNetApp, ReportListsEveryMethodAndWritesWellFormedSvg) {
+  const fs::path report = dir_ / "report";
+  ASSERT_EQ(run(evaluate_net() + " --quiet --threads 2 --weights " + (dir_ / "net.h5").string() + " --data " +
+                    (dir_ / "tiny.h5").string() + " --report " + report.string() +
+                    " --timing_queries 200 --timing_repetitions 2",
+                dir_ / "report.log"),
+            0)
+      << read_file(dir_ / "report.log");
+  EXPECT_NE(read_file(dir_ / "report.log").find("report.md"), std::string::npos);
+
+  const io::CsvTable errors = io::read_csv(report / "errors.csv");
+  const std::vector<Method> methods = error_table_methods(10);
+  ASSERT_EQ(errors.rows.size(), 2 * methods.size());
+  for (std::size_t m = 0; m < methods.size(); ++m) {
+    EXPECT_EQ(errors.rows[2 * m][0], methods[m].name());
+    EXPECT_EQ(errors.rows[2 * m][1], "xi");
+    EXPECT_EQ(errors.rows[2 * m + 1][1], "eta");
+    // Every row of the dataset is accounted for: in the statistics or counted as a failure.
+    EXPECT_EQ(errors.number(2 * m, errors.column("rows")), static_cast<double>(set_.size()));
+    EXPECT_EQ(errors.number(2 * m, errors.column("n")) + errors.number(2 * m, errors.column("failures")),
+              static_cast<double>(set_.size()));
+  }
+  const std::string md = read_file(report / "report.md");
+  for (const Method& m : methods) EXPECT_NE(md.find("| " + m.name() + " |"), std::string::npos) << m.name();
+  EXPECT_NE(md.find("evaluate-net"), std::string::npos);
+
+  const io::CsvTable speed = io::read_csv(report / "speed.csv");
+  EXPECT_EQ(speed.rows.size(), 3u + 10u + 2u);  // three network variants, newton_1..10, converged, reference
+  for (const std::string c : {"xi", "eta"}) {
+    EXPECT_EQ(contactnn::testing::xml_well_formedness_error(read_file(report / ("hist_" + c + ".svg"))), "") << c;
+    EXPECT_TRUE(fs::exists(report / ("hist_" + c + ".csv")));
+  }
+  EXPECT_TRUE(fs::exists(report / "evaluate-net.config.toml"));
+}
+
+TEST_F(EvaluateNetApp, InputModeKeepsRowsAndOrderWithRightStatuses) {
+  // Rows: in domain, out of domain (slave far above the segment), NaN, degenerate (D on the line AB),
+  // in domain again; an extra column `id` must be copied through.
+  std::string csv = "id";
+  for (const auto name : kRawPointColumns) csv += "," + std::string(name);
+  csv += "\n";
+  const auto add_row = [&](const std::string& id, const geometry::Configuration& c) {
+    csv += id;
+    for (int node = 0; node < 4; ++node) {
+      for (int k = 0; k < 3; ++k) csv += "," + io::format_double(c.nodes[node][k]);
+    }
+    for (int k = 0; k < 3; ++k) csv += "," + io::format_double(c.slave[k]);
+    csv += "\n";
+  };
+  const geometry::Configuration local0 = configuration_from_features(SurfaceKind::kBilinear, set_.features.row(0).data());
+  const geometry::Configuration local1 =
+      configuration_from_features(SurfaceKind::kBilinear, set_.features.row(set_.size() - 1).data());
+  add_row("first", place(local0, random_placement(11, 0)));
+  geometry::Configuration far = local0;
+  far.slave.z() = 1.0;
+  add_row("far", place(far, random_placement(11, 1)));
+  geometry::Configuration nan = local0;
+  nan.slave.x() = std::nan("");
+  add_row("nan", nan);
+  geometry::Configuration flat = local0;
+  flat.nodes[3] = geometry::Vec3(-1.0, 0.0, 0.0);
+  add_row("flat", flat);
+  add_row("last", place(local1, random_placement(11, 2)));
+  const fs::path raw = dir_ / "raw.csv";
+  std::ofstream(raw) << csv;
+
+  const fs::path pred = dir_ / "pred.csv";
+  ASSERT_EQ(run(evaluate_net() + " --weights " + (dir_ / "net.h5").string() + " --input " + raw.string() +
+                    " --output " + pred.string(),
+                dir_ / "input.log"),
+            0)
+      << read_file(dir_ / "input.log");
+  const io::CsvTable out = io::read_csv(pred);
+  ASSERT_EQ(out.rows.size(), 5u);
+  EXPECT_EQ(out.header.front(), "id");
+  const std::size_t n = out.header.size();
+  EXPECT_EQ(out.header[n - 3], "xi");
+  EXPECT_EQ(out.header[n - 2], "eta");
+  EXPECT_EQ(out.header[n - 1], "status");
+  const std::vector<std::string> ids = {"first", "far", "nan", "flat", "last"};
+  const std::vector<std::string> statuses = {"ok", "out_of_domain", "invalid", "degenerate", "ok"};
+  const std::vector<bool> has_value = {true, true, false, false, true};
+  for (std::size_t r = 0; r < 5; ++r) {
+    EXPECT_EQ(out.rows[r][0], ids[r]);
+    EXPECT_EQ(out.rows[r][n - 1], statuses[r]) << ids[r];
+    EXPECT_EQ(!out.rows[r][n - 3].empty(), has_value[r]) << ids[r];
+    EXPECT_EQ(!out.rows[r][n - 2].empty(), has_value[r]) << ids[r];
+  }
+}
+
+TEST_F(EvaluateNetApp, BadCommandLinesFailWithAClearMessage) {
+  const std::string net = (dir_ / "net.h5").string();
+  // No mode.
+  EXPECT_EQ(run(evaluate_net() + " --weights " + net, dir_ / "bad1.log"), 2);
+  EXPECT_NE(read_file(dir_ / "bad1.log").find("--data"), std::string::npos) << read_file(dir_ / "bad1.log");
+  // --data without --report.
+  EXPECT_EQ(run(evaluate_net() + " --weights " + net + " --data " + (dir_ / "tiny.h5").string(), dir_ / "bad2.log"), 2);
+  // A missing weights file.
+  EXPECT_EQ(run(evaluate_net() + " --weights " + (dir_ / "missing.h5").string() + " --input x --output y",
+                dir_ / "bad3.log"),
+            2);
+  // A dataset given as the network: wrong file kind, exit 3, the message names both kinds.
+  EXPECT_EQ(run(evaluate_net() + " --weights " + (dir_ / "tiny.h5").string() + " --data " + (dir_ / "tiny.h5").string() +
+                    " --report " + (dir_ / "r").string(),
+                dir_ / "bad4.log"),
+            3);
+  EXPECT_NE(read_file(dir_ / "bad4.log").find("contactnn-network"), std::string::npos) << read_file(dir_ / "bad4.log");
+  // An unknown key in the [evaluate-net] section of a config file.
+  const fs::path config = dir_ / "bad.toml";
+  std::ofstream(config) << "[evaluate-net]\nhist_binz = 10\n";
+  EXPECT_EQ(run(evaluate_net() + " --config " + config.string() + " --weights " + net + " --input " +
+                    (dir_ / "tiny.h5").string() + " --output " + (dir_ / "p.csv").string(),
+                dir_ / "bad5.log"),
+            2);
+  EXPECT_NE(read_file(dir_ / "bad5.log").find("hist_binz"), std::string::npos) << read_file(dir_ / "bad5.log");
+}
+
+}  // namespace
+}  // namespace contactnn::eval
