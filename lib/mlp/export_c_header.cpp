@@ -71,7 +71,7 @@ std::string export_c_header(const Network<Real>& network, const CHeaderOptions& 
     << " * " << (options.description.empty() ? std::string("contactnn network") : options.description) << "\n"
     << " * Sigmoid network";
   for (std::size_t l = 0; l < sizes.size(); ++l) o << (l ? "-" : " ") << sizes[l];
-  o << ", U0 = " << double_literal(network.u0()) << ", computed in " << real << ".\n"
+  o << ", U0 = " << network.u0() << ", computed in " << real << ".\n"
     << " *\n"
     << " *   int " << p << "_local_coordinates(const double raw[" << n_raw << "], double out[2]);\n"
     << " *\n"
