@@ -158,7 +158,10 @@ int report_mode(const io::TrainedNetwork<Real>& trained, const Paths& paths, con
               net.stats[1].mean_abs, static_cast<long long>(net.stats[0].failures),
               static_cast<long long>(result.network_out_of_domain));
   const eval::NetworkCostInIterations cost = eval::network_cost_in_iterations(result);
-  if (cost.available) std::printf("  network cost           %.2f Newton iterations (fitted line)\n", cost.equivalent_iterations);
+  if (cost.available) {
+    std::printf("  network cost           %.2f Newton iterations (fitted line, medians; %.2f from minima)\n",
+                cost.equivalent_iterations, cost.equivalent_iterations_min);
+  }
   std::printf("  report                 %s/report.md\n", paths.report.c_str());
   return 0;
 }

@@ -116,6 +116,9 @@ NetworkCostInIterations network_cost_in_iterations(const StudyResult& result) {
   c.equivalent_iterations = (net->median_ns - result.newton_fit.intercept) / result.newton_fit.slope;
   c.per_iteration_units = net->median_ns / result.newton_fit.slope;
   c.newton10_units = n10 != nullptr && n10->median_ns > 0 ? net->median_ns / (n10->median_ns / 10.0) : 0.0;
+  if (result.newton_fit_min.slope > 0.0) {
+    c.equivalent_iterations_min = (net->min_ns - result.newton_fit_min.intercept) / result.newton_fit_min.slope;
+  }
   return c;
 }
 
@@ -276,7 +279,10 @@ std::string report_markdown(const StudyResult& r, const RunInfo& info, const Stu
             "iterations\"): the k at which the fitted line reaches the network's time, (t_net - intercept) / slope = **"
          << fmt("%.2f", cost.equivalent_iterations) << "**. Also: t_net / slope = " << fmt("%.2f", cost.per_iteration_units)
          << " (the network in units of one marginal iteration); t_net / (t(newton_10) / 10) = "
-         << fmt("%.2f", cost.newton10_units) << ".\n\n";
+         << fmt("%.2f", cost.newton10_units) << ". From the minimum times instead of the medians (the least "
+            "disturbed pass on a loaded machine; line t(k) = "
+         << ns(r.newton_fit_min.intercept) << " ns + " << ns(r.newton_fit_min.slope) << " ns * k): "
+         << fmt("%.2f", cost.equivalent_iterations_min) << ".\n\n";
     }
   }
 

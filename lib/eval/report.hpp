@@ -42,6 +42,7 @@ struct NetworkCostInIterations {
   double equivalent_iterations = 0.0;  ///< k with fit(k) = t(network): (t_net - intercept) / slope
   double per_iteration_units = 0.0;    ///< t_net / slope (the network's time in units of one more iteration)
   double newton10_units = 0.0;         ///< t_net / (t(newton_10) / 10)
+  double equivalent_iterations_min = 0.0;  ///< as equivalent_iterations, from minimum times and newton_fit_min
 };
 [[nodiscard]] NetworkCostInIterations network_cost_in_iterations(const StudyResult& result);
 

@@ -149,16 +149,20 @@ std::vector<ConfigurationClass> split_by_newton_iterations(const std::vector<geo
 
 void finish_timings(StudyResult& result, const StudyOptions& options) {
   result.timed = true;
-  std::vector<double> k, t;
+  std::vector<double> k, t, t_min;
   for (const Timing& timing : result.timings) {
     for (int i = 1; i <= options.max_fixed_iterations; ++i) {
       if (timing.name == Method{Method::Kind::kNewtonFixed, i}.name()) {
         k.push_back(i);
         t.push_back(timing.median_ns);
+        t_min.push_back(timing.min_ns);
       }
     }
   }
-  if (k.size() >= 2) result.newton_fit = fit_line(k, t);
+  if (k.size() >= 2) {
+    result.newton_fit = fit_line(k, t);
+    result.newton_fit_min = fit_line(k, t_min);
+  }
 }
 
 }  // namespace contactnn::eval

@@ -70,6 +70,8 @@ struct StudyResult {
   bool timed = false;
   std::vector<Timing> timings;  ///< network, network_forward_only, network_with_domain_check, newton_k, newton_converged, reference
   LinearFit newton_fit;         ///< median ns/query of newton_k against k, k = 1..max_fixed_iterations
+  /// The same over the minimum ns/query: on a loaded machine the minimum is the least disturbed pass.
+  LinearFit newton_fit_min;
 };
 
 /// Log line callback for progress on stderr.
