@@ -62,7 +62,7 @@ void bench_gemm(const Args& a) {
   Eigen::setNbThreads(a.threads);
   Eigen::MatrixXf x = Eigen::MatrixXf::Random(n, n), y = Eigen::MatrixXf::Random(n, n), z(n, n);
   z.noalias() = x * y;  // warm-up: page faults and thread start-up
-  const double t = best_time(3, [&] { z.noalias() = x * y; });
+  const double t = best_time(5, [&] { z.noalias() = x * y; });
   std::printf("gemm threads=%d gflops=%.1f\n", a.threads, 2.0 * n * n * double(n) / t * 1e-9);
 }
 
@@ -85,7 +85,7 @@ void bench_contactnn(const Args& a, TrainingMode mode, std::size_t batch, const 
   const MatrixRM<float> none(0, a.inputs), none_t(0, a.outputs);
   Trainer<float> trainer(net, o, x, t, none, none_t);
   trainer.train_epoch();  // warm-up
-  const double per_epoch = best_time(3, [&] {
+  const double per_epoch = best_time(5, [&] {
                              for (int e = 0; e < epochs; ++e) trainer.train_epoch();
                            }) / epochs;
   std::printf("%s threads=%d sec_per_epoch=%.6g loss=%.4g\n", name, a.threads, per_epoch,
@@ -114,7 +114,7 @@ void bench_fann(const Args& a, const MatrixRM<float>& x, const MatrixRM<float>& 
   }
   float mse = fann_train_epoch(ann, data);  // warm-up
   const int epochs = 2;
-  const double per_epoch = best_time(2, [&] {
+  const double per_epoch = best_time(3, [&] {
                              for (int e = 0; e < epochs; ++e) mse = fann_train_epoch(ann, data);
                            }) / epochs;
   std::printf("fann-incremental threads=%d sec_per_epoch=%.6g mse=%.4g\n", a.threads, per_epoch, mse);

@@ -94,7 +94,12 @@ template <class Real>
 int train(const NetSettings& net_settings, mlp::TrainOptions options, const std::string& data_path,
           const std::filesystem::path& output, int checkpoint_every, bool resume, const std::string& header_path,
           bool quiet, const std::string& config_toml) {
-  // 3. Data: the dataset, its rows with status ok, the training and validation draw.
+  // 3. Data: the dataset, its rows with status ok, the training and validation draw. A missing output
+  //    directory is reported now, not after the training.
+  const std::filesystem::path out_dir = output.parent_path().empty() ? "." : output.parent_path();
+  CONTACTNN_REQUIRE_AS(IoError, std::filesystem::is_directory(out_dir),
+                       "cannot write '" << output.string() << "': directory '" << out_dir.string()
+                                        << "' does not exist");
   const dataset::LabelledSet set = io::read_dataset(data_path);
   const std::string checksum = io::file_checksum(data_path);
   std::vector<std::uint32_t> ok_rows;
