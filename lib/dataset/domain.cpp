@@ -12,21 +12,25 @@ namespace contactnn::dataset {
 
 using geometry::Vec3;
 
-bool DomainFilters::accepts(const geometry::Configuration& c, SurfaceKind kind) const {
-  const auto inside_xy = [&](const Vec3& p) { return std::abs(p.x()) < xy_limit && std::abs(p.y()) < xy_limit; };
+bool DomainFilters::accepts(const geometry::Configuration& c, SurfaceKind kind, double relative_tolerance) const {
+  const double tol = relative_tolerance;
+  const double xy = xy_limit * (1.0 + tol);
+  const double zl = z_limit * (1.0 + tol);
+  const auto inside_xy = [&](const Vec3& p) { return std::abs(p.x()) < xy && std::abs(p.y()) < xy; };
   const Vec3& a = c.nodes[0];
   const Vec3& b = c.nodes[1];
   const Vec3& cc = c.nodes[2];
   const Vec3& d = c.nodes[3];
   if (!inside_xy(cc) || !inside_xy(d) || !inside_xy(c.slave)) return false;
-  if (!(std::abs(cc.z()) < z_limit) || !(std::abs(c.slave.z()) < z_limit)) return false;
-  if (ad_not_longer_than_ab && !((d - a).squaredNorm() <= (b - a).squaredNorm())) return false;
-  if (nearest_node_a && !geometry::first_node_is_nearest(c.nodes, c.slave)) return false;
-  if (segment_test_a && !geometry::passes_segment_test(a, b, d, c.slave)) return false;
-  if (convex && !geometry::is_convex(c.nodes)) return false;
+  if (!(std::abs(cc.z()) < zl) || !(std::abs(c.slave.z()) < zl)) return false;
+  if (ad_not_longer_than_ab && !((d - a).squaredNorm() <= (1.0 + tol) * (b - a).squaredNorm())) return false;
+  if (nearest_node_a && !geometry::first_node_is_nearest(c.nodes, c.slave, tol)) return false;
+  if (segment_test_a && !geometry::passes_segment_test(a, b, d, c.slave, tol)) return false;
+  if (convex && !geometry::is_convex(c.nodes, tol)) return false;
   if (min_angle_degrees > 0.0 || max_angle_degrees < 180.0) {
+    const double slack_degrees = 180.0 * tol;
     for (const double angle : geometry::interior_angles_degrees(c.nodes)) {
-      if (!(angle >= min_angle_degrees && angle <= max_angle_degrees)) return false;
+      if (!(angle >= min_angle_degrees - slack_degrees && angle <= max_angle_degrees + slack_degrees)) return false;
     }
   }
   if (kind == SurfaceKind::kGregory) {
@@ -36,7 +40,8 @@ bool DomainFilters::accepts(const geometry::Configuration& c, SurfaceKind kind) 
       // tan(angle) = |corner x n| / (corner . n); a normal on the far side is never accepted.
       const double cosine_part = corner.dot(n);
       const double sine_part = corner.cross(n).norm();
-      if (!(cosine_part > 0.0) || !(sine_part < max_normal_tilt_tangent * cosine_part)) return false;
+      const double slack = tol * corner.norm() * n.norm();
+      if (!(cosine_part > 0.0) || !(sine_part < max_normal_tilt_tangent * cosine_part + slack)) return false;
     }
   }
   return true;
@@ -77,16 +82,31 @@ TrainingDomain TrainingDomain::from_features(SurfaceKind kind, const double* fea
     }
   }
   CONTACTNN_REQUIRE(used > 0, "no row with status ok: the training domain is empty");
+  constexpr std::size_t kMaxGridValues = 10000;
+  std::vector<double> values;
+  for (int f = 0; f < n_features; ++f) {
+    values.clear();
+    for (long r = 0; r < rows; ++r) {
+      if (status[static_cast<std::size_t>(r)] == Status::kOk) values.push_back(features[r * n_features + f]);
+    }
+    std::sort(values.begin(), values.end());
+    values.erase(std::unique(values.begin(), values.end()), values.end());
+    if (values.size() < 2 || values.size() > kMaxGridValues) continue;
+    double step = std::numeric_limits<double>::infinity();
+    for (std::size_t i = 1; i < values.size(); ++i) step = std::min(step, values[i] - values[i - 1]);
+    domain.feature_min[f] -= 0.5 * step;
+    domain.feature_max[f] += 0.5 * step;
+  }
   return domain;
 }
 
 bool TrainingDomain::contains(const geometry::Configuration& normalised, const double* features) const {
   const int n_features = feature_count(surface);
   for (int f = 0; f < n_features; ++f) {
-    const double slack = 1e-9 * std::max(1.0, feature_max[f] - feature_min[f]);
+    const double slack = kRelativeTolerance * std::max(1.0, feature_max[f] - feature_min[f]);
     if (!(features[f] >= feature_min[f] - slack && features[f] <= feature_max[f] + slack)) return false;
   }
-  return filters.accepts(normalised, surface);
+  return filters.accepts(normalised, surface, kRelativeTolerance);
 }
 
 }  // namespace contactnn::dataset

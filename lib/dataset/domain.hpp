@@ -26,7 +26,11 @@ struct DomainFilters {
 
   /// True when the normalised configuration satisfies every filter above. `kind` says whether the node
   /// normals are checked. Coordinate limits are strict, as in the paper's open intervals.
-  [[nodiscard]] bool accepts(const geometry::Configuration& normalised, SurfaceKind kind) const;
+  /// `relative_tolerance` > 0 relaxes every comparison by that fraction of its natural scale (lengths,
+  /// 180 degrees for angles), so that a configuration exactly on a filter's boundary (a grid point with
+  /// S equidistant from A and B, say) is accepted whatever the rounding of its placement.
+  [[nodiscard]] bool accepts(const geometry::Configuration& normalised, SurfaceKind kind,
+                             double relative_tolerance = 0.0) const;
   /// One line per filter, "key = value", for reports and messages.
   [[nodiscard]] std::string describe() const;
 };
@@ -39,11 +43,17 @@ struct TrainingDomain {
   std::vector<double> feature_max;
   DomainFilters filters;
 
-  /// Per-feature range over the rows of `features` (N x F, row-major, contiguous) with status ok.
+  /// Per-feature range over the rows of `features` (N x F, row-major, contiguous) with status ok, widened
+  /// by half the grid step for a feature that takes few distinct values (at most 10000: an enumerated
+  /// grid, where each value stands for its cell; e.g. y_D in 0.1..0.9 step 0.2 gives [0, 1], so a square
+  /// segment is in the domain). Continuous features (random node normals) are not widened.
   [[nodiscard]] static TrainingDomain from_features(SurfaceKind kind, const double* features, long rows,
                                                     const std::vector<Status>& status, const DomainFilters& filters);
-  /// True when every feature lies in [min - slack, max + slack] (slack = 1e-9 of the range, for rounding
-  /// of raw coordinates mapped into the frame) and the filters accept the configuration.
+  /// Relative slack of contains(): far above the rounding of raw coordinates mapped into the frame
+  /// (~1e-12 for translations of 1e4 element sizes), far below any distance a network could resolve.
+  static constexpr double kRelativeTolerance = 1e-9;
+  /// True when every feature lies in [min - slack, max + slack] (slack = kRelativeTolerance of the range)
+  /// and the filters accept the configuration with kRelativeTolerance.
   [[nodiscard]] bool contains(const geometry::Configuration& normalised, const double* features) const;
 };
 

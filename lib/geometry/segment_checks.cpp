@@ -7,7 +7,8 @@
 
 namespace contactnn::geometry {
 
-bool passes_segment_test(const Vec3& m, const Vec3& next, const Vec3& prev, const Vec3& s) {
+bool passes_segment_test(const Vec3& m, const Vec3& next, const Vec3& prev, const Vec3& s,
+                         double relative_tolerance) {
   const Vec3 c1 = next - m;
   const Vec3 c2 = prev - m;
   const Vec3 c1xc2 = c1.cross(c2);
@@ -17,11 +18,14 @@ bool passes_segment_test(const Vec3& m, const Vec3& next, const Vec3& prev, cons
   const Vec3 t = s - m;
   const Vec3 r = t - t.dot(unit_normal) * unit_normal;  // Eq 5
   const Vec3 c1xr = c1.cross(r);
-  return c1xr.dot(c1xc2) > 0.0 && c1xr.dot(r.cross(c2)) > 0.0;  // Eqs 3, 4
+  const double lengths = c1.norm() * r.norm() * c2.norm();
+  const double slack3 = relative_tolerance * lengths * c1.norm();
+  const double slack4 = relative_tolerance * lengths * r.norm();
+  return c1xr.dot(c1xc2) > -slack3 && c1xr.dot(r.cross(c2)) > -slack4;  // Eqs 3, 4
 }
 
-bool first_node_is_nearest(const std::array<Vec3, 4>& nodes, const Vec3& s) {
-  const double to_a = (s - nodes[0]).squaredNorm();
+bool first_node_is_nearest(const std::array<Vec3, 4>& nodes, const Vec3& s, double relative_tolerance) {
+  const double to_a = (s - nodes[0]).squaredNorm() / (1.0 + relative_tolerance);
   return to_a <= (s - nodes[1]).squaredNorm() && to_a <= (s - nodes[2]).squaredNorm() &&
          to_a <= (s - nodes[3]).squaredNorm();
 }
@@ -37,11 +41,11 @@ std::array<double, 4> interior_angles_degrees(const std::array<Vec3, 4>& nodes) 
   return angles;
 }
 
-bool is_convex(const std::array<Vec3, 4>& nodes) {
+bool is_convex(const std::array<Vec3, 4>& nodes, double relative_tolerance) {
   const Vec3 reference = (nodes[1] - nodes[0]).cross(nodes[3] - nodes[0]);
   for (int i = 0; i < 4; ++i) {
     const Vec3 corner = (nodes[(i + 1) % 4] - nodes[i]).cross(nodes[(i + 3) % 4] - nodes[i]);
-    if (!(corner.dot(reference) > 0.0)) return false;
+    if (!(corner.dot(reference) > -relative_tolerance * corner.norm() * reference.norm())) return false;
   }
   return true;
 }

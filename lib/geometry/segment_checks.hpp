@@ -11,18 +11,23 @@ namespace contactnn::geometry {
 /// neighbour) and c2 = prev - m (clockwise neighbour): the projection r of t = s - m onto the plane
 /// normal to c1 x c2 lies strictly inside the angle between c1 and c2:
 ///   (c1 x r) . (c1 x c2) > 0   (Eq 3)   and   (c1 x r) . (r x c2) > 0   (Eq 4).
-[[nodiscard]] bool passes_segment_test(const Vec3& m, const Vec3& next, const Vec3& prev, const Vec3& s);
+/// `relative_tolerance` > 0 relaxes both to > -tolerance times the product of the lengths involved, so a
+/// configuration on the boundary (S on an edge's plane) passes whatever the rounding of its coordinates.
+[[nodiscard]] bool passes_segment_test(const Vec3& m, const Vec3& next, const Vec3& prev, const Vec3& s,
+                                       double relative_tolerance = 0.0);
 
-/// True when node 0 (A) is a nearest node of the segment to `s` (ties count as nearest).
-[[nodiscard]] bool first_node_is_nearest(const std::array<Vec3, 4>& nodes, const Vec3& s);
+/// True when node 0 (A) is a nearest node of the segment to `s` (ties count as nearest; with
+/// `relative_tolerance`, |SA|^2 <= (1 + tolerance) |SX|^2 for every other node X).
+[[nodiscard]] bool first_node_is_nearest(const std::array<Vec3, 4>& nodes, const Vec3& s,
+                                         double relative_tolerance = 0.0);
 
 /// Interior angles at A, B, C, D in degrees, measured between the two edges at each node (3D angles).
 [[nodiscard]] std::array<double, 4> interior_angles_degrees(const std::array<Vec3, 4>& nodes);
 
 /// True when the quadrilateral, projected onto the plane normal to (B - A) x (D - A), is strictly
 /// convex and counter-clockwise: the corner cross products (next - X) x (prev - X) all point to the
-/// side of that normal.
-[[nodiscard]] bool is_convex(const std::array<Vec3, 4>& nodes);
+/// side of that normal (with `relative_tolerance`: their cosine with it is > -tolerance).
+[[nodiscard]] bool is_convex(const std::array<Vec3, 4>& nodes, double relative_tolerance = 0.0);
 
 }  // namespace contactnn::geometry
 

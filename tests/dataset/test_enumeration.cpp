@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 #include <omp.h>
 
+#include "geometry/affine_frame.hpp"
 #include "geometry/bilinear_patch.hpp"
 #include "test_support.hpp"
 
@@ -84,6 +85,55 @@ TEST(Enumeration, DroppingTheInsideFilterKeepsEveryGeometricCandidate) {
   const LabelledSet set = enumerate_configurations(o, summary);
   EXPECT_EQ(set.size(), summary.geometric_kept);
   EXPECT_GT(summary.status_counts[static_cast<std::size_t>(Status::kOutside)], 0);
+}
+
+}  // namespace
+}  // namespace contactnn::dataset
+
+namespace contactnn::dataset {
+namespace {
+
+TEST(TrainingDomain, GridCellsCoverTheirHalfStepSoASquareSegmentIsInside) {
+  EnumerationSummary summary;
+  const LabelledSet set = enumerate_configurations(small_grid(), summary);
+  const TrainingDomain domain =
+      TrainingDomain::from_features(set.surface, set.features.data(), static_cast<long>(set.size()), set.status, set.filters);
+  // y_D takes the values 0.25, 0.75 (8 points over (-2, 2), |AD| <= 1): widened by half the step, 0.25.
+  EXPECT_NEAR(domain.feature_max[4], 1.0, 1e-12);
+  EXPECT_NEAR(domain.feature_min[4], 0.0, 1e-12);
+  const geometry::Configuration square{
+      {geometry::Vec3::Zero(), geometry::Vec3(1, 0, 0), geometry::Vec3(1, 1, 0), geometry::Vec3(0, 1, 0)},
+      geometry::Vec3(0.25, 0.3, 0.2),
+      {}};
+  const auto n = geometry::normalise(square, SurfaceKind::kBilinear);
+  ASSERT_TRUE(n.value.has_value());
+  EXPECT_TRUE(domain.contains(n.value->config, n.value->features.data()));
+  geometry::Configuration far = square;
+  far.slave = geometry::Vec3(0.25, 0.3, 0.5);  // z_S beyond the study's 0.3
+  const auto nf = geometry::normalise(far, SurfaceKind::kBilinear);
+  EXPECT_FALSE(domain.contains(nf.value->config, nf.value->features.data()));
+}
+
+TEST(TrainingDomain, ConfigurationsOnAFilterBoundaryStayInsideAfterAnyPlacement) {
+  // S equidistant from A and B (a tie the grid produces), S on the plane of edge AD: the strict filters
+  // accept them in the frame, and the domain must keep accepting them after rounding by placement.
+  const geometry::Configuration tie{
+      {geometry::Vec3::Zero(), geometry::Vec3(1, 0, 0), geometry::Vec3(0.9, 0.7, 0.1), geometry::Vec3(-0.1, 0.7, 0)},
+      geometry::Vec3(0.5, 0.1, 0.1),
+      {}};
+  DomainFilters filters;
+  ASSERT_TRUE(filters.accepts(tie, SurfaceKind::kBilinear));
+  TrainingDomain domain;
+  domain.feature_min.assign(8, -2.0);
+  domain.feature_max.assign(8, 2.0);
+  std::mt19937_64 rng(53);
+  for (int k = 0; k < 200; ++k) {
+    const double scale = std::pow(10.0, std::uniform_real_distribution<double>(-3, 3)(rng));
+    const auto world = testing::transform(tie, testing::random_rotation(rng), scale, scale * geometry::Vec3(30, -70, 11));
+    const auto n = geometry::normalise(world, SurfaceKind::kBilinear);
+    ASSERT_TRUE(n.value.has_value());
+    EXPECT_TRUE(domain.contains(n.value->config, n.value->features.data())) << k;
+  }
 }
 
 }  // namespace

@@ -2,6 +2,7 @@
 // made for it, evaluate-net writes a report (every method listed, SVG well-formed) and labels a user's CSV
 // (rows and order kept, statuses right); bad command lines fail with a clear message and exit code.
 #include <gtest/gtest.h>
+#include <unistd.h>
 #include <sys/wait.h>
 
 #include <cmath>
@@ -42,7 +43,8 @@ class EvaluateNetApp : public ::testing::Test {
  protected:
   // One tiny dataset and network for every test of the suite (made once: the suite stays fast).
   static void SetUpTestSuite() {
-    dir_ = fs::path(::testing::TempDir()) / "contactnn_evaluate_net_app";
+    // ctest runs each test of the suite as its own process, in parallel under -j: one directory each.
+    dir_ = fs::path(::testing::TempDir()) / ("contactnn_evaluate_net_app." + std::to_string(::getpid()));
     fs::remove_all(dir_);
     fs::create_directories(dir_);
     const std::string gen = (kBin / "apps/gen-configs/gen-configs").string();
