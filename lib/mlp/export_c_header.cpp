@@ -79,9 +79,10 @@ std::string export_c_header(const Network<Real>& network, const CHeaderOptions& 
     << " * counter-clockwise, and of the slave node S)"
     << (gregory ? ", then the node normals nax nay naz ... ndz (any positive length)" : "") << ".\n"
     << " * out: " << (gregory ? "(u, v) in [0, 1]^2" : "(xi, eta) in [-1, 1]^2") << ", the network's estimate of the closest point.\n"
-    << " * Returns 0 on success, 1 for a non-finite input or a degenerate segment (out untouched), 2 when the\n"
-    << " * normalised configuration lies outside the domain the network was trained on (out is written, but\n"
-    << " * it is an extrapolation). C99, no dependency besides <math.h>.\n"
+    << " * Returns 0 on success, 1 for a non-finite input or a degenerate segment (out untouched), 2 when a\n"
+    << " * normalised feature lies outside the per-feature range of the training domain (out is written, but\n"
+    << " * it is an extrapolation; the generator's geometric filters are not re-checked here).\n"
+    << " * C99, no dependency besides <math.h>.\n"
     << " */\n"
     << "#ifndef " << guard << "\n#define " << guard << "\n\n#include <math.h>\n\n";
 

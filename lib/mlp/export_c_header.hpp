@@ -24,7 +24,8 @@ struct CHeaderOptions {
 /// nax nay naz ... ndz (N = 27). It applies the Section 4 normalisation exactly as
 /// geometry::normalise does, the network's input scaling, the forward pass in the network's precision
 /// and the output scaling; out = (xi, eta) or (u, v). Returns 0 on success, 1 (out untouched) for a
-/// non-finite input or a degenerate segment, 2 (out written) when a feature lies outside the domain.
+/// non-finite input or a degenerate segment, 2 (out written) when a feature lies outside
+/// [domain_min, domain_max] (relative slack 1e-9; the generator's filters are not checked).
 /// Throws InvalidArgument when the network's input count is not feature_count(surface), it does not have
 /// 2 outputs, or the prefix is not a C identifier.
 template <class Real>
