@@ -18,15 +18,16 @@ namespace {
 /// The sections a contactnn study config may hold: one per app.
 const std::set<std::string> kKnownSections = {"gen-configs", "train-net", "evaluate-net"};
 
-/// TOML reader that hands CLI11 only the lines of one [section], as top-level keys. CLI11 2.1's own
+/// TOML reader that hands CLI11 only the keys of one [section], as top-level items. CLI11 2.1's own
 /// section() support passes the section markers on as unknown items, so it cannot be combined with
 /// allow_config_extras(error). A section name that belongs to no app is an error (a typo would otherwise
-/// silently drop its keys).
+/// silently drop its keys). Scalar values are read here (TOML strings with escapes, '#' inside quotes kept),
+/// arrays by CLI11.
 class SectionConfig : public CLI::ConfigTOML {
  public:
   explicit SectionConfig(std::string section) : section_(std::move(section)) {}
   std::vector<CLI::ConfigItem> from_config(std::istream& input) const override {
-    std::ostringstream kept;
+    std::vector<CLI::ConfigItem> result;
     std::string line;
     std::string current;
     int line_number = 0;
@@ -47,23 +48,57 @@ class SectionConfig : public CLI::ConfigTOML {
           throw CLI::ConfigError("line " + std::to_string(line_number) + ": unknown section [" + current +
                                  "] (expected one of [gen-configs], [train-net], [evaluate-net])");
         }
-        kept << "\n";
         continue;
       }
-      if (!blank_or_comment) {
-        // A key before any section belongs to no app: it would be silently ignored by every app.
-        const std::string key = key_of(line.substr(first));
-        if (current.empty()) {
-          throw CLI::ConfigError("line " + std::to_string(line_number) + ": key '" + key +
-                                 "' is outside any section (expected it under [" + section_ + "])");
-        }
-        if (current == section_) key_lines_.emplace(key, line_number);
+      if (blank_or_comment) continue;
+      // A key before any section belongs to no app: it would be silently ignored by every app.
+      const auto [key, value] = split_key_value(line.substr(first), line_number);
+      if (current.empty()) {
+        throw CLI::ConfigError("line " + std::to_string(line_number) + ": key '" + key +
+                               "' is outside any section (expected it under [" + section_ + "])");
       }
-      // Lines outside this app's section become blank, so CLI11's line count still matches the file.
-      kept << (current == section_ ? line : std::string()) << "\n";
+      if (current != section_) continue;
+      key_lines_.emplace(key, line_number);
+      if (!value.empty() && value.front() == '[') {
+        // An array: CLI11's own reader (no contactnn option takes one today).
+        std::istringstream one(key + " = " + value + "\n");
+        for (auto& item : CLI::ConfigTOML::from_config(one)) result.push_back(std::move(item));
+        continue;
+      }
+      CLI::ConfigItem item;
+      item.name = key;
+      item.inputs = {scalar_value(value, line_number)};
+      result.push_back(std::move(item));
     }
-    std::istringstream filtered(kept.str());
-    return CLI::ConfigTOML::from_config(filtered);
+    return result;
+  }
+
+  /// CLI11's writer with values quoted so that the reader above gets them back exactly: strings as TOML
+  /// basic strings with escapes (CLI11 2.1 wrote 'a"b' for a value with a double quote, and nothing
+  /// readable for one with both quote characters or a line break).
+  std::string to_config(const CLI::App* app, bool default_also, bool, std::string) const override {
+    std::string out;
+    for (const CLI::Option* opt : app->get_options({})) {
+      if (!opt->get_configurable()) continue;
+      const std::vector<std::string> results = opt->reduced_results();
+      std::string value;
+      if (results.size() == 1) {
+        value = toml_scalar(results.front());
+      } else if (results.size() > 1) {
+        for (const auto& r : results) value += (value.empty() ? "[" : ",") + toml_scalar(r);
+        value += "]";
+      } else if (default_also) {
+        if (!opt->get_default_str().empty()) {
+          value = toml_scalar(opt->get_default_str());
+        } else if (opt->get_expected_min() == 0) {
+          value = "false";
+        } else if (opt->get_run_callback_for_default()) {
+          value = "\"\"";
+        }
+      }
+      if (!value.empty()) out += opt->get_single_name() + "=" + value + "\n";
+    }
+    return out;
   }
 
   [[nodiscard]] const std::string& section() const { return section_; }
@@ -71,14 +106,104 @@ class SectionConfig : public CLI::ConfigTOML {
   [[nodiscard]] const std::map<std::string, int>& key_lines() const { return key_lines_; }
 
  private:
-  /// "name = value" -> "name" (quotes and blanks removed).
-  static std::string key_of(const std::string& line) {
-    std::string key = line.substr(0, line.find('='));
-    while (!key.empty() && (key.back() == ' ' || key.back() == '\t')) key.pop_back();
+  /// A value as CLI11 writes it when it is a number or a boolean, otherwise a TOML basic string.
+  static std::string toml_scalar(const std::string& arg) {
+    double number = 0.0;
+    const bool bare = arg == "true" || arg == "false" || arg == "nan" || arg == "inf" ||
+                      (!arg.empty() && arg.compare(0, 2, "0x") != 0 && arg.compare(0, 2, "0X") != 0 &&
+                       arg.find_first_of(" \t\n\r#\"'") == std::string::npos && CLI::detail::lexical_cast(arg, number));
+    if (bare) return arg;
+    std::string quoted = "\"";
+    for (const char c : arg) {
+      switch (c) {
+        case '"': quoted += "\\\""; break;
+        case '\\': quoted += "\\\\"; break;
+        case '\n': quoted += "\\n"; break;
+        case '\t': quoted += "\\t"; break;
+        case '\r': quoted += "\\r"; break;
+        default:
+          if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) {
+            char escape[8];
+            std::snprintf(escape, sizeof escape, "\\u%04x", static_cast<unsigned>(static_cast<unsigned char>(c)));
+            quoted += escape;
+          } else {
+            quoted += c;
+          }
+      }
+    }
+    return quoted + "\"";
+  }
+
+  [[noreturn]] static void fail(int line_number, const std::string& what) {
+    throw CLI::ConfigError("line " + std::to_string(line_number) + ": " + what);
+  }
+
+  /// "name = value  # comment" -> {"name", "value  # comment"}; the name unquoted.
+  static std::pair<std::string, std::string> split_key_value(const std::string& line, int line_number) {
+    const auto equals = line.find('=');
+    if (equals == std::string::npos) fail(line_number, "expected 'key = value', found '" + line + "'");
+    std::string key = CLI::detail::trim_copy(line.substr(0, equals));
     if (key.size() >= 2 && (key.front() == '"' || key.front() == '\'') && key.back() == key.front()) {
       key = key.substr(1, key.size() - 2);
     }
-    return key;
+    if (key.empty()) fail(line_number, "expected 'key = value', found '" + line + "'");
+    return {key, CLI::detail::trim_copy(line.substr(equals + 1))};
+  }
+
+  /// The value of a TOML scalar: a basic string "..." with escapes (\" \\ \n \t \r \b \f \uXXXX), a
+  /// literal string '...', or a bare word (number, true/false), each optionally followed by a # comment.
+  /// CLI11 2.1's own reader cuts values at any '#' (a path "run#2.h5" became '"run') and keeps backslashes.
+  static std::string scalar_value(const std::string& text, int line_number) {
+    std::string value;
+    std::size_t pos = 0;
+    if (!text.empty() && (text.front() == '"' || text.front() == '\'')) {
+      const char quote = text.front();
+      for (pos = 1; pos < text.size() && text[pos] != quote; ++pos) {
+        if (quote == '"' && text[pos] == '\\' && pos + 1 < text.size()) {
+          const char e = text[++pos];
+          switch (e) {
+            case 'n': value += '\n'; break;
+            case 't': value += '\t'; break;
+            case 'r': value += '\r'; break;
+            case 'b': value += '\b'; break;
+            case 'f': value += '\f'; break;
+            case '"': case '\\': value += e; break;
+            case 'u': {
+              const std::string hex = text.substr(pos + 1, 4);
+              if (hex.size() != 4 || hex.find_first_not_of("0123456789abcdefABCDEF") != std::string::npos) {
+                fail(line_number, "bad \\u escape in a string");
+              }
+              const unsigned code = static_cast<unsigned>(std::stoul(hex, nullptr, 16));
+              if (code < 0x80) {
+                value += static_cast<char>(code);
+              } else if (code < 0x800) {
+                value += static_cast<char>(0xC0 | (code >> 6));
+                value += static_cast<char>(0x80 | (code & 0x3F));
+              } else {
+                value += static_cast<char>(0xE0 | (code >> 12));
+                value += static_cast<char>(0x80 | ((code >> 6) & 0x3F));
+                value += static_cast<char>(0x80 | (code & 0x3F));
+              }
+              pos += 4;
+              break;
+            }
+            default: fail(line_number, std::string("unknown escape '\\") + e + "' in a string");
+          }
+        } else {
+          value += text[pos];
+        }
+      }
+      if (pos >= text.size()) fail(line_number, "unterminated string " + text);
+      ++pos;
+    } else {
+      pos = std::min(text.find('#'), text.size());
+      value = CLI::detail::trim_copy(text.substr(0, pos));
+    }
+    const auto rest = text.find_first_not_of(" \t", pos);
+    if (rest != std::string::npos && text[rest] != '#') {
+      fail(line_number, "unexpected '" + text.substr(rest) + "' after the value");
+    }
+    return value;
   }
 
   std::string section_;
@@ -180,6 +305,18 @@ void add_config_option(CLI::App& app, const std::string& section) {
   // Options added after this record their defaults, so the effective config (and --help) shows the value
   // each option really has, and the written config can be fed back with --config.
   app.option_defaults()->always_capture_default();
+}
+
+std::string parse_config_text(CLI::App& app, const std::string& text) {
+  std::istringstream input(text);
+  try {
+    app.parse_from_stream(input);
+  } catch (const CLI::ConfigError& e) {
+    return describe_config_error(app, e);
+  } catch (const CLI::ParseError& e) {
+    return e.what();
+  }
+  return "";
 }
 
 std::string effective_config(const CLI::App& app, const std::string& section) {

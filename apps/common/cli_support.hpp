@@ -25,6 +25,11 @@ int run(CLI::App& app, int argc, char** argv, const std::function<int()>& body);
 /// after this call capture their defaults (shown by --help, written by write_effective_config).
 void add_config_option(CLI::App& app, const std::string& section);
 
+/// Parses config file text into `app` as --config would (after add_config_option): the section filter,
+/// unknown keys, value checks. Returns the message an app prints for a bad file ("" when it parsed), without
+/// the "error: config file 'F'" prefix. For tests and the fuzzer, which have text rather than a file.
+[[nodiscard]] std::string parse_config_text(CLI::App& app, const std::string& text);
+
 /// Writes the effective configuration (every option's final value, defaults included; options without a
 /// value, such as an absent --input, are left out) as TOML under [section] to `<output>.config.toml`,
 /// atomically. The file can be given back with --config.

@@ -6,9 +6,12 @@
 
 namespace contactnn::io {
 
-RawConfigurations read_raw_configurations(const std::filesystem::path& path, SurfaceKind kind) {
+namespace {
+
+/// The configurations of a table read from RAW.csv (columns located by name).
+RawConfigurations from_table(CsvTable table, SurfaceKind kind) {
   RawConfigurations raw;
-  raw.table = read_csv(path);
+  raw.table = std::move(table);
   const CsvTable& t = raw.table;
   std::array<std::size_t, 15> point_columns{};
   for (std::size_t i = 0; i < kRawPointColumns.size(); ++i) point_columns[i] = t.column(kRawPointColumns[i]);
@@ -29,6 +32,17 @@ RawConfigurations read_raw_configurations(const std::filesystem::path& path, Sur
     for (int k = 0; k < 3; ++k) c.slave[k] = t.number(r, point_columns[static_cast<std::size_t>(12 + k)]);
   }
   return raw;
+}
+
+}  // namespace
+
+RawConfigurations read_raw_configurations(const std::filesystem::path& path, SurfaceKind kind) {
+  return from_table(read_csv(path), kind);
+}
+
+RawConfigurations parse_raw_configurations(std::string_view text, const std::filesystem::path& name,
+                                           SurfaceKind kind) {
+  return from_table(parse_csv(text, name), kind);
 }
 
 void write_with_columns(const std::filesystem::path& path, const CsvTable& input,

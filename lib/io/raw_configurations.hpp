@@ -4,6 +4,7 @@
 
 #include <filesystem>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "core/conventions.hpp"
@@ -21,6 +22,11 @@ struct RawConfigurations {
 /// nan/inf parse (the row's status will be invalid). FormatError naming file, line and column for a
 /// missing column or a field that is not a number; the CSV errors of read_csv.
 [[nodiscard]] RawConfigurations read_raw_configurations(const std::filesystem::path& path, SurfaceKind kind);
+
+/// Same, from CSV text in memory (`name` stands for the file in messages). Used by read_raw_configurations
+/// and the fuzzer.
+[[nodiscard]] RawConfigurations parse_raw_configurations(std::string_view text, const std::filesystem::path& name,
+                                                         SurfaceKind kind);
 
 /// Writes `input`'s header and rows followed by `extra_header` columns with `extra_rows` values, one per
 /// input row, in input order, atomically. An input column with the same name as an extra column is

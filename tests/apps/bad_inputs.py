@@ -339,6 +339,49 @@ def _(ctx):
            r"^error: config file 'c\.toml', line 2, key 'surface': --surface: quad not in")
 
 
+@case("config_strings_with_hash_quotes_and_escapes")
+def _(ctx):
+    # TOML strings: '#' inside quotes is not a comment, escapes are honoured, a literal string is verbatim;
+    # the effective config written beside the output reads back to the same settings.
+    ctx.write("c.toml", "[gen-configs]  # the study\n"
+                        "output = \"d#1 \\\"q\\\" \\\\.h5\"   # comment after a value\n"
+                        "surface = 'bilinear'\n"
+                        "d_xy_points = 2\nc_xy_points = 2\ns_xy_points = 2\nquiet = true\n")
+    ctx.expect_success("gen-configs", ["--config", "c.toml"])
+    name = "d#1 \"q\" \\.h5"
+    if not os.path.exists(ctx.path(name)) or not os.path.exists(ctx.path(name + ".config.toml")):
+        raise Failure(f"expected output {name!r}, found {sorted(os.listdir(ctx.dir))}")
+    ctx.expect_success("gen-configs", ["--config", name + ".config.toml", "--output", "again.h5"])
+    with open(ctx.path(name + ".config.toml")) as f1, open(ctx.path("again.h5.config.toml")) as f2:
+        first = [l for l in f1 if not l.startswith("output=")]
+        second = [l for l in f2 if not l.startswith("output=")]
+    if first != second:
+        raise Failure(f"the effective config changed when read back:\n{''.join(first)}---\n{''.join(second)}")
+
+
+@case("config_unterminated_string")
+def _(ctx):
+    config(ctx, "[gen-configs]\noutput = \"never closed\n", 2,
+           r"^error: config file 'c\.toml': line 2: unterminated string \"never closed")
+
+
+@case("config_two_values")
+def _(ctx):
+    config(ctx, "[gen-configs]\nd_xy_points = 4 5\n", 2,
+           r"^error: config file 'c\.toml', line 2, key 'd_xy_points': --d_xy_points: Value 4 5 not in range")
+
+
+@case("config_text_after_string")
+def _(ctx):
+    config(ctx, "[gen-configs]\nsurface = \"bilinear\" x\n", 2,
+           r"^error: config file 'c\.toml': line 2: unexpected 'x' after the value")
+
+
+@case("config_line_without_value")
+def _(ctx):
+    config(ctx, "[gen-configs]\nquiet\n", 2, r"^error: config file 'c\.toml': line 2: expected 'key = value', found 'quiet'")
+
+
 @case("config_file_missing")
 def _(ctx):
     ctx.expect_failure("gen-configs", ["--config", "absent.toml", "--output", "out.h5"], 2,
