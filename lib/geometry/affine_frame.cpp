@@ -78,11 +78,13 @@ NormaliseOutcome normalise(const Configuration& world, SurfaceKind kind) {
   features[7] = local.slave.z();
   if (gregory) {
     for (int i = 0; i < 4; ++i) {
-      const double length = world.normals[i].norm();
+      // Any positive length (SPEC 6), 1e-300 and 1e300 included.
+      const double length = length_of(world.normals[i]);
       if (!(length > 0.0)) return {std::nullopt, NormaliseFailure::kDegenerate};
       const Vec3 n = frame->rotate(world.normals[i] / length);
-      // A node normal parallel to the segment plane (or flipped) has no n_x/n_z feature.
-      if (!(n.z() > kRelativeZero)) return {std::nullopt, NormaliseFailure::kDegenerate};
+      // A node normal parallel to the segment plane (or flipped) has no n_x/n_z feature. The frame's own
+      // normal is known to the rounding of the coordinates only (noise above): an n_z below it is zero.
+      if (!(n.z() > std::max(kRelativeZero, 16.0 * noise))) return {std::nullopt, NormaliseFailure::kDegenerate};
       local.normals[i] = n;
       features[8 + 2 * i] = n.x() / n.z();
       features[9 + 2 * i] = n.y() / n.z();

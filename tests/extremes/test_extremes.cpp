@@ -18,6 +18,7 @@
 
 #include "dataset/labeller.hpp"
 #include "geometry/bilinear_patch.hpp"
+#include "geometry/gregory_patch.hpp"
 #include "projection/newton_projection.hpp"
 #include "test_support.hpp"
 
@@ -500,6 +501,209 @@ TEST(Extremes, RandomHostileConfigurationsNeverGiveNonFiniteLabels) {
     }
     const dataset::Label l = dataset::label_configuration(c, SurfaceKind::kBilinear);
     expect_sane(l, "hostile configuration " + std::to_string(k));
+  }
+}
+
+// ---------------------------------------------------------------------------------------------------
+// Gregory segments (SPEC 3): node normals at the paper's tilt limit (tangent 0.2), beyond it, at right
+// angles to the segment's normal, parallel to an edge, flipped, of zero length and non-finite.
+
+using geometry::GregoryPatch;
+
+struct GregoryCase {
+  std::string name;
+  Configuration config;  ///< with normals
+  std::vector<Status> allowed;
+  std::optional<std::array<double, 2>> exact_param;
+  double exact_gap = 0.0;
+};
+
+/// `normal` tilted away from +z towards `direction` (in the xy-plane) by the angle whose tangent is `tangent`.
+Vec3 tilted(double tangent, double direction_degrees) {
+  const double d = direction_degrees * std::numbers::pi / 180.0;
+  return Vec3(tangent * std::cos(d), tangent * std::sin(d), 1.0);
+}
+
+std::vector<GregoryCase> build_gregory_cases() {
+  std::vector<GregoryCase> cases;
+  const std::array<Vec3, 4> square = kSquare;
+  const Vec3 up(0, 0, 1);
+  const auto with = [](std::array<Vec3, 4> nodes, std::array<Vec3, 4> normals, Vec3 slave) {
+    return Configuration{nodes, slave, normals};
+  };
+  const std::vector<Status> ok = {Status::kOk};
+  const std::vector<Status> degenerate = {Status::kDegenerate};
+  const std::vector<Status> converged_or_not = {Status::kOk, Status::kOutside, Status::kNoConvergence};
+  // Flat square, plane normals: the bilinear facet, u = (xi + 1)/2 (SPEC 1); S above, on, below the surface.
+  cases.push_back({"flat_plane_normals_above", with(square, {up, up, up, up}, Vec3(0.3, 0.6, 0.2)), ok,
+                   std::array<double, 2>{0.3, 0.6}, 0.2});
+  cases.push_back({"flat_plane_normals_behind", with(square, {up, up, up, up}, Vec3(0.3, 0.6, -0.2)), ok,
+                   std::array<double, 2>{0.3, 0.6}, -0.2});
+  cases.push_back({"flat_plane_normals_at_corner_C", with(square, {up, up, up, up}, Vec3(1, 1, 0)), ok,
+                   std::array<double, 2>{1.0, 1.0}, 0.0});
+  cases.push_back({"flat_plane_normals_on_edge_AB", with(square, {up, up, up, up}, Vec3(0.4, 0, 0)), ok,
+                   std::array<double, 2>{0.4, 0.0}, 0.0});
+  cases.push_back({"flat_plane_normals_any_length",
+                   with(square, {1e-300 * up, 1e300 * up, 3.0 * up, 1e-5 * up}, Vec3(0.3, 0.6, 0.2)), ok,
+                   std::array<double, 2>{0.3, 0.6}, 0.2});
+  // At the paper's tilt limit (tangent 0.2), each normal leaning its own way: a curved patch.
+  const std::array<Vec3, 4> limit = {tilted(0.2, 225), tilted(0.2, -45), tilted(0.2, 45), tilted(0.2, 135)};
+  cases.push_back({"tilt_tangent_0.2_outward", with(square, limit, Vec3(0.35, 0.55, 0.1)), ok, std::nullopt, 0.0});
+  cases.push_back({"tilt_tangent_0.2_all_one_way",
+                   with(square, {tilted(0.2, 30), tilted(0.2, 30), tilted(0.2, 30), tilted(0.2, 30)},
+                        Vec3(0.7, 0.2, -0.05)), ok, std::nullopt, 0.0});
+  // Beyond it: tangent 1 (45 degrees) and 5 (79 degrees): a strongly curved patch, still projected.
+  cases.push_back({"tilt_tangent_1",
+                   with(square, {tilted(1, 225), tilted(1, -45), tilted(1, 45), tilted(1, 135)}, Vec3(0.5, 0.4, 0.1)),
+                   converged_or_not, std::nullopt, 0.0});
+  cases.push_back({"tilt_tangent_5",
+                   with(square, {tilted(5, 200), tilted(5, 0), tilted(5, 80), tilted(5, 160)}, Vec3(0.5, 0.4, 0.3)),
+                   converged_or_not, std::nullopt, 0.0});
+  cases.push_back({"tilt_tangent_1_warped_quad",
+                   with(kWarped, {tilted(1, 10), tilted(0.5, 100), tilted(1, 190), tilted(0.5, 280)},
+                        Vec3(0.5, 0.5, 0.3)), converged_or_not, std::nullopt, 0.0});
+  // Parallel to an edge: the normal at A along AB (in the plane): no slope, degenerate; nearly so (1e-12 rad
+  // off the plane): the edge's projection onto A's tangent plane vanishes, degenerate.
+  cases.push_back({"normal_parallel_to_edge_AB", with(square, {Vec3(1, 0, 0), up, up, up}, Vec3(0.3, 0.6, 0.2)),
+                   degenerate, std::nullopt, 0.0});
+  cases.push_back({"normal_nearly_parallel_to_edge_AB",
+                   with(square, {Vec3(1, 0, 1e-12), up, up, up}, Vec3(0.3, 0.6, 0.2)), degenerate, std::nullopt, 0.0});
+  cases.push_back({"normal_in_plane_not_along_an_edge",
+                   with(square, {up, up, Vec3(-1, 1, 0), up}, Vec3(0.3, 0.6, 0.2)), degenerate, std::nullopt, 0.0});
+  cases.push_back({"normal_flipped", with(square, {up, up, -up, up}, Vec3(0.3, 0.6, 0.2)), degenerate, std::nullopt, 0.0});
+  cases.push_back({"normal_zero_length", with(square, {up, Vec3::Zero(), up, up}, Vec3(0.3, 0.6, 0.2)), degenerate, std::nullopt, 0.0});
+  cases.push_back({"collapsed_segment", with({Vec3(0, 0, 0), Vec3(0, 0, 0), Vec3(1, 1, 0), Vec3(0, 1, 0)},
+                                             {up, up, up, up}, Vec3(0.3, 0.6, 0.2)), degenerate, std::nullopt, 0.0});
+  return cases;
+}
+
+const std::vector<GregoryCase>& gregory_cases() {
+  static const std::vector<GregoryCase> all = build_gregory_cases();
+  return all;
+}
+
+/// Dense-grid reference over [0,1]^2 of a Gregory patch built from the world configuration (shifted to A).
+Reference gregory_reference(const Configuration& world) {
+  std::array<Vec3, 4> q = world.nodes;
+  for (auto& node : q) node -= world.nodes[0];
+  const Vec3 s = world.slave - world.nodes[0];
+  const GregoryPatch patch(q, world.normals);
+  const auto f = [&](double a, double b) { return (s - patch.position(a, b)).squaredNorm(); };
+  constexpr int n = 161;
+  Reference best;
+  best.sqr_distance = kInf;
+  std::vector<std::array<double, 2>> starts;
+  std::vector<double> values(n * n);
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; j < n; ++j) values[static_cast<std::size_t>(i * n + j)] = f(double(i) / (n - 1), double(j) / (n - 1));
+  }
+  std::vector<std::pair<double, std::array<double, 2>>> coarse;
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; j < n; ++j) coarse.push_back({values[static_cast<std::size_t>(i * n + j)], {double(i) / (n - 1), double(j) / (n - 1)}});
+  }
+  std::partial_sort(coarse.begin(), coarse.begin() + 8, coarse.end(),
+                    [](const auto& x, const auto& y) { return x.first < y.first; });
+  for (int k = 0; k < 8; ++k) {
+    std::array<double, 2> c = coarse[static_cast<std::size_t>(k)].second;
+    double h = 1.0 / (n - 1);
+    for (int round = 0; round < 200 && h > 1e-14; ++round) {
+      std::array<double, 2> next = c;
+      double next_value = f(c[0], c[1]);
+      for (int a = -4; a <= 4; ++a) {
+        for (int b = -4; b <= 4; ++b) {
+          const double x = std::clamp(c[0] + h * a / 4.0, 0.0, 1.0);
+          const double y = std::clamp(c[1] + h * b / 4.0, 0.0, 1.0);
+          const double v = f(x, y);
+          if (v < next_value) {
+            next_value = v;
+            next = {x, y};
+          }
+        }
+      }
+      if (next == c) h *= 0.3;
+      c = next;
+    }
+    if (f(c[0], c[1]) < best.sqr_distance) {
+      best.param = c;
+      best.sqr_distance = f(c[0], c[1]);
+    }
+  }
+  best.interior = best.param[0] > kBoundaryBand && best.param[0] < 1 - kBoundaryBand && best.param[1] > kBoundaryBand &&
+                  best.param[1] < 1 - kBoundaryBand;
+  return best;
+}
+
+class GregoryExtremeCase : public ::testing::TestWithParam<std::size_t> {
+ protected:
+  [[nodiscard]] const GregoryCase& the_case() const { return gregory_cases()[GetParam()]; }
+};
+
+TEST_P(GregoryExtremeCase, ExpectedStatusSameLabelsEverywhereAndTheDenseReference) {
+  const GregoryCase& c = the_case();
+  const dataset::Label unit = dataset::label_configuration(c.config, SurfaceKind::kGregory);
+  expect_sane(unit, c.name);
+  ASSERT_NE(std::find(c.allowed.begin(), c.allowed.end(), unit.status), c.allowed.end())
+      << c.name << ": got " << describe(unit);
+  if (c.exact_param) {
+    ASSERT_EQ(unit.status, Status::kOk) << describe(unit);
+    EXPECT_NEAR(unit.param[0], c.exact_param.value()[0], kExactTol) << describe(unit);
+    EXPECT_NEAR(unit.param[1], c.exact_param.value()[1], kExactTol) << describe(unit);
+    EXPECT_NEAR(unit.gap, c.exact_gap, kExactTol) << describe(unit);
+  }
+  const bool collapsed = std::find(c.allowed.begin(), c.allowed.end(), Status::kDegenerate) != c.allowed.end();
+  for (const Transform& t : transforms()) {
+    const Configuration world = testing::transform(c.config, t.rotation, t.scale, t.translation);
+    const dataset::Label l = dataset::label_configuration(world, SurfaceKind::kGregory);
+    const std::string where = c.name + " at " + t.name + ": " + describe(l) + " vs unit " + describe(unit);
+    expect_sane(l, where);
+    ASSERT_EQ(l.status, unit.status) << where;
+    if (!converged(l.status)) continue;
+    double largest = world.slave.cwiseAbs().maxCoeff();
+    for (const Vec3& node : world.nodes) largest = std::max(largest, node.cwiseAbs().maxCoeff());
+    const double tol = std::max(kInvarianceTol, 4.0 * std::numeric_limits<double>::epsilon() * largest / element_size(world));
+    EXPECT_NEAR(l.param[0], unit.param[0], tol) << where;
+    EXPECT_NEAR(l.param[1], unit.param[1], tol) << where;
+    EXPECT_NEAR(l.gap / t.scale, unit.gap, tol) << where;
+    if (collapsed || GregoryPatch::diagnose(world.nodes, world.normals) != geometry::GregoryDefect::kNone) continue;
+    // The reference evaluates |S - P|^2 directly: its minimum is located to ~sqrt(eps) = 1e-8.
+    const Reference ref = gregory_reference(world);
+    std::array<Vec3, 4> q = world.nodes;
+    for (auto& node : q) node -= world.nodes[0];
+    const double d2 = (world.slave - world.nodes[0] - GregoryPatch(q, world.normals).position(l.param[0], l.param[1]))
+                          .squaredNorm();
+    const double size = element_size(world);
+    if (l.status == Status::kOk) {
+      EXPECT_GE(d2, ref.sqr_distance - 1e-10 * size * size) << where;
+    }
+    if (ref.interior) {
+      ASSERT_EQ(l.status, Status::kOk) << where << " reference (" << ref.param[0] << ", " << ref.param[1] << ")";
+      EXPECT_NEAR(l.param[0], ref.param[0], 1e-6) << where;
+      EXPECT_NEAR(l.param[1], ref.param[1], 1e-6) << where;
+    }
+  }
+}
+
+std::string gregory_case_name(const ::testing::TestParamInfo<std::size_t>& info) {
+  std::string name = gregory_cases()[info.param].name;
+  for (char& ch : name) {
+    if (!std::isalnum(static_cast<unsigned char>(ch))) ch = '_';
+  }
+  return name;
+}
+
+INSTANTIATE_TEST_SUITE_P(Gregory, GregoryExtremeCase, ::testing::Range<std::size_t>(0, gregory_cases().size()),
+                         gregory_case_name);
+
+TEST(Extremes, GregoryNonFiniteNormalComponentIsInvalid) {
+  const Vec3 up(0, 0, 1);
+  for (int component = 0; component < 12; ++component) {
+    for (const double bad : {kNaN, kInf, -kInf}) {
+      Configuration c{kSquare, Vec3(0.3, 0.6, 0.2), {up, up, up, up}};
+      c.normals[static_cast<std::size_t>(component / 3)][component % 3] = bad;
+      const dataset::Label l = dataset::label_configuration(c, SurfaceKind::kGregory);
+      EXPECT_EQ(l.status, Status::kInvalid) << "normal component " << component << " = " << bad;
+      expect_sane(l, "normal component " + std::to_string(component));
+    }
   }
 }
 
