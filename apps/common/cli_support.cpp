@@ -92,9 +92,9 @@ class SectionConfig : public CLI::ConfigTOML {
           value = toml_scalar(opt->get_default_str());
         } else if (opt->get_expected_min() == 0) {
           value = "false";
-        } else if (opt->get_run_callback_for_default()) {
-          value = "\"\"";
         }
+        // An option with neither a value nor a default (no --input) is left out: CLI11 wrote input="",
+        // which read back sets the input to "".
       }
       if (!value.empty()) out += opt->get_single_name() + "=" + value + "\n";
     }
@@ -198,6 +198,7 @@ class SectionConfig : public CLI::ConfigTOML {
     } else {
       pos = std::min(text.find('#'), text.size());
       value = CLI::detail::trim_copy(text.substr(0, pos));
+      if (value.empty()) fail(line_number, "no value after '=' (an empty string is \"\")");
     }
     const auto rest = text.find_first_not_of(" \t", pos);
     if (rest != std::string::npos && text[rest] != '#') {
@@ -326,9 +327,7 @@ std::string effective_config(const CLI::App& app, const std::string& section) {
   std::istringstream lines(body);
   std::string line;
   while (std::getline(lines, line)) {
-    // An empty value ("") is an option without a value (e.g. no --input): writing it back would set it to "".
-    const bool unset = line.size() >= 3 && line.compare(line.size() - 3, 3, "=\"\"") == 0;
-    if (line.rfind("config=", 0) == 0 || line.empty() || unset) continue;
+    if (line.rfind("config=", 0) == 0 || line.empty()) continue;
     out += line + "\n";
   }
   return out;

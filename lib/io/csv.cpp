@@ -148,7 +148,9 @@ void append_csv_row(std::string& out, const std::vector<std::string>& fields) {
   for (std::size_t i = 0; i < fields.size(); ++i) {
     if (i > 0) out += ',';
     const std::string& f = fields[i];
-    if (f.find_first_of(",\"\n\r") == std::string::npos) {
+    // Quoted: a comma, quote or line break, and a leading byte-order mark (which the reader skips at the
+    // start of a file: unquoted, a first column named "\xEF\xBB\xBFid" would read back as "id").
+    if (f.find_first_of(",\"\n\r") == std::string::npos && f.rfind("\xEF\xBB\xBF", 0) != 0) {
       out += f;
     } else {
       out += '"';

@@ -38,7 +38,8 @@ struct CsvTable {
 /// rounds to +-inf or 0 as in IEEE arithmetic.
 [[nodiscard]] bool parse_double(std::string_view field, double& value);
 
-/// Appends one CSV row to `out`, quoting fields that contain a comma, quote or line break.
+/// Appends one CSV row to `out`, quoting fields that contain a comma, quote or line break or begin with a
+/// UTF-8 byte-order mark, so that parse_csv reads the row back unchanged.
 void append_csv_row(std::string& out, const std::vector<std::string>& fields);
 
 /// Shortest text that reads back to exactly the same double ("%.17g" where needed).
