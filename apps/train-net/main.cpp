@@ -249,7 +249,6 @@ int main(int argc, char** argv) {
   CLI::App app{"train-net: train a sigmoid network (paper Eqs 12-14) by back-propagation with momentum"};
   cli::add_exit_code_footer(app);
   cli::add_config_option(app, "train-net");
-  app.option_defaults()->always_capture_default();  // the effective config lists every default
 
   // 1. Options. Defaults live in mlp::TrainOptions and NetSettings; flags only map onto them.
   mlp::TrainOptions options;
