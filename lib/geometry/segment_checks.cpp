@@ -44,8 +44,11 @@ std::array<double, 4> interior_angles_degrees(const std::array<Vec3, 4>& nodes) 
 bool is_convex(const std::array<Vec3, 4>& nodes, double relative_tolerance) {
   const Vec3 reference = (nodes[1] - nodes[0]).cross(nodes[3] - nodes[0]);
   for (int i = 0; i < 4; ++i) {
-    const Vec3 corner = (nodes[(i + 1) % 4] - nodes[i]).cross(nodes[(i + 3) % 4] - nodes[i]);
-    if (!(corner.dot(reference) > -relative_tolerance * corner.norm() * reference.norm())) return false;
+    const Vec3 to_next = nodes[(i + 1) % 4] - nodes[i];
+    const Vec3 to_prev = nodes[(i + 3) % 4] - nodes[i];
+    // The slack scales with the edges, not with the corner's cross product, which vanishes at 180 degrees.
+    const double slack = relative_tolerance * to_next.norm() * to_prev.norm() * reference.norm();
+    if (!(to_next.cross(to_prev).dot(reference) > -slack)) return false;
   }
   return true;
 }

@@ -26,7 +26,8 @@ namespace contactnn::geometry {
 
 /// True when the quadrilateral, projected onto the plane normal to (B - A) x (D - A), is strictly
 /// convex and counter-clockwise: the corner cross products (next - X) x (prev - X) all point to the
-/// side of that normal (with `relative_tolerance`: their cosine with it is > -tolerance).
+/// side of that normal (with `relative_tolerance`: > -tolerance |next - X| |prev - X| |normal|, so a
+/// corner of 180 degrees up to rounding passes).
 [[nodiscard]] bool is_convex(const std::array<Vec3, 4>& nodes, double relative_tolerance = 0.0);
 
 }  // namespace contactnn::geometry

@@ -115,24 +115,30 @@ TEST(TrainingDomain, GridCellsCoverTheirHalfStepSoASquareSegmentIsInside) {
 }
 
 TEST(TrainingDomain, ConfigurationsOnAFilterBoundaryStayInsideAfterAnyPlacement) {
-  // S equidistant from A and B (a tie the grid produces), S on the plane of edge AD: the strict filters
-  // accept them in the frame, and the domain must keep accepting them after rounding by placement.
-  const geometry::Configuration tie{
-      {geometry::Vec3::Zero(), geometry::Vec3(1, 0, 0), geometry::Vec3(0.9, 0.7, 0.1), geometry::Vec3(-0.1, 0.7, 0)},
-      geometry::Vec3(0.5, 0.1, 0.1),
-      {}};
-  DomainFilters filters;
-  ASSERT_TRUE(filters.accepts(tie, SurfaceKind::kBilinear));
+  // S equidistant from A and B (a tie the grid produces); A, D and C on one line (a 180-degree corner at D,
+  // rows 59827.. of the bilinear set). The domain must accept them after the rounding of any placement.
+  const std::array<geometry::Configuration, 2> boundary = {
+      geometry::Configuration{
+          {geometry::Vec3::Zero(), geometry::Vec3(1, 0, 0), geometry::Vec3(0.9, 0.7, 0.1), geometry::Vec3(-0.1, 0.7, 0)},
+          geometry::Vec3(0.5, 0.1, 0.1),
+          {}},
+      geometry::Configuration{
+          {geometry::Vec3::Zero(), geometry::Vec3(1, 0, 0), geometry::Vec3(-1.5, 0.5, 0), geometry::Vec3(-0.9, 0.3, 0)},
+          geometry::Vec3(-0.3, 0.1, -0.24),
+          {}}};
   TrainingDomain domain;
   domain.feature_min.assign(8, -2.0);
   domain.feature_max.assign(8, 2.0);
   std::mt19937_64 rng(53);
-  for (int k = 0; k < 200; ++k) {
-    const double scale = std::pow(10.0, std::uniform_real_distribution<double>(-3, 3)(rng));
-    const auto world = testing::transform(tie, testing::random_rotation(rng), scale, scale * geometry::Vec3(30, -70, 11));
-    const auto n = geometry::normalise(world, SurfaceKind::kBilinear);
-    ASSERT_TRUE(n.value.has_value());
-    EXPECT_TRUE(domain.contains(n.value->config, n.value->features.data())) << k;
+  for (const auto& config : boundary) {
+    for (int k = 0; k < 200; ++k) {
+      const double scale = std::pow(10.0, std::uniform_real_distribution<double>(-3, 3)(rng));
+      const auto world =
+          testing::transform(config, testing::random_rotation(rng), scale, scale * geometry::Vec3(30, -70, 11));
+      const auto n = geometry::normalise(world, SurfaceKind::kBilinear);
+      ASSERT_TRUE(n.value.has_value());
+      EXPECT_TRUE(domain.contains(n.value->config, n.value->features.data())) << k;
+    }
   }
 }
 
