@@ -6,6 +6,7 @@
 #include <Eigen/Geometry>
 #include <array>
 #include <cmath>
+#include <filesystem>
 #include <random>
 
 #include "core/conventions.hpp"
@@ -86,6 +87,14 @@ std::array<double, 2> oracle_closest_point(const SurfaceT& surface, const Vec3& 
     if (std::max(std::abs(da), std::abs(db)) < 1e-13) break;
   }
   return best;
+}
+
+/// A folder for one test file's outputs under the build tree, created if missing. ctest -j runs every test
+/// case as its own process, so the cases of one file share it and must use distinct file names.
+inline std::filesystem::path test_output_dir(const std::string& name) {
+  const auto dir = std::filesystem::path(CONTACTNN_BINARY_DIR) / name;
+  std::filesystem::create_directories(dir);
+  return dir;
 }
 
 }  // namespace contactnn::testing

@@ -21,11 +21,7 @@
 namespace contactnn::io {
 namespace {
 
-std::filesystem::path temp_dir() {
-  const auto dir = std::filesystem::path(CONTACTNN_BINARY_DIR) / "test-bad-files";
-  std::filesystem::create_directories(dir);
-  return dir;
-}
+std::filesystem::path temp_dir() { return testing::test_output_dir("test-bad-files"); }
 
 std::string read_bytes(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);

@@ -6,15 +6,12 @@
 
 #include "core/error.hpp"
 #include "io/hdf5_file.hpp"
+#include "test_support.hpp"
 
 namespace contactnn::io {
 namespace {
 
-std::filesystem::path temp_dir() {
-  const auto dir = std::filesystem::path(CONTACTNN_BINARY_DIR) / "test-io";
-  std::filesystem::create_directories(dir);
-  return dir;
-}
+std::filesystem::path temp_dir() { return testing::test_output_dir("test-io"); }
 
 dataset::LabelledSet small_set() {
   dataset::LabelledSet set;

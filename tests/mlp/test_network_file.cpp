@@ -8,15 +8,12 @@
 #include "io/hdf5_file.hpp"
 #include "mlp/random.hpp"
 #include "mlp/trainer.hpp"
+#include "test_support.hpp"
 
 namespace contactnn::io {
 namespace {
 
-std::filesystem::path temp_dir() {
-  const auto dir = std::filesystem::path(CONTACTNN_BINARY_DIR) / "test-mlp";
-  std::filesystem::create_directories(dir);
-  return dir;
-}
+std::filesystem::path temp_dir() { return testing::test_output_dir("test-mlp"); }
 
 dataset::TrainingDomain bilinear_domain() {
   dataset::TrainingDomain d;
