@@ -340,6 +340,23 @@ void write_effective_config(const CLI::App& app, const std::string& section, con
                                       effective_config(app, section));
 }
 
+namespace {
+CLI::Validator number_at_least(double bound, bool inclusive, const std::string& name) {
+  return CLI::Validator(
+      [bound, inclusive](std::string& input) -> std::string {
+        double value = 0.0;
+        if (!io::parse_double(input, value)) return "'" + input + "' is not a number";
+        const bool ok = inclusive ? value >= bound : value > bound;
+        if (!ok) return std::string("must be ") + (inclusive ? ">= " : "> ") + io::format_double(bound) + ", got " + input;
+        return std::string();
+      },
+      name);
+}
+}  // namespace
+
+const CLI::Validator kPositive = number_at_least(0.0, false, "POSITIVE");
+const CLI::Validator kNonNegative = number_at_least(0.0, true, "NONNEGATIVE");
+
 void add_exit_code_footer(CLI::App& app) {
   app.footer(
       "Exit codes: 0 success; 1 internal error; 2 bad command line or config (unknown key, value out of range);\n"

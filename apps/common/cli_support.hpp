@@ -38,6 +38,11 @@ void write_effective_config(const CLI::App& app, const std::string& section, con
 /// The effective configuration as TOML text (for provenance attributes in output files).
 [[nodiscard]] std::string effective_config(const CLI::App& app, const std::string& section);
 
+/// Range validators with a readable message ("must be > 0, got -1"); CLI11 2.1's PositiveNumber prints
+/// the largest double in full as the upper end of its range. NaN is rejected by both.
+extern const CLI::Validator kPositive;
+extern const CLI::Validator kNonNegative;
+
 /// Adds the exit-code table to the app's --help footer.
 void add_exit_code_footer(CLI::App& app);
 

@@ -199,7 +199,7 @@ int main(int argc, char** argv) {
   input->excludes(data);
   data->excludes(input);
   app.add_option("--threads", threads, "OpenMP threads of the accuracy part (0: OpenMP's default)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(cli::kNonNegative);
   app.add_flag("--quiet", paths.quiet, "no progress lines");
   app.add_option("--seed", options.seed, "seed of the placements and the timing sample");
   app.add_option("--random_placement", options.random_placement,
@@ -208,17 +208,17 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1, 100));
   app.add_option("--failure_box_margin", options.failure_box_margin,
                  "an estimate more than this many domain widths outside the domain is a failure")
-      ->check(CLI::PositiveNumber);
+      ->check(cli::kPositive);
   app.add_option("--converged_max_iterations", options.newton.converged_max_iterations,
                  "Newton to convergence: iteration limit")
       ->check(CLI::Range(1, 10000));
   app.add_option("--converged_tol_param", options.newton.converged_tol_param,
                  "Newton to convergence: step tolerance (parameter units)")
-      ->check(CLI::PositiveNumber);
+      ->check(cli::kPositive);
   app.add_option("--hist_bins", options.hist_bins, "bins of the error histograms")->check(CLI::Range(1, 100000));
   app.add_option("--hist_range", options.hist_range,
                  "histogram range [-r, r]; 0: a nice number above the 99.9th percentile of |error|")
-      ->check(CLI::NonNegativeNumber);
+      ->check(cli::kNonNegative);
   app.add_option("--timing", options.timing, "measure the speed of every method");
   app.add_option("--timing_queries", options.timing_queries, "configurations per timed pass")
       ->check(CLI::Range(std::int64_t{1}, std::int64_t{100000000}));

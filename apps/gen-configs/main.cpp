@@ -98,7 +98,7 @@ int main(int argc, char** argv) {
   app.add_option("--surface", surface_name, "bilinear or gregory")->check(CLI::IsMember({"bilinear", "gregory"}));
   app.add_option("--input", input, "label mode: RAW.csv of world configurations (SPEC 6)")->check(CLI::ExistingFile);
   app.add_option("--output", output, "dataset .h5 (enumeration) or labels .csv (label mode)")->required();
-  app.add_option("--threads", threads, "OpenMP threads (0: OpenMP's default)")->check(CLI::NonNegativeNumber);
+  app.add_option("--threads", threads, "OpenMP threads (0: OpenMP's default)")->check(cli::kNonNegative);
   app.add_flag("--quiet", quiet, "no progress line");
   app.add_option("--seed", options.seed, "seed of the Gregory node-normal sampling");
   app.add_option("--d_xy_points", options.d_xy_points, "grid points per axis, x and y of D")->check(CLI::Range(1, 400));
@@ -110,8 +110,8 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1, 1000));
   app.add_option("--require_projection_inside", options.require_projection_inside,
                  "keep only configurations whose projection lies inside the segment");
-  app.add_option("--xy_limit", f.xy_limit, "|x|, |y| of C, D, S below this")->check(CLI::PositiveNumber);
-  app.add_option("--z_limit", f.z_limit, "|z| of C, S below this")->check(CLI::PositiveNumber);
+  app.add_option("--xy_limit", f.xy_limit, "|x|, |y| of C, D, S below this")->check(cli::kPositive);
+  app.add_option("--z_limit", f.z_limit, "|z| of C, S below this")->check(cli::kPositive);
   app.add_option("--ad_not_longer_than_ab", f.ad_not_longer_than_ab, "|AD| <= |AB|");
   app.add_option("--nearest_node_a", f.nearest_node_a, "A is the master node nearest S");
   app.add_option("--segment_test_a", f.segment_test_a, "S passes the segment test (Eqs 3-6) at A");
@@ -119,15 +119,15 @@ int main(int argc, char** argv) {
   app.add_option("--min_angle_degrees", f.min_angle_degrees, "smallest interior angle")->check(CLI::Range(0.0, 180.0));
   app.add_option("--max_angle_degrees", f.max_angle_degrees, "largest interior angle")->check(CLI::Range(0.0, 180.0));
   app.add_option("--max_normal_tilt_tangent", f.max_normal_tilt_tangent, "Gregory: tangent of the largest normal tilt")
-      ->check(CLI::PositiveNumber);
+      ->check(cli::kPositive);
   app.add_option("--max_iterations", options.projection.max_iterations, "Newton iterations per start")
       ->check(CLI::Range(1, 10000));
   app.add_option("--tol_param", options.projection.tol_param, "Newton step tolerance (parameter units)")
-      ->check(CLI::PositiveNumber);
+      ->check(cli::kPositive);
   app.add_option("--starts_per_axis", options.projection.starts_per_axis, "Newton starts per parameter axis")
       ->check(CLI::Range(1, 10));
   app.add_option("--domain_margin", options.projection.domain_margin, "parameter slack counted as inside")
-      ->check(CLI::NonNegativeNumber);
+      ->check(cli::kNonNegative);
 
   return cli::run(app, argc, argv, [&]() -> int {
     // 2. Threads and surface.

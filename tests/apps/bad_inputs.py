@@ -324,7 +324,7 @@ def _(ctx):
 @case("config_negative_limit")
 def _(ctx):
     config(ctx, "[gen-configs]\nz_limit = -0.3\n", 2,
-           r"^error: config file 'c\.toml', line 2, key 'z_limit': --z_limit: Value -0\.3 not in range")
+           r"^error: config file 'c\.toml', line 2, key 'z_limit': --z_limit: must be > 0, got -0\.3")
 
 
 @case("config_wrong_type")
