@@ -189,11 +189,11 @@ std::string export_c_header(const Network<Real>& network, const CHeaderOptions& 
   if (gregory) {
     o << "  for (i = 0; i < 4; ++i) {\n"
       << "    const double* nr = raw + 15 + 3 * i;\n"
-      << "    double len = sqrt(" << p << "_dot3(nr, nr)), u[3], n[3];\n"
+      << "    double len = " << p << "_length3(nr), u[3], n[3];\n"
       << "    if (!(len > 0.0)) return 1;\n"
       << "    for (k = 0; k < 3; ++k) u[k] = nr[k] / len;\n"
       << "    for (k = 0; k < 3; ++k) n[k] = " << p << "_dot3(r[k], u);\n"
-      << "    if (!(n[2] > rel_zero)) return 1;\n"
+      << "    if (!(n[2] > (rel_zero > noise ? rel_zero : noise))) return 1;\n"
       << "    f[8 + 2 * i] = n[0] / n[2];\n"
       << "    f[9 + 2 * i] = n[1] / n[2];\n"
       << "  }\n";
@@ -213,8 +213,11 @@ std::string export_c_header(const Network<Real>& network, const CHeaderOptions& 
       << "    if (f[i] < " << p << "_domain_min[i] - slack || f[i] > " << p << "_domain_max[i] + slack) status = 2;\n"
       << "  }\n";
   }
-  o << "  for (i = 0; i < " << n_features << "; ++i) a0[i] = (" << real << ")((f[i] - " << p
-    << "_input_min[i]) * " << p << "_input_gain[i] - 1.0);\n";
+  // Clamped as in mlp::predict: a huge finite feature must not become inf (and inf - inf NaN) in float.
+  o << "  for (i = 0; i < " << n_features << "; ++i) {\n"
+    << "    double s = (f[i] - " << p << "_input_min[i]) * " << p << "_input_gain[i] - 1.0;\n"
+    << "    a0[i] = (" << real << ")(s > 1e6 ? 1e6 : (s < -1e6 ? -1e6 : s));\n"
+    << "  }\n";
   for (int l = 0; l < network.layer_count(); ++l) {
     o << "  for (j = 0; j < " << sizes[l + 1] << "; ++j) {\n"
       << "    " << real << " u = -" << p << "_theta" << l << "[j];\n"

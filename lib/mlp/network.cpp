@@ -67,7 +67,12 @@ template <class Real>
 void predict(const Network<Real>& network, const double* raw_input, double* raw_output, ForwardPass<Real>& pass) {
   const Scaling& s = network.scaling();
   Real* x = pass.activation(0);
-  for (int i = 0; i < network.input_count(); ++i) x[i] = static_cast<Real>(s.scale_input(i, raw_input[i]));
+  // Inputs in the trained range scale to [-1, 1]; one far outside it (already out of domain) is clamped so
+  // that a huge finite feature cannot become inf in float, and inf - inf NaN in the first layer.
+  constexpr double kInputClamp = 1e6;
+  for (int i = 0; i < network.input_count(); ++i) {
+    x[i] = static_cast<Real>(std::clamp(s.scale_input(i, raw_input[i]), -kInputClamp, kInputClamp));
+  }
   // Scaled straight into activation(0), which run() then leaves in place.
   const Real* o = pass.run(network, x);
   for (int k = 0; k < network.output_count(); ++k) raw_output[k] = s.unscale_output(k, static_cast<double>(o[k]));

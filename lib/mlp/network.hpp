@@ -91,7 +91,8 @@ class ForwardPass {
 };
 
 /// Raw inputs (n_0 values, the units of the training features) -> raw outputs (n_L values, label units):
-/// scaling, forward pass, inverse output scaling. No allocation.
+/// scaling, forward pass, inverse output scaling. No allocation. Scaled inputs are clamped to [-1e6, 1e6],
+/// so any finite input gives a finite output (far outside the training range it is an extrapolation).
 template <class Real>
 void predict(const Network<Real>& network, const double* raw_input, double* raw_output, ForwardPass<Real>& pass);
 

@@ -58,6 +58,17 @@ TEST(Network, PredictScalesInputsAndUnscalesOutputs) {
   EXPECT_NEAR(out, 0.0, 1e-15);
 }
 
+TEST(Network, HugeFiniteInputsGiveFiniteOutputs) {
+  // 1e39 exceeds float's range: unclamped, the scaled inputs became +-inf and inf - inf NaN in layer 1
+  // (evaluate-net then refused the whole file). Any finite input must give a finite prediction.
+  const auto net = testing::make_network<float>({8, 8, 2}, 5);
+  ForwardPass<float> pass(net);
+  const double raw[8] = {1e39, -1e39, 1e39, -1e39, 1e300, -1e300, 0.5, 1e39};
+  double out[2] = {NAN, NAN};
+  predict(net, raw, out, pass);
+  EXPECT_TRUE(std::isfinite(out[0]) && std::isfinite(out[1])) << out[0] << " " << out[1];
+}
+
 TEST(Network, RejectsBadArchitectureAndScaling) {
   EXPECT_THROW(Network<float>({3}, 2.0, testing::unit_scaling(3, 3)), InvalidArgument);
   EXPECT_THROW(Network<float>({3, 0, 2}, 2.0, testing::unit_scaling(3, 2)), InvalidArgument);
