@@ -122,6 +122,15 @@ bool fill_solution(const SurfaceT& surface, const Vec3& slave, ProjectionResult&
   return std::isfinite(result.gap) && std::isfinite(result.sqr_distance);
 }
 
+/// True when the exact Hessian of |S - P|^2 / 2 at `param` is positive semi-definite (to rounding): a
+/// local minimum, not a saddle or a maximum, which Newton on Eqs 7-8 converges to just as well.
+template <class SurfaceT>
+bool is_local_minimum(const SurfaceT& surface, const Vec3& slave, const std::array<double, 2>& param, double length) {
+  const NewtonSystem s = newton_system(surface.evaluate(param[0], param[1]), slave);
+  const double tol = 1e-10 * length * length;
+  return s.h00 >= -tol && s.h11 >= -tol && s.h00 * s.h11 - s.h01 * s.h01 >= -tol * tol;
+}
+
 bool inside(const std::array<double, 2>& p, ParamDomain domain, double margin) {
   return p[0] >= domain.lo - margin && p[0] <= domain.hi + margin && p[1] >= domain.lo - margin &&
          p[1] <= domain.hi + margin;
@@ -165,6 +174,7 @@ ProjectionResult project_point(const SurfaceT& surface, const Vec3& slave, const
         any_degenerate = true;
         continue;
       }
+      if (!is_local_minimum(surface, slave, run.param, length)) continue;  // a saddle: never the label
       const bool candidate_inside = inside(run.param, domain, options.domain_margin);
       candidate.status = candidate_inside ? Status::kOk : Status::kOutside;
       // Inside beats outside; among equals the nearer wins; ties keep the earlier start (determinism).

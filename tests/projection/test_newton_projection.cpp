@@ -296,3 +296,23 @@ TEST(NewtonProjectionGregory, NormalInTheSegmentPlaneIsDegenerateAndNaNIsInvalid
 
 }  // namespace
 }  // namespace contactnn::projection
+
+namespace contactnn::projection {
+namespace {
+
+TEST(NewtonProjection, ASaddlePointIsNeverTheLabel) {
+  // Twisted quad z = h (xi - eta)... with S high above its centre (2 h H > 1): the centre is a stationary
+  // point of |S - P|^2 but a saddle; a start placed exactly on it must not make it the label.
+  const double h = 0.5, height = 2.0;
+  const geometry::BilinearPatch p({Vec3(0, 0, 0), Vec3(1, 0, h), Vec3(1, 1, 0), Vec3(0, 1, h)});
+  const Vec3 s(0.5, 0.5, h / 2 + height);
+  const ProjectionResult r = project_point(p, s);
+  EXPECT_FALSE(r.status == Status::kOk && std::abs(r.param[0]) < 1e-6 && std::abs(r.param[1]) < 1e-6)
+      << "the saddle at the centre was reported as the label";
+  if (r.status == Status::kOk || r.status == Status::kOutside) {
+    EXPECT_LT(r.sqr_distance, (s - p.position(0, 0)).squaredNorm());  // a minimum is nearer than the saddle
+  }
+}
+
+}  // namespace
+}  // namespace contactnn::projection
