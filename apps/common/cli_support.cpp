@@ -1,5 +1,6 @@
 #include "cli_support.hpp"
 
+#include <algorithm>
 #include <cctype>
 #include <cstdio>
 #include <map>
@@ -320,7 +321,7 @@ std::string parse_config_text(CLI::App& app, const std::string& text) {
   return "";
 }
 
-std::string effective_config(const CLI::App& app, const std::string& section) {
+std::string effective_config(const CLI::App& app, const std::string& section, const std::vector<std::string>& omit) {
   // config_to_str writes "key=value" lines for every option with a value or default.
   std::string body = app.config_to_str(true, false);
   std::string out = "[" + section + "]\n";
@@ -328,7 +329,9 @@ std::string effective_config(const CLI::App& app, const std::string& section) {
   std::string line;
   while (std::getline(lines, line)) {
     if (line.rfind("config=", 0) == 0 || line.empty()) continue;
-    out += line + "\n";
+    const bool omitted = std::any_of(omit.begin(), omit.end(),
+                                     [&](const std::string& key) { return line.rfind(key + "=", 0) == 0; });
+    if (!omitted) out += line + "\n";
   }
   return out;
 }

@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <functional>
 #include <string>
+#include <vector>
 
 namespace contactnn::cli {
 
@@ -36,7 +37,10 @@ void add_config_option(CLI::App& app, const std::string& section);
 void write_effective_config(const CLI::App& app, const std::string& section, const std::filesystem::path& output);
 
 /// The effective configuration as TOML text (for provenance attributes in output files).
-[[nodiscard]] std::string effective_config(const CLI::App& app, const std::string& section);
+/// Keys in `omit` (e.g. output paths and thread counts, which do not change the result) are left out, so
+/// that an output file's provenance is the same for runs that compute the same thing.
+[[nodiscard]] std::string effective_config(const CLI::App& app, const std::string& section,
+                                           const std::vector<std::string>& omit = {});
 
 /// Range validators with a readable message ("must be > 0, got -1"); CLI11 2.1's PositiveNumber prints
 /// the largest double in full as the upper end of its range. NaN is rejected by both.

@@ -143,7 +143,9 @@ int main(int argc, char** argv) {
     dataset::LabelledSet set = dataset::enumerate_configurations(
         options, summary, [&](std::int64_t done, std::int64_t total) { progress.update(done, total); });
     progress.finish();
-    set.config_toml = cli::effective_config(app, "gen-configs");
+    // Without the keys that do not change the data, so the file is byte-identical for any output path,
+    // thread count or verbosity.
+    set.config_toml = cli::effective_config(app, "gen-configs", {"output", "input", "threads", "quiet"});
     io::write_dataset(output, set);
     cli::write_effective_config(app, "gen-configs", output);
     print_summary(summary, output);

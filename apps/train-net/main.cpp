@@ -162,6 +162,21 @@ int train(const NetSettings& net_settings, mlp::TrainOptions options, const std:
                          "checkpoint '" << checkpoint_path.string() << "' was written for seed "
                                         << saved.provenance.seed << " and dataset " << saved.provenance.dataset_checksum
                                         << ", this run has seed " << options.seed << " and dataset " << checksum);
+    // Everything else that shapes the run (scaling, pattern counts, learning rate, mode...) must match too;
+    // only the number of epochs may grow.
+    const auto without_epochs = [](const std::string& text) {
+      std::istringstream lines(text);
+      std::string line, kept;
+      while (std::getline(lines, line)) {
+        if (line.rfind("epochs=", 0) != 0) kept += line + "\n";
+      }
+      return kept;
+    };
+    CONTACTNN_REQUIRE_AS(FormatError, without_epochs(saved.provenance.config_toml) == without_epochs(config_toml),
+                         "checkpoint '" << checkpoint_path.string()
+                                        << "' was written with another configuration; only epochs may change on "
+                                           "--resume.\ncheckpoint:\n"
+                                        << saved.provenance.config_toml << "this run:\n" << config_toml);
     network.parameters() = saved.network.parameters();
     trainer.restore(io::read_training_state<Real>(checkpoint_path, network));
     if (!quiet) std::fprintf(stderr, "resuming from %s at epoch %d\n", checkpoint_path.string().c_str(), trainer.state().epoch);
@@ -288,7 +303,10 @@ int main(int argc, char** argv) {
     if (threads > 0) omp_set_num_threads(threads);
     options.threads = threads;
     options.mode = mlp::training_mode_from_string(mode);
-    const std::string config = cli::effective_config(app, "train-net");
+    // Provenance without the keys that do not change the network (paths, threads, checkpointing), so a
+    // resumed run records the same config as an uninterrupted one.
+    const std::string config = cli::effective_config(
+        app, "train-net", {"data", "output", "threads", "quiet", "resume", "checkpoint-every", "export-header"});
     const int rc = net.precision == "double"
                        ? train<double>(net, options, data, output, checkpoint_every, resume, header, quiet, config)
                        : train<float>(net, options, data, output, checkpoint_every, resume, header, quiet, config);
