@@ -1,30 +1,21 @@
 #include "dataset/labeller.hpp"
 
-#include "core/error.hpp"
-#include "geometry/bilinear_patch.hpp"
-#include "geometry/gregory_patch.hpp"
 #include "geometry/segment_checks.hpp"
+#include "geometry/surface_of.hpp"
 
 namespace contactnn::dataset {
 
 projection::ProjectionResult project_normalised(const geometry::Configuration& normalised, SurfaceKind kind,
                                                 const projection::ProjectionOptions& options) {
-  switch (kind) {
-    case SurfaceKind::kBilinear:
-      return projection::project_point(geometry::BilinearPatch(normalised.nodes), normalised.slave, options);
-    case SurfaceKind::kGregory: {
-      const auto defect = geometry::GregoryPatch::diagnose(normalised.nodes, normalised.normals);
-      if (defect != geometry::GregoryDefect::kNone) {
-        projection::ProjectionResult result;
-        result.param = projection::domain_centre(kind);
-        result.status = defect == geometry::GregoryDefect::kNonFinite ? Status::kInvalid : Status::kDegenerate;
-        return result;
-      }
-      return projection::project_point(geometry::GregoryPatch(normalised.nodes, normalised.normals),
-                                       normalised.slave, options);
-    }
+  if (const auto defect = geometry::surface_defect(normalised, kind)) {
+    projection::ProjectionResult result;
+    result.param = projection::domain_centre(kind);
+    result.status = *defect;
+    return result;
   }
-  throw InvalidArgument("unknown surface kind " + std::to_string(static_cast<int>(kind)));
+  return geometry::with_surface(normalised, kind, [&](const auto& surface) {
+    return projection::project_point(surface, normalised.slave, options);
+  });
 }
 
 Label label_configuration(const geometry::Configuration& world, SurfaceKind kind,

@@ -1,5 +1,5 @@
-// Labels one world configuration: normalise (SPEC 4), build the surface, project (SPEC 2). The one place
-// that dispatches on the surface kind, so a new surface slots in here and nowhere else.
+// Labels one world configuration: normalise (SPEC 4), build the surface (geometry/surface_of.hpp), project
+// (SPEC 2).
 #pragma once
 
 #include <array>

@@ -3,32 +3,23 @@
 #include <cmath>
 
 #include "core/error.hpp"
-#include "geometry/bilinear_patch.hpp"
-#include "geometry/gregory_patch.hpp"
+#include "geometry/surface_of.hpp"
 
 namespace contactnn::eval {
 
 namespace {
 
 /// Builds the surface from the world configuration and applies `solve` to it. A Gregory segment without a
-/// patch (GregoryPatch::diagnose) gives status invalid or degenerate, as the labeller reports it.
+/// patch gives status invalid or degenerate, as the labeller reports it.
 template <class Solve>
 Estimate on_patch(const geometry::Configuration& world, SurfaceKind kind, Solve&& solve) {
-  switch (kind) {
-    case SurfaceKind::kBilinear:
-      return solve(geometry::BilinearPatch(world.nodes));
-    case SurfaceKind::kGregory: {
-      const geometry::GregoryDefect defect = geometry::GregoryPatch::diagnose(world.nodes, world.normals);
-      if (defect != geometry::GregoryDefect::kNone) {
-        Estimate e;
-        e.param = projection::domain_centre(kind);
-        e.status = defect == geometry::GregoryDefect::kNonFinite ? Status::kInvalid : Status::kDegenerate;
-        return e;
-      }
-      return solve(geometry::GregoryPatch(world.nodes, world.normals));
-    }
+  if (const auto defect = geometry::surface_defect(world, kind)) {
+    Estimate e;
+    e.param = projection::domain_centre(kind);
+    e.status = *defect;
+    return e;
   }
-  throw InvalidArgument("unknown surface kind " + std::to_string(static_cast<int>(kind)));
+  return geometry::with_surface(world, kind, solve);
 }
 
 }  // namespace
