@@ -110,8 +110,13 @@ RunResult damped_newton(const SurfaceT& surface, const Vec3& slave, std::array<d
   return {p, options.max_iterations, false, false, false};
 }
 
+/// Fills gap and sqr_distance at result.param; false where the normal vanishes (degenerate) or a value is
+/// not finite. `is_minimum` (optional) receives whether the exact Hessian of |S - P|^2 / 2 there is positive
+/// semi-definite to rounding: a local minimum, not a saddle or a maximum, which Newton on Eqs 7-8 converges
+/// to just as well.
 template <class SurfaceT>
-bool fill_solution(const SurfaceT& surface, const Vec3& slave, ProjectionResult& result, double length) {
+bool fill_solution(const SurfaceT& surface, const Vec3& slave, ProjectionResult& result, double length,
+                   bool* is_minimum = nullptr) {
   const SurfacePoint point = surface.evaluate(result.param[0], result.param[1]);
   const Vec3 normal = point.d_s.cross(point.d_t);
   const double normal_length = normal.norm();
@@ -119,16 +124,12 @@ bool fill_solution(const SurfaceT& surface, const Vec3& slave, ProjectionResult&
   const Vec3 d = slave - point.position;
   result.gap = normal.dot(d) / normal_length;
   result.sqr_distance = d.squaredNorm();
+  if (is_minimum != nullptr) {
+    const NewtonSystem s = newton_system(point, slave);
+    const double tol = 1e-10 * length * length;
+    *is_minimum = s.h00 >= -tol && s.h11 >= -tol && s.h00 * s.h11 - s.h01 * s.h01 >= -tol * tol;
+  }
   return std::isfinite(result.gap) && std::isfinite(result.sqr_distance);
-}
-
-/// True when the exact Hessian of |S - P|^2 / 2 at `param` is positive semi-definite (to rounding): a
-/// local minimum, not a saddle or a maximum, which Newton on Eqs 7-8 converges to just as well.
-template <class SurfaceT>
-bool is_local_minimum(const SurfaceT& surface, const Vec3& slave, const std::array<double, 2>& param, double length) {
-  const NewtonSystem s = newton_system(surface.evaluate(param[0], param[1]), slave);
-  const double tol = 1e-10 * length * length;
-  return s.h00 >= -tol && s.h11 >= -tol && s.h00 * s.h11 - s.h01 * s.h01 >= -tol * tol;
 }
 
 bool inside(const std::array<double, 2>& p, ParamDomain domain, double margin) {
@@ -170,11 +171,12 @@ ProjectionResult project_point(const SurfaceT& surface, const Vec3& slave, const
       ProjectionResult candidate;
       candidate.param = run.param;
       candidate.iterations = run.iterations;
-      if (!fill_solution(surface, slave, candidate, length)) {
+      bool is_minimum = false;
+      if (!fill_solution(surface, slave, candidate, length, &is_minimum)) {
         any_degenerate = true;
         continue;
       }
-      if (!is_local_minimum(surface, slave, run.param, length)) continue;  // a saddle: never the label
+      if (!is_minimum) continue;  // a saddle: never the label
       const bool candidate_inside = inside(run.param, domain, options.domain_margin);
       candidate.status = candidate_inside ? Status::kOk : Status::kOutside;
       // Inside beats outside; among equals the nearer wins; ties keep the earlier start (determinism).
