@@ -52,10 +52,11 @@ NormaliseOutcome normalise(const Configuration& world, SurfaceKind kind) {
   if (!frame) return {std::nullopt, NormaliseFailure::kDegenerate};
 
   Configuration local;
-  for (int i = 0; i < 4; ++i) local.nodes[i] = frame->to_normalised(world.nodes[i]);
-  // Exact by construction; writing them removes the rounding of the map from the fixed coordinates.
+  // A and B are exact by construction (not mapped: that would only add the map's rounding), and so is z_D.
   local.nodes[0] = Vec3::Zero();
   local.nodes[1] = Vec3(1.0, 0.0, 0.0);
+  local.nodes[2] = frame->to_normalised(world.nodes[2]);
+  local.nodes[3] = frame->to_normalised(world.nodes[3]);
   local.nodes[3].z() = 0.0;
   local.slave = frame->to_normalised(world.slave);
   // Each world coordinate carries rounding eps |x|: in the frame, eps * max|x| * scale. Far from the origin

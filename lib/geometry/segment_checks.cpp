@@ -58,15 +58,20 @@ bool is_convex(const std::array<Vec3, 4>& nodes, double relative_tolerance) {
 namespace contactnn::geometry {
 
 bool is_degenerate_segment(const std::array<Vec3, 4>& nodes, double coordinate_noise) {
-  double longest = 0.0;
-  double shortest = std::numeric_limits<double>::infinity();
+  // The extreme squared distances, then two square roots instead of six: sqrt is correctly rounded and
+  // monotone, so sqrt(max d^2) and sqrt(min d^2) are bit for bit the max and min of the six norms (this
+  // test runs on every network query, inside geometry::normalise).
+  double longest_squared = 0.0;
+  double shortest_squared = std::numeric_limits<double>::infinity();
   for (int i = 0; i < 4; ++i) {
     for (int j = i + 1; j < 4; ++j) {
-      const double distance = (nodes[i] - nodes[j]).norm();
-      longest = std::max(longest, distance);
-      shortest = std::min(shortest, distance);
+      const double squared = (nodes[i] - nodes[j]).squaredNorm();
+      longest_squared = std::max(longest_squared, squared);
+      shortest_squared = std::min(shortest_squared, squared);
     }
   }
+  const double longest = std::sqrt(longest_squared);
+  const double shortest = std::sqrt(shortest_squared);
   const double noise = 16.0 * coordinate_noise;
   if (!(longest > 0.0) || !(shortest > std::max(1e-10 * longest, noise))) return true;
   const double twice_area = (nodes[2] - nodes[0]).cross(nodes[3] - nodes[1]).norm();

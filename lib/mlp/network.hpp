@@ -39,6 +39,10 @@ class Network {
   /// 2 / U0: dO/dU = gain * O (1 - O).
   [[nodiscard]] Real gain() const { return static_cast<Real>(2.0 / u0_); }
   [[nodiscard]] const Scaling& scaling() const { return scaling_; }
+  /// scaling().input_gain(i) and output_gain(k), computed once (the scaling is fixed at construction):
+  /// predict() would otherwise pay a call and a division per input per query.
+  [[nodiscard]] const std::vector<double>& input_gains() const { return input_gains_; }
+  [[nodiscard]] const std::vector<double>& output_gains() const { return output_gains_; }
 
   [[nodiscard]] std::size_t parameter_count() const { return params_.size(); }
   [[nodiscard]] AlignedVector<Real>& parameters() { return params_; }
@@ -71,6 +75,8 @@ class Network {
   std::vector<int> sizes_;
   double u0_;
   Scaling scaling_;
+  std::vector<double> input_gains_;
+  std::vector<double> output_gains_;
   std::vector<std::size_t> offsets_;
   AlignedVector<Real> params_;
 };

@@ -27,12 +27,12 @@ inline void sigmoid_inplace(Real* u, int n, Real gain) {
   for (; j < n; ++j) u[j] = sigmoid(u[j], gain);
 }
 
-/// out[j] = sigmoid(sum_i w[j][i] x[i] - theta[j], gain) for j < rows (w row-major rows x cols), Eqs 12-13.
-template <class Real>
-inline void sigmoid_rows(const Real* w, const Real* theta, const Real* x, int rows, int cols, Real gain, Real* out) {
+/// u[j] = sum_i w[j][i] x[i] - theta[j] for j < rows (w row-major rows x cols), Eq 13, on packets of type P
+/// (the widest one, or a narrower one for short rows): four rows at a time, a scalar tail over columns.
+template <class Real, class P>
+inline void affine_rows(const Real* w, const Real* theta, const Real* x, int rows, int cols, Real* out) {
   using namespace Eigen::internal;
-  using P = Packet<Real>;
-  constexpr int L = kWidth<Real>;
+  constexpr int L = unpacket_traits<P>::size;
   const int full = cols - cols % L;
   int j = 0;
   for (; j + 4 <= rows; j += 4) {
@@ -69,7 +69,62 @@ inline void sigmoid_rows(const Real* w, const Real* theta, const Real* x, int ro
     for (int i = full; i < cols; ++i) u += wj[i] * x[i];
     out[j] = u;
   }
+}
+
+/// out[j] = sigmoid(sum_i w[j][i] x[i] - theta[j], gain) for j < rows (w row-major rows x cols), Eqs 12-13,
+/// on the widest packets only: the online trainer's kernel (its rounding is what the shipped weights were
+/// trained with; a row shorter than a packet is summed in scalars).
+template <class Real>
+inline void sigmoid_rows(const Real* w, const Real* theta, const Real* x, int rows, int cols, Real gain, Real* out) {
+  affine_rows<Real, Packet<Real>>(w, theta, x, rows, cols, out);
   sigmoid_inplace(out, rows, gain);
+}
+
+template <class P>
+using HalfPacket = typename Eigen::internal::unpacket_traits<P>::half;
+/// True when P has a narrower half packet (the narrowest packet's half is itself). Compared by width, not
+/// std::is_same: the packets are vector types whose attributes std templates would drop (a GCC warning).
+template <class P>
+inline constexpr bool kHasHalf =
+    Eigen::internal::unpacket_traits<HalfPacket<P>>::size < Eigen::internal::unpacket_traits<P>::size;
+
+/// sigmoid_inplace on packets of P, then the rest on P's half packets, and so on down to the narrowest
+/// (whose half is itself), then scalars: 8 values under AVX-512 float are one 8-float packet, not 8 scalars.
+template <class Real, class P>
+inline void sigmoid_inplace_fitted(Real* u, int n, Real gain) {
+  using namespace Eigen::internal;
+  constexpr int L = unpacket_traits<P>::size;
+  const P gv = pset1<P>(gain);
+  int j = 0;
+  for (; j + L <= n; j += L) pstoreu(u + j, sigmoid_packet(ploadu<P>(u + j), gv));
+  if constexpr (kHasHalf<P>) {
+    if (j < n) sigmoid_inplace_fitted<Real, HalfPacket<P>>(u + j, n - j, gain);
+  } else {
+    for (; j < n; ++j) u[j] = sigmoid(u[j], gain);
+  }
+}
+
+/// The widest packet type no wider than `cols` (or the narrowest there is) runs affine_rows.
+template <class Real, class P>
+inline void affine_rows_fitted(const Real* w, const Real* theta, const Real* x, int rows, int cols, Real* out) {
+  if constexpr (kHasHalf<P>) {
+    if (cols < Eigen::internal::unpacket_traits<P>::size) {
+      affine_rows_fitted<Real, HalfPacket<P>>(w, theta, x, rows, cols, out);
+      return;
+    }
+  }
+  affine_rows<Real, P>(w, theta, x, rows, cols, out);
+}
+
+/// sigmoid_rows on packets fitted to the layer: the inference kernel (ForwardPass). For the paper's 8-8-2
+/// under AVX-512 float, whose rows are all shorter than one 16-float packet, it runs in 8-float packets
+/// where sigmoid_rows runs scalars. Results agree with sigmoid_rows to float rounding (the order of the
+/// sums differs), not bit for bit.
+template <class Real>
+inline void sigmoid_rows_fitted(const Real* w, const Real* theta, const Real* x, int rows, int cols, Real gain,
+                                Real* out) {
+  affine_rows_fitted<Real, Packet<Real>>(w, theta, x, rows, cols, out);
+  sigmoid_inplace_fitted<Real, Packet<Real>>(out, rows, gain);
 }
 
 /// NP packets of columns from j: u[j..] += sum_i x[i] wt[i][j..], accumulated in registers.

@@ -58,6 +58,58 @@ TEST(Network, PredictScalesInputsAndUnscalesOutputs) {
   EXPECT_NEAR(out, 0.0, 1e-15);
 }
 
+// The forward pass picks, per layer, the widest SIMD packet no wider than the layer, then narrower ones for
+// the rest (simd::sigmoid_rows_fitted). Every width from 1 to 40 in and out, so each packet width, each
+// 4-row block and each scalar tail is reached, against Eqs 12-13 evaluated in long double.
+template <class Real>
+void check_forward_pass_widths(double tolerance) {
+  Rng rng(5);
+  for (int n_in = 1; n_in <= 40; ++n_in) {
+    for (int n_out = 1; n_out <= 40; n_out += (n_out < 20 ? 1 : 7)) {
+      const auto net = testing::make_network<Real>({n_in, n_out}, static_cast<std::uint64_t>(100 * n_in + n_out), 1.5);
+      std::vector<Real> x(static_cast<std::size_t>(n_in));
+      for (Real& v : x) v = static_cast<Real>(rng.uniform(-1.0, 1.0));
+      ForwardPass<Real> pass(net);
+      const Real* o = pass.run(net, x.data());
+      for (int j = 0; j < n_out; ++j) {
+        long double u = -static_cast<long double>(net.thresholds(0)[j]);
+        for (int i = 0; i < n_in; ++i) {
+          u += static_cast<long double>(net.weights(0)[j * n_in + i]) * static_cast<long double>(x[i]);
+        }
+        const long double expected = 1.0L / (1.0L + std::exp(-2.0L * u / 1.5L));
+        ASSERT_NEAR(static_cast<double>(o[j]), static_cast<double>(expected), tolerance)
+            << n_in << " inputs, " << n_out << " outputs, unit " << j;
+      }
+    }
+  }
+}
+
+TEST(Network, ForwardPassMatchesTheEquationsAtEveryLayerWidthFloat) { check_forward_pass_widths<float>(2e-6); }
+TEST(Network, ForwardPassMatchesTheEquationsAtEveryLayerWidthDouble) { check_forward_pass_widths<double>(1e-13); }
+
+// predict() uses the gains the network computed once; they must be the scaling's own.
+TEST(Network, PredictUsesTheScalingOfItsFile) {
+  Scaling s;
+  s.input_min = {-2.0, 0.5, 3.0};
+  s.input_max = {2.0, 1.0, 3.0};  // a constant input: gain 0, always -1
+  s.output_min = {-1.0, 0.0};
+  s.output_max = {1.0, 4.0};
+  s.target_low = 0.2;
+  s.target_high = 0.7;
+  Network<double> net({3, 4, 2}, 2.0, s);
+  net.initialize(11);
+  ForwardPass<double> pass(net);
+  const double raw[3] = {1.5, 0.6, 12.0};
+  double out[2] = {};
+  predict(net, raw, out, pass);
+  double scaled[3];
+  for (int i = 0; i < 3; ++i) scaled[i] = s.scale_input(i, raw[i]);
+  EXPECT_EQ(scaled[2], -1.0);
+  ForwardPass<double> reference(net);
+  const double* o = reference.run(net, scaled);
+  for (int k = 0; k < 2; ++k) EXPECT_EQ(out[k], s.unscale_output(k, o[k])) << "output " << k;
+}
+
 TEST(Network, HugeFiniteInputsGiveFiniteOutputs) {
   // 1e39 exceeds float's range: unclamped, the scaled inputs became +-inf and inf - inf NaN in layer 1
   // (evaluate-net then refused the whole file). Any finite input must give a finite prediction.
