@@ -1,6 +1,6 @@
-// Row kernels of the one-pattern (online) path, written on Eigen's SIMD packets. Rows are short (8 to 48
-// values), so Eigen's general expressions spend more on alignment peeling per row than on arithmetic;
-// these use unaligned packet loads and a scalar tail, and no allocation.
+// Row kernels of the one-pattern paths (online training; the forward pass of a query), written on Eigen's
+// SIMD packets. Rows are short (8 to 48 values), so Eigen's general expressions spend more on alignment
+// peeling per row than on arithmetic; these use unaligned packet loads and a scalar tail, and no allocation.
 #pragma once
 
 #include <Eigen/Core>
