@@ -34,11 +34,13 @@ Label label_configuration(const geometry::Configuration& world, SurfaceKind kind
     label.status = Status::kDegenerate;
     return label;
   }
+  // Projected in the canonical frame (SPEC 4), reported in the caller's node order and orientation. For any
+  // node order of one segment the canonical configuration is the same, bit for bit, and so is the label.
   const projection::ProjectionResult result = project_normalised(normalised.value->config, kind, options);
-  label.param = result.param;
+  label.param = normalised.value->to_caller(result.param, kind);
   label.iterations = result.iterations;
   label.status = result.status;
-  label.gap = result.gap / label.scale;
+  label.gap = normalised.value->gap_to_caller(result.gap);
   return label;
 }
 

@@ -1,5 +1,5 @@
-// Labels one world configuration: normalise (SPEC 4), build the surface (geometry/surface_of.hpp), project
-// (SPEC 2).
+// Labels one world configuration: bring it to the canonical normalised frame (SPEC 4), build the surface
+// (geometry/surface_of.hpp), project (SPEC 2), and map the result back to the caller's node order.
 #pragma once
 
 #include <array>
@@ -12,12 +12,12 @@ namespace contactnn::dataset {
 
 /// The label of one configuration. Coordinates and gap are finite whenever status is ok or outside.
 struct Label {
-  std::array<double, 2> param{0.0, 0.0};  ///< (xi, eta) bilinear, (u, v) Gregory
-  double gap = 0.0;                       ///< in world units: gap in the frame / scale
+  std::array<double, 2> param{0.0, 0.0};  ///< (xi, eta) bilinear, (u, v) Gregory, in the caller's node order
+  double gap = 0.0;                       ///< in world units, along the caller's own P_xi x P_eta
   int iterations = 0;
   Status status = Status::kInvalid;
   double scale = 0.0;                     ///< raw-to-normalised scale 1/|AB| (0 if no frame)
-  std::array<double, 16> features{};     ///< normalised inputs (first feature_count(kind) used)
+  std::array<double, 16> features{};     ///< canonical normalised inputs (first feature_count(kind) used)
 };
 
 /// Labels `world`: invalid for a non-finite input, degenerate when the frame does not exist or the segment

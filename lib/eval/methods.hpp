@@ -49,7 +49,7 @@ struct NewtonMethodOptions {
 struct Estimate {
   std::array<double, 2> param{0.0, 0.0};
   /// Network: ok, out_of_domain (the normalised input is outside the TrainingDomain; param still the
-  /// prediction), invalid (non-finite input) or degenerate (no normalised frame). Newton with fixed
+  /// prediction), invalid (non-finite input) or degenerate (no canonical normalised frame). Newton with fixed
   /// iterations: ok (the last iterate, wherever it is), or degenerate / invalid when no Gregory patch exists.
   /// Newton to convergence and the reference: the solver's status (ok, outside, no_convergence, degenerate,
   /// invalid).
@@ -57,19 +57,22 @@ struct Estimate {
   int iterations = 0;  ///< Newton iterations used (the fixed count for newton_k); 0 for the network
 };
 
-/// The network on a world configuration: normalise (SPEC 4), predict, then check `domain` (skipped when
-/// null). Allocation-free when the predictor is.
+/// The network on a world configuration: bring it to the canonical normalised frame (SPEC 4), predict, map
+/// the prediction back to the caller's node order, then check `domain` (skipped when null). Allocation-free
+/// when the predictor is.
 template <FeaturePredictor P>
 [[nodiscard]] Estimate network_estimate(const geometry::Configuration& world, SurfaceKind kind, P& predictor,
                                         const dataset::TrainingDomain* domain) {
   Estimate e;
   e.param = projection::domain_centre(kind);
   const geometry::NormaliseOutcome n = geometry::normalise(world, kind);
-  if (!n.value) {
+  // Without a frame at the canonical corner (a straight angle there) the network's inputs do not exist.
+  if (!n.value || !n.value->canonical) {
     e.status = n.failure == geometry::NormaliseFailure::kNonFinite ? Status::kInvalid : Status::kDegenerate;
     return e;
   }
   predictor.predict(n.value->features.data(), e.param.data());
+  e.param = n.value->to_caller(e.param, kind);
   if (domain != nullptr && !domain->contains(n.value->config, n.value->features.data())) {
     e.status = Status::kOutOfDomain;
   }

@@ -45,20 +45,74 @@ std::optional<AffineFrame> AffineFrame::from_nodes(const Vec3& a, const Vec3& b,
   return AffineFrame(a, rotation, 1.0 / length_ab);
 }
 
-NormaliseOutcome normalise(const Configuration& world, SurfaceKind kind) {
-  const bool gregory = kind == SurfaceKind::kGregory;
-  if (!world.is_finite(gregory)) return {std::nullopt, NormaliseFailure::kNonFinite};
-  const auto frame = AffineFrame::from_nodes(world.nodes[0], world.nodes[1], world.nodes[3]);
-  if (!frame) return {std::nullopt, NormaliseFailure::kDegenerate};
+SquareSymmetry canonical_symmetry(const std::array<Vec3, 4>& nodes, const Vec3& slave) {
+  // Two lengths count as equal when they differ by less than a relative 1e-12 plus the rounding the world
+  // coordinates already carry (eps * max|x| each): an exact tie stays a tie wherever the segment is placed,
+  // instead of being decided by the rounding of the placement.
+  double largest = slave.cwiseAbs().maxCoeff();
+  for (const Vec3& node : nodes) largest = std::max(largest, node.cwiseAbs().maxCoeff());
+  const double noise = 16.0 * std::numeric_limits<double>::epsilon() * largest;
+  const auto tie = [&](double x, double y) { return std::abs(x - y) <= 1e-12 * std::max(x, y) + noise; };
 
+  SquareSymmetry symmetry;
+  std::array<double, 4> distance{};
+  for (int i = 0; i < 4; ++i) distance[i] = length_of(slave - nodes[i]);
+  const double nearest = *std::min_element(distance.begin(), distance.end());
+  while (!tie(distance[symmetry.rotation], nearest)) ++symmetry.rotation;  // the first of the nearest (SPEC 4)
+
+  const Vec3& a = nodes[static_cast<std::size_t>(symmetry.rotation)];
+  const Vec3 ab = nodes[static_cast<std::size_t>((symmetry.rotation + 1) % 4)] - a;
+  const Vec3 ad = nodes[static_cast<std::size_t>((symmetry.rotation + 3) % 4)] - a;
+  const double length_ab = length_of(ab), length_ad = length_of(ad);
+  if (!tie(length_ad, length_ab)) {
+    symmetry.mirror = length_ad > length_ab;
+  } else {
+    // |AB| = |AD|: mirror when S is nearer the line AD than the line AB. The same numbers in either node order.
+    const Vec3 as = slave - a;
+    const double to_ab = length_of(as.cross(ab)) / length_ab, to_ad = length_of(as.cross(ad)) / length_ad;
+    symmetry.mirror = !tie(to_ad, to_ab) && to_ad < to_ab;
+  }
+  return symmetry;
+}
+
+namespace {
+
+/// normalise() with the node order given by `symmetry`.
+NormaliseOutcome normalise_as(const Configuration& world, SurfaceKind kind, const SquareSymmetry& symmetry) {
+  const bool gregory = kind == SurfaceKind::kGregory;
+  // 1. The caller's nodes relabelled by a symmetry of the square.
+  Configuration canonical;
+  for (int i = 0; i < 4; ++i) {
+    const auto from = static_cast<std::size_t>(symmetry.caller_node(i));
+    canonical.nodes[static_cast<std::size_t>(i)] = world.nodes[from];
+    canonical.normals[static_cast<std::size_t>(i)] = world.normals[from];
+  }
+  canonical.slave = world.slave;
+
+  // 2. The frame of SPEC 4 on the canonical nodes.
+  auto frame = AffineFrame::from_nodes(canonical.nodes[0], canonical.nodes[1], canonical.nodes[3]);
+  if (!frame) return {std::nullopt, NormaliseFailure::kDegenerate};
   Configuration local;
   // A and B are exact by construction (not mapped: that would only add the map's rounding), and so is z_D.
   local.nodes[0] = Vec3::Zero();
   local.nodes[1] = Vec3(1.0, 0.0, 0.0);
-  local.nodes[2] = frame->to_normalised(world.nodes[2]);
-  local.nodes[3] = frame->to_normalised(world.nodes[3]);
+  local.nodes[2] = frame->to_normalised(canonical.nodes[2]);
+  local.nodes[3] = frame->to_normalised(canonical.nodes[3]);
   local.nodes[3].z() = 0.0;
-  local.slave = frame->to_normalised(world.slave);
+  local.slave = frame->to_normalised(canonical.slave);
+
+  // 3. The orientation of z: S on the +z side (on the plane: C on it). Negation is exact, so a segment given
+  //    in the other orientation reaches bit for bit the same configuration.
+  const bool flip = local.slave.z() < 0.0 || (local.slave.z() == 0.0 && local.nodes[2].z() < 0.0);
+  if (flip) {
+    frame = frame->reflected_z();
+    local.nodes[2].z() = -local.nodes[2].z();
+    local.slave.z() = -local.slave.z();
+  }
+  // The caller's P_xi x P_eta is the canonical one times the mirror's orientation, seen in a frame whose z
+  // axis the flip may have reversed.
+  const double orientation = symmetry.orientation() * (flip ? -1.0 : 1.0);
+
   // Each world coordinate carries rounding eps |x|: in the frame, eps * max|x| * scale. Far from the origin
   // that exceeds is_degenerate_segment's relative thresholds, and a segment collapsed in exact arithmetic
   // (collinear nodes) keeps an area at that level; it is degenerate whatever its position.
@@ -78,20 +132,55 @@ NormaliseOutcome normalise(const Configuration& world, SurfaceKind kind) {
   features[6] = local.slave.y();
   features[7] = local.slave.z();
   if (gregory) {
+    // A node normal (almost) parallel to the segment plane has no n_x/n_z feature. The frame's own normal is
+    // known to the rounding of the coordinates only (noise above): an |n_z| below it is zero.
+    const double min_nz = std::max(kRelativeZero, 16.0 * noise);
+    int front = 0, back = 0;
     for (int i = 0; i < 4; ++i) {
       // Any positive length (SPEC 6), 1e-300 and 1e300 included.
-      const double length = length_of(world.normals[i]);
+      const double length = length_of(canonical.normals[i]);
       if (!(length > 0.0)) return {std::nullopt, NormaliseFailure::kDegenerate};
-      const Vec3 n = frame->rotate(world.normals[i] / length);
-      // A node normal parallel to the segment plane (or flipped) has no n_x/n_z feature. The frame's own
-      // normal is known to the rounding of the coordinates only (noise above): an n_z below it is zero.
-      if (!(n.z() > std::max(kRelativeZero, 16.0 * noise))) return {std::nullopt, NormaliseFailure::kDegenerate};
-      local.normals[i] = n;
+      local.normals[i] = frame->rotate(canonical.normals[i] / length);
+      front += local.normals[i].z() > min_nz ? 1 : 0;
+      back += local.normals[i].z() < -min_nz ? 1 : 0;
+    }
+    // All on the back side: the same patch as all reversed (SPEC 3 builds it from n n^T and from pairs of
+    // cross products with n, each unchanged by n -> -n). On both sides, or in the plane: no patch.
+    if (back == 4) {
+      for (Vec3& n : local.normals) n = -n;
+    } else if (front != 4) {
+      return {std::nullopt, NormaliseFailure::kDegenerate};
+    }
+    for (int i = 0; i < 4; ++i) {
+      const Vec3& n = local.normals[i];
       features[8 + 2 * i] = n.x() / n.z();
       features[9 + 2 * i] = n.y() / n.z();
     }
   }
-  return {NormalisedConfiguration{local, features, *frame}, NormaliseFailure::kDegenerate};
+  return {NormalisedConfiguration{local, features, *frame, symmetry, orientation, true},
+          NormaliseFailure::kDegenerate};
+}
+
+}  // namespace
+
+NormaliseOutcome normalise(const Configuration& world, SurfaceKind kind) {
+  if (!world.is_finite(kind == SurfaceKind::kGregory)) return {std::nullopt, NormaliseFailure::kNonFinite};
+  const SquareSymmetry symmetry = canonical_symmetry(world.nodes, world.slave);
+  NormaliseOutcome outcome = normalise_as(world, kind, symmetry);
+  if (outcome.value || outcome.failure != NormaliseFailure::kDegenerate) return outcome;
+  // A usable segment whose canonical corner A has a straight angle (B, A, D collinear, B and D on opposite
+  // sides of A: a triangle) has no frame there; the next corner that has one serves, marked as not canonical.
+  const Vec3& a = world.nodes[static_cast<std::size_t>(symmetry.caller_node(0))];
+  const Vec3& b = world.nodes[static_cast<std::size_t>(symmetry.caller_node(1))];
+  const Vec3& d = world.nodes[static_cast<std::size_t>(symmetry.caller_node(3))];
+  if (!((b - a).dot(d - a) < 0.0)) return outcome;
+  for (int k = 1; k < 4 && !outcome.value; ++k) {
+    SquareSymmetry next = symmetry;
+    next.rotation = (symmetry.rotation + (symmetry.mirror ? 4 - k : k)) % 4;
+    outcome = normalise_as(world, kind, next);
+    if (outcome.value) outcome.value->canonical = false;
+  }
+  return outcome;
 }
 
 }  // namespace contactnn::geometry

@@ -75,7 +75,15 @@ bool is_degenerate_segment(const std::array<Vec3, 4>& nodes, double coordinate_n
   const double noise = 16.0 * coordinate_noise;
   if (!(longest > 0.0) || !(shortest > std::max(1e-10 * longest, noise))) return true;
   const double twice_area = (nodes[2] - nodes[0]).cross(nodes[3] - nodes[1]).norm();
-  return !(0.5 * twice_area > std::max(1e-12 * longest, noise) * longest);
+  if (!(0.5 * twice_area > std::max(1e-12 * longest, noise) * longest)) return true;
+  // A corner of zero angle (its two edges along one ray: the segment folds back onto itself). A straight
+  // angle (a triangle with a node on an edge) is usable.
+  for (int i = 0; i < 4; ++i) {
+    const Vec3 next = nodes[(i + 1) % 4] - nodes[i];
+    const Vec3 prev = nodes[(i + 3) % 4] - nodes[i];
+    if (next.dot(prev) > 0.0 && !(next.cross(prev).norm() > std::max(1e-12 * longest, noise) * longest)) return true;
+  }
+  return false;
 }
 
 }  // namespace contactnn::geometry

@@ -143,7 +143,8 @@ def bilinear_suite(rng):
         ("angle_179.9_at_A", "any", [[0, 0, 0], [1, 0, 0], [0, 1, 0.05],
                                      [math.cos(math.radians(179.9)), math.sin(math.radians(179.9)), 0], [0.1, 0.1, 0.1]]),
         ("aspect_1e3", "any", [[0, 0, 0], [1, 0, 0], [1, 1e-3, 0], [0, 1e-3, 0], [0.4, 5e-4, 0.1]]),
-        ("AD_1e3_longer", "out", [[0, 0, 0], [1, 0, 0], [1, 1e3, 0], [0, 1e3, 0], [0.3, 0.2, 0.1]]),
+        # The mirror of SPEC 4 makes this a 1e3:1 segment in the canonical frame, like aspect_1e3 above.
+        ("AD_1e3_longer", "any", [[0, 0, 0], [1, 0, 0], [1, 1e3, 0], [0, 1e3, 0], [0.3, 0.2, 0.1]]),
         ("C_far_out", "out", [[0, 0, 0], [1, 0, 0], [50, 40, 30], [0, 1, 0], [0.3, 0.2, 0.1]]),
         ("collapsed_A_B", "degenerate", [[0, 0, 0], [0, 0, 0], [1, 1, 0], [0, 1, 0], [0.3, 0.2, 0.1]]),
         ("collinear", "degenerate", [[0, 0, 0], [1, 0, 0], [3, 0, 0], [2, 0, 0], [0.3, 0.2, 0.1]]),

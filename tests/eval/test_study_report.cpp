@@ -46,10 +46,11 @@ dataset::LabelledSet small_set() {
   set.resize(static_cast<Eigen::Index>(rows.size()), SurfaceKind::kBilinear);
   for (std::size_t r = 0; r < rows.size(); ++r) {
     const auto i = static_cast<Eigen::Index>(r);
-    for (int f = 0; f < 8; ++f) set.features(i, f) = rows[r][static_cast<std::size_t>(f)];
     const dataset::Label l =
         dataset::label_configuration(configuration_from_features(SurfaceKind::kBilinear, rows[r].data()),
                                      SurfaceKind::kBilinear);
+    // A dataset holds the canonical features (SPEC 4: here z_S < 0 rows are reflected to z_S > 0).
+    for (int f = 0; f < 8; ++f) set.features(i, f) = l.features[static_cast<std::size_t>(f)];
     set.labels(i, 0) = l.param[0];
     set.labels(i, 1) = l.param[1];
     set.gap(i) = l.gap;

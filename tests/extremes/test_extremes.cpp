@@ -165,6 +165,9 @@ std::vector<Case> build_cases() {
   // Three nodes on a line (a triangle with a 180-degree corner at B): usable, the Jacobian vanishes at B only.
   add({"three_collinear_nodes", make({Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(2, 0, 0), Vec3(0, 1, 0)}, Vec3(0.6, 0.3, 0.2)),
        ok, std::nullopt, 0.0});
+  // D on the line AB behind A: a straight angle at A, a triangle with A on an edge, like the case above.
+  add({"D_on_line_AB_straight_angle_at_A",
+       make({Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0), Vec3(-1, 0, 0)}, Vec3(0.2, 0.3, 0.2)), ok, std::nullopt, 0.0});
   // Two nodes 1e-9 apart (above the 1e-10 coincidence threshold): a triangle, still projected.
   add({"nearly_coincident_nodes_1e-9",
        make({Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0), Vec3(1 - 1e-9, 1, 0)}, Vec3(0.6, 0.3, 0.2)), ok,
@@ -180,7 +183,8 @@ std::vector<Case> build_cases() {
   add(collapsed("all_nodes_coincident", make({Vec3(1, 2, 3), Vec3(1, 2, 3), Vec3(1, 2, 3), Vec3(1, 2, 3)}, s)));
   add(collapsed("all_nodes_collinear", make({Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(3, 0, 0), Vec3(2, 0, 0)}, s)));
   add(collapsed("all_nodes_collinear_oblique", make({Vec3(0, 0, 0), Vec3(1, 1, 1), Vec3(2.5, 2.5, 2.5), Vec3(-1, -1, -1)}, s)));
-  add(collapsed("D_on_line_AB", make({Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0), Vec3(-1, 0, 0)}, s)));
+  // D on the ray AB: the corner at A has zero angle and the segment folds onto itself.
+  add(collapsed("D_on_ray_AB_folded", make({Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0), Vec3(2, 0, 0)}, s)));
   // A self-intersecting "bow tie" ABDC has parallel diagonals: zero area by the diagonal formula.
   add(collapsed("bow_tie_zero_area", make({Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(1, 1, 0)}, s)));
   return cases;

@@ -4,6 +4,8 @@
 
 #include <random>
 
+#include "geometry/bilinear_patch.hpp"
+#include "geometry/segment_checks.hpp"
 #include "test_support.hpp"
 
 namespace contactnn::geometry {
@@ -38,10 +40,14 @@ TEST(AffineFrame, FeaturesAreTheEightCoordinatesOfSpecSection4) {
   const Configuration c{{Vec3(1, 1, 1), Vec3(3, 1, 1), Vec3(3.2, 2.8, 1.4), Vec3(0.8, 2.6, 1)}, Vec3(1.4, 1.6, 0.8), {}};
   const auto n = normalise(c, SurfaceKind::kBilinear);
   ASSERT_TRUE(n.value.has_value());
-  // AB = (2,0,0): scale 1/2, no rotation needed. Expected values worked out by hand.
-  const std::array<double, 8> expected = {1.1, 0.9, 0.2, -0.1, 0.8, 0.2, 0.3, -0.1};
+  // A is the node nearest S and |AD| < |AB|: no relabelling. AB = (2,0,0): scale 1/2, no rotation; S lies
+  // below the plane (z = -0.1), so the canonical z axis points down (z_S >= 0) and z_C changes sign.
+  // Expected values worked out by hand.
+  const std::array<double, 8> expected = {1.1, 0.9, -0.2, -0.1, 0.8, 0.2, 0.3, 0.1};
   for (int i = 0; i < 8; ++i) EXPECT_NEAR(n.value->features[i], expected[i], 1e-15) << kFeatureNames[i];
   EXPECT_DOUBLE_EQ(n.value->frame.scale(), 0.5);
+  EXPECT_EQ(n.value->symmetry, (SquareSymmetry{0, false}));
+  EXPECT_EQ(n.value->orientation, -1.0);  // the reflected frame: the caller's normal is the frame's -z
 }
 
 TEST(AffineFrame, DoesNotExistForCoincidentOrCollinearNodesOrNonFiniteInput) {
@@ -68,6 +74,145 @@ TEST(AffineFrame, GregoryNormalsEnterAsSlopesAndMustFaceTheSegment) {
   EXPECT_NEAR(n.value->features[13], -0.2, 1e-15);  // n_y / n_z at C
   c.normals[1] = Vec3(1, 0, 0);  // in the segment plane: no slope exists
   EXPECT_FALSE(normalise(c, SurfaceKind::kGregory).value.has_value());
+}
+
+// ---- The canonical configuration (SPEC 4) ----
+
+/// `c` with its nodes (and normals) relabelled: the returned configuration's node order.caller_node(i) is c's
+/// node i. The same segment and slave, given in another node order.
+Configuration relabel(const Configuration& c, const SquareSymmetry& order) {
+  Configuration out = c;
+  for (int i = 0; i < 4; ++i) {
+    out.nodes[static_cast<std::size_t>(order.caller_node(i))] = c.nodes[static_cast<std::size_t>(i)];
+    out.normals[static_cast<std::size_t>(order.caller_node(i))] = c.normals[static_cast<std::size_t>(i)];
+  }
+  return out;
+}
+
+/// A segment and slave placed anywhere in a box around it: A is not the nearest node, |AD| > |AB| half the time.
+Configuration random_world_configuration(std::mt19937_64& rng, bool gregory) {
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  Configuration local{{Vec3(0, 0, 0), Vec3(1 + 0.5 * u(rng), 0.1 * u(rng), 0.1 * u(rng)),
+                       Vec3(1 + 0.4 * u(rng), 1 + 0.4 * u(rng), 0.2 * u(rng)), Vec3(0.1 * u(rng), 1 + 0.5 * u(rng), 0)},
+                      Vec3(0.5 + 0.8 * u(rng), 0.5 + 0.8 * u(rng), 0.4 * u(rng)),
+                      {}};
+  for (auto& n : local.normals) n = Vec3(0.15 * u(rng), 0.15 * u(rng), 1.0) * (1.5 + u(rng));
+  (void)gregory;
+  return testing::transform(local, testing::random_rotation(rng), std::exp(3 * u(rng)), Vec3(u(rng), u(rng), u(rng)) * 50);
+}
+
+TEST(CanonicalConfiguration, EveryNodeOrderReachesTheSameFeaturesBitForBit) {
+  std::mt19937_64 rng(41);
+  for (const SurfaceKind kind : {SurfaceKind::kBilinear, SurfaceKind::kGregory}) {
+    for (int k = 0; k < 200; ++k) {
+      const Configuration world = random_world_configuration(rng, kind == SurfaceKind::kGregory);
+      const auto base = normalise(world, kind);
+      ASSERT_TRUE(base.value);
+      for (const SquareSymmetry& order : all_square_symmetries()) {
+        const auto other = normalise(relabel(world, order), kind);
+        ASSERT_TRUE(other.value);
+        EXPECT_EQ(other.value->features, base.value->features) << "order " << order.rotation << order.mirror;
+        // A relabelling that reverses the node order reverses the caller's normal, hence its gap sign.
+        EXPECT_EQ(other.value->orientation, base.value->orientation * order.orientation());
+      }
+    }
+  }
+}
+
+TEST(CanonicalConfiguration, OrdersReflectedThroughSpaceAgreeToRounding) {
+  // The mirror of SPEC 4 as a caller may present it: the node order A, D, C, B of a reflected copy of space,
+  // which keeps the front side. Same problem, same features up to the rounding of the reflection.
+  std::mt19937_64 rng(42);
+  for (const SurfaceKind kind : {SurfaceKind::kBilinear, SurfaceKind::kGregory}) {
+    for (int k = 0; k < 100; ++k) {
+      const Configuration world = random_world_configuration(rng, kind == SurfaceKind::kGregory);
+      const auto base = normalise(world, kind);
+      ASSERT_TRUE(base.value);
+      const Vec3 plane = testing::random_rotation(rng).col(0);
+      const Eigen::Matrix3d reflection = Eigen::Matrix3d::Identity() - 2.0 * plane * plane.transpose();
+      Configuration reflected = testing::transform(world, reflection, 1.0, Vec3(3, -2, 1));
+      for (const SquareSymmetry& order : all_square_symmetries()) {
+        const auto other = normalise(relabel(reflected, order), kind);
+        ASSERT_TRUE(other.value);
+        for (int f = 0; f < feature_count(kind); ++f) {
+          EXPECT_NEAR(other.value->features[f], base.value->features[f], kRoundTripTol) << kFeatureNames[f];
+        }
+      }
+    }
+  }
+}
+
+TEST(CanonicalConfiguration, IsThePapersForm) {
+  // A is the node nearest S, |AD| <= |AB| = 1, and (our orientation) z_S >= 0: the domain of the paper's study.
+  std::mt19937_64 rng(43);
+  for (int k = 0; k < 500; ++k) {
+    const Configuration world = random_world_configuration(rng, false);
+    const auto n = normalise(world, SurfaceKind::kBilinear);
+    ASSERT_TRUE(n.value);
+    const Configuration& c = n.value->config;
+    EXPECT_TRUE(first_node_is_nearest(c.nodes, c.slave, 1e-12));
+    EXPECT_LE(c.nodes[3].squaredNorm(), 1.0 + 1e-12);
+    EXPECT_GE(c.slave.z(), 0.0);
+    EXPECT_GT(c.nodes[3].y(), 0.0);
+  }
+}
+
+TEST(CanonicalConfiguration, CanonicalCoordinatesNameTheSamePointInTheCallersOrder) {
+  std::mt19937_64 rng(44);
+  std::uniform_real_distribution<double> u(-1.2, 1.2);
+  for (int k = 0; k < 200; ++k) {
+    const Configuration world = random_world_configuration(rng, false);
+    const auto n = normalise(world, SurfaceKind::kBilinear);
+    ASSERT_TRUE(n.value);
+    std::array<Vec3, 4> canonical_nodes;
+    for (int i = 0; i < 4; ++i) canonical_nodes[i] = world.nodes[n.value->symmetry.caller_node(i)];
+    const BilinearPatch canonical(canonical_nodes), caller(world.nodes);
+    const std::array<double, 2> st = {u(rng), u(rng)};
+    const auto xi_eta = n.value->to_caller(st, SurfaceKind::kBilinear);
+    const double size = (world.nodes[1] - world.nodes[0]).norm();
+    EXPECT_LT((canonical.position(st[0], st[1]) - caller.position(xi_eta[0], xi_eta[1])).norm(), 1e-13 * size * 100);
+  }
+}
+
+TEST(CanonicalConfiguration, ExactTieOfEdgeLengthsIsBrokenTheSameWayInEveryOrder) {
+  // A rhombus: |AB| = |AD| exactly. SPEC 4 mirrors only for |AD| > |AB|; the tie is broken by the side of the
+  // diagonal S lies on, so all 8 orders still agree.
+  // |AB| = |AD| = 5 exactly in binary.
+  for (const Vec3& slave : {Vec3(2, 0.5, 0.4), Vec3(1, 1.5, 0.2)}) {  // nearer AB; nearer AD (then mirrored)
+    const Configuration rhombus{{Vec3(0, 0, 0), Vec3(5, 0, 0), Vec3(8, 4, 0.3), Vec3(3, 4, 0)}, slave, {}};
+    const auto base = normalise(rhombus, SurfaceKind::kBilinear);
+    ASSERT_TRUE(base.value);
+    EXPECT_EQ(base.value->symmetry.mirror, slave.y() > 1.0);
+    for (const SquareSymmetry& order : all_square_symmetries()) {
+      EXPECT_EQ(normalise(relabel(rhombus, order), SurfaceKind::kBilinear).value->features, base.value->features);
+    }
+  }
+}
+
+TEST(CanonicalConfiguration, StraightAngleAtTheCanonicalCornerTakesAnotherCorner) {
+  // B is nearest S, and A, B, C are collinear: no frame at B. The segment (a triangle) is still usable.
+  const Configuration c{{Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(2, 0, 0), Vec3(0, 1, 0)}, Vec3(0.9, 0.3, 0.2), {}};
+  EXPECT_EQ(canonical_symmetry(c.nodes, c.slave).rotation, 1);
+  const auto n = normalise(c, SurfaceKind::kBilinear);
+  ASSERT_TRUE(n.value);
+  EXPECT_FALSE(n.value->canonical);
+  EXPECT_NE(n.value->symmetry.rotation, 1);
+}
+
+TEST(CanonicalConfiguration, GregoryNormalsAllReversedGiveTheSamePatchAndFeatures) {
+  std::mt19937_64 rng(45);
+  for (int k = 0; k < 50; ++k) {
+    const Configuration world = random_world_configuration(rng, true);
+    Configuration reversed = world;
+    for (auto& n : reversed.normals) n = -n;
+    const auto a = normalise(world, SurfaceKind::kGregory);
+    const auto b = normalise(reversed, SurfaceKind::kGregory);
+    ASSERT_TRUE(a.value && b.value);
+    EXPECT_EQ(a.value->features, b.value->features);
+    Configuration mixed = world;
+    mixed.normals[2] = -mixed.normals[2];
+    EXPECT_FALSE(normalise(mixed, SurfaceKind::kGregory).value.has_value());
+  }
 }
 
 }  // namespace

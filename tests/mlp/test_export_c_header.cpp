@@ -52,10 +52,13 @@ geometry::Configuration random_world(Rng& rng, bool gregory) {
                                        .toRotationMatrix();
   const double scale = rng.uniform(0.01, 100.0);
   const Vec3 shift(rng.uniform(-50, 50), rng.uniform(-50, 50), rng.uniform(-50, 50));
+  // The caller's node order is any of the 8 (the header must bring it to the canonical one itself).
+  const SquareSymmetry order = all_square_symmetries()[static_cast<std::size_t>(rng.uniform(0.0, 8.0)) % 8];
   geometry::Configuration world;
   for (int i = 0; i < 4; ++i) {
-    world.nodes[i] = shift + scale * (rotation * local.nodes[i]);
-    world.normals[i] = rotation * local.normals[i];
+    const auto k = static_cast<std::size_t>(order.caller_node(i));
+    world.nodes[k] = shift + scale * (rotation * local.nodes[i]);
+    world.normals[k] = rotation * local.normals[i];
   }
   world.slave = shift + scale * (rotation * local.slave);
   (void)gregory;
@@ -79,6 +82,9 @@ Expected library_result(const Network<Real>& net, const CHeaderOptions& options,
   e.features = n.value->features;
   ForwardPass<Real> pass(net);
   predict(net, n.value->features.data(), e.out, pass);
+  const auto caller = n.value->to_caller({e.out[0], e.out[1]}, options.surface);
+  e.out[0] = caller[0];
+  e.out[1] = caller[1];
   for (int i = 0; i < net.input_count(); ++i) {
     if (e.features[i] < options.domain_min[i] - 1e-9 * (options.domain_max[i] - options.domain_min[i]) ||
         e.features[i] > options.domain_max[i] + 1e-9 * (options.domain_max[i] - options.domain_min[i])) {
@@ -123,7 +129,7 @@ void check_header(SurfaceKind surface, std::vector<int> hidden, const std::strin
       << "int main(void) {\n  double raw[" << n_raw << "], out[2];\n  int i;\n"
       << "  for (;;) {\n    for (i = 0; i < " << n_raw << "; ++i) if (scanf(\"%lf\", &raw[i]) != 1) return 0;\n"
       << "    out[0] = out[1] = 0.0;\n"
-      << "    {\n      double f[" << n_in << "];\n      int fs = " << prefix << "_features(raw, f);\n"
+      << "    {\n      double f[" << n_in << "];\n      int rot, mir, fs = " << prefix << "_features(raw, f, &rot, &mir);\n"
       << "      int s = " << prefix << "_local_coordinates(raw, out);\n"
       << "      printf(\"%d %.17g %.17g\", s, out[0], out[1]);\n"
       << "      for (i = 0; i < " << n_in << "; ++i) printf(\" %.17g\", fs == 0 ? f[i] : 0.0);\n"
