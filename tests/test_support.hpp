@@ -10,7 +10,7 @@
 #include <random>
 
 #include "core/conventions.hpp"
-#include "dataset/domain.hpp"
+#include "geometry/domain.hpp"
 #include "geometry/configuration.hpp"
 
 namespace contactnn::testing {
@@ -21,7 +21,7 @@ using geometry::Vec3;
 /// rejection until DomainFilters{} accepts it.
 inline geometry::Configuration random_paper_configuration(std::mt19937_64& rng) {
   std::uniform_real_distribution<double> xy(-2.0, 2.0), z(-0.3, 0.3);
-  const dataset::DomainFilters filters;
+  const geometry::DomainFilters filters;
   for (;;) {
     geometry::Configuration c{{Vec3::Zero(), Vec3(1, 0, 0), Vec3(xy(rng), xy(rng), z(rng)), Vec3(xy(rng), std::abs(xy(rng)), 0)},
                               Vec3(xy(rng), xy(rng), z(rng)),

@@ -136,7 +136,7 @@ int train(const NetSettings& net_settings, mlp::TrainOptions options, const std:
   MatrixRM<Real> train_x, train_t, val_x, val_t;
   scaled(selection.training, train_x, train_t);
   scaled(selection.validation, val_x, val_t);
-  const dataset::TrainingDomain domain = dataset::TrainingDomain::from_features(
+  const geometry::TrainingDomain domain = geometry::TrainingDomain::from_features(
       set.surface, set.features.data(), static_cast<long>(set.size()), set.status, set.filters);
 
   io::NetworkProvenance provenance;

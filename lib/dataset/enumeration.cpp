@@ -63,7 +63,7 @@ std::array<Vec3, 4> random_normals(const std::array<Vec3, 4>& nodes, double max_
 LabelledSet enumerate_configurations(const EnumerationOptions& options, EnumerationSummary& summary,
                                      const ProgressFn& progress) {
   const auto start_time = std::chrono::steady_clock::now();
-  const DomainFilters& filters = options.filters;
+  const geometry::DomainFilters& filters = options.filters;
   const SurfaceKind kind = options.surface;
   CONTACTNN_REQUIRE(options.normal_sets >= 1, "normal_sets must be >= 1, got " << options.normal_sets);
   const auto dxy = grid_values(filters.xy_limit, options.d_xy_points);

@@ -7,7 +7,7 @@
 #include <functional>
 #include <string>
 
-#include "dataset/domain.hpp"
+#include "geometry/domain.hpp"
 #include "dataset/labelled_set.hpp"
 #include "projection/newton_projection.hpp"
 
@@ -18,7 +18,7 @@ namespace contactnn::dataset {
 /// Every field is a key of the [gen-configs] config section (configs/bilinear-paper.toml explains each).
 struct EnumerationOptions {
   SurfaceKind surface = SurfaceKind::kBilinear;
-  DomainFilters filters;
+  geometry::DomainFilters filters;
   int d_xy_points = 20;  ///< grid points per axis for x_D, y_D in (-xy_limit, xy_limit)
   int c_xy_points = 16;  ///< for x_C, y_C
   int c_z_points = 5;    ///< for z_C in (-z_limit, z_limit)

@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "core/conventions.hpp"
-#include "dataset/domain.hpp"
+#include "geometry/domain.hpp"
 
 namespace contactnn::dataset {
 
@@ -24,7 +24,7 @@ struct LabelledSet {
   std::vector<Status> status;      ///< N: projection status (SPEC 2)
   Eigen::VectorXd scale;           ///< N: raw-to-normalised scale 1/|AB| (1 for enumerated configurations)
   std::string config_toml;         ///< effective generator config
-  DomainFilters filters;           ///< the geometric filters the configurations satisfy
+  geometry::DomainFilters filters;           ///< the geometric filters the configurations satisfy
 
   [[nodiscard]] Eigen::Index size() const { return features.rows(); }
   /// Allocates every member for n rows of `surface` (values unset).

@@ -27,7 +27,7 @@ struct Estimates {
 /// The result does not depend on the thread count.
 template <FeaturePredictor P>
 [[nodiscard]] Estimates network_estimates(const std::vector<geometry::Configuration>& world, SurfaceKind kind,
-                                          const P& predictor, const dataset::TrainingDomain* domain) {
+                                          const P& predictor, const geometry::TrainingDomain* domain) {
   Estimates out;
   out.method = Method{Method::Kind::kNetwork, 0};
   out.resize(world.size());

@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "core/conventions.hpp"
-#include "dataset/domain.hpp"
+#include "geometry/domain.hpp"
 #include "geometry/affine_frame.hpp"
 #include "geometry/configuration.hpp"
 #include "projection/newton_projection.hpp"
@@ -62,7 +62,7 @@ struct Estimate {
 /// when the predictor is.
 template <FeaturePredictor P>
 [[nodiscard]] Estimate network_estimate(const geometry::Configuration& world, SurfaceKind kind, P& predictor,
-                                        const dataset::TrainingDomain* domain) {
+                                        const geometry::TrainingDomain* domain) {
   Estimate e;
   e.param = projection::domain_centre(kind);
   const geometry::NormaliseOutcome n = geometry::normalise(world, kind);

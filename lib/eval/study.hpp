@@ -108,7 +108,7 @@ void finish_timings(StudyResult& result, const StudyOptions& options);
 /// Accuracy runs in parallel (OpenMP); timing on the calling thread only.
 template <FeaturePredictor P>
 [[nodiscard]] StudyResult run_study(const dataset::LabelledSet& set, const P& predictor,
-                                    const dataset::TrainingDomain& domain, const StudyOptions& options,
+                                    const geometry::TrainingDomain& domain, const StudyOptions& options,
                                     const StudyLog& log = {}) {
   const auto say = [&](std::string_view s) {
     if (log) log(s);

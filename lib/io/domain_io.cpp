@@ -4,7 +4,7 @@
 
 namespace contactnn::io {
 
-void write_filters(Hdf5File& file, const std::string& group, const dataset::DomainFilters& f) {
+void write_filters(Hdf5File& file, const std::string& group, const geometry::DomainFilters& f) {
   // Attributes need an object to sit on: an empty marker dataset makes the group exist.
   if (!file.has_dataset(group + "/filters")) file.write_vector<std::uint8_t>(group + "/filters", {});
   const std::string object = group + "/filters";
@@ -19,9 +19,9 @@ void write_filters(Hdf5File& file, const std::string& group, const dataset::Doma
   file.write_attribute(object, "max_normal_tilt_tangent", f.max_normal_tilt_tangent);
 }
 
-dataset::DomainFilters read_filters(const Hdf5File& file, const std::string& group) {
+geometry::DomainFilters read_filters(const Hdf5File& file, const std::string& group) {
   const std::string object = group + "/filters";
-  dataset::DomainFilters f;
+  geometry::DomainFilters f;
   f.xy_limit = file.read_double_attribute(object, "xy_limit");
   f.z_limit = file.read_double_attribute(object, "z_limit");
   f.ad_not_longer_than_ab = file.read_int_attribute(object, "ad_not_longer_than_ab") != 0;
@@ -34,15 +34,15 @@ dataset::DomainFilters read_filters(const Hdf5File& file, const std::string& gro
   return f;
 }
 
-void write_domain(Hdf5File& file, const std::string& group, const dataset::TrainingDomain& domain) {
+void write_domain(Hdf5File& file, const std::string& group, const geometry::TrainingDomain& domain) {
   file.write_vector(group + "/feature_min", domain.feature_min);
   file.write_vector(group + "/feature_max", domain.feature_max);
   write_filters(file, group, domain.filters);
   file.write_attribute(group + "/filters", "surface", std::string(to_string(domain.surface)));
 }
 
-dataset::TrainingDomain read_domain(const Hdf5File& file, const std::string& group) {
-  dataset::TrainingDomain domain;
+geometry::TrainingDomain read_domain(const Hdf5File& file, const std::string& group) {
+  geometry::TrainingDomain domain;
   domain.surface = read_surface_attribute(file, group + "/filters", "surface");
   domain.feature_min = file.read_vector<double>(group + "/feature_min");
   domain.feature_max = file.read_vector<double>(group + "/feature_max");

@@ -49,7 +49,7 @@ std::vector<double> read_sized(const Hdf5File& file, const std::string& name, st
 
 template <class Real>
 void write_network(const std::filesystem::path& path, const mlp::Network<Real>& network,
-                   const dataset::TrainingDomain& domain, const NetworkProvenance& provenance,
+                   const geometry::TrainingDomain& domain, const NetworkProvenance& provenance,
                    const mlp::TrainingState<Real>* checkpoint) {
   for (Real p : network.parameters()) {
     CONTACTNN_REQUIRE(std::isfinite(static_cast<double>(p)), "refusing to write a network with a non-finite parameter to '"
@@ -166,7 +166,7 @@ TrainedNetwork<Real> read_network(const std::filesystem::path& path) {
                          "'" << name << "': a network parameter is not finite");
   }
 
-  dataset::TrainingDomain domain = read_domain(file, "domain");
+  geometry::TrainingDomain domain = read_domain(file, "domain");
   const std::string surface = file.read_string_attribute("/", "surface");
   CONTACTNN_REQUIRE_AS(FormatError, surface == to_string(domain.surface),
                        "'" << name << "': root surface '" << surface << "' but domain surface '"
@@ -237,9 +237,9 @@ std::string file_checksum(const std::filesystem::path& path) {
   return std::string("fnv1a64:") + hex;
 }
 
-template void write_network(const std::filesystem::path&, const mlp::Network<float>&, const dataset::TrainingDomain&,
+template void write_network(const std::filesystem::path&, const mlp::Network<float>&, const geometry::TrainingDomain&,
                             const NetworkProvenance&, const mlp::TrainingState<float>*);
-template void write_network(const std::filesystem::path&, const mlp::Network<double>&, const dataset::TrainingDomain&,
+template void write_network(const std::filesystem::path&, const mlp::Network<double>&, const geometry::TrainingDomain&,
                             const NetworkProvenance&, const mlp::TrainingState<double>*);
 template TrainedNetwork<float> read_network(const std::filesystem::path&);
 template TrainedNetwork<double> read_network(const std::filesystem::path&);

@@ -7,7 +7,7 @@
 #include <limits>
 #include <string>
 
-#include "dataset/domain.hpp"
+#include "geometry/domain.hpp"
 #include "mlp/network.hpp"
 #include "mlp/trainer.hpp"
 
@@ -31,7 +31,7 @@ struct NetworkProvenance {
 template <class Real>
 struct TrainedNetwork {
   mlp::Network<Real> network;
-  dataset::TrainingDomain domain;
+  geometry::TrainingDomain domain;
   NetworkProvenance provenance;
 };
 
@@ -55,7 +55,7 @@ struct TrainedNetwork {
 /// bit-exact. Throws IoError if the file cannot be written, InvalidArgument for a non-finite parameter.
 template <class Real>
 void write_network(const std::filesystem::path& path, const mlp::Network<Real>& network,
-                   const dataset::TrainingDomain& domain, const NetworkProvenance& provenance,
+                   const geometry::TrainingDomain& domain, const NetworkProvenance& provenance,
                    const mlp::TrainingState<Real>* checkpoint = nullptr);
 
 /// Reads a network file (or a checkpoint, ignoring its state). FormatError, naming the file and stating

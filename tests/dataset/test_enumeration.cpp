@@ -96,8 +96,8 @@ namespace {
 TEST(TrainingDomain, GridCellsCoverTheirHalfStepSoASquareSegmentIsInside) {
   EnumerationSummary summary;
   const LabelledSet set = enumerate_configurations(small_grid(), summary);
-  const TrainingDomain domain =
-      TrainingDomain::from_features(set.surface, set.features.data(), static_cast<long>(set.size()), set.status, set.filters);
+  const geometry::TrainingDomain domain =
+      geometry::TrainingDomain::from_features(set.surface, set.features.data(), static_cast<long>(set.size()), set.status, set.filters);
   // y_D takes the values 0.25, 0.75 (8 points over (-2, 2), |AD| <= 1): widened by half the step, 0.25.
   EXPECT_NEAR(domain.feature_max[4], 1.0, 1e-12);
   EXPECT_NEAR(domain.feature_min[4], 0.0, 1e-12);
@@ -126,7 +126,7 @@ TEST(TrainingDomain, ConfigurationsOnAFilterBoundaryStayInsideAfterAnyPlacement)
           {geometry::Vec3::Zero(), geometry::Vec3(1, 0, 0), geometry::Vec3(-1.5, 0.5, 0), geometry::Vec3(-0.9, 0.3, 0)},
           geometry::Vec3(-0.3, 0.1, -0.24),
           {}}};
-  TrainingDomain domain;
+  geometry::TrainingDomain domain;
   domain.feature_min.assign(8, -2.0);
   domain.feature_max.assign(8, 2.0);
   std::mt19937_64 rng(53);

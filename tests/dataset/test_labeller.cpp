@@ -102,7 +102,7 @@ TEST(Labeller, FeaturesAreCanonicalWhateverTheCallersOrder) {
   ASSERT_TRUE(n.value);
   EXPECT_EQ(n.value->symmetry.rotation, 2);  // canonical A is the caller's C
   EXPECT_EQ(l.features, n.value->features);
-  const DomainFilters paper;  // the bilinear study's filters: A nearest, |AD| <= |AB|, segment test at A, ...
+  const geometry::DomainFilters paper;  // the bilinear study's filters: A nearest, |AD| <= |AB|, segment test at A, ...
   EXPECT_TRUE(paper.accepts(n.value->config, SurfaceKind::kBilinear, 1e-9));
 }
 

@@ -78,7 +78,7 @@ class EvaluateNetApp : public ::testing::Test {
     const mlp::Scaling scaling = mlp::Scaling::from_inputs(set.features, 2, -1.0, 1.0);
     mlp::Network<float> network({8, 8, 2}, 1.0, scaling);
     network.initialize(42);
-    const dataset::TrainingDomain domain = dataset::TrainingDomain::from_features(
+    const geometry::TrainingDomain domain = geometry::TrainingDomain::from_features(
         set.surface, set.features.data(), static_cast<long>(set.size()), set.status, set.filters);
     io::write_network(dir_ / "net.h5", network, domain, io::NetworkProvenance{});
     domain_ = domain;
@@ -89,7 +89,7 @@ class EvaluateNetApp : public ::testing::Test {
 
   static inline fs::path dir_;
   static inline dataset::LabelledSet set_;
-  static inline dataset::TrainingDomain domain_;
+  static inline geometry::TrainingDomain domain_;
 };
 
 TEST_F(EvaluateNetApp, ReportListsEveryMethodAndWritesWellFormedSvg) {

@@ -33,8 +33,8 @@ struct FixedPredictor {
   }
 };
 
-dataset::TrainingDomain domain_around(const std::array<double, 16>& f, double half_width) {
-  dataset::TrainingDomain d;
+geometry::TrainingDomain domain_around(const std::array<double, 16>& f, double half_width) {
+  geometry::TrainingDomain d;
   d.surface = SurfaceKind::kBilinear;
   for (int i = 0; i < 8; ++i) {
     d.feature_min.push_back(f[static_cast<std::size_t>(i)] - half_width);
@@ -94,7 +94,7 @@ TEST(Methods, NewtonFromWorldCoordinatesMatchesTheLabel) {
 TEST(Methods, NetworkStatusesFromWorldCoordinates) {
   const Configuration local = configuration_from_features(SurfaceKind::kBilinear, kFeatures.data());
   FixedPredictor p;
-  dataset::TrainingDomain domain = domain_around(kFeatures, 0.05);
+  geometry::TrainingDomain domain = domain_around(kFeatures, 0.05);
   domain.filters.convex = true;
   const Estimate inside = network_estimate(place(local, random_placement(5, 1)), SurfaceKind::kBilinear, p, &domain);
   EXPECT_EQ(inside.status, Status::kOk);

@@ -97,7 +97,7 @@ TEST(FitLine, ExactLineAndBadInput) {
 
 TEST(StudyReport, ListsEveryMethodAndWritesEveryFile) {
   const dataset::LabelledSet set = small_set();
-  const dataset::TrainingDomain domain = dataset::TrainingDomain::from_features(
+  const geometry::TrainingDomain domain = geometry::TrainingDomain::from_features(
       SurfaceKind::kBilinear, set.features.data(), static_cast<long>(set.size()), set.status, set.filters);
   StudyOptions options;
   options.timing_queries = 8;

@@ -15,8 +15,8 @@ namespace {
 
 std::filesystem::path temp_dir() { return testing::test_output_dir("test-mlp"); }
 
-dataset::TrainingDomain bilinear_domain() {
-  dataset::TrainingDomain d;
+geometry::TrainingDomain bilinear_domain() {
+  geometry::TrainingDomain d;
   d.surface = SurfaceKind::kBilinear;
   d.feature_min = {-2, -2, -0.3, -1, 0, -2, -2, -0.3};
   d.feature_max = {2, 2, 0.3, 1, 1, 2, 2, 0.3};

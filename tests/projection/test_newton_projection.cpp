@@ -247,7 +247,7 @@ TEST(NewtonProjectionGregory, FlatPatchWithPlaneNormalsProjectsLikeTheBilinearFa
 
 TEST(NewtonProjectionGregory, AgreesWithIndependentDenseSearchOnTiltedNormals) {
   std::mt19937_64 rng(43);
-  dataset::DomainFilters gregory_filters;
+  geometry::DomainFilters gregory_filters;
   gregory_filters.min_angle_degrees = 60;
   gregory_filters.max_angle_degrees = 120;
   int compared = 0;

@@ -8,7 +8,7 @@
 #include "core/conventions.hpp"
 #include "geometry/configuration.hpp"
 
-namespace contactnn::dataset {
+namespace contactnn::geometry {
 
 /// The geometric filters of the paper's Sections 5.1 and 6.3.1, in the normalised frame (A at the origin,
 /// B = (1,0,0), D in the xy-plane). Defaults are the paper's bilinear study. Every field is a key of the
@@ -57,4 +57,4 @@ struct TrainingDomain {
   [[nodiscard]] bool contains(const geometry::Configuration& normalised, const double* features) const;
 };
 
-}  // namespace contactnn::dataset
+}  // namespace contactnn::geometry

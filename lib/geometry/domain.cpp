@@ -1,4 +1,4 @@
-#include "dataset/domain.hpp"
+#include "geometry/domain.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -8,9 +8,9 @@
 #include "core/error.hpp"
 #include "geometry/segment_checks.hpp"
 
-namespace contactnn::dataset {
+namespace contactnn::geometry {
 
-using geometry::Vec3;
+
 
 bool DomainFilters::accepts(const geometry::Configuration& c, SurfaceKind kind, double relative_tolerance) const {
   const double tol = relative_tolerance;
@@ -109,4 +109,4 @@ bool TrainingDomain::contains(const geometry::Configuration& normalised, const d
   return filters.accepts(normalised, surface, kRelativeTolerance);
 }
 
-}  // namespace contactnn::dataset
+}  // namespace contactnn::geometry
