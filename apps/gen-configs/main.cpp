@@ -21,8 +21,10 @@
 #include <iostream>
 
 #include "cli_support.hpp"
+#include "core/error.hpp"
 #include "dataset/enumeration.hpp"
 #include "dataset/labeller.hpp"
+#include "dataset/sampling.hpp"
 #include "io/csv.hpp"
 #include "io/dataset_file.hpp"
 #include "io/raw_configurations.hpp"
@@ -108,6 +110,14 @@ int main(int argc, char** argv) {
   app.add_option("--s_z_points", options.s_z_points, "grid points, z of S")->check(CLI::Range(1, 400));
   app.add_option("--normal_sets", options.normal_sets, "Gregory: node-normal sets per configuration")
       ->check(CLI::Range(1, 1000));
+  std::string sampling = "grid";
+  std::int64_t count = 0;
+  app.add_option("--sampling", sampling,
+                 "grid: the paper's enumeration on the grid below; random: --count configurations drawn uniformly "
+                 "from the same domain (stream --seed)")
+      ->check(CLI::IsMember({"grid", "random"}));
+  app.add_option("--count", count, "random sampling: configurations to draw")
+      ->check(CLI::Range(std::int64_t{1}, std::int64_t{1'000'000'000}));
   app.add_option("--require_projection_inside", options.require_projection_inside,
                  "keep only configurations whose projection lies inside the segment");
   app.add_option("--xy_limit", f.xy_limit, "|x|, |y| of C, D, S below this")->check(cli::kPositive);
@@ -137,11 +147,13 @@ int main(int argc, char** argv) {
     // 3. Label mode: a user's CSV in, the same rows with labels out.
     if (!input.empty()) return label_mode(options.surface, input, output, options.projection);
 
-    // 4. Enumeration mode: enumerate, label, write the dataset and the effective config, summarise.
+    // 4. Enumeration or random sampling: label, write the dataset and the effective config, summarise.
+    CONTACTNN_REQUIRE(sampling == "grid" || count > 0, "--sampling random needs --count N");
     cli::Progress progress("gen-configs: labelling", quiet);
+    const auto report = [&](std::int64_t done, std::int64_t total) { progress.update(done, total); };
     dataset::EnumerationSummary summary;
-    dataset::LabelledSet set = dataset::enumerate_configurations(
-        options, summary, [&](std::int64_t done, std::int64_t total) { progress.update(done, total); });
+    dataset::LabelledSet set = sampling == "random" ? dataset::sample_configurations(options, count, summary, report)
+                                                    : dataset::enumerate_configurations(options, summary, report);
     progress.finish();
     // Without the keys that do not change the data, so the file is byte-identical for any output path,
     // thread count or verbosity.

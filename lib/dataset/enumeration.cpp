@@ -8,6 +8,7 @@
 
 #include "core/error.hpp"
 #include "dataset/labeller.hpp"
+#include "dataset/random_stream.hpp"
 #include "geometry/segment_checks.hpp"
 
 namespace contactnn::dataset {
@@ -32,31 +33,6 @@ namespace {
 struct Candidate {
   std::int32_t d, c, s;
 };
-
-/// splitmix64: a counter-based generator, so configuration i's normals do not depend on thread order.
-std::uint64_t splitmix64(std::uint64_t& state) {
-  std::uint64_t z = (state += 0x9E3779B97F4A7C15ULL);
-  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
-  z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
-  return z ^ (z >> 31);
-}
-double uniform01(std::uint64_t& state) { return static_cast<double>(splitmix64(state) >> 11) * 0x1.0p-53; }
-
-/// Node normals tilted from each corner's own segment normal by a uniformly random direction and a tilt
-/// whose tangent is uniform in [0, max_tangent) (the paper's "tangent ... below 0.2").
-std::array<Vec3, 4> random_normals(const std::array<Vec3, 4>& nodes, double max_tangent, std::uint64_t& state) {
-  std::array<Vec3, 4> normals;
-  for (int i = 0; i < 4; ++i) {
-    const Vec3 corner =
-        (nodes[(i + 1) % 4] - nodes[i]).cross(nodes[(i + 3) % 4] - nodes[i]).normalized();
-    const Vec3 t1 = corner.unitOrthogonal();
-    const Vec3 t2 = corner.cross(t1);
-    const double tangent = max_tangent * uniform01(state);
-    const double phi = 2.0 * M_PI * uniform01(state);
-    normals[i] = (corner + tangent * (std::cos(phi) * t1 + std::sin(phi) * t2)).normalized();
-  }
-  return normals;
-}
 
 }  // namespace
 
@@ -122,8 +98,8 @@ LabelledSet enumerate_configurations(const EnumerationOptions& options, Enumerat
                          s_nodes[static_cast<std::size_t>(cand.s)],
                          {}};
     if (kind == SurfaceKind::kGregory) {
-      std::uint64_t state = options.seed * 0x100000001B3ULL + static_cast<std::uint64_t>(row);
-      config.normals = random_normals(config.nodes, filters.max_normal_tilt_tangent, state);
+      RandomStream random(options.seed, static_cast<std::uint64_t>(row));
+      config.normals = random_node_normals(config.nodes, filters.max_normal_tilt_tangent, random);
     }
     const Label label = label_configuration(config, kind, options.projection);
     for (int f = 0; f < feature_count(kind); ++f) all.features(row, f) = label.features[static_cast<std::size_t>(f)];

@@ -91,7 +91,15 @@ TrainingDomain TrainingDomain::from_features(SurfaceKind kind, const double* fea
     }
     std::sort(values.begin(), values.end());
     values.erase(std::unique(values.begin(), values.end()), values.end());
-    if (values.size() < 2 || values.size() > kMaxGridValues) continue;
+    if (values.size() < 2) continue;
+    if (values.size() > kMaxGridValues) {
+      // A continuous feature (random sampling): a finite sample's extremes fall short of the domain it was
+      // drawn from by about (range / rows); the filters bound the domain itself.
+      const double widen = kContinuousWidening * (domain.feature_max[f] - domain.feature_min[f]);
+      domain.feature_min[f] -= widen;
+      domain.feature_max[f] += widen;
+      continue;
+    }
     double step = std::numeric_limits<double>::infinity();
     for (std::size_t i = 1; i < values.size(); ++i) step = std::min(step, values[i] - values[i - 1]);
     domain.feature_min[f] -= 0.5 * step;

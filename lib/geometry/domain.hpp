@@ -46,12 +46,16 @@ struct TrainingDomain {
   /// Per-feature range over the rows of `features` (N x F, row-major, contiguous) with status ok, widened
   /// by half the grid step for a feature that takes few distinct values (at most 10000: an enumerated
   /// grid, where each value stands for its cell; e.g. y_D in 0.1..0.9 step 0.2 gives [0, 1], so a square
-  /// segment is in the domain). Continuous features (random node normals) are not widened.
+  /// segment is in the domain), and by kContinuousWidening of its range for a continuous one (random
+  /// sampling, random node normals), whose sample extremes fall just short of the domain drawn from.
   [[nodiscard]] static TrainingDomain from_features(SurfaceKind kind, const double* features, long rows,
                                                     const std::vector<Status>& status, const DomainFilters& filters);
   /// Relative slack of contains(): far above the rounding of raw coordinates mapped into the frame
   /// (~1e-12 for translations of 1e4 element sizes), far below any distance a network could resolve.
   static constexpr double kRelativeTolerance = 1e-9;
+  /// Widening of a continuous feature's sample range: above the gap between a sample's extreme and the
+  /// domain's (~ range / rows for 1e4+ rows), small enough that the network is not asked to extrapolate.
+  static constexpr double kContinuousWidening = 0.01;
   /// True when every feature lies in [min - slack, max + slack] (slack = kRelativeTolerance of the range)
   /// and the filters accept the configuration with kRelativeTolerance.
   [[nodiscard]] bool contains(const geometry::Configuration& normalised, const double* features) const;
