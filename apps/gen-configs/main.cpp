@@ -116,8 +116,8 @@ int main(int argc, char** argv) {
                  "grid: the paper's enumeration on the grid below; random: --count configurations drawn uniformly "
                  "from the same domain (stream --seed)")
       ->check(CLI::IsMember({"grid", "random"}));
-  app.add_option("--count", count, "random sampling: configurations to draw")
-      ->check(CLI::Range(std::int64_t{1}, std::int64_t{1'000'000'000}));
+  app.add_option("--count", count, "random sampling: configurations to draw (0: none; required with random)")
+      ->check(CLI::Range(std::int64_t{0}, std::int64_t{1'000'000'000}));
   app.add_option("--require_projection_inside", options.require_projection_inside,
                  "keep only configurations whose projection lies inside the segment");
   app.add_option("--xy_limit", f.xy_limit, "|x|, |y| of C, D, S below this")->check(cli::kPositive);
