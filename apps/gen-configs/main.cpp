@@ -217,9 +217,11 @@ int main(int argc, char** argv) {
                            ->check(CLI::ExistingFile);
   scene_option->excludes(input_option);
   input_option->excludes(scene_option);
-  app.add_option("--pair", pair, "scene mode: the *CONTACT PAIR data line, counted from 0")
+  // No captured default: the effective config of the other modes must not carry a --pair that needs --scene.
+  app.add_option("--pair", pair, "scene mode: the *CONTACT PAIR data line, counted from 0 (default 0)")
       ->check(cli::kNonNegative)
-      ->needs(scene_option);
+      ->needs(scene_option)
+      ->default_str("");
   app.add_option("--output", output, "dataset .h5 (enumeration), labels .csv (label mode) or pairs .csv (scene mode)")
       ->required();
   app.add_option("--threads", threads, "OpenMP threads (0: OpenMP's default)")->check(cli::kNonNegative);
