@@ -2,7 +2,7 @@
 // shape statistics (what `gen-configs --scene` reports, SPEC 7).
 #pragma once
 
-#include <map>
+#include <array>
 #include <string>
 #include <vector>
 
