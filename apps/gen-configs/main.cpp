@@ -10,23 +10,30 @@
 //   gen-configs --config configs/bilinear-paper.toml --output data/bilinear.h5
 //   gen-configs --config configs/tiny.toml --output /tmp/tiny.h5 --threads 1
 //   gen-configs --surface bilinear --input data/examples/raw-bilinear.csv --output /tmp/labels.csv
+//   gen-configs --scene build/scenes/hertz.inp --surface gregory --output /tmp/hertz-pairs.csv
 //
 // Writes:
 //   enumeration: OUTPUT (.h5), OUTPUT.config.toml (effective config), a summary on stdout, progress on stderr.
 //   label mode:  OUTPUT (.csv): the input columns, then xi,eta (u,v for Gregory),status,gap,iterations; one row
 //                per input row, in input order. xi, eta and gap are empty unless status is ok or outside.
+//   scene mode:  OUTPUT (.csv): one row per slave node of contact pair K of an .inp deck (SPEC 7), in
+//                increasing node id: slave,a,b,c,d, the raw columns ax..sz (nax..ndz for Gregory), then the
+//                label mode's columns; a summary with the scene's shape statistics on stdout.
 #include <omp.h>
 
+#include <chrono>
 #include <cstdio>
 #include <iostream>
 
 #include "cli_support.hpp"
+#include "contact/scene.hpp"
 #include "core/error.hpp"
 #include "dataset/enumeration.hpp"
 #include "dataset/labeller.hpp"
 #include "dataset/sampling.hpp"
 #include "io/csv.hpp"
 #include "io/dataset_file.hpp"
+#include "io/inp_deck.hpp"
 #include "io/raw_configurations.hpp"
 
 namespace {
@@ -82,6 +89,113 @@ int label_mode(SurfaceKind surface, const std::string& input, const std::string&
   return 0;
 }
 
+/// The scene's summary: counts, skipped faces and the shape statistics (min / median / max).
+void print_scene_summary(const std::string& deck, const contact::Scene& scene, const contact::SceneResult& result,
+                         SurfaceKind surface, const std::string& output, double seconds) {
+  const auto faces = [](const std::map<std::string, int>& skipped) {
+    std::string text;
+    for (const auto& [kind, count] : skipped) text += (text.empty() ? "" : ", ") + kind + " " + std::to_string(count);
+    return text.empty() ? std::string("none") : text;
+  };
+  const auto spread = [](const char* name, const contact::Spread& s) {
+    if (s.count == 0) {
+      std::printf("    %-34s -\n", name);
+    } else {
+      std::printf("    %-34s %.6g / %.6g / %.6g  (%ld values)\n", name, s.min, s.median, s.max, s.count);
+    }
+  };
+  std::printf("gen-configs --scene summary\n");
+  std::printf("  deck                 %s\n", deck.c_str());
+  std::printf("  pair                 %d: slave '%s' -> master '%s' (%s)\n", scene.pair, scene.slave_name.c_str(),
+              scene.master_name.c_str(), scene.where.c_str());
+  std::printf("  surface              %s\n", std::string(to_string(surface)).c_str());
+  std::printf("  master segments      %zu (%d nodes)\n", scene.master.segments.size(), scene.master.node_count());
+  std::printf("  slave nodes          %zu (%d also on the master surface, left out)\n", scene.slave_ids.size(),
+              scene.slaves.shared_with_master);
+  std::printf("  pairs found          %ld\n", result.found);
+  std::printf("  no_segment           %ld\n", result.no_segment);
+  std::string statuses;
+  for (int i = 0; i < kStatusCount; ++i) {
+    const long count = result.label_status_counts[static_cast<std::size_t>(i)];
+    if (count > 0) {
+      statuses += (statuses.empty() ? "" : ", ") + std::string(to_string(static_cast<Status>(i))) + " " +
+                  std::to_string(count);
+    }
+  }
+  std::printf("  label status         %s\n", statuses.empty() ? "-" : statuses.c_str());
+  std::printf("  faces skipped        master: %s; slave: %s\n", faces(scene.master.skipped_faces).c_str(),
+              faces(scene.slaves.skipped_faces).c_str());
+  if (scene.master.inside_out_faces > 0) {
+    std::printf("  inside-out elements  %d master faces oriented by their element's centroid\n",
+                scene.master.inside_out_faces);
+  }
+  std::printf("  shape statistics over the found pairs (min / median / max):\n");
+  const contact::ShapeStatistics& st = result.statistics;
+  spread("interior angle (degrees)", st.interior_angle_degrees);
+  spread("aspect ratio (longest/shortest)", st.aspect_ratio);
+  spread("warp (/ shortest edge)", st.warp);
+  spread("normal offset (gap / size)", st.normal_offset);
+  if (surface == SurfaceKind::kGregory) spread("node-normal tilt (tangent)", st.normal_tilt_tangent);
+  std::printf("  written              %zu rows -> %s\n", result.pairs.size(), output.c_str());
+  std::printf("  time                 %.3f s\n", seconds);
+}
+
+/// Scene mode (SPEC 7): the pairs of one *CONTACT PAIR of a deck, labelled, as a RAW.csv with node ids.
+int scene_mode(const std::string& deck, int pair, const contact::SearchOptions& options, const std::string& output) {
+  const auto start = std::chrono::steady_clock::now();
+  // 1. Read the deck; 2. the pair's master segments, node normals and slave nodes; 3. search and label.
+  const mesh::ContactModel model = io::read_inp_deck(deck);
+  const contact::Scene scene = contact::make_scene(model, pair);
+  const contact::SceneResult result = contact::search_scene(scene, options);
+
+  // 4. One row per slave node: ids, world coordinates (round-trip exact), then the label columns.
+  const bool gregory = options.surface == SurfaceKind::kGregory;
+  std::vector<std::string> header = {"slave", "a", "b", "c", "d"};
+  for (auto name : kRawPointColumns) header.emplace_back(name);
+  if (gregory) {
+    for (auto name : kRawNormalColumns) header.emplace_back(name);
+  }
+  const auto names = coordinate_names(options.surface);
+  for (const char* name : {names[0].data(), names[1].data(), "status", "gap", "iterations"}) header.emplace_back(name);
+  std::string text;
+  io::append_csv_row(text, header);
+  std::vector<std::string> row;
+  for (const contact::NodeSegmentPair& p : result.pairs) {
+    row.assign(header.size(), "");
+    row[0] = std::to_string(p.slave_id);
+    if (p.status == contact::PairStatus::kNoSegment) {
+      row[header.size() - 3] = "no_segment";
+      io::append_csv_row(text, row);
+      continue;
+    }
+    std::size_t c = 1;
+    for (int n : p.nodes) row[c++] = std::to_string(scene.master.node_ids[static_cast<std::size_t>(n)]);
+    for (const auto& x : p.config.nodes) {
+      for (int k = 0; k < 3; ++k) row[c++] = io::format_double(x[k]);
+    }
+    for (int k = 0; k < 3; ++k) row[c++] = io::format_double(p.config.slave[k]);
+    if (gregory) {
+      for (const auto& n : p.config.normals) {
+        for (int k = 0; k < 3; ++k) row[c++] = io::format_double(n[k]);
+      }
+    }
+    const dataset::Label& l = p.label;
+    const bool has_value = l.status == Status::kOk || l.status == Status::kOutside;
+    row[c++] = has_value ? io::format_double(l.param[0]) : "";
+    row[c++] = has_value ? io::format_double(l.param[1]) : "";
+    row[c++] = std::string(to_string(l.status));
+    row[c++] = has_value ? io::format_double(l.gap) : "";
+    row[c++] = std::to_string(l.iterations);
+    io::append_csv_row(text, row);
+  }
+  io::write_text_atomically(output, text);
+
+  // 5. Summary.
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  print_scene_summary(deck, scene, result, options.surface, output, seconds);
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -93,13 +207,25 @@ int main(int argc, char** argv) {
   // 1. Options. Every default lives in the options structs of lib/; flags only map onto them.
   dataset::EnumerationOptions options;
   std::string surface_name = "bilinear";
-  std::string input, output;
+  std::string input, output, scene;
+  int pair = 0;
   int threads = 0;
   bool quiet = false;
   auto& f = options.filters;
   app.add_option("--surface", surface_name, "bilinear or gregory")->check(CLI::IsMember({"bilinear", "gregory"}));
   app.add_option("--input", input, "label mode: RAW.csv of world configurations (SPEC 6)")->check(CLI::ExistingFile);
-  app.add_option("--output", output, "dataset .h5 (enumeration) or labels .csv (label mode)")->required();
+  auto* input_option = app.get_option("--input");
+  auto* scene_option = app.add_option("--scene", scene, "scene mode: an Abaqus/CalculiX .inp deck (SPEC 7)")
+                           ->check(CLI::ExistingFile);
+  scene_option->excludes(input_option);
+  input_option->excludes(scene_option);
+  // No captured default: the effective config of the other modes must not carry a --pair that needs --scene.
+  app.add_option("--pair", pair, "scene mode: the *CONTACT PAIR data line, counted from 0 (default 0)")
+      ->check(cli::kNonNegative)
+      ->needs(scene_option)
+      ->default_str("");
+  app.add_option("--output", output, "dataset .h5 (enumeration), labels .csv (label mode) or pairs .csv (scene mode)")
+      ->required();
   app.add_option("--threads", threads, "OpenMP threads (0: OpenMP's default)")->check(cli::kNonNegative);
   app.add_flag("--quiet", quiet, "no progress line");
   app.add_option("--seed", options.seed, "seed of the Gregory node-normal sampling");
@@ -146,6 +272,14 @@ int main(int argc, char** argv) {
 
     // 3. Label mode: a user's CSV in, the same rows with labels out.
     if (!input.empty()) return label_mode(options.surface, input, output, options.projection);
+
+    // 3b. Scene mode: a deck in, its contact pair's node-segment pairs with labels out.
+    if (!scene.empty()) {
+      contact::SearchOptions search;
+      search.surface = options.surface;
+      search.projection = options.projection;
+      return scene_mode(scene, pair, search, output);
+    }
 
     // 4. Enumeration or random sampling: label, write the dataset and the effective config, summarise.
     CONTACTNN_REQUIRE(sampling == "grid" || count > 0, "--sampling random needs --count N");

@@ -1,0 +1,136 @@
+#include "contact/global_search.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "contact/nearest_node.hpp"
+#include "core/error.hpp"
+#include "geometry/surface_of.hpp"
+
+namespace contactnn::contact {
+
+bool passes_segment_test_at_corner(const Vec3& m, const Vec3& next, const Vec3& prev, const Vec3& s,
+                                   double relative_tolerance) {
+  const Vec3 c1 = next - m;
+  const Vec3 c2 = prev - m;
+  const Vec3 c1xc2 = c1.cross(c2);
+  const double area_squared = c1xc2.squaredNorm();
+  if (!(area_squared > 0.0)) return false;
+  const Vec3 t = s - m;
+  const Vec3 r = t - (t.dot(c1xc2) / area_squared) * c1xc2;  // Eqs 5-6
+  const double r_length = r.norm();
+  const double c1_length = c1.norm();
+  const double c2_length = c2.norm();
+  if (r_length <= relative_tolerance * std::min(c1_length, c2_length)) return true;
+  // r = alpha c1 + beta c2 in the corner's plane: c1 x r = beta (c1 x c2), r x c2 = alpha (c1 x c2), so
+  // Eq 3 says beta > 0 and Eq 4 says alpha beta > 0. Relaxing alpha and beta, not the products of Eqs 3-4,
+  // keeps a slave node on the backward extension of an edge (c1 x r = 0 with alpha < 0) outside.
+  const double alpha = r.cross(c2).dot(c1xc2) / area_squared;
+  const double beta = c1.cross(r).dot(c1xc2) / area_squared;
+  if (relative_tolerance <= 0.0) return alpha > 0.0 && beta > 0.0;
+  return alpha * c1_length > -relative_tolerance * r_length && beta * c2_length > -relative_tolerance * r_length;
+}
+
+namespace {
+
+/// |S - P| with P the surface point at the label's parameters clamped to the domain: the distance from S
+/// to the segment along the projection. Infinite when the label has no parameters.
+double distance_to_segment(const geometry::Configuration& config, const dataset::Label& label, SurfaceKind kind) {
+  if (label.status != Status::kOk && label.status != Status::kOutside) return std::numeric_limits<double>::infinity();
+  if (geometry::surface_defect(config, kind)) return std::numeric_limits<double>::infinity();
+  const ParamDomain d = param_domain(kind);
+  const double s = std::clamp(label.param[0], d.lo, d.hi);
+  const double t = std::clamp(label.param[1], d.lo, d.hi);
+  return geometry::with_surface(config, kind, [&](const auto& surface) {
+    return (config.slave - surface.position(s, t)).norm();
+  });
+}
+
+}  // namespace
+
+NodeSegmentPair pair_at_nearest_node(const mesh::SurfaceMesh& master, std::span<const Vec3> master_normals,
+                                     long slave_id, const Vec3& slave, int nearest_node,
+                                     const SearchOptions& options) {
+  const bool gregory = options.surface == SurfaceKind::kGregory;
+  CONTACTNN_REQUIRE(!gregory || master_normals.size() == master.positions.size(),
+                    "Gregory search needs one node normal per master node: " << master_normals.size() << " for "
+                                                                              << master.positions.size());
+  NodeSegmentPair best;
+  best.slave_id = slave_id;
+  best.nearest_node = nearest_node;
+  if (nearest_node < 0) return best;
+  const auto at = [&](int n) -> const Vec3& { return master.positions[static_cast<std::size_t>(n)]; };
+
+  double best_distance = std::numeric_limits<double>::infinity();
+  bool best_inside = false;
+  for (int s : master.segments_of(nearest_node)) {
+    const auto& quad = master.segments[static_cast<std::size_t>(s)];
+    const auto k = static_cast<int>(std::find(quad.begin(), quad.end(), nearest_node) - quad.begin());
+    std::array<int, 4> nodes{};
+    for (int i = 0; i < 4; ++i) nodes[static_cast<std::size_t>(i)] = quad[static_cast<std::size_t>((k + i) % 4)];
+    if (!passes_segment_test_at_corner(at(nodes[0]), at(nodes[1]), at(nodes[3]), slave,
+                                       options.segment_test_tolerance)) {
+      continue;
+    }
+    ++best.candidates;
+    NodeSegmentPair candidate;
+    candidate.nodes = nodes;
+    candidate.segment = s;
+    for (int i = 0; i < 4; ++i) {
+      const auto n = static_cast<std::size_t>(nodes[static_cast<std::size_t>(i)]);
+      candidate.config.nodes[static_cast<std::size_t>(i)] = master.positions[n];
+      candidate.config.normals[static_cast<std::size_t>(i)] = gregory ? master_normals[n] : Vec3::Zero();
+    }
+    candidate.config.slave = slave;
+    candidate.label = dataset::label_configuration(candidate.config, options.surface, options.projection);
+    const bool inside = candidate.label.status == Status::kOk;
+    const double distance = distance_to_segment(candidate.config, candidate.label, options.surface);
+    double longest_edge = 0.0;
+    for (int i = 0; i < 4; ++i) {
+      longest_edge = std::max(longest_edge, (at(nodes[static_cast<std::size_t>(i)]) -
+                                             at(nodes[static_cast<std::size_t>((i + 1) % 4)])).norm());
+    }
+    // Inside beats outside; then strictly nearer (beyond the tie tolerance) wins; ties keep the earlier.
+    const bool better = best.segment < 0 || (inside && !best_inside) ||
+                        (inside == best_inside &&
+                         distance < best_distance - options.distance_tie_tolerance * longest_edge);
+    if (better) {
+      const int candidates = best.candidates;
+      best.segment = candidate.segment;
+      best.nodes = candidate.nodes;
+      best.config = candidate.config;
+      best.label = candidate.label;
+      best.candidates = candidates;
+      best_distance = distance;
+      best_inside = inside;
+    }
+  }
+  best.status = best.segment >= 0 ? PairStatus::kFound : PairStatus::kNoSegment;
+  return best;
+}
+
+std::vector<NodeSegmentPair> global_search(const mesh::SurfaceMesh& master, std::span<const Vec3> master_normals,
+                                           std::span<const long> slave_ids, std::span<const Vec3> slave_positions,
+                                           const SearchOptions& options) {
+  CONTACTNN_REQUIRE(slave_ids.size() == slave_positions.size(),
+                    slave_ids.size() << " slave ids for " << slave_positions.size() << " positions");
+  // Checked here: an exception must not leave the parallel loop.
+  CONTACTNN_REQUIRE(options.surface != SurfaceKind::kGregory || master_normals.size() == master.positions.size(),
+                    "Gregory search needs one node normal per master node: " << master_normals.size() << " for "
+                                                                              << master.positions.size());
+  const auto n = static_cast<long>(slave_ids.size());
+  std::vector<NodeSegmentPair> pairs(static_cast<std::size_t>(n));
+  const bool tree = options.nearest == NearestNodeMethod::kTree;
+  const NearestPointTree index(tree ? std::span<const Vec3>(master.positions) : std::span<const Vec3>());
+#pragma omp parallel for schedule(dynamic, 16)
+  for (long i = 0; i < n; ++i) {
+    const auto u = static_cast<std::size_t>(i);
+    const int nearest =
+        tree ? index.nearest(slave_positions[u]) : nearest_point_brute_force(master.positions, slave_positions[u]);
+    pairs[u] = pair_at_nearest_node(master, master_normals, slave_ids[u], slave_positions[u], nearest, options);
+  }
+  return pairs;
+}
+
+}  // namespace contactnn::contact

@@ -1,0 +1,41 @@
+// A scene: one contact pair of a deck made ready for the global search, and the search's result with its
+// shape statistics (what `gen-configs --scene` reports, SPEC 7).
+#pragma once
+
+#include <array>
+#include <string>
+#include <vector>
+
+#include "contact/global_search.hpp"
+#include "contact/shape_statistics.hpp"
+#include "mesh/contact_model.hpp"
+
+namespace contactnn::contact {
+
+struct Scene {
+  int pair = 0;                       ///< K, the *CONTACT PAIR data line (from 0)
+  std::string slave_name, master_name;
+  std::string where;                  ///< "'file':line" of the pair's data line
+  mesh::SurfaceMesh master;           ///< segments oriented outward
+  std::vector<Vec3> master_normals;   ///< unit node normals of Eq 26 (zero where a node has none)
+  mesh::SlaveNodes slaves;            ///< slave nodes in increasing id, skipped slave faces
+  std::vector<long> slave_ids;        ///< deck ids of slaves.nodes
+  std::vector<Vec3> slave_positions;
+};
+
+/// The scene of pair `k` of `model`: master surface, its node normals, slave nodes (SPEC 7).
+/// Errors of mesh::contact_pair, mesh::master_surface and mesh::slave_nodes.
+[[nodiscard]] Scene make_scene(const mesh::ContactModel& model, int k);
+
+struct SceneResult {
+  std::vector<NodeSegmentPair> pairs;  ///< one per slave node, in increasing slave id
+  long found = 0;                      ///< pairs with status kFound
+  long no_segment = 0;                 ///< pairs with status kNoSegment
+  std::array<long, kStatusCount> label_status_counts{};  ///< labels of the found pairs, by Status
+  ShapeStatistics statistics;          ///< over the found pairs
+};
+
+/// Global search over every slave node of the scene, counts and statistics.
+[[nodiscard]] SceneResult search_scene(const Scene& scene, const SearchOptions& options);
+
+}  // namespace contactnn::contact

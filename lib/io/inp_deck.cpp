@@ -1,0 +1,677 @@
+#include "io/inp_deck.hpp"
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <fstream>
+#include <memory>
+#include <optional>
+#include <sstream>
+#include <unordered_map>
+
+#include "core/error.hpp"
+
+namespace contactnn::io {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+// A GENERATE line expanding to more ids than this is taken for a typo, not for a mesh.
+constexpr long kMaxGeneratedIds = 100'000'000;
+
+std::string_view trim(std::string_view s) {
+  while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
+  while (!s.empty() && (s.back() == ' ' || s.back() == '\t')) s.remove_suffix(1);
+  return s;
+}
+
+std::string upper(std::string_view s) {
+  std::string out(s);
+  for (char& c : out) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+  return out;
+}
+
+/// Upper case without blanks: how keywords and parameter names compare ("Contact Pair" = "CONTACTPAIR").
+std::string keyword_form(std::string_view s) {
+  std::string out;
+  for (char c : s) {
+    if (c != ' ' && c != '\t') out.push_back(static_cast<char>(std::toupper(static_cast<unsigned char>(c))));
+  }
+  return out;
+}
+
+/// Comma-separated fields, trimmed; commas inside double quotes do not split. Empty fields are kept.
+std::vector<std::string_view> split_fields(std::string_view line) {
+  std::vector<std::string_view> fields;
+  std::size_t start = 0;
+  bool quoted = false;
+  for (std::size_t i = 0; i <= line.size(); ++i) {
+    if (i < line.size() && line[i] == '"') quoted = !quoted;
+    if (i == line.size() || (line[i] == ',' && !quoted)) {
+      fields.push_back(trim(line.substr(start, i - start)));
+      start = i + 1;
+    }
+  }
+  return fields;
+}
+
+std::vector<std::string_view> non_empty(const std::vector<std::string_view>& fields) {
+  std::vector<std::string_view> out;
+  for (auto f : fields) {
+    if (!f.empty()) out.push_back(f);
+  }
+  return out;
+}
+
+std::string unquote(std::string_view s) {
+  s = trim(s);
+  if (s.size() >= 2 && s.front() == '"' && s.back() == '"') s = s.substr(1, s.size() - 2);
+  return std::string(s);
+}
+
+/// A whole field as a positive integer id.
+bool parse_id(std::string_view field, long& id) {
+  if (!field.empty() && field.front() == '+') field.remove_prefix(1);
+  const char* end = field.data() + field.size();
+  const auto r = std::from_chars(field.data(), end, id);
+  return r.ec == std::errc() && r.ptr == end && !field.empty();
+}
+
+/// A whole field as a finite number; a Fortran D exponent (1.5D+03) is accepted.
+bool parse_coordinate(std::string_view field, double& value) {
+  std::string text(field);
+  for (char& c : text) {
+    if (c == 'd' || c == 'D') c = 'e';
+  }
+  std::string_view v = text;
+  if (!v.empty() && v.front() == '+') v.remove_prefix(1);
+  if (v.empty() || v.front() == '+') return false;
+  const char* end = v.data() + v.size();
+  const auto r = std::from_chars(v.data(), end, value);
+  return r.ec == std::errc() && r.ptr == end && std::isfinite(value);
+}
+
+/// S1..S99 -> 1..99; SPOS -> -1, SNEG -> -2 (shell faces: counted, never segments); 0 if not a face label.
+int parse_face_label(std::string_view field) {
+  const std::string u = upper(field);
+  if (u == "SPOS") return -1;
+  if (u == "SNEG") return -2;
+  if (u.size() < 2 || u.size() > 3 || u[0] != 'S') return 0;
+  int face = 0;
+  const auto r = std::from_chars(u.data() + 1, u.data() + u.size(), face);
+  if (r.ec != std::errc() || r.ptr != u.data() + u.size() || face < 1) return 0;
+  return face;
+}
+
+struct Location {
+  int file = -1;
+  long line = 0;
+};
+
+/// Keyword parameters: NAME=VALUE or NAME, names compared in keyword_form.
+struct Parameters {
+  std::vector<std::pair<std::string, std::string>> entries;  // (keyword_form(name), value as written)
+
+  [[nodiscard]] std::optional<std::string> get(std::string_view name) const {
+    for (const auto& [key, value] : entries) {
+      if (key == name) return value;
+    }
+    return std::nullopt;
+  }
+  [[nodiscard]] bool has(std::string_view name) const { return get(name).has_value(); }
+};
+
+struct NamedSet {
+  std::string name;  // as first written
+  std::vector<long> ids;
+  Location where;
+};
+
+struct PendingElement {
+  long id = 0;
+  int type = 0;                  // index into Reader::types_
+  std::size_t begin = 0, end = 0;  // node ids in Reader::element_node_ids_
+  Location where;
+};
+
+struct SurfaceEntry {
+  std::string reference;  // element / node id or set name, as written
+  int face = 0;           // element surfaces: 1.. or -1/-2 (SPOS/SNEG)
+  Location where;
+};
+
+struct PendingSurface {
+  std::string name;
+  mesh::SurfaceType type = mesh::SurfaceType::kElement;
+  std::string type_text;
+  std::vector<SurfaceEntry> entries;
+  Location where;
+};
+
+struct PendingPair {
+  std::string slave, master;
+  bool node_to_surface = true;
+  Location where;
+};
+
+enum class Block { kSkip, kNode, kElement, kNset, kElset, kSurface, kContactPair };
+
+class DeckReader {
+ public:
+  mesh::ContactModel read(std::string text, const fs::path& name) {
+    push_source(std::move(text), name, canonical_or_empty(name));
+    std::string_view line;
+    Location loc;
+    while (next_line(line, loc)) {
+      const std::string_view t = trim(line);
+      if (t.empty() || t.substr(0, 2) == "**") continue;
+      if (t.front() == '*') {
+        keyword(t, loc);
+      } else {
+        data(t, loc);
+      }
+    }
+    finish_element(true);
+    return resolve();
+  }
+
+ private:
+  // ---- Sources: the deck and its includes, a stack of texts read line by line -------------------------
+  struct Source {
+    std::string text;
+    std::size_t pos = 0;
+    long line = 0;
+    int file = 0;
+    fs::path canonical;
+  };
+  std::vector<std::unique_ptr<Source>> stack_;
+  std::vector<std::string> file_names_;
+
+  static fs::path canonical_or_empty(const fs::path& p) {
+    std::error_code ec;
+    fs::path c = fs::weakly_canonical(p, ec);
+    return ec ? fs::path() : c;
+  }
+
+  void push_source(std::string text, const fs::path& name, fs::path canonical) {
+    auto source = std::make_unique<Source>();
+    source->text = std::move(text);
+    if (source->text.substr(0, 3) == "\xEF\xBB\xBF") source->pos = 3;
+    source->file = static_cast<int>(file_names_.size());
+    source->canonical = std::move(canonical);
+    file_names_.push_back(name.string());
+    stack_.push_back(std::move(source));
+  }
+
+  /// Reads the file `input` (INPUT= of the line at `loc`) and makes it the current source.
+  void push_file(const std::string& input, Location loc, std::string_view keyword_name) {
+    fs::path target(input);
+    if (target.is_relative()) target = fs::path(file_names_[static_cast<std::size_t>(loc.file)]).parent_path() / target;
+    target = target.lexically_normal();
+    const fs::path canonical = canonical_or_empty(target);
+    for (const auto& source : stack_) {
+      if (!canonical.empty() && source->canonical == canonical) {
+        std::string chain;
+        for (const auto& s : stack_) chain += file_names_[static_cast<std::size_t>(s->file)] + " -> ";
+        fail(loc, keyword_name, "'" + input + "' is already being read (an include loop: " + chain +
+                                    target.string() + ")");
+      }
+    }
+    std::ifstream in(target, std::ios::binary);
+    if (!in) {
+      throw IoError(where(loc) + ": " + std::string(keyword_name) + ": cannot open INPUT='" + input + "' (" +
+                    target.string() + ")");
+    }
+    std::ostringstream content;
+    content << in.rdbuf();
+    push_source(content.str(), target, canonical);
+  }
+
+  bool next_line(std::string_view& line, Location& loc) {
+    while (!stack_.empty()) {
+      Source& s = *stack_.back();
+      if (s.pos >= s.text.size()) {
+        stack_.pop_back();
+        continue;
+      }
+      std::size_t end = s.text.find('\n', s.pos);
+      if (end == std::string::npos) end = s.text.size();
+      line = std::string_view(s.text).substr(s.pos, end - s.pos);
+      if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
+      s.pos = end + 1;
+      loc = {s.file, ++s.line};
+      return true;
+    }
+    return false;
+  }
+
+  [[nodiscard]] std::string where(Location loc) const {
+    return "'" + file_names_[static_cast<std::size_t>(loc.file)] + "':" + std::to_string(loc.line);
+  }
+
+  [[noreturn]] void fail(Location loc, std::string_view keyword_name, const std::string& message) const {
+    throw FormatError(where(loc) + ": " + std::string(keyword_name) + ": " + message);
+  }
+
+  // ---- Keyword lines ------------------------------------------------------------------------------------
+  Block block_ = Block::kSkip;
+  std::string keyword_;       // "*NODE", for messages
+  std::string target_set_;    // NSET= / ELSET= of *NODE, *ELEMENT, *NSET, *ELSET (keyword_form), or ""
+  bool generate_ = false;
+  int element_type_ = -1;
+  int surface_ = -1;
+  bool node_to_surface_ = true;
+
+  void keyword(std::string_view line, Location loc) {
+    const std::vector<std::string_view> fields = split_fields(line.substr(1));
+    const std::string name = keyword_form(fields[0]);
+    Parameters params;
+    for (std::size_t i = 1; i < fields.size(); ++i) {
+      if (fields[i].empty()) continue;
+      const std::size_t eq = fields[i].find('=');
+      if (eq == std::string_view::npos) {
+        params.entries.emplace_back(keyword_form(fields[i]), "");
+      } else {
+        params.entries.emplace_back(keyword_form(fields[i].substr(0, eq)), unquote(fields[i].substr(eq + 1)));
+      }
+    }
+    const std::string shown = "*" + name;
+    // The included lines take the place of the *INCLUDE line: the current block goes on.
+    if (name == "INCLUDE") {
+      const auto input = params.get("INPUT");
+      if (!input || input->empty()) fail(loc, shown, "missing INPUT=");
+      push_file(*input, loc, shown);
+      return;
+    }
+    finish_element(true);
+    keyword_ = shown;
+    block_ = Block::kSkip;
+    target_set_.clear();
+    generate_ = params.has("GENERATE");
+    const auto required = [&](std::string_view parameter) {
+      const auto value = params.get(parameter);
+      if (!value || value->empty()) fail(loc, shown, "missing " + std::string(parameter) + "=");
+      return *value;
+    };
+    if (name == "NODE") {
+      block_ = Block::kNode;
+      if (const auto system = params.get("SYSTEM"); system && keyword_form(*system) != "R") {
+        fail(loc, shown, "SYSTEM=" + *system + " is not supported (only rectangular coordinates, SYSTEM=R)");
+      }
+      if (const auto set = params.get("NSET")) target_set_ = define_set(nsets_, *set, loc);
+    } else if (name == "ELEMENT") {
+      block_ = Block::kElement;
+      element_type_ = type_index(required("TYPE"));
+      if (const auto set = params.get("ELSET")) target_set_ = define_set(elsets_, *set, loc);
+    } else if (name == "NSET") {
+      block_ = Block::kNset;
+      target_set_ = define_set(nsets_, required("NSET"), loc);
+      if (const auto elset = params.get("ELSET")) nodes_of_element_set(*elset, loc);
+    } else if (name == "ELSET") {
+      block_ = Block::kElset;
+      target_set_ = define_set(elsets_, required("ELSET"), loc);
+    } else if (name == "SURFACE") {
+      block_ = Block::kSurface;
+      surface_ = define_surface(required("NAME"), params.get("TYPE").value_or("ELEMENT"), loc);
+    } else if (name == "CONTACTPAIR") {
+      block_ = Block::kContactPair;
+      const auto type = params.get("TYPE");
+      node_to_surface_ = !type || keyword_form(*type) == "NODETOSURFACE";
+    }
+    if (block_ != Block::kSkip && block_ != Block::kSurface && block_ != Block::kContactPair) {
+      if (const auto input = params.get("INPUT")) push_file(*input, loc, shown);
+    }
+  }
+
+  // ---- Data lines ---------------------------------------------------------------------------------------
+  void data(std::string_view line, Location loc) {
+    switch (block_) {
+      case Block::kSkip: return;
+      case Block::kNode: return node_line(line, loc);
+      case Block::kElement: return element_line(line, loc);
+      case Block::kNset: return set_line(nsets_, "node", line, loc);
+      case Block::kElset: return set_line(elsets_, "element", line, loc);
+      case Block::kSurface: return surface_line(line, loc);
+      case Block::kContactPair: return pair_line(line, loc);
+    }
+  }
+
+  long id_field(std::string_view field, std::size_t index, Location loc, std::string_view what) const {
+    long id = 0;
+    if (!parse_id(field, id) || id <= 0) {
+      fail(loc, keyword_, "field " + std::to_string(index + 1) + ": '" + std::string(field) + "' is not a " +
+                              std::string(what) + " (a positive integer)");
+    }
+    return id;
+  }
+
+  // Nodes go straight into the mesh; where each was defined is kept for the duplicate message.
+  mesh::ContactModel model_;
+  std::vector<Location> node_where_;
+
+  void node_line(std::string_view line, Location loc) {
+    const std::vector<std::string_view> f = split_fields(line);
+    const long id = id_field(f[0], 0, loc, "node id");
+    if (f.size() < 2) fail(loc, keyword_, "node " + std::to_string(id) + " has no coordinates");
+    mesh::Vec3 x = mesh::Vec3::Zero();
+    for (std::size_t k = 1; k < f.size() && k <= 3; ++k) {
+      if (f[k].empty()) continue;  // a blank coordinate is 0, as in Abaqus
+      double value = 0.0;
+      if (!parse_coordinate(f[k], value)) {
+        fail(loc, keyword_, "node " + std::to_string(id) + ": field " + std::to_string(k + 1) + ": '" +
+                                std::string(f[k]) + "' is not a finite number");
+      }
+      x[static_cast<Eigen::Index>(k - 1)] = value;
+    }
+    const int existing = model_.mesh.find_node(id);
+    if (existing >= 0) {
+      if (model_.mesh.position(existing) != x) {
+        fail(loc, keyword_, "node " + std::to_string(id) + " is defined again with other coordinates (first at " +
+                                where(node_where_[static_cast<std::size_t>(existing)]) + ")");
+      }
+    } else {
+      model_.mesh.add_node(id, x);
+      node_where_.push_back(loc);
+    }
+    if (!target_set_.empty()) nsets_[target_set_].ids.push_back(id);
+  }
+
+  // Elements are resolved at the end (their nodes may be defined later).
+  std::vector<mesh::ElementType> types_;
+  std::vector<PendingElement> elements_;
+  std::vector<long> element_node_ids_;
+  std::unordered_map<long, std::size_t> element_by_id_;
+  bool element_open_ = false;
+  PendingElement current_;
+
+  int type_index(const std::string& name) {
+    const mesh::ElementType type = mesh::element_type(name);
+    for (std::size_t i = 0; i < types_.size(); ++i) {
+      if (types_[i].name == type.name) return static_cast<int>(i);
+    }
+    types_.push_back(type);
+    return static_cast<int>(types_.size() - 1);
+  }
+
+  void element_line(std::string_view line, Location loc) {
+    const std::vector<std::string_view> f = non_empty(split_fields(line));
+    if (f.empty()) return;
+    std::size_t first = 0;
+    if (!element_open_) {
+      current_ = {};
+      current_.id = id_field(f[0], 0, loc, "element id");
+      current_.type = element_type_;
+      current_.begin = current_.end = element_node_ids_.size();
+      current_.where = loc;
+      element_open_ = true;
+      first = 1;
+    }
+    for (std::size_t i = first; i < f.size(); ++i) {
+      element_node_ids_.push_back(id_field(f[i], i, loc, "node id"));
+      ++current_.end;
+    }
+    const mesh::ElementType& type = types_[static_cast<std::size_t>(current_.type)];
+    const auto count = static_cast<int>(current_.end - current_.begin);
+    if (type.node_count > 0) {
+      if (count > type.node_count) {
+        fail(loc, keyword_, "element " + std::to_string(current_.id) + " (" + type.name + ") has " +
+                                std::to_string(count) + " node ids, expected " + std::to_string(type.node_count));
+      }
+      if (count == type.node_count) finish_element(false);
+    } else if (line.back() != ',') {
+      finish_element(false);
+    }
+  }
+
+  /// Closes the open element. At a keyword (`at_keyword`), an element still short of nodes is an error.
+  void finish_element(bool at_keyword) {
+    if (!element_open_) return;
+    element_open_ = false;
+    const mesh::ElementType& type = types_[static_cast<std::size_t>(current_.type)];
+    const auto count = static_cast<int>(current_.end - current_.begin);
+    if (at_keyword && type.node_count > 0 && count < type.node_count) {
+      fail(current_.where, "*ELEMENT",
+           "element " + std::to_string(current_.id) + " (" + type.name + ") has " + std::to_string(count) +
+               " node ids before the next keyword, expected " + std::to_string(type.node_count));
+    }
+    if (count == 0) fail(current_.where, "*ELEMENT", "element " + std::to_string(current_.id) + " has no nodes");
+    const auto [it, inserted] = element_by_id_.emplace(current_.id, elements_.size());
+    if (!inserted) {
+      const PendingElement& old = elements_[it->second];
+      const bool same = old.type == current_.type && old.end - old.begin == current_.end - current_.begin &&
+                        std::equal(element_node_ids_.begin() + static_cast<long>(old.begin),
+                                   element_node_ids_.begin() + static_cast<long>(old.end),
+                                   element_node_ids_.begin() + static_cast<long>(current_.begin));
+      if (!same) {
+        fail(current_.where, "*ELEMENT", "element " + std::to_string(current_.id) +
+                                             " is defined again differently (first at " + where(old.where) + ")");
+      }
+      element_node_ids_.resize(current_.begin);
+    } else {
+      elements_.push_back(current_);
+    }
+    if (!target_set_.empty()) elsets_[target_set_].ids.push_back(current_.id);
+  }
+
+  // ---- Sets: resolved when read (a set named inside a set contributes what it holds at that line) --------
+  std::unordered_map<std::string, NamedSet> nsets_, elsets_;
+
+  static std::string define_set(std::unordered_map<std::string, NamedSet>& sets, const std::string& name,
+                                Location loc) {
+    std::string key = upper(trim(name));
+    auto [it, inserted] = sets.try_emplace(key);
+    if (inserted) it->second = {std::string(trim(name)), {}, loc};
+    return key;
+  }
+
+  void set_line(std::unordered_map<std::string, NamedSet>& sets, std::string_view kind, std::string_view line,
+                Location loc) {
+    const std::vector<std::string_view> f = non_empty(split_fields(line));
+    std::vector<long>& ids = sets[target_set_].ids;
+    if (generate_) {
+      if (f.size() < 2 || f.size() > 3) {
+        fail(loc, keyword_, "GENERATE needs 'first, last[, increment]', got " + std::to_string(f.size()) + " fields");
+      }
+      const long first = id_field(f[0], 0, loc, std::string(kind) + " id");
+      const long last = id_field(f[1], 1, loc, std::string(kind) + " id");
+      const long step = f.size() == 3 ? id_field(f[2], 2, loc, "increment") : 1;
+      if (last < first || (last - first) / step >= kMaxGeneratedIds) {
+        fail(loc, keyword_, "GENERATE range " + std::to_string(first) + ".." + std::to_string(last) + " step " +
+                                std::to_string(step) + " is empty or too long");
+      }
+      for (long id = first; id <= last; id += step) ids.push_back(id);
+      return;
+    }
+    for (std::size_t i = 0; i < f.size(); ++i) {
+      long id = 0;
+      if (parse_id(f[i], id)) {
+        if (id <= 0) id_field(f[i], i, loc, std::string(kind) + " id");
+        ids.push_back(id);
+        continue;
+      }
+      const auto it = sets.find(upper(f[i]));
+      if (it == sets.end()) {
+        fail(loc, keyword_, "field " + std::to_string(i + 1) + ": unknown " + std::string(kind) + " set '" +
+                                std::string(f[i]) + "'");
+      }
+      const std::vector<long> copy = it->second.ids;  // the set may be the one being extended
+      ids.insert(ids.end(), copy.begin(), copy.end());
+    }
+  }
+
+  void nodes_of_element_set(const std::string& elset, Location loc) {
+    const auto it = elsets_.find(upper(trim(elset)));
+    if (it == elsets_.end()) fail(loc, keyword_, "ELSET=" + elset + ": unknown element set");
+    std::vector<long>& ids = nsets_[target_set_].ids;
+    for (long e : it->second.ids) {
+      const auto el = element_by_id_.find(e);
+      if (el == element_by_id_.end()) {
+        fail(loc, keyword_, "ELSET=" + elset + " holds element " + std::to_string(e) + ", which is not defined");
+      }
+      const PendingElement& p = elements_[el->second];
+      ids.insert(ids.end(), element_node_ids_.begin() + static_cast<long>(p.begin),
+                 element_node_ids_.begin() + static_cast<long>(p.end));
+    }
+  }
+
+  // ---- Surfaces and pairs: names resolved at the end --------------------------------------------------
+  std::vector<PendingSurface> surfaces_;
+  std::unordered_map<std::string, int> surface_by_key_;  // upper(name) + "\n" + type
+  std::vector<PendingPair> pairs_;
+
+  int define_surface(const std::string& raw_name, const std::string& type_text, Location loc) {
+    const std::string type_key = keyword_form(type_text);
+    mesh::SurfaceType type = mesh::SurfaceType::kUnsupported;
+    if (type_key == "ELEMENT") type = mesh::SurfaceType::kElement;
+    if (type_key == "NODE") type = mesh::SurfaceType::kNode;
+    const std::string name(trim(raw_name));
+    const std::string key = upper(name) + "\n" + (type == mesh::SurfaceType::kUnsupported ? "OTHER" : type_key);
+    const auto [it, inserted] = surface_by_key_.emplace(key, static_cast<int>(surfaces_.size()));
+    if (inserted) surfaces_.push_back({name, type, type_text, {}, loc});
+    return it->second;
+  }
+
+  void surface_line(std::string_view line, Location loc) {
+    PendingSurface& s = surfaces_[static_cast<std::size_t>(surface_)];
+    if (s.type == mesh::SurfaceType::kUnsupported) return;
+    const std::vector<std::string_view> f = non_empty(split_fields(line));
+    if (f.empty()) return;
+    SurfaceEntry entry{std::string(f[0]), 0, loc};
+    if (s.type == mesh::SurfaceType::kElement) {
+      if (f.size() < 2) {
+        fail(loc, keyword_, "surface '" + s.name + "': '" + std::string(f[0]) +
+                                "' needs a face label (S1..S6) in field 2");
+      }
+      entry.face = parse_face_label(f[1]);
+      if (entry.face == 0) {
+        fail(loc, keyword_, "surface '" + s.name + "': field 2: '" + std::string(f[1]) +
+                                "' is not a face label (S1..S6)");
+      }
+    }
+    s.entries.push_back(std::move(entry));
+  }
+
+  void pair_line(std::string_view line, Location loc) {
+    const std::vector<std::string_view> f = non_empty(split_fields(line));
+    if (f.size() != 2) {
+      fail(loc, keyword_, "expected 'slave surface, master surface', got " + std::to_string(f.size()) + " fields");
+    }
+    pairs_.push_back({std::string(f[0]), std::string(f[1]), node_to_surface_, loc});
+  }
+
+  // ---- Resolution ---------------------------------------------------------------------------------------
+  mesh::ContactModel resolve() {
+    mesh::SolidMesh& mesh = model_.mesh;
+    std::vector<int> nodes;
+    for (const PendingElement& e : elements_) {
+      nodes.clear();
+      for (std::size_t i = e.begin; i < e.end; ++i) {
+        const int n = mesh.find_node(element_node_ids_[i]);
+        if (n < 0) {
+          fail(e.where, "*ELEMENT", "element " + std::to_string(e.id) + ": node " +
+                                        std::to_string(element_node_ids_[i]) + " (node " +
+                                        std::to_string(i - e.begin + 1) + " of the element) is not defined");
+        }
+        nodes.push_back(n);
+      }
+      mesh.add_element(e.id, types_[static_cast<std::size_t>(e.type)], nodes);
+    }
+    for (const PendingSurface& s : surfaces_) model_.surfaces.push_back(resolve_surface(s));
+    for (const PendingPair& p : pairs_) {
+      mesh::ContactPairDefinition pair;
+      pair.slave_name = p.slave;
+      pair.master_name = p.master;
+      pair.node_to_surface = p.node_to_surface;
+      pair.where = where(p.where);
+      const int slave_node = find_surface(p.slave, "NODE");
+      const int slave_element = find_surface(p.slave, "ELEMENT");
+      const int master_element = find_surface(p.master, "ELEMENT");
+      const int master_node = find_surface(p.master, "NODE");
+      pair.slave = p.node_to_surface && slave_node >= 0 ? slave_node
+                   : slave_element >= 0                  ? slave_element
+                   : slave_node >= 0                     ? slave_node
+                                                         : find_surface(p.slave, "OTHER");
+      pair.master = master_element >= 0 ? master_element : master_node >= 0 ? master_node : find_surface(p.master, "OTHER");
+      if (pair.slave < 0) fail(p.where, "*CONTACT PAIR", "unknown slave surface '" + p.slave + "' (field 1)");
+      if (pair.master < 0) fail(p.where, "*CONTACT PAIR", "unknown master surface '" + p.master + "' (field 2)");
+      model_.pairs.push_back(std::move(pair));
+    }
+    return std::move(model_);
+  }
+
+  [[nodiscard]] int find_surface(const std::string& name, const std::string& type) const {
+    const auto it = surface_by_key_.find(upper(trim(name)) + "\n" + type);
+    return it == surface_by_key_.end() ? -1 : it->second;
+  }
+
+  mesh::SurfaceDefinition resolve_surface(const PendingSurface& s) const {
+    mesh::SurfaceDefinition out;
+    out.name = s.name;
+    out.type = s.type;
+    out.type_text = s.type_text;
+    out.where = where(s.where);
+    const mesh::SolidMesh& mesh = model_.mesh;
+    for (const SurfaceEntry& entry : s.entries) {
+      const std::string context = "surface '" + s.name + "'";
+      std::vector<long> ids;
+      std::string from_set;
+      long id = 0;
+      if (parse_id(entry.reference, id)) {
+        ids.push_back(id);
+      } else {
+        const auto& sets = s.type == mesh::SurfaceType::kNode ? nsets_ : elsets_;
+        const auto it = sets.find(upper(entry.reference));
+        if (it == sets.end()) {
+          fail(entry.where, "*SURFACE", context + ": field 1: unknown " +
+                                            (s.type == mesh::SurfaceType::kNode ? "node" : "element") + " set '" +
+                                            entry.reference + "'");
+        }
+        ids = it->second.ids;
+        from_set = " (in set '" + it->second.name + "', " + where(it->second.where) + ")";
+      }
+      for (long i : ids) {
+        if (s.type == mesh::SurfaceType::kNode) {
+          const int n = mesh.find_node(i);
+          if (n < 0) fail(entry.where, "*SURFACE", context + ": node " + std::to_string(i) + from_set + " is not defined");
+          out.nodes.push_back(n);
+          continue;
+        }
+        const int e = mesh.find_element(i);
+        if (e < 0) fail(entry.where, "*SURFACE", context + ": element " + std::to_string(i) + from_set + " is not defined");
+        const mesh::ElementType& type = mesh.element_type(e);
+        const bool shell_label = entry.face < 0;
+        if (type.face_count > 0 && (shell_label || entry.face > type.face_count)) {
+          fail(entry.where, "*SURFACE", context + ": element " + std::to_string(i) + from_set + " is a " + type.name +
+                                            ", whose faces are S1..S" + std::to_string(type.face_count) +
+                                            "; the face label says " +
+                                            (shell_label ? std::string(entry.face == -1 ? "SPOS" : "SNEG")
+                                                         : "S" + std::to_string(entry.face)));
+        }
+        out.faces.push_back({e, entry.face});
+      }
+    }
+    return out;
+  }
+};
+
+std::string read_whole_file(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw IoError("cannot open deck '" + path.string() + "'");
+  std::ostringstream content;
+  content << in.rdbuf();
+  if (in.bad()) throw IoError("cannot read deck '" + path.string() + "'");
+  return content.str();
+}
+
+}  // namespace
+
+mesh::ContactModel read_inp_deck(const std::filesystem::path& path) {
+  return DeckReader().read(read_whole_file(path), path);
+}
+
+mesh::ContactModel parse_inp_deck(std::string_view text, const std::filesystem::path& name) {
+  return DeckReader().read(std::string(text), name);
+}
+
+}  // namespace contactnn::io

@@ -1,0 +1,71 @@
+#include "mesh/contact_model.hpp"
+
+#include <algorithm>
+
+#include "core/error.hpp"
+
+namespace contactnn::mesh {
+
+namespace {
+
+const SurfaceDefinition& surface_of(const ContactModel& model, const ContactPairDefinition& pair, bool master) {
+  const int index = master ? pair.master : pair.slave;
+  CONTACTNN_REQUIRE(index >= 0 && index < static_cast<int>(model.surfaces.size()),
+                    "contact pair at " << pair.where << " has no resolved " << (master ? "master" : "slave")
+                                       << " surface");
+  const SurfaceDefinition& surface = model.surfaces[static_cast<std::size_t>(index)];
+  CONTACTNN_REQUIRE_AS(FormatError, surface.type != SurfaceType::kUnsupported,
+                       pair.where << ": *CONTACT PAIR: " << (master ? "master" : "slave") << " surface '"
+                                  << surface.name << "' (" << surface.where << ") has TYPE=" << surface.type_text
+                                  << ", which contactnn does not read (SPEC 7: ELEMENT or NODE)");
+  CONTACTNN_REQUIRE_AS(FormatError, !master || surface.type == SurfaceType::kElement,
+                       pair.where << ": *CONTACT PAIR: master surface '" << surface.name << "' (" << surface.where
+                                  << ") is a node surface; a master surface needs faces (TYPE=ELEMENT)");
+  return surface;
+}
+
+}  // namespace
+
+const ContactPairDefinition& contact_pair(const ContactModel& model, int k) {
+  const auto count = static_cast<int>(model.pairs.size());
+  CONTACTNN_REQUIRE_AS(InvalidArgument, count > 0, "the deck has no *CONTACT PAIR");
+  CONTACTNN_REQUIRE_AS(InvalidArgument, k >= 0 && k < count,
+                       "contact pair " << k << " does not exist: the deck has " << count
+                                       << " (*CONTACT PAIR data lines, counted from 0: 0.." << count - 1 << ")");
+  return model.pairs[static_cast<std::size_t>(k)];
+}
+
+SurfaceMesh master_surface(const ContactModel& model, int k) {
+  const ContactPairDefinition& pair = contact_pair(model, k);
+  const SurfaceDefinition& surface = surface_of(model, pair, true);
+  return build_surface_mesh(model.mesh, surface.faces);
+}
+
+SlaveNodes slave_nodes(const ContactModel& model, int k, const SurfaceMesh& master) {
+  const ContactPairDefinition& pair = contact_pair(model, k);
+  const SurfaceDefinition& surface = surface_of(model, pair, false);
+  SlaveNodes slaves;
+  std::vector<int> nodes;
+  if (surface.type == SurfaceType::kNode) {
+    nodes = surface.nodes;
+  } else {
+    // The element surface's own segments: the same rules as for a master (skipped faces give no node).
+    const SurfaceMesh slave_surface = build_surface_mesh(model.mesh, surface.faces);
+    nodes = slave_surface.mesh_nodes;
+    slaves.skipped_faces = slave_surface.skipped_faces;
+  }
+  const SolidMesh& mesh = model.mesh;
+  std::sort(nodes.begin(), nodes.end(), [&](int a, int b) { return mesh.node_id(a) < mesh.node_id(b); });
+  nodes.erase(std::unique(nodes.begin(), nodes.end()), nodes.end());
+  for (int n : nodes) {
+    if (std::binary_search(master.mesh_nodes.begin(), master.mesh_nodes.end(), n,
+                           [&](int a, int b) { return mesh.node_id(a) < mesh.node_id(b); })) {
+      ++slaves.shared_with_master;
+    } else {
+      slaves.nodes.push_back(n);
+    }
+  }
+  return slaves;
+}
+
+}  // namespace contactnn::mesh

@@ -1,0 +1,59 @@
+// A deck's contact pairs: the solid mesh, its surfaces and the *CONTACT PAIR lines (SPEC 7), as read by
+// io::read_inp_deck, and the two sides of one pair: the master surface's faces and the slave nodes.
+#pragma once
+
+#include <map>
+#include <string>
+#include <vector>
+
+#include "mesh/solid_mesh.hpp"
+#include "mesh/surface_mesh.hpp"
+
+namespace contactnn::mesh {
+
+/// TYPE= of a *SURFACE. kUnsupported: any other type (SEGMENTS, CYLINDER, ... of analytic rigid
+/// surfaces): kept so that a pair using it can be refused with a clear message.
+enum class SurfaceType { kElement, kNode, kUnsupported };
+
+struct SurfaceDefinition {
+  std::string name;                 ///< as first spelled in the deck
+  SurfaceType type = SurfaceType::kElement;
+  std::string type_text;            ///< the TYPE= value as written (for messages)
+  std::vector<ElementFace> faces;   ///< kElement: element faces, in deck order
+  std::vector<int> nodes;           ///< kNode: node indices, in deck order (repeats possible)
+  std::string where;                ///< "'file':line" of its first *SURFACE line
+};
+
+/// One data line of a *CONTACT PAIR block: "slave, master" (the role is the position, never the name).
+struct ContactPairDefinition {
+  std::string slave_name, master_name;  ///< as written
+  int slave = -1;                       ///< index into ContactModel::surfaces
+  int master = -1;                      ///< index into ContactModel::surfaces (an element surface)
+  bool node_to_surface = true;          ///< TYPE=NODE TO SURFACE (CalculiX's default) or SURFACE TO SURFACE
+  std::string where;                    ///< "'file':line" of the data line
+};
+
+struct ContactModel {
+  SolidMesh mesh;
+  std::vector<SurfaceDefinition> surfaces;
+  std::vector<ContactPairDefinition> pairs;  ///< in file order; SPEC 7's K indexes this from 0
+};
+
+/// Pair `k`. InvalidArgument (exit 2) naming the number of pairs if `k` is out of range.
+[[nodiscard]] const ContactPairDefinition& contact_pair(const ContactModel& model, int k);
+
+/// The master surface of pair `k` as segments (build_surface_mesh over its faces). FormatError naming
+/// the pair's line if the master is not an element surface.
+[[nodiscard]] SurfaceMesh master_surface(const ContactModel& model, int k);
+
+/// The slave nodes of a pair (SPEC 7): a node surface's nodes, or the corner nodes of an element surface's
+/// faces (faces skipped by build_surface_mesh contribute no node), minus the nodes of `master`.
+struct SlaveNodes {
+  std::vector<int> nodes;                  ///< SolidMesh node indices, in increasing node id, each once
+  std::map<std::string, int> skipped_faces;  ///< an element surface's faces that have no segment, by kind
+  int shared_with_master = 0;              ///< nodes left out because they are also master nodes
+};
+/// FormatError naming the pair's line if the slave surface's TYPE is unsupported.
+[[nodiscard]] SlaveNodes slave_nodes(const ContactModel& model, int k, const SurfaceMesh& master);
+
+}  // namespace contactnn::mesh

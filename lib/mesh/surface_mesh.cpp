@@ -1,0 +1,155 @@
+#include "mesh/surface_mesh.hpp"
+
+#include <algorithm>
+#include <set>
+
+#include "core/error.hpp"
+
+namespace contactnn::mesh {
+
+namespace {
+
+// A corner whose cross product is this small relative to its edges has no direction (as in
+// geometry::corner_normal); unit corner normals summing to less than this per corner cancel.
+constexpr double kMinCornerSine = 1e-12;
+constexpr double kMinSumPerCorner = 1e-12;
+
+int corner_count(ElementShape shape) {
+  switch (shape) {
+    case ElementShape::kHexahedron: return 8;
+    case ElementShape::kWedge: return 6;
+    case ElementShape::kTetrahedron: return 4;
+    case ElementShape::kOther: break;
+  }
+  return 0;
+}
+
+}  // namespace
+
+std::array<int, 4> outward_quad_corners(const SolidMesh& mesh, ElementFace face) {
+  CONTACTNN_REQUIRE(face.element >= 0 && face.element < mesh.element_count(),
+                    "element index " << face.element << " outside [0, " << mesh.element_count() << ")");
+  const ElementType& type = mesh.element_type(face.element);
+  const std::span<const int> corners = face_corner_indices(type.shape, face.face);
+  CONTACTNN_REQUIRE(corners.size() == 4, "element " << mesh.element_id(face.element) << " (" << type.name
+                                                    << ") has no quadrilateral face S" << face.face);
+  const std::span<const int> nodes = mesh.element_nodes(face.element);
+  const std::array<int, 4> manual = {nodes[static_cast<std::size_t>(corners[0])],
+                                     nodes[static_cast<std::size_t>(corners[1])],
+                                     nodes[static_cast<std::size_t>(corners[2])],
+                                     nodes[static_cast<std::size_t>(corners[3])]};
+  // The manuals list each face clockwise seen from outside (its right-hand normal points into the
+  // element), so the outward order is the reverse. The centroid test catches elements numbered the
+  // other way round; the diagonals' cross product is the face's mean normal even on a warped face.
+  const std::array<int, 4> reversed = {manual[0], manual[3], manual[2], manual[1]};
+  const auto at = [&](int n) -> const Vec3& { return mesh.position(n); };
+  Vec3 element_centroid = Vec3::Zero();
+  const int n_corners = corner_count(type.shape);
+  for (int i = 0; i < n_corners; ++i) element_centroid += at(nodes[static_cast<std::size_t>(i)]);
+  element_centroid /= n_corners;
+  const Vec3 face_centroid = 0.25 * (at(manual[0]) + at(manual[1]) + at(manual[2]) + at(manual[3]));
+  const Vec3 normal = (at(reversed[2]) - at(reversed[0])).cross(at(reversed[3]) - at(reversed[1]));
+  return normal.dot(face_centroid - element_centroid) < 0.0 ? manual : reversed;
+}
+
+SurfaceMesh build_surface_mesh(const SolidMesh& mesh, std::span<const ElementFace> faces) {
+  SurfaceMesh surface;
+  std::vector<std::array<int, 4>> segments;  // SolidMesh node indices for now
+  std::set<std::pair<int, int>> seen;
+  for (const ElementFace& face : faces) {
+    CONTACTNN_REQUIRE(face.element >= 0 && face.element < mesh.element_count(),
+                      "element index " << face.element << " outside [0, " << mesh.element_count() << ")");
+    const ElementType& type = mesh.element_type(face.element);
+    CONTACTNN_REQUIRE(type.face_count == 0 || (face.face >= 1 && face.face <= type.face_count),
+                      "element " << mesh.element_id(face.element) << " (" << type.name << ") has no face S"
+                                 << face.face);
+    if (!seen.emplace(face.element, face.face).second) {
+      ++surface.repeated_faces;
+      continue;
+    }
+    const std::size_t corners = face_corner_indices(type.shape, face.face).size();
+    if (!type.has_segment_faces) {
+      const char* kind = corners == 3 ? " triangle" : corners == 4 ? " quadrilateral" : " face";
+      ++surface.skipped_faces[type.name + kind];
+      continue;
+    }
+    const std::array<int, 4> quad = outward_quad_corners(mesh, face);
+    const std::array<int, 4> manual_order = [&] {
+      const auto idx = face_corner_indices(type.shape, face.face);
+      const auto nodes = mesh.element_nodes(face.element);
+      return std::array<int, 4>{nodes[static_cast<std::size_t>(idx[0])], nodes[static_cast<std::size_t>(idx[1])],
+                                nodes[static_cast<std::size_t>(idx[2])], nodes[static_cast<std::size_t>(idx[3])]};
+    }();
+    std::array<int, 4> sorted = quad;
+    std::sort(sorted.begin(), sorted.end());
+    if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end()) {
+      ++surface.skipped_faces[type.name + " collapsed face"];
+      continue;
+    }
+    if (quad == manual_order) ++surface.inside_out_faces;
+    segments.push_back(quad);
+    surface.segment_faces.push_back(face);
+  }
+
+  // Surface nodes in increasing deck id, so every later loop over them is in a reproducible order.
+  for (const auto& quad : segments) surface.mesh_nodes.insert(surface.mesh_nodes.end(), quad.begin(), quad.end());
+  std::sort(surface.mesh_nodes.begin(), surface.mesh_nodes.end(),
+            [&](int a, int b) { return mesh.node_id(a) < mesh.node_id(b); });
+  surface.mesh_nodes.erase(std::unique(surface.mesh_nodes.begin(), surface.mesh_nodes.end()),
+                           surface.mesh_nodes.end());
+  std::vector<int> local(static_cast<std::size_t>(mesh.node_count()), -1);
+  for (std::size_t i = 0; i < surface.mesh_nodes.size(); ++i) {
+    const int n = surface.mesh_nodes[i];
+    local[static_cast<std::size_t>(n)] = static_cast<int>(i);
+    surface.node_ids.push_back(mesh.node_id(n));
+    surface.positions.push_back(mesh.position(n));
+  }
+  surface.segments.reserve(segments.size());
+  for (const auto& quad : segments) {
+    surface.segments.push_back({local[static_cast<std::size_t>(quad[0])], local[static_cast<std::size_t>(quad[1])],
+                                local[static_cast<std::size_t>(quad[2])], local[static_cast<std::size_t>(quad[3])]});
+  }
+
+  // Adjacency (compressed rows): count, prefix sum, fill in segment order so each row is increasing.
+  const std::size_t n_nodes = surface.mesh_nodes.size();
+  surface.adjacency_offsets.assign(n_nodes + 1, 0);
+  for (const auto& quad : surface.segments) {
+    for (int n : quad) ++surface.adjacency_offsets[static_cast<std::size_t>(n) + 1];
+  }
+  for (std::size_t i = 0; i < n_nodes; ++i) surface.adjacency_offsets[i + 1] += surface.adjacency_offsets[i];
+  surface.adjacency.resize(static_cast<std::size_t>(surface.adjacency_offsets[n_nodes]));
+  std::vector<int> fill(surface.adjacency_offsets.begin(), surface.adjacency_offsets.end() - 1);
+  for (std::size_t s = 0; s < surface.segments.size(); ++s) {
+    for (int n : surface.segments[s]) {
+      surface.adjacency[static_cast<std::size_t>(fill[static_cast<std::size_t>(n)]++)] = static_cast<int>(s);
+    }
+  }
+  return surface;
+}
+
+std::vector<Vec3> node_normals(const SurfaceMesh& surface) {
+  std::vector<Vec3> normals(surface.positions.size(), Vec3::Zero());
+  for (int node = 0; node < surface.node_count(); ++node) {
+    Vec3 sum = Vec3::Zero();
+    int corners = 0;
+    for (int s : surface.segments_of(node)) {
+      const auto& quad = surface.segments[static_cast<std::size_t>(s)];
+      for (int k = 0; k < 4; ++k) {
+        if (quad[static_cast<std::size_t>(k)] != node) continue;
+        const Vec3& x = surface.positions[static_cast<std::size_t>(node)];
+        const Vec3 to_next = surface.positions[static_cast<std::size_t>(quad[static_cast<std::size_t>((k + 1) % 4)])] - x;
+        const Vec3 to_prev = surface.positions[static_cast<std::size_t>(quad[static_cast<std::size_t>((k + 3) % 4)])] - x;
+        const Vec3 cross = to_next.cross(to_prev);
+        const double length = cross.norm();
+        if (!(length > kMinCornerSine * to_next.norm() * to_prev.norm())) continue;
+        sum += cross / length;
+        ++corners;
+      }
+    }
+    const double length = sum.norm();
+    if (corners > 0 && length > kMinSumPerCorner * corners) normals[static_cast<std::size_t>(node)] = sum / length;
+  }
+  return normals;
+}
+
+}  // namespace contactnn::mesh

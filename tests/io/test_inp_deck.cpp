@@ -1,0 +1,279 @@
+// Tests for lib/io/inp_deck.* (SPEC 7): the traps of real decks, and every error naming its file and line.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "core/error.hpp"
+#include "io/inp_deck.hpp"
+#include "mesh/contact_model.hpp"
+#include "test_support.hpp"
+
+namespace contactnn::io {
+namespace {
+
+namespace fs = std::filesystem;
+using mesh::Vec3;
+
+fs::path dir() { return testing::test_output_dir("inp_deck"); }
+
+fs::path write(const fs::path& path, const std::string& text) {
+  fs::create_directories(path.parent_path());
+  std::ofstream(path, std::ios::binary) << text;
+  return path;
+}
+
+/// Two unit cubes stacked along z (ids 1-8 lower, 11-18 upper, with a gap of 0.1), as node lines.
+const std::string kNodes =
+    "*NODE, NSET=NALL\n"
+    "1, 0, 0, 0\n2, 1, 0, 0\n3, 1, 1, 0\n4, 0, 1, 0\n5, 0, 0, 1\n6, 1, 0, 1\n7, 1, 1, 1\n8, 0, 1, 1\n"
+    "11, 0, 0, 1.1\n12, 1, 0, 1.1\n13, 1, 1, 1.1\n14, 0, 1, 1.1\n15, 0, 0, 2.1\n16, 1, 0, 2.1\n17, 1, 1, 2.1\n"
+    "18, 0, 1, 2.1\n";
+const std::string kElements =
+    "*ELEMENT, TYPE=C3D8, ELSET=LOWER\n1, 1, 2, 3, 4, 5, 6, 7, 8\n"
+    "*ELEMENT, TYPE=C3D8R, ELSET=UPPER\n2, 11, 12, 13, 14, 15, 16, 17, 18\n";
+// The lower cube's top is S2 (5-8-7-6), the upper cube's bottom S1 (1-2-3-4).
+const std::string kSurfaces =
+    "*SURFACE, NAME=STOP\nLOWER, S2\n*SURFACE, NAME=SBOTTOM, TYPE=ELEMENT\n2, S1\n";
+
+mesh::ContactModel read_text(const std::string& name, const std::string& text) {
+  return read_inp_deck(write(dir() / name, text));
+}
+
+/// The message of the FormatError (or IoError) that reading `text` throws; "" if it throws nothing.
+template <class Exception>
+std::string error_of(const std::string& name, const std::string& text) {
+  try {
+    (void)read_text(name, text);
+  } catch (const Exception& e) {
+    return e.what();
+  }
+  return "";
+}
+
+std::string location(const std::string& name, int line) { return "'" + (dir() / name).string() + "':" + std::to_string(line) + ":"; }
+
+TEST(InpDeck, ReadsNodesElementsSurfacesAndPairs) {
+  const auto model = read_text("basic.inp", "** a comment\n*HEADING\nanything, at all\n" + kNodes + kElements + kSurfaces +
+                                                "*CONTACT PAIR, INTERACTION=I\nSBOTTOM, STOP\n*STEP\n*STATIC\n1., 1.\n*END STEP\n");
+  EXPECT_EQ(model.mesh.node_count(), 16);
+  EXPECT_EQ(model.mesh.element_count(), 2);
+  ASSERT_EQ(model.pairs.size(), 1u);
+  const mesh::SurfaceMesh master = mesh::master_surface(model, 0);
+  ASSERT_EQ(master.segments.size(), 1u);
+  EXPECT_EQ(master.node_ids, (std::vector<long>{5, 6, 7, 8}));
+  // Outward from the lower cube: +z. A = node 5 (S2's first corner), then counter-clockwise from above.
+  const auto& q = master.segments[0];
+  EXPECT_EQ(master.node_ids[static_cast<std::size_t>(q[0])], 5);
+  EXPECT_EQ(master.node_ids[static_cast<std::size_t>(q[1])], 6);
+  EXPECT_EQ(master.node_ids[static_cast<std::size_t>(q[2])], 7);
+  EXPECT_EQ(master.node_ids[static_cast<std::size_t>(q[3])], 8);
+  const mesh::SlaveNodes slaves = mesh::slave_nodes(model, 0, master);
+  std::vector<long> ids;
+  for (int n : slaves.nodes) ids.push_back(model.mesh.node_id(n));
+  EXPECT_EQ(ids, (std::vector<long>{11, 12, 13, 14}));
+}
+
+TEST(InpDeck, LexicalTrapsCaseCrlfTabsTrailingCommasBlankFieldsBomAndDExponents) {
+  const std::string text =
+      "\xEF\xBB\xBF** BOM, CRLF, tabs, trailing commas, lower case, blank coordinate, D exponent\r\n"
+      "*node,\tnset=nall\r\n1,\t0.,\t0.,\t0.,\r\n2, 1.0D+00, 0, 0\r\n3, 1, 1, \r\n4, 0, 1, 0\r\n5, 0, 0, 1\r\n"
+      "6, 1, 0, 1\r\n7, +1, 1, 1\r\n8, 0, 1, 1E0\r\n"
+      "*Element, Type=c3d8i, Elset=Body\r\n1,\t1, 2, 3, 4, 5, 6, 7, 8,\r\n"
+      "*Surface, name=Top\r\nbody, s2,\r\n*surface, type=NODE, name=pts\r\n  1,\r\n2\r\n"
+      "*contact pair , type=node to surface\r\nPTS, top\r\n";
+  const auto model = read_text("lexical.inp", text);
+  EXPECT_EQ(model.mesh.position(model.mesh.find_node(3)), Vec3(1, 1, 0));  // blank z is 0
+  EXPECT_EQ(model.mesh.position(model.mesh.find_node(2)), Vec3(1, 0, 0));
+  EXPECT_EQ(model.mesh.position(model.mesh.find_node(7)), Vec3(1, 1, 1));
+  const auto master = mesh::master_surface(model, 0);
+  EXPECT_EQ(master.segments.size(), 1u);
+  const auto slaves = mesh::slave_nodes(model, 0, master);
+  ASSERT_EQ(slaves.nodes.size(), 2u);
+  EXPECT_EQ(model.mesh.node_id(slaves.nodes[0]), 1);
+  EXPECT_EQ(model.mesh.node_id(slaves.nodes[1]), 2);
+}
+
+TEST(InpDeck, Calculix20NodeElementsSpanTwoLinesAndUseTheirCorners) {
+  // Corners 1-8 a unit cube; the mid-side nodes 9-20 anywhere (never segment corners).
+  std::string text = "*NODE\n1, 0, 0, 0\n2, 1, 0, 0\n3, 1, 1, 0\n4, 0, 1, 0\n5, 0, 0, 1\n6, 1, 0, 1\n7, 1, 1, 1\n8, 0, 1, 1\n";
+  for (int i = 9; i <= 20; ++i) text += std::to_string(i) + ", 0.5, 0.5, " + std::to_string(0.01 * i) + "\n";
+  text += "*ELEMENT, TYPE=C3D20R\n"
+          "     1,     1,     2,     3,     4,     5,     6,     7,     8,     9,    10,\n"
+          "          11,    12,    13,    14,    15,    16,    17,    18,    19,    20\n"
+          "*SURFACE, NAME=S\n1, S2\n*SURFACE, NAME=N, TYPE=NODE\n9\n*CONTACT PAIR\nN, S\n";
+  const auto model = read_text("c3d20.inp", text);
+  ASSERT_EQ(model.mesh.element_count(), 1);
+  EXPECT_EQ(model.mesh.element_nodes(0).size(), 20u);
+  const auto master = mesh::master_surface(model, 0);
+  EXPECT_EQ(master.node_ids, (std::vector<long>{5, 6, 7, 8}));
+}
+
+TEST(InpDeck, GenerateAndSetsNamedInsideSets) {
+  const std::string text = kNodes + kElements +
+                           "*NSET, NSET=A, GENERATE\n11, 13\n*NSET, NSET=B\n14,\n*NSET, NSET=AB\na, B,\n"
+                           "*NSET, NSET=EVERY_OTHER, GENERATE\n1, 7, 2\n"
+                           "*ELSET, ELSET=E1, GENERATE\n1, 1, 1\n*ELSET, ELSET=ALL\nE1, upper\n"
+                           "*SURFACE, NAME=M\nALL, S2\n*SURFACE, NAME=SL, TYPE=NODE\nAB\n*CONTACT PAIR\nSL, M\n"
+                           "*SURFACE, NAME=ODD, TYPE=NODE\nEVERY_OTHER\n*CONTACT PAIR\nODD, M\n";
+  const auto model = read_text("sets.inp", text);
+  const auto master = mesh::master_surface(model, 0);
+  EXPECT_EQ(master.segments.size(), 2u);  // S2 of both cubes
+  const auto slaves = mesh::slave_nodes(model, 0, master);
+  std::vector<long> ids;
+  for (int n : slaves.nodes) ids.push_back(model.mesh.node_id(n));
+  EXPECT_EQ(ids, (std::vector<long>{11, 12, 13, 14}));
+  const auto odd = mesh::slave_nodes(model, 1, master);
+  ids.clear();
+  for (int n : odd.nodes) ids.push_back(model.mesh.node_id(n));
+  // 1, 3, 5, 7: 5 and 7 are master nodes (the lower cube's top) and are left out.
+  EXPECT_EQ(ids, (std::vector<long>{1, 3}));
+  EXPECT_EQ(odd.shared_with_master, 2);
+}
+
+TEST(InpDeck, NodeAndElementSurfacesOfOneNameAreKeptApartAndTheRoleIsThePosition) {
+  // The names say the opposite of the roles (as in hueeber1.inp): the first field is the slave.
+  const std::string text = kNodes + kElements +
+                           "*SURFACE, NAME=MASTER, TYPE=NODE\n11\n12\n"
+                           "*SURFACE, NAME=MASTER, TYPE=ELEMENT\nUPPER, S1\n"
+                           "*SURFACE, NAME=SLAVE\nLOWER, S2\n"
+                           "*CONTACT PAIR, TYPE=NODE TO SURFACE\nMASTER, SLAVE\n"
+                           "*CONTACT PAIR, TYPE=SURFACE TO SURFACE\nmaster, slave\n"
+                           "*CONTACT PAIR\nMaster, Slave\n";
+  const auto model = read_text("same-name.inp", text);
+  ASSERT_EQ(model.pairs.size(), 3u);
+  const auto master = mesh::master_surface(model, 0);
+  EXPECT_EQ(master.node_ids, (std::vector<long>{5, 6, 7, 8}));
+  EXPECT_EQ(mesh::slave_nodes(model, 0, master).nodes.size(), 2u);  // the node surface: 11, 12
+  EXPECT_EQ(mesh::slave_nodes(model, 1, master).nodes.size(), 4u);  // the element surface's corners
+  EXPECT_EQ(mesh::slave_nodes(model, 2, master).nodes.size(), 2u);  // no TYPE: CalculiX's NODE TO SURFACE
+  EXPECT_EQ(model.pairs[0].slave_name, "MASTER");
+}
+
+TEST(InpDeck, IncludesAreRelativeToTheIncludingFileAndContinueTheBlockBeforeThem) {
+  write(dir() / "inc" / "sub" / "more-nodes.inp", "11, 0, 0, 1.1\n12, 1, 0, 1.1\n13, 1, 1, 1.1\n14, 0, 1, 1.1\n");
+  write(dir() / "inc" / "sub" / "nodes.inp",
+        "*NODE\n1, 0, 0, 0\n2, 1, 0, 0\n3, 1, 1, 0\n4, 0, 1, 0\n5, 0, 0, 1\n6, 1, 0, 1\n7, 1, 1, 1\n"
+        "8, 0, 1, 1\n*INCLUDE, INPUT=more-nodes.inp\n15, 0, 0, 2.1\n");
+  const auto model = read_inp_deck(write(dir() / "inc" / "main.inp",
+                                         "*INCLUDE, INPUT=sub/nodes.inp\n16, 1, 0, 2.1\n17, 1, 1, 2.1\n18, 0, 1, 2.1\n" +
+                                             kElements + kSurfaces + "*CONTACT PAIR\nSBOTTOM, STOP\n"));
+  EXPECT_EQ(model.mesh.node_count(), 16);
+  EXPECT_EQ(model.mesh.position(model.mesh.find_node(18)), Vec3(0, 1, 2.1));
+  EXPECT_EQ(mesh::master_surface(model, 0).segments.size(), 1u);
+}
+
+TEST(InpDeck, WedgeAndTetrahedronFacesAreSkippedAndCounted) {
+  const std::string text = kNodes + kElements +
+                           "*ELEMENT, TYPE=C3D6, ELSET=W\n3, 1, 2, 3, 5, 6, 7\n*ELEMENT, TYPE=C3D4\n4, 1, 2, 3, 5\n"
+                           "*SURFACE, NAME=M\nLOWER, S2\nW, S2\nW, S3\n4, S1\n*SURFACE, NAME=SL\nUPPER, S1\n"
+                           "*CONTACT PAIR\nSL, M\n";
+  const auto model = read_text("wedge.inp", text);
+  const auto master = mesh::master_surface(model, 0);
+  EXPECT_EQ(master.segments.size(), 1u);
+  EXPECT_EQ(master.skipped_faces.at("C3D6 triangle"), 1);
+  EXPECT_EQ(master.skipped_faces.at("C3D6 quadrilateral"), 1);
+  EXPECT_EQ(master.skipped_faces.at("C3D4 triangle"), 1);
+}
+
+TEST(InpDeck, RepeatedSetsAndSurfacesAddUp) {
+  const std::string text = kNodes + kElements + "*ELSET, ELSET=E\n1\n*ELSET, ELSET=E\n2\n*SURFACE, NAME=M\n1, S2\n"
+                                                "*SURFACE, NAME=M\n2, S2\n*SURFACE, NAME=SL, TYPE=NODE\n3\n*CONTACT PAIR\nSL, M\n";
+  const auto model = read_text("repeat.inp", text);
+  EXPECT_EQ(mesh::master_surface(model, 0).segments.size(), 2u);
+}
+
+TEST(InpDeck, PairIndexOutOfRangeIsAUsageError) {
+  const auto model = read_text("pairs.inp", kNodes + kElements + kSurfaces + "*CONTACT PAIR\nSBOTTOM, STOP\n");
+  try {
+    (void)mesh::contact_pair(model, 1);
+    FAIL() << "no exception";
+  } catch (const InvalidArgument& e) {
+    EXPECT_NE(std::string(e.what()).find("the deck has 1"), std::string::npos) << e.what();
+  }
+}
+
+TEST(InpDeck, ANodeSurfaceAsMasterIsRefusedWhenThePairIsUsed) {
+  const auto model = read_text("node-master.inp", kNodes + kElements + "*SURFACE, NAME=N, TYPE=NODE\n1\n*SURFACE, NAME=M\n"
+                                                                         "LOWER, S2\n*CONTACT PAIR\nM, N\n");
+  try {
+    (void)mesh::master_surface(model, 0);
+    FAIL() << "no exception";
+  } catch (const FormatError& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find(location("node-master.inp", 27)), std::string::npos) << m;
+    EXPECT_NE(m.find("node surface"), std::string::npos) << m;
+  }
+}
+
+// Each malformed deck: FormatError naming the file, the line and what is wrong.
+struct BadDeck {
+  const char* name;
+  std::string text;
+  int line;
+  const char* says;
+};
+
+TEST(InpDeck, EveryMalformedDeckNamesFileAndLine) {
+  const std::string head = kNodes + kElements;  // 21 lines
+  const std::vector<BadDeck> cases = {
+      {"unknown-elset.inp", head + "*SURFACE, NAME=M\nNOSUCH, S2\n", 23, "unknown element set 'NOSUCH'"},
+      {"unknown-nset.inp", head + "*NSET, NSET=A\n1, NOSUCH\n", 23, "field 2: unknown node set 'NOSUCH'"},
+      {"unknown-surface.inp", head + kSurfaces + "*CONTACT PAIR\nSBOTTOM, NOSUCH\n", 27, "unknown master surface 'NOSUCH'"},
+      {"undefined-node.inp", kNodes + "*ELEMENT, TYPE=C3D8\n1, 1, 2, 3, 4, 5, 6, 7, 99\n", 19,
+       "node 99 (node 8 of the element) is not defined"},
+      {"bad-number.inp", "*NODE\n1, 0, 0, 0\n2, 1, 0x, 0\n", 3, "field 3: '0x' is not a finite number"},
+      {"nan-coordinate.inp", "*NODE\n1, 0, nan, 0\n", 2, "'nan' is not a finite number"},
+      {"bad-id.inp", "*NODE\n1a, 0, 0, 0\n", 2, "field 1: '1a' is not a node id"},
+      {"bad-face-label.inp", head + "*SURFACE, NAME=M\nLOWER, X2\n", 23, "field 2: 'X2' is not a face label"},
+      {"face-out-of-range.inp", head + "*SURFACE, NAME=M\nLOWER, S7\n", 23, "faces are S1..S6; the face label says S7"},
+      {"missing-face.inp", head + "*SURFACE, NAME=M\nLOWER\n", 23, "needs a face label"},
+      {"duplicate-node.inp", "*NODE\n1, 0, 0, 0\n1, 0, 0, 0\n*NODE\n1, 0, 0, 1\n", 5,
+       "node 1 is defined again with other coordinates (first at"},
+      {"duplicate-element.inp", head + "*ELEMENT, TYPE=C3D8\n1, 1, 2, 3, 4, 5, 6, 7, 18\n", 23, "element 1 is defined again differently"},
+      {"missing-type.inp", kNodes + "*ELEMENT\n1, 1, 2, 3, 4, 5, 6, 7, 8\n", 18, "missing TYPE="},
+      {"missing-name.inp", head + "*SURFACE\nLOWER, S2\n", 22, "missing NAME="},
+      {"short-element.inp", kNodes + "*ELEMENT, TYPE=C3D8\n1, 1, 2, 3, 4, 5, 6, 7\n*NSET, NSET=X\n1\n", 19,
+       "has 7 node ids before the next keyword, expected 8"},
+      {"long-element.inp", kNodes + "*ELEMENT, TYPE=C3D8\n1, 1, 2, 3, 4, 5, 6, 7, 8, 11\n", 19, "has 9 node ids, expected 8"},
+      {"pair-fields.inp", head + kSurfaces + "*CONTACT PAIR\nSBOTTOM\n", 27, "expected 'slave surface, master surface'"},
+      {"generate-range.inp", "*NSET, NSET=A, GENERATE\n10, 1\n", 2, "GENERATE range 10..1"},
+      {"generate-fields.inp", "*NSET, NSET=A, GENERATE\n1\n", 2, "GENERATE needs 'first, last[, increment]'"},
+      {"cylindrical-nodes.inp", "*NODE, SYSTEM=C\n1, 1, 0, 0\n", 1, "SYSTEM=C is not supported"},
+  };
+  for (const BadDeck& c : cases) {
+    const std::string message = error_of<FormatError>(c.name, c.text);
+    EXPECT_NE(message.find(location(c.name, c.line)), std::string::npos) << c.name << ": " << message;
+    EXPECT_NE(message.find(c.says), std::string::npos) << c.name << ": " << message;
+  }
+}
+
+TEST(InpDeck, IncludeLoopNamesTheChain) {
+  write(dir() / "loop" / "b.inp", "*NODE\n2, 1, 0, 0\n*INCLUDE, INPUT=a.inp\n");
+  const auto a = write(dir() / "loop" / "a.inp", "*NODE\n1, 0, 0, 0\n*INCLUDE, INPUT=b.inp\n");
+  try {
+    (void)read_inp_deck(a);
+    FAIL() << "no exception";
+  } catch (const FormatError& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("'" + (dir() / "loop" / "b.inp").string() + "':3: *INCLUDE"), std::string::npos) << m;
+    EXPECT_NE(m.find("include loop"), std::string::npos) << m;
+  }
+}
+
+TEST(InpDeck, MissingIncludeIsAnIoErrorNamingTheFile) {
+  try {
+    (void)read_text("missing-include.inp", "*NODE\n1, 0, 0, 0\n*INCLUDE, INPUT=not-there.inp\n");
+    FAIL() << "no exception";
+  } catch (const IoError& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find(location("missing-include.inp", 3)), std::string::npos) << m;
+    EXPECT_NE(m.find("not-there.inp"), std::string::npos) << m;
+  }
+  EXPECT_THROW((void)read_inp_deck(dir() / "no-such-deck.inp"), IoError);
+}
+
+}  // namespace
+}  // namespace contactnn::io

@@ -1,0 +1,265 @@
+// Tests for lib/mesh: element types and face tables, outward face orientation, surface meshes (adjacency,
+// skipped faces) and the node normals of Eq 26.
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <numbers>
+#include <random>
+#include <set>
+#include <vector>
+
+#include "core/error.hpp"
+#include "geometry/node_normals.hpp"
+#include "mesh/element_type.hpp"
+#include "mesh/solid_mesh.hpp"
+#include "mesh/surface_mesh.hpp"
+#include "test_support.hpp"
+
+namespace contactnn::mesh {
+namespace {
+
+// Unit normals through a few cross products and one normalisation: rounding only.
+constexpr double kNormalTol = 1e-12;
+
+TEST(ElementType, SegmentFacesExactlyForTheFiveTypesOfSpec7) {
+  for (const char* name : {"C3D8", "c3d8r", "C3D8I", "C3D20", "C3d20r"}) {
+    EXPECT_TRUE(element_type(name).has_segment_faces) << name;
+    EXPECT_EQ(element_type(name).shape, ElementShape::kHexahedron) << name;
+  }
+  for (const char* name : {"C3D8H", "C3D20RH", "C3D6", "C3D15", "C3D4", "C3D10", "S4R", "B31"}) {
+    EXPECT_FALSE(element_type(name).has_segment_faces) << name;
+  }
+  EXPECT_EQ(element_type("C3D20R").node_count, 20);
+  EXPECT_EQ(element_type("C3D8I").node_count, 8);
+  EXPECT_EQ(element_type("C3D6").node_count, 6);
+  EXPECT_EQ(element_type("C3D15").node_count, 15);
+  EXPECT_EQ(element_type("C3D4").node_count, 4);
+  EXPECT_EQ(element_type("C3D10M").node_count, 10);
+  EXPECT_EQ(element_type("S4R").node_count, 0);
+  EXPECT_EQ(element_type("S4R").shape, ElementShape::kOther);
+}
+
+TEST(ElementType, HexahedronFacesAreSpec7sTable) {
+  // SPEC 7, written out: S1 1-2-3-4, S2 5-8-7-6, S3 1-5-6-2, S4 2-6-7-3, S5 3-7-8-4, S6 4-8-5-1.
+  const int expected[6][4] = {{1, 2, 3, 4}, {5, 8, 7, 6}, {1, 5, 6, 2}, {2, 6, 7, 3}, {3, 7, 8, 4}, {4, 8, 5, 1}};
+  for (int f = 1; f <= 6; ++f) {
+    const auto corners = face_corner_indices(ElementShape::kHexahedron, f);
+    ASSERT_EQ(corners.size(), 4u);
+    for (int k = 0; k < 4; ++k) EXPECT_EQ(corners[static_cast<std::size_t>(k)] + 1, expected[f - 1][k]) << "S" << f;
+  }
+  EXPECT_TRUE(face_corner_indices(ElementShape::kHexahedron, 7).empty());
+  EXPECT_TRUE(face_corner_indices(ElementShape::kHexahedron, 0).empty());
+  EXPECT_EQ(face_corner_indices(ElementShape::kWedge, 1).size(), 3u);
+  EXPECT_EQ(face_corner_indices(ElementShape::kWedge, 3).size(), 4u);
+  EXPECT_EQ(face_corner_indices(ElementShape::kTetrahedron, 4).size(), 3u);
+  EXPECT_TRUE(face_corner_indices(ElementShape::kOther, 1).empty());
+}
+
+/// A hexahedron numbered as the manuals require (1-4 counter-clockwise seen from 5-8's side), a unit cube
+/// with every corner moved by up to `distortion`, then rotated, scaled and moved; `mirror` numbers it
+/// inside out (a reflection of the nodes).
+SolidMesh random_hexahedron(std::mt19937_64& rng, double distortion, bool mirror) {
+  std::uniform_real_distribution<double> d(-distortion, distortion), t(-100, 100), log_scale(-2, 2);
+  const Eigen::Matrix3d r = testing::random_rotation(rng);
+  const double s = std::pow(10.0, log_scale(rng));
+  const Vec3 shift(t(rng), t(rng), t(rng));
+  const Vec3 cube[8] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
+  SolidMesh mesh;
+  std::vector<int> nodes;
+  for (int i = 0; i < 8; ++i) {
+    Vec3 p = cube[i] + Vec3(d(rng), d(rng), d(rng));
+    if (mirror) p.x() = -p.x();
+    nodes.push_back(mesh.add_node(100 + i, s * (r * p) + shift));
+  }
+  mesh.add_element(7, element_type("C3D8"), nodes);
+  return mesh;
+}
+
+TEST(OutwardQuadCorners, CalculixNumberingReversedPointsOutOfEveryFace) {
+  std::mt19937_64 rng(41);
+  for (int trial = 0; trial < 200; ++trial) {
+    const SolidMesh mesh = random_hexahedron(rng, 0.2, false);
+    Vec3 centroid = Vec3::Zero();
+    for (int n = 0; n < 8; ++n) centroid += mesh.position(n) / 8.0;
+    for (int f = 1; f <= 6; ++f) {
+      const auto quad = outward_quad_corners(mesh, {0, f});
+      const auto manual = face_corner_indices(ElementShape::kHexahedron, f);
+      // A is the manual's first corner, then the manual's order reversed.
+      EXPECT_EQ(quad[0], manual[0]);
+      EXPECT_EQ(quad[1], manual[3]);
+      EXPECT_EQ(quad[2], manual[2]);
+      EXPECT_EQ(quad[3], manual[1]);
+      const Vec3& a = mesh.position(quad[0]);
+      const Vec3 normal = (mesh.position(quad[1]) - a).cross(mesh.position(quad[3]) - a);
+      const Vec3 face_centre = 0.25 * (a + mesh.position(quad[1]) + mesh.position(quad[2]) + mesh.position(quad[3]));
+      EXPECT_GT(normal.dot(face_centre - centroid), 0.0) << "trial " << trial << " S" << f;
+    }
+  }
+}
+
+TEST(OutwardQuadCorners, InsideOutElementIsOrientedByItsCentroid) {
+  std::mt19937_64 rng(43);
+  for (int trial = 0; trial < 50; ++trial) {
+    const SolidMesh mesh = random_hexahedron(rng, 0.1, true);
+    Vec3 centroid = Vec3::Zero();
+    for (int n = 0; n < 8; ++n) centroid += mesh.position(n) / 8.0;
+    for (int f = 1; f <= 6; ++f) {
+      const auto quad = outward_quad_corners(mesh, {0, f});
+      const auto manual = face_corner_indices(ElementShape::kHexahedron, f);
+      EXPECT_EQ(quad[1], manual[1]);  // the manual's own order
+      const Vec3& a = mesh.position(quad[0]);
+      const Vec3 normal = (mesh.position(quad[1]) - a).cross(mesh.position(quad[3]) - a);
+      const Vec3 face_centre = 0.25 * (a + mesh.position(quad[1]) + mesh.position(quad[2]) + mesh.position(quad[3]));
+      EXPECT_GT(normal.dot(face_centre - centroid), 0.0) << "trial " << trial << " S" << f;
+    }
+  }
+}
+
+TEST(OutwardQuadCorners, Calculix20NodeFaceUsesTheCornerNodes) {
+  SolidMesh mesh;
+  const Vec3 cube[8] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
+  std::vector<int> nodes;
+  for (int i = 0; i < 8; ++i) nodes.push_back(mesh.add_node(i + 1, cube[i]));
+  for (int i = 8; i < 20; ++i) nodes.push_back(mesh.add_node(i + 1, Vec3(0.5, 0.5, 0.5)));  // mid-side: unused
+  mesh.add_element(1, element_type("C3D20R"), nodes);
+  // S2 is the top (5-8-7-6); outward is +z: 5, 6, 7, 8 seen from above counter-clockwise.
+  const auto quad = outward_quad_corners(mesh, {0, 2});
+  EXPECT_EQ(quad, (std::array<int, 4>{4, 5, 6, 7}));
+}
+
+/// Two unit cubes side by side along x (nodes 1..12), one C3D8 and one C3D6 pair, and a C3D4.
+SolidMesh two_cubes_and_friends() {
+  SolidMesh mesh;
+  int id = 1;
+  for (int z = 0; z <= 1; ++z) {
+    for (int y = 0; y <= 1; ++y) {
+      for (int x = 0; x <= 2; ++x) mesh.add_node(id++, Vec3(x, y, z));
+    }
+  }
+  // index of (x, y, z) is x + 3 y + 6 z
+  const auto n = [](int x, int y, int z) { return x + 3 * y + 6 * z; };
+  mesh.add_element(10, element_type("C3D8"),
+                   std::vector<int>{n(0, 0, 0), n(1, 0, 0), n(1, 1, 0), n(0, 1, 0), n(0, 0, 1), n(1, 0, 1), n(1, 1, 1), n(0, 1, 1)});
+  mesh.add_element(11, element_type("C3D8R"),
+                   std::vector<int>{n(1, 0, 0), n(2, 0, 0), n(2, 1, 0), n(1, 1, 0), n(1, 0, 1), n(2, 0, 1), n(2, 1, 1), n(1, 1, 1)});
+  mesh.add_element(12, element_type("C3D6"),
+                   std::vector<int>{n(0, 0, 0), n(1, 0, 0), n(1, 1, 0), n(0, 0, 1), n(1, 0, 1), n(1, 1, 1)});
+  mesh.add_element(13, element_type("C3D4"), std::vector<int>{n(0, 0, 0), n(1, 0, 0), n(1, 1, 0), n(0, 0, 1)});
+  // A hexahedron collapsed into a wedge by repeating a node: its face S1 has three distinct corners.
+  mesh.add_element(14, element_type("C3D8"),
+                   std::vector<int>{n(0, 0, 0), n(1, 0, 0), n(1, 1, 0), n(1, 1, 0), n(0, 0, 1), n(1, 0, 1), n(1, 1, 1), n(1, 1, 1)});
+  return mesh;
+}
+
+TEST(SurfaceMesh, TopFacesOfTwoCubesShareAnEdgeAndPointUp) {
+  const SolidMesh mesh = two_cubes_and_friends();
+  const std::vector<ElementFace> faces = {{0, 2}, {1, 2}, {0, 2}, {2, 2}, {2, 3}, {3, 1}, {4, 1}};
+  const SurfaceMesh s = build_surface_mesh(mesh, faces);
+  ASSERT_EQ(s.segments.size(), 2u);
+  EXPECT_EQ(s.repeated_faces, 1);
+  EXPECT_EQ(s.skipped_faces.at("C3D6 triangle"), 1);
+  EXPECT_EQ(s.skipped_faces.at("C3D6 quadrilateral"), 1);
+  EXPECT_EQ(s.skipped_faces.at("C3D4 triangle"), 1);
+  EXPECT_EQ(s.skipped_faces.at("C3D8 collapsed face"), 1);
+  EXPECT_EQ(s.inside_out_faces, 0);
+  // The six top nodes, in increasing id (ids 7..12 are the z = 1 layer).
+  EXPECT_EQ(s.node_ids, (std::vector<long>{7, 8, 9, 10, 11, 12}));
+  for (std::size_t i = 0; i < s.segments.size(); ++i) {
+    const auto& q = s.segments[i];
+    const Vec3 normal = (s.positions[static_cast<std::size_t>(q[1])] - s.positions[static_cast<std::size_t>(q[0])])
+                            .cross(s.positions[static_cast<std::size_t>(q[3])] - s.positions[static_cast<std::size_t>(q[0])]);
+    EXPECT_GT(normal.z(), 0.0) << i;
+  }
+  // Adjacency: the shared edge's nodes (x = 1: ids 8 and 11) touch both segments, the others one.
+  for (int node = 0; node < s.node_count(); ++node) {
+    const auto segs = s.segments_of(node);
+    const bool shared = s.node_ids[static_cast<std::size_t>(node)] == 8 || s.node_ids[static_cast<std::size_t>(node)] == 11;
+    EXPECT_EQ(segs.size(), shared ? 2u : 1u) << s.node_ids[static_cast<std::size_t>(node)];
+    for (int seg : segs) {
+      const auto& q = s.segments[static_cast<std::size_t>(seg)];
+      EXPECT_NE(std::find(q.begin(), q.end(), node), q.end());
+    }
+    EXPECT_TRUE(std::is_sorted(segs.begin(), segs.end()));
+  }
+}
+
+TEST(SurfaceMesh, FaceNumberOutsideTheElementsTableIsRejected) {
+  const SolidMesh mesh = two_cubes_and_friends();
+  const std::vector<ElementFace> faces = {{0, 7}};
+  EXPECT_THROW((void)build_surface_mesh(mesh, faces), InvalidArgument);
+}
+
+/// A structured nx x ny quad mesh of the surface z = f(x, y) (counter-clockwise seen from +z).
+SurfaceMesh grid_surface(int nx, int ny, const std::function<Vec3(double, double)>& point) {
+  SurfaceMesh s;
+  for (int j = 0; j <= ny; ++j) {
+    for (int i = 0; i <= nx; ++i) {
+      s.node_ids.push_back(static_cast<long>(s.node_ids.size()) + 1);
+      s.positions.push_back(point(i, j));
+    }
+  }
+  const auto at = [&](int i, int j) { return i + (nx + 1) * j; };
+  for (int j = 0; j < ny; ++j) {
+    for (int i = 0; i < nx; ++i) s.segments.push_back({at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)});
+  }
+  const std::size_t n = s.positions.size();
+  s.adjacency_offsets.assign(n + 1, 0);
+  for (const auto& q : s.segments) {
+    for (int v : q) ++s.adjacency_offsets[static_cast<std::size_t>(v) + 1];
+  }
+  for (std::size_t i = 0; i < n; ++i) s.adjacency_offsets[i + 1] += s.adjacency_offsets[i];
+  s.adjacency.resize(static_cast<std::size_t>(s.adjacency_offsets[n]));
+  std::vector<int> fill(s.adjacency_offsets.begin(), s.adjacency_offsets.end() - 1);
+  for (std::size_t q = 0; q < s.segments.size(); ++q) {
+    for (int v : s.segments[q]) s.adjacency[static_cast<std::size_t>(fill[static_cast<std::size_t>(v)]++)] = static_cast<int>(q);
+  }
+  return s;
+}
+
+TEST(NodeNormals, AgreeWithGeometryNodeNormalOnABumpyMesh) {
+  // An independent implementation: geometry::node_normal scans every segment for the node.
+  std::mt19937_64 rng(47);
+  std::uniform_real_distribution<double> jiggle(-0.2, 0.2);
+  const SurfaceMesh s = grid_surface(6, 5, [&](double i, double j) {
+    return Vec3(i + jiggle(rng), j + jiggle(rng), 0.3 * std::sin(i) * std::cos(0.7 * j) + jiggle(rng));
+  });
+  const std::vector<Vec3> normals = node_normals(s);
+  for (int node = 0; node < s.node_count(); ++node) {
+    const Vec3 expected = geometry::node_normal(s.positions, s.segments, node);
+    EXPECT_LT((normals[static_cast<std::size_t>(node)] - expected).norm(), kNormalTol) << node;
+  }
+}
+
+TEST(NodeNormals, RegularCylinderGridGivesTheRadialDirection) {
+  // Known answer: on a regular grid of a cylinder about the y axis, the corner normals at an interior
+  // node are symmetric about the radial direction, so Eq 26 gives it exactly (up to rounding).
+  const double radius = 2.0;
+  const double dphi = 0.15;
+  const SurfaceMesh s = grid_surface(8, 4, [&](double i, double j) {
+    const double phi = (i - 4) * dphi;
+    return Vec3(radius * std::sin(phi), 0.4 * j, radius * std::cos(phi));
+  });
+  const std::vector<Vec3> normals = node_normals(s);
+  for (int j = 1; j < 4; ++j) {
+    for (int i = 1; i < 8; ++i) {
+      const std::size_t node = static_cast<std::size_t>(i + 9 * j);
+      const Vec3 radial(s.positions[node].x() / radius, 0.0, s.positions[node].z() / radius);
+      EXPECT_LT((normals[node] - radial).norm(), kNormalTol) << i << "," << j;
+    }
+  }
+}
+
+TEST(NodeNormals, CollapsedCornerAddsNothingAndALoneCollapsedNodeGetsZero) {
+  SurfaceMesh s = grid_surface(1, 1, [](double i, double j) { return Vec3(i, j, 0); });
+  // Move node 3 (i = 1, j = 1) onto the line through its neighbours 1 and 2: its corner is straight.
+  s.positions[3] = Vec3(1, 0, 0) + 0.5 * (Vec3(0, 1, 0) - Vec3(1, 0, 0));
+  const std::vector<Vec3> normals = node_normals(s);
+  EXPECT_EQ(normals[3], Vec3::Zero());
+  EXPECT_LT((normals[0] - Vec3::UnitZ()).norm(), kNormalTol);
+}
+
+}  // namespace
+}  // namespace contactnn::mesh
