@@ -31,6 +31,7 @@
 #include "dataset/enumeration.hpp"
 #include "dataset/labeller.hpp"
 #include "dataset/sampling.hpp"
+#include "dataset/scene_sampling.hpp"
 #include "io/csv.hpp"
 #include "io/dataset_file.hpp"
 #include "io/inp_deck.hpp"
@@ -196,6 +197,27 @@ int scene_mode(const std::string& deck, int pair, const contact::SearchOptions& 
   return 0;
 }
 
+/// Scene domain mode: random configurations of the domain a scene requires (its master segments deformed,
+/// the slave anywhere a contact can occur), labelled: the training set of a scene network.
+dataset::LabelledSet scene_domain(const std::string& deck, int pair, const dataset::SceneDomainOptions& domain,
+                                  const dataset::EnumerationOptions& options, std::int64_t count,
+                                  dataset::EnumerationSummary& summary, const dataset::ProgressFn& progress) {
+  const mesh::ContactModel model = io::read_inp_deck(deck);
+  const contact::Scene scene = contact::make_scene(model, pair);
+  std::vector<dataset::SceneSegment> segments;
+  segments.reserve(scene.master.segments.size());
+  for (const auto& s : scene.master.segments) {
+    dataset::SceneSegment segment;
+    for (int i = 0; i < 4; ++i) {
+      const auto node = static_cast<std::size_t>(s[static_cast<std::size_t>(i)]);
+      segment.nodes[static_cast<std::size_t>(i)] = scene.master.positions[node];
+      segment.normals[static_cast<std::size_t>(i)] = scene.master_normals[node];
+    }
+    segments.push_back(segment);
+  }
+  return dataset::sample_scene(segments, domain, options, count, summary, progress);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -236,6 +258,16 @@ int main(int argc, char** argv) {
   app.add_option("--s_z_points", options.s_z_points, "grid points, z of S")->check(CLI::Range(1, 400));
   app.add_option("--normal_sets", options.normal_sets, "Gregory: node-normal sets per configuration")
       ->check(CLI::Range(1, 1000));
+  dataset::SceneDomainOptions scene_options;
+  app.add_option("--deformation", scene_options.deformation,
+                 "scene domain: node displacement, fraction of each segment's shortest edge")
+      ->check(CLI::Range(0.0, 0.49));
+  app.add_option("--capture", scene_options.capture,
+                 "scene domain: slave offset along the normal, fraction of the shortest edge, either side")
+      ->check(cli::kPositive);
+  app.add_option("--normal_tilt_tangent", scene_options.normal_tilt_tangent,
+                 "scene domain, Gregory: node normals tilted from the scene's by up to this tangent")
+      ->check(cli::kNonNegative);
   std::string sampling = "grid";
   std::int64_t count = 0;
   app.add_option("--sampling", sampling,
@@ -273,8 +305,9 @@ int main(int argc, char** argv) {
     // 3. Label mode: a user's CSV in, the same rows with labels out.
     if (!input.empty()) return label_mode(options.surface, input, output, options.projection);
 
-    // 3b. Scene mode: a deck in, its contact pair's node-segment pairs with labels out.
-    if (!scene.empty()) {
+    // 3b. Scene mode: a deck in, its contact pair's node-segment pairs with labels out (with --sampling
+    //     random: the scene's domain as a dataset, below).
+    if (!scene.empty() && sampling != "random") {
       contact::SearchOptions search;
       search.surface = options.surface;
       search.projection = options.projection;
@@ -286,8 +319,10 @@ int main(int argc, char** argv) {
     cli::Progress progress("gen-configs: labelling", quiet);
     const auto report = [&](std::int64_t done, std::int64_t total) { progress.update(done, total); };
     dataset::EnumerationSummary summary;
-    dataset::LabelledSet set = sampling == "random" ? dataset::sample_configurations(options, count, summary, report)
-                                                    : dataset::enumerate_configurations(options, summary, report);
+    dataset::LabelledSet set =
+        !scene.empty()         ? scene_domain(scene, pair, scene_options, options, count, summary, report)
+        : sampling == "random" ? dataset::sample_configurations(options, count, summary, report)
+                               : dataset::enumerate_configurations(options, summary, report);
     progress.finish();
     // Without the keys that do not change the data, so the file is byte-identical for any output path,
     // thread count or verbosity.

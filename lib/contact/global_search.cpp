@@ -1,5 +1,7 @@
 #include "contact/global_search.hpp"
 
+#include "geometry/segment_checks.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -9,28 +11,6 @@
 #include "geometry/surface_of.hpp"
 
 namespace contactnn::contact {
-
-bool passes_segment_test_at_corner(const Vec3& m, const Vec3& next, const Vec3& prev, const Vec3& s,
-                                   double relative_tolerance) {
-  const Vec3 c1 = next - m;
-  const Vec3 c2 = prev - m;
-  const Vec3 c1xc2 = c1.cross(c2);
-  const double area_squared = c1xc2.squaredNorm();
-  if (!(area_squared > 0.0)) return false;
-  const Vec3 t = s - m;
-  const Vec3 r = t - (t.dot(c1xc2) / area_squared) * c1xc2;  // Eqs 5-6
-  const double r_length = r.norm();
-  const double c1_length = c1.norm();
-  const double c2_length = c2.norm();
-  if (r_length <= relative_tolerance * std::min(c1_length, c2_length)) return true;
-  // r = alpha c1 + beta c2 in the corner's plane: c1 x r = beta (c1 x c2), r x c2 = alpha (c1 x c2), so
-  // Eq 3 says beta > 0 and Eq 4 says alpha beta > 0. Relaxing alpha and beta, not the products of Eqs 3-4,
-  // keeps a slave node on the backward extension of an edge (c1 x r = 0 with alpha < 0) outside.
-  const double alpha = r.cross(c2).dot(c1xc2) / area_squared;
-  const double beta = c1.cross(r).dot(c1xc2) / area_squared;
-  if (relative_tolerance <= 0.0) return alpha > 0.0 && beta > 0.0;
-  return alpha * c1_length > -relative_tolerance * r_length && beta * c2_length > -relative_tolerance * r_length;
-}
 
 namespace {
 
@@ -69,7 +49,7 @@ NodeSegmentPair pair_at_nearest_node(const mesh::SurfaceMesh& master, std::span<
     const auto k = static_cast<int>(std::find(quad.begin(), quad.end(), nearest_node) - quad.begin());
     std::array<int, 4> nodes{};
     for (int i = 0; i < 4; ++i) nodes[static_cast<std::size_t>(i)] = quad[static_cast<std::size_t>((k + i) % 4)];
-    if (!passes_segment_test_at_corner(at(nodes[0]), at(nodes[1]), at(nodes[3]), slave,
+    if (!geometry::passes_segment_test(at(nodes[0]), at(nodes[1]), at(nodes[3]), slave,
                                        options.segment_test_tolerance)) {
       continue;
     }

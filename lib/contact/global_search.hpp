@@ -20,8 +20,8 @@
 //  - S passes when |r| <= tol x the shorter of |c1|, |c2|: S is on the corner of every segment at M (a
 //    slave node on a master node passes for all of them; step 4 then picks one);
 //  - otherwise it passes when alpha |c1| > -tol |r| and beta |c2| > -tol |r|: S may lie outside the
-//    corner's angle by about tol radians. (geometry::passes_segment_test relaxes the products of Eqs 3-4
-//    instead, which also admits r pointing backwards along an edge, where c1 x r = 0 too.)
+//    corner's angle by about tol radians (geometry::passes_segment_test, which relaxes alpha and beta rather
+//    than the products of Eqs 3-4, so r pointing backwards along an edge stays out).
 // Both only admit more candidates; step 4 chooses among them by the projection, so a slave node on a
 // shared edge gets the segment its projection lies in, whichever rounding the deck has. tol = 0 is the
 // strict test of Eqs 3-4.
@@ -50,12 +50,6 @@ struct SearchOptions {
   NearestNodeMethod nearest = NearestNodeMethod::kTree;
   projection::ProjectionOptions projection;  ///< of the labels (the reference projection's defaults)
 };
-
-/// The segment test of Eqs 3-6 at corner `m` of a segment (next: its counter-clockwise neighbour, prev:
-/// the clockwise one) with the at-corner rule and the relaxation of the header comment. False for a
-/// collapsed corner (c1 x c2 = 0).
-[[nodiscard]] bool passes_segment_test_at_corner(const Vec3& m, const Vec3& next, const Vec3& prev, const Vec3& s,
-                                                 double relative_tolerance);
 
 enum class PairStatus { kFound, kNoSegment };
 

@@ -103,9 +103,9 @@ LabelledSet enumerate_configurations(const EnumerationOptions& options, Enumerat
     }
     const Label label = label_configuration(config, kind, options.projection);
     for (int f = 0; f < feature_count(kind); ++f) all.features(row, f) = label.features[static_cast<std::size_t>(f)];
-    all.labels(row, 0) = label.param[0];
-    all.labels(row, 1) = label.param[1];
-    all.gap[row] = label.gap;
+    all.labels(row, 0) = label.canonical_param[0];
+    all.labels(row, 1) = label.canonical_param[1];
+    all.gap[row] = label.canonical_gap;
     all.iterations[row] = label.iterations;
     all.status[static_cast<std::size_t>(row)] = label.status;
     all.scale[row] = label.scale;

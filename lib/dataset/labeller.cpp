@@ -22,6 +22,7 @@ Label label_configuration(const geometry::Configuration& world, SurfaceKind kind
                           const projection::ProjectionOptions& options) {
   Label label;
   label.param = projection::domain_centre(kind);
+  label.canonical_param = label.param;
   const auto normalised = geometry::normalise(world, kind);
   if (!normalised.value) {
     label.status = normalised.failure == geometry::NormaliseFailure::kNonFinite ? Status::kInvalid
@@ -38,6 +39,8 @@ Label label_configuration(const geometry::Configuration& world, SurfaceKind kind
   // node order of one segment the canonical configuration is the same, bit for bit, and so is the label.
   const projection::ProjectionResult result = project_normalised(normalised.value->config, kind, options);
   label.param = normalised.value->to_caller(result.param, kind);
+  label.canonical_param = result.param;
+  label.canonical_gap = result.gap;
   label.iterations = result.iterations;
   label.status = result.status;
   label.gap = normalised.value->gap_to_caller(result.gap);

@@ -17,6 +17,10 @@ struct Label {
   int iterations = 0;
   Status status = Status::kInvalid;
   double scale = 0.0;                     ///< raw-to-normalised scale 1/|AB| (0 if no frame)
+  /// The same projection in the canonical configuration (SPEC 4) the features describe: what a dataset row
+  /// holds beside its features, and what a network is trained to predict.
+  std::array<double, 2> canonical_param{0.0, 0.0};
+  double canonical_gap = 0.0;             ///< in normalised units, along the canonical P_s x P_t
   std::array<double, 16> features{};     ///< canonical normalised inputs (first feature_count(kind) used)
 };
 

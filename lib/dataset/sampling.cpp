@@ -87,9 +87,9 @@ LabelledSet sample_configurations(const EnumerationOptions& options, std::int64_
       if (options.require_projection_inside && label.status != Status::kOk) continue;
       const auto i = static_cast<Eigen::Index>(row);
       for (int f = 0; f < feature_count(kind); ++f) set.features(i, f) = label.features[static_cast<std::size_t>(f)];
-      set.labels(i, 0) = label.param[0];
-      set.labels(i, 1) = label.param[1];
-      set.gap[i] = label.gap;
+      set.labels(i, 0) = label.canonical_param[0];
+      set.labels(i, 1) = label.canonical_param[1];
+      set.gap[i] = label.canonical_gap;
       set.iterations[i] = label.iterations;
       set.status[static_cast<std::size_t>(row)] = label.status;
       set.scale[i] = label.scale;

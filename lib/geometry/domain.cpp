@@ -92,7 +92,8 @@ TrainingDomain TrainingDomain::from_features(SurfaceKind kind, const double* fea
     std::sort(values.begin(), values.end());
     values.erase(std::unique(values.begin(), values.end()), values.end());
     if (values.size() < 2) continue;
-    if (values.size() > kMaxGridValues) {
+    // A grid repeats each value over many rows; a random sample hardly ever repeats one.
+    if (values.size() > kMaxGridValues || 2 * values.size() > static_cast<std::size_t>(used)) {
       // A continuous feature (random sampling): a finite sample's extremes fall short of the domain it was
       // drawn from by about (range / rows); the filters bound the domain itself.
       const double widen = kContinuousWidening * (domain.feature_max[f] - domain.feature_min[f]);

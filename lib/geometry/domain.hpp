@@ -44,8 +44,8 @@ struct TrainingDomain {
   DomainFilters filters;
 
   /// Per-feature range over the rows of `features` (N x F, row-major, contiguous) with status ok, widened
-  /// by half the grid step for a feature that takes few distinct values (at most 10000: an enumerated
-  /// grid, where each value stands for its cell; e.g. y_D in 0.1..0.9 step 0.2 gives [0, 1], so a square
+  /// by half the grid step for a feature that takes few distinct values (at most 10000, and each on two
+  /// rows or more on average: an enumerated grid, where each value stands for its cell; e.g. y_D in 0.1..0.9 step 0.2 gives [0, 1], so a square
   /// segment is in the domain), and by kContinuousWidening of its range for a continuous one (random
   /// sampling, random node normals), whose sample extremes fall just short of the domain drawn from.
   [[nodiscard]] static TrainingDomain from_features(SurfaceKind kind, const double* features, long rows,

@@ -12,16 +12,22 @@ bool passes_segment_test(const Vec3& m, const Vec3& next, const Vec3& prev, cons
   const Vec3 c1 = next - m;
   const Vec3 c2 = prev - m;
   const Vec3 c1xc2 = c1.cross(c2);
-  const double area = c1xc2.norm();
-  if (!(area > 0.0)) return false;
-  const Vec3 unit_normal = c1xc2 / area;                 // Eq 6
+  const double area_squared = c1xc2.squaredNorm();
+  if (!(area_squared > 0.0)) return false;
   const Vec3 t = s - m;
-  const Vec3 r = t - t.dot(unit_normal) * unit_normal;  // Eq 5
-  const Vec3 c1xr = c1.cross(r);
-  const double lengths = c1.norm() * r.norm() * c2.norm();
-  const double slack3 = relative_tolerance * lengths * c1.norm();
-  const double slack4 = relative_tolerance * lengths * r.norm();
-  return c1xr.dot(c1xc2) > -slack3 && c1xr.dot(r.cross(c2)) > -slack4;  // Eqs 3, 4
+  const Vec3 r = t - (t.dot(c1xc2) / area_squared) * c1xc2;  // Eqs 5-6
+  // r = alpha c1 + beta c2 in the corner's plane: c1 x r = beta (c1 x c2) and r x c2 = alpha (c1 x c2), so
+  // Eq 3 says beta > 0 and Eq 4 says alpha beta > 0.
+  const double alpha = r.cross(c2).dot(c1xc2) / area_squared;
+  const double beta = c1.cross(r).dot(c1xc2) / area_squared;
+  if (!(relative_tolerance > 0.0)) return alpha > 0.0 && beta > 0.0;
+  const double r_length = r.norm();
+  const double c1_length = c1.norm();
+  const double c2_length = c2.norm();
+  if (r_length <= relative_tolerance * std::min(c1_length, c2_length)) return true;  // S on the corner
+  // Relaxing alpha and beta, not the products of Eqs 3-4, keeps S on the backward extension of an edge
+  // (c1 x r = 0 with alpha < 0) outside.
+  return alpha * c1_length > -relative_tolerance * r_length && beta * c2_length > -relative_tolerance * r_length;
 }
 
 bool first_node_is_nearest(const std::array<Vec3, 4>& nodes, const Vec3& s, double relative_tolerance) {

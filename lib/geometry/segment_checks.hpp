@@ -10,9 +10,12 @@ namespace contactnn::geometry {
 /// The segment test of paper Eqs 3-6 at master node `m` with c1 = next - m (counter-clockwise
 /// neighbour) and c2 = prev - m (clockwise neighbour): the projection r of t = s - m onto the plane
 /// normal to c1 x c2 lies strictly inside the angle between c1 and c2:
-///   (c1 x r) . (c1 x c2) > 0   (Eq 3)   and   (c1 x r) . (r x c2) > 0   (Eq 4).
-/// `relative_tolerance` > 0 relaxes both to > -tolerance times the product of the lengths involved, so a
-/// configuration on the boundary (S on an edge's plane) passes whatever the rounding of its coordinates.
+///   (c1 x r) . (c1 x c2) > 0   (Eq 3)   and   (c1 x r) . (r x c2) > 0   (Eq 4),
+/// i.e. r = alpha c1 + beta c2 with alpha, beta > 0. False for a collapsed corner (c1 x c2 = 0).
+/// `relative_tolerance` > 0 admits what the rounding of real coordinates puts on the boundary: S on the
+/// corner (|r| <= tolerance x the shorter edge), and S outside the angle by up to about tolerance radians
+/// (alpha |c1| > -tolerance |r| and beta |c2| > -tolerance |r|). Relaxing alpha and beta rather than the
+/// products keeps S on the backward extension of an edge outside. 0: the strict test.
 [[nodiscard]] bool passes_segment_test(const Vec3& m, const Vec3& next, const Vec3& prev, const Vec3& s,
                                        double relative_tolerance = 0.0);
 

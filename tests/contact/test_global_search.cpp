@@ -59,39 +59,6 @@ NodeSegmentPair search_one(const mesh::SurfaceMesh& s, const Vec3& slave, Surfac
   return global_search(s, normals, ids, positions, options)[0];
 }
 
-TEST(SegmentTest, StrictTestIsEqs3To6OfGeometry) {
-  // Tolerance 0 is the segment test of lib/geometry (Eqs 3-6) on random corners and slave nodes.
-  std::mt19937_64 rng(61);
-  std::uniform_real_distribution<double> x(-2, 2);
-  int passed = 0;
-  for (int k = 0; k < 20000; ++k) {
-    const Vec3 m(x(rng), x(rng), x(rng)), next(x(rng), x(rng), x(rng)), prev(x(rng), x(rng), x(rng)),
-        s(x(rng), x(rng), x(rng));
-    const bool mine = passes_segment_test_at_corner(m, next, prev, s, 0.0);
-    ASSERT_EQ(mine, geometry::passes_segment_test(m, next, prev, s)) << k;
-    passed += mine;
-  }
-  EXPECT_GT(passed, 1000);
-}
-
-TEST(SegmentTest, ToleranceAdmitsTheEdgePlaneAndTheCornerButNotTheBackwardExtensionOfAnEdge) {
-  const Vec3 m(0, 0, 0), next(1, 0, 0), prev(0, 1, 0);
-  const double tol = SearchOptions{}.segment_test_tolerance;
-  // On the plane of edge m-next (y = 0), above the segment: fails strictly, passes with the tolerance.
-  EXPECT_FALSE(passes_segment_test_at_corner(m, next, prev, Vec3(0.5, 0, 0.3), 0.0));
-  EXPECT_TRUE(passes_segment_test_at_corner(m, next, prev, Vec3(0.5, 0, 0.3), tol));
-  EXPECT_TRUE(passes_segment_test_at_corner(m, next, prev, Vec3(0.5, -1e-9, 0.3), tol));
-  EXPECT_FALSE(passes_segment_test_at_corner(m, next, prev, Vec3(0.5, -1e-3, 0.3), tol));
-  // Straight above the corner: r = 0.
-  EXPECT_TRUE(passes_segment_test_at_corner(m, next, prev, Vec3(0, 0, -0.2), tol));
-  EXPECT_TRUE(passes_segment_test_at_corner(m, next, prev, Vec3(1e-9, -1e-9, 0.2), tol));
-  // On the line of edge m-next but behind m: c1 x r = 0 as on the edge, and still outside the corner.
-  EXPECT_FALSE(passes_segment_test_at_corner(m, next, prev, Vec3(-0.5, 0, 0.1), tol));
-  EXPECT_FALSE(passes_segment_test_at_corner(m, next, prev, Vec3(0, -0.5, 0.1), tol));
-  // A collapsed corner passes nothing.
-  EXPECT_FALSE(passes_segment_test_at_corner(m, next, 2.0 * next, Vec3(0.5, 0.5, 0.1), tol));
-}
-
 TEST(GlobalSearch, SlaveAboveASegmentGetsItWithANearestNodeFirstAndCounterClockwiseOrder) {
   const mesh::SurfaceMesh s = grid(3, 3);
   const NodeSegmentPair p = search_one(s, Vec3(1.3, 2.2, 0.05));

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <random>
+
 #include <cmath>
 
 namespace contactnn::geometry {
@@ -46,6 +48,43 @@ TEST(SegmentChecks, DegenerateSegmentsAreRecognised) {
   EXPECT_TRUE(is_degenerate_segment({Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(2, 0, 0), Vec3(3, 0, 0)}));  // collinear
   EXPECT_TRUE(is_degenerate_segment({Vec3(1, 1, 1), Vec3(1, 1, 1), Vec3(1, 1, 1), Vec3(1, 1, 1)}));  // a point
   EXPECT_FALSE(is_degenerate_segment({Vec3(0, 0, 0), Vec3(1e3, 0, 0), Vec3(1e3, 1, 0), Vec3(0, 1, 0)}));  // 1e3:1
+}
+
+TEST(SegmentTest, StrictTestIsTheProductsOfEqs3And4) {
+  // Tolerance 0 is Eqs 3-6 as printed (the products, written here independently) on random corners and
+  // slave nodes.
+  std::mt19937_64 rng(61);
+  std::uniform_real_distribution<double> x(-2, 2);
+  int passed = 0;
+  for (int k = 0; k < 20000; ++k) {
+    const Vec3 m(x(rng), x(rng), x(rng)), next(x(rng), x(rng), x(rng)), prev(x(rng), x(rng), x(rng)),
+        s(x(rng), x(rng), x(rng));
+    const Vec3 c1 = next - m, c2 = prev - m, n = c1.cross(c2).normalized(), t = s - m;
+    const Vec3 r = t - t.dot(n) * n;                                                    // Eqs 5-6
+    const bool printed = c1.cross(r).dot(c1.cross(c2)) > 0 && c1.cross(r).dot(r.cross(c2)) > 0;  // Eqs 3-4
+    const bool mine = passes_segment_test(m, next, prev, s, 0.0);
+    ASSERT_EQ(mine, printed) << k;
+    passed += mine;
+  }
+  EXPECT_GT(passed, 1000);
+}
+
+TEST(SegmentTest, ToleranceAdmitsTheEdgePlaneAndTheCornerButNotTheBackwardExtensionOfAnEdge) {
+  const Vec3 m(0, 0, 0), next(1, 0, 0), prev(0, 1, 0);
+  const double tol = 1e-6;
+  // On the plane of edge m-next (y = 0), above the segment: fails strictly, passes with the tolerance.
+  EXPECT_FALSE(passes_segment_test(m, next, prev, Vec3(0.5, 0, 0.3), 0.0));
+  EXPECT_TRUE(passes_segment_test(m, next, prev, Vec3(0.5, 0, 0.3), tol));
+  EXPECT_TRUE(passes_segment_test(m, next, prev, Vec3(0.5, -1e-9, 0.3), tol));
+  EXPECT_FALSE(passes_segment_test(m, next, prev, Vec3(0.5, -1e-3, 0.3), tol));
+  // Straight above the corner: r = 0.
+  EXPECT_TRUE(passes_segment_test(m, next, prev, Vec3(0, 0, -0.2), tol));
+  EXPECT_TRUE(passes_segment_test(m, next, prev, Vec3(1e-9, -1e-9, 0.2), tol));
+  // On the line of edge m-next but behind m: c1 x r = 0 as on the edge, and still outside the corner.
+  EXPECT_FALSE(passes_segment_test(m, next, prev, Vec3(-0.5, 0, 0.1), tol));
+  EXPECT_FALSE(passes_segment_test(m, next, prev, Vec3(0, -0.5, 0.1), tol));
+  // A collapsed corner passes nothing.
+  EXPECT_FALSE(passes_segment_test(m, next, 2.0 * next, Vec3(0.5, 0.5, 0.1), tol));
 }
 
 }  // namespace
