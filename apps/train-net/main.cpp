@@ -279,6 +279,9 @@ int main(int argc, char** argv) {
   app.add_option("--mode", mode, "online (one update per pattern) or batch")->check(CLI::IsMember({"online", "batch"}));
   app.add_option("--batch_size", options.batch_size, "batch mode: patterns per update, 0 = all (full batch)");
   app.add_option("--learning_rate", options.learning_rate, "eta of dw = momentum dw - eta dE/dw")->check(cli::kPositive);
+  app.add_option("--learning_rate_final", options.learning_rate_final,
+                 "eta of the last epoch: eta decays geometrically from --learning_rate to this (0: constant)")
+      ->check(cli::kNonNegative);
   app.add_option("--momentum", options.momentum, "momentum (alpha) in [0, 1)")->check(CLI::Range(0.0, 0.999999));
   app.add_option("--epochs", options.epochs, "maximum epochs (the paper's training iterations)")->check(CLI::Range(1, 100000000));
   app.add_option("--patience", options.patience, "stop after this many epochs without a better validation error; 0 = never")

@@ -31,6 +31,9 @@ Trainer<Real>::Trainer(Network<Real>& network, const TrainOptions& options, cons
       validation_panels_(network.input_count(), network.output_count()) {
   CONTACTNN_REQUIRE(options.learning_rate > 0.0 && std::isfinite(options.learning_rate),
                     "learning rate must be positive, got " << options.learning_rate);
+  CONTACTNN_REQUIRE(options.learning_rate_final >= 0.0 && options.learning_rate_final <= options.learning_rate,
+                    "final learning rate must be in [0, learning rate " << options.learning_rate << "], got "
+                                                                        << options.learning_rate_final);
   CONTACTNN_REQUIRE(options.momentum >= 0.0 && options.momentum < 1.0,
                     "momentum must be in [0, 1), got " << options.momentum);
   CONTACTNN_REQUIRE(options.epochs >= 1, "epochs must be at least 1, got " << options.epochs);
@@ -98,7 +101,7 @@ void Trainer<Real>::online_epoch(double& loss_sum) {
   std::iota(order_.begin(), order_.end(), 0u);  // the permutation depends on the generator state only
   rng.shuffle(order_.data(), order_.size());
   state_.rng = rng.state();
-  const Real lr = static_cast<Real>(options_.learning_rate);
+  const Real lr = static_cast<Real>(learning_rate_at(state_.epoch));
   const Real alpha = static_cast<Real>(options_.momentum);
   Real* velocity = state_.velocity.data();
   online_.load(network_, velocity);
@@ -117,9 +120,16 @@ void Trainer<Real>::online_epoch(double& loss_sum) {
 }
 
 template <class Real>
+double Trainer<Real>::learning_rate_at(int epoch) const {
+  if (options_.learning_rate_final <= 0.0 || options_.epochs <= 1) return options_.learning_rate;
+  const double progress = std::min(1.0, static_cast<double>(epoch) / (options_.epochs - 1));
+  return options_.learning_rate * std::pow(options_.learning_rate_final / options_.learning_rate, progress);
+}
+
+template <class Real>
 void Trainer<Real>::update(Real scale) {
   // dw = alpha dw - eta g / count;  w += dw
-  const Real step = static_cast<Real>(options_.learning_rate) * scale;
+  const Real step = static_cast<Real>(learning_rate_at(state_.epoch)) * scale;
   const Real alpha = static_cast<Real>(options_.momentum);
   Real* w = network_.parameters().data();
   Real* v = state_.velocity.data();

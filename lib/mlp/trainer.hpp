@@ -30,7 +30,10 @@ enum class TrainingMode { kOnline, kBatch };
 struct TrainOptions {
   TrainingMode mode = TrainingMode::kOnline;
   std::size_t batch_size = 0;  ///< batch mode: patterns per update; 0 = all (full batch)
-  double learning_rate = 0.1;  ///< eta, > 0
+  double learning_rate = 0.1;  ///< eta, > 0 (of the first epoch)
+  /// eta of the last epoch; eta decays geometrically from learning_rate to this over the epochs (a constant
+  /// step leaves SGD at the noise floor its step sets; decaying it lets the last epochs settle). 0 = constant.
+  double learning_rate_final = 0.0;
   double momentum = 0.9;       ///< alpha, in [0, 1)
   int epochs = 10000;          ///< maximum epochs (passes over the training set), >= 1
   int patience = 0;            ///< stop after this many epochs without a new best validation error; 0 = never
@@ -80,6 +83,8 @@ class Trainer {
 
   /// One epoch; throws NumericalError naming the epoch when a loss is not finite.
   EpochReport train_epoch();
+  /// eta of (0-based) epoch `epoch`: learning_rate * (learning_rate_final / learning_rate)^(epoch / (epochs - 1)).
+  [[nodiscard]] double learning_rate_at(int epoch) const;
   /// True once options.epochs epochs are done or early stopping fired.
   [[nodiscard]] bool finished() const;
   /// Runs epochs until finished() or `on_epoch` returns false, then (restore_best, validation set) puts the

@@ -168,6 +168,40 @@ TEST(Trainer, EarlyStoppingAfterPatienceAndBestParametersRestored) {
   EXPECT_EQ(net.parameters(), s.best_parameters);
 }
 
+TEST(Trainer, LearningRateDecaysGeometricallyToTheFinalOne) {
+  auto net = make_network<double>({3, 4, 2}, 1);
+  const auto train = smooth_problem<double>(20, 2);
+  TrainOptions o;
+  o.learning_rate = 0.1;
+  o.learning_rate_final = 0.001;
+  o.epochs = 5;
+  const Trainer<double> decaying(net, o, train.inputs, train.targets, empty_rows<double>(3), empty_rows<double>(2));
+  // 0.1 * 0.01^(e / 4): 0.1, 0.0316..., 0.01, 0.00316..., 0.001, written out.
+  EXPECT_DOUBLE_EQ(decaying.learning_rate_at(0), 0.1);
+  EXPECT_NEAR(decaying.learning_rate_at(1), 0.031622776601683794, 1e-15);
+  EXPECT_NEAR(decaying.learning_rate_at(2), 0.01, 1e-15);
+  EXPECT_NEAR(decaying.learning_rate_at(4), 0.001, 1e-16);
+  o.learning_rate_final = 0.0;
+  const Trainer<double> constant(net, o, train.inputs, train.targets, empty_rows<double>(3), empty_rows<double>(2));
+  EXPECT_DOUBLE_EQ(constant.learning_rate_at(3), 0.1);
+}
+
+TEST(Trainer, DecayingRateChangesTheRunAndAFinalRateEqualToTheFirstDoesNot) {
+  const auto train = smooth_problem<double>(50, 2);
+  const auto run = [&](double final_rate) {
+    auto net = make_network<double>({3, 4, 2}, 1);
+    TrainOptions o;
+    o.learning_rate = 0.1;
+    o.learning_rate_final = final_rate;
+    o.epochs = 20;
+    Trainer<double> t(net, o, train.inputs, train.targets, empty_rows<double>(3), empty_rows<double>(2));
+    t.train();
+    return net.parameters();
+  };
+  EXPECT_EQ(run(0.0), run(0.1));
+  EXPECT_NE(run(0.0), run(0.01));
+}
+
 TEST(Trainer, RejectsBadOptions) {
   auto net = make_network<float>({3, 8, 2}, 1);
   const auto train = smooth_problem<float>(10, 2);
