@@ -199,11 +199,22 @@ int scene_mode(const std::string& deck, int pair, const contact::SearchOptions& 
 
 /// Scene domain mode: random configurations of the domain a scene requires (its master segments deformed,
 /// the slave anywhere a contact can occur), labelled: the training set of a scene network.
-dataset::LabelledSet scene_domain(const std::string& deck, int pair, const dataset::SceneDomainOptions& domain,
+/// The capture distance covers at least the deck's own slave nodes: 1.25 times the largest offset of its
+/// pairs (SceneDomainOptions::capture is the least).
+dataset::LabelledSet scene_domain(const std::string& deck, int pair, dataset::SceneDomainOptions domain,
                                   const dataset::EnumerationOptions& options, std::int64_t count,
                                   dataset::EnumerationSummary& summary, const dataset::ProgressFn& progress) {
   const mesh::ContactModel model = io::read_inp_deck(deck);
   const contact::Scene scene = contact::make_scene(model, pair);
+  contact::SearchOptions search;
+  search.surface = options.surface;
+  search.projection = options.projection;
+  const double offset = contact::largest_relative_offset(contact::search_scene(scene, search));
+  if (1.25 * offset > domain.capture) {
+    std::fprintf(stderr, "gen-configs: capture %g -> %g of the shortest edge, to cover the deck's own slave nodes\n",
+                 domain.capture, 1.25 * offset);
+    domain.capture = 1.25 * offset;
+  }
   std::vector<dataset::SceneSegment> segments;
   segments.reserve(scene.master.segments.size());
   for (const auto& s : scene.master.segments) {
@@ -263,7 +274,8 @@ int main(int argc, char** argv) {
                  "scene domain: node displacement, fraction of each segment's shortest edge")
       ->check(CLI::Range(0.0, 0.49));
   app.add_option("--capture", scene_options.capture,
-                 "scene domain: slave offset along the normal, fraction of the shortest edge, either side")
+                 "scene domain: slave offset along the normal, fraction of the shortest edge, either side (at "
+                 "least 1.25 x the deck's own largest)")
       ->check(cli::kPositive);
   app.add_option("--normal_tilt_tangent", scene_options.normal_tilt_tangent,
                  "scene domain, Gregory: node normals tilted from the scene's by up to this tangent")

@@ -52,6 +52,7 @@ struct NetSettings {
   double validation_fraction = 0.2;  ///< validation patterns = this * train_count, disjoint from training
   double target_low = 0.1;           ///< sigmoid value of the domain's lower end
   double target_high = 0.9;          ///< sigmoid value of the domain's upper end
+  double input_quantile = 0.0;       ///< inputs' q .. 1-q order statistics map to [-1, 1] (0: min .. max)
 };
 
 std::vector<int> parse_hidden(const std::string& text) {
@@ -119,7 +120,8 @@ int train(const NetSettings& net_settings, mlp::TrainOptions options, const std:
   for (int n : parse_hidden(net_settings.hidden)) sizes.push_back(n);
   sizes.push_back(2);
   const ParamDomain domain_range = param_domain(set.surface);
-  mlp::Scaling scaling = mlp::Scaling::from_inputs(train_raw, 2, domain_range.lo, domain_range.hi);
+  mlp::Scaling scaling = mlp::Scaling::from_inputs(train_raw, 2, domain_range.lo, domain_range.hi,
+                                                       net_settings.input_quantile);
   scaling.target_low = net_settings.target_low;
   scaling.target_high = net_settings.target_high;
   scaling.validate(n_features, 2);
@@ -291,6 +293,9 @@ int main(int argc, char** argv) {
       ->check(cli::kPositive);
   app.add_option("--validation_fraction", net.validation_fraction, "validation patterns per training pattern")
       ->check(CLI::Range(0.0, 10.0));
+  app.add_option("--input_quantile", net.input_quantile,
+                 "each input's q and 1-q order statistics over the training patterns map to -1 and 1 (0: min, max)")
+      ->check(CLI::Range(0.0, 0.49));
   app.add_option("--target_low", net.target_low, "sigmoid value the domain's lower end maps to")->check(CLI::Range(0.0, 1.0));
   app.add_option("--target_high", net.target_high, "sigmoid value the domain's upper end maps to")->check(CLI::Range(0.0, 1.0));
   app.add_option("--seed", options.seed, "seed of the pattern draw, the initial weights and the shuffles");

@@ -1,5 +1,9 @@
 #include "contact/scene.hpp"
 
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
 namespace contactnn::contact {
 
 Scene make_scene(const mesh::ContactModel& model, int k) {
@@ -32,6 +36,18 @@ SceneResult search_scene(const Scene& scene, const SearchOptions& options) {
   }
   result.statistics = shape_statistics(result.pairs, options.surface);
   return result;
+}
+
+double largest_relative_offset(const SceneResult& result) {
+  double largest = 0.0;
+  for (const NodeSegmentPair& p : result.pairs) {
+    if (p.status != PairStatus::kFound) continue;
+    if (p.label.status != Status::kOk && p.label.status != Status::kOutside) continue;
+    double shortest = std::numeric_limits<double>::infinity();
+    for (int i = 0; i < 4; ++i) shortest = std::min(shortest, (p.config.nodes[(i + 1) % 4] - p.config.nodes[i]).norm());
+    if (shortest > 0.0) largest = std::max(largest, std::abs(p.label.gap) / shortest);
+  }
+  return largest;
 }
 
 }  // namespace contactnn::contact

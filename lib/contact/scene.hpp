@@ -38,4 +38,8 @@ struct SceneResult {
 /// Global search over every slave node of the scene, counts and statistics.
 [[nodiscard]] SceneResult search_scene(const Scene& scene, const SearchOptions& options);
 
+/// The largest |gap| of the found pairs (statuses ok and outside) divided by the shortest edge of the pair's
+/// segment: how far from its segments the scene's own slave nodes lie (0 when no pair has a gap).
+[[nodiscard]] double largest_relative_offset(const SceneResult& result);
+
 }  // namespace contactnn::contact

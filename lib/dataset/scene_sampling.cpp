@@ -23,6 +23,8 @@ using geometry::Vec3;
 namespace {
 
 constexpr std::int64_t kMaxDrawsPerRow = 1'000'000;
+/// The global search's tolerance (contact::SearchOptions): a slave on a node or over an edge is a pair.
+constexpr double kSegmentTestTolerance = 1e-6;
 /// The recorded domain's limits are the accepted rows' extremes widened by this fraction (a sample's
 /// extremes fall short of the domain drawn from).
 constexpr double kWidening = 0.01;
@@ -79,6 +81,8 @@ LabelledSet sample_scene(const std::vector<SceneSegment>& segments, const SceneD
   CONTACTNN_REQUIRE(domain.deformation >= 0.0 && domain.deformation < 0.5,
                     "deformation must be in [0, 0.5) of the shortest edge, got " << domain.deformation);
   CONTACTNN_REQUIRE(domain.capture > 0.0, "capture must be > 0, got " << domain.capture);
+  CONTACTNN_REQUIRE(domain.boundary_fraction >= 0.0 && domain.boundary_fraction <= 1.0,
+                    "boundary_fraction must be in [0, 1], got " << domain.boundary_fraction);
   CONTACTNN_REQUIRE(domain.normal_tilt_tangent >= 0.0, "normal_tilt_tangent must be >= 0, got " << domain.normal_tilt_tangent);
   const SurfaceKind kind = options.surface;
   const bool gregory = kind == SurfaceKind::kGregory;
@@ -124,8 +128,19 @@ LabelledSet sample_scene(const std::vector<SceneSegment>& segments, const SceneD
         c.normals[i] = gregory ? tilted(segment.normals[i], domain.normal_tilt_tangent, random) : Vec3::Zero();
       }
       // 2. The slave along the facet's normal over a foot point.
-      const double xi = random.uniform(-1.0, 1.0);
-      const double eta = random.uniform(-1.0, 1.0);
+      double xi = random.uniform(-1.0, 1.0);
+      double eta = random.uniform(-1.0, 1.0);
+      const double where = random.uniform01();
+      if (where < 0.5 * domain.boundary_fraction) {  // at a node
+        xi = xi < 0.0 ? -1.0 : 1.0;
+        eta = eta < 0.0 ? -1.0 : 1.0;
+      } else if (where < domain.boundary_fraction) {  // on an edge
+        if (random.uniform01() < 0.5) {
+          xi = xi < 0.0 ? -1.0 : 1.0;
+        } else {
+          eta = eta < 0.0 ? -1.0 : 1.0;
+        }
+      }
       const geometry::SurfacePoint foot = geometry::BilinearPatch(c.nodes).evaluate(xi, eta);
       const Vec3 normal = foot.d_s.cross(foot.d_t);
       if (!(normal.norm() > 0.0)) continue;
@@ -134,7 +149,10 @@ LabelledSet sample_scene(const std::vector<SceneSegment>& segments, const SceneD
       //    of Eqs 3-6 there (the SPEC 4 frame requires both).
       const SquareSymmetry symmetry = geometry::canonical_symmetry(c.nodes, c.slave);
       const int a = symmetry.rotation;
-      if (!geometry::passes_segment_test(c.nodes[a], c.nodes[(a + 1) % 4], c.nodes[(a + 3) % 4], c.slave)) continue;
+      if (!geometry::passes_segment_test(c.nodes[a], c.nodes[(a + 1) % 4], c.nodes[(a + 3) % 4], c.slave,
+                                         kSegmentTestTolerance)) {
+        continue;
+      }
       // 4. The label.
       const Label label = label_configuration(c, kind, options.projection);
       ++t.labelled;

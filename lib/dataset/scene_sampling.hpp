@@ -34,11 +34,15 @@ struct SceneDomainOptions {
   /// Gregory: each node normal is tilted from the scene's by an angle whose tangent is uniform in
   /// [0, normal_tilt_tangent) (deformation turns normals too; 0.1 is ~6 degrees).
   double normal_tilt_tangent = 0.1;
+  /// Fraction of foot points placed on the segment's boundary: half of them at a node, half on an edge
+  /// (the other coordinate uniform). Matching meshes put slave nodes exactly there (on a master node, over a
+  /// master edge), where the coordinates are extreme and a uniform sample seldom goes. 0.2.
+  double boundary_fraction = 0.2;
 };
 
 /// `count` configurations of the scene's domain: row i draws (stream (seed, i)) a segment with probability
 /// proportional to its area, deforms it (SceneDomainOptions), places S along the facet normal over a foot
-/// point uniform in (xi, eta), keeps it when it could be a pair of the global search (SPEC 7): S passes the
+/// point uniform in (xi, eta) (or on the boundary, boundary_fraction), keeps it when it could be a pair of the global search (SPEC 7): S passes the
 /// segment test of Eqs 3-6 at the segment's node nearest it; labels it with options.projection (kind
 /// options.surface) and keeps it when the projection lies inside (status ok), as the paper's sets. The
 /// features and labels are canonical (SPEC 4). The set's `filters` describe the domain drawn: limits, interior angles and

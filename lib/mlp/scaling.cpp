@@ -1,5 +1,6 @@
 #include "mlp/scaling.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include "core/error.hpp"
@@ -8,7 +9,8 @@ namespace contactnn::mlp {
 
 Scaling Scaling::from_inputs(
     const Eigen::Ref<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>& inputs,
-    int output_count, double out_min, double out_max) {
+    int output_count, double out_min, double out_max, double quantile) {
+  CONTACTNN_REQUIRE(quantile >= 0.0 && quantile < 0.5, "scaling quantile must be in [0, 0.5), got " << quantile);
   CONTACTNN_REQUIRE(inputs.rows() > 0 && inputs.cols() > 0,
                     "scaling needs at least one pattern, got " << inputs.rows() << " x " << inputs.cols());
   CONTACTNN_REQUIRE(inputs.allFinite(), "scaling: the training inputs contain a non-finite value");
@@ -16,9 +18,14 @@ Scaling Scaling::from_inputs(
   const auto n_in = static_cast<std::size_t>(inputs.cols());
   s.input_min.resize(n_in);
   s.input_max.resize(n_in);
+  std::vector<double> column(static_cast<std::size_t>(inputs.rows()));
   for (Eigen::Index i = 0; i < inputs.cols(); ++i) {
-    s.input_min[i] = inputs.col(i).minCoeff();
-    s.input_max[i] = inputs.col(i).maxCoeff();
+    for (Eigen::Index r = 0; r < inputs.rows(); ++r) column[static_cast<std::size_t>(r)] = inputs(r, i);
+    std::sort(column.begin(), column.end());
+    // Order statistics at q and 1 - q (nearest rank): q = 0 gives the minimum and the maximum.
+    const auto last = static_cast<double>(column.size() - 1);
+    s.input_min[i] = column[static_cast<std::size_t>(std::llround(quantile * last))];
+    s.input_max[i] = column[static_cast<std::size_t>(std::llround((1.0 - quantile) * last))];
   }
   s.output_min.assign(output_count, out_min);
   s.output_max.assign(output_count, out_max);

@@ -12,16 +12,21 @@ namespace contactnn::mlp {
 /// Output k:  t_s = target_low + (t - output_min[k]) * (target_high - target_low) / (output_max - output_min),
 ///            and its inverse for predictions. All in double; the network computes in its own Real.
 struct Scaling {
-  std::vector<double> input_min, input_max;    ///< per input: the training set's range -> [-1, 1]
+  std::vector<double> input_min, input_max;    ///< per input: the range mapped to [-1, 1] (from_inputs)
   std::vector<double> output_min, output_max;  ///< per output: label range (the parameter domain)
   double target_low = 0.1;                     ///< sigmoid value output_min maps to (0 < low < high < 1)
   double target_high = 0.9;                    ///< sigmoid value output_max maps to
 
   /// Ranges from the rows of `inputs` (N x n_in, N >= 1) and the given label range, the same for every
-  /// output. Throws InvalidArgument for an empty or non-finite input or output_min >= output_max.
+  /// output. Input i's range runs from its `quantile` to its (1 - quantile) order statistic: 0 is the
+  /// minimum and maximum; 0.005 maps the central 99% to [-1, 1], so that a few extreme values (Gregory
+  /// normal slopes n_x/n_z reach +-77 on warped segments while most lie within +-0.3) do not squeeze the
+  /// rest into a sliver of the units' input range. Values beyond reach past +-1 (linearly).
+  /// Throws InvalidArgument for an empty or non-finite input, output_min >= output_max or a quantile
+  /// outside [0, 0.5).
   static Scaling from_inputs(const Eigen::Ref<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic,
                                                                   Eigen::RowMajor>>& inputs,
-                             int output_count, double output_min, double output_max);
+                             int output_count, double output_min, double output_max, double quantile = 0.0);
 
   [[nodiscard]] int input_count() const { return static_cast<int>(input_min.size()); }
   [[nodiscard]] int output_count() const { return static_cast<int>(output_min.size()); }

@@ -135,5 +135,23 @@ TEST(Rng, StateRestoresTheSequence) {
   for (int i = 0; i < 10; ++i) EXPECT_EQ(a.next(), b.next());
 }
 
+TEST(Scaling, FromInputsMapsTheChosenOrderStatisticsToPlusMinusOne) {
+  // Column 0: 0, 1, ..., 100 (shuffled); column 1: the same with one outlier 1e4 in place of 100.
+  MatrixRM<double> x(101, 2);
+  for (int r = 0; r < 101; ++r) {
+    x(r, 0) = static_cast<double>((r * 37) % 101);
+    x(r, 1) = x(r, 0) == 100.0 ? 1e4 : x(r, 0);
+  }
+  const Scaling all = Scaling::from_inputs(x, 2, -1.0, 1.0);
+  EXPECT_EQ(all.input_min, (std::vector<double>{0.0, 0.0}));
+  EXPECT_EQ(all.input_max, (std::vector<double>{100.0, 1e4}));
+  // q = 0.05: ranks 5 and 95 of 0..100.
+  const Scaling central = Scaling::from_inputs(x, 2, -1.0, 1.0, 0.05);
+  EXPECT_EQ(central.input_min, (std::vector<double>{5.0, 5.0}));
+  EXPECT_EQ(central.input_max, (std::vector<double>{95.0, 95.0}));
+  EXPECT_NEAR(central.scale_input(1, 50.0), 0.0, 1e-15);
+  EXPECT_THROW((void)Scaling::from_inputs(x, 2, -1.0, 1.0, 0.5), InvalidArgument);
+}
+
 }  // namespace
 }  // namespace contactnn::mlp
