@@ -53,6 +53,7 @@ struct NetSettings {
   double target_low = 0.1;           ///< sigmoid value of the domain's lower end
   double target_high = 0.9;          ///< sigmoid value of the domain's upper end
   double input_quantile = 0.0;       ///< inputs' q .. 1-q order statistics map to [-1, 1] (0: min .. max)
+  std::string input_features = "paper";  ///< the input map: paper (SPEC 4 as is) or affine
 };
 
 std::vector<int> parse_hidden(const std::string& text) {
@@ -112,8 +113,14 @@ int train(const NetSettings& net_settings, mlp::TrainOptions options, const std:
   const mlp::PatternSelection selection = mlp::select_patterns(ok_rows, net_settings.train_count, validation_count,
                                                                mlp::Rng::derive_seed(options.seed, 1));
   const int n_features = feature_count(set.surface);
+  // The network's inputs: the features through the chosen input map (core/input_features.hpp).
+  const InputFeatures input_map = input_features_from_string(net_settings.input_features);
+  MatrixRM<double> inputs(set.size(), n_features);
+  for (Eigen::Index r = 0; r < set.size(); ++r) {
+    map_input_features(input_map, set.surface, set.features.row(r).data(), inputs.row(r).data());
+  }
   MatrixRM<double> train_raw(static_cast<Eigen::Index>(selection.training.size()), n_features);
-  for (Eigen::Index r = 0; r < train_raw.rows(); ++r) train_raw.row(r) = set.features.row(selection.training[r]);
+  for (Eigen::Index r = 0; r < train_raw.rows(); ++r) train_raw.row(r) = inputs.row(selection.training[r]);
 
   // 4. Network: architecture, scaling from the training inputs, weights from the seed.
   std::vector<int> sizes{n_features};
@@ -122,6 +129,7 @@ int train(const NetSettings& net_settings, mlp::TrainOptions options, const std:
   const ParamDomain domain_range = param_domain(set.surface);
   mlp::Scaling scaling = mlp::Scaling::from_inputs(train_raw, 2, domain_range.lo, domain_range.hi,
                                                        net_settings.input_quantile);
+  scaling.input_features = input_map;
   scaling.target_low = net_settings.target_low;
   scaling.target_high = net_settings.target_high;
   scaling.validate(n_features, 2);
@@ -131,7 +139,7 @@ int train(const NetSettings& net_settings, mlp::TrainOptions options, const std:
     x.resize(static_cast<Eigen::Index>(rows.size()), n_features);
     t.resize(static_cast<Eigen::Index>(rows.size()), 2);
     for (Eigen::Index r = 0; r < x.rows(); ++r) {
-      for (int i = 0; i < n_features; ++i) x(r, i) = static_cast<Real>(scaling.scale_input(i, set.features(rows[r], i)));
+      for (int i = 0; i < n_features; ++i) x(r, i) = static_cast<Real>(scaling.scale_input(i, inputs(rows[r], i)));
       for (int k = 0; k < 2; ++k) t(r, k) = static_cast<Real>(scaling.scale_target(k, set.labels(rows[r], k)));
     }
   };
@@ -293,6 +301,10 @@ int main(int argc, char** argv) {
       ->check(cli::kPositive);
   app.add_option("--validation_fraction", net.validation_fraction, "validation patterns per training pattern")
       ->check(CLI::Range(0.0, 10.0));
+  app.add_option("--input_features", net.input_features,
+                 "what the network sees: paper (the SPEC 4 features) or affine (the slave and C in the affine frame "
+                 "of AB and AD, the metric as separate inputs: thin segments stay well conditioned)")
+      ->check(CLI::IsMember({"paper", "affine"}));
   app.add_option("--input_quantile", net.input_quantile,
                  "each input's q and 1-q order statistics over the training patterns map to -1 and 1 (0: min, max)")
       ->check(CLI::Range(0.0, 0.49));

@@ -86,6 +86,7 @@ void write_network(const std::filesystem::path& path, const mlp::Network<Real>& 
       file.write_vector(group + "/thresholds", to_double(network.thresholds(l), static_cast<std::size_t>(sizes[l + 1])));
     }
     const mlp::Scaling& s = network.scaling();
+    file.write_attribute("/", "input_features", std::string(to_string(s.input_features)));
     file.write_vector("scaling/input_min", s.input_min);
     file.write_vector("scaling/input_max", s.input_max);
     file.write_vector("scaling/output_min", s.output_min);
@@ -140,6 +141,15 @@ TrainedNetwork<Real> read_network(const std::filesystem::path& path) {
   s.output_max = read_sized(file, "scaling/output_max", n_out, "one per output of " + arch);
   s.target_low = file.read_double_attribute("scaling/output_min", "target_low");
   s.target_high = file.read_double_attribute("scaling/output_min", "target_high");
+  // Files written before input maps existed see the paper's features.
+  if (file.has_attribute("/", "input_features")) {
+    const std::string features = file.read_string_attribute("/", "input_features");
+    try {
+      s.input_features = input_features_from_string(features);
+    } catch (const InvalidArgument&) {
+      throw FormatError("'" + name + "': input_features is '" + features + "', expected 'paper' or 'affine'");
+    }
+  }
   const double u0 = file.read_double_attribute("/", "u0");
 
   auto network = [&] {

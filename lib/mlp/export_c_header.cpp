@@ -272,6 +272,20 @@ std::string export_c_header(const Network<Real>& network, const CHeaderOptions& 
       << "    if (f[i] < " << p << "_domain_min[i] - slack || f[i] > " << p << "_domain_max[i] + slack) status = 2;\n"
       << "  }\n";
   }
+  // The network's input map (core/input_features.cpp, map_input_features), then the scaling.
+  if (network.scaling().input_features == InputFeatures::kAffine) {
+    o << "  { /* the affine frame of AB and AD: x = alpha + beta xd, y = beta yd; heights / sqrt(yd) */\n"
+      << "    const double xd = f[3], yd = f[4] > 1e-300 ? f[4] : 1e-300;\n"
+      << "    const double rho = sqrt(xd * xd + yd * yd), height = 1.0 / sqrt(yd);\n"
+      << "    const double beta_c = f[1] / yd, beta_s = f[6] / yd;\n"
+      << "    double g[" << n_features << "];\n"
+      << "    g[0] = f[0] - xd * beta_c; g[1] = beta_c; g[2] = f[2] * height; g[3] = rho; g[4] = xd / rho;\n"
+      << "    g[5] = f[5] - xd * beta_s; g[6] = beta_s; g[7] = f[7] * height;\n";
+    if (gregory) {
+      o << "    for (i = 0; i < 4; ++i) { g[8 + 2 * i] = f[8 + 2 * i]; g[9 + 2 * i] = (f[8 + 2 * i] * xd + f[9 + 2 * i] * yd) / rho; }\n";
+    }
+    o << "    for (i = 0; i < " << n_features << "; ++i) f[i] = g[i];\n  }\n";
+  }
   // Clamped as in mlp::predict: a huge finite feature must not become inf (and inf - inf NaN) in float.
   o << "  for (i = 0; i < " << n_features << "; ++i) {\n"
     << "    double s = (f[i] - " << p << "_input_min[i]) * " << p << "_input_gain[i] - 1.0;\n"

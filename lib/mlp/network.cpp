@@ -76,8 +76,15 @@ void predict(const Network<Real>& network, const double* raw_input, double* raw_
   // that a huge finite feature cannot become inf in float, and inf - inf NaN in the first layer.
   // The same arithmetic as Scaling::scale_input and unscale_output, with the gains computed once.
   constexpr double kInputClamp = 1e6;
+  double mapped[16];
+  const double* features = raw_input;
+  if (s.input_features != InputFeatures::kPaper) {
+    map_input_features(s.input_features, network.input_count() == 8 ? SurfaceKind::kBilinear : SurfaceKind::kGregory,
+                       raw_input, mapped);
+    features = mapped;
+  }
   for (int i = 0; i < network.input_count(); ++i) {
-    const double scaled = (raw_input[i] - s.input_min[i]) * input_gain[i] - 1.0;
+    const double scaled = (features[i] - s.input_min[i]) * input_gain[i] - 1.0;
     x[i] = static_cast<Real>(std::clamp(scaled, -kInputClamp, kInputClamp));
   }
   // Scaled straight into activation(0), which run() then leaves in place.

@@ -43,6 +43,8 @@ double Scaling::output_gain(int k) const {
 }
 
 void Scaling::validate(int n_in, int n_out) const {
+  CONTACTNN_REQUIRE(input_features == InputFeatures::kPaper || n_in == 8 || n_in == 16,
+                    "scaling: " << to_string(input_features) << " input features need 8 or 16 inputs, got " << n_in);
   CONTACTNN_REQUIRE(input_count() == n_in && static_cast<int>(input_max.size()) == n_in,
                     "scaling: expected " << n_in << " input ranges, got " << input_min.size() << " minima and "
                                          << input_max.size() << " maxima");

@@ -5,13 +5,19 @@
 #include <Eigen/Core>
 #include <vector>
 
+#include "core/input_features.hpp"
+
 namespace contactnn::mlp {
 
+/// Features f -> inputs x = map_input_features(input_features, f), then
 /// Input i:   x_s = (x - input_min[i]) * input_gain(i) - 1, input_gain = 2 / (input_max - input_min)
 ///            (0 for a constant input, which then always enters as -1).
 /// Output k:  t_s = target_low + (t - output_min[k]) * (target_high - target_low) / (output_max - output_min),
 ///            and its inverse for predictions. All in double; the network computes in its own Real.
 struct Scaling {
+  /// The features (SPEC 4) first go through this map (core/input_features.hpp); the ranges below are those
+  /// of its outputs. kPaper: none.
+  InputFeatures input_features = InputFeatures::kPaper;
   std::vector<double> input_min, input_max;    ///< per input: the range mapped to [-1, 1] (from_inputs)
   std::vector<double> output_min, output_max;  ///< per output: label range (the parameter domain)
   double target_low = 0.1;                     ///< sigmoid value output_min maps to (0 < low < high < 1)

@@ -95,7 +95,8 @@ Expected library_result(const Network<Real>& net, const CHeaderOptions& options,
 }
 
 template <class Real>
-void check_header(SurfaceKind surface, std::vector<int> hidden, const std::string& prefix) {
+void check_header(SurfaceKind surface, std::vector<int> hidden, const std::string& prefix,
+                  InputFeatures input_features = InputFeatures::kPaper) {
   const bool gregory = surface == SurfaceKind::kGregory;
   const int n_in = feature_count(surface);
   Scaling s;
@@ -104,6 +105,7 @@ void check_header(SurfaceKind surface, std::vector<int> hidden, const std::strin
   s.input_min[1] = -2.0;
   s.input_max[1] = 2.0;
   s.input_max[4] = s.input_min[4];  // a constant input: gain 0
+  s.input_features = input_features;
   const ParamDomain range = param_domain(surface);
   s.output_min.assign(2, range.lo);
   s.output_max.assign(2, range.hi);
@@ -183,6 +185,11 @@ void check_header(SurfaceKind surface, std::vector<int> hidden, const std::strin
 
 TEST(ExportCHeader, BilinearHeaderCompilesAndAgreesWithLibrary) {
   check_header<float>(SurfaceKind::kBilinear, {8}, "bilinear_8");
+}
+
+TEST(ExportCHeader, AffineInputHeadersAgreeWithLibrary) {
+  check_header<float>(SurfaceKind::kBilinear, {8}, "bilinear_affine", InputFeatures::kAffine);
+  check_header<double>(SurfaceKind::kGregory, {6}, "gregory_affine", InputFeatures::kAffine);
 }
 
 TEST(ExportCHeader, GregoryDeepDoubleHeaderCompilesAndAgreesWithLibrary) {

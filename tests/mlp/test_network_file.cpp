@@ -87,6 +87,18 @@ void check_round_trip() {
 TEST(NetworkFile, RoundTripIsBitExactFloat) { check_round_trip<float>(); }
 TEST(NetworkFile, RoundTripIsBitExactDouble) { check_round_trip<double>(); }
 
+TEST(NetworkFile, InputFeaturesRoundTrip) {
+  const auto path = temp_dir() / "affine.h5";
+  auto net = bilinear_network<float>({8, 4, 2}, 5);
+  mlp::Scaling s = net.scaling();
+  s.input_features = InputFeatures::kAffine;
+  const mlp::Network<float> affine({8, 4, 2}, 1.5, s);
+  write_network(path, affine, bilinear_domain(), provenance());
+  EXPECT_EQ(read_network<float>(path).network.scaling().input_features, InputFeatures::kAffine);
+  write_network(path, net, bilinear_domain(), provenance());
+  EXPECT_EQ(read_network<float>(path).network.scaling().input_features, InputFeatures::kPaper);
+}
+
 TEST(NetworkFile, DatasetFileIsRejectedNamingBothKindsAndTheFile) {
   const auto path = temp_dir() / "a-dataset.h5";
   dataset::LabelledSet set;
