@@ -67,8 +67,10 @@ class Context:
         report = f"command: {tool} {' '.join(args)}\nexit: {rc}\nstderr:\n{err}\nstdout:\n{out[-2000:]}"
         if rc < 0:
             raise Failure(f"killed by signal {-rc}\n{report}")
+        # "[requirement" and "failed at": the internal check macro's suffix, which user-facing errors never
+        # carry (a message must read cleanly, without source paths).
         for bad in ("terminate called", "Traceback", "Aborted", "Segmentation fault", "error: internal",
-                    "AddressSanitizer", "runtime error"):
+                    "AddressSanitizer", "runtime error", "[requirement", "failed at"):
             if bad in err:
                 raise Failure(f"crash marker '{bad}' in stderr\n{report}")
         if rc != code:
@@ -222,7 +224,7 @@ def _(ctx):
     os.mkdir(ctx.path("out.csv"))
     ctx.write("out.csv/keep", "x")
     ctx.expect_failure("gen-configs", ["--input", src, "--output", "out.csv"], 4,
-                       r"^error: cannot rename '[^']*\.tmp' to 'out\.csv'")
+                       r"^error: cannot write 'out\.csv': it is a directory\n$")
 
 
 @case("failed_run_keeps_previous_output")
@@ -306,7 +308,7 @@ def _(ctx):
 @case("config_malformed_section_header")
 def _(ctx):
     config(ctx, "[gen-configs\nd_xy_points = 4\n", 2,
-           r"^error: config file 'c\.toml': line 1: malformed section header '\[gen-configs'")
+           r"^error: config file 'c\.toml': line 1, column \d+: not valid TOML: .*table header")
 
 
 @case("config_key_outside_any_section")
@@ -318,19 +320,87 @@ def _(ctx):
 @case("config_value_out_of_range")
 def _(ctx):
     config(ctx, "[gen-configs]\n\nd_xy_points = 0\n", 2,
-           r"^error: config file 'c\.toml', line 3, key 'd_xy_points': --d_xy_points: Value 0 not in range 1 to 400")
+           r"^error: config file 'c\.toml', line 3, key 'd_xy_points': --d_xy_points: must be an integer in 1\.\.400, "
+           r"got '0'\n$")
 
 
 @case("config_negative_limit")
 def _(ctx):
     config(ctx, "[gen-configs]\nz_limit = -0.3\n", 2,
-           r"^error: config file 'c\.toml', line 2, key 'z_limit': --z_limit: must be > 0, got -0\.3")
+           r"^error: config file 'c\.toml', line 2, key 'z_limit': --z_limit: must be a finite number > 0, got -0\.3\n$")
 
 
 @case("config_wrong_type")
 def _(ctx):
-    config(ctx, "[gen-configs]\nconvex = maybe\n", 2,
-           r"^error: config file 'c\.toml', line 2, key 'convex': Could not convert: --convex = maybe")
+    config(ctx, "[gen-configs]\nconvex = \"maybe\"\n", 2,
+           r"^error: config file 'c\.toml', line 2, key 'convex': expected a boolean \(true or false\), got a string\n$")
+
+
+@case("config_bare_word_is_not_toml")
+def _(ctx):
+    config(ctx, "[gen-configs]\nconvex = maybe\n", 2, r"^error: config file 'c\.toml': line 2, column \d+: not valid TOML")
+
+
+@case("config_string_for_an_integer")
+def _(ctx):
+    config(ctx, "[gen-configs]\n\nd_xy_points = \"4\"\n", 2,
+           r"^error: config file 'c\.toml', line 3, key 'd_xy_points': expected an integer, got a string\n$")
+
+
+@case("config_float_for_an_integer")
+def _(ctx):
+    config(ctx, "[gen-configs]\nd_xy_points = 4.5\n", 2,
+           r"^error: config file 'c\.toml', line 2, key 'd_xy_points': expected an integer, got a floating-point number")
+
+
+@case("config_duplicate_key")
+def _(ctx):
+    # Issue 12: the reader kept the first value and dropped the second silently.
+    config(ctx, "[gen-configs]\nd_xy_points = 8\nd_xy_points = 9\n", 2,
+           r"^error: config file 'c\.toml': line 3, column \d+: not valid TOML: .*redefine.*'d_xy_points'")
+
+
+@case("config_duplicate_section")
+def _(ctx):
+    config(ctx, "[gen-configs]\nd_xy_points = 8\n[train-net]\n[gen-configs]\nc_xy_points = 9\n", 2,
+           r"^error: config file 'c\.toml': line 4, column \d+: not valid TOML: .*gen-configs")
+
+
+@case("config_nested_table")
+def _(ctx):
+    config(ctx, "[gen-configs.grid]\nd_xy_points = 8\n", 2,
+           r"^error: config file 'c\.toml': line 1: unknown key 'grid' in \[gen-configs\]")
+
+
+@case("config_array_of_tables")
+def _(ctx):
+    config(ctx, "[[gen-configs]]\nd_xy_points = 8\n", 2,
+           r"^error: config file 'c\.toml': line 1: \[\[gen-configs\]\] is an array of tables")
+
+
+@case("config_infinite_limit")
+def _(ctx):
+    config(ctx, "[gen-configs]\nxy_limit = inf\n", 2,
+           r"^error: config file 'c\.toml', line 2, key 'xy_limit': --xy_limit: must be a finite number > 0, got inf\n$")
+
+
+@case("config_min_angle_above_max")
+def _(ctx):
+    config(ctx, "[gen-configs]\nmin_angle_degrees = 100\nmax_angle_degrees = 90\n", 2,
+           r"^error: min_angle_degrees 100 is above max_angle_degrees 90: no segment could pass\n$")
+
+
+@case("config_crlf_bom_underscores_and_spaced_header_are_toml")
+def _(ctx):
+    # Valid TOML 1.0 that the old line reader refused: a UTF-8 byte-order mark, CRLF line ends, digit
+    # separators, blanks inside a table header.
+    ctx.write("c.toml", "\ufeff# a study\r\n[ gen-configs ]\r\nd_xy_points = 1_0\r\nc_xy_points = 2\r\n"
+                        "s_xy_points = 2\r\nquiet = true\r\n[ train-net ]\r\nhidden = \"8\"\r\n")
+    ctx.expect_success("gen-configs", ["--config", "c.toml", "--output", "out.h5"])
+    with open(ctx.path("out.h5.config.toml")) as f:
+        text = f.read()
+    if "\nd_xy_points=10\n" not in text or "\nc_xy_points=2\n" not in text:
+        raise Failure(f"the values were not read as written:\n{text}")
 
 
 @case("config_bad_choice")
@@ -362,24 +432,23 @@ def _(ctx):
 @case("config_unterminated_string")
 def _(ctx):
     config(ctx, "[gen-configs]\noutput = \"never closed\n", 2,
-           r"^error: config file 'c\.toml': line 2: unterminated string \"never closed")
+           r"^error: config file 'c\.toml': line 2, column \d+: not valid TOML: .*string")
 
 
 @case("config_two_values")
 def _(ctx):
-    config(ctx, "[gen-configs]\nd_xy_points = 4 5\n", 2,
-           r"^error: config file 'c\.toml', line 2, key 'd_xy_points': --d_xy_points: Value 4 5 not in range")
+    config(ctx, "[gen-configs]\nd_xy_points = 4 5\n", 2, r"^error: config file 'c\.toml': line 2, column \d+: not valid TOML")
 
 
 @case("config_text_after_string")
 def _(ctx):
     config(ctx, "[gen-configs]\nsurface = \"bilinear\" x\n", 2,
-           r"^error: config file 'c\.toml': line 2: unexpected 'x' after the value")
+           r"^error: config file 'c\.toml': line 2, column \d+: not valid TOML: .*saw 'x'")
 
 
 @case("config_line_without_value")
 def _(ctx):
-    config(ctx, "[gen-configs]\nquiet\n", 2, r"^error: config file 'c\.toml': line 2: expected 'key = value', found 'quiet'")
+    config(ctx, "[gen-configs]\nquiet\n", 2, r"^error: config file 'c\.toml': line 2, column \d+: not valid TOML: .*expected '='")
 
 
 @case("config_file_missing")
@@ -391,7 +460,7 @@ def _(ctx):
 @case("command_line_value_out_of_range")
 def _(ctx):
     # The same bad value on the command line is reported as CLI11 does, without a config file.
-    config(ctx, "[gen-configs]\nd_xy_points = 4\n", 2, r"^--d_xy_points: Value 0 not in range 1 to 400",
+    config(ctx, "[gen-configs]\nd_xy_points = 4\n", 2, r"^--d_xy_points: must be an integer in 1\.\.400, got '0'",
            extra=["--d_xy_points", "0"])
 
 
