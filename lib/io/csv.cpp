@@ -120,12 +120,11 @@ void CsvReader::check_encoding() {
 
 void CsvReader::start() {
   check_encoding();
-  std::size_t count = 0;
   std::size_t line = 0;
-  std::vector<std::string> fields;
-  const bool got_header = read_record(fields, count, line);
+  CsvRecord record;
+  const bool got_header = read_record(record, line);
   CONTACTNN_REQUIRE_AS(FormatError, got_header, file_label(path_) << ": empty file: expected a header row and data rows");
-  fields.resize(count);
+  std::vector<std::string> fields = record.strings();
   std::unordered_set<std::string> seen;
   for (auto& column : fields) {
     CONTACTNN_REQUIRE_AS(FormatError, column.find('\0') == std::string::npos,
@@ -142,30 +141,25 @@ void CsvReader::start() {
                        file_label(path_) << ": header only: expected at least one data row");
 }
 
-bool CsvReader::read_record(std::vector<std::string>& fields, std::size_t& count, std::size_t& record_line) {
+bool CsvReader::read_record(CsvRecord& record, std::size_t& record_line) {
   for (;;) {
     if (peek() < 0) return false;
     record_line = line_;
-    count = 0;
-    const auto field = [&]() -> std::string& {
-      if (fields.size() <= count) fields.emplace_back();
-      return fields[count];
-    };
-    field().clear();
+    record.clear();
     bool in_quotes = false;
     bool record_has_content = false;
     for (int c = get(); c >= 0; c = get()) {
       if (in_quotes) {
         if (c == '"') {
           if (peek() == '"') {
-            field() += '"';
+            record.append('"');
             get();
           } else {
             in_quotes = false;
           }
         } else {
           if (c == '\n') ++line_;
-          field() += static_cast<char>(c);
+          record.append(static_cast<char>(c));
         }
         continue;
       }
@@ -173,8 +167,7 @@ bool CsvReader::read_record(std::vector<std::string>& fields, std::size_t& count
         in_quotes = true;
         record_has_content = true;
       } else if (c == ',') {
-        ++count;
-        field().clear();
+        record.end_field();
         record_has_content = true;
       } else if (c == '\n') {
         ++line_;
@@ -188,33 +181,41 @@ bool CsvReader::read_record(std::vector<std::string>& fields, std::size_t& count
                                                << ": carriage return without a line feed (a file with CR-only line "
                                                   "ends?): save it with LF or CRLF line ends");
       } else {
-        field() += static_cast<char>(c);
+        record.append(static_cast<char>(c));
         if (c != ' ' && c != '\t') record_has_content = true;
       }
     }
     CONTACTNN_REQUIRE_AS(FormatError, !in_quotes, file_label(path_) << ":" << record_line << ": unterminated quoted field");
-    if (!record_has_content && is_blank(field())) continue;  // blank line
-    ++count;
+    if (!record_has_content && is_blank(record.current_field())) continue;  // blank line
+    // Field ends are 32-bit: a record of 4 GB or more is not a CSV row anyone means.
+    CONTACTNN_REQUIRE_AS(FormatError, record.text_size() < (std::size_t{1} << 32),
+                         file_label(path_) << ":" << record_line << ": a record of 4 GB or more");
+    record.end_field();
     return true;
   }
 }
 
-bool CsvReader::next(std::vector<std::string>& fields, std::size_t& line) {
+bool CsvReader::next(CsvRecord& record, std::size_t& line) {
   if (have_lookahead_) {
-    std::swap(fields, lookahead_);
+    std::swap(record, lookahead_);
     line = lookahead_line_;
     have_lookahead_ = false;
     return true;
   }
-  std::size_t count = 0;
   std::size_t record_line = 0;
-  if (!read_record(fields, count, record_line)) return false;
-  CONTACTNN_REQUIRE_AS(FormatError, header_.empty() || count == header_.size(),
-                       file_label(path_) << ":" << record_line << ": ragged row: " << count
+  if (!read_record(record, record_line)) return false;
+  CONTACTNN_REQUIRE_AS(FormatError, header_.empty() || record.size() == header_.size(),
+                       file_label(path_) << ":" << record_line << ": ragged row: " << record.size()
                                          << " fields, the header has " << header_.size());
-  fields.resize(count);
   line = record_line;
   return true;
+}
+
+std::vector<std::string> CsvRecord::strings() const {
+  std::vector<std::string> out;
+  out.reserve(size());
+  for (std::size_t i = 0; i < size(); ++i) out.emplace_back((*this)[i]);
+  return out;
 }
 
 std::size_t CsvReader::column(std::string_view name) const {
@@ -247,10 +248,10 @@ CsvTable read_all(CsvReader& reader) {
   CsvTable table;
   table.path = reader.path();
   table.header = reader.header();
-  std::vector<std::string> fields;
+  CsvRecord record;
   std::size_t line = 0;
-  while (reader.next(fields, line)) {
-    table.rows.push_back(fields);
+  while (reader.next(record, line)) {
+    table.rows.push_back(record.strings());
     table.line_numbers.push_back(line);
   }
   return table;
@@ -270,22 +271,25 @@ CsvTable read_csv(const std::filesystem::path& path) {
 // ---------------------------------------------------------------------------------------------------------
 // Writing
 
+void append_csv_field(std::string& out, std::string_view f) {
+  // Quoted: a comma, quote or line break, and a leading byte-order mark (which the reader skips at the
+  // start of a file: unquoted, a first column named "\xEF\xBB\xBFid" would read back as "id").
+  if (f.find_first_of(",\"\n\r") == std::string_view::npos && f.substr(0, 3) != "\xEF\xBB\xBF") {
+    out += f;
+  } else {
+    out += '"';
+    for (char c : f) {
+      if (c == '"') out += '"';
+      out += c;
+    }
+    out += '"';
+  }
+}
+
 void append_csv_row(std::string& out, const std::vector<std::string>& fields) {
   for (std::size_t i = 0; i < fields.size(); ++i) {
     if (i > 0) out += ',';
-    const std::string& f = fields[i];
-    // Quoted: a comma, quote or line break, and a leading byte-order mark (which the reader skips at the
-    // start of a file: unquoted, a first column named "\xEF\xBB\xBFid" would read back as "id").
-    if (f.find_first_of(",\"\n\r") == std::string::npos && f.rfind("\xEF\xBB\xBF", 0) != 0) {
-      out += f;
-    } else {
-      out += '"';
-      for (char c : f) {
-        if (c == '"') out += '"';
-        out += c;
-      }
-      out += '"';
-    }
+    append_csv_field(out, fields[i]);
   }
   out += '\n';
 }
@@ -306,6 +310,18 @@ CsvWriter::CsvWriter(const std::filesystem::path& path) : output_(path, AtomicOu
 
 void CsvWriter::write_row(const std::vector<std::string>& fields) {
   append_csv_row(buffer_, fields);
+  if (buffer_.size() >= kWriteBytes) flush_buffer();
+}
+
+void CsvWriter::field(std::string_view text) {
+  if (row_started_) buffer_ += ',';
+  append_csv_field(buffer_, text);
+  row_started_ = true;
+}
+
+void CsvWriter::end_row() {
+  buffer_ += '\n';
+  row_started_ = false;
   if (buffer_.size() >= kWriteBytes) flush_buffer();
 }
 

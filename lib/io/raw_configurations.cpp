@@ -27,14 +27,14 @@ void RawConfigurationReader::locate_columns() {
 bool RawConfigurationReader::next_chunk(RawChunk& chunk, std::size_t max_rows) {
   CONTACTNN_REQUIRE(max_rows >= 1, "chunk of " << max_rows << " rows");
   // The field vectors keep their strings' storage from chunk to chunk.
-  chunk.fields.resize(max_rows);
+  chunk.records.resize(max_rows);
   chunk.line_numbers.resize(max_rows);
   chunk.configs.resize(max_rows);
   const bool gregory = kind_ == SurfaceKind::kGregory;
   std::size_t n = 0;
   for (; n < max_rows; ++n) {
-    std::vector<std::string>& fields = chunk.fields[n];
-    if (!csv_.next(fields, chunk.line_numbers[n])) break;
+    const CsvRecord& fields = chunk.records[n];
+    if (!csv_.next(chunk.records[n], chunk.line_numbers[n])) break;
     const auto number = [&](std::size_t column) {
       double value = 0.0;
       if (!parse_double(fields[column], value)) {
@@ -52,7 +52,7 @@ bool RawConfigurationReader::next_chunk(RawChunk& chunk, std::size_t max_rows) {
     }
     for (int k = 0; k < 3; ++k) c.slave[k] = number(point_columns_[static_cast<std::size_t>(12 + k)]);
   }
-  chunk.fields.resize(n);
+  chunk.records.resize(n);
   chunk.line_numbers.resize(n);
   chunk.configs.resize(n);
   return n > 0;
@@ -67,7 +67,7 @@ RawConfigurations parse_raw_configurations(std::string_view text, const std::fil
   RawChunk chunk;
   while (reader.next_chunk(chunk, kRawChunkRows)) {
     for (std::size_t i = 0; i < chunk.size(); ++i) {
-      raw.table.rows.push_back(chunk.fields[i]);
+      raw.table.rows.push_back(chunk.records[i].strings());
       raw.table.line_numbers.push_back(chunk.line_numbers[i]);
       raw.configs.push_back(chunk.configs[i]);
     }
@@ -106,10 +106,9 @@ std::size_t map_raw_configurations(const std::filesystem::path& input, const std
     for (std::size_t r = 0; r < chunk.size(); ++r) {
       CONTACTNN_REQUIRE(rows[r].size() == extra_header.size(),
                         "computed " << rows[r].size() << " fields for " << extra_header.size() << " columns");
-      fields.clear();
-      for (std::size_t c : kept) fields.push_back(chunk.fields[r][c]);
-      fields.insert(fields.end(), rows[r].begin(), rows[r].end());
-      writer.write_row(fields);
+      for (std::size_t c : kept) writer.field(chunk.records[r][c]);
+      for (const std::string& f : rows[r]) writer.field(f);
+      writer.end_row();
     }
     total += chunk.size();
   }

@@ -23,7 +23,7 @@ inline constexpr std::size_t kRawChunkRows = 65536;
 /// A run of consecutive RAW.csv rows: the fields as text (to copy through), the line each starts on, and
 /// the configuration each holds.
 struct RawChunk {
-  std::vector<std::vector<std::string>> fields;
+  std::vector<CsvRecord> records;
   std::vector<std::size_t> line_numbers;
   std::vector<geometry::Configuration> configs;
   [[nodiscard]] std::size_t size() const { return configs.size(); }
