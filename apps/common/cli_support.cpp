@@ -310,10 +310,17 @@ std::string describe_config_error(const CLI::App& app, const CLI::ConfigError& e
   return ": " + message;
 }
 
+/// Installed before main: a signal that arrives while the app is still building its options finds the
+/// handler already in place (nothing to clean up yet, and the documented exit code all the same).
+const bool g_interrupt_cleanup_installed = [] {
+  io::install_interrupt_cleanup();
+  return true;
+}();
+
 }  // namespace
 
 int run(CLI::App& app, int argc, char** argv, const std::function<int()>& body) {
-  io::install_interrupt_cleanup();
+  (void)g_interrupt_cleanup_installed;
   try {
     try {
       app.parse(argc, argv);

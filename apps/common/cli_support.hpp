@@ -17,7 +17,9 @@ namespace contactnn::cli {
 
 /// Parses the command line and runs `body` inside the error boundary of every app:
 ///  - SIGINT, SIGTERM and SIGHUP remove every temporary file and end the run with 128 + signal (130, 143,
-///    129); SIGPIPE is ignored, so a closed pipe is an I/O error (io/interrupt_cleanup.hpp);
+///    129); SIGPIPE is ignored, so a closed pipe is an I/O error (io/interrupt_cleanup.hpp). The handler is
+///    installed before main, by this library's static initialisation, so that it is in place from the
+///    process's first moments;
 ///  - CLI11 parse errors print CLI11's message and return 2 (0 for --help); an error in the --config file
 ///    (TOML syntax, unknown section or key, wrong type, bad value) names the file, the line and the key;
 ///  - contactnn::Error prints "error: <message>" and returns its exit code (README "Exit codes");
