@@ -92,18 +92,6 @@ std::string toml_string(const std::string& text) {
   return quoted + "\"";
 }
 
-/// True when `text` is, on its own, a TOML number whose value is `value` (so CLI11's spelling of a number,
-/// "2.0" or "1e-13", is kept where TOML reads it the same; ".5" or "010" are respelled).
-bool is_toml_number(const std::string& text, double value) {
-  try {
-    const toml::table t = toml::parse("v = " + text);
-    const std::optional<double> read = t["v"].value<double>();
-    return read.has_value() && (*read == value || (std::isnan(*read) && std::isnan(value)));
-  } catch (const toml::parse_error&) {
-    return false;
-  }
-}
-
 /// An option's value (a CLI11 result or default string) as TOML of the option's type.
 std::string toml_value(const CLI::Option& option, const std::string& text) {
   switch (value_kind(option)) {
@@ -123,7 +111,9 @@ std::string toml_value(const CLI::Option& option, const std::string& text) {
     }
     case ValueKind::kReal: {
       double value = 0.0;
-      if (CLI::detail::lexical_cast(text, value)) return is_toml_number(text, value) ? text : real_text(value);
+      // Respelled in one canonical form (".5" is not TOML, "1E-13" would come back as "1e-13"), so the
+      // text read back writes the same text again.
+      if (CLI::detail::lexical_cast(text, value)) return real_text(value);
       break;
     }
     case ValueKind::kText: break;
@@ -426,6 +416,19 @@ CLI::Validator number_at_least(double bound, bool inclusive, const std::string& 
 
 const CLI::Validator kPositive = number_at_least(0.0, false, "POSITIVE");
 const CLI::Validator kNonNegative = number_at_least(0.0, true, "NONNEGATIVE");
+
+CLI::Validator real_in(double lo, double hi) {
+  return CLI::Validator(
+      [lo, hi](std::string& input) -> std::string {
+        double value = 0.0;
+        if (!io::parse_double(input, value)) return "'" + input + "' is not a number";
+        if (!(std::isfinite(value) && value >= lo && value <= hi)) {
+          return "must be a finite number in " + io::format_double(lo) + ".." + io::format_double(hi) + ", got " + input;
+        }
+        return std::string();
+      },
+      "FLOAT in [" + io::format_double(lo) + " - " + io::format_double(hi) + "]");
+}
 
 CLI::Validator integer_in(std::int64_t lo, std::int64_t hi) {
   return CLI::Validator(

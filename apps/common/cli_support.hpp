@@ -69,10 +69,13 @@ void add_config_option(CLI::App& app, const std::string& section);
 /// rejected by both (no contactnn setting means anything at infinity).
 extern const CLI::Validator kPositive;
 extern const CLI::Validator kNonNegative;
+/// A finite number in [lo, hi] ("must be a finite number in 0..1e+06, got 1e308").
+[[nodiscard]] CLI::Validator real_in(double lo, double hi);
 
 /// An integer in [lo, hi], written in decimal ("must be an integer in 1..400, got 4000000000"). CLI11 2.1
 /// alone converts "-1" to 18446744073709551615 for an unsigned option and reads "010" as octal; this
-/// validator rejects the first and rewrites the input in canonical decimal before CLI11 converts it.
+/// validator rejects the first and rewrites the input in canonical decimal before CLI11 converts it, so
+/// add it with Option::transform (check() would discard the rewrite).
 [[nodiscard]] CLI::Validator integer_in(std::int64_t lo, std::int64_t hi);
 
 /// --threads: 0 (OpenMP's default) .. kMaxThreads.

@@ -234,34 +234,34 @@ int main(int argc, char** argv) {
   input->excludes(data);
   data->excludes(input);
   app.add_option("--threads", threads, "OpenMP threads of the accuracy part (0: OpenMP's default)")
-      ->check(cli::integer_in(0, cli::kMaxThreads));
+      ->transform(cli::integer_in(0, cli::kMaxThreads));
   app.add_flag("--quiet", paths.quiet, "no progress lines");
   app.add_option("--seed", options.seed, "seed of the placements and the timing sample")
-      ->check(cli::integer_in(0, cli::kMaxSeed));
+      ->transform(cli::integer_in(0, cli::kMaxSeed));
   app.add_option("--random_placement", options.random_placement,
                  "accuracy on randomly placed world coordinates instead of the dataset's frame");
   app.add_option("--max_fixed_iterations", options.max_fixed_iterations, "Newton with k = 1..this fixed iterations")
-      ->check(cli::integer_in(1, 100));
+      ->transform(cli::integer_in(1, 100));
   app.add_option("--failure_box_margin", options.failure_box_margin,
                  "an estimate more than this many domain widths outside the domain is a failure")
       ->check(cli::kPositive);
   app.add_option("--converged_max_iterations", options.newton.converged_max_iterations,
                  "Newton to convergence: iteration limit")
-      ->check(cli::integer_in(1, 10000));
+      ->transform(cli::integer_in(1, 10000));
   app.add_option("--converged_tol_param", options.newton.converged_tol_param,
                  "Newton to convergence: step tolerance (parameter units)")
       ->check(cli::kPositive);
-  app.add_option("--hist_bins", options.hist_bins, "bins of the error histograms")->check(cli::integer_in(1, 100000));
+  app.add_option("--hist_bins", options.hist_bins, "bins of the error histograms")->transform(cli::integer_in(1, 100000));
   app.add_option("--hist_range", options.hist_range,
                  "histogram range [-r, r]; 0: a nice number above the 99.9th percentile of |error|")
-      ->check(cli::kNonNegative);
+      ->check(cli::real_in(0.0, 1e6));
   app.add_option("--timing", options.timing, "measure the speed of every method");
   app.add_option("--timing_queries", options.timing_queries, "configurations per timed pass")
-      ->check(cli::integer_in(1, 100000000));
+      ->transform(cli::integer_in(1, 100000000));
   app.add_option("--timing_repetitions", options.timing_options.repetitions, "timed passes per method")
-      ->check(cli::integer_in(1, 1000));
+      ->transform(cli::integer_in(1, 1000));
   app.add_option("--timing_warmup_passes", options.timing_options.warmup_passes, "untimed passes per method first")
-      ->check(cli::integer_in(0, 100));
+      ->transform(cli::integer_in(0, 100));
 
   return cli::run(app, argc, argv, [&]() -> int {
     // 2. Mode and threads; no output may be an input, and a report directory is replaced only if it holds

@@ -115,16 +115,16 @@ int main(int argc, char** argv) {
   app.add_option("--surface", surface_name, "bilinear or gregory")->check(CLI::IsMember({"bilinear", "gregory"}));
   app.add_option("--input", input, "label mode: RAW.csv of world configurations (SPEC 6)")->check(CLI::ExistingFile);
   app.add_option("--output", output, "dataset .h5 (enumeration) or labels .csv (label mode)")->required();
-  app.add_option("--threads", threads, "OpenMP threads (0: OpenMP's default)")->check(cli::integer_in(0, cli::kMaxThreads));
+  app.add_option("--threads", threads, "OpenMP threads (0: OpenMP's default)")->transform(cli::integer_in(0, cli::kMaxThreads));
   app.add_flag("--quiet", quiet, "no progress line");
-  app.add_option("--seed", options.seed, "seed of the Gregory node-normal sampling")->check(cli::integer_in(0, cli::kMaxSeed));
-  app.add_option("--d_xy_points", options.d_xy_points, "grid points per axis, x and y of D")->check(cli::integer_in(1, 400));
-  app.add_option("--c_xy_points", options.c_xy_points, "grid points per axis, x and y of C")->check(cli::integer_in(1, 400));
-  app.add_option("--c_z_points", options.c_z_points, "grid points, z of C")->check(cli::integer_in(1, 400));
-  app.add_option("--s_xy_points", options.s_xy_points, "grid points per axis, x and y of S")->check(cli::integer_in(1, 400));
-  app.add_option("--s_z_points", options.s_z_points, "grid points, z of S")->check(cli::integer_in(1, 400));
+  app.add_option("--seed", options.seed, "seed of the Gregory node-normal sampling")->transform(cli::integer_in(0, cli::kMaxSeed));
+  app.add_option("--d_xy_points", options.d_xy_points, "grid points per axis, x and y of D")->transform(cli::integer_in(1, 400));
+  app.add_option("--c_xy_points", options.c_xy_points, "grid points per axis, x and y of C")->transform(cli::integer_in(1, 400));
+  app.add_option("--c_z_points", options.c_z_points, "grid points, z of C")->transform(cli::integer_in(1, 400));
+  app.add_option("--s_xy_points", options.s_xy_points, "grid points per axis, x and y of S")->transform(cli::integer_in(1, 400));
+  app.add_option("--s_z_points", options.s_z_points, "grid points, z of S")->transform(cli::integer_in(1, 400));
   app.add_option("--normal_sets", options.normal_sets, "Gregory: node-normal sets per configuration")
-      ->check(cli::integer_in(1, 1000));
+      ->transform(cli::integer_in(1, 1000));
   app.add_option("--require_projection_inside", options.require_projection_inside,
                  "keep only configurations whose projection lies inside the segment");
   app.add_option("--xy_limit", f.xy_limit, "|x|, |y| of C, D, S below this")->check(cli::kPositive);
@@ -138,11 +138,11 @@ int main(int argc, char** argv) {
   app.add_option("--max_normal_tilt_tangent", f.max_normal_tilt_tangent, "Gregory: tangent of the largest normal tilt")
       ->check(cli::kPositive);
   app.add_option("--max_iterations", options.projection.max_iterations, "Newton iterations per start")
-      ->check(cli::integer_in(1, 10000));
+      ->transform(cli::integer_in(1, 10000));
   app.add_option("--tol_param", options.projection.tol_param, "Newton step tolerance (parameter units)")
       ->check(cli::kPositive);
   app.add_option("--starts_per_axis", options.projection.starts_per_axis, "Newton starts per parameter axis")
-      ->check(cli::integer_in(1, 10));
+      ->transform(cli::integer_in(1, 10));
   app.add_option("--domain_margin", options.projection.domain_margin, "parameter slack counted as inside")
       ->check(cli::kNonNegative);
 

@@ -308,25 +308,25 @@ int main(int argc, char** argv) {
   app.add_option("--precision", net.precision, "float or double arithmetic")->check(CLI::IsMember({"float", "double"}));
   app.add_option("--mode", mode, "online (one update per pattern) or batch")->check(CLI::IsMember({"online", "batch"}));
   app.add_option("--batch_size", options.batch_size, "batch mode: patterns per update, 0 = all (full batch)")
-      ->check(cli::integer_in(0, std::int64_t{1} << 32));
+      ->transform(cli::integer_in(0, std::int64_t{1} << 32));
   app.add_option("--learning_rate", options.learning_rate, "eta of dw = momentum dw - eta dE/dw")->check(cli::kPositive);
   app.add_option("--momentum", options.momentum, "momentum (alpha) in [0, 1)")->check(CLI::Range(0.0, 0.999999));
   app.add_option("--epochs", options.epochs, "maximum epochs (the paper's training iterations)")
-      ->check(cli::integer_in(1, 100000000));
+      ->transform(cli::integer_in(1, 100000000));
   app.add_option("--patience", options.patience, "stop after this many epochs without a better validation error; 0 = never")
-      ->check(cli::integer_in(0, 100000000));
+      ->transform(cli::integer_in(0, 100000000));
   app.add_option("--restore_best", options.restore_best, "keep the parameters of the best validation error");
   app.add_option("--train_count", net.train_count, "training patterns drawn from the rows with status ok")
-      ->check(cli::integer_in(1, (std::int64_t{1} << 32) - 1));
+      ->transform(cli::integer_in(1, (std::int64_t{1} << 32) - 1));
   app.add_option("--validation_fraction", net.validation_fraction, "validation patterns per training pattern")
       ->check(CLI::Range(0.0, 10.0));
   app.add_option("--target_low", net.target_low, "sigmoid value the domain's lower end maps to")->check(CLI::Range(0.0, 1.0));
   app.add_option("--target_high", net.target_high, "sigmoid value the domain's upper end maps to")->check(CLI::Range(0.0, 1.0));
   app.add_option("--seed", options.seed, "seed of the pattern draw, the initial weights and the shuffles")
-      ->check(cli::integer_in(0, cli::kMaxSeed));
-  app.add_option("--threads", threads, "OpenMP threads (0: OpenMP's default)")->check(cli::integer_in(0, cli::kMaxThreads));
+      ->transform(cli::integer_in(0, cli::kMaxSeed));
+  app.add_option("--threads", threads, "OpenMP threads (0: OpenMP's default)")->transform(cli::integer_in(0, cli::kMaxThreads));
   app.add_option("--checkpoint-every", checkpoint_every, "write OUTPUT.checkpoint.h5 every N epochs (0: never)")
-      ->check(cli::integer_in(0, 100000000));
+      ->transform(cli::integer_in(0, 100000000));
   app.add_flag("--resume", resume, "continue from OUTPUT.checkpoint.h5");
   app.add_option("--export-header", header, "also write the network as a C99 header FILE.h");
   app.add_flag("--quiet", quiet, "no progress line");

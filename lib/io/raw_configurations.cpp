@@ -26,13 +26,14 @@ void RawConfigurationReader::locate_columns() {
 
 bool RawConfigurationReader::next_chunk(RawChunk& chunk, std::size_t max_rows) {
   CONTACTNN_REQUIRE(max_rows >= 1, "chunk of " << max_rows << " rows");
-  // The field vectors keep their strings' storage from chunk to chunk.
-  chunk.records.resize(max_rows);
-  chunk.line_numbers.resize(max_rows);
-  chunk.configs.resize(max_rows);
+  // Grown row by row (a short file costs a short chunk), and the records keep their storage from one full
+  // chunk to the next.
   const bool gregory = kind_ == SurfaceKind::kGregory;
   std::size_t n = 0;
   for (; n < max_rows; ++n) {
+    if (n == chunk.records.size()) chunk.records.emplace_back();
+    if (n == chunk.line_numbers.size()) chunk.line_numbers.push_back(0);
+    if (n == chunk.configs.size()) chunk.configs.emplace_back();
     const CsvRecord& fields = chunk.records[n];
     if (!csv_.next(chunk.records[n], chunk.line_numbers[n])) break;
     const auto number = [&](std::size_t column) {

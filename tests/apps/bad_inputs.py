@@ -445,6 +445,30 @@ def _(ctx):
         raise Failure(f"the effective config changed when read back:\n{''.join(first)}---\n{''.join(second)}")
 
 
+@case("effective_config_reads_back_identically")
+def _(ctx):
+    # Values CLI11 accepts on a command line but TOML spells otherwise (".5", "1E-13", a leading zero, a path
+    # with quotes, a backslash and a hash) are written as TOML of the option's type; the file given back with
+    # --config gives the same settings and the same text.
+    name = "we\"ird \\ #1.h5"
+    ctx.expect_success("gen-configs", ["--output", name, "--xy_limit", ".5e1", "--tol_param", "1E-13", "--seed", "010",
+                                       "--d_xy_points", "2", "--c_xy_points", "2", "--s_xy_points", "3", "--quiet",
+                                       "--convex", "true"])
+    with open(ctx.path(name + ".config.toml")) as f:
+        first = f.read()
+    for expected in ("\nxy_limit=5\n", "\ntol_param=1e-13\n", "\nseed=10\n", '\noutput="we\\"ird \\\\ #1.h5"\n',
+                     "\nconvex=true\n", "\nquiet=true\n"):
+        if expected not in first:
+            raise Failure(f"{expected!r} not in the effective config:\n{first}")
+    # Given back with --config (under another output: the config file itself is an input now).
+    ctx.expect_success("gen-configs", ["--config", name + ".config.toml", "--output", "again.h5"])
+    with open(ctx.path("again.h5.config.toml")) as f:
+        second = f.read()
+    without_output = lambda text: [l for l in text.splitlines() if not l.startswith("output=")]
+    if without_output(first) != without_output(second):
+        raise Failure(f"the effective config changed when read back:\n{first}---\n{second}")
+
+
 @case("config_unterminated_string")
 def _(ctx):
     config(ctx, "[gen-configs]\noutput = \"never closed\n", 2,
