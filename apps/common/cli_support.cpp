@@ -232,9 +232,12 @@ class SectionConfig : public CLI::Config {
       fits = kind == ValueKind::kBoolean;
       text = b->get() ? "true" : "false";
     } else if (const auto* i = value.as_integer()) {
-      // An integer is also a fine real ("xy_limit = 2") and path-like text ("hidden = 8").
-      fits = kind == ValueKind::kInteger || kind == ValueKind::kReal || kind == ValueKind::kText;
-      text = std::to_string(i->get());
+      // An integer is also a fine real ("xy_limit = 2") and path-like text ("hidden = 8"); 0 and 1 are
+      // booleans as the effective configs of earlier versions wrote them ("restore_best=1").
+      const bool zero_or_one = i->get() == 0 || i->get() == 1;
+      fits = kind == ValueKind::kInteger || kind == ValueKind::kReal || kind == ValueKind::kText ||
+             (kind == ValueKind::kBoolean && zero_or_one);
+      text = kind == ValueKind::kBoolean ? (i->get() == 1 ? "true" : "false") : std::to_string(i->get());
     } else if (const auto* f = value.as_floating_point()) {
       fits = kind == ValueKind::kReal;
       text = real_text(f->get());
@@ -381,6 +384,58 @@ std::string effective_config(const CLI::App& app, const std::string& section, co
     const bool omitted = std::any_of(omit.begin(), omit.end(),
                                      [&](const std::string& key) { return line.rfind(key + "=", 0) == 0; });
     if (!omitted) out += line + "\n";
+  }
+  return out;
+}
+
+namespace {
+/// A TOML value as the text CLI11 is given for it, numbers through double (2 and 2.0 agree; hidden = 8 and
+/// hidden = "8", as earlier versions and this one write a text option, agree too).
+std::string comparable(const toml::node& node) {
+  if (const auto* i = node.as_integer()) return real_text(static_cast<double>(i->get()));
+  if (const auto* f = node.as_floating_point()) return real_text(f->get());
+  if (const auto* b = node.as_boolean()) return b->get() ? "1" : "0";  // earlier versions wrote 1 for true
+  if (const auto* s = node.as_string()) return s->get();
+  std::ostringstream out;
+  out << node_text(node);
+  return out.str();
+}
+
+/// key -> comparable value of every key of every table in `text`.
+std::map<std::string, std::string> settings(const std::string& text) {
+  std::map<std::string, std::string> result;
+  const toml::table root = toml::parse(text);
+  for (const auto& [section, table] : root) {
+    if (const auto* t = table.as_table()) {
+      for (const auto& [key, value] : *t) result[std::string(key.str())] = comparable(value);
+    }
+  }
+  return result;
+}
+}  // namespace
+
+std::string config_differences(const std::string& a, const std::string& b, const std::vector<std::string>& ignore) {
+  std::map<std::string, std::string> first, second;
+  try {
+    first = settings(a);
+    second = settings(b);
+  } catch (const toml::parse_error&) {
+    return a == b ? "" : "  (the texts differ and are not both TOML)\n";
+  }
+  for (const std::string& key : ignore) {
+    first.erase(key);
+    second.erase(key);
+  }
+  std::set<std::string> keys;
+  for (const auto& [k, v] : first) keys.insert(k);
+  for (const auto& [k, v] : second) keys.insert(k);
+  std::string out;
+  for (const std::string& key : keys) {
+    const auto x = first.find(key);
+    const auto y = second.find(key);
+    const std::string vx = x != first.end() ? x->second : "(absent)";
+    const std::string vy = y != second.end() ? y->second : "(absent)";
+    if (vx != vy) out += "  " + key + ": " + vx + " vs " + vy + "\n";
   }
   return out;
 }

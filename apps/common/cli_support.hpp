@@ -33,8 +33,9 @@ int run(CLI::App& app, int argc, char** argv, const std::function<int()>& body);
 /// Like a command line it is strict: a TOML syntax error (a duplicated key included), a section that no app
 /// has, a key outside any section, a key the app does not know, a value of the wrong TOML type (a string
 /// where a number is expected, a float where an integer is) or out of range is an error naming the file,
-/// the line and the key. Sections of the other apps are skipped. Options added after this call capture
-/// their defaults (shown by --help, written by the effective config).
+/// the line and the key. An integer is accepted where a real is expected, and 0 or 1 where a boolean is (as
+/// the effective configs of earlier versions wrote them). Sections of the other apps are skipped. Options
+/// added after this call capture their defaults (shown by --help, written by the effective config).
 void add_config_option(CLI::App& app, const std::string& section);
 
 /// Parses config file text into `app` as --config would (after add_config_option). Returns the message an
@@ -53,6 +54,13 @@ void add_config_option(CLI::App& app, const std::string& section);
 /// the same for runs that compute the same thing.
 [[nodiscard]] std::string effective_config(const CLI::App& app, const std::string& section,
                                            const std::vector<std::string>& omit = {});
+
+/// The settings in which two effective configs (TOML text of one section) differ, keys in `ignore` left
+/// out: one line per key, "  key: VALUE_A vs VALUE_B" ("(absent)" for a key one lacks); "" when they agree.
+/// Values are compared as values (2.0 equals 2), so configs written by earlier versions, which spelled some
+/// numbers differently, still compare equal. Text that is not TOML is compared as text.
+[[nodiscard]] std::string config_differences(const std::string& a, const std::string& b,
+                                             const std::vector<std::string>& ignore);
 
 /// `<output>.config.toml`: where the effective config of a run writing `output` goes.
 [[nodiscard]] std::filesystem::path effective_config_path(const std::filesystem::path& output);

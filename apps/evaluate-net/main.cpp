@@ -15,10 +15,12 @@
 // Writes:
 //   report mode: DIR/errors.csv, DIR/speed.csv, DIR/hist_<xi|eta|u|v>.csv and .svg, DIR/report.md,
 //                DIR/evaluate-net.config.toml (effective config); a summary on stdout, progress on stderr.
+//                DIR is written under a temporary name and put in place whole; an existing DIR is replaced
+//                only if it holds nothing but these files.
 //   input mode:  OUTPUT (.csv): the input columns, then xi,eta (u,v for Gregory),status; one row per input row,
 //                in input order. status: ok, out_of_domain (outside the network's training domain; the
 //                prediction is still written), invalid (non-finite input; xi, eta empty) or degenerate (no
-//                normalised frame exists; xi, eta empty).
+//                normalised frame exists; xi, eta empty). Rows are streamed in chunks (bounded memory).
 #include <omp.h>
 
 #include <cstdio>

@@ -15,6 +15,8 @@
 //   enumeration: OUTPUT (.h5), OUTPUT.config.toml (effective config), a summary on stdout, progress on stderr.
 //   label mode:  OUTPUT (.csv): the input columns, then xi,eta (u,v for Gregory),status,gap,iterations; one row
 //                per input row, in input order. xi, eta and gap are empty unless status is ok or outside.
+//                Rows are streamed in chunks (bounded memory for any number of rows).
+//   The dataset and its config are committed together (one run's pair); outputs that are inputs are refused.
 #include <omp.h>
 
 #include <cstdio>

@@ -189,20 +189,14 @@ int train(const CLI::App& app, const NetSettings& net_settings, mlp::TrainOption
                                         << saved.provenance.seed << " and dataset " << saved.provenance.dataset_checksum
                                         << ", this run has seed " << options.seed << " and dataset " << checksum);
     // Everything else that shapes the run (scaling, pattern counts, learning rate, mode...) must match too;
-    // only the number of epochs may grow.
-    const auto without_epochs = [](const std::string& text) {
-      std::istringstream lines(text);
-      std::string line, kept;
-      while (std::getline(lines, line)) {
-        if (line.rfind("epochs=", 0) != 0) kept += line + "\n";
-      }
-      return kept;
-    };
-    CONTACTNN_REQUIRE_AS(FormatError, without_epochs(saved.provenance.config_toml) == without_epochs(config_toml),
+    // only the number of epochs may grow. Compared as values, so a checkpoint whose config an earlier
+    // version spelled differently (xy_limit=2.0 for 2) still resumes.
+    const std::string differences = cli::config_differences(saved.provenance.config_toml, config_toml, {"epochs"});
+    CONTACTNN_REQUIRE_AS(FormatError, differences.empty(),
                          "checkpoint '" << checkpoint_path.string()
                                         << "' was written with another configuration; only epochs may change on "
-                                           "--resume.\ncheckpoint:\n"
-                                        << saved.provenance.config_toml << "this run:\n" << config_toml);
+                                           "--resume.\n(checkpoint vs this run)\n"
+                                        << differences.substr(0, differences.size() - 1));
     network.parameters() = saved.network.parameters();
     trainer.restore(io::read_training_state<Real>(checkpoint_path, network));
     if (!quiet) std::fprintf(stderr, "resuming from %s at epoch %d\n", checkpoint_path.string().c_str(), trainer.state().epoch);

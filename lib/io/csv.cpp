@@ -272,9 +272,13 @@ CsvTable read_csv(const std::filesystem::path& path) {
 // Writing
 
 void append_csv_field(std::string& out, std::string_view f) {
-  // Quoted: a comma, quote or line break, and a leading byte-order mark (which the reader skips at the
-  // start of a file: unquoted, a first column named "\xEF\xBB\xBFid" would read back as "id").
-  if (f.find_first_of(",\"\n\r") == std::string_view::npos && f.substr(0, 3) != "\xEF\xBB\xBF") {
+  // Quoted: a comma, quote or line break, and a leading byte-order mark of any encoding, which the reader
+  // interprets at the start of a file (unquoted, a first column named "\xEF\xBB\xBFid" would read back as
+  // "id", and one starting with "\xFE\xFF" would make the file read as UTF-16).
+  const auto starts = [&](std::string_view mark) { return f.substr(0, mark.size()) == mark; };
+  const bool mark = starts("\xEF\xBB\xBF") || starts("\xFE\xFF") || starts("\xFF\xFE") ||
+                    starts(std::string_view("\0\0\xFE\xFF", 4));
+  if (f.find_first_of(",\"\n\r") == std::string_view::npos && !mark) {
     out += f;
   } else {
     out += '"';

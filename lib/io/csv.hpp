@@ -125,7 +125,7 @@ struct CsvTable {
                                                std::string_view column, std::string_view text);
 
 /// Appends one CSV row to `out`, quoting fields that contain a comma, quote or line break or begin with a
-/// UTF-8 byte-order mark, so that parse_csv reads the row back unchanged.
+/// byte-order mark (UTF-8, UTF-16 or UTF-32), so that parse_csv reads the row back unchanged.
 void append_csv_row(std::string& out, const std::vector<std::string>& fields);
 /// Appends one field (the separator before it is the caller's), quoted as append_csv_row does.
 void append_csv_field(std::string& out, std::string_view field);

@@ -291,6 +291,10 @@ Hdf5File::Hdf5File(const std::filesystem::path& path, Mode mode, std::filesystem
                        "cannot open '" << path.string() << "': no such file");
   CONTACTNN_REQUIRE_AS(IoError, !std::filesystem::is_directory(path, ec),
                        "cannot open '" << path.string() << "': it is a directory");
+  // HDF5 reads by seeking: a FIFO or a device would block or mislead it.
+  CONTACTNN_REQUIRE_AS(IoError, std::filesystem::is_regular_file(path, ec),
+                       "cannot open '" << path.string() << "' as HDF5: it is not a regular file (HDF5 needs a "
+                                          "seekable file)");
   CONTACTNN_REQUIRE_AS(FormatError, H5Fis_hdf5(path.c_str()) > 0,
                        "'" << path.string() << "' is not an HDF5 file, or it is truncated or corrupt");
   file_id_ = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);

@@ -469,6 +469,24 @@ def _(ctx):
         raise Failure(f"the effective config changed when read back:\n{first}---\n{second}")
 
 
+@case("config_written_by_an_earlier_version_is_read", needs=("gen-configs", "train-net"))
+def _(ctx):
+    # Earlier versions wrote a defaulted boolean as 1 and a text option as a bare number; such a file, given
+    # back with --config, reads as before. Any other integer for a boolean is a type error.
+    data = make_dataset(ctx)
+    ctx.write("old.toml", f"# effective configuration written by train-net\n[train-net]\ndata=\"{data}\"\nhidden=8\n"
+                          "u0=2.0\nrestore_best=1\nepochs=3\ntrain_count=20\nquiet=true\n")
+    ctx.expect_success("train-net", ["--config", "old.toml", "--output", "net.h5"])
+    with open(ctx.path("net.h5.config.toml")) as f:
+        text = f.read()
+    if "\nrestore_best=true\n" not in text or '\nhidden="8"\n' not in text:
+        raise Failure(f"the old values were not read as such:\n{text}")
+    ctx.write("bad.toml", "[train-net]\nrestore_best = 2\n")
+    ctx.expect_failure("train-net", ["--config", "bad.toml", "--data", data, "--output", "x.h5"], 2,
+                       r"^error: config file 'bad\.toml', line 2, key 'restore_best': expected a boolean \(true or "
+                       r"false\), got an integer\n$")
+
+
 @case("config_unterminated_string")
 def _(ctx):
     config(ctx, "[gen-configs]\noutput = \"never closed\n", 2,
