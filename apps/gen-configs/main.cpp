@@ -20,6 +20,7 @@
 #include <omp.h>
 
 #include <cstdio>
+#include <filesystem>
 #include <iostream>
 #include <span>
 
@@ -156,7 +157,8 @@ int main(int argc, char** argv) {
     CONTACTNN_REQUIRE_AS(InvalidArgument, f.min_angle_degrees <= f.max_angle_degrees,
                          "min_angle_degrees " << f.min_angle_degrees << " is above max_angle_degrees "
                                               << f.max_angle_degrees << ": no segment could pass");
-    io::require_distinct({{"--output", output}, {"the effective config", cli::effective_config_path(output)}},
+    const std::filesystem::path effective_config = input.empty() ? cli::effective_config_path(output) : "";
+    io::require_distinct({{"--output", output}, {"the effective config", effective_config}},
                          {{"--input", input}, {"--config", cli::config_path(app)}});
 
     // 3. Label mode: a user's CSV in, the same rows with labels out.
