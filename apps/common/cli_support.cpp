@@ -2,15 +2,21 @@
 
 #include <algorithm>
 #include <cctype>
+#include <charconv>
+#include <cmath>
 #include <cstdio>
-#include <map>
-#include <optional>
 #include <iostream>
+#include <iterator>
+#include <map>
+#include <new>
+#include <optional>
 #include <set>
 #include <sstream>
+#include <toml++/toml.h>
 
 #include "core/error.hpp"
 #include "io/csv.hpp"
+#include "io/interrupt_cleanup.hpp"
 
 namespace contactnn::cli {
 
@@ -19,214 +25,110 @@ namespace {
 /// The sections a contactnn study config may hold: one per app.
 const std::set<std::string> kKnownSections = {"gen-configs", "train-net", "evaluate-net"};
 
-/// TOML reader that hands CLI11 only the keys of one [section], as top-level items. CLI11 2.1's own
-/// section() support passes the section markers on as unknown items, so it cannot be combined with
-/// allow_config_extras(error). A section name that belongs to no app is an error (a typo would otherwise
-/// silently drop its keys). Scalar values are read here (TOML strings with escapes, '#' inside quotes kept),
-/// arrays by CLI11.
-class SectionConfig : public CLI::ConfigTOML {
- public:
-  explicit SectionConfig(std::string section) : section_(std::move(section)) {}
-  std::vector<CLI::ConfigItem> from_config(std::istream& input) const override {
-    std::vector<CLI::ConfigItem> result;
-    std::string line;
-    std::string current;
-    int line_number = 0;
-    key_lines_.clear();
-    while (std::getline(input, line)) {
-      ++line_number;
-      const auto first = line.find_first_not_of(" \t");
-      const bool blank_or_comment = first == std::string::npos || line[first] == '#' || line[first] == ';';
-      if (!blank_or_comment && line[first] == '[') {
-        const auto close = line.find(']', first);
-        const auto after = close == std::string::npos ? close : line.find_first_not_of(" \t", close + 1);
-        if (close == std::string::npos || (after != std::string::npos && line[after] != '#')) {
-          throw CLI::ConfigError("line " + std::to_string(line_number) + ": malformed section header '" +
-                                 line.substr(first) + "' (expected '[name]')");
-        }
-        current = line.substr(first + 1, close - first - 1);
-        if (kKnownSections.count(current) == 0) {
-          throw CLI::ConfigError("line " + std::to_string(line_number) + ": unknown section [" + current +
-                                 "] (expected one of [gen-configs], [train-net], [evaluate-net])");
-        }
-        continue;
-      }
-      if (blank_or_comment) continue;
-      // A key before any section belongs to no app: it would be silently ignored by every app.
-      const auto [key, value] = split_key_value(line.substr(first), line_number);
-      if (current.empty()) {
-        throw CLI::ConfigError("line " + std::to_string(line_number) + ": key '" + key +
-                               "' is outside any section (expected it under [" + section_ + "])");
-      }
-      if (current != section_) continue;
-      key_lines_.emplace(key, line_number);
-      if (!value.empty() && value.front() == '[') {
-        // An array: CLI11's own reader (no contactnn option takes one today).
-        std::istringstream one(key + " = " + value + "\n");
-        for (auto& item : CLI::ConfigTOML::from_config(one)) result.push_back(std::move(item));
-        continue;
-      }
-      CLI::ConfigItem item;
-      item.name = key;
-      item.inputs = {scalar_value(value, line_number)};
-      result.push_back(std::move(item));
-    }
-    return result;
-  }
+/// How an option's value is typed in TOML, from CLI11's type name ("INT:INT in [1 - 400]" -> integer).
+enum class ValueKind { kBoolean, kInteger, kReal, kText };
 
-  /// CLI11's writer with values quoted so that the reader above gets them back exactly: strings as TOML
-  /// basic strings with escapes (CLI11 2.1 wrote 'a"b' for a value with a double quote, and nothing
-  /// readable for one with both quote characters or a line break).
-  std::string to_config(const CLI::App* app, bool default_also, bool, std::string) const override {
-    std::string out;
-    for (const CLI::Option* opt : app->get_options({})) {
-      if (!opt->get_configurable()) continue;
-      const std::vector<std::string> results = opt->reduced_results();
-      std::string value;
-      if (results.size() == 1) {
-        value = toml_scalar(results.front());
-      } else if (results.size() > 1) {
-        for (const auto& r : results) value += (value.empty() ? "[" : ",") + toml_scalar(r);
-        value += "]";
-      } else if (default_also) {
-        if (!opt->get_default_str().empty()) {
-          value = toml_scalar(opt->get_default_str());
-        } else if (opt->get_expected_min() == 0) {
-          value = "false";
-        }
-        // An option with neither a value nor a default (no --input) is left out: CLI11 wrote input="",
-        // which read back sets the input to "".
-      }
-      if (!value.empty()) out += opt->get_single_name() + "=" + value + "\n";
-    }
-    return out;
-  }
-
-  [[nodiscard]] const std::string& section() const { return section_; }
-  /// Line of each key of this app's section in the last file read (for messages).
-  [[nodiscard]] const std::map<std::string, int>& key_lines() const { return key_lines_; }
-
- private:
-  /// A value as CLI11 writes it when it is a number or a boolean, otherwise a TOML basic string.
-  static std::string toml_scalar(const std::string& arg) {
-    double number = 0.0;
-    const bool bare = arg == "true" || arg == "false" || arg == "nan" || arg == "inf" ||
-                      (!arg.empty() && arg.compare(0, 2, "0x") != 0 && arg.compare(0, 2, "0X") != 0 &&
-                       arg.find_first_of(" \t\n\r#\"'") == std::string::npos && CLI::detail::lexical_cast(arg, number));
-    if (bare) return arg;
-    std::string quoted = "\"";
-    for (const char c : arg) {
-      switch (c) {
-        case '"': quoted += "\\\""; break;
-        case '\\': quoted += "\\\\"; break;
-        case '\n': quoted += "\\n"; break;
-        case '\t': quoted += "\\t"; break;
-        case '\r': quoted += "\\r"; break;
-        default:
-          if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) {
-            char escape[8];
-            std::snprintf(escape, sizeof escape, "\\u%04x", static_cast<unsigned>(static_cast<unsigned char>(c)));
-            quoted += escape;
-          } else {
-            quoted += c;
-          }
-      }
-    }
-    return quoted + "\"";
-  }
-
-  [[noreturn]] static void fail(int line_number, const std::string& what) {
-    throw CLI::ConfigError("line " + std::to_string(line_number) + ": " + what);
-  }
-
-  /// "name = value  # comment" -> {"name", "value  # comment"}; the name unquoted.
-  static std::pair<std::string, std::string> split_key_value(const std::string& line, int line_number) {
-    const auto equals = line.find('=');
-    if (equals == std::string::npos) fail(line_number, "expected 'key = value', found '" + line + "'");
-    std::string key = CLI::detail::trim_copy(line.substr(0, equals));
-    if (key.size() >= 2 && (key.front() == '"' || key.front() == '\'') && key.back() == key.front()) {
-      key = key.substr(1, key.size() - 2);
-    }
-    if (key.empty()) fail(line_number, "expected 'key = value', found '" + line + "'");
-    return {key, CLI::detail::trim_copy(line.substr(equals + 1))};
-  }
-
-  /// The value of a TOML scalar: a basic string "..." with escapes (\" \\ \n \t \r \b \f \uXXXX), a
-  /// literal string '...', or a bare word (number, true/false), each optionally followed by a # comment.
-  /// CLI11 2.1's own reader cuts values at any '#' (a path "run#2.h5" became '"run') and keeps backslashes.
-  static std::string scalar_value(const std::string& text, int line_number) {
-    std::string value;
-    std::size_t pos = 0;
-    if (!text.empty() && (text.front() == '"' || text.front() == '\'')) {
-      const char quote = text.front();
-      for (pos = 1; pos < text.size() && text[pos] != quote; ++pos) {
-        if (quote == '"' && text[pos] == '\\' && pos + 1 < text.size()) {
-          const char e = text[++pos];
-          switch (e) {
-            case 'n': value += '\n'; break;
-            case 't': value += '\t'; break;
-            case 'r': value += '\r'; break;
-            case 'b': value += '\b'; break;
-            case 'f': value += '\f'; break;
-            case '"': case '\\': value += e; break;
-            case 'u': {
-              const std::string hex = text.substr(pos + 1, 4);
-              if (hex.size() != 4 || hex.find_first_not_of("0123456789abcdefABCDEF") != std::string::npos) {
-                fail(line_number, "bad \\u escape in a string");
-              }
-              const unsigned code = static_cast<unsigned>(std::stoul(hex, nullptr, 16));
-              if (code < 0x80) {
-                value += static_cast<char>(code);
-              } else if (code < 0x800) {
-                value += static_cast<char>(0xC0 | (code >> 6));
-                value += static_cast<char>(0x80 | (code & 0x3F));
-              } else {
-                value += static_cast<char>(0xE0 | (code >> 12));
-                value += static_cast<char>(0x80 | ((code >> 6) & 0x3F));
-                value += static_cast<char>(0x80 | (code & 0x3F));
-              }
-              pos += 4;
-              break;
-            }
-            default: fail(line_number, std::string("unknown escape '\\") + e + "' in a string");
-          }
-        } else {
-          value += text[pos];
-        }
-      }
-      if (pos >= text.size()) fail(line_number, "unterminated string " + text);
-      ++pos;
-    } else {
-      pos = std::min(text.find('#'), text.size());
-      value = CLI::detail::trim_copy(text.substr(0, pos));
-      if (value.empty()) fail(line_number, "no value after '=' (an empty string is \"\")");
-    }
-    const auto rest = text.find_first_not_of(" \t", pos);
-    if (rest != std::string::npos && text[rest] != '#') {
-      fail(line_number, "unexpected '" + text.substr(rest) + "' after the value");
-    }
-    return value;
-  }
-
-  std::string section_;
-  mutable std::map<std::string, int> key_lines_;
-};
-
-/// The config file given with --config ("" if none).
-std::string config_file(const CLI::App& app) {
-  // The raw value: as<>() would run the option's validators again, and throw if the file is missing.
-  const CLI::Option* config = app.get_config_ptr();
-  return config != nullptr && !config->results().empty() ? config->results().front() : "";
+ValueKind value_kind(const CLI::Option& option) {
+  if (option.get_expected_min() == 0) return ValueKind::kBoolean;  // a flag
+  std::string type = option.get_type_name();
+  type = type.substr(0, type.find(':'));
+  if (type == "BOOLEAN") return ValueKind::kBoolean;
+  if (type == "INT" || type == "UINT") return ValueKind::kInteger;
+  if (type == "FLOAT") return ValueKind::kReal;
+  return ValueKind::kText;
 }
 
-/// True when `argv` sets option `--name` itself (as "--name value" or "--name=value").
-bool on_command_line(int argc, char** argv, const std::string& name) {
-  const std::string flag = "--" + name;
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    if (arg == flag || arg.rfind(flag + "=", 0) == 0) return true;
+std::string kind_text(ValueKind kind) {
+  switch (kind) {
+    case ValueKind::kBoolean: return "a boolean (true or false)";
+    case ValueKind::kInteger: return "an integer";
+    case ValueKind::kReal: return "a number";
+    case ValueKind::kText: return "a string";
   }
-  return false;
+  return "a value";
+}
+
+std::string node_text(const toml::node& node) {
+  switch (node.type()) {
+    case toml::node_type::string: return "a string";
+    case toml::node_type::integer: return "an integer";
+    case toml::node_type::floating_point: return "a floating-point number";
+    case toml::node_type::boolean: return "a boolean";
+    case toml::node_type::array: return "an array";
+    case toml::node_type::table: return "a table";
+    case toml::node_type::date: return "a date";
+    case toml::node_type::time: return "a time";
+    case toml::node_type::date_time: return "a date-time";
+    default: return "nothing";
+  }
+}
+
+/// The shortest text that reads back to `value`; TOML spells the non-finite ones inf, -inf and nan.
+std::string real_text(double value) {
+  if (std::isnan(value)) return "nan";
+  return io::format_double(value);
+}
+
+/// A value as a TOML basic string, escaped.
+std::string toml_string(const std::string& text) {
+  std::string quoted = "\"";
+  for (const char c : text) {
+    switch (c) {
+      case '"': quoted += "\\\""; break;
+      case '\\': quoted += "\\\\"; break;
+      case '\n': quoted += "\\n"; break;
+      case '\t': quoted += "\\t"; break;
+      case '\r': quoted += "\\r"; break;
+      default:
+        if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) {
+          char escape[8];
+          std::snprintf(escape, sizeof escape, "\\u%04x", static_cast<unsigned>(static_cast<unsigned char>(c)));
+          quoted += escape;
+        } else {
+          quoted += c;
+        }
+    }
+  }
+  return quoted + "\"";
+}
+
+/// An option's value (a CLI11 result or default string) as TOML of the option's type.
+std::string toml_value(const CLI::Option& option, const std::string& text) {
+  switch (value_kind(option)) {
+    case ValueKind::kBoolean: {
+      std::string lower = text;
+      std::transform(lower.begin(), lower.end(), lower.begin(), [](unsigned char c) { return std::tolower(c); });
+      if (lower == "true" || lower == "1" || lower == "on" || lower == "yes") return "true";
+      if (lower == "false" || lower == "0" || lower == "off" || lower == "no") return "false";
+      break;
+    }
+    case ValueKind::kInteger: {
+      std::int64_t value = 0;
+      if (CLI::detail::lexical_cast(text, value)) return std::to_string(value);
+      std::uint64_t big = 0;
+      if (CLI::detail::lexical_cast(text, big)) return std::to_string(big);
+      break;
+    }
+    case ValueKind::kReal: {
+      double value = 0.0;
+      // Respelled in one canonical form (".5" is not TOML, "1E-13" would come back as "1e-13"), so the
+      // text read back writes the same text again.
+      if (CLI::detail::lexical_cast(text, value)) return real_text(value);
+      break;
+    }
+    case ValueKind::kText: break;
+  }
+  return toml_string(text);
+}
+
+/// "line N, key 'k': what": a message about one key (cli::run prints it after "config file 'F', ").
+[[noreturn]] void key_error(std::int64_t line, const std::string& key, const std::string& what) {
+  throw CLI::ConfigError("line " + std::to_string(line) + ", key '" + key + "': " + what);
+}
+
+[[noreturn]] void line_error(std::int64_t line, const std::string& what) {
+  const bool column = what.rfind("column ", 0) == 0;
+  throw CLI::ConfigError("line " + std::to_string(line) + (column ? ", " : ": ") + what);
 }
 
 /// The long names of the options a config file may set (for "expected one of" messages).
@@ -241,11 +143,135 @@ std::string config_keys(const CLI::App& app) {
   return keys;
 }
 
+/// Reads a TOML 1.0 document with toml++ and hands CLI11 the keys of one [section] as top-level items, each
+/// value checked against its option's type and turned into the text CLI11 converts. The sections of the
+/// other apps are skipped; anything else at the top level is an error (a typo would silently drop keys).
+class SectionConfig : public CLI::Config {
+ public:
+  SectionConfig(std::string section, const CLI::App* app) : section_(std::move(section)), app_(app) {}
+
+  std::vector<CLI::ConfigItem> from_config(std::istream& input) const override {
+    key_lines_.clear();
+    const std::string text{std::istreambuf_iterator<char>(input), std::istreambuf_iterator<char>()};
+    toml::table root;
+    try {
+      root = toml::parse(text);
+    } catch (const toml::parse_error& e) {
+      line_error(e.source().begin.line, "column " + std::to_string(e.source().begin.column) + ": not valid TOML: " +
+                                            std::string(e.description()));
+    }
+    // toml++ keeps keys sorted; report problems in file order.
+    const auto by_line = [](const toml::table& table) {
+      std::vector<std::pair<std::string, const toml::node*>> entries;
+      for (const auto& [key, node] : table) entries.emplace_back(std::string(key.str()), &node);
+      std::sort(entries.begin(), entries.end(), [](const auto& a, const auto& b) {
+        return a.second->source().begin.line < b.second->source().begin.line;
+      });
+      return entries;
+    };
+    std::vector<CLI::ConfigItem> result;
+    for (const auto& [name, node] : by_line(root)) {
+      const std::int64_t line = node->source().begin.line;
+      if (!node->is_table()) {
+        if (node->is_array_of_tables()) {
+          line_error(line, "[[" + name + "]] is an array of tables (expected one [" + name + "] section)");
+        }
+        line_error(line, "key '" + name + "' is outside any section (expected it under [" + section_ + "])");
+      }
+      if (kKnownSections.count(name) == 0) {
+        line_error(line, "unknown section [" + name +
+                             "] (expected one of [gen-configs], [train-net], [evaluate-net])");
+      }
+      if (name != section_) continue;
+      for (const auto& [key, value] : by_line(*node->as_table())) {
+        result.push_back(item(key, *value));
+      }
+    }
+    return result;
+  }
+
+  std::string to_config(const CLI::App* app, bool default_also, bool, std::string) const override {
+    std::string out;
+    for (const CLI::Option* opt : app->get_options({})) {
+      if (!opt->get_configurable() || opt->get_lnames().empty() || opt->get_lnames().front() == "config") continue;
+      const std::vector<std::string> results = opt->reduced_results();
+      std::string value;
+      if (!results.empty()) {
+        value = toml_value(*opt, results.front());
+      } else if (default_also) {
+        if (!opt->get_default_str().empty()) {
+          value = toml_value(*opt, opt->get_default_str());
+        } else if (opt->get_expected_min() == 0) {
+          value = "false";
+        }
+        // An option with neither a value nor a default (no --input) is left out: written as input = "",
+        // it would read back as an input named "".
+      }
+      if (!value.empty()) out += opt->get_single_name() + "=" + value + "\n";
+    }
+    return out;
+  }
+
+  [[nodiscard]] const std::string& section() const { return section_; }
+  /// Line of each key of this app's section in the last file read (for messages).
+  [[nodiscard]] const std::map<std::string, std::int64_t>& key_lines() const { return key_lines_; }
+
+ private:
+  /// One key of the section as a CLI11 item, its TOML type checked against the option's.
+  CLI::ConfigItem item(const std::string& key, const toml::node& value) const {
+    const std::int64_t line = value.source().begin.line;
+    key_lines_.emplace(key, line);
+    const CLI::Option* option = app_->get_option_no_throw("--" + key);
+    if (option == nullptr || !option->get_configurable() || key == "config" || key == "help") {
+      line_error(line, "unknown key '" + key + "' in [" + section_ + "] (expected one of: " + config_keys(*app_) + ")");
+    }
+    const ValueKind kind = value_kind(*option);
+    std::string text;
+    bool fits = false;
+    if (const auto* b = value.as_boolean()) {
+      fits = kind == ValueKind::kBoolean;
+      text = b->get() ? "true" : "false";
+    } else if (const auto* i = value.as_integer()) {
+      // An integer is also a fine real ("xy_limit = 2") and path-like text ("hidden = 8"); 0 and 1 are
+      // booleans as the effective configs of earlier versions wrote them ("restore_best=1").
+      const bool zero_or_one = i->get() == 0 || i->get() == 1;
+      fits = kind == ValueKind::kInteger || kind == ValueKind::kReal || kind == ValueKind::kText ||
+             (kind == ValueKind::kBoolean && zero_or_one);
+      text = kind == ValueKind::kBoolean ? (i->get() == 1 ? "true" : "false") : std::to_string(i->get());
+    } else if (const auto* f = value.as_floating_point()) {
+      fits = kind == ValueKind::kReal;
+      text = real_text(f->get());
+    } else if (const auto* s = value.as_string()) {
+      fits = kind == ValueKind::kText;
+      text = s->get();
+    }
+    if (!fits) key_error(line, key, "expected " + kind_text(kind) + ", got " + node_text(value));
+    CLI::ConfigItem item;
+    item.name = key;
+    item.inputs = {text};
+    return item;
+  }
+
+  std::string section_;
+  const CLI::App* app_;
+  mutable std::map<std::string, std::int64_t> key_lines_;
+};
+
+/// True when `argv` sets option `--name` itself (as "--name value" or "--name=value").
+bool on_command_line(int argc, char** argv, const std::string& name) {
+  const std::string flag = "--" + name;
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = argv[i];
+    if (arg == flag || arg.rfind(flag + "=", 0) == 0) return true;
+  }
+  return false;
+}
+
 /// For a parse error caused by a value in the config file (its option named in the message and not given on
 /// the command line): "config file 'F', line N, key 'k'". std::nullopt otherwise.
 std::optional<std::string> config_origin(const CLI::App& app, int argc, char** argv, const std::string& message) {
   const auto formatter = std::dynamic_pointer_cast<SectionConfig>(app.get_config_formatter());
-  if (formatter == nullptr || config_file(app).empty()) return std::nullopt;
+  if (formatter == nullptr || config_path(app).empty()) return std::nullopt;
   for (const auto& [key, line] : formatter->key_lines()) {
     const auto at = message.find("--" + key);
     if (at == std::string::npos) continue;
@@ -253,32 +279,46 @@ std::optional<std::string> config_origin(const CLI::App& app, int argc, char** a
     const bool whole_name = end == message.size() || !(std::isalnum(static_cast<unsigned char>(message[end])) ||
                                                        message[end] == '_' || message[end] == '-');
     if (!whole_name || on_command_line(argc, argv, key)) continue;
-    return "config file '" + config_file(app) + "', line " + std::to_string(line) + ", key '" + key + "'";
+    return "config file '" + config_path(app).string() + "', line " + std::to_string(line) + ", key '" + key + "'";
   }
   return std::nullopt;
 }
 
-/// CLI11 reports an unknown config key as "INI was not able to parse <key>": say what it is and where.
+/// The message of a config error, for after "config file 'F'": ", line N, key 'k': ..." for an error about
+/// one key, ": ..." otherwise. CLI11's own unknown-key message ("INI was not able to parse k") cannot occur
+/// (SectionConfig checks keys first) but is translated all the same.
 std::string describe_config_error(const CLI::App& app, const CLI::ConfigError& e) {
   const std::string message = e.what();
+  if (message.rfind("line ", 0) == 0 && message.find(", key '") != std::string::npos &&
+      message.find(", key '") < message.find(':')) {
+    return ", " + message;
+  }
   const std::string prefix = "INI was not able to parse ";
-  const auto formatter = std::dynamic_pointer_cast<SectionConfig>(app.get_config_formatter());
-  if (message.rfind(prefix, 0) != 0 || formatter == nullptr) return message;
-  const std::string key = message.substr(prefix.size());
-  const auto line = formatter->key_lines().find(key);
-  return (line != formatter->key_lines().end() ? "line " + std::to_string(line->second) + ": " : std::string()) +
-         "unknown key '" + key + "' in [" + formatter->section() + "] (expected one of: " + config_keys(app) + ")";
+  if (message.rfind(prefix, 0) == 0) {
+    const auto formatter = std::dynamic_pointer_cast<SectionConfig>(app.get_config_formatter());
+    const std::string section = formatter != nullptr ? formatter->section() : "?";
+    return ": unknown key '" + message.substr(prefix.size()) + "' in [" + section + "] (expected one of: " +
+           config_keys(app) + ")";
+  }
+  return ": " + message;
 }
+
+/// Installed before main: a signal that arrives while the app is still building its options finds the
+/// handler already in place (nothing to clean up yet, and the documented exit code all the same).
+const bool g_interrupt_cleanup_installed = [] {
+  io::install_interrupt_cleanup();
+  return true;
+}();
 
 }  // namespace
 
 int run(CLI::App& app, int argc, char** argv, const std::function<int()>& body) {
+  (void)g_interrupt_cleanup_installed;
   try {
     try {
       app.parse(argc, argv);
     } catch (const CLI::ConfigError& e) {
-      // CLI11's message names the key but not the file.
-      std::cerr << "error: config file '" << config_file(app) << "': " << describe_config_error(app, e) << "\n";
+      std::cerr << "error: config file '" << config_path(app).string() << "'" << describe_config_error(app, e) << "\n";
       return static_cast<int>(ExitCode::kUsage);
     } catch (const CLI::ParseError& e) {
       // A value out of range or of the wrong type that came from the config file: say which file and line.
@@ -293,6 +333,12 @@ int run(CLI::App& app, int argc, char** argv, const std::function<int()>& body) 
   } catch (const Error& e) {
     std::cerr << "error: " << e.what() << "\n";
     return e.exit_code();
+  } catch (const std::bad_alloc&) {
+    // Not a bug but a resource the system refused, like a full disk: same code, and the temporaries are
+    // gone (their owners' destructors ran while the exception came up).
+    std::cerr << "error: out of memory: the system refused an allocation (free memory, use fewer --threads, or "
+                 "give a smaller input)\n";
+    return static_cast<int>(ExitCode::kIo);
   } catch (const std::exception& e) {
     std::cerr << "error: internal: " << e.what() << "\n";
     return static_cast<int>(ExitCode::kInternal);
@@ -302,7 +348,7 @@ int run(CLI::App& app, int argc, char** argv, const std::function<int()>& body) 
 void add_config_option(CLI::App& app, const std::string& section) {
   app.set_config("--config", "", "TOML config file; this app reads its [" + section + "] section")
       ->check(CLI::ExistingFile);
-  app.config_formatter(std::make_shared<SectionConfig>(section));
+  app.config_formatter(std::make_shared<SectionConfig>(section, &app));
   app.allow_config_extras(CLI::config_extras_mode::error);
   // Options added after this record their defaults, so the effective config (and --help) shows the value
   // each option really has, and the written config can be fed back with --config.
@@ -314,21 +360,27 @@ std::string parse_config_text(CLI::App& app, const std::string& text) {
   try {
     app.parse_from_stream(input);
   } catch (const CLI::ConfigError& e) {
-    return describe_config_error(app, e);
+    std::string message = describe_config_error(app, e);
+    return message.substr(message.find_first_not_of(",: "));
   } catch (const CLI::ParseError& e) {
     return e.what();
   }
   return "";
 }
 
+std::filesystem::path config_path(const CLI::App& app) {
+  // The raw value: as<>() would run the option's validators again, and throw if the file is missing.
+  const CLI::Option* config = app.get_config_ptr();
+  return config != nullptr && !config->results().empty() ? config->results().front() : "";
+}
+
 std::string effective_config(const CLI::App& app, const std::string& section, const std::vector<std::string>& omit) {
-  // config_to_str writes "key=value" lines for every option with a value or default.
   std::string body = app.config_to_str(true, false);
   std::string out = "[" + section + "]\n";
   std::istringstream lines(body);
   std::string line;
   while (std::getline(lines, line)) {
-    if (line.rfind("config=", 0) == 0 || line.empty()) continue;
+    if (line.empty()) continue;
     const bool omitted = std::any_of(omit.begin(), omit.end(),
                                      [&](const std::string& key) { return line.rfind(key + "=", 0) == 0; });
     if (!omitted) out += line + "\n";
@@ -336,11 +388,70 @@ std::string effective_config(const CLI::App& app, const std::string& section, co
   return out;
 }
 
-void write_effective_config(const CLI::App& app, const std::string& section, const std::filesystem::path& output) {
+namespace {
+/// A TOML value as the text CLI11 is given for it, numbers through double (2 and 2.0 agree; hidden = 8 and
+/// hidden = "8", as earlier versions and this one write a text option, agree too).
+std::string comparable(const toml::node& node) {
+  if (const auto* i = node.as_integer()) return real_text(static_cast<double>(i->get()));
+  if (const auto* f = node.as_floating_point()) return real_text(f->get());
+  if (const auto* b = node.as_boolean()) return b->get() ? "1" : "0";  // earlier versions wrote 1 for true
+  if (const auto* s = node.as_string()) return s->get();
+  std::ostringstream out;
+  out << node_text(node);
+  return out.str();
+}
+
+/// key -> comparable value of every key of every table in `text`.
+std::map<std::string, std::string> settings(const std::string& text) {
+  std::map<std::string, std::string> result;
+  const toml::table root = toml::parse(text);
+  for (const auto& [section, table] : root) {
+    if (const auto* t = table.as_table()) {
+      for (const auto& [key, value] : *t) result[std::string(key.str())] = comparable(value);
+    }
+  }
+  return result;
+}
+}  // namespace
+
+std::string config_differences(const std::string& a, const std::string& b, const std::vector<std::string>& ignore) {
+  std::map<std::string, std::string> first, second;
+  try {
+    first = settings(a);
+    second = settings(b);
+  } catch (const toml::parse_error&) {
+    return a == b ? "" : "  (the texts differ and are not both TOML)\n";
+  }
+  for (const std::string& key : ignore) {
+    first.erase(key);
+    second.erase(key);
+  }
+  std::set<std::string> keys;
+  for (const auto& [k, v] : first) keys.insert(k);
+  for (const auto& [k, v] : second) keys.insert(k);
+  std::string out;
+  for (const std::string& key : keys) {
+    const auto x = first.find(key);
+    const auto y = second.find(key);
+    const std::string vx = x != first.end() ? x->second : "(absent)";
+    const std::string vy = y != second.end() ? y->second : "(absent)";
+    if (vx != vy) out += "  " + key + ": " + vx + " vs " + vy + "\n";
+  }
+  return out;
+}
+
+std::filesystem::path effective_config_path(const std::filesystem::path& output) {
   std::filesystem::path path = output;
   path += ".config.toml";
-  io::write_text_atomically(path, "# effective configuration written by " + app.get_name() + "\n" +
-                                      effective_config(app, section));
+  return path;
+}
+
+std::unique_ptr<io::AtomicOutput> write_effective_config(const CLI::App& app, const std::string& section,
+                                                         const std::filesystem::path& output) {
+  if (io::written_in_place(output)) return nullptr;
+  return io::write_text_uncommitted(effective_config_path(output), "# effective configuration written by " +
+                                                                       app.get_name() + "\n" +
+                                                                       effective_config(app, section));
 }
 
 namespace {
@@ -348,9 +459,10 @@ CLI::Validator number_at_least(double bound, bool inclusive, const std::string& 
   return CLI::Validator(
       [bound, inclusive](std::string& input) -> std::string {
         double value = 0.0;
+        const std::string relation = std::string(inclusive ? ">= " : "> ") + io::format_double(bound);
         if (!io::parse_double(input, value)) return "'" + input + "' is not a number";
-        const bool ok = inclusive ? value >= bound : value > bound;
-        if (!ok) return std::string("must be ") + (inclusive ? ">= " : "> ") + io::format_double(bound) + ", got " + input;
+        const bool ok = std::isfinite(value) && (inclusive ? value >= bound : value > bound);
+        if (!ok) return "must be a finite number " + relation + ", got " + input;
         return std::string();
       },
       name);
@@ -360,11 +472,46 @@ CLI::Validator number_at_least(double bound, bool inclusive, const std::string& 
 const CLI::Validator kPositive = number_at_least(0.0, false, "POSITIVE");
 const CLI::Validator kNonNegative = number_at_least(0.0, true, "NONNEGATIVE");
 
+CLI::Validator real_in(double lo, double hi) {
+  return CLI::Validator(
+      [lo, hi](std::string& input) -> std::string {
+        double value = 0.0;
+        if (!io::parse_double(input, value)) return "'" + input + "' is not a number";
+        if (!(std::isfinite(value) && value >= lo && value <= hi)) {
+          return "must be a finite number in " + io::format_double(lo) + ".." + io::format_double(hi) + ", got " + input;
+        }
+        return std::string();
+      },
+      "FLOAT in [" + io::format_double(lo) + " - " + io::format_double(hi) + "]");
+}
+
+CLI::Validator integer_in(std::int64_t lo, std::int64_t hi) {
+  return CLI::Validator(
+      [lo, hi](std::string& input) -> std::string {
+        std::string_view text = input;
+        while (!text.empty() && std::isspace(static_cast<unsigned char>(text.front()))) text.remove_prefix(1);
+        while (!text.empty() && std::isspace(static_cast<unsigned char>(text.back()))) text.remove_suffix(1);
+        if (!text.empty() && text.front() == '+') text.remove_prefix(1);
+        std::int64_t value = 0;
+        const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
+        const bool whole = !text.empty() && end == text.data() + text.size();
+        if (!whole || ec != std::errc() || value < lo || value > hi) {
+          return "must be an integer in " + std::to_string(lo) + ".." + std::to_string(hi) + ", got " +
+                 io::quote_text(input);
+        }
+        input = std::to_string(value);  // what CLI11 converts: decimal, never octal or hexadecimal
+        return std::string();
+      },
+      "INT in [" + std::to_string(lo) + " - " + std::to_string(hi) + "]");
+}
+
 void add_exit_code_footer(CLI::App& app) {
   app.footer(
-      "Exit codes: 0 success; 1 internal error; 2 bad command line or config (unknown key, value out of range);\n"
-      "3 bad input data (malformed CSV, wrong HDF5 schema, shape or file kind); 4 I/O failure; 5 numerical\n"
-      "failure (non-finite value where a finite one is required).");
+      "Exit codes: 0 success; 1 internal error; 2 bad command line or config (unknown key, value out of range,\n"
+      "an output that is an input); 3 bad input data (malformed CSV, wrong HDF5 schema, shape or file kind, corrupt\n"
+      "file); 4 I/O or resource failure (cannot open, write or rename; disk full; out of memory); 5 numerical\n"
+      "failure (non-finite value where a finite one is required); 128+N killed by signal N after removing\n"
+      "its temporary files (130 SIGINT, 143 SIGTERM).");
 }
 
 Progress::Progress(std::string label, bool quiet)

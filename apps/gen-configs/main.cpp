@@ -11,19 +11,26 @@
 //   gen-configs --config configs/tiny.toml --output /tmp/tiny.h5 --threads 1
 //   gen-configs --surface bilinear --input data/examples/raw-bilinear.csv --output /tmp/labels.csv
 //   gen-configs --scene build/scenes/hertz.inp --surface gregory --output /tmp/hertz-pairs.csv
+//   gen-configs --scene build/scenes/hertz.inp --surface gregory --sampling random --count 20000 --output /tmp/h.h5
+//   gen-configs --config configs/gregory-paper.toml --sampling random --count 100000 --seed 2 --output /tmp/g.h5
 //
 // Writes:
 //   enumeration: OUTPUT (.h5), OUTPUT.config.toml (effective config), a summary on stdout, progress on stderr.
 //   label mode:  OUTPUT (.csv): the input columns, then xi,eta (u,v for Gregory),status,gap,iterations; one row
 //                per input row, in input order. xi, eta and gap are empty unless status is ok or outside.
+//                Rows are streamed in chunks (bounded memory for any number of rows).
 //   scene mode:  OUTPUT (.csv): one row per slave node of contact pair K of an .inp deck (SPEC 7), in
 //                increasing node id: slave,a,b,c,d, the raw columns ax..sz (nax..ndz for Gregory), then the
-//                label mode's columns; a summary with the scene's shape statistics on stdout.
+//                label mode's columns; a summary with the scene's shape statistics on stdout. With
+//                --sampling random --count N: a dataset (.h5) of the scene's domain (scene_sampling.hpp).
+//   The dataset and its config are committed together (one run's pair); outputs that are inputs are refused.
 #include <omp.h>
 
 #include <chrono>
 #include <cstdio>
+#include <filesystem>
 #include <iostream>
+#include <span>
 
 #include "cli_support.hpp"
 #include "contact/scene.hpp"
@@ -34,6 +41,7 @@
 #include "dataset/scene_sampling.hpp"
 #include "io/csv.hpp"
 #include "io/dataset_file.hpp"
+#include "io/file_identity.hpp"
 #include "io/inp_deck.hpp"
 #include "io/raw_configurations.hpp"
 
@@ -62,27 +70,41 @@ void print_summary(const dataset::EnumerationSummary& s, const std::string& outp
   }
 }
 
-int label_mode(SurfaceKind surface, const std::string& input, const std::string& output,
-               const projection::ProjectionOptions& options) {
-  const io::RawConfigurations raw = io::read_raw_configurations(input, surface);
-  const auto n = static_cast<std::int64_t>(raw.configs.size());
-  std::vector<dataset::Label> labels(static_cast<std::size_t>(n));
+/// Label mode's computation for one chunk of rows: the reference projection of each configuration. The seam
+/// where the batched search library plugs in: a span of configurations in, one label per configuration out.
+void label_chunk(std::span<const geometry::Configuration> configs, SurfaceKind surface,
+                 const projection::ProjectionOptions& options, std::span<dataset::Label> labels) {
+  const auto n = static_cast<std::int64_t>(configs.size());
 #pragma omp parallel for schedule(dynamic, 64)
   for (std::int64_t i = 0; i < n; ++i) {
-    labels[static_cast<std::size_t>(i)] = dataset::label_configuration(raw.configs[static_cast<std::size_t>(i)], surface, options);
+    labels[static_cast<std::size_t>(i)] = dataset::label_configuration(configs[static_cast<std::size_t>(i)], surface, options);
   }
+}
+
+/// A label as the output's fields xi,eta (u,v),status,gap,iterations: values only where converged.
+std::vector<std::string> label_fields(const dataset::Label& l) {
+  const bool has_value = l.status == Status::kOk || l.status == Status::kOutside;
+  return {has_value ? io::format_double(l.param[0]) : "", has_value ? io::format_double(l.param[1]) : "",
+          std::string(to_string(l.status)), has_value ? io::format_double(l.gap) : "", std::to_string(l.iterations)};
+}
+
+/// Label mode: RAW.csv streamed through label_chunk in chunks of io::kRawChunkRows rows, so memory stays
+/// bounded for any number of rows; the output appears only when every row is labelled.
+int label_mode(SurfaceKind surface, const std::string& input, const std::string& output,
+               const projection::ProjectionOptions& options) {
   const auto names = coordinate_names(surface);
   const std::vector<std::string> header = {std::string(names[0]), std::string(names[1]), "status", "gap", "iterations"};
-  std::vector<std::vector<std::string>> rows(labels.size());
-  for (std::size_t i = 0; i < labels.size(); ++i) {
-    const dataset::Label& l = labels[i];
-    const bool has_value = l.status == Status::kOk || l.status == Status::kOutside;
-    rows[i] = {has_value ? io::format_double(l.param[0]) : "", has_value ? io::format_double(l.param[1]) : "",
-               std::string(to_string(l.status)), has_value ? io::format_double(l.gap) : "",
-               std::to_string(l.iterations)};
-  }
   std::vector<std::string> replaced;
-  io::write_with_columns(output, raw.table, header, rows, &replaced);
+  std::vector<dataset::Label> labels;
+  io::map_raw_configurations(
+      input, output, surface, header,
+      [&](std::span<const geometry::Configuration> configs, std::span<const std::size_t>,
+          std::vector<std::vector<std::string>>& rows) {
+        labels.resize(configs.size());
+        label_chunk(configs, surface, options, labels);
+        for (std::size_t i = 0; i < labels.size(); ++i) rows[i] = label_fields(labels[i]);
+      },
+      &replaced);
   for (const auto& name : replaced) {
     std::fprintf(stderr, "warning: input column '%s' is replaced by gen-configs' own '%s' column\n", name.c_str(),
                  name.c_str());
@@ -254,25 +276,25 @@ int main(int argc, char** argv) {
   input_option->excludes(scene_option);
   // No captured default: the effective config of the other modes must not carry a --pair that needs --scene.
   app.add_option("--pair", pair, "scene mode: the *CONTACT PAIR data line, counted from 0 (default 0)")
-      ->check(cli::kNonNegative)
+      ->transform(cli::integer_in(0, 1000000))
       ->needs(scene_option)
       ->default_str("");
   app.add_option("--output", output, "dataset .h5 (enumeration), labels .csv (label mode) or pairs .csv (scene mode)")
       ->required();
-  app.add_option("--threads", threads, "OpenMP threads (0: OpenMP's default)")->check(cli::kNonNegative);
+  app.add_option("--threads", threads, "OpenMP threads (0: OpenMP's default)")->transform(cli::integer_in(0, cli::kMaxThreads));
   app.add_flag("--quiet", quiet, "no progress line");
-  app.add_option("--seed", options.seed, "seed of the Gregory node-normal sampling");
-  app.add_option("--d_xy_points", options.d_xy_points, "grid points per axis, x and y of D")->check(CLI::Range(1, 400));
-  app.add_option("--c_xy_points", options.c_xy_points, "grid points per axis, x and y of C")->check(CLI::Range(1, 400));
-  app.add_option("--c_z_points", options.c_z_points, "grid points, z of C")->check(CLI::Range(1, 400));
-  app.add_option("--s_xy_points", options.s_xy_points, "grid points per axis, x and y of S")->check(CLI::Range(1, 400));
-  app.add_option("--s_z_points", options.s_z_points, "grid points, z of S")->check(CLI::Range(1, 400));
+  app.add_option("--seed", options.seed, "seed of the Gregory node-normal sampling")->transform(cli::integer_in(0, cli::kMaxSeed));
+  app.add_option("--d_xy_points", options.d_xy_points, "grid points per axis, x and y of D")->transform(cli::integer_in(1, 400));
+  app.add_option("--c_xy_points", options.c_xy_points, "grid points per axis, x and y of C")->transform(cli::integer_in(1, 400));
+  app.add_option("--c_z_points", options.c_z_points, "grid points, z of C")->transform(cli::integer_in(1, 400));
+  app.add_option("--s_xy_points", options.s_xy_points, "grid points per axis, x and y of S")->transform(cli::integer_in(1, 400));
+  app.add_option("--s_z_points", options.s_z_points, "grid points, z of S")->transform(cli::integer_in(1, 400));
   app.add_option("--normal_sets", options.normal_sets, "Gregory: node-normal sets per configuration")
-      ->check(CLI::Range(1, 1000));
+      ->transform(cli::integer_in(1, 1000));
   dataset::SceneDomainOptions scene_options;
   app.add_option("--deformation", scene_options.deformation,
                  "scene domain: node displacement, fraction of each segment's shortest edge")
-      ->check(CLI::Range(0.0, 0.49));
+      ->check(cli::real_in(0.0, 0.49));
   app.add_option("--capture", scene_options.capture,
                  "scene domain: slave offset along the normal, fraction of the shortest edge, either side (at "
                  "least 1.25 x the deck's own largest)")
@@ -287,7 +309,7 @@ int main(int argc, char** argv) {
                  "from the same domain (stream --seed)")
       ->check(CLI::IsMember({"grid", "random"}));
   app.add_option("--count", count, "random sampling: configurations to draw (0: none; required with random)")
-      ->check(CLI::Range(std::int64_t{0}, std::int64_t{1'000'000'000}));
+      ->transform(cli::integer_in(0, 1'000'000'000));
   app.add_option("--require_projection_inside", options.require_projection_inside,
                  "keep only configurations whose projection lies inside the segment");
   app.add_option("--xy_limit", f.xy_limit, "|x|, |y| of C, D, S below this")->check(cli::kPositive);
@@ -301,18 +323,25 @@ int main(int argc, char** argv) {
   app.add_option("--max_normal_tilt_tangent", f.max_normal_tilt_tangent, "Gregory: tangent of the largest normal tilt")
       ->check(cli::kPositive);
   app.add_option("--max_iterations", options.projection.max_iterations, "Newton iterations per start")
-      ->check(CLI::Range(1, 10000));
+      ->transform(cli::integer_in(1, 10000));
   app.add_option("--tol_param", options.projection.tol_param, "Newton step tolerance (parameter units)")
       ->check(cli::kPositive);
   app.add_option("--starts_per_axis", options.projection.starts_per_axis, "Newton starts per parameter axis")
-      ->check(CLI::Range(1, 10));
+      ->transform(cli::integer_in(1, 10));
   app.add_option("--domain_margin", options.projection.domain_margin, "parameter slack counted as inside")
       ->check(cli::kNonNegative);
 
   return cli::run(app, argc, argv, [&]() -> int {
-    // 2. Threads and surface.
+    // 2. Threads, surface, and what must hold before any work: settings that contradict each other, an
+    //    output that is an input.
     if (threads > 0) omp_set_num_threads(threads);
     options.surface = surface_from_string(surface_name);
+    CONTACTNN_REQUIRE_AS(InvalidArgument, f.min_angle_degrees <= f.max_angle_degrees,
+                         "min_angle_degrees " << f.min_angle_degrees << " is above max_angle_degrees "
+                                              << f.max_angle_degrees << ": no segment could pass");
+    const std::filesystem::path effective_config = input.empty() ? cli::effective_config_path(output) : "";
+    io::require_distinct({{"--output", output}, {"the effective config", effective_config}},
+                         {{"--input", input}, {"--scene", scene}, {"--config", cli::config_path(app)}});
 
     // 3. Label mode: a user's CSV in, the same rows with labels out.
     if (!input.empty()) return label_mode(options.surface, input, output, options.projection);
@@ -328,6 +357,8 @@ int main(int argc, char** argv) {
 
     // 4. Enumeration or random sampling: label, write the dataset and the effective config, summarise.
     CONTACTNN_REQUIRE(sampling == "grid" || count > 0, "--sampling random needs --count N");
+    io::require_writable(output);
+    if (!io::written_in_place(output)) io::require_writable(cli::effective_config_path(output));
     cli::Progress progress("gen-configs: labelling", quiet);
     const auto report = [&](std::int64_t done, std::int64_t total) { progress.update(done, total); };
     dataset::EnumerationSummary summary;
@@ -339,8 +370,9 @@ int main(int argc, char** argv) {
     // Without the keys that do not change the data, so the file is byte-identical for any output path,
     // thread count or verbosity.
     set.config_toml = cli::effective_config(app, "gen-configs", {"output", "input", "threads", "quiet"});
-    io::write_dataset(output, set);
-    cli::write_effective_config(app, "gen-configs", output);
+    const auto dataset_file = io::write_dataset_uncommitted(output, set);
+    const auto config_file = cli::write_effective_config(app, "gen-configs", output);
+    io::commit_together({dataset_file.get(), config_file.get()});
     print_summary(summary, output);
     return 0;
   });

@@ -19,6 +19,9 @@
 //   OUTPUT.checkpoint.h5     with --checkpoint-every N: network plus trainer state, every N epochs
 //   FILE.h                   with --export-header: a self-contained C99 header of the network
 //   a progress line on stderr (at most 4 per second) and a summary on stdout.
+//   The network, its config and the header are committed together at the end (one run's files, never a
+//   mix); an output that is an input, a directory that cannot be written or a --export-header that is a
+//   directory is refused before the first epoch. SIGINT/SIGTERM leave the last checkpoint for --resume.
 #include <omp.h>
 
 #include <chrono>
@@ -29,8 +32,10 @@
 
 #include "cli_support.hpp"
 #include "core/error.hpp"
+#include "io/atomic_output.hpp"
 #include "io/csv.hpp"
 #include "io/dataset_file.hpp"
+#include "io/file_identity.hpp"
 #include "io/network_file.hpp"
 #include "mlp/export_c_header.hpp"
 #include "mlp/pattern_selection.hpp"
@@ -68,11 +73,11 @@ std::vector<int> parse_hidden(const std::string& text) {
     } catch (const std::exception&) {
       used = 0;
     }
-    CONTACTNN_REQUIRE(used == item.size() && n >= 1 && n <= 4096,
-                      "--hidden: expected comma-separated layer sizes in 1..4096, got '" << text << "'");
+    CONTACTNN_REQUIRE_AS(InvalidArgument, used == item.size() && n >= 1 && n <= 4096,
+                         "--hidden: expected comma-separated layer sizes in 1..4096, got " << io::quote_text(text));
     sizes.push_back(n);
   }
-  CONTACTNN_REQUIRE(!sizes.empty(), "--hidden: at least one hidden layer size is needed");
+  CONTACTNN_REQUIRE_AS(InvalidArgument, !sizes.empty(), "--hidden: at least one hidden layer size is needed");
   return sizes;
 }
 
@@ -92,16 +97,34 @@ std::string format_duration(double seconds) {
   return buf;
 }
 
+/// The outputs of a run, checked before any work: none is an input, each can be written (its directory
+/// exists and takes a new file, it is not a directory), and the checkpoint has a regular file to sit beside.
+void check_outputs(const CLI::App& app, const std::string& data_path, const std::filesystem::path& output,
+                   const std::filesystem::path& checkpoint_path, bool checkpoints, const std::string& header_path) {
+  io::require_distinct({{"--output", output},
+                        {"the checkpoint", checkpoints ? checkpoint_path : std::filesystem::path()},
+                        {"the effective config", cli::effective_config_path(output)},
+                        {"--export-header", header_path}},
+                       {{"--data", data_path}, {"--config", cli::config_path(app)}});
+  const bool in_place = io::written_in_place(output);
+  CONTACTNN_REQUIRE_AS(InvalidArgument, !(checkpoints && in_place),
+                       "--checkpoint-every and --resume need --output to name a file: '"
+                           << output.string() << "' is not a regular file (the checkpoint is OUTPUT.checkpoint.h5)");
+  io::require_writable(output);
+  if (!in_place) io::require_writable(cli::effective_config_path(output));
+  if (checkpoints) io::require_writable(checkpoint_path);
+  if (!header_path.empty()) io::require_writable(header_path);
+}
+
 template <class Real>
-int train(const NetSettings& net_settings, mlp::TrainOptions options, const std::string& data_path,
+int train(const CLI::App& app, const NetSettings& net_settings, mlp::TrainOptions options, const std::string& data_path,
           const std::filesystem::path& output, int checkpoint_every, bool resume, const std::string& header_path,
           bool quiet, const std::string& config_toml) {
-  // 3. Data: the dataset, its rows with status ok, the training and validation draw. A missing output
-  //    directory is reported now, not after the training.
-  const std::filesystem::path out_dir = output.parent_path().empty() ? "." : output.parent_path();
-  CONTACTNN_REQUIRE_AS(IoError, std::filesystem::is_directory(out_dir),
-                       "cannot write '" << output.string() << "': directory '" << out_dir.string()
-                                        << "' does not exist");
+  // 3. Outputs checked now, not after the training; then the data: the dataset, its rows with status ok, the
+  //    training and validation draw.
+  std::filesystem::path checkpoint_path = output;
+  checkpoint_path += ".checkpoint.h5";
+  check_outputs(app, data_path, output, checkpoint_path, checkpoint_every > 0 || resume, header_path);
   const dataset::LabelledSet set = io::read_dataset(data_path);
   const std::string checksum = io::file_checksum(data_path);
   std::vector<std::uint32_t> ok_rows;
@@ -110,6 +133,11 @@ int train(const NetSettings& net_settings, mlp::TrainOptions options, const std:
   }
   const auto validation_count =
       static_cast<std::size_t>(std::llround(net_settings.validation_fraction * static_cast<double>(net_settings.train_count)));
+  CONTACTNN_REQUIRE_AS(InvalidArgument, net_settings.train_count + validation_count <= ok_rows.size(),
+                       "--train_count " << net_settings.train_count << " and --validation_fraction "
+                                        << net_settings.validation_fraction << " need "
+                                        << net_settings.train_count + validation_count << " rows with status ok; '"
+                                        << data_path << "' has " << ok_rows.size());
   const mlp::PatternSelection selection = mlp::select_patterns(ok_rows, net_settings.train_count, validation_count,
                                                                mlp::Rng::derive_seed(options.seed, 1));
   const int n_features = feature_count(set.surface);
@@ -160,8 +188,6 @@ int train(const NetSettings& net_settings, mlp::TrainOptions options, const std:
 
   // 5. Trainer, resumed from the checkpoint when asked.
   mlp::Trainer<Real> trainer(network, options, train_x, train_t, val_x, val_t);
-  std::filesystem::path checkpoint_path = output;
-  checkpoint_path += ".checkpoint.h5";
   if (resume) {
     const io::TrainedNetwork<Real> saved = io::read_network<Real>(checkpoint_path);
     CONTACTNN_REQUIRE_AS(FormatError, saved.network.layer_sizes() == sizes && saved.network.u0() == network.u0(),
@@ -173,20 +199,14 @@ int train(const NetSettings& net_settings, mlp::TrainOptions options, const std:
                                         << saved.provenance.seed << " and dataset " << saved.provenance.dataset_checksum
                                         << ", this run has seed " << options.seed << " and dataset " << checksum);
     // Everything else that shapes the run (scaling, pattern counts, learning rate, mode...) must match too;
-    // only the number of epochs may grow.
-    const auto without_epochs = [](const std::string& text) {
-      std::istringstream lines(text);
-      std::string line, kept;
-      while (std::getline(lines, line)) {
-        if (line.rfind("epochs=", 0) != 0) kept += line + "\n";
-      }
-      return kept;
-    };
-    CONTACTNN_REQUIRE_AS(FormatError, without_epochs(saved.provenance.config_toml) == without_epochs(config_toml),
+    // only the number of epochs may grow. Compared as values, so a checkpoint whose config an earlier
+    // version spelled differently (xy_limit=2.0 for 2) still resumes.
+    const std::string differences = cli::config_differences(saved.provenance.config_toml, config_toml, {"epochs"});
+    CONTACTNN_REQUIRE_AS(FormatError, differences.empty(),
                          "checkpoint '" << checkpoint_path.string()
                                         << "' was written with another configuration; only epochs may change on "
-                                           "--resume.\ncheckpoint:\n"
-                                        << saved.provenance.config_toml << "this run:\n" << config_toml);
+                                           "--resume.\n(checkpoint vs this run)\n"
+                                        << differences.substr(0, differences.size() - 1));
     network.parameters() = saved.network.parameters();
     trainer.restore(io::read_training_state<Real>(checkpoint_path, network));
     if (!quiet) std::fprintf(stderr, "resuming from %s at epoch %d\n", checkpoint_path.string().c_str(), trainer.state().epoch);
@@ -225,13 +245,16 @@ int train(const NetSettings& net_settings, mlp::TrainOptions options, const std:
   if (!quiet) std::fprintf(stderr, "\n");
   const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
 
-  // 7. The frozen network, its config and (optionally) its C header.
+  // 7. The frozen network, its config and (optionally) its C header, committed together: the three files
+  //    always come from one run.
   const auto& state = trainer.state();
   provenance.epochs_run = state.epoch;
   provenance.best_epoch = options.restore_best && val_x.rows() > 0 ? state.best_epoch : 0;
   provenance.training_loss = state.training_loss;
   provenance.validation_loss = val_x.rows() > 0 && options.restore_best ? state.best_validation_loss : state.validation_loss;
-  io::write_network(output, network, domain, provenance);
+  const auto network_file = io::write_network_uncommitted(output, network, domain, provenance);
+  const auto config_file = cli::write_effective_config(app, "train-net", output);
+  std::unique_ptr<io::AtomicOutput> header_file;
   if (!header_path.empty()) {
     mlp::CHeaderOptions h;
     h.prefix = c_prefix(header_path);
@@ -240,8 +263,9 @@ int train(const NetSettings& net_settings, mlp::TrainOptions options, const std:
     h.domain_max = domain.feature_max;
     h.description = "network " + output.filename().string() + ", dataset " + data_path + " (" + checksum + "), seed " +
                     std::to_string(options.seed);
-    io::write_text_atomically(header_path, mlp::export_c_header(network, h));
+    header_file = io::write_text_uncommitted(header_path, mlp::export_c_header(network, h));
   }
+  io::commit_together({network_file.get(), config_file.get(), header_file.get()});
 
   // 8. Summary: losses and the mean |error| over every ok row of the dataset (label units).
   const MatrixRM<double> predicted = mlp::predict(network, set.features);
@@ -287,18 +311,20 @@ int main(int argc, char** argv) {
   app.add_option("--u0", net.u0, "U0 of the sigmoid O = 1/(1+exp(-2U/U0))")->check(cli::kPositive);
   app.add_option("--precision", net.precision, "float or double arithmetic")->check(CLI::IsMember({"float", "double"}));
   app.add_option("--mode", mode, "online (one update per pattern) or batch")->check(CLI::IsMember({"online", "batch"}));
-  app.add_option("--batch_size", options.batch_size, "batch mode: patterns per update, 0 = all (full batch)");
+  app.add_option("--batch_size", options.batch_size, "batch mode: patterns per update, 0 = all (full batch)")
+      ->transform(cli::integer_in(0, std::int64_t{1} << 32));
   app.add_option("--learning_rate", options.learning_rate, "eta of dw = momentum dw - eta dE/dw")->check(cli::kPositive);
   app.add_option("--learning_rate_final", options.learning_rate_final,
                  "eta of the last epoch: eta decays geometrically from --learning_rate to this (0: constant)")
       ->check(cli::kNonNegative);
   app.add_option("--momentum", options.momentum, "momentum (alpha) in [0, 1)")->check(CLI::Range(0.0, 0.999999));
-  app.add_option("--epochs", options.epochs, "maximum epochs (the paper's training iterations)")->check(CLI::Range(1, 100000000));
+  app.add_option("--epochs", options.epochs, "maximum epochs (the paper's training iterations)")
+      ->transform(cli::integer_in(1, 100000000));
   app.add_option("--patience", options.patience, "stop after this many epochs without a better validation error; 0 = never")
-      ->check(cli::kNonNegative);
+      ->transform(cli::integer_in(0, 100000000));
   app.add_option("--restore_best", options.restore_best, "keep the parameters of the best validation error");
   app.add_option("--train_count", net.train_count, "training patterns drawn from the rows with status ok")
-      ->check(cli::kPositive);
+      ->transform(cli::integer_in(1, (std::int64_t{1} << 32) - 1));
   app.add_option("--validation_fraction", net.validation_fraction, "validation patterns per training pattern")
       ->check(CLI::Range(0.0, 10.0));
   app.add_option("--input_features", net.input_features,
@@ -310,10 +336,11 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0.0, 0.49));
   app.add_option("--target_low", net.target_low, "sigmoid value the domain's lower end maps to")->check(CLI::Range(0.0, 1.0));
   app.add_option("--target_high", net.target_high, "sigmoid value the domain's upper end maps to")->check(CLI::Range(0.0, 1.0));
-  app.add_option("--seed", options.seed, "seed of the pattern draw, the initial weights and the shuffles");
-  app.add_option("--threads", threads, "OpenMP threads (0: OpenMP's default)")->check(cli::kNonNegative);
+  app.add_option("--seed", options.seed, "seed of the pattern draw, the initial weights and the shuffles")
+      ->transform(cli::integer_in(0, cli::kMaxSeed));
+  app.add_option("--threads", threads, "OpenMP threads (0: OpenMP's default)")->transform(cli::integer_in(0, cli::kMaxThreads));
   app.add_option("--checkpoint-every", checkpoint_every, "write OUTPUT.checkpoint.h5 every N epochs (0: never)")
-      ->check(cli::kNonNegative);
+      ->transform(cli::integer_in(0, 100000000));
   app.add_flag("--resume", resume, "continue from OUTPUT.checkpoint.h5");
   app.add_option("--export-header", header, "also write the network as a C99 header FILE.h");
   app.add_flag("--quiet", quiet, "no progress line");
@@ -323,14 +350,16 @@ int main(int argc, char** argv) {
     if (threads > 0) omp_set_num_threads(threads);
     options.threads = threads;
     options.mode = mlp::training_mode_from_string(mode);
+    CONTACTNN_REQUIRE_AS(InvalidArgument, 0.0 < net.target_low && net.target_low < net.target_high && net.target_high < 1.0,
+                         "--target_low " << net.target_low << " and --target_high " << net.target_high
+                                         << ": expected 0 < target_low < target_high < 1");
+    (void)parse_hidden(net.hidden);  // a bad --hidden is reported before the dataset is read
     // Provenance without the keys that do not change the network (paths, threads, checkpointing), so a
     // resumed run records the same config as an uninterrupted one.
     const std::string config = cli::effective_config(
         app, "train-net", {"data", "output", "threads", "quiet", "resume", "checkpoint-every", "export-header"});
-    const int rc = net.precision == "double"
-                       ? train<double>(net, options, data, output, checkpoint_every, resume, header, quiet, config)
-                       : train<float>(net, options, data, output, checkpoint_every, resume, header, quiet, config);
-    cli::write_effective_config(app, "train-net", output);
-    return rc;
+    return net.precision == "double"
+               ? train<double>(app, net, options, data, output, checkpoint_every, resume, header, quiet, config)
+               : train<float>(app, net, options, data, output, checkpoint_every, resume, header, quiet, config);
   });
 }

@@ -1,18 +1,22 @@
 #include "io/csv.hpp"
 
+#include <cerrno>
 #include <charconv>
 #include <cstdio>
 #include <cstdlib>
-#include <fstream>
-#include <sstream>
+#include <cstring>
 #include <unordered_set>
 
 #include "core/error.hpp"
-#include "io/atomic_output.hpp"
 
 namespace contactnn::io {
 
 namespace {
+
+/// Bytes read from a file at a time: the reader's whole footprint besides one record.
+constexpr std::size_t kReadBytes = std::size_t{1} << 20;
+/// Written rows are handed to the stream in pieces of about this size.
+constexpr std::size_t kWriteBytes = std::size_t{1} << 20;
 
 std::string_view trim(std::string_view s) {
   while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
@@ -22,7 +26,14 @@ std::string_view trim(std::string_view s) {
 
 bool is_blank(std::string_view line) { return trim(line).empty(); }
 
+std::string file_label(const std::filesystem::path& path) { return "'" + path.string() + "'"; }
+
 }  // namespace
+
+std::string quote_text(std::string_view text) {
+  if (text.size() <= kQuotedBytes) return "'" + std::string(text) + "'";
+  return "'" + std::string(text.substr(0, kQuotedBytes)) + "...' (" + std::to_string(text.size()) + " bytes)";
+}
 
 bool parse_double(std::string_view field, double& value) {
   field = trim(field);
@@ -43,51 +54,112 @@ bool parse_double(std::string_view field, double& value) {
   return result.ec == std::errc();
 }
 
-std::size_t CsvTable::column(std::string_view name) const {
-  for (std::size_t i = 0; i < header.size(); ++i) {
-    if (header[i] == name) return i;
-  }
-  throw FormatError("'" + path.string() + "':1: missing column '" + std::string(name) + "'");
+std::string not_a_number_message(const std::filesystem::path& file, std::size_t line, std::string_view column,
+                                  std::string_view text) {
+  return file_label(file) + ":" + std::to_string(line) + ": column " + quote_text(column) + ": " + quote_text(text) +
+         " is not a number";
 }
 
-double CsvTable::number(std::size_t row, std::size_t col) const {
-  double value = 0.0;
-  if (!parse_double(rows[row][col], value)) {
-    throw FormatError("'" + path.string() + "':" + std::to_string(line_numbers[row]) + ": column '" + header[col] +
-                      "': '" + rows[row][col] + "' is not a number");
-  }
-  return value;
+// ---------------------------------------------------------------------------------------------------------
+// CsvReader
+
+CsvReader::CsvReader(const std::filesystem::path& path) : path_(path), streaming_(true) {
+  file_.open(path, std::ios::binary);
+  CONTACTNN_REQUIRE_AS(IoError, file_.good(), "cannot open " << file_label(path) << " for reading");
+  buffer_.resize(kReadBytes);
+  start();
 }
 
-CsvTable parse_csv(std::string_view text, const std::filesystem::path& name) {
-  CsvTable table;
-  table.path = name;
-  const std::string file = "'" + name.string() + "'";
+CsvReader::CsvReader(std::string_view text, const std::filesystem::path& name) : path_(name), view_(text) { start(); }
 
-  // Splits the text into records of fields, honouring quotes (which may span lines). A UTF-8 byte-order
-  // mark (spreadsheet exports) is not part of the first column's name.
-  std::size_t pos = text.substr(0, 3) == "\xEF\xBB\xBF" ? 3 : 0;
-  std::size_t line = 1;
-  bool have_header = false;
-  while (pos < text.size()) {
-    const std::size_t record_line = line;
-    std::vector<std::string> fields;
-    std::string field;
+bool CsvReader::refill() {
+  if (!streaming_) return false;
+  file_.read(buffer_.data(), static_cast<std::streamsize>(buffer_.size()));
+  const std::streamsize got = file_.gcount();
+  CONTACTNN_REQUIRE_AS(IoError, got > 0 || file_.eof(),
+                       "cannot read " << file_label(path_) << ": " << std::strerror(errno));
+  if (got == 0) return false;  // the view keeps the last bytes (check_encoding may step back into them)
+  view_ = std::string_view(buffer_.data(), static_cast<std::size_t>(got));
+  pos_ = 0;
+  return true;
+}
+
+inline int CsvReader::get() {
+  if (pos_ >= view_.size() && !refill()) return -1;
+  return static_cast<unsigned char>(view_[pos_++]);
+}
+
+inline int CsvReader::peek() {
+  if (pos_ >= view_.size() && !refill()) return -1;
+  return static_cast<unsigned char>(view_[pos_]);
+}
+
+void CsvReader::check_encoding() {
+  // A byte-order mark says what the text is; UTF-8's is skipped, the others are named.
+  std::string head;
+  while (head.size() < 4 && peek() >= 0) head += static_cast<char>(get());
+  const auto starts = [&](std::string_view mark) { return head.compare(0, mark.size(), mark) == 0; };
+  std::string_view encoding;
+  if (starts(std::string_view("\xFF\xFE\x00\x00", 4))) {
+    encoding = "UTF-32 (little-endian)";
+  } else if (starts(std::string_view("\x00\x00\xFE\xFF", 4))) {
+    encoding = "UTF-32 (big-endian)";
+  } else if (starts("\xFF\xFE")) {
+    encoding = "UTF-16 (little-endian)";
+  } else if (starts("\xFE\xFF")) {
+    encoding = "UTF-16 (big-endian)";
+  }
+  CONTACTNN_REQUIRE_AS(FormatError, encoding.empty(),
+                       file_label(path_) << ": the file is " << encoding
+                                         << " text (by its byte-order mark); save it as UTF-8 or ASCII");
+  // Step back over the bytes read (a UTF-8 mark excepted): they all came from the first read, which fills
+  // the buffer unless the file ends first, and refill() keeps the view at the end of the file.
+  const std::size_t skip = starts("\xEF\xBB\xBF") ? 3 : 0;
+  pos_ -= head.size() - skip;
+}
+
+void CsvReader::start() {
+  check_encoding();
+  std::size_t line = 0;
+  CsvRecord record;
+  const bool got_header = read_record(record, line);
+  CONTACTNN_REQUIRE_AS(FormatError, got_header, file_label(path_) << ": empty file: expected a header row and data rows");
+  std::vector<std::string> fields = record.strings();
+  std::unordered_set<std::string> seen;
+  for (auto& column : fields) {
+    CONTACTNN_REQUIRE_AS(FormatError, column.find('\0') == std::string::npos,
+                         file_label(path_) << ":1: the header holds NUL bytes: UTF-16 text without a byte-order mark, "
+                                              "or not a text file; save it as UTF-8 or ASCII");
+    column = std::string(trim(column));
+    CONTACTNN_REQUIRE_AS(FormatError, !column.empty(), file_label(path_) << ":1: empty column name in the header");
+    CONTACTNN_REQUIRE_AS(FormatError, seen.insert(column).second,
+                         file_label(path_) << ":1: duplicate column " << quote_text(column) << " in the header");
+  }
+  header_ = std::move(fields);
+  have_lookahead_ = next(lookahead_, lookahead_line_);
+  CONTACTNN_REQUIRE_AS(FormatError, have_lookahead_,
+                       file_label(path_) << ": header only: expected at least one data row");
+}
+
+bool CsvReader::read_record(CsvRecord& record, std::size_t& record_line) {
+  for (;;) {
+    if (peek() < 0) return false;
+    record_line = line_;
+    record.clear();
     bool in_quotes = false;
     bool record_has_content = false;
-    for (; pos < text.size(); ++pos) {
-      const char c = text[pos];
+    for (int c = get(); c >= 0; c = get()) {
       if (in_quotes) {
         if (c == '"') {
-          if (pos + 1 < text.size() && text[pos + 1] == '"') {
-            field += '"';
-            ++pos;
+          if (peek() == '"') {
+            record.append('"');
+            get();
           } else {
             in_quotes = false;
           }
         } else {
-          if (c == '\n') ++line;
-          field += c;
+          if (c == '\n') ++line_;
+          record.append(static_cast<char>(c));
         }
         continue;
       }
@@ -95,71 +167,133 @@ CsvTable parse_csv(std::string_view text, const std::filesystem::path& name) {
         in_quotes = true;
         record_has_content = true;
       } else if (c == ',') {
-        fields.push_back(std::move(field));
-        field.clear();
+        record.end_field();
         record_has_content = true;
       } else if (c == '\n') {
-        ++pos;
-        ++line;
+        ++line_;
         break;
       } else if (c == '\r') {
-        // part of a CRLF line end, or stray: never part of a field
+        // Part of a CRLF line end (or the file's last byte); any other carriage return is a line end the
+        // reader would otherwise merge into one record: CR-only (classic Mac OS) files.
+        const int next = peek();
+        CONTACTNN_REQUIRE_AS(FormatError, next == '\n' || next < 0,
+                             file_label(path_) << ":" << line_
+                                               << ": carriage return without a line feed (a file with CR-only line "
+                                                  "ends?): save it with LF or CRLF line ends");
       } else {
-        field += c;
+        record.append(static_cast<char>(c));
         if (c != ' ' && c != '\t') record_has_content = true;
       }
     }
-    CONTACTNN_REQUIRE_AS(FormatError, !in_quotes,
-                         file << ":" << record_line << ": unterminated quoted field");
-    if (!record_has_content && is_blank(field)) continue;  // blank line
-    fields.push_back(std::move(field));
-    if (!have_header) {
-      std::unordered_set<std::string> seen;
-      for (auto& column : fields) {
-        column = std::string(trim(column));
-        CONTACTNN_REQUIRE_AS(FormatError, !column.empty(), file << ":1: empty column name in the header");
-        CONTACTNN_REQUIRE_AS(FormatError, seen.insert(column).second,
-                             file << ":1: duplicate column '" << column << "' in the header");
-      }
-      table.header = std::move(fields);
-      have_header = true;
-      continue;
-    }
-    CONTACTNN_REQUIRE_AS(FormatError, fields.size() == table.header.size(),
-                         file << ":" << record_line << ": ragged row: " << fields.size() << " fields, the header has "
-                              << table.header.size());
-    table.rows.push_back(std::move(fields));
-    table.line_numbers.push_back(record_line);
+    CONTACTNN_REQUIRE_AS(FormatError, !in_quotes, file_label(path_) << ":" << record_line << ": unterminated quoted field");
+    if (!record_has_content && is_blank(record.current_field())) continue;  // blank line
+    // Field ends are 32-bit: a record of 4 GB or more is not a CSV row anyone means.
+    CONTACTNN_REQUIRE_AS(FormatError, record.text_size() < (std::size_t{1} << 32),
+                         file_label(path_) << ":" << record_line << ": a record of 4 GB or more");
+    record.end_field();
+    return true;
   }
-  CONTACTNN_REQUIRE_AS(FormatError, have_header, file << ": empty file: expected a header row and data rows");
-  CONTACTNN_REQUIRE_AS(FormatError, !table.rows.empty(), file << ": header only: expected at least one data row");
+}
+
+bool CsvReader::next(CsvRecord& record, std::size_t& line) {
+  if (have_lookahead_) {
+    std::swap(record, lookahead_);
+    line = lookahead_line_;
+    have_lookahead_ = false;
+    return true;
+  }
+  std::size_t record_line = 0;
+  if (!read_record(record, record_line)) return false;
+  CONTACTNN_REQUIRE_AS(FormatError, header_.empty() || record.size() == header_.size(),
+                       file_label(path_) << ":" << record_line << ": ragged row: " << record.size()
+                                         << " fields, the header has " << header_.size());
+  line = record_line;
+  return true;
+}
+
+std::vector<std::string> CsvRecord::strings() const {
+  std::vector<std::string> out;
+  out.reserve(size());
+  for (std::size_t i = 0; i < size(); ++i) out.emplace_back((*this)[i]);
+  return out;
+}
+
+std::size_t CsvReader::column(std::string_view name) const {
+  for (std::size_t i = 0; i < header_.size(); ++i) {
+    if (header_[i] == name) return i;
+  }
+  throw FormatError(file_label(path_) + ":1: missing column '" + std::string(name) + "'");
+}
+
+// ---------------------------------------------------------------------------------------------------------
+// CsvTable
+
+std::size_t CsvTable::column(std::string_view name) const {
+  for (std::size_t i = 0; i < header.size(); ++i) {
+    if (header[i] == name) return i;
+  }
+  throw FormatError(file_label(path) + ":1: missing column '" + std::string(name) + "'");
+}
+
+double CsvTable::number(std::size_t row, std::size_t col) const {
+  double value = 0.0;
+  if (!parse_double(rows[row][col], value)) {
+    throw FormatError(not_a_number_message(path, line_numbers[row], header[col], rows[row][col]));
+  }
+  return value;
+}
+
+namespace {
+CsvTable read_all(CsvReader& reader) {
+  CsvTable table;
+  table.path = reader.path();
+  table.header = reader.header();
+  CsvRecord record;
+  std::size_t line = 0;
+  while (reader.next(record, line)) {
+    table.rows.push_back(record.strings());
+    table.line_numbers.push_back(line);
+  }
   return table;
+}
+}  // namespace
+
+CsvTable parse_csv(std::string_view text, const std::filesystem::path& name) {
+  CsvReader reader(text, name);
+  return read_all(reader);
 }
 
 CsvTable read_csv(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  CONTACTNN_REQUIRE_AS(IoError, in.good(), "cannot open '" << path.string() << "' for reading");
-  std::ostringstream buffer;
-  buffer << in.rdbuf();
-  return parse_csv(buffer.str(), path);
+  CsvReader reader(path);
+  return read_all(reader);
+}
+
+// ---------------------------------------------------------------------------------------------------------
+// Writing
+
+void append_csv_field(std::string& out, std::string_view f) {
+  // Quoted: a comma, quote or line break, and a leading byte-order mark of any encoding, which the reader
+  // interprets at the start of a file (unquoted, a first column named "\xEF\xBB\xBFid" would read back as
+  // "id", and one starting with "\xFE\xFF" would make the file read as UTF-16).
+  const auto starts = [&](std::string_view mark) { return f.substr(0, mark.size()) == mark; };
+  const bool mark = starts("\xEF\xBB\xBF") || starts("\xFE\xFF") || starts("\xFF\xFE") ||
+                    starts(std::string_view("\0\0\xFE\xFF", 4));
+  if (f.find_first_of(",\"\n\r") == std::string_view::npos && !mark) {
+    out += f;
+  } else {
+    out += '"';
+    for (char c : f) {
+      if (c == '"') out += '"';
+      out += c;
+    }
+    out += '"';
+  }
 }
 
 void append_csv_row(std::string& out, const std::vector<std::string>& fields) {
   for (std::size_t i = 0; i < fields.size(); ++i) {
     if (i > 0) out += ',';
-    const std::string& f = fields[i];
-    // Quoted: a comma, quote or line break, and a leading byte-order mark (which the reader skips at the
-    // start of a file: unquoted, a first column named "\xEF\xBB\xBFid" would read back as "id").
-    if (f.find_first_of(",\"\n\r") == std::string::npos && f.rfind("\xEF\xBB\xBF", 0) != 0) {
-      out += f;
-    } else {
-      out += '"';
-      for (char c : f) {
-        if (c == '"') out += '"';
-        out += c;
-      }
-      out += '"';
-    }
+    append_csv_field(out, fields[i]);
   }
   out += '\n';
 }
@@ -171,16 +305,63 @@ std::string format_double(double value) {
   return std::string(buffer, result.ptr);
 }
 
+CsvWriter::CsvWriter(const std::filesystem::path& path) : output_(path, AtomicOutput::Access::kSequential) {
+  stream_.open(output_.write_path(), std::ios::binary | std::ios::trunc);
+  CONTACTNN_REQUIRE_AS(IoError, stream_.good(),
+                       "cannot create " << file_label(output_.write_path()) << ": " << std::strerror(errno));
+  buffer_.reserve(kWriteBytes + 4096);
+}
+
+void CsvWriter::write_row(const std::vector<std::string>& fields) {
+  append_csv_row(buffer_, fields);
+  if (buffer_.size() >= kWriteBytes) flush_buffer();
+}
+
+void CsvWriter::field(std::string_view text) {
+  if (row_started_) buffer_ += ',';
+  append_csv_field(buffer_, text);
+  row_started_ = true;
+}
+
+void CsvWriter::end_row() {
+  buffer_ += '\n';
+  row_started_ = false;
+  if (buffer_.size() >= kWriteBytes) flush_buffer();
+}
+
+void CsvWriter::flush_buffer() {
+  stream_.write(buffer_.data(), static_cast<std::streamsize>(buffer_.size()));
+  buffer_.clear();
+  CONTACTNN_REQUIRE_AS(IoError, stream_.good(),
+                       "cannot write " << file_label(output_.final_path()) << ": " << std::strerror(errno));
+}
+
+void CsvWriter::commit() {
+  flush_buffer();
+  stream_.flush();
+  CONTACTNN_REQUIRE_AS(IoError, stream_.good(),
+                       "cannot write " << file_label(output_.final_path()) << ": " << std::strerror(errno));
+  stream_.close();
+  CONTACTNN_REQUIRE_AS(IoError, !stream_.fail(),
+                       "cannot write " << file_label(output_.final_path()) << ": " << std::strerror(errno));
+  output_.commit();
+}
+
+std::unique_ptr<AtomicOutput> write_text_uncommitted(const std::filesystem::path& path, std::string_view text) {
+  auto output = std::make_unique<AtomicOutput>(path, AtomicOutput::Access::kSequential);
+  std::ofstream out(output->write_path(), std::ios::binary | std::ios::trunc);
+  CONTACTNN_REQUIRE_AS(IoError, out.good(),
+                       "cannot create " << file_label(output->write_path()) << ": " << std::strerror(errno));
+  out.write(text.data(), static_cast<std::streamsize>(text.size()));
+  out.flush();
+  CONTACTNN_REQUIRE_AS(IoError, out.good(), "cannot write " << file_label(path) << ": " << std::strerror(errno));
+  out.close();
+  CONTACTNN_REQUIRE_AS(IoError, !out.fail(), "cannot write " << file_label(path) << ": " << std::strerror(errno));
+  return output;
+}
+
 void write_text_atomically(const std::filesystem::path& path, std::string_view text) {
-  AtomicOutput output(path);
-  {
-    std::ofstream out(output.temp_path(), std::ios::binary | std::ios::trunc);
-    CONTACTNN_REQUIRE_AS(IoError, out.good(), "cannot create '" << output.temp_path().string() << "'");
-    out.write(text.data(), static_cast<std::streamsize>(text.size()));
-    out.flush();
-    CONTACTNN_REQUIRE_AS(IoError, out.good(), "cannot write '" << output.temp_path().string() << "' (disk full?)");
-  }
-  output.commit();
+  write_text_uncommitted(path, text)->commit();
 }
 
 }  // namespace contactnn::io

@@ -18,11 +18,12 @@ std::string feature_names(SurfaceKind kind) {
 }
 }  // namespace
 
-void write_dataset(const std::filesystem::path& path, const dataset::LabelledSet& set) {
+std::unique_ptr<AtomicOutput> write_dataset_uncommitted(const std::filesystem::path& path,
+                                                        const dataset::LabelledSet& set) {
   set.validate("dataset to write to '" + path.string() + "'");
-  AtomicOutput output(path);
+  auto output = std::make_unique<AtomicOutput>(path);
   {
-    Hdf5File file(output.temp_path(), Hdf5File::Mode::kCreate);
+    Hdf5File file(output->write_path(), Hdf5File::Mode::kCreate, path);
     file.write_attribute("/", "kind", std::string(kDatasetFileKind));
     file.write_attribute("/", "schema_version", std::int64_t{kDatasetSchemaVersion});
     file.write_attribute("/", "surface", std::string(to_string(set.surface)));
@@ -41,7 +42,11 @@ void write_dataset(const std::filesystem::path& path, const dataset::LabelledSet
     write_filters(file, "domain", set.filters);
     file.close();
   }
-  output.commit();
+  return output;
+}
+
+void write_dataset(const std::filesystem::path& path, const dataset::LabelledSet& set) {
+  write_dataset_uncommitted(path, set)->commit();
 }
 
 dataset::LabelledSet read_dataset(const std::filesystem::path& path) {

@@ -19,14 +19,25 @@ using MatrixRM = Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajo
 /// std::uint8_t, std::int64_t. Matrices are stored row-major as 2-D datasets (rows x cols), vectors as
 /// 1-D datasets.
 ///
-/// Errors: a missing file, or one that cannot be created, is IoError; a file that is not HDF5 (or is
-/// truncated or corrupt), a missing dataset or attribute, or a dataset of another rank is FormatError.
-/// Every message names the file and the dataset or attribute.
+/// Reading accepts what other HDF5 writers (h5py) produce for the same schema: datasets of any floating-point
+/// width where reals are expected and of any integer width and signedness where integers are (values are
+/// range-checked against the type asked for), contiguous, chunked or compressed (gzip, shuffle) layouts,
+/// fixed- or variable-length (ASCII or UTF-8) string attributes, numpy booleans (an enum) as integer
+/// attributes, and attributes stored as one-element arrays. Integers where reals are expected, or the
+/// reverse, and anything else ambiguous are FormatError naming both sides.
+///
+/// Errors: a missing file, or one that cannot be created or written (a full disk), is IoError; a file that
+/// is not HDF5 (or is truncated or corrupt), a missing dataset or attribute, or a dataset of another rank or
+/// type is FormatError. Every message names the file and the dataset or attribute.
+///
+/// The process never terminates HDF5 after a close has failed (see hdf5_file.cpp): a failed write ends in
+/// IoError and a normal exit, never in a crash in HDF5's exit handling.
 class Hdf5File {
  public:
   enum class Mode { kRead, kCreate };  ///< kCreate truncates an existing file
 
-  Hdf5File(const std::filesystem::path& path, Mode mode);
+  /// `shown_as`: the name used in write errors (the final name of an output written to a temporary).
+  Hdf5File(const std::filesystem::path& path, Mode mode, std::filesystem::path shown_as = {});
   ~Hdf5File();
   Hdf5File(const Hdf5File&) = delete;
   Hdf5File& operator=(const Hdf5File&) = delete;
@@ -60,6 +71,7 @@ class Hdf5File {
 
  private:
   std::filesystem::path path_;
+  std::string shown_;
   std::int64_t file_id_ = -1;  // hid_t
 };
 

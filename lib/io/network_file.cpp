@@ -10,6 +10,7 @@
 #include "core/conventions.hpp"
 #include "core/error.hpp"
 #include "io/atomic_output.hpp"
+#include "io/csv.hpp"
 #include "io/domain_io.hpp"
 #include "io/hdf5_file.hpp"
 
@@ -45,26 +46,28 @@ std::vector<double> read_sized(const Hdf5File& file, const std::string& name, st
   return v;
 }
 
+constexpr const char* kActivationText = "O = 1 / (1 + exp(-2 U / U0)), U = sum_i W_ji I_i - theta_j";
+
 }  // namespace
 
 template <class Real>
-void write_network(const std::filesystem::path& path, const mlp::Network<Real>& network,
+std::unique_ptr<AtomicOutput> write_network_uncommitted(const std::filesystem::path& path, const mlp::Network<Real>& network,
                    const geometry::TrainingDomain& domain, const NetworkProvenance& provenance,
                    const mlp::TrainingState<Real>* checkpoint) {
   for (Real p : network.parameters()) {
-    CONTACTNN_REQUIRE(std::isfinite(static_cast<double>(p)), "refusing to write a network with a non-finite parameter to '"
-                                                                 << path.string() << "'");
+    CONTACTNN_REQUIRE_AS(NumericalError, std::isfinite(static_cast<double>(p)),
+                         "refusing to write a network with a non-finite parameter to '" << path.string() << "'");
   }
-  AtomicOutput out(path);
+  auto out = std::make_unique<AtomicOutput>(path);
   {
-    Hdf5File file(out.temp_path(), Hdf5File::Mode::kCreate);
+    Hdf5File file(out->write_path(), Hdf5File::Mode::kCreate, path);
     const auto& sizes = network.layer_sizes();
     file.write_attribute("/", "kind", std::string(kNetworkFileKind));
     file.write_attribute("/", "schema_version", std::int64_t{kNetworkSchemaVersion});
     file.write_attribute("/", "surface", std::string(to_string(domain.surface)));
     file.write_attribute("/", "real_type", std::string(std::is_same_v<Real, float> ? "float32" : "float64"));
     file.write_attribute("/", "u0", network.u0());
-    file.write_attribute("/", "activation", std::string("O = 1 / (1 + exp(-2 U / U0)), U = sum_i W_ji I_i - theta_j"));
+    file.write_attribute("/", "activation", std::string(kActivationText));
     file.write_attribute("/", "config", provenance.config_toml);
     file.write_attribute("/", "seed", static_cast<std::int64_t>(provenance.seed));
     file.write_attribute("/", "dataset", provenance.dataset_path);
@@ -113,7 +116,30 @@ void write_network(const std::filesystem::path& path, const mlp::Network<Real>& 
     }
     file.close();
   }
-  out.commit();
+  return out;
+}
+
+template <class Real>
+void write_network(const std::filesystem::path& path, const mlp::Network<Real>& network,
+                   const geometry::TrainingDomain& domain, const NetworkProvenance& provenance,
+                   const mlp::TrainingState<Real>* checkpoint) {
+  write_network_uncommitted(path, network, domain, provenance, checkpoint)->commit();
+}
+
+namespace {
+std::string read_network_real_type(const Hdf5File& file) {
+  const std::string real_type = file.read_string_attribute("/", "real_type");
+  CONTACTNN_REQUIRE_AS(FormatError, real_type == "float32" || real_type == "float64",
+                       "'" << file.path().string() << "': real_type is " << quote_text(real_type)
+                           << ", expected 'float32' or 'float64'");
+  return real_type;
+}
+}  // namespace
+
+std::string read_network_real_type(const std::filesystem::path& path) {
+  const Hdf5File file(path, Hdf5File::Mode::kRead);
+  require_file_kind(file, kNetworkFileKind, kNetworkSchemaVersion);
+  return read_network_real_type(file);
 }
 
 template <class Real>
@@ -121,6 +147,13 @@ TrainedNetwork<Real> read_network(const std::filesystem::path& path) {
   const Hdf5File file(path, Hdf5File::Mode::kRead);
   const std::string name = path.string();
   require_file_kind(file, kNetworkFileKind, kNetworkSchemaVersion);
+  // What the evaluation code computes: the sigmoid of Eq 12 in float or double. A file that says it is
+  // something else is refused rather than evaluated as if it were this.
+  (void)read_network_real_type(file);
+  const std::string activation = file.read_string_attribute("/", "activation");
+  CONTACTNN_REQUIRE_AS(FormatError, activation == kActivationText,
+                       "'" << name << "': activation is " << quote_text(activation)
+                           << ", expected the sigmoid of Eq 12, '" << kActivationText << "'");
 
   const std::vector<std::int32_t> raw_sizes = file.read_vector<std::int32_t>("architecture/layer_sizes");
   CONTACTNN_REQUIRE_AS(FormatError, raw_sizes.size() >= 2,
@@ -225,6 +258,20 @@ mlp::TrainingState<Real> read_training_state(const std::filesystem::path& path, 
   state.best_validation_loss = file.read_double_attribute(obj, "best_validation_loss");
   state.training_loss = file.read_double_attribute(obj, "training_loss");
   state.validation_loss = file.read_double_attribute(obj, "validation_loss");
+  // A checkpoint is only ever written from finite state (losses excepted: NaN without a validation set), so
+  // a non-finite value is a damaged file, not a diverging run.
+  const auto require_finite = [&](const auto& values, const char* what) {
+    for (std::size_t i = 0; i < values.size(); ++i) {
+      CONTACTNN_REQUIRE_AS(FormatError, std::isfinite(static_cast<double>(values[i])),
+                           "'" << name << "': checkpoint/" << what << " element " << i << " is "
+                               << static_cast<double>(values[i]) << ": the checkpoint is corrupt");
+    }
+  };
+  require_finite(state.velocity, "velocity");
+  require_finite(state.best_parameters, "best_parameters");
+  CONTACTNN_REQUIRE_AS(FormatError, state.epoch >= 0 && state.best_epoch >= 0 && state.best_epoch <= state.epoch,
+                       "'" << name << "': checkpoint epoch " << state.epoch << ", best epoch " << state.best_epoch
+                           << ": the checkpoint is corrupt");
   return state;
 }
 
@@ -247,6 +294,16 @@ std::string file_checksum(const std::filesystem::path& path) {
   return std::string("fnv1a64:") + hex;
 }
 
+template std::unique_ptr<AtomicOutput> write_network_uncommitted(const std::filesystem::path&,
+                                                                 const mlp::Network<float>&,
+                                                                 const geometry::TrainingDomain&,
+                                                                 const NetworkProvenance&,
+                                                                 const mlp::TrainingState<float>*);
+template std::unique_ptr<AtomicOutput> write_network_uncommitted(const std::filesystem::path&,
+                                                                 const mlp::Network<double>&,
+                                                                 const geometry::TrainingDomain&,
+                                                                 const NetworkProvenance&,
+                                                                 const mlp::TrainingState<double>*);
 template void write_network(const std::filesystem::path&, const mlp::Network<float>&, const geometry::TrainingDomain&,
                             const NetworkProvenance&, const mlp::TrainingState<float>*);
 template void write_network(const std::filesystem::path&, const mlp::Network<double>&, const geometry::TrainingDomain&,

@@ -5,9 +5,11 @@
 #include <cstdint>
 #include <filesystem>
 #include <limits>
+#include <memory>
 #include <string>
 
 #include "geometry/domain.hpp"
+#include "io/atomic_output.hpp"
 #include "mlp/network.hpp"
 #include "mlp/trainer.hpp"
 
@@ -52,20 +54,32 @@ struct TrainedNetwork {
 ///                                 best_validation_loss, training_loss, validation_loss on
 ///                                 /checkpoint/velocity
 /// Parameters of a float network are stored exactly (float -> double is exact), so a round trip is
-/// bit-exact. Throws IoError if the file cannot be written, InvalidArgument for a non-finite parameter.
+/// bit-exact. Throws IoError if the file cannot be written, NumericalError for a non-finite parameter.
 template <class Real>
 void write_network(const std::filesystem::path& path, const mlp::Network<Real>& network,
                    const geometry::TrainingDomain& domain, const NetworkProvenance& provenance,
                    const mlp::TrainingState<Real>* checkpoint = nullptr);
 
+/// The same, leaving the commit to the caller (io::commit_together with the effective config).
+template <class Real>
+[[nodiscard]] std::unique_ptr<AtomicOutput> write_network_uncommitted(
+    const std::filesystem::path& path, const mlp::Network<Real>& network, const geometry::TrainingDomain& domain,
+    const NetworkProvenance& provenance, const mlp::TrainingState<Real>* checkpoint = nullptr);
+
+/// The root attribute real_type of a network file: "float32" or "float64". FormatError for any other value
+/// (and the errors of opening a network file).
+[[nodiscard]] std::string read_network_real_type(const std::filesystem::path& path);
+
 /// Reads a network file (or a checkpoint, ignoring its state). FormatError, naming the file and stating
-/// expected and actual, for a file of another kind (e.g. a dataset), another schema version, a missing
-/// member, a member of the wrong shape, a non-finite parameter or an inconsistent scaling.
+/// expected and actual, for a file of another kind (e.g. a dataset), another schema version, a real_type
+/// other than float32/float64 or an activation other than Eq 12's sigmoid (the only ones evaluated), a
+/// missing member, a member of the wrong shape, a non-finite parameter or an inconsistent scaling.
 template <class Real>
 [[nodiscard]] TrainedNetwork<Real> read_network(const std::filesystem::path& path);
 
 /// The trainer state of a checkpoint written with write_network(..., checkpoint) for `network`'s
-/// architecture. FormatError if the file holds no checkpoint or its sizes differ.
+/// architecture. FormatError if the file holds no checkpoint, its sizes differ, or its state is damaged (a
+/// non-finite momentum term or kept parameter, impossible epochs): "the checkpoint is corrupt".
 template <class Real>
 [[nodiscard]] mlp::TrainingState<Real> read_training_state(const std::filesystem::path& path,
                                                            const mlp::Network<Real>& network);

@@ -6,71 +6,115 @@
 
 namespace contactnn::io {
 
-namespace {
-
-/// The configurations of a table read from RAW.csv (columns located by name).
-RawConfigurations from_table(CsvTable table, SurfaceKind kind) {
-  RawConfigurations raw;
-  raw.table = std::move(table);
-  const CsvTable& t = raw.table;
-  std::array<std::size_t, 15> point_columns{};
-  for (std::size_t i = 0; i < kRawPointColumns.size(); ++i) point_columns[i] = t.column(kRawPointColumns[i]);
-  std::array<std::size_t, 12> normal_columns{};
-  const bool gregory = kind == SurfaceKind::kGregory;
-  if (gregory) {
-    for (std::size_t i = 0; i < kRawNormalColumns.size(); ++i) normal_columns[i] = t.column(kRawNormalColumns[i]);
-  }
-  raw.configs.resize(t.rows.size());
-  for (std::size_t r = 0; r < t.rows.size(); ++r) {
-    geometry::Configuration& c = raw.configs[r];
-    for (int node = 0; node < 4; ++node) {
-      for (int k = 0; k < 3; ++k) {
-        c.nodes[node][k] = t.number(r, point_columns[static_cast<std::size_t>(3 * node + k)]);
-        c.normals[node][k] = gregory ? t.number(r, normal_columns[static_cast<std::size_t>(3 * node + k)]) : 0.0;
-      }
-    }
-    for (int k = 0; k < 3; ++k) c.slave[k] = t.number(r, point_columns[static_cast<std::size_t>(12 + k)]);
-  }
-  return raw;
+RawConfigurationReader::RawConfigurationReader(const std::filesystem::path& path, SurfaceKind kind)
+    : csv_(path), kind_(kind) {
+  locate_columns();
 }
 
-}  // namespace
+RawConfigurationReader::RawConfigurationReader(std::string_view text, const std::filesystem::path& name,
+                                               SurfaceKind kind)
+    : csv_(text, name), kind_(kind) {
+  locate_columns();
+}
 
-RawConfigurations read_raw_configurations(const std::filesystem::path& path, SurfaceKind kind) {
-  return from_table(read_csv(path), kind);
+void RawConfigurationReader::locate_columns() {
+  for (std::size_t i = 0; i < kRawPointColumns.size(); ++i) point_columns_[i] = csv_.column(kRawPointColumns[i]);
+  if (kind_ == SurfaceKind::kGregory) {
+    for (std::size_t i = 0; i < kRawNormalColumns.size(); ++i) normal_columns_[i] = csv_.column(kRawNormalColumns[i]);
+  }
+}
+
+bool RawConfigurationReader::next_chunk(RawChunk& chunk, std::size_t max_rows) {
+  CONTACTNN_REQUIRE(max_rows >= 1, "chunk of " << max_rows << " rows");
+  // Grown row by row (a short file costs a short chunk), and the records keep their storage from one full
+  // chunk to the next.
+  const bool gregory = kind_ == SurfaceKind::kGregory;
+  std::size_t n = 0;
+  for (; n < max_rows; ++n) {
+    if (n == chunk.records.size()) chunk.records.emplace_back();
+    if (n == chunk.line_numbers.size()) chunk.line_numbers.push_back(0);
+    if (n == chunk.configs.size()) chunk.configs.emplace_back();
+    const CsvRecord& fields = chunk.records[n];
+    if (!csv_.next(chunk.records[n], chunk.line_numbers[n])) break;
+    const auto number = [&](std::size_t column) {
+      double value = 0.0;
+      if (!parse_double(fields[column], value)) {
+        throw FormatError(not_a_number_message(csv_.path(), chunk.line_numbers[n], csv_.header()[column], fields[column]));
+      }
+      return value;
+    };
+    geometry::Configuration& c = chunk.configs[n];
+    for (int node = 0; node < 4; ++node) {
+      for (int k = 0; k < 3; ++k) {
+        const auto i = static_cast<std::size_t>(3 * node + k);
+        c.nodes[node][k] = number(point_columns_[i]);
+        c.normals[node][k] = gregory ? number(normal_columns_[i]) : 0.0;
+      }
+    }
+    for (int k = 0; k < 3; ++k) c.slave[k] = number(point_columns_[static_cast<std::size_t>(12 + k)]);
+  }
+  chunk.records.resize(n);
+  chunk.line_numbers.resize(n);
+  chunk.configs.resize(n);
+  return n > 0;
 }
 
 RawConfigurations parse_raw_configurations(std::string_view text, const std::filesystem::path& name,
                                            SurfaceKind kind) {
-  return from_table(parse_csv(text, name), kind);
-}
-
-void write_with_columns(const std::filesystem::path& path, const CsvTable& input,
-                        const std::vector<std::string>& extra_header,
-                        const std::vector<std::vector<std::string>>& extra_rows, std::vector<std::string>* replaced) {
-  CONTACTNN_REQUIRE(extra_rows.size() == input.rows.size(),
-                    "output has " << extra_rows.size() << " rows for " << input.rows.size() << " input rows");
-  std::vector<std::size_t> kept;
-  for (std::size_t c = 0; c < input.header.size(); ++c) {
-    if (std::find(extra_header.begin(), extra_header.end(), input.header[c]) == extra_header.end()) {
-      kept.push_back(c);
-    } else if (replaced != nullptr) {
-      replaced->push_back(input.header[c]);
+  RawConfigurationReader reader(text, name, kind);
+  RawConfigurations raw;
+  raw.table.path = name;
+  raw.table.header = reader.header();
+  RawChunk chunk;
+  while (reader.next_chunk(chunk, kRawChunkRows)) {
+    for (std::size_t i = 0; i < chunk.size(); ++i) {
+      raw.table.rows.push_back(chunk.records[i].strings());
+      raw.table.line_numbers.push_back(chunk.line_numbers[i]);
+      raw.configs.push_back(chunk.configs[i]);
     }
   }
-  std::string text;
+  return raw;
+}
+
+std::size_t map_raw_configurations(const std::filesystem::path& input, const std::filesystem::path& output,
+                                   SurfaceKind kind, const std::vector<std::string>& extra_header,
+                                   const ChunkComputation& compute, std::vector<std::string>* replaced,
+                                   std::size_t chunk_rows) {
+  RawConfigurationReader reader(input, kind);
+  const std::vector<std::string>& header = reader.header();
+  std::vector<std::size_t> kept;
+  for (std::size_t c = 0; c < header.size(); ++c) {
+    if (std::find(extra_header.begin(), extra_header.end(), header[c]) == extra_header.end()) {
+      kept.push_back(c);
+    } else if (replaced != nullptr) {
+      replaced->push_back(header[c]);
+    }
+  }
+  CsvWriter writer(output);
   std::vector<std::string> fields;
   fields.reserve(kept.size() + extra_header.size());
-  for (std::size_t c : kept) fields.push_back(input.header[c]);
+  for (std::size_t c : kept) fields.push_back(header[c]);
   fields.insert(fields.end(), extra_header.begin(), extra_header.end());
-  append_csv_row(text, fields);
-  for (std::size_t r = 0; r < input.rows.size(); ++r) {
-    fields.clear();
-    for (std::size_t c : kept) fields.push_back(input.rows[r][c]);
-    fields.insert(fields.end(), extra_rows[r].begin(), extra_rows[r].end());
-    append_csv_row(text, fields);
+  writer.write_row(fields);
+
+  RawChunk chunk;
+  std::vector<std::vector<std::string>> rows;
+  std::size_t total = 0;
+  while (reader.next_chunk(chunk, chunk_rows)) {
+    rows.assign(chunk.size(), {});
+    compute(chunk.configs, chunk.line_numbers, rows);
+    CONTACTNN_REQUIRE(rows.size() == chunk.size(), "computed " << rows.size() << " rows for a chunk of " << chunk.size());
+    for (std::size_t r = 0; r < chunk.size(); ++r) {
+      CONTACTNN_REQUIRE(rows[r].size() == extra_header.size(),
+                        "computed " << rows[r].size() << " fields for " << extra_header.size() << " columns");
+      for (std::size_t c : kept) writer.field(chunk.records[r][c]);
+      for (const std::string& f : rows[r]) writer.field(f);
+      writer.end_row();
+    }
+    total += chunk.size();
   }
-  write_text_atomically(path, text);
+  writer.commit();
+  return total;
 }
 
 }  // namespace contactnn::io

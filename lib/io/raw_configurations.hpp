@@ -1,8 +1,11 @@
-// RAW.csv of SPEC 6: a user's configurations in world coordinates, and the labelled/predicted output
-// that keeps every input row and column.
+// RAW.csv of SPEC 6: a user's configurations in world coordinates, read in chunks of rows, and the
+// labelled/predicted output that keeps every input row and column, written as the chunks are done.
 #pragma once
 
+#include <cstddef>
 #include <filesystem>
+#include <functional>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -13,26 +16,66 @@
 
 namespace contactnn::io {
 
-struct RawConfigurations {
-  CsvTable table;                                ///< the file as text, for copying columns through
-  std::vector<geometry::Configuration> configs;  ///< one per data row, in file order
+/// Rows per chunk of map_raw_configurations: about 25 MB of text and 20 MB of configurations in flight,
+/// large enough that per-chunk overheads (an OpenMP region, a buffer flush) do not show.
+inline constexpr std::size_t kRawChunkRows = 65536;
+
+/// A run of consecutive RAW.csv rows: the fields as text (to copy through), the line each starts on, and
+/// the configuration each holds.
+struct RawChunk {
+  std::vector<CsvRecord> records;
+  std::vector<std::size_t> line_numbers;
+  std::vector<geometry::Configuration> configs;
+  [[nodiscard]] std::size_t size() const { return configs.size(); }
 };
 
-/// Reads RAW.csv: columns ax..sz (and nax..ndz for Gregory) in any order, other columns allowed.
-/// nan/inf parse (the row's status will be invalid). FormatError naming file, line and column for a
-/// missing column or a field that is not a number; the CSV errors of read_csv.
-[[nodiscard]] RawConfigurations read_raw_configurations(const std::filesystem::path& path, SurfaceKind kind);
+/// Reads RAW.csv chunk by chunk: columns ax..sz (and nax..ndz for Gregory) in any order, other columns
+/// allowed. nan/inf parse (the row's status will be invalid). FormatError naming file, line and column for
+/// a missing column or a field that is not a number (reported when its chunk is read); the CSV errors of
+/// CsvReader. Memory: one chunk, however long the file.
+class RawConfigurationReader {
+ public:
+  RawConfigurationReader(const std::filesystem::path& path, SurfaceKind kind);
+  /// From CSV text in memory (`name` stands for the file in messages); `text` must outlive the reader.
+  RawConfigurationReader(std::string_view text, const std::filesystem::path& name, SurfaceKind kind);
 
-/// Same, from CSV text in memory (`name` stands for the file in messages). Used by read_raw_configurations
-/// and the fuzzer.
+  [[nodiscard]] const std::vector<std::string>& header() const { return csv_.header(); }
+  [[nodiscard]] const std::filesystem::path& path() const { return csv_.path(); }
+
+  /// Replaces `chunk`'s content by the next rows, at most `max_rows` (>= 1). False when no row is left.
+  bool next_chunk(RawChunk& chunk, std::size_t max_rows);
+
+ private:
+  void locate_columns();
+
+  CsvReader csv_;
+  SurfaceKind kind_;
+  std::array<std::size_t, 15> point_columns_{};
+  std::array<std::size_t, 12> normal_columns_{};
+};
+
+/// The whole of a RAW.csv text in memory (the fuzzer's view): its table and one configuration per row.
+struct RawConfigurations {
+  CsvTable table;
+  std::vector<geometry::Configuration> configs;
+};
 [[nodiscard]] RawConfigurations parse_raw_configurations(std::string_view text, const std::filesystem::path& name,
                                                          SurfaceKind kind);
 
-/// Writes `input`'s header and rows followed by `extra_header` columns with `extra_rows` values, one per
-/// input row, in input order, atomically. An input column with the same name as an extra column is
-/// replaced by it (so an output can be fed back in); `replaced` receives those names.
-void write_with_columns(const std::filesystem::path& path, const CsvTable& input,
-                        const std::vector<std::string>& extra_header,
-                        const std::vector<std::vector<std::string>>& extra_rows, std::vector<std::string>* replaced);
+/// The result columns a tool computes for one chunk: `rows[i]` holds the extra fields of the chunk's row i.
+/// `configs` and `line_numbers` (for messages) are the chunk's.
+using ChunkComputation = std::function<void(std::span<const geometry::Configuration> configs,
+                                            std::span<const std::size_t> line_numbers,
+                                            std::vector<std::vector<std::string>>& rows)>;
+
+/// Streams `input` (RAW.csv) to `output`: chunk by chunk of `chunk_rows` rows, `compute` gives each row's
+/// `extra_header` fields, and the output gets the input's header and rows followed by those columns, in
+/// input order. An input column named like an extra column is replaced by it (so an output can be fed back
+/// in); `replaced` (if not null) receives those names. The output is atomic (AtomicOutput): an error at any
+/// row, however late, leaves no output and no temporary. Returns the number of rows.
+std::size_t map_raw_configurations(const std::filesystem::path& input, const std::filesystem::path& output,
+                                   SurfaceKind kind, const std::vector<std::string>& extra_header,
+                                   const ChunkComputation& compute, std::vector<std::string>* replaced,
+                                   std::size_t chunk_rows = kRawChunkRows);
 
 }  // namespace contactnn::io

@@ -3,6 +3,8 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <atomic>
+#include <new>
 
 #include "core/error.hpp"
 #include "mlp/activation.hpp"
@@ -211,14 +213,22 @@ BatchGradient<Real>::BatchGradient(const Network<Real>& network, int threads)
   workspaces_.resize(static_cast<std::size_t>(threads_));
   // Each thread allocates and zeroes its own workspace: first touch places the pages near it, and no
   // page is touched for the first time inside an epoch.
+  // An exception cannot leave an OpenMP region (it would terminate the process): a failed allocation is
+  // noted and thrown once the threads have joined, so the caller can report "out of memory".
+  std::atomic<bool> out_of_memory{false};
 #pragma omp parallel num_threads(threads_)
   {
     const int t = omp_get_thread_num();
     Workspace& ws = workspaces_[static_cast<std::size_t>(t)];
-    ws.activations.assign(tile_units, Real(0));
-    ws.deltas.assign(tile_units, Real(0));
-    ws.lane_gradient.assign(parameter_count_ * kLanes<Real>, Real(0));
+    try {
+      ws.activations.assign(tile_units, Real(0));
+      ws.deltas.assign(tile_units, Real(0));
+      ws.lane_gradient.assign(parameter_count_ * kLanes<Real>, Real(0));
+    } catch (const std::bad_alloc&) {
+      out_of_memory = true;
+    }
   }
+  if (out_of_memory) throw std::bad_alloc();
   slot_gradient_.assign(static_cast<std::size_t>(kSlots) * parameter_count_, Real(0));
   slot_loss_.assign(kSlots, 0.0);
   slot_used_.assign(kSlots, 0);

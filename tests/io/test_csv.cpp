@@ -3,8 +3,12 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <fstream>
+#include <random>
 
 #include "core/error.hpp"
+#include "io/raw_configurations.hpp"
+#include "test_support.hpp"
 
 namespace contactnn::io {
 namespace {
@@ -77,6 +81,129 @@ TEST(Csv, WritingQuotesWhatNeedsItAndDoublesRoundTrip) {
     double back = 0;
     ASSERT_TRUE(parse_double(format_double(x), back));
     EXPECT_EQ(back, x);
+  }
+}
+
+TEST(Csv, AHugeFieldIsQuotedShortInMessages) {
+  // Issue 12: a 10 MB field was copied whole into the error message.
+  const std::string huge(10'000'000, 'x');
+  const CsvTable t = parse_csv("ax,ay\n1," + huge + "\n", "in.csv");
+  try {
+    (void)t.number(0, 1);
+    FAIL();
+  } catch (const FormatError& e) {
+    const std::string m = e.what();
+    EXPECT_EQ(m, "'in.csv':2: column 'ay': '" + std::string(kQuotedBytes, 'x') + "...' (10000000 bytes) is not a number");
+  }
+  EXPECT_EQ(quote_text("short"), "'short'");
+  EXPECT_EQ(quote_text(std::string(kQuotedBytes, 'y')), "'" + std::string(kQuotedBytes, 'y') + "'");
+  const std::string duplicate = message_of(huge + "," + huge + "\n1,2\n");
+  EXPECT_LT(duplicate.size(), 200u) << duplicate.substr(0, 200);
+  EXPECT_NE(duplicate.find("(10000000 bytes)"), std::string::npos) << duplicate.substr(0, 200);
+}
+
+TEST(Csv, OtherEncodingsAndLineEndsAreNamed) {
+  EXPECT_NE(message_of(std::string("\xFF\xFE" "a\0,\0b\0\n\0", 10)).find("UTF-16 (little-endian)"), std::string::npos);
+  EXPECT_NE(message_of(std::string("\xFE\xFF\0a\0,\0b\0\n", 10)).find("UTF-16 (big-endian)"), std::string::npos);
+  EXPECT_NE(message_of(std::string("\xFF\xFE\0\0a\0\0\0", 8)).find("UTF-32 (little-endian)"), std::string::npos);
+  const std::string no_mark = message_of(std::string("a\0,\0b\0\n\0" "1\0,\0" "2\0\n\0", 16));
+  EXPECT_NE(no_mark.find("'in.csv':1: the header holds NUL bytes: UTF-16 text without a byte-order mark"),
+            std::string::npos)
+      << no_mark;
+  const std::string cr_only = message_of("a,b\r1,2\r3,4\r");
+  EXPECT_NE(cr_only.find("'in.csv':1: carriage return without a line feed (a file with CR-only line ends?)"),
+            std::string::npos)
+      << cr_only;
+  // CRLF, and a CR as the very last byte, are line ends; a CR inside quotes is text.
+  const CsvTable t = parse_csv("a,b\r\n1,\"x\ry\"\r\n2,3\r", "in.csv");
+  ASSERT_EQ(t.rows.size(), 2u);
+  EXPECT_EQ(t.rows[0][1], "x\ry");
+  EXPECT_EQ(t.rows[1][1], "3");
+}
+
+TEST(Csv, StreamingAFileEqualsParsingItWhole) {
+  // A file several read buffers long, with quoted fields holding commas, quotes and line breaks that fall
+  // across buffer boundaries: CsvReader over the file and parse_csv over the text give the same records.
+  std::mt19937_64 rng(8);
+  std::string text = "id,value,note\n";
+  std::uniform_int_distribution<int> length(0, 300);
+  for (int i = 0; i < 20000; ++i) {
+    std::string note(static_cast<std::size_t>(length(rng)), 'n');
+    for (char& c : note) c = "ab,\"\n x"[rng() % 8];
+    std::string quoted = "\"";
+    for (char c : note) quoted += c == '"' ? std::string("\"\"") : std::string(1, c);
+    text += std::to_string(i) + "," + std::to_string(i * 0.5) + "," + quoted + "\"" + (i % 3 == 0 ? "\r\n" : "\n");
+  }
+  ASSERT_GT(text.size(), 3u << 20);
+  const auto path = testing::test_output_dir("test-io") / "stream.csv";
+  std::ofstream(path, std::ios::binary) << text;
+  const CsvTable whole = parse_csv(text, path);
+  const CsvTable streamed = read_csv(path);
+  EXPECT_EQ(streamed.header, whole.header);
+  EXPECT_EQ(streamed.line_numbers, whole.line_numbers);
+  ASSERT_EQ(streamed.rows.size(), 20000u);
+  EXPECT_TRUE(streamed.rows == whole.rows);
+}
+
+TEST(Csv, ALateErrorInAStreamedFileLeavesNoOutput) {
+  // map_raw_configurations writes chunk by chunk to a temporary: a bad field in the last chunk, after
+  // earlier chunks were written, leaves neither the output nor a temporary, and names file, line, column.
+  const auto dir = testing::test_output_dir("test-io") / "late-error";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  std::string text = "ax,ay,az,bx,by,bz,cx,cy,cz,dx,dy,dz,sx,sy,sz\n";
+  for (int i = 0; i < 100; ++i) text += "0,0,0,1,0,0,1,1,0,0,1,0,0.3,0.4,0.1\n";
+  text += "0,0,0,1,0,0,1,1,0,0,1,0,0.3,oops,0.1\n";
+  std::ofstream(dir / "in.csv") << text;
+  std::size_t chunks = 0;
+  try {
+    (void)map_raw_configurations(
+        dir / "in.csv", dir / "out.csv", SurfaceKind::kBilinear, {"x"},
+        [&](std::span<const geometry::Configuration> configs, std::span<const std::size_t>,
+            std::vector<std::vector<std::string>>& rows) {
+          ++chunks;
+          for (std::size_t i = 0; i < configs.size(); ++i) rows[i] = {"1"};
+        },
+        nullptr, 7);
+    FAIL() << "the bad field was not reported";
+  } catch (const FormatError& e) {
+    EXPECT_EQ(std::string(e.what()), "'" + (dir / "in.csv").string() + "':102: column 'sy': 'oops' is not a number");
+  }
+  EXPECT_EQ(chunks, 14u);  // 98 good rows in chunks of 7 were computed and written before the error
+  std::vector<std::string> left;
+  for (const auto& e : std::filesystem::directory_iterator(dir)) left.push_back(e.path().filename().string());
+  EXPECT_EQ(left, std::vector<std::string>{"in.csv"});
+}
+
+TEST(Csv, StreamedOutputEqualsTheRowsComputed) {
+  // Chunks of every size give the same bytes: the header and rows in input order, extra columns appended
+  // and an input column of the same name replaced.
+  const auto dir = testing::test_output_dir("test-io") / "chunked";
+  std::filesystem::create_directories(dir);
+  std::string text = "id,ax,ay,az,bx,by,bz,cx,cy,cz,dx,dy,dz,sx,sy,sz,x,note\n";
+  for (int i = 0; i < 50; ++i) {
+    text += std::to_string(i) + ",0,0,0,1,0,0,1,1,0,0,1,0,0.3," + std::to_string(i) + ",0.1,old,\"a, \"\"b\"\"\"\n";
+  }
+  std::ofstream(dir / "in.csv") << text;
+  std::string expected = "id,ax,ay,az,bx,by,bz,cx,cy,cz,dx,dy,dz,sx,sy,sz,note,x\n";
+  for (int i = 0; i < 50; ++i) {
+    expected += std::to_string(i) + ",0,0,0,1,0,0,1,1,0,0,1,0,0.3," + std::to_string(i) + ",0.1,\"a, \"\"b\"\"\"," +
+                std::to_string(i) + "\n";
+  }
+  for (const std::size_t chunk : {std::size_t{1}, std::size_t{7}, std::size_t{50}, kRawChunkRows}) {
+    std::vector<std::string> replaced;
+    const std::size_t n = map_raw_configurations(
+        dir / "in.csv", dir / "out.csv", SurfaceKind::kBilinear, {"x"},
+        [](std::span<const geometry::Configuration> configs, std::span<const std::size_t>,
+           std::vector<std::vector<std::string>>& rows) {
+          for (std::size_t i = 0; i < configs.size(); ++i) rows[i] = {format_double(configs[i].slave[1])};
+        },
+        &replaced, chunk);
+    EXPECT_EQ(n, 50u);
+    EXPECT_EQ(replaced, std::vector<std::string>{"x"});
+    std::ifstream in(dir / "out.csv", std::ios::binary);
+    const std::string got{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+    EXPECT_EQ(got, expected) << "chunk " << chunk;
   }
 }
 

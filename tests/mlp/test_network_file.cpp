@@ -137,6 +137,8 @@ void write_by_hand(const std::filesystem::path& path, int cols, std::size_t thre
   f.write_attribute("/", "schema_version", std::int64_t{kNetworkSchemaVersion});
   f.write_attribute("/", "surface", std::string("bilinear"));
   f.write_attribute("/", "u0", 2.0);
+  f.write_attribute("/", "real_type", std::string("float32"));
+  f.write_attribute("/", "activation", std::string("O = 1 / (1 + exp(-2 U / U0)), U = sum_i W_ji I_i - theta_j"));
   f.write_vector("architecture/layer_sizes", std::vector<std::int32_t>{8, 4, 2});
   f.write_matrix("layers/0/weights", MatrixRM<double>(MatrixRM<double>::Zero(4, cols)));
   f.write_vector("layers/0/thresholds", std::vector<double>(thresholds, 0.0));
