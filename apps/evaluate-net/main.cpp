@@ -115,11 +115,12 @@ int input_mode(const io::TrainedNetwork<Real>& trained, const Paths& paths) {
   std::vector<std::string> replaced;
   const std::size_t n = io::map_raw_configurations(
       paths.input, paths.output, kind, header,
-      [&](std::span<const geometry::Configuration> configs, std::span<const std::size_t> lines,
-          std::vector<std::vector<std::string>>& rows) {
-        estimates.resize(configs.size());
-        predict_chunk(configs, kind, predictor, trained.domain, std::span<eval::Estimate>(estimates));
+      [&](const io::RawChunk& chunk, std::vector<std::vector<std::string>>& rows) {
+        const std::span<const std::size_t> lines = chunk.line_numbers;
+        estimates.resize(chunk.size());
+        predict_chunk(chunk.configs, kind, predictor, trained.domain, std::span<eval::Estimate>(estimates));
         for (std::size_t r = 0; r < estimates.size(); ++r) {
+          if (chunk.no_segment[r] != 0) estimates[r].status = Status::kNoSegment;  // SPEC 7: nothing to predict
           const eval::Estimate& e = estimates[r];
           const bool has_value = e.status == Status::kOk || e.status == Status::kOutOfDomain;
           CONTACTNN_REQUIRE_AS(NumericalError, !has_value || (std::isfinite(e.param[0]) && std::isfinite(e.param[1])),

@@ -81,11 +81,13 @@ void label_chunk(std::span<const geometry::Configuration> configs, SurfaceKind s
   }
 }
 
-/// A label as the output's fields xi,eta (u,v),status,gap,iterations: values only where converged.
+/// A label as the output's fields xi,eta (u,v),status,gap,iterations: values only where converged; a
+/// no_segment row (SPEC 7) keeps every field but the status empty.
 std::vector<std::string> label_fields(const dataset::Label& l) {
   const bool has_value = l.status == Status::kOk || l.status == Status::kOutside;
   return {has_value ? io::format_double(l.param[0]) : "", has_value ? io::format_double(l.param[1]) : "",
-          std::string(to_string(l.status)), has_value ? io::format_double(l.gap) : "", std::to_string(l.iterations)};
+          std::string(to_string(l.status)), has_value ? io::format_double(l.gap) : "",
+          l.status == Status::kNoSegment ? "" : std::to_string(l.iterations)};
 }
 
 /// Label mode: RAW.csv streamed through label_chunk in chunks of io::kRawChunkRows rows, so memory stays
@@ -98,11 +100,13 @@ int label_mode(SurfaceKind surface, const std::string& input, const std::string&
   std::vector<dataset::Label> labels;
   io::map_raw_configurations(
       input, output, surface, header,
-      [&](std::span<const geometry::Configuration> configs, std::span<const std::size_t>,
-          std::vector<std::vector<std::string>>& rows) {
-        labels.resize(configs.size());
-        label_chunk(configs, surface, options, labels);
-        for (std::size_t i = 0; i < labels.size(); ++i) rows[i] = label_fields(labels[i]);
+      [&](const io::RawChunk& chunk, std::vector<std::vector<std::string>>& rows) {
+        labels.resize(chunk.size());
+        label_chunk(chunk.configs, surface, options, labels);
+        for (std::size_t i = 0; i < labels.size(); ++i) {
+          if (chunk.no_segment[i] != 0) labels[i] = dataset::Label{.status = Status::kNoSegment};
+          rows[i] = label_fields(labels[i]);
+        }
       },
       &replaced);
   for (const auto& name : replaced) {

@@ -6,7 +6,7 @@ namespace contactnn {
 
 namespace {
 constexpr std::array<std::string_view, kStatusCount> kStatusNames = {
-    "ok", "outside", "no_convergence", "degenerate", "invalid", "out_of_domain"};
+    "ok", "outside", "no_convergence", "degenerate", "invalid", "out_of_domain", "no_segment"};
 }
 
 std::string_view to_string(Status status) { return kStatusNames.at(static_cast<std::size_t>(status)); }

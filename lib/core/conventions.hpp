@@ -30,10 +30,13 @@ enum class Status : std::uint8_t {
   kDegenerate = 3,     ///< the segment or its Jacobian is unusable (coincident nodes, zero area, ...)
   kInvalid = 4,        ///< a non-finite input
   kOutOfDomain = 5,    ///< evaluate-net only: input outside the domain the network was trained on
+  kNoSegment = 6,      ///< SPEC 7: the global search found no segment for the slave node (a pairs file's row
+                       ///< without coordinates); nothing to compute
 };
-inline constexpr int kStatusCount = 6;
+inline constexpr int kStatusCount = 7;
 
-/// The CSV / report spelling of a status: ok, outside, no_convergence, degenerate, invalid, out_of_domain.
+/// The CSV / report spelling of a status: ok, outside, no_convergence, degenerate, invalid, out_of_domain,
+/// no_segment.
 [[nodiscard]] std::string_view to_string(Status status);
 /// Inverse of to_string; std::nullopt for an unknown name.
 [[nodiscard]] std::optional<Status> status_from_string(std::string_view name);

@@ -1,6 +1,7 @@
 #include "io/raw_configurations.hpp"
 
 #include <algorithm>
+#include <limits>
 
 #include "core/error.hpp"
 
@@ -34,8 +35,22 @@ bool RawConfigurationReader::next_chunk(RawChunk& chunk, std::size_t max_rows) {
     if (n == chunk.records.size()) chunk.records.emplace_back();
     if (n == chunk.line_numbers.size()) chunk.line_numbers.push_back(0);
     if (n == chunk.configs.size()) chunk.configs.emplace_back();
+    if (n == chunk.no_segment.size()) chunk.no_segment.push_back(0);
     const CsvRecord& fields = chunk.records[n];
     if (!csv_.next(chunk.records[n], chunk.line_numbers[n])) break;
+    const auto blank = [&](std::size_t column) {
+      return fields[column].find_first_not_of(" \t") == std::string_view::npos;
+    };
+    bool all_blank = std::all_of(point_columns_.begin(), point_columns_.end(), blank);
+    if (gregory) all_blank = all_blank && std::all_of(normal_columns_.begin(), normal_columns_.end(), blank);
+    chunk.no_segment[n] = all_blank ? 1 : 0;
+    if (all_blank) {
+      constexpr double kNan = std::numeric_limits<double>::quiet_NaN();
+      geometry::Configuration& c = chunk.configs[n];
+      for (int node = 0; node < 4; ++node) c.nodes[node] = c.normals[node] = geometry::Vec3::Constant(kNan);
+      c.slave = geometry::Vec3::Constant(kNan);
+      continue;
+    }
     const auto number = [&](std::size_t column) {
       double value = 0.0;
       if (!parse_double(fields[column], value)) {
@@ -56,6 +71,7 @@ bool RawConfigurationReader::next_chunk(RawChunk& chunk, std::size_t max_rows) {
   chunk.records.resize(n);
   chunk.line_numbers.resize(n);
   chunk.configs.resize(n);
+  chunk.no_segment.resize(n);
   return n > 0;
 }
 
@@ -102,7 +118,7 @@ std::size_t map_raw_configurations(const std::filesystem::path& input, const std
   std::size_t total = 0;
   while (reader.next_chunk(chunk, chunk_rows)) {
     rows.assign(chunk.size(), {});
-    compute(chunk.configs, chunk.line_numbers, rows);
+    compute(chunk, rows);
     CONTACTNN_REQUIRE(rows.size() == chunk.size(), "computed " << rows.size() << " rows for a chunk of " << chunk.size());
     for (std::size_t r = 0; r < chunk.size(); ++r) {
       CONTACTNN_REQUIRE(rows[r].size() == extra_header.size(),

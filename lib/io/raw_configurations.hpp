@@ -26,11 +26,16 @@ struct RawChunk {
   std::vector<CsvRecord> records;
   std::vector<std::size_t> line_numbers;
   std::vector<geometry::Configuration> configs;
+  /// 1 for a row whose coordinate (and normal) fields are all empty: a SPEC 7 pairs row of a slave node
+  /// without a segment. Its configuration holds NaN; tools write it with empty values and status no_segment.
+  std::vector<std::uint8_t> no_segment;
   [[nodiscard]] std::size_t size() const { return configs.size(); }
 };
 
 /// Reads RAW.csv chunk by chunk: columns ax..sz (and nax..ndz for Gregory) in any order, other columns
-/// allowed. nan/inf parse (the row's status will be invalid). FormatError naming file, line and column for
+/// allowed. nan/inf parse (the row's status will be invalid). A row whose coordinate fields are all empty
+/// (SPEC 7's no_segment rows: a pairs file is a valid RAW.csv) is marked in RawChunk::no_segment; some
+/// empty and some not is a field that is not a number. FormatError naming file, line and column for
 /// a missing column or a field that is not a number (reported when its chunk is read); the CSV errors of
 /// CsvReader. Memory: one chunk, however long the file.
 class RawConfigurationReader {
@@ -62,11 +67,9 @@ struct RawConfigurations {
 [[nodiscard]] RawConfigurations parse_raw_configurations(std::string_view text, const std::filesystem::path& name,
                                                          SurfaceKind kind);
 
-/// The result columns a tool computes for one chunk: `rows[i]` holds the extra fields of the chunk's row i.
-/// `configs` and `line_numbers` (for messages) are the chunk's.
-using ChunkComputation = std::function<void(std::span<const geometry::Configuration> configs,
-                                            std::span<const std::size_t> line_numbers,
-                                            std::vector<std::vector<std::string>>& rows)>;
+/// The result columns a tool computes for one chunk: `rows[i]` holds the extra fields of the chunk's row i
+/// (its configuration, line number for messages, and no_segment flag are the chunk's).
+using ChunkComputation = std::function<void(const RawChunk& chunk, std::vector<std::vector<std::string>>& rows)>;
 
 /// Streams `input` (RAW.csv) to `output`: chunk by chunk of `chunk_rows` rows, `compute` gives each row's
 /// `extra_header` fields, and the output gets the input's header and rows followed by those columns, in

@@ -123,15 +123,10 @@ def scene_case(opts, deck, pair, surface):
     check(segments and int(segments.group(1)) == expected["master_segments"],
           "summary's master segments, expected %d:\n%s" % (expected["master_segments"], summary))
 
-    # A RAW.csv for label mode (reproducing the labels exactly) and for evaluate-net. Rows with no_segment
-    # have no coordinates, which RAW readers refuse (SPEC 6: a field that is not a number), so they are
-    # left out here.
-    raw = os.path.join(work, "raw.csv")
-    kept = [r for r in rows if r[column["status"]] != "no_segment"]
-    with open(raw, "w", newline="") as f:
-        writer = csv.writer(f, lineterminator="\n")
-        writer.writerow(header)
-        writer.writerows(kept)
+    # The file itself is a RAW.csv (SPEC 7) for label mode, which reproduces every label (no_segment rows:
+    # status no_segment, the rest empty), and for evaluate-net, which predicts one row per row.
+    raw = out
+    kept = rows
     relabelled = os.path.join(work, "relabelled.csv")
     run([opts.gen_configs, "--surface", surface, "--input", raw, "--output", relabelled], 0)
     header2, rows2 = read_csv(relabelled)
@@ -148,6 +143,12 @@ def scene_case(opts, deck, pair, surface):
     header3, rows3 = read_csv(predicted)
     check(len(rows3) == len(kept) and "slave" in header3 and names[0] in header3,
           "evaluate-net wrote %d rows, header %s" % (len(rows3), header3))
+    column3 = {name: i for i, name in enumerate(header3)}
+    for r, r3 in zip(kept, rows3):
+        missing_pair = r[column["status"]] == "no_segment"
+        check((r3[column3["status"]] == "no_segment") == missing_pair, "slave %s: evaluate-net status %r for %r" %
+              (r[0], r3[column3["status"]], r[column["status"]]))
+        check((r3[column3[names[0]]] == "") == missing_pair, "slave %s: prediction %r" % (r[0], r3[column3[names[0]]]))
     print("%s pair %d %s: %d rows, %d no_segment, labels reproduced, evaluate-net read it" %
           (deck, pair, surface, len(rows), no_segment))
 

@@ -159,10 +159,9 @@ TEST(Csv, ALateErrorInAStreamedFileLeavesNoOutput) {
   try {
     (void)map_raw_configurations(
         dir / "in.csv", dir / "out.csv", SurfaceKind::kBilinear, {"x"},
-        [&](std::span<const geometry::Configuration> configs, std::span<const std::size_t>,
-            std::vector<std::vector<std::string>>& rows) {
+        [&](const RawChunk& chunk, std::vector<std::vector<std::string>>& rows) {
           ++chunks;
-          for (std::size_t i = 0; i < configs.size(); ++i) rows[i] = {"1"};
+          for (std::size_t i = 0; i < chunk.size(); ++i) rows[i] = {"1"};
         },
         nullptr, 7);
     FAIL() << "the bad field was not reported";
@@ -190,21 +189,44 @@ TEST(Csv, StreamedOutputEqualsTheRowsComputed) {
     expected += std::to_string(i) + ",0,0,0,1,0,0,1,1,0,0,1,0,0.3," + std::to_string(i) + ",0.1,\"a, \"\"b\"\"\"," +
                 std::to_string(i) + "\n";
   }
-  for (const std::size_t chunk : {std::size_t{1}, std::size_t{7}, std::size_t{50}, kRawChunkRows}) {
+  for (const std::size_t chunk_rows : {std::size_t{1}, std::size_t{7}, std::size_t{50}, kRawChunkRows}) {
     std::vector<std::string> replaced;
     const std::size_t n = map_raw_configurations(
         dir / "in.csv", dir / "out.csv", SurfaceKind::kBilinear, {"x"},
-        [](std::span<const geometry::Configuration> configs, std::span<const std::size_t>,
-           std::vector<std::vector<std::string>>& rows) {
-          for (std::size_t i = 0; i < configs.size(); ++i) rows[i] = {format_double(configs[i].slave[1])};
+        [](const RawChunk& chunk, std::vector<std::vector<std::string>>& rows) {
+          for (std::size_t i = 0; i < chunk.size(); ++i) rows[i] = {format_double(chunk.configs[i].slave[1])};
         },
-        &replaced, chunk);
+        &replaced, chunk_rows);
     EXPECT_EQ(n, 50u);
     EXPECT_EQ(replaced, std::vector<std::string>{"x"});
     std::ifstream in(dir / "out.csv", std::ios::binary);
     const std::string got{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-    EXPECT_EQ(got, expected) << "chunk " << chunk;
+    EXPECT_EQ(got, expected) << "chunk " << chunk_rows;
   }
+}
+
+TEST(RawConfigurations, RowsWithoutCoordinatesAreNoSegmentRowsOthersMustBeNumbers) {
+  // SPEC 7: a pairs file is a RAW.csv; a slave node without a segment has every field after `slave` empty.
+  const std::string text =
+      "slave,ax,ay,az,bx,by,bz,cx,cy,cz,dx,dy,dz,sx,sy,sz,status\n"
+      "1,0,0,0,1,0,0,1,1,0,0,1,0,0.3,0.4,0.1,ok\n"
+      "2,,,,,,,,,,,,,,,,no_segment\n"
+      "3,0,0,0,1,0,0,1,1,0,0,1,0,0.3,,0.1,ok\n";
+  RawConfigurationReader reader(text, "pairs.csv", SurfaceKind::kBilinear);
+  RawChunk chunk;
+  try {
+    (void)reader.next_chunk(chunk, 10);
+    FAIL() << "the partly empty row was accepted";
+  } catch (const FormatError& e) {
+    EXPECT_EQ(std::string(e.what()), "'pairs.csv':4: column 'sy': '' is not a number");
+  }
+  const std::string first_two = text.substr(0, text.find("\n3,") + 1);
+  RawConfigurationReader two(first_two, "pairs.csv", SurfaceKind::kBilinear);
+  ASSERT_TRUE(two.next_chunk(chunk, 10));
+  ASSERT_EQ(chunk.size(), 2u);
+  EXPECT_EQ(chunk.no_segment, (std::vector<std::uint8_t>{0, 1}));
+  EXPECT_TRUE(std::isnan(chunk.configs[1].slave.x()));
+  EXPECT_EQ(chunk.configs[0].slave.y(), 0.4);
 }
 
 }  // namespace
