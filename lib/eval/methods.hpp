@@ -58,24 +58,35 @@ struct Estimate {
 };
 
 /// The network on a world configuration: bring it to the canonical normalised frame (SPEC 4), predict, map
-/// the prediction back to the caller's node order, then check `domain` (skipped when null). Allocation-free
-/// when the predictor is.
+/// the prediction back to the caller's node order, then check `domain` (skipped when null). On a tie
+/// (geometry::canonical_forms: a slave midway between two nodes, ...) the prediction is the mean over the
+/// tied canonical forms and the domain must hold every one, so the answer does not depend on the node order.
+/// Allocation-free when the predictor is.
 template <FeaturePredictor P>
 [[nodiscard]] Estimate network_estimate(const geometry::Configuration& world, SurfaceKind kind, P& predictor,
                                         const geometry::TrainingDomain* domain) {
   Estimate e;
   e.param = projection::domain_centre(kind);
-  const geometry::NormaliseOutcome n = geometry::normalise(world, kind);
+  const geometry::CanonicalForms forms = geometry::canonical_forms(world, kind);
   // Without a frame at the canonical corner (a straight angle there) the network's inputs do not exist.
-  if (!n.value || !n.value->canonical) {
-    e.status = n.failure == geometry::NormaliseFailure::kNonFinite ? Status::kInvalid : Status::kDegenerate;
+  if (forms.count == 0 || !forms.form[0].canonical) {
+    e.status = forms.count == 0 && forms.failure == geometry::NormaliseFailure::kNonFinite ? Status::kInvalid
+                                                                                          : Status::kDegenerate;
     return e;
   }
-  predictor.predict(n.value->features.data(), e.param.data());
-  e.param = n.value->to_caller(e.param, kind);
-  if (domain != nullptr && !domain->contains(n.value->config, n.value->features.data())) {
-    e.status = Status::kOutOfDomain;
+  std::array<double, 2> sum{0.0, 0.0};
+  bool inside = true;
+  for (int k = 0; k < forms.count; ++k) {
+    const geometry::NormalisedConfiguration& n = forms.form[static_cast<std::size_t>(k)];
+    std::array<double, 2> p{};
+    predictor.predict(n.features.data(), p.data());
+    p = n.to_caller(p, kind);
+    sum[0] += p[0];
+    sum[1] += p[1];
+    inside = inside && (domain == nullptr || domain->contains(n.config, n.features.data()));
   }
+  e.param = {sum[0] / forms.count, sum[1] / forms.count};
+  if (!inside) e.status = Status::kOutOfDomain;
   return e;
 }
 

@@ -45,7 +45,7 @@ std::optional<AffineFrame> AffineFrame::from_nodes(const Vec3& a, const Vec3& b,
   return AffineFrame(a, rotation, 1.0 / length_ab);
 }
 
-SquareSymmetry canonical_symmetry(const std::array<Vec3, 4>& nodes, const Vec3& slave) {
+CanonicalSymmetries canonical_symmetries(const std::array<Vec3, 4>& nodes, const Vec3& slave) {
   // Two lengths count as equal when they differ by less than a relative 1e-12 plus the rounding the world
   // coordinates already carry (eps * max|x| each): an exact tie stays a tie wherever the segment is placed,
   // instead of being decided by the rounding of the placement.
@@ -54,31 +54,45 @@ SquareSymmetry canonical_symmetry(const std::array<Vec3, 4>& nodes, const Vec3& 
   const double noise = 16.0 * std::numeric_limits<double>::epsilon() * largest;
   const auto tie = [&](double x, double y) { return std::abs(x - y) <= 1e-12 * std::max(x, y) + noise; };
 
-  SquareSymmetry symmetry;
+  CanonicalSymmetries result;
   std::array<double, 4> distance{};
   for (int i = 0; i < 4; ++i) distance[i] = length_of(slave - nodes[i]);
   const double nearest = *std::min_element(distance.begin(), distance.end());
-  while (!tie(distance[symmetry.rotation], nearest)) ++symmetry.rotation;  // the first of the nearest (SPEC 4)
-
-  const Vec3& a = nodes[static_cast<std::size_t>(symmetry.rotation)];
-  const Vec3 ab = nodes[static_cast<std::size_t>((symmetry.rotation + 1) % 4)] - a;
-  const Vec3 ad = nodes[static_cast<std::size_t>((symmetry.rotation + 3) % 4)] - a;
-  const double length_ab = length_of(ab), length_ad = length_of(ad);
-  if (!tie(length_ad, length_ab)) {
-    symmetry.mirror = length_ad > length_ab;
-  } else {
-    // |AB| = |AD|: mirror when S is nearer the line AD than the line AB. The same numbers in either node order.
+  for (int r = 0; r < 4; ++r) {
+    if (!tie(distance[r], nearest)) continue;  // the nearest nodes, in the caller's order (SPEC 4: the first)
+    const Vec3& a = nodes[static_cast<std::size_t>(r)];
+    const Vec3 ab = nodes[static_cast<std::size_t>((r + 1) % 4)] - a;
+    const Vec3 ad = nodes[static_cast<std::size_t>((r + 3) % 4)] - a;
+    const double length_ab = length_of(ab), length_ad = length_of(ad);
+    auto& out = result.symmetries;
+    if (!tie(length_ad, length_ab)) {
+      out[static_cast<std::size_t>(result.count++)] = SquareSymmetry{r, length_ad > length_ab};
+      continue;
+    }
+    // |AB| = |AD|: mirror when S is nearer the line AD than the line AB. The same numbers in either node order;
+    // on the diagonal itself both orders are canonical.
     const Vec3 as = slave - a;
     const double to_ab = length_of(as.cross(ab)) / length_ab, to_ad = length_of(as.cross(ad)) / length_ad;
-    symmetry.mirror = !tie(to_ad, to_ab) && to_ad < to_ab;
+    if (!tie(to_ad, to_ab)) {
+      out[static_cast<std::size_t>(result.count++)] = SquareSymmetry{r, to_ad < to_ab};
+    } else {
+      out[static_cast<std::size_t>(result.count++)] = SquareSymmetry{r, false};
+      out[static_cast<std::size_t>(result.count++)] = SquareSymmetry{r, true};
+    }
   }
-  return symmetry;
+  return result;
+}
+
+SquareSymmetry canonical_symmetry(const std::array<Vec3, 4>& nodes, const Vec3& slave) {
+  return canonical_symmetries(nodes, slave).symmetries[0];
 }
 
 namespace {
 
-/// normalise() with the node order given by `symmetry`.
-NormaliseOutcome normalise_as(const Configuration& world, SurfaceKind kind, const SquareSymmetry& symmetry) {
+/// normalise() with the node order given by `symmetry`; `other_z` takes the other orientation of z on a tie
+/// (z_S = z_C = 0).
+NormaliseOutcome normalise_as(const Configuration& world, SurfaceKind kind, const SquareSymmetry& symmetry,
+                              bool other_z = false) {
   const bool gregory = kind == SurfaceKind::kGregory;
   // 1. The caller's nodes relabelled by a symmetry of the square.
   Configuration canonical;
@@ -102,8 +116,15 @@ NormaliseOutcome normalise_as(const Configuration& world, SurfaceKind kind, cons
   local.slave = frame->to_normalised(canonical.slave);
 
   // 3. The orientation of z: S on the +z side (on the plane: C on it). Negation is exact, so a segment given
-  //    in the other orientation reaches bit for bit the same configuration.
-  const bool flip = local.slave.z() < 0.0 || (local.slave.z() == 0.0 && local.nodes[2].z() < 0.0);
+  //    in the other orientation reaches bit for bit the same configuration. A height within 1e-12 plus the
+  //    rounding of the world coordinates (slave included) counts as 0: a slave on a flat master or on one of
+  //    its nodes must not be oriented by the rounding of its placement.
+  double largest_all = world.slave.cwiseAbs().maxCoeff();
+  for (const Vec3& node : world.nodes) largest_all = std::max(largest_all, node.cwiseAbs().maxCoeff());
+  const double z_tolerance = 1e-12 + 16.0 * std::numeric_limits<double>::epsilon() * largest_all * frame->scale();
+  const bool s_on_plane = std::abs(local.slave.z()) <= z_tolerance;
+  const bool z_tie = s_on_plane && std::abs(local.nodes[2].z()) <= z_tolerance;
+  const bool flip = z_tie ? other_z : (s_on_plane ? local.nodes[2].z() < 0.0 : local.slave.z() < 0.0);
   if (flip) {
     frame = frame->reflected_z();
     local.nodes[2].z() = -local.nodes[2].z();
@@ -157,7 +178,7 @@ NormaliseOutcome normalise_as(const Configuration& world, SurfaceKind kind, cons
       features[9 + 2 * i] = n.y() / n.z();
     }
   }
-  return {NormalisedConfiguration{local, features, *frame, symmetry, orientation, true},
+  return {NormalisedConfiguration{local, features, *frame, symmetry, orientation, true, z_tie},
           NormaliseFailure::kDegenerate};
 }
 
@@ -181,6 +202,25 @@ NormaliseOutcome normalise(const Configuration& world, SurfaceKind kind) {
     if (outcome.value) outcome.value->canonical = false;
   }
   return outcome;
+}
+
+CanonicalForms canonical_forms(const Configuration& world, SurfaceKind kind) {
+  CanonicalForms forms;
+  NormaliseOutcome first = normalise(world, kind);
+  forms.failure = first.failure;
+  if (!first.value) return forms;
+  forms.form[forms.count++] = *first.value;
+  if (!first.value->canonical) return forms;  // a fallback corner: no canonical form to tie with
+  const CanonicalSymmetries tied = canonical_symmetries(world.nodes, world.slave);
+  const bool z_ties = kind == SurfaceKind::kGregory && first.value->z_tie;
+  for (int k = 0; k < tied.count; ++k) {
+    for (int other_z = 0; other_z <= (z_ties ? 1 : 0); ++other_z) {
+      if (k == 0 && other_z == 0) continue;  // the first form
+      NormaliseOutcome o = normalise_as(world, kind, tied.symmetries[static_cast<std::size_t>(k)], other_z != 0);
+      if (o.value) forms.form[static_cast<std::size_t>(forms.count++)] = *o.value;
+    }
+  }
+  return forms;
 }
 
 }  // namespace contactnn::geometry

@@ -17,6 +17,8 @@ namespace contactnn::geometry {
 /// Local coordinates are invariant under either.
 class AffineFrame {
  public:
+  /// The identity map (A at the origin, unit scale); from_nodes gives a segment's frame.
+  AffineFrame() : origin_(Vec3::Zero()), rotation_(Eigen::Matrix3d::Identity()), scale_(1.0) {}
   /// The frame of a segment from its nodes A, B and D. std::nullopt when it does not exist:
   /// |AB| is zero (relative to |AD|) or D lies on the line AB (the segment is degenerate).
   /// Non-finite inputs also give std::nullopt.
@@ -57,19 +59,28 @@ class AffineFrame {
 /// (16 eps max|x|) are a tie, so that the choice does not depend on where the segment is placed.
 [[nodiscard]] SquareSymmetry canonical_symmetry(const std::array<Vec3, 4>& nodes, const Vec3& slave);
 
+/// Every symmetry that canonical_symmetry could have chosen if its ties went another way: one per node tied
+/// for nearest (in the caller's order, so symmetries[0] is canonical_symmetry's), two for a node with
+/// |AB| = |AD| and S on the diagonal. count >= 1.
+struct CanonicalSymmetries {
+  std::array<SquareSymmetry, 8> symmetries{};
+  int count = 0;
+};
+[[nodiscard]] CanonicalSymmetries canonical_symmetries(const std::array<Vec3, 4>& nodes, const Vec3& slave);
+
 /// A configuration mapped into the canonical normalised frame, with the network inputs of SPEC 4.
 ///
 /// Canonical means: the nodes relabelled by `symmetry` (A nearest S, |AD| <= |AB|), then the frame of SPEC 4
 /// built on them, and then one choice SPEC 4 leaves open, the orientation of the frame's z axis: z_S >= 0
-/// (on z_S = 0 exactly, z_C >= 0). Reflecting a whole configuration through the plane of A, B, D changes no
+/// (with z_S = 0, up to 1e-12 plus the inputs' rounding: z_C >= 0; both 0: a tie, see canonical_forms). Reflecting a whole configuration through the plane of A, B, D changes no
 /// local coordinate (an isometry; for Gregory the reflected node normals are then all reversed, which leaves
 /// the patch unchanged, SPEC 3), so this is a symmetry of the problem like the 8 of the square. It makes the
 /// network input the same for a segment given in either orientation (node order A, B, C, D or A, D, C, B,
 /// with or without a reflection of space) and halves the domain a network must learn. The caller's gap sign
 /// (its own orientation, SPEC 2) is restored by `orientation`.
 struct NormalisedConfiguration {
-  Configuration config;              ///< canonical nodes, slave and (rotated, unit) normals in the frame
-  std::array<double, 16> features;   ///< xc yc zc xd yd xs ys zs, then (Gregory) n_x/n_z, n_y/n_z for A..D
+  Configuration config{};            ///< canonical nodes, slave and (rotated, unit) normals in the frame
+  std::array<double, 16> features{};  ///< xc yc zc xd yd xs ys zs, then (Gregory) n_x/n_z, n_y/n_z for A..D
   AffineFrame frame;                 ///< world -> canonical normalised frame (a rotation or a reflection)
   SquareSymmetry symmetry;           ///< canonical node i is the caller's node symmetry.caller_node(i)
   /// +1 or -1: the caller's gap (along its own P_xi x P_eta) is orientation * (canonical gap) / frame.scale().
@@ -77,6 +88,9 @@ struct NormalisedConfiguration {
   /// False when the canonical corner A has no frame (B, A, D collinear: a straight angle) and another corner's
   /// frame was taken: the projection is still right, but the features are not those a network was trained on.
   bool canonical = true;
+  /// z_S = z_C = 0 (to the tolerance above): the other orientation of z is canonical too (for Gregory the
+  /// features differ: slopes).
+  bool z_tie = false;
 
   /// Canonical local coordinates (of config) -> the caller's, in `kind`'s parameters.
   [[nodiscard]] std::array<double, 2> to_caller(const std::array<double, 2>& param, SurfaceKind kind) const {
@@ -105,5 +119,19 @@ struct NormaliseOutcome {
   NormaliseFailure failure = NormaliseFailure::kDegenerate;
 };
 [[nodiscard]] NormaliseOutcome normalise(const Configuration& world, SurfaceKind kind);
+
+/// normalise() and every other canonical configuration it ties with: another node as near S, |AB| = |AD|
+/// with S on the diagonal, and (Gregory) z_S = z_C = 0. A query on a tie has several canonical forms that
+/// are the same problem; SPEC 4 takes the first in the caller's order, which makes a network's answer depend
+/// on the node order by the network's own error. Averaging a network over all of them does not (matching
+/// meshes put slave nodes exactly midway between master nodes). form[0] is normalise()'s; count 0 with
+/// `failure` when it fails.
+inline constexpr int kMaxCanonicalForms = 16;
+struct CanonicalForms {
+  std::array<NormalisedConfiguration, kMaxCanonicalForms> form;
+  int count = 0;
+  NormaliseFailure failure = NormaliseFailure::kDegenerate;
+};
+[[nodiscard]] CanonicalForms canonical_forms(const Configuration& world, SurfaceKind kind);
 
 }  // namespace contactnn::geometry

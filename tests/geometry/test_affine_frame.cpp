@@ -2,7 +2,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <random>
+#include <utility>
+#include <vector>
 
 #include "geometry/bilinear_patch.hpp"
 #include "geometry/segment_checks.hpp"
@@ -186,6 +189,48 @@ TEST(CanonicalConfiguration, ExactTieOfEdgeLengthsIsBrokenTheSameWayInEveryOrder
     for (const SquareSymmetry& order : all_square_symmetries()) {
       EXPECT_EQ(normalise(relabel(rhombus, order), SurfaceKind::kBilinear).value->features, base.value->features);
     }
+  }
+}
+
+TEST(CanonicalConfiguration, TiesGiveEveryCanonicalFormTheSameSetInEveryOrder) {
+  // A 2 x 1 rectangle: S over the midpoint of AD is as near A as D (2 forms); over the centre of a unit
+  // square it is as near all four nodes, each with |AB| = |AD| and S on the diagonal (8 forms).
+  const Configuration strip{{Vec3(0, 0, 0), Vec3(2, 0, 0), Vec3(2, 1, 0), Vec3(0, 1, 0)}, Vec3(0, 0.5, 0.1), {}};
+  const Configuration square{{Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0), Vec3(0, 1, 0)}, Vec3(0.5, 0.5, 0.1), {}};
+  const std::vector<std::pair<Configuration, int>> cases = {{strip, 2}, {square, 8}};
+  for (const auto& [c, expected] : cases) {
+    const CanonicalForms base = canonical_forms(c, SurfaceKind::kBilinear);
+    ASSERT_EQ(base.count, expected);
+    EXPECT_EQ(base.form[0].features, normalise(c, SurfaceKind::kBilinear).value->features);  // SPEC 4's first
+    std::vector<std::array<double, 16>> reference;
+    for (int k = 0; k < base.count; ++k) reference.push_back(base.form[k].features);
+    std::sort(reference.begin(), reference.end());
+    for (const SquareSymmetry& order : all_square_symmetries()) {
+      const CanonicalForms other = canonical_forms(relabel(c, order), SurfaceKind::kBilinear);
+      std::vector<std::array<double, 16>> got;
+      for (int k = 0; k < other.count; ++k) got.push_back(other.form[k].features);
+      std::sort(got.begin(), got.end());
+      EXPECT_EQ(got, reference) << "order " << order.rotation << order.mirror;
+    }
+  }
+  // No tie: one form.
+  const Configuration plain{{Vec3(0, 0, 0), Vec3(2, 0, 0), Vec3(2, 1, 0), Vec3(0, 1, 0)}, Vec3(0.3, 0.2, 0.1), {}};
+  EXPECT_EQ(canonical_forms(plain, SurfaceKind::kBilinear).count, 1);
+}
+
+TEST(CanonicalConfiguration, SlaveOnAFlatMasterIsOrientedTheSameWhereverPlaced) {
+  // S in the plane of a flat segment: its height is rounding after any placement, and must not orient z.
+  std::mt19937_64 rng(46);
+  Configuration c{{Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1.1, 0.9, 0), Vec3(0, 0.8, 0)}, Vec3(0.3, 0.2, 0), {}};
+  for (auto& n : c.normals) n = Vec3(0.05, -0.03, 1);
+  c.normals[2] = Vec3(-0.1, 0.02, 1);
+  const auto base = canonical_forms(c, SurfaceKind::kGregory);
+  ASSERT_EQ(base.count, 2);  // z_S = z_C = 0: both orientations (the slopes differ)
+  for (int k = 0; k < 20; ++k) {
+    const Configuration placed = testing::transform(c, testing::random_rotation(rng), 3.0, Vec3(10, -4, 7));
+    const auto forms = canonical_forms(placed, SurfaceKind::kGregory);
+    ASSERT_EQ(forms.count, 2);
+    for (int f = 0; f < 16; ++f) EXPECT_NEAR(forms.form[0].features[f], base.form[0].features[f], 1e-12);
   }
 }
 

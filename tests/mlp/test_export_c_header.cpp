@@ -131,7 +131,7 @@ void check_header(SurfaceKind surface, std::vector<int> hidden, const std::strin
       << "int main(void) {\n  double raw[" << n_raw << "], out[2];\n  int i;\n"
       << "  for (;;) {\n    for (i = 0; i < " << n_raw << "; ++i) if (scanf(\"%lf\", &raw[i]) != 1) return 0;\n"
       << "    out[0] = out[1] = 0.0;\n"
-      << "    {\n      double f[" << n_in << "];\n      int rot, mir, fs = " << prefix << "_features(raw, f, &rot, &mir);\n"
+      << "    {\n      double f[" << n_in << "];\n      int rot[8], mir[8], zt = 0, n = " << prefix << "_symmetries(raw, rot, mir), fs = n > 0 ? " << prefix << "_features(raw, rot[0], mir[0], 0, f, &zt) : 1;\n"
       << "      int s = " << prefix << "_local_coordinates(raw, out);\n"
       << "      printf(\"%d %.17g %.17g\", s, out[0], out[1]);\n"
       << "      for (i = 0; i < " << n_in << "; ++i) printf(\" %.17g\", fs == 0 ? f[i] : 0.0);\n"
