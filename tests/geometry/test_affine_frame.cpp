@@ -195,8 +195,9 @@ TEST(CanonicalConfiguration, ExactTieOfEdgeLengthsIsBrokenTheSameWayInEveryOrder
 TEST(CanonicalConfiguration, TiesGiveEveryCanonicalFormTheSameSetInEveryOrder) {
   // A 2 x 1 rectangle: S over the midpoint of AD is as near A as D (2 forms); over the centre of a unit
   // square it is as near all four nodes, each with |AB| = |AD| and S on the diagonal (8 forms).
-  const Configuration strip{{Vec3(0, 0, 0), Vec3(2, 0, 0), Vec3(2, 1, 0), Vec3(0, 1, 0)}, Vec3(0, 0.5, 0.1), {}};
-  const Configuration square{{Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0), Vec3(0, 1, 0)}, Vec3(0.5, 0.5, 0.1), {}};
+  const std::array<Vec3, 4> none = {Vec3::Zero(), Vec3::Zero(), Vec3::Zero(), Vec3::Zero()};
+  const Configuration strip{{Vec3(0, 0, 0), Vec3(2, 0, 0), Vec3(2, 1, 0), Vec3(0, 1, 0)}, Vec3(0, 0.5, 0.1), none};
+  const Configuration square{{Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0), Vec3(0, 1, 0)}, Vec3(0.5, 0.5, 0.1), none};
   const std::vector<std::pair<Configuration, int>> cases = {{strip, 2}, {square, 8}};
   for (const auto& [c, expected] : cases) {
     const CanonicalForms base = canonical_forms(c, SurfaceKind::kBilinear);
