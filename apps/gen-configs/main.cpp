@@ -303,6 +303,9 @@ int main(int argc, char** argv) {
                  "scene domain: slave offset along the normal, fraction of the shortest edge, either side (at "
                  "least 1.25 x the deck's own largest)")
       ->check(cli::kPositive);
+  app.add_option("--boundary_fraction", scene_options.boundary_fraction,
+                 "scene domain: fraction of slave foot points on the segment's nodes and edges (matching meshes)")
+      ->check(cli::real_in(0.0, 1.0));
   app.add_option("--normal_tilt_tangent", scene_options.normal_tilt_tangent,
                  "scene domain, Gregory: node normals tilted from the scene's by up to this tangent")
       ->check(cli::kNonNegative);

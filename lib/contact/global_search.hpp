@@ -34,6 +34,7 @@
 #include "core/conventions.hpp"
 #include "dataset/labeller.hpp"
 #include "geometry/configuration.hpp"
+#include "geometry/segment_checks.hpp"
 #include "mesh/surface_mesh.hpp"
 #include "projection/newton_projection.hpp"
 
@@ -45,7 +46,7 @@ enum class NearestNodeMethod { kTree, kBruteForce };
 
 struct SearchOptions {
   SurfaceKind surface = SurfaceKind::kBilinear;
-  double segment_test_tolerance = 1e-6;  ///< relative; see the header comment
+  double segment_test_tolerance = geometry::kSegmentTestTolerance;  ///< relative; see the header comment
   double distance_tie_tolerance = 1e-9;  ///< relative to the longest candidate edge
   NearestNodeMethod nearest = NearestNodeMethod::kTree;
   projection::ProjectionOptions projection;  ///< of the labels (the reference projection's defaults)

@@ -23,8 +23,6 @@ using geometry::Vec3;
 namespace {
 
 constexpr std::int64_t kMaxDrawsPerRow = 1'000'000;
-/// The global search's tolerance (contact::SearchOptions): a slave on a node or over an edge is a pair.
-constexpr double kSegmentTestTolerance = 1e-6;
 /// The recorded domain's limits are the accepted rows' extremes widened by this fraction (a sample's
 /// extremes fall short of the domain drawn from).
 constexpr double kWidening = 0.01;
@@ -150,7 +148,7 @@ LabelledSet sample_scene(const std::vector<SceneSegment>& segments, const SceneD
       const SquareSymmetry symmetry = geometry::canonical_symmetry(c.nodes, c.slave);
       const int a = symmetry.rotation;
       if (!geometry::passes_segment_test(c.nodes[a], c.nodes[(a + 1) % 4], c.nodes[(a + 3) % 4], c.slave,
-                                         kSegmentTestTolerance)) {
+                                         geometry::kSegmentTestTolerance)) {
         continue;
       }
       // 4. The label.

@@ -12,7 +12,8 @@ namespace contactnn::geometry {
 
 
 
-bool DomainFilters::accepts(const geometry::Configuration& c, SurfaceKind kind, double relative_tolerance) const {
+bool DomainFilters::accepts(const geometry::Configuration& c, SurfaceKind kind, double relative_tolerance,
+                            double segment_test_tolerance) const {
   const double tol = relative_tolerance;
   const double xy = xy_limit * (1.0 + tol);
   const double zl = z_limit * (1.0 + tol);
@@ -25,7 +26,8 @@ bool DomainFilters::accepts(const geometry::Configuration& c, SurfaceKind kind, 
   if (!(std::abs(cc.z()) < zl) || !(std::abs(c.slave.z()) < zl)) return false;
   if (ad_not_longer_than_ab && !((d - a).squaredNorm() <= (1.0 + tol) * (b - a).squaredNorm())) return false;
   if (nearest_node_a && !geometry::first_node_is_nearest(c.nodes, c.slave, tol)) return false;
-  if (segment_test_a && !geometry::passes_segment_test(a, b, d, c.slave, tol)) return false;
+  const double segment_tol = segment_test_tolerance < 0.0 ? tol : segment_test_tolerance;
+  if (segment_test_a && !geometry::passes_segment_test(a, b, d, c.slave, segment_tol)) return false;
   if (convex && !geometry::is_convex(c.nodes, tol)) return false;
   if (min_angle_degrees > 0.0 || max_angle_degrees < 180.0) {
     const double slack_degrees = 180.0 * tol;
@@ -115,7 +117,7 @@ bool TrainingDomain::contains(const geometry::Configuration& normalised, const d
     const double slack = kRelativeTolerance * std::max(1.0, feature_max[f] - feature_min[f]);
     if (!(features[f] >= feature_min[f] - slack && features[f] <= feature_max[f] + slack)) return false;
   }
-  return filters.accepts(normalised, surface, kRelativeTolerance);
+  return filters.accepts(normalised, surface, kRelativeTolerance, kSegmentTestTolerance);
 }
 
 }  // namespace contactnn::geometry

@@ -29,8 +29,9 @@ struct DomainFilters {
   /// `relative_tolerance` > 0 relaxes every comparison by that fraction of its natural scale (lengths,
   /// 180 degrees for angles), so that a configuration exactly on a filter's boundary (a grid point with
   /// S equidistant from A and B, say) is accepted whatever the rounding of its placement.
+  /// `segment_test_tolerance` (< 0: relative_tolerance) is the segment test's (passes_segment_test).
   [[nodiscard]] bool accepts(const geometry::Configuration& normalised, SurfaceKind kind,
-                             double relative_tolerance = 0.0) const;
+                             double relative_tolerance = 0.0, double segment_test_tolerance = -1.0) const;
   /// One line per filter, "key = value", for reports and messages.
   [[nodiscard]] std::string describe() const;
 };
@@ -57,7 +58,8 @@ struct TrainingDomain {
   /// domain's (~ range / rows for 1e4+ rows), small enough that the network is not asked to extrapolate.
   static constexpr double kContinuousWidening = 0.01;
   /// True when every feature lies in [min - slack, max + slack] (slack = kRelativeTolerance of the range)
-  /// and the filters accept the configuration with kRelativeTolerance.
+  /// and the filters accept the configuration with kRelativeTolerance (the segment test with
+  /// kSegmentTestTolerance, as the global search makes pairs).
   [[nodiscard]] bool contains(const geometry::Configuration& normalised, const double* features) const;
 };
 

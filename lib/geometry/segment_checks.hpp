@@ -16,6 +16,11 @@ namespace contactnn::geometry {
 /// corner (|r| <= tolerance x the shorter edge), and S outside the angle by up to about tolerance radians
 /// (alpha |c1| > -tolerance |r| and beta |c2| > -tolerance |r|). Relaxing alpha and beta rather than the
 /// products keeps S on the backward extension of an edge outside. 0: the strict test.
+/// The segment test's tolerance for pairs of real meshes, which put slave nodes on master nodes and over
+/// master edges up to the rounding of the deck's printed coordinates: the global search's default, the
+/// scene sampler's, and the domain check's (a pair the global search makes is never out of domain for it).
+inline constexpr double kSegmentTestTolerance = 1e-6;
+
 [[nodiscard]] bool passes_segment_test(const Vec3& m, const Vec3& next, const Vec3& prev, const Vec3& s,
                                        double relative_tolerance = 0.0);
 
