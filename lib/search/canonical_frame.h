@@ -348,43 +348,52 @@ struct cnn_domain {
 };
 
 /* One lane: the status row code[0] becomes out_of_domain (5) where it is ok (0) and the configuration lies
- * outside the domain. Angles are compared through their cosines, which agrees with the reference's atan2 form
- * except within a few ulps of the relaxed bound. */
-CNN_CF_INLINE void cnn_domain_lane(const struct cnn_domain* CNN_CF_RESTRICT d, int gregory,
+ * outside the domain. Every test is written as a violation, gathered by max into `loose` (the configuration
+ * fails when it is > 0: a non-strict inequality of the reference) or `strict` (fails when >= 0: a strict one),
+ * so that the lane is straight-line floating-point code. `angles` (0 or 1) says whether the domain bounds the
+ * interior angles (cnn_domain_block passes it as a constant). Angles are compared through their cosines,
+ * which agrees with the reference's atan2 form except within a few ulps of the relaxed bound. */
+CNN_CF_INLINE void cnn_domain_lane(const struct cnn_domain* CNN_CF_RESTRICT d, int gregory, int angles,
                                    const double* CNN_CF_RESTRICT f, const double* CNN_CF_RESTRICT nrm, int s,
                                    double* CNN_CF_RESTRICT code) {
   /* Every field read up front: a load under a lane-dependent condition would not vectorise. */
-  const double tol = d->tol, xy = d->xy, zl = d->z, ad_bound = d->ad_bound, inv_1tol = d->inv_one_plus_tol;
+  const double tol = d->tol, xy = d->xy, zl = d->z, inv_1tol = d->inv_one_plus_tol;
   const double cos_lo = d->cos_lo, cos_hi = d->cos_hi, tilt = d->tilt;
-  const int ad_not_longer = d->ad_not_longer, nearest_a = d->nearest_a, segment_test = d->segment_test;
-  const int convex = d->convex, check_lo = d->check_lo, check_hi = d->check_hi;
-  /* A filter that is off passes every lane: `test | off` (no lane-independent branch around a lane test). */
-  const int ad_off = !ad_not_longer, nearest_off = !nearest_a, segment_off = !segment_test, convex_off = !convex;
-  const int lo_off = !check_lo, hi_off = !check_hi, lo_pos = cos_lo >= 0.0, hi_neg = cos_hi <= 0.0;
+  /* A filter that is off adds a violation that never fails. */
+  const double ad_off = d->ad_not_longer ? 0.0 : -1e300, nearest_off = d->nearest_a ? 0.0 : -1e300;
+  const double segment_off = d->segment_test ? 0.0 : -1e300, convex_off = d->convex ? 0.0 : -1e300;
+  const double lo_off = d->check_lo ? 0.0 : -1e300, hi_off = d->check_hi ? 0.0 : -1e300;
   const double xc = f[0 * s], yc = f[1 * s], zc = f[2 * s], xd = f[3 * s], yd = f[4 * s];
   const double xs = f[5 * s], ys = f[6 * s], zs = f[7 * s];
-  int in = 1, k;
+  double loose = -1.0, strict = -1.0;
+  int k;
   CNN_CF_UNROLL
-  for (k = 0; k < 8; ++k) in &= (f[k * s] >= d->lo[k]) & (f[k * s] <= d->hi[k]);
+  for (k = 0; k < 8; ++k) loose = cnn_cf_max(loose, cnn_cf_max(d->lo[k] - f[k * s], f[k * s] - d->hi[k]));
   if (gregory) {
     CNN_CF_UNROLL
-    for (k = 8; k < 16; ++k) in &= (f[k * s] >= d->lo[k]) & (f[k * s] <= d->hi[k]);
+    for (k = 8; k < 16; ++k) loose = cnn_cf_max(loose, cnn_cf_max(d->lo[k] - f[k * s], f[k * s] - d->hi[k]));
   }
-  in &= (fabs(xc) < xy) & (fabs(yc) < xy) & (fabs(xd) < xy) & (fabs(yd) < xy) & (fabs(xs) < xy) & (fabs(ys) < xy);
-  in &= (fabs(zc) < zl) & (fabs(zs) < zl);
-  in &= (xd * xd + yd * yd <= ad_bound) | ad_off;
+  /* |x|, |y| of C, D, S below xy_limit (1 + tol); |z| of C and S below z_limit (1 + tol): strict. */
+  strict = cnn_cf_max(strict, cnn_cf_max(cnn_cf_max(fabs(xc), fabs(yc)), cnn_cf_max(fabs(xd), fabs(yd))) - xy);
+  strict = cnn_cf_max(strict, cnn_cf_max(fabs(xs), fabs(ys)) - xy);
+  strict = cnn_cf_max(strict, cnn_cf_max(fabs(zc), fabs(zs)) - zl);
+  /* |AD|^2 <= (1 + tol) |AB|^2 = 1 + tol. */
+  loose = cnn_cf_max(loose, (xd * xd + yd * yd - d->ad_bound) + ad_off);
   {
+    /* A nearest: |S - A|^2 / (1 + tol) <= |S - X|^2 for X = B, C, D. */
     const double to_a = (xs * xs + ys * ys + zs * zs) * inv_1tol;
-    in &= ((to_a <= (xs - 1.0) * (xs - 1.0) + ys * ys + zs * zs) &
-           (to_a <= (xs - xc) * (xs - xc) + (ys - yc) * (ys - yc) + (zs - zc) * (zs - zc)) &
-           (to_a <= (xs - xd) * (xs - xd) + (ys - yd) * (ys - yd) + zs * zs)) | nearest_off;
+    const double to_b = (xs - 1.0) * (xs - 1.0) + ys * ys + zs * zs;
+    const double to_c = (xs - xc) * (xs - xc) + (ys - yc) * (ys - yc) + (zs - zc) * (zs - zc);
+    const double to_d = (xs - xd) * (xs - xd) + (ys - yd) * (ys - yd) + zs * zs;
+    loose = cnn_cf_max(loose, (to_a - cnn_cf_min(cnn_cf_min(to_b, to_c), to_d)) + nearest_off);
   }
   {
-    /* Eqs 3-6 at A with c1 = B - A = (1,0,0), c2 = D - A = (xd, yd, 0): r = (xs, ys, 0). */
-    const double lengths = sqrt((xs * xs + ys * ys) * (xd * xd + yd * yd));
+    /* Eqs 3-6 at A with c1 = B - A = (1,0,0), c2 = D - A = (xd, yd, 0): r = (xs, ys, 0); strict (> -slack). */
     const double r_len = sqrt(xs * xs + ys * ys);
-    in &= ((yd != 0.0) & (ys * yd > -(tol * lengths)) & (ys * (xs * yd - ys * xd) > -(tol * lengths * r_len))) |
-          segment_off;
+    const double lengths = r_len * sqrt(xd * xd + yd * yd);
+    strict = cnn_cf_max(strict, -fabs(yd) + segment_off);
+    strict = cnn_cf_max(strict, (-(ys * yd) - tol * lengths) + segment_off);
+    strict = cnn_cf_max(strict, (-(ys * (xs * yd - ys * xd)) - tol * lengths * r_len) + segment_off);
   }
   {
     /* Corners of A (0,0,0), B (1,0,0), C, D (z = 0): next - X and prev - X. */
@@ -398,36 +407,34 @@ CNN_CF_INLINE void cnn_domain_lane(const struct cnn_domain* CNN_CF_RESTRICT d, i
                    kz = nx_[i] * py_[i] - ny_[i] * px_[i];
       const double next_sq = nx_[i] * nx_[i] + ny_[i] * ny_[i] + nz_[i] * nz_[i];
       const double prev_sq = px_[i] * px_[i] + py_[i] * py_[i] + pz_[i] * pz_[i];
-      const double dot = nx_[i] * px_[i] + ny_[i] * py_[i] + nz_[i] * pz_[i];
       const double cross_sq = kx * kx + ky * ky + kz * kz;
       {
-        /* (next x prev) . reference > -tol |next| |prev| |reference|, squared where the left side is negative. */
+        /* (next x prev) . reference > -tol |next| |prev| |reference|: fails when along <= 0 and along^2 >=
+         * the slack squared. */
         const double along = kz * yd;
-        in &= (along > 0.0) | (along * along < tol * tol * next_sq * prev_sq * ref_sq) | convex_off;
+        strict = cnn_cf_max(strict, cnn_cf_min(-along, along * along - tol * tol * next_sq * prev_sq * ref_sq) + convex_off);
       }
-      {
-        /* angle >= lo  <=>  dot <= cos_lo * h, h = |next| |prev| = sqrt(cross^2 + dot^2). */
-        const double c = cos_lo, h_sq = cross_sq + dot * dot;
-        in &= (lo_pos & ((dot <= 0.0) | (dot * dot <= c * c * h_sq))) |
-              (!lo_pos & (dot < 0.0) & (dot * dot >= c * c * h_sq)) | lo_off;
-      }
-      {
-        /* angle <= hi  <=>  dot >= cos_hi * h. */
-        const double c = cos_hi, h_sq = cross_sq + dot * dot;
-        in &= (hi_neg & ((dot >= 0.0) | (dot * dot <= c * c * h_sq))) |
-              (!hi_neg & (dot > 0.0) & (dot * dot >= c * c * h_sq)) | hi_off;
+      if (angles) {
+        /* cos(angle) = dot / h, h = |next| |prev| = sqrt(cross^2 + dot^2): angle >= lo <=> dot <= cos_lo h and
+         * angle <= hi <=> dot >= cos_hi h. */
+        const double dot = nx_[i] * px_[i] + ny_[i] * py_[i] + nz_[i] * pz_[i];
+        const double h = sqrt(cross_sq + dot * dot);
+        loose = cnn_cf_max(loose, (dot - cos_lo * h) + lo_off);
+        loose = cnn_cf_max(loose, (cos_hi * h - dot) + hi_off);
       }
       if (gregory) {
-        /* tan(angle(node normal, corner normal)) < tilt: |corner x n| < tilt (corner . n) + tol |corner| |n|. */
+        /* tan(angle(node normal, corner normal)) < tilt: corner . n > 0 and |corner x n| < tilt (corner . n) +
+         * tol |corner| |n|. */
         const double mx = nrm[(3 * i) * s], my = nrm[(3 * i + 1) * s], mz = nrm[(3 * i + 2) * s];
         const double cos_part = kx * mx + ky * my + kz * mz;
         const double sx_ = ky * mz - kz * my, sy_ = kz * mx - kx * mz, sz_ = kx * my - ky * mx;
         const double bound = tilt * cos_part + tol * sqrt(cross_sq * (mx * mx + my * my + mz * mz));
-        in &= (cos_part > 0.0) & (sx_ * sx_ + sy_ * sy_ + sz_ * sz_ < bound * bound);
+        strict = cnn_cf_max(strict, cnn_cf_max(-cos_part, (sx_ * sx_ + sy_ * sy_ + sz_ * sz_) - bound * bound));
       }
     }
   }
-  code[0] = ((code[0] == (double)CNN_CF_STATUS_OK) & !in) ? (double)CNN_CF_STATUS_OUT_OF_DOMAIN : code[0];
+  code[0] = (code[0] == (double)CNN_CF_STATUS_OK && !(loose <= 0.0 && strict < 0.0)) ? (double)CNN_CF_STATUS_OUT_OF_DOMAIN
+                                                                                      : code[0];
 }
 
 /* The block: status row `code` (n lanes) updated for every lane. */
@@ -435,8 +442,13 @@ static inline void cnn_domain_block(int n, int gregory, const struct cnn_domain*
                                     const double* CNN_CF_RESTRICT f, const double* CNN_CF_RESTRICT nrm,
                                     double* CNN_CF_RESTRICT code) {
   int l;
-  CNN_CF_IVDEP
-  for (l = 0; l < n; ++l) cnn_domain_lane(d, gregory, f + l, nrm + l, n, code + l);
+  if (d->check_lo || d->check_hi) {
+    CNN_CF_IVDEP
+    for (l = 0; l < n; ++l) cnn_domain_lane(d, gregory, 1, f + l, nrm + l, n, code + l);
+  } else {
+    CNN_CF_IVDEP
+    for (l = 0; l < n; ++l) cnn_domain_lane(d, gregory, 0, f + l, nrm + l, n, code + l);
+  }
 }
 
 #endif /* CONTACTNN_CANONICAL_FRAME_H */

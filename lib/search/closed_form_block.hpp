@@ -65,8 +65,8 @@ void closed_form(const BilinearBlock<W>& b, LaneState<W>& s) {
       }
       xi[r] = num / den;
     }
-    const double score1 = std::fmax(std::fabs(xi[0]), std::fabs(eta1));
-    const double score2 = std::fmax(std::fabs(xi[1]), std::fabs(eta2));
+    const double score1 = max_of(std::fabs(xi[0]), std::fabs(eta1));
+    const double score2 = max_of(std::fabs(xi[1]), std::fabs(eta2));
     const bool ok1 = is_finite(score1), ok2 = is_finite(score2);
     const bool first = ok1 & (!ok2 | (score1 <= score2));
     const double a1_sq = a1[0] * a1[0] + a1[1] * a1[1] + a1[2] * a1[2];

@@ -3,6 +3,9 @@
 
 namespace contactnn::search::detail {
 
-void select_bilinear_kernels(Plan& plan) { select_kernels<false>(plan); }
+void select_bilinear_kernels(Plan& plan) {
+  select_block_kernels<false>(plan);
+  select_single_kernels(plan);
+}
 
 }  // namespace contactnn::search::detail

@@ -3,6 +3,9 @@
 
 namespace contactnn::search::detail {
 
-void select_gregory_kernels(Plan& plan) { select_kernels<true>(plan); }
+void select_gregory_kernels(Plan& plan) {
+  select_block_kernels<true>(plan);
+  select_single_kernels(plan);
+}
 
 }  // namespace contactnn::search::detail

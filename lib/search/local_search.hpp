@@ -80,7 +80,7 @@ class LocalSearch {
   [[nodiscard]] const Method& method() const;
   [[nodiscard]] const SearchOptions& options() const;
   [[nodiscard]] const NetworkModel* network() const;
-  /// Queries per block of the batched path (16 for a float network, 8 otherwise).
+  /// Queries per block of the batched path (32 or 16, by method; see search_kernel.hpp).
   [[nodiscard]] int block_size() const;
   /// Values per query in `raw`: 15 or 27.
   [[nodiscard]] static constexpr int raw_columns(SurfaceKind kind) { return kind == SurfaceKind::kBilinear ? 15 : 27; }

@@ -19,9 +19,41 @@ CONTACTNN_SEARCH_INLINE Net sigmoid(Net u, Net gain) {
   }
 }
 
+/// U consecutive units of a layer for all W lanes: y[u][l] = sum_i w[u][i] x[i][l] - theta[u] (Eq 13). U
+/// accumulators of W lanes each stay in registers and run U independent multiply-add chains, so the loop is
+/// bound by throughput rather than by the latency of one chain. The loops over lanes carry `omp simd`: left to
+/// itself, GCC 12 unrolled and shuffled this nest into 10000 instructions (300 ns a query instead of 16).
+template <class Net, int W, int U>
+CONTACTNN_SEARCH_INLINE void layer_units(const Net* w, const Net* theta, const Net* x, int n_in, Net* y) {
+  Net acc[U][W];
+  for (int u = 0; u < U; ++u) {
+#pragma omp simd
+    for (int l = 0; l < W; ++l) acc[u][l] = -theta[u];
+  }
+  for (int i = 0; i < n_in; ++i) {
+    const Net* xi = x + i * W;
+    for (int u = 0; u < U; ++u) {
+      const Net wi = w[static_cast<std::size_t>(u) * static_cast<std::size_t>(n_in) + static_cast<std::size_t>(i)];
+#pragma omp simd
+      for (int l = 0; l < W; ++l) acc[u][l] += wi * xi[l];
+    }
+  }
+  for (int u = 0; u < U; ++u) {
+#pragma omp simd
+    for (int l = 0; l < W; ++l) y[u * W + l] = acc[u][l];
+  }
+}
+
+/// y[k] = sigmoid(y[k]) for k < n (Eq 12): one flat loop, which vectorises as it stands.
+template <class Net>
+void sigmoid_all(Net* y, int n, Net gain) {
+  CONTACTNN_LANES
+  for (int k = 0; k < n; ++k) y[k] = sigmoid(y[k], gain);
+}
+
 /// Features f (F x W, canonical order) -> raw outputs out (2 x W, canonical local coordinates): the scaling
 /// of mlp::predict (scaled inputs clamped to +-1e6, so any finite feature gives a finite output), then every
-/// layer U_j = sum_i W_ji I_i - theta_j, O_j = sigmoid(U_j) in Net, one unit at a time for all lanes.
+/// layer U_j = sum_i W_ji I_i - theta_j, O_j = sigmoid(U_j) in Net, eight units at a time for all lanes.
 template <class Net, int W>
 void forward_pass(const NetworkModel& m, const double* f, double* out) {
   alignas(64) Net buffer[2][NetworkModel::kMaxWidth * W];
@@ -46,18 +78,19 @@ void forward_pass(const NetworkModel& m, const double* f, double* out) {
     const Net* thresholds = weights + static_cast<std::size_t>(n_out) * static_cast<std::size_t>(n_in);
     const Net* x = buffer[current];
     Net* y = buffer[1 - current];
-    for (int j = 0; j < n_out; ++j) {
-      Net acc[W];
-      const Net theta = thresholds[j];
-      for (int l = 0; l < W; ++l) acc[l] = -theta;
-      const Net* w = weights + static_cast<std::size_t>(j) * static_cast<std::size_t>(n_in);
-      for (int i = 0; i < n_in; ++i) {
-        const Net wi = w[i];
-        const Net* xi = x + i * W;
-        for (int l = 0; l < W; ++l) acc[l] += wi * xi[l];
-      }
-      for (int l = 0; l < W; ++l) y[j * W + l] = sigmoid(acc[l], gain);
+    const auto row = [&](int j) { return weights + static_cast<std::size_t>(j) * static_cast<std::size_t>(n_in); };
+    int j = 0;
+    for (; j + 8 <= n_out; j += 8) layer_units<Net, W, 8>(row(j), thresholds + j, x, n_in, y + j * W);
+    if (j + 4 <= n_out) {
+      layer_units<Net, W, 4>(row(j), thresholds + j, x, n_in, y + j * W);
+      j += 4;
     }
+    if (j + 2 <= n_out) {
+      layer_units<Net, W, 2>(row(j), thresholds + j, x, n_in, y + j * W);
+      j += 2;
+    }
+    if (j < n_out) layer_units<Net, W, 1>(row(j), thresholds + j, x, n_in, y + j * W);
+    sigmoid_all(y, n_out * W, gain);
     current = 1 - current;
   }
   const double low = m.target_low();

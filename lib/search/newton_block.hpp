@@ -98,14 +98,14 @@ void converged_newton(const Surf& surf, int max_iterations, double tol, LaneStat
       const bool singular = det == 0.0;
       const bool finite = is_finite(du) & is_finite(dv);
       const bool take = active & !singular & finite;
-      const double size = std::fmax(std::fabs(du), std::fabs(dv));
+      const double size = max_of(std::fabs(du), std::fabs(dv));
       s.u[l] = take ? s.u[l] + du : s.u[l];
       s.v[l] = take ? s.v[l] + dv : s.v[l];
       s.iterations[l] += take ? 1.0 : 0.0;
       s.status[l] = (active & singular) ? kDegenerate : ((active & !singular & !finite) ? kNoConvergence : s.status[l]);
       running[l] = (take & !(size <= tol)) ? 1.0 : 0.0;
-      any = any + running[l];
     }
+    for (int l = 0; l < W; ++l) any = any != 0.0 || running[l] != 0.0 ? 1.0 : 0.0;
     if (any == 0.0) return;
   }
   for (int l = 0; l < W; ++l) s.status[l] = running[l] != 0.0 ? kNoConvergence : s.status[l];
@@ -127,6 +127,7 @@ struct EvalStore {
   double dist[W];  ///< |S - P|
 
   CONTACTNN_SEARCH_INLINE void load(int l, Eval& e) const {
+    CONTACTNN_UNROLL
     for (int c = 0; c < 3; ++c) {
       e.p[c] = p[c][l];
       e.ps[c] = ps[c][l];
@@ -138,6 +139,7 @@ struct EvalStore {
   }
   /// Stores e for lane l where `take`, leaves the lane as it is otherwise.
   CONTACTNN_SEARCH_INLINE void store_if(int l, bool take, const Eval& e, double f_new) {
+    CONTACTNN_UNROLL
     for (int c = 0; c < 3; ++c) {
       p[c][l] = take ? e.p[c] : p[c][l];
       ps[c][l] = take ? e.ps[c] : ps[c][l];
@@ -194,7 +196,7 @@ void safeguarded_newton(const Surf& surf, int steps, const Safeguards& g, const 
       double du = (c * q.r0 - b * q.r1) * inv;
       double dv = (a * q.r1 - b * q.r0) * inv;
       const bool singular = !exact & !(det_g > floor);
-      const double size = std::fmax(std::fabs(du), std::fabs(dv));
+      const double size = max_of(std::fabs(du), std::fabs(dv));
       const double shrink = size > g.max_step ? g.max_step / size : 1.0;
       du *= shrink;
       dv *= shrink;
@@ -207,8 +209,9 @@ void safeguarded_newton(const Surf& surf, int steps, const Safeguards& g, const 
       s.status[l] = (active & !singular & !go) ? kNoConvergence : s.status[l];
       running[l] = go ? 1.0 : 0.0;
       pending[l] = running[l];
-      any_pending += pending[l];
     }
+    // Reductions over lanes in loops of their own: inside a lane loop they would stop its vectorisation.
+    for (int l = 0; l < W; ++l) any_pending = any_pending != 0.0 || pending[l] != 0.0 ? 1.0 : 0.0;
     for (int h = 0; h <= g.max_halvings && any_pending != 0.0; ++h) {
       any_pending = 0.0;
       CONTACTNN_LANES
@@ -227,8 +230,8 @@ void safeguarded_newton(const Surf& surf, int steps, const Safeguards& g, const 
         tu[l] = again ? s.u[l] + 0.5 * (tu[l] - s.u[l]) : tu[l];
         tv[l] = again ? s.v[l] + 0.5 * (tv[l] - s.v[l]) : tv[l];
         pending[l] = again ? 1.0 : 0.0;
-        any_pending += pending[l];
       }
+      for (int l = 0; l < W; ++l) any_pending = any_pending != 0.0 || pending[l] != 0.0 ? 1.0 : 0.0;
     }
     double any_running = 0.0;
     for (int l = 0; l < W; ++l) {

@@ -24,20 +24,40 @@ void search_block(const Plan& plan, const In* raw_rows, const Results<In>& out, 
 
   alignas(64) double raw[27][W];
   load_raw<W>(raw_rows + first * kStride, kStride, raw);
+  // The queries relative to S, for the surface: made when a method needs the surface (not by a network alone
+  // without the gap, whose canonical frame works on the raw coordinates and finds non-finite inputs itself).
   QueryBlock<W> q;
-  relative_queries<W>(raw, kGregory, q);
   LaneState<W> s;
   for (int l = 0; l < W; ++l) {
     s.u[l] = s.v[l] = kCentre;
-    s.status[l] = q.finite[l] != 0.0 ? kOk : kInvalid;
+    s.status[l] = kOk;
     s.iterations[l] = 0.0;
   }
+  bool relative = false;
+  const auto make_relative = [&] {
+    if (relative) return;
+    relative_queries<W>(raw, kGregory, q);
+    // Invalid where an input is not finite (lanes a network already marked keep their status).
+    for (int l = 0; l < W; ++l) s.status[l] = q.finite[l] != 0.0 ? s.status[l] : kInvalid;
+    relative = true;
+  };
+  if (method.start != Method::Start::kNetwork) make_relative();
 
+  // The surface, built once. Where it does not exist (a Gregory patch GregoryPatch::diagnose refuses),
+  // patch_status is degenerate; the methods that work on the surface take that status over.
   Surf surf;
+  double patch_status[W];
   bool built = false;
   const auto build = [&] {
-    if (!built) surf.build(q, s.status);
+    make_relative();
+    if (built) return;
+    for (int l = 0; l < W; ++l) patch_status[l] = kOk;
+    surf.build(q, patch_status);
     built = true;
+  };
+  const auto build_for_method = [&] {
+    build();
+    for (int l = 0; l < W; ++l) s.status[l] = (s.status[l] == kOk) & (patch_status[l] != kOk) ? kDegenerate : s.status[l];
   };
   const bool hybrid = method.is_hybrid();
   double extrapolated[W] = {};
@@ -60,7 +80,7 @@ void search_block(const Plan& plan, const In* raw_rows, const Results<In>& out, 
     }
   } else if (method.start == Method::Start::kClosedForm) {
     if constexpr (!kGregory) {
-      build();
+      build_for_method();
       closed_form<W>(surf, s);
       if (hybrid) {
         for (int l = 0; l < W; ++l) s.status[l] = s.status[l] == kNoConvergence ? kOk : s.status[l];
@@ -71,11 +91,12 @@ void search_block(const Plan& plan, const In* raw_rows, const Results<In>& out, 
   // 2. Newton.
   EvalStore<W> store;
   if (hybrid) {
-    build();
+    build_for_method();
     double noise[W];
     for (int l = 0; l < W; ++l) {
       double size = 0.0;
-      for (int k = 0; k < 12; ++k) size = std::fmax(size, std::fabs(q.node[k][l]));
+      CONTACTNN_UNROLL
+      for (int k = 0; k < 12; ++k) size = max_of(size, std::fabs(q.node[k][l]));
       noise[l] = 16.0 * std::numeric_limits<double>::epsilon() * size;
     }
     safeguarded_newton<Surf, W>(surf, method.newton_steps, plan.guards, noise, s, store);
@@ -100,6 +121,7 @@ void search_block(const Plan& plan, const In* raw_rows, const Results<In>& out, 
         s.v[l] = again.v[l];
         s.status[l] = again.status[l];
         s.iterations[l] = again.iterations[l];
+        CONTACTNN_UNROLL
         for (int c = 0; c < 3; ++c) {
           store.p[c][l] = again_store.p[c][l];
           store.ps[c][l] = again_store.ps[c][l];
@@ -108,7 +130,7 @@ void search_block(const Plan& plan, const In* raw_rows, const Results<In>& out, 
       }
     }
   } else if (method.start == Method::Start::kCentre) {
-    build();
+    build_for_method();
     if (method.to_convergence) {
       converged_newton<Surf, W>(surf, plan.options.max_iterations, plan.options.tol_param, s);
     } else {
@@ -118,10 +140,11 @@ void search_block(const Plan& plan, const In* raw_rows, const Results<In>& out, 
 
   // 3. ok or outside by the domain (a network alone reports its own statuses).
   if (method.start != Method::Start::kNetwork || hybrid) {
+    const double lo = plan.inside_lo, hi = plan.inside_hi;
+    CONTACTNN_LANES
     for (int l = 0; l < W; ++l) {
-      const bool inside = s.u[l] >= plan.inside_lo && s.u[l] <= plan.inside_hi && s.v[l] >= plan.inside_lo &&
-                          s.v[l] <= plan.inside_hi;
-      s.status[l] = (s.status[l] == kOk && !inside) ? kOutside : s.status[l];
+      const bool inside = (s.u[l] >= lo) & (s.u[l] <= hi) & (s.v[l] >= lo) & (s.v[l] <= hi);
+      s.status[l] = ((s.status[l] == kOk) & !inside) ? kOutside : s.status[l];
     }
   }
 
@@ -144,7 +167,7 @@ void search_block(const Plan& plan, const In* raw_rows, const Results<In>& out, 
       }
     }
     for (int l = 0; l < W; ++l) {
-      const bool none = (s.status[l] == kInvalid) | (s.status[l] == kDegenerate);
+      const bool none = (s.status[l] == kInvalid) | (s.status[l] == kDegenerate) | (patch_status[l] != kOk);
       gap[l] = none ? 0.0 : gap[l];
     }
   }
@@ -161,23 +184,33 @@ void search_block(const Plan& plan, const In* raw_rows, const Results<In>& out, 
   }
 }
 
-/// The kernels of one surface kind: W lanes per block for the batched path, one lane for the rest.
+/// The block kernels of one surface kind. Widths measured on AVX-512 (scripts/bench-search): wider blocks
+/// give each vector operation several independent vectors to overlap, up to the register file: a float network
+/// 32 lanes (its 8 accumulators of 32 floats fill 16 of the 32 vector registers), a double network 16; lean and
+/// safeguarded Newton and the closed form 32 (12.3 ns for newton:5 against 15.5 at 16 and 24.7 at 8); Newton to
+/// convergence 16, since a block iterates until its slowest lane has converged.
 template <bool kGregory>
-void select_kernels(Plan& plan) {
-  const bool float_network = plan.network != nullptr && plan.network->is_float();
-  if (plan.method.needs_network() && float_network) {
+void select_block_kernels(Plan& plan) {
+  const bool network = plan.method.needs_network();
+  if (network && plan.network->is_float()) {
+    plan.block_size = 32;
+    plan.block_f = &search_block<kGregory, float, 32, float>;
+    plan.block_d = &search_block<kGregory, float, 32, double>;
+  } else if (network || plan.method.to_convergence) {
     plan.block_size = 16;
-    plan.block_f = &search_block<kGregory, float, 16, float>;
-    plan.block_d = &search_block<kGregory, float, 16, double>;
-    plan.single_f = &search_block<kGregory, float, 1, float>;
-    plan.single_d = &search_block<kGregory, float, 1, double>;
+    plan.block_f = &search_block<kGregory, double, 16, float>;
+    plan.block_d = &search_block<kGregory, double, 16, double>;
   } else {
-    plan.block_size = 8;
-    plan.block_f = &search_block<kGregory, double, 8, float>;
-    plan.block_d = &search_block<kGregory, double, 8, double>;
-    plan.single_f = &search_block<kGregory, double, 1, float>;
-    plan.single_d = &search_block<kGregory, double, 1, double>;
+    plan.block_size = 32;
+    plan.block_f = &search_block<kGregory, double, 32, float>;
+    plan.block_d = &search_block<kGregory, double, 32, double>;
   }
 }
+
+/// The one-lane kernels (kernels_single.cpp, compiled without auto-vectorisation: with it, GCC vectorises
+/// other loops of a one-lane kernel than the lane loops of a block, e.g. a layer's sum over inputs, and the
+/// changed contraction of multiply-adds changes the last bits; without it every statement rounds as in the
+/// vectorised lane loops, so a query gives the same bits in a block and alone).
+void select_single_kernels(Plan& plan);
 
 }  // namespace contactnn::search::detail

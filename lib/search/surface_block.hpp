@@ -17,7 +17,8 @@
 #else
 #define CONTACTNN_SEARCH_INLINE inline
 #endif
-// Lanes of a block never alias: the loops over them carry no dependence.
+// A loop over the lanes of a block: the lanes never alias and the loop carries no dependence. (Not OpenMP's
+// simd construct: GCC 12 privatises the lane body's local structures into arrays there, and then gives up.)
 #if defined(__clang__)
 #define CONTACTNN_LANES _Pragma("clang loop vectorize(assume_safety)")
 #elif defined(__GNUC__)
@@ -49,6 +50,11 @@ struct Eval {
   double p[3], ps[3], pt[3], pss[3], pst[3], ptt[3];
 };
 
+/// max and min as x86's vector instructions take them (b where either is NaN): one instruction in a vectorised
+/// loop, where std::fmax is a library call that stops vectorisation.
+CONTACTNN_SEARCH_INLINE double max_of(double a, double b) { return a > b ? a : b; }
+CONTACTNN_SEARCH_INLINE double min_of(double a, double b) { return a < b ? a : b; }
+
 /// x is finite: 0 * x is 0 for every finite x, NaN otherwise.
 CONTACTNN_SEARCH_INLINE bool is_finite(double x) { return x * 0.0 == 0.0; }
 
@@ -75,17 +81,35 @@ CONTACTNN_SEARCH_INLINE void load_raw(const In* rows, int stride, double (*raw)[
 
 /// The queries of a raw block relative to their slave nodes. A lane with a non-finite input gets finite[l] = 0
 /// and a unit square 1 above S in place of its values, so that no NaN runs through the other lanes' arithmetic.
+/// Every loop runs over the lanes (vectorised).
 template <int W>
 CONTACTNN_SEARCH_INLINE void relative_queries(const double (*raw)[W], bool gregory, QueryBlock<W>& q) {
   static constexpr double kSquare[12] = {-0.5, -0.5, -1, 0.5, -0.5, -1, 0.5, 0.5, -1, -0.5, 0.5, -1};
   const int stride = gregory ? 27 : 15;
-  for (int l = 0; l < W; ++l) {
-    double check = 0.0;
-    for (int k = 0; k < stride; ++k) check += raw[k][l] * 0.0;
-    const bool finite = check == 0.0;
-    q.finite[l] = finite ? 1.0 : 0.0;
-    for (int k = 0; k < 12; ++k) q.node[k][l] = finite ? raw[k][l] - raw[12 + k % 3][l] : kSquare[k];
-    for (int k = 0; k < 12; ++k) q.normal[k][l] = gregory && finite ? raw[15 + k][l] : (k % 3 == 2 ? 1.0 : 0.0);
+  double check[W];
+  for (int l = 0; l < W; ++l) check[l] = 0.0;
+  for (int k = 0; k < stride; ++k) {
+#pragma omp simd
+    for (int l = 0; l < W; ++l) check[l] += raw[k][l] * 0.0;
+  }
+#pragma omp simd
+  for (int l = 0; l < W; ++l) q.finite[l] = check[l] == 0.0 ? 1.0 : 0.0;
+  for (int k = 0; k < 12; ++k) {
+    const double* x = raw[k];
+    const double* slave = raw[12 + k % 3];
+    const double square = kSquare[k];
+#pragma omp simd
+    for (int l = 0; l < W; ++l) q.node[k][l] = check[l] == 0.0 ? x[l] - slave[l] : square;
+  }
+  for (int k = 0; k < 12; ++k) {
+    const double fallback = k % 3 == 2 ? 1.0 : 0.0;
+    if (gregory) {
+      const double* n = raw[15 + k];
+#pragma omp simd
+      for (int l = 0; l < W; ++l) q.normal[k][l] = check[l] == 0.0 ? n[l] : fallback;
+    } else {
+      for (int l = 0; l < W; ++l) q.normal[k][l] = fallback;
+    }
   }
 }
 
