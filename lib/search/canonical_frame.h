@@ -100,11 +100,11 @@ CNN_CF_INLINE void cnn_cf_lane(const double* CNN_CF_RESTRICT in, int is, int gre
     ndx = in[24 * is]; ndy = in[25 * is]; ndz = in[26 * is];
   }
 
-  /* 1. Finite: 0 * x is 0 for every finite x and NaN for inf or NaN. */
-  finite = ax * 0.0 + ay * 0.0 + az * 0.0 + bx * 0.0 + by * 0.0 + bz * 0.0 + cx * 0.0 + cy * 0.0 + cz * 0.0 +
-           dx * 0.0 + dy * 0.0 + dz * 0.0 + sx * 0.0 + sy * 0.0 + sz * 0.0 + nax * 0.0 + nay * 0.0 + naz * 0.0 +
-           nbx * 0.0 + nby * 0.0 + nbz * 0.0 + ncx * 0.0 + ncy * 0.0 + ncz * 0.0 + ndx * 0.0 + ndy * 0.0 +
-           ndz * 0.0;
+  /* 1. Finite: the sum of the values is finite exactly when every value is, as long as no sum overflows; a
+   *    lane with a magnitude beyond 1e50 (coordinates) or a normal beyond it goes through cnn_cf_lane_scaled,
+   *    whose values are scaled first, so the sum cannot overflow here. `finite` is 0 when finite. */
+  finite = (ax + ay + az + bx + by + bz + cx + cy + cz + dx + dy + dz + sx + sy + sz + nax + nay + naz + nbx + nby +
+            nbz + ncx + ncy + ncz + ndx + ndy + ndz) * 0.0;
   big_nodes = cnn_cf_max(cnn_cf_max(cnn_cf_max(fabs(ax), fabs(ay)), cnn_cf_max(fabs(az), fabs(bx))),
                          cnn_cf_max(cnn_cf_max(fabs(by), fabs(bz)), cnn_cf_max(fabs(cx), fabs(cy))));
   big_nodes = cnn_cf_max(big_nodes, cnn_cf_max(cnn_cf_max(fabs(cz), fabs(dx)), cnn_cf_max(fabs(dy), fabs(dz))));
@@ -287,7 +287,7 @@ CNN_CF_INLINE void cnn_cf_lane(const double* CNN_CF_RESTRICT in, int is, int gre
     info[1 * os] = rot + 4.0 * mirror;
     info[2 * os] = (mir ? -1.0 : 1.0) * zsign;
     info[3 * os] = scale;
-    info[4 * os] = finite == 0.0 ? rescale : 0.0;
+    info[4 * os] = rescale;
   }
 }
 

@@ -23,6 +23,15 @@ struct LaneState {
   double iterations[W];
 };
 
+/// 1 when any flag is non-zero, else 0: an integer OR over the lanes (vectorised, unlike a floating-point
+/// reduction, which GCC must do in order).
+template <int W>
+CONTACTNN_SEARCH_INLINE double any_of(const double* flags) {
+  int any = 0;
+  for (int l = 0; l < W; ++l) any |= flags[l] != 0.0 ? 1 : 0;
+  return any != 0 ? 1.0 : 0.0;
+}
+
 /// Residual r_i = P_i.(S - P) and the exact Jacobian H_ij = P_i.P_j - P_ij.(S - P) of Eqs 7-8 (Newton's update
 /// solves H dp = r), with S at the origin; G = P_i.P_j is the Gauss-Newton part.
 struct NewtonSystem {
@@ -105,7 +114,7 @@ void converged_newton(const Surf& surf, int max_iterations, double tol, LaneStat
       s.status[l] = (active & singular) ? kDegenerate : ((active & !singular & !finite) ? kNoConvergence : s.status[l]);
       running[l] = (take & !(size <= tol)) ? 1.0 : 0.0;
     }
-    for (int l = 0; l < W; ++l) any = any != 0.0 || running[l] != 0.0 ? 1.0 : 0.0;
+    any = any_of<W>(running);
     if (any == 0.0) return;
   }
   for (int l = 0; l < W; ++l) s.status[l] = running[l] != 0.0 ? kNoConvergence : s.status[l];
@@ -119,10 +128,12 @@ struct Safeguards {
   int max_halvings;    ///< halvings of a step that does not reduce |S - P|
 };
 
-/// Surface values at the current iterate of every lane, kept between steps.
-template <int W>
+/// Surface values at the current iterate of every lane, kept between steps. kPureSecond false (the bilinear
+/// facet): P_ss = P_tt = 0 are neither stored nor loaded.
+template <int W, bool kPureSecond>
 struct EvalStore {
-  double p[3][W], ps[3][W], pt[3][W], pss[3][W], pst[3][W], ptt[3][W];
+  double p[3][W], ps[3][W], pt[3][W], pst[3][W];
+  double pss[kPureSecond ? 3 : 1][W], ptt[kPureSecond ? 3 : 1][W];
   double f[W];     ///< |S - P|^2
   double dist[W];  ///< |S - P|
 
@@ -132,9 +143,11 @@ struct EvalStore {
       e.p[c] = p[c][l];
       e.ps[c] = ps[c][l];
       e.pt[c] = pt[c][l];
-      e.pss[c] = pss[c][l];
       e.pst[c] = pst[c][l];
-      e.ptt[c] = ptt[c][l];
+      if constexpr (kPureSecond) {
+        e.pss[c] = pss[c][l];
+        e.ptt[c] = ptt[c][l];
+      }
     }
   }
   /// Stores e for lane l where `take`, leaves the lane as it is otherwise.
@@ -144,9 +157,11 @@ struct EvalStore {
       p[c][l] = take ? e.p[c] : p[c][l];
       ps[c][l] = take ? e.ps[c] : ps[c][l];
       pt[c][l] = take ? e.pt[c] : pt[c][l];
-      pss[c][l] = take ? e.pss[c] : pss[c][l];
       pst[c][l] = take ? e.pst[c] : pst[c][l];
-      ptt[c][l] = take ? e.ptt[c] : ptt[c][l];
+      if constexpr (kPureSecond) {
+        pss[c][l] = take ? e.pss[c] : pss[c][l];
+        ptt[c][l] = take ? e.ptt[c] : ptt[c][l];
+      }
     }
     f[l] = take ? f_new : f[l];
     dist[l] = take ? std::sqrt(f_new) : dist[l];
@@ -167,12 +182,15 @@ CONTACTNN_SEARCH_INLINE double clamp_to(double x, double lo, double hi) {
 /// stationary point inside the box: no_convergence. `store` holds the surface at each lane's final iterate.
 template <class Surf, int W>
 void safeguarded_newton(const Surf& surf, int steps, const Safeguards& g, const double* noise, LaneState<W>& s,
-                        EvalStore<W>& store) {
+                        EvalStore<W, Surf::kHasPureSecond>& store) {
+  // The settings as locals: a field read under a lane-dependent condition becomes a masked load of an invariant,
+  // which GCC 12 does not vectorise.
+  const double lo = g.lo, hi = g.hi, max_step = g.max_step, tol = g.tol;
   double running[W], pending[W], tu[W], tv[W], tiny[W];
   CONTACTNN_LANES
   for (int l = 0; l < W; ++l) {
-    s.u[l] = clamp_to(s.u[l], g.lo, g.hi);
-    s.v[l] = clamp_to(s.v[l], g.lo, g.hi);
+    s.u[l] = clamp_to(s.u[l], lo, hi);
+    s.v[l] = clamp_to(s.v[l], lo, hi);
     Eval e;
     surf.template eval<true>(l, s.u[l], s.v[l], e);
     const double f = e.p[0] * e.p[0] + e.p[1] * e.p[1] + e.p[2] * e.p[2];
@@ -197,21 +215,21 @@ void safeguarded_newton(const Surf& surf, int steps, const Safeguards& g, const 
       double dv = (a * q.r1 - b * q.r0) * inv;
       const bool singular = !exact & !(det_g > floor);
       const double size = max_of(std::fabs(du), std::fabs(dv));
-      const double shrink = size > g.max_step ? g.max_step / size : 1.0;
+      const double shrink = size > max_step ? max_step / size : 1.0;
       du *= shrink;
       dv *= shrink;
       const bool active = running[l] != 0.0;
       s.status[l] = (active & singular) ? kDegenerate : s.status[l];
       const bool go = active & !singular & is_finite(du) & is_finite(dv);
-      tu[l] = go ? clamp_to(s.u[l] + du, g.lo, g.hi) : s.u[l];
-      tv[l] = go ? clamp_to(s.v[l] + dv, g.lo, g.hi) : s.v[l];
-      tiny[l] = size <= g.tol ? 1.0 : 0.0;
+      tu[l] = go ? clamp_to(s.u[l] + du, lo, hi) : s.u[l];
+      tv[l] = go ? clamp_to(s.v[l] + dv, lo, hi) : s.v[l];
+      tiny[l] = size <= tol ? 1.0 : 0.0;
       s.status[l] = (active & !singular & !go) ? kNoConvergence : s.status[l];
       running[l] = go ? 1.0 : 0.0;
       pending[l] = running[l];
     }
     // Reductions over lanes in loops of their own: inside a lane loop they would stop its vectorisation.
-    for (int l = 0; l < W; ++l) any_pending = any_pending != 0.0 || pending[l] != 0.0 ? 1.0 : 0.0;
+    any_pending = any_of<W>(pending);
     for (int h = 0; h <= g.max_halvings && any_pending != 0.0; ++h) {
       any_pending = 0.0;
       CONTACTNN_LANES
@@ -231,20 +249,20 @@ void safeguarded_newton(const Surf& surf, int steps, const Safeguards& g, const 
         tv[l] = again ? s.v[l] + 0.5 * (tv[l] - s.v[l]) : tv[l];
         pending[l] = again ? 1.0 : 0.0;
       }
-      for (int l = 0; l < W; ++l) any_pending = any_pending != 0.0 || pending[l] != 0.0 ? 1.0 : 0.0;
+      any_pending = any_of<W>(pending);
     }
-    double any_running = 0.0;
+    CONTACTNN_LANES
     for (int l = 0; l < W; ++l) {
       const bool rejected = pending[l] != 0.0;
       s.status[l] = rejected ? kNoConvergence : s.status[l];
-      running[l] = (running[l] != 0.0 && !rejected && tiny[l] == 0.0) ? 1.0 : 0.0;
-      any_running += running[l];
+      running[l] = ((running[l] != 0.0) & !rejected & (tiny[l] == 0.0)) ? 1.0 : 0.0;
     }
-    if (any_running == 0.0) break;
+    if (any_of<W>(running) == 0.0) break;
   }
+  CONTACTNN_LANES
   for (int l = 0; l < W; ++l) {
-    const bool pinned = s.u[l] == g.lo || s.u[l] == g.hi || s.v[l] == g.lo || s.v[l] == g.hi;
-    s.status[l] = (s.status[l] == kOk && pinned) ? kNoConvergence : s.status[l];
+    const bool pinned = (s.u[l] == lo) | (s.u[l] == hi) | (s.v[l] == lo) | (s.v[l] == hi);
+    s.status[l] = ((s.status[l] == kOk) & pinned) ? kNoConvergence : s.status[l];
   }
 }
 

@@ -89,7 +89,7 @@ void search_block(const Plan& plan, const In* raw_rows, const Results<In>& out, 
   }
 
   // 2. Newton.
-  EvalStore<W> store;
+  EvalStore<W, Surf::kHasPureSecond> store;
   if (hybrid) {
     build_for_method();
     double noise[W];
@@ -108,7 +108,7 @@ void search_block(const Plan& plan, const In* raw_rows, const Results<In>& out, 
     if (retry) {
       // Only the retried lanes run (the others are held by a status other than ok); their steps add up.
       LaneState<W> again;
-      EvalStore<W> again_store;
+      EvalStore<W, Surf::kHasPureSecond> again_store;
       for (int l = 0; l < W; ++l) {
         again.u[l] = again.v[l] = kCentre;
         again.status[l] = extrapolated[l] != 0.0 ? kOk : kInvalid;
