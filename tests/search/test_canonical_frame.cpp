@@ -8,6 +8,8 @@
 
 #include <array>
 #include <cmath>
+#include <fstream>
+#include <iterator>
 #include <limits>
 #include <random>
 #include <sstream>
@@ -16,6 +18,7 @@
 
 #include "geometry/affine_frame.hpp"
 #include "geometry/domain.hpp"
+#include "search/embedded_sources.hpp"
 #include "search/network_model.hpp"
 #include "search/random_queries.hpp"
 
@@ -332,6 +335,18 @@ TEST(CanonicalFrameKernel, TheC99CompilationAgreesWithTheCxxOne) {
     for (int i = 0; i < 500; ++i) configs.push_back(random_world(rng));
     expect_matches_reference(configs, kind, 16, 1.0, true);
   }
+}
+
+TEST(EmbeddedSources, AreTheHeadersVerbatim) {
+  // The exported C header embeds the kernels from this text: it must be the files, byte for byte.
+  const auto read = [](const char* name) {
+    std::ifstream in(std::string(CONTACTNN_SOURCE_DIR) + "/lib/search/" + name, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  };
+  const std::string frame = read("canonical_frame.h"), sigmoid = read("vector_sigmoid.h");
+  ASSERT_FALSE(frame.empty());
+  EXPECT_EQ(canonical_frame_source(), frame);
+  EXPECT_EQ(vector_sigmoid_source(), sigmoid);
 }
 
 // ---- The training domain ----
