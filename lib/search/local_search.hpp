@@ -71,8 +71,9 @@ class LocalSearch {
   ///  - network+newton:K, closed_form+newton:K: the start, then K safeguarded steps (box, step cap,
   ///    halving): ok or outside; no_convergence when a step does not reduce |S - P| after max_halvings
   ///    halvings (the previous iterate is kept) or the iterate ends on the box's edge; degenerate (both Newton
-  ///    systems singular, or no Gregory patch); invalid. A network start that is degenerate (e.g. a straight
-  ///    angle) or out_of_domain is still refined (degenerate: from the centre).
+  ///    systems singular, or no Gregory patch); invalid. A network start without a canonical frame (e.g. a
+  ///    straight angle at the canonical corner) is refined from the centre; an out_of_domain estimate is refined
+  ///    from itself, and where that refinement fails, again from the centre (its steps add up).
   template <class Real>
   void run(std::size_t count, const Real* raw, Results<Real> out, int threads = 0) const;
 
