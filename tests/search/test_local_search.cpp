@@ -137,6 +137,36 @@ TEST(NetworkMethod, EqualsPredictOnTheCanonicalFeaturesInTheCallersOrder) {
   }
 }
 
+TEST(LocalSearch, GapIsTheSignedDistanceAlongTheCallersNormalAtTheReportedPoint) {
+  // The oracle: geometry's own patch of the caller's nodes evaluated at the reported point, for every method.
+  // The status does not depend on whether the gap is asked for.
+  for (const char* name : {"bilinear-8.h5", "gregory-48.h5"}) {
+    const auto& trained = shipped(name);
+    const SurfaceKind kind = trained.domain.surface;
+    const NetworkModel model(trained.network, trained.domain);
+    const std::vector<double> raw = random_queries(kind, 300, 21);
+    std::vector<std::string> methods = {"network", "newton:3", "newton", "network+newton:2"};
+    if (kind == kBilinear) methods.insert(methods.end(), {"closed_form", "closed_form+newton:2"});
+    for (const std::string& method : methods) {
+      const LocalSearch search(kind, Method::parse(method), {}, &model);
+      const Output<double> with_gap = run(search, raw);
+      Output<double> without(300);
+      search.run(300, raw.data(), Results<double>{without.param.data(), nullptr, without.status.data()}, 1);
+      for (std::size_t i = 0; i < 300; ++i) {
+        ASSERT_EQ(without.status[i], with_gap.status[i]) << method << " query " << i;
+        const Configuration c = configuration_of(raw.data(), kind, i);
+        geometry::with_surface(c, kind, [&](const auto& patch) {
+          const geometry::SurfacePoint p = patch.evaluate(with_gap.param[2 * i], with_gap.param[2 * i + 1]);
+          const Vec3 n = p.d_s.cross(p.d_t).normalized();
+          const double expected = n.dot(c.slave - p.position);
+          // The same point in world coordinates against coordinates relative to S: rounding of ~10 sizes.
+          EXPECT_NEAR(with_gap.gap[i], expected, 1e-11 * patch.characteristic_length()) << method << " query " << i;
+        });
+      }
+    }
+  }
+}
+
 TEST(NetworkModel, RefusesNetworksThatDoNotFit) {
   const auto& bilinear = shipped("bilinear-8.h5");
   geometry::TrainingDomain gregory_domain = shipped("gregory-48.h5").domain;
