@@ -1,0 +1,260 @@
+// Description: every lib/search method on the same queries, side by side in one run (issue 11 item 2): random
+// configurations of the paper's bilinear and Gregory domains (projecting inside their segment, as the paper's
+// data sets) placed at random positions, orientations and scales in a random node order, fixed seed; the
+// shipped networks of data/weights. For each method: ns per query one at a time (LocalSearch::run with
+// count = 1, the call an FE code makes per pair) and batched (one call for all queries) at 1 and 2 threads,
+// with its accuracy against the reference labels and its floating-point work per query
+// (search::flops_per_query); and Eigen's float and double matrix-product rates at 1 and 2 threads, for the floor.
+// scripts/bench-search runs it with repetitions in random interleaving (so load drift is shared) and prints
+// the table.
+//
+// Sample runs:
+//   build/bench/bench_search --benchmark_filter=bilinear/newton:5
+//   build/bench/bench_search --queries 8192 --benchmark_repetitions=5 --benchmark_enable_random_interleaving=true
+//   scripts/bench-search
+//
+// Flags of its own (before Google Benchmark's): --queries N (default 4096 per surface), --weights DIR
+// (default the source tree's data/weights), --seed S (default 1).
+// Writes Google Benchmark's report; each benchmark carries the counters flops_double, flops_float (per query),
+// mean_error, p99_error, max_error (|error| per coordinate against the labels, over the queries the method did
+// not fail), failures (the method's status not ok/outside/out_of_domain, or its estimate more than half a domain
+// width outside the domain, as evaluate-net counts them), steps (mean Newton steps).
+#include <benchmark/benchmark.h>
+
+#include <Eigen/Core>
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "dataset/labeller.hpp"
+#include "io/network_file.hpp"
+#include "search/flop_count.hpp"
+#include "search/local_search.hpp"
+#include "search/random_queries.hpp"
+
+namespace {
+
+using namespace contactnn;
+
+struct Args {
+  std::size_t queries = 4096;
+  std::string weights = std::string(CONTACTNN_SOURCE_DIR) + "/data/weights";
+  std::uint64_t seed = 1;
+};
+
+/// Random queries of the paper's domain of `kind` whose reference label is ok, and the labels.
+struct QuerySet {
+  SurfaceKind kind = SurfaceKind::kBilinear;
+  std::vector<double> raw;
+  std::vector<dataset::Label> labels;
+  std::size_t count() const { return labels.size(); }
+};
+
+QuerySet make_queries(SurfaceKind kind, std::size_t count, std::uint64_t seed) {
+  QuerySet set;
+  set.kind = kind;
+  const auto stride = static_cast<std::size_t>(search::LocalSearch::raw_columns(kind));
+  std::uint64_t batch_seed = seed;
+  while (set.count() < count) {
+    const std::vector<double> raw = testing::random_queries(kind, count, batch_seed++);
+    for (std::size_t i = 0; i < count && set.count() < count; ++i) {
+      const dataset::Label label = dataset::label_configuration(testing::configuration_of(raw.data(), kind, i), kind);
+      if (label.status != Status::kOk) continue;
+      set.raw.insert(set.raw.end(), raw.begin() + static_cast<std::ptrdiff_t>(i * stride),
+                     raw.begin() + static_cast<std::ptrdiff_t>((i + 1) * stride));
+      set.labels.push_back(label);
+    }
+  }
+  return set;
+}
+
+/// Accuracy of one batched run against the labels.
+struct Accuracy {
+  double mean = 0.0, p99 = 0.0, max = 0.0, steps = 0.0;
+  int failures = 0;
+};
+
+Accuracy accuracy_of(const search::LocalSearch& search, const QuerySet& set) {
+  const std::size_t n = set.count();
+  std::vector<double> param(2 * n);
+  std::vector<Status> status(n);
+  std::vector<std::int32_t> steps(n);
+  search.run(n, set.raw.data(), search::Results<double>{param.data(), nullptr, status.data(), steps.data()}, 1);
+  Accuracy a;
+  std::vector<double> errors;
+  double step_sum = 0.0;
+  // A failure, counted and never averaged in, as evaluate-net counts it: a status other than ok, outside or
+  // out_of_domain, or an estimate more than half a domain width outside the domain.
+  const ParamDomain d = param_domain(set.kind);
+  const double reach = 0.5 * (d.hi - d.lo);
+  for (std::size_t i = 0; i < n; ++i) {
+    step_sum += steps[i];
+    const bool usable = status[i] == Status::kOk || status[i] == Status::kOutside || status[i] == Status::kOutOfDomain;
+    const bool near = param[2 * i] >= d.lo - reach && param[2 * i] <= d.hi + reach && param[2 * i + 1] >= d.lo - reach &&
+                      param[2 * i + 1] <= d.hi + reach;
+    if (!usable || !near) {
+      ++a.failures;
+      continue;
+    }
+    for (int c = 0; c < 2; ++c) errors.push_back(std::abs(param[2 * i + static_cast<std::size_t>(c)] - set.labels[i].param[static_cast<std::size_t>(c)]));
+  }
+  a.steps = step_sum / static_cast<double>(n);
+  if (!errors.empty()) {
+    double sum = 0.0;
+    for (const double e : errors) sum += e;
+    a.mean = sum / static_cast<double>(errors.size());
+    std::sort(errors.begin(), errors.end());
+    a.p99 = errors[static_cast<std::size_t>(0.99 * static_cast<double>(errors.size() - 1))];
+    a.max = errors.back();
+  }
+  return a;
+}
+
+/// One method to time.
+struct Case {
+  SurfaceKind kind;
+  std::string method;
+  std::string network;  ///< file name in the weights folder, or empty
+  bool check_domain = true;
+};
+
+std::string case_name(const Case& c) {
+  std::string name = std::string(to_string(c.kind)) + "/" + c.method;
+  if (!c.network.empty()) name += "[" + c.network.substr(0, c.network.find(".h5")) + (c.check_domain ? "" : ",no-domain") + "]";
+  return name;
+}
+
+void set_counters(benchmark::State& state, const search::FlopCount& flops, const Accuracy& a) {
+  state.counters["flops_double"] = flops.in_double;
+  state.counters["flops_float"] = flops.in_float;
+  state.counters["mean_error"] = a.mean;
+  state.counters["p99_error"] = a.p99;
+  state.counters["max_error"] = a.max;
+  state.counters["failures"] = a.failures;
+  state.counters["steps"] = a.steps;
+}
+
+template <class Real>
+void gemm(benchmark::State& state, int threads) {
+  const int n = 768;
+  Eigen::setNbThreads(threads);
+  using M = Eigen::Matrix<Real, Eigen::Dynamic, Eigen::Dynamic>;
+  const M a = M::Random(n, n), b = M::Random(n, n);
+  M c(n, n);
+  for (auto _ : state) {
+    c.noalias() = a * b;
+    benchmark::DoNotOptimize(c.data());
+    benchmark::ClobberMemory();
+  }
+  // items = flops: items_per_second is the rate.
+  state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(2.0 * n * n * static_cast<double>(n)));
+  Eigen::setNbThreads(0);
+}
+
+Args parse_own_flags(int& argc, char** argv) {
+  Args a;
+  int out = 1;
+  for (int i = 1; i < argc; ++i) {
+    const std::string k = argv[i];
+    if ((k == "--queries" || k == "--weights" || k == "--seed") && i + 1 < argc) {
+      const std::string v = argv[++i];
+      if (k == "--queries") a.queries = static_cast<std::size_t>(std::atol(v.c_str()));
+      if (k == "--weights") a.weights = v;
+      if (k == "--seed") a.seed = static_cast<std::uint64_t>(std::atoll(v.c_str()));
+    } else {
+      argv[out++] = argv[i];
+    }
+  }
+  argc = out;
+  return a;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const Args args = parse_own_flags(argc, argv);
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 2;
+
+  // 1. The queries and the networks, shared by every method.
+  static const std::map<SurfaceKind, QuerySet> sets = {
+      {SurfaceKind::kBilinear, make_queries(SurfaceKind::kBilinear, args.queries, args.seed)},
+      {SurfaceKind::kGregory, make_queries(SurfaceKind::kGregory, args.queries, args.seed)}};
+  static std::map<std::string, std::unique_ptr<search::NetworkModel>> networks;
+  for (const char* file : {"bilinear-8.h5", "bilinear-32-32.h5", "gregory-48.h5", "gregory-32.h5"}) {
+    const io::TrainedNetwork<float> trained = io::read_network<float>(args.weights + "/" + file);
+    networks[file] = std::make_unique<search::NetworkModel>(trained.network, trained.domain);
+  }
+
+  // 2. The methods.
+  const SurfaceKind bl = SurfaceKind::kBilinear, gr = SurfaceKind::kGregory;
+  const std::vector<Case> cases = {
+      {bl, "newton:1", ""}, {bl, "newton:3", ""}, {bl, "newton:5", ""}, {bl, "newton:10", ""}, {bl, "newton", ""},
+      {bl, "closed_form", ""}, {bl, "closed_form+newton:1", ""}, {bl, "closed_form+newton:2", ""},
+      {bl, "closed_form+newton:3", ""},
+      {bl, "network", "bilinear-8.h5"}, {bl, "network", "bilinear-8.h5", false}, {bl, "network", "bilinear-32-32.h5"},
+      {bl, "network+newton:1", "bilinear-8.h5"}, {bl, "network+newton:3", "bilinear-8.h5"},
+      {bl, "network+newton:1", "bilinear-32-32.h5"}, {bl, "network+newton:3", "bilinear-32-32.h5"},
+      {gr, "newton:1", ""}, {gr, "newton:3", ""}, {gr, "newton:5", ""}, {gr, "newton:10", ""}, {gr, "newton", ""},
+      {gr, "network", "gregory-48.h5"}, {gr, "network", "gregory-48.h5", false}, {gr, "network", "gregory-32.h5"},
+      {gr, "network+newton:1", "gregory-48.h5"}, {gr, "network+newton:2", "gregory-48.h5"},
+      {gr, "network+newton:3", "gregory-48.h5"}};
+
+  // 3. One benchmark per method and mode; accuracy once per method.
+  for (const Case& c : cases) {
+    search::SearchOptions options;
+    options.check_domain = c.check_domain;
+    const search::NetworkModel* model = c.network.empty() ? nullptr : networks.at(c.network).get();
+    auto search = std::make_shared<const search::LocalSearch>(c.kind, search::Method::parse(c.method), options, model);
+    const QuerySet& set = sets.at(c.kind);
+    const Accuracy acc = accuracy_of(*search, set);
+    const search::FlopCount flops = search::flops_per_query(c.kind, search->method(), model, acc.steps);
+    const std::size_t n = set.count();
+    const auto stride = static_cast<std::size_t>(search::LocalSearch::raw_columns(c.kind));
+
+    benchmark::RegisterBenchmark((case_name(c) + "/one").c_str(), [=, &set](benchmark::State& state) {
+      std::vector<double> param(2 * n);
+      std::vector<Status> status(n);
+      for (auto _ : state) {
+        for (std::size_t i = 0; i < n; ++i) {
+          search->run(1, set.raw.data() + i * stride, search::Results<double>{param.data() + 2 * i, nullptr, status.data() + i}, 1);
+        }
+        benchmark::ClobberMemory();
+      }
+      state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(n));
+      set_counters(state, flops, acc);
+    })->UseRealTime()->Unit(benchmark::kMicrosecond);
+    for (const int threads : {1, 2}) {
+      benchmark::RegisterBenchmark((case_name(c) + "/batched/threads:" + std::to_string(threads)).c_str(),
+                                   [=, &set](benchmark::State& state) {
+                                     std::vector<double> param(2 * n);
+                                     std::vector<Status> status(n);
+                                     for (auto _ : state) {
+                                       search->run(n, set.raw.data(), search::Results<double>{param.data(), nullptr, status.data()},
+                                                   threads);
+                                       benchmark::ClobberMemory();
+                                     }
+                                     state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(n));
+                                     set_counters(state, flops, acc);
+                                   })
+          ->UseRealTime()
+          ->Unit(benchmark::kMicrosecond);
+    }
+  }
+  for (const int threads : {1, 2}) {
+    benchmark::RegisterBenchmark(("gemm/float/threads:" + std::to_string(threads)).c_str(), gemm<float>, threads)
+        ->UseRealTime()->Unit(benchmark::kMillisecond);
+    benchmark::RegisterBenchmark(("gemm/double/threads:" + std::to_string(threads)).c_str(), gemm<double>, threads)
+        ->UseRealTime()->Unit(benchmark::kMillisecond);
+  }
+  std::fprintf(stderr, "bench_search: %zu bilinear and %zu Gregory queries (labels ok), seed %llu\n",
+               sets.at(bl).count(), sets.at(gr).count(), static_cast<unsigned long long>(args.seed));
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}

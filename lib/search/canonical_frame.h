@@ -1,0 +1,457 @@
+/* canonical_frame.h: the canonical configuration of a node-segment query (contactnn SPEC 4) and the check
+ * of a network's training domain, for blocks of queries, in C99 that is also valid C++.
+ *
+ * One source for the network's inputs: lib/search compiles it into its network methods, and the exported
+ * C header of a network embeds this text verbatim. Self-contained (only <math.h>); the include guard is
+ * fixed, so two exported headers in one translation unit share one copy.
+ *
+ * What it computes is geometry::normalise (lib/geometry/affine_frame.hpp), the reference, written branch-free
+ * per lane so that a compiler vectorises the loop over the lanes of a block:
+ *  - invalid (status 4) when a coordinate (or, Gregory, a normal component) is not finite;
+ *  - the symmetry of the square: canonical A is the first node nearest S (distances within 1e-12 relative
+ *    plus 16 eps max|x| are a tie), then the mirror when |AD| > |AB| (on a tie: when S is nearer the line AD);
+ *  - the frame of SPEC 4 on the canonical A, B, D; z oriented so that z_S >= 0 (on z_S = 0: z_C >= 0);
+ *  - degenerate (status 3) when that frame does not exist, when the segment is collapsed
+ *    (geometry::is_degenerate_segment with the coordinates' own rounding as noise), or when a Gregory node
+ *    normal is zero, in the segment plane, or the normals lie on both sides. Where the reference falls back to
+ *    another corner (a straight angle at the canonical A), the features are not those a network was trained
+ *    on: that is degenerate here too, as it is for the reference's network methods.
+ * Differences from the reference, all at the rounding level: lengths are compared through their squares
+ * (two square roots per query instead of seventeen), divisions by a length are multiplications by its
+ * reciprocal, and a node normal is rotated before it is normalised (its slopes n_x/n_z do not need the
+ * length). A decision can therefore differ only for a configuration within a few ulps of a threshold.
+ * Coordinates whose magnitude lies outside [1e-50, 1e50] (and normals outside [1e-50, 1e50] in length) are
+ * first scaled by a power of two, which is exact, in a scalar pass, so that no square under- or overflows;
+ * there, a difference of two coordinates that overflows makes the query degenerate.
+ *
+ * The loops over lanes vectorise with GCC at -O3 given -fno-math-errno (sqrt) and -fno-trapping-math (selects
+ * over comparisons); without them the code is the same, scalar. Both change no result.
+ *
+ * Layout of a block of n lanes (n >= 1), structure of arrays, lane l of quantity k at [k * n + l]:
+ *   in:    k = 0..14: ax ay az bx by bz cx cy cz dx dy dz sx sy sz (SPEC 6 order, world coordinates),
+ *          Gregory also k = 15..26: nax nay naz ... ndz (node normals, any positive length);
+ *   f:     features xc yc zc xd yd xs ys zs (+ Gregory pa qa pb qb pc qc pd qd), 8 or 16 rows;
+ *   nrm:   Gregory only (else may be 0): the canonical node normals A..D in the canonical frame, 12 rows,
+ *          oriented to the +z side but not normalised;
+ *   info:  4 rows: status (0 ok, 3 degenerate, 4 invalid), symmetry (rotation + 4 * mirror: canonical node i
+ *          is the caller's node ((mirror ? (4 - i) % 4 : i) + rotation) % 4), orientation (+1 or -1: the
+ *          caller's gap is orientation * canonical gap / scale), scale (1 / |AB|, canonical AB).
+ * Where the status is not 0, f and nrm hold unspecified finite or non-finite values.
+ */
+#ifndef CONTACTNN_CANONICAL_FRAME_H
+#define CONTACTNN_CANONICAL_FRAME_H
+
+#include <math.h>
+
+#if defined(__cplusplus)
+#define CNN_CF_RESTRICT __restrict
+#else
+#define CNN_CF_RESTRICT restrict
+#endif
+
+/* The lane functions must be inlined into the loops over lanes, or nothing vectorises. */
+#if defined(__GNUC__)
+#define CNN_CF_INLINE static inline __attribute__((always_inline))
+#else
+#define CNN_CF_INLINE static inline
+#endif
+
+/* Lanes never alias one another: the loops over lanes carry no dependence. */
+#if defined(__clang__)
+#define CNN_CF_IVDEP _Pragma("clang loop vectorize(assume_safety)")
+#elif defined(__GNUC__)
+#define CNN_CF_IVDEP _Pragma("GCC ivdep")
+#else
+#define CNN_CF_IVDEP
+#endif
+
+/* Short loops inside a lane must be unrolled before the loop over lanes can vectorise. */
+#if defined(__clang__)
+#define CNN_CF_UNROLL _Pragma("unroll")
+#elif defined(__GNUC__)
+#define CNN_CF_UNROLL _Pragma("GCC unroll 16")
+#else
+#define CNN_CF_UNROLL
+#endif
+
+#define CNN_CF_STATUS_OK 0
+#define CNN_CF_STATUS_DEGENERATE 3
+#define CNN_CF_STATUS_INVALID 4
+#define CNN_CF_STATUS_OUT_OF_DOMAIN 5
+
+/* std::max / std::min semantics (the first argument when the comparison is false). */
+CNN_CF_INLINE double cnn_cf_max(double a, double b) { return a < b ? b : a; }
+CNN_CF_INLINE double cnn_cf_min(double a, double b) { return b < a ? b : a; }
+
+/* One lane. Reads quantity k at in[k * is], writes at f[k * os], nrm[k * os], info[k * os]. info row 4 (the
+ * caller provides 5 rows here) receives 1 when the lane must be redone by cnn_cf_lane_scaled. */
+CNN_CF_INLINE void cnn_cf_lane(const double* CNN_CF_RESTRICT in, int is, int gregory, double* CNN_CF_RESTRICT f,
+                               double* CNN_CF_RESTRICT nrm, double* CNN_CF_RESTRICT info, int os) {
+  const double eps = 2.220446049250313e-16;
+  const double ax = in[0 * is], ay = in[1 * is], az = in[2 * is];
+  const double bx = in[3 * is], by = in[4 * is], bz = in[5 * is];
+  const double cx = in[6 * is], cy = in[7 * is], cz = in[8 * is];
+  const double dx = in[9 * is], dy = in[10 * is], dz = in[11 * is];
+  const double sx = in[12 * is], sy = in[13 * is], sz = in[14 * is];
+  double nax = 0.0, nay = 0.0, naz = 1.0, nbx = 0.0, nby = 0.0, nbz = 1.0;
+  double ncx = 0.0, ncy = 0.0, ncz = 1.0, ndx = 0.0, ndy = 0.0, ndz = 1.0;
+  double finite, big_nodes, big, bad, rescale;
+  if (gregory) {
+    nax = in[15 * is]; nay = in[16 * is]; naz = in[17 * is];
+    nbx = in[18 * is]; nby = in[19 * is]; nbz = in[20 * is];
+    ncx = in[21 * is]; ncy = in[22 * is]; ncz = in[23 * is];
+    ndx = in[24 * is]; ndy = in[25 * is]; ndz = in[26 * is];
+  }
+
+  /* 1. Finite: the sum of the values is finite exactly when every value is, as long as no sum overflows; a
+   *    lane with a magnitude beyond 1e50 (coordinates) or a normal beyond it goes through cnn_cf_lane_scaled,
+   *    whose values are scaled first, so the sum cannot overflow here. `finite` is 0 when finite. */
+  finite = (ax + ay + az + bx + by + bz + cx + cy + cz + dx + dy + dz + sx + sy + sz + nax + nay + naz + nbx + nby +
+            nbz + ncx + ncy + ncz + ndx + ndy + ndz) * 0.0;
+  big_nodes = cnn_cf_max(cnn_cf_max(cnn_cf_max(fabs(ax), fabs(ay)), cnn_cf_max(fabs(az), fabs(bx))),
+                         cnn_cf_max(cnn_cf_max(fabs(by), fabs(bz)), cnn_cf_max(fabs(cx), fabs(cy))));
+  big_nodes = cnn_cf_max(big_nodes, cnn_cf_max(cnn_cf_max(fabs(cz), fabs(dx)), cnn_cf_max(fabs(dy), fabs(dz))));
+  big = cnn_cf_max(big_nodes, cnn_cf_max(fabs(sx), cnn_cf_max(fabs(sy), fabs(sz))));
+  rescale = ((big > 1e50) | (big < 1e-50)) ? 1.0 : 0.0;
+
+  {
+    /* 2. The symmetry (geometry::canonical_symmetry). S - X for each node X. */
+    const double s0x = sx - ax, s0y = sy - ay, s0z = sz - az;
+    const double s1x = sx - bx, s1y = sy - by, s1z = sz - bz;
+    const double s2x = sx - cx, s2y = sy - cy, s2z = sz - cz;
+    const double s3x = sx - dx, s3y = sy - dy, s3z = sz - dz;
+    const double q0 = s0x * s0x + s0y * s0y + s0z * s0z, q1 = s1x * s1x + s1y * s1y + s1z * s1z;
+    const double q2 = s2x * s2x + s2y * s2y + s2z * s2z, q3 = s3x * s3x + s3y * s3y + s3z * s3z;
+    const double tie_noise = 16.0 * eps * big;
+    /* dist_i ties the nearest when dist_i (1 - 1e-12) <= nearest + noise; compared squared. */
+    const double nearest_plus = sqrt(cnn_cf_min(cnn_cf_min(q0, q1), cnn_cf_min(q2, q3))) + tie_noise;
+    const double reach = nearest_plus * nearest_plus;
+    const double shrink = (1.0 - 1e-12) * (1.0 - 1e-12);
+    const int t0 = q0 * shrink <= reach, t1 = q1 * shrink <= reach, t2 = q2 * shrink <= reach;
+    /* Canonical A, and the caller's nodes that follow it counter-clockwise (rotation r: A = node r). */
+    const double rot = t0 ? 0.0 : t1 ? 1.0 : t2 ? 2.0 : 3.0;
+    const double pax = t0 ? ax : t1 ? bx : t2 ? cx : dx, pay = t0 ? ay : t1 ? by : t2 ? cy : dy,
+                 paz = t0 ? az : t1 ? bz : t2 ? cz : dz;
+    const double p1x = t0 ? bx : t1 ? cx : t2 ? dx : ax, p1y = t0 ? by : t1 ? cy : t2 ? dy : ay,
+                 p1z = t0 ? bz : t1 ? cz : t2 ? dz : az;
+    const double p2x = t0 ? cx : t1 ? dx : t2 ? ax : bx, p2y = t0 ? cy : t1 ? dy : t2 ? ay : by,
+                 p2z = t0 ? cz : t1 ? dz : t2 ? az : bz;
+    const double p3x = t0 ? dx : t1 ? ax : t2 ? bx : cx, p3y = t0 ? dy : t1 ? ay : t2 ? by : cy,
+                 p3z = t0 ? dz : t1 ? az : t2 ? bz : cz;
+    const double sax = t0 ? s0x : t1 ? s1x : t2 ? s2x : s3x, say = t0 ? s0y : t1 ? s1y : t2 ? s2y : s3y,
+                 saz = t0 ? s0z : t1 ? s1z : t2 ? s2z : s3z;
+    /* Its two edges; the mirror when |AD| > |AB| (a tie: S nearer the line AD than the line AB). */
+    const double e_bx = p1x - pax, e_by = p1y - pay, e_bz = p1z - paz;
+    const double e_dx = p3x - pax, e_dy = p3y - pay, e_dz = p3z - paz;
+    const double len_b = sqrt(e_bx * e_bx + e_by * e_by + e_bz * e_bz);
+    const double len_d = sqrt(e_dx * e_dx + e_dy * e_dy + e_dz * e_dz);
+    const double inv_b = 1.0 / len_b, inv_d = 1.0 / len_d;
+    const int lengths_tie = fabs(len_d - len_b) <= 1e-12 * cnn_cf_max(len_d, len_b) + tie_noise;
+    const double xbx = say * e_bz - saz * e_by, xby = saz * e_bx - sax * e_bz, xbz = sax * e_by - say * e_bx;
+    const double xdx = say * e_dz - saz * e_dy, xdy = saz * e_dx - sax * e_dz, xdz = sax * e_dy - say * e_dx;
+    const double to_b = sqrt(xbx * xbx + xby * xby + xbz * xbz) * inv_b;
+    const double to_d = sqrt(xdx * xdx + xdy * xdy + xdz * xdz) * inv_d;
+    const int line_tie = fabs(to_d - to_b) <= 1e-12 * cnn_cf_max(to_d, to_b) + tie_noise;
+    const double mirror = lengths_tie ? ((!line_tie & (to_d < to_b)) ? 1.0 : 0.0) : (len_d > len_b ? 1.0 : 0.0);
+    const int mir = mirror != 0.0;
+
+    /* 3. The frame on the canonical A, B, D (geometry::AffineFrame::from_nodes): B and D swap under the mirror. */
+    const double abx = mir ? e_dx : e_bx, aby = mir ? e_dy : e_by, abz = mir ? e_dz : e_bz;
+    const double adx = mir ? e_bx : e_dx, ady = mir ? e_by : e_dy, adz = mir ? e_bz : e_dz;
+    const double length_ab = mir ? len_d : len_b, length_ad = mir ? len_b : len_d;
+    const double scale = mir ? inv_d : inv_b;
+    const double e1x = abx * scale, e1y = aby * scale, e1z = abz * scale;
+    /* normal = e1 x AD; |normal| = |AD| sin(angle at A). */
+    const double nx = e1y * adz - e1z * ady, ny = e1z * adx - e1x * adz, nz = e1x * ady - e1y * adx;
+    const double normal_sq = nx * nx + ny * ny + nz * nz;
+    const double min_normal = 1e-12 * cnn_cf_max(length_ad, length_ab);
+    const int frame_ok = (length_ab > 0.0) & (length_ab <= 1.7976931348623157e308) &
+                         !(length_ab <= 1e-12 * length_ad) & (normal_sq > min_normal * min_normal);
+    /* One Gram-Schmidt step keeps the frame orthonormal for near-collinear A, B, D. */
+    const double along = nx * e1x + ny * e1y + nz * e1z;
+    const double gx = nx - along * e1x, gy = ny - along * e1y, gz = nz - along * e1z;
+    const double inv_g = 1.0 / sqrt(gx * gx + gy * gy + gz * gz);
+    const double e3x = gx * inv_g, e3y = gy * inv_g, e3z = gz * inv_g;
+    const double e2x = e3y * e1z - e3z * e1y, e2y = e3z * e1x - e3x * e1z, e2z = e3x * e1y - e3y * e1x;
+
+    /* 4. C, D and S in the frame: scale * R (x - A). */
+    const double vcx = p2x - pax, vcy = p2y - pay, vcz = p2z - paz;
+    const double xc = scale * (e1x * vcx + e1y * vcy + e1z * vcz);
+    const double yc = scale * (e2x * vcx + e2y * vcy + e2z * vcz);
+    const double zc0 = scale * (e3x * vcx + e3y * vcy + e3z * vcz);
+    const double xd = scale * (e1x * adx + e1y * ady + e1z * adz);
+    const double yd = scale * (e2x * adx + e2y * ady + e2z * adz);
+    const double xs = scale * (e1x * sax + e1y * say + e1z * saz);
+    const double ys = scale * (e2x * sax + e2y * say + e2z * saz);
+    const double zs0 = scale * (e3x * sax + e3y * say + e3z * saz);
+    /* z oriented so that S (on the plane: C) is on its + side. */
+    const int flip = (zs0 < 0.0) | ((zs0 == 0.0) & (zc0 < 0.0));
+    const double zsign = flip ? -1.0 : 1.0;
+    const double zc = zsign * zc0, zs = zsign * zs0;
+
+    /* 5. A collapsed segment, judged against the world coordinates' rounding (geometry::is_degenerate_segment
+     *    on the local nodes 0, (1,0,0), C, D with noise eps * max|node| * scale), in squared form. */
+    const double noise16 = 16.0 * (eps * big_nodes * scale);
+    const double n01 = 1.0, n02 = xc * xc + yc * yc + zc * zc, n03 = xd * xd + yd * yd;
+    const double n12 = (xc - 1.0) * (xc - 1.0) + yc * yc + zc * zc, n13 = (xd - 1.0) * (xd - 1.0) + yd * yd;
+    const double n23 = (xc - xd) * (xc - xd) + (yc - yd) * (yc - yd) + zc * zc;
+    const double longest_sq = cnn_cf_max(cnn_cf_max(cnn_cf_max(n01, n02), cnn_cf_max(n03, n12)), cnn_cf_max(n13, n23));
+    const double shortest_sq = cnn_cf_min(cnn_cf_min(cnn_cf_min(n01, n02), cnn_cf_min(n03, n12)), cnn_cf_min(n13, n23));
+    const double noise_sq = noise16 * noise16;
+    const double coincident_sq = cnn_cf_max(1e-20 * longest_sq, noise_sq);
+    const double flat_sq = cnn_cf_max(1e-24 * longest_sq, noise_sq) * longest_sq;
+    /* Twice the area: |(C - A) x (D - B)|. */
+    const double wx = yc * 0.0 - zc * yd, wy = zc * (xd - 1.0) - xc * 0.0, wz = xc * yd - yc * (xd - 1.0);
+    /* A corner of zero angle: next . prev > 0 and next x prev ~ 0. At A: next B = (1,0,0), prev D. */
+    const int fold_a = (xd > 0.0) & !(yd * yd > flat_sq);
+    /* At B: next C - B, prev A - B = (-1, 0, 0). */
+    const int fold_b = (-(xc - 1.0) > 0.0) & !(zc * zc + yc * yc > flat_sq);
+    /* At C: next D - C, prev B - C. */
+    const double ncdx = xd - xc, ncdy = yd - yc, ncdz = -zc, pcbx = 1.0 - xc, pcby = -yc, pcbz = -zc;
+    const double kcx = ncdy * pcbz - ncdz * pcby, kcy = ncdz * pcbx - ncdx * pcbz, kcz = ncdx * pcby - ncdy * pcbx;
+    const int fold_c = (ncdx * pcbx + ncdy * pcby + ncdz * pcbz > 0.0) & !(kcx * kcx + kcy * kcy + kcz * kcz > flat_sq);
+    /* At D: next A - D = -D, prev C - D. */
+    const double pdcx = xc - xd, pdcy = yc - yd, pdcz = zc;
+    const double kdx = -yd * pdcz, kdy = xd * pdcz, kdz = -xd * pdcy + yd * pdcx;
+    const int fold_d = (-xd * pdcx - yd * pdcy > 0.0) & !(kdx * kdx + kdy * kdy + kdz * kdz > flat_sq);
+    const int collapsed = !(longest_sq > 0.0) | !(shortest_sq > coincident_sq) |
+                          !(0.25 * (wx * wx + wy * wy + wz * wz) > flat_sq) | fold_a | fold_b | fold_c | fold_d;
+
+    double status;
+    bad = (frame_ok & !collapsed) ? 0.0 : 1.0;
+    f[0 * os] = xc;
+    f[1 * os] = yc;
+    f[2 * os] = zc;
+    f[3 * os] = xd;
+    f[4 * os] = yd;
+    f[5 * os] = xs;
+    f[6 * os] = ys;
+    f[7 * os] = zs;
+    if (gregory) {
+      /* 6. Node normals in the canonical order, rotated into the (oriented) frame. Front: n_z > max(1e-12, noise)
+       *    for the unit normal, i.e. w_z > min_nz |n| for the rotated one; all on the back side: all reversed. */
+      const double min_nz = cnn_cf_max(1e-12, noise16);
+      const double m_nz = min_nz * min_nz;
+      const double f3x = zsign * e3x, f3y = zsign * e3y, f3z = zsign * e3z;
+      const double c0x = t0 ? nax : t1 ? nbx : t2 ? ncx : ndx, c0y = t0 ? nay : t1 ? nby : t2 ? ncy : ndy,
+                   c0z = t0 ? naz : t1 ? nbz : t2 ? ncz : ndz;
+      const double r1x = t0 ? nbx : t1 ? ncx : t2 ? ndx : nax, r1y = t0 ? nby : t1 ? ncy : t2 ? ndy : nay,
+                   r1z = t0 ? nbz : t1 ? ncz : t2 ? ndz : naz;
+      const double c2x = t0 ? ncx : t1 ? ndx : t2 ? nax : nbx, c2y = t0 ? ncy : t1 ? ndy : t2 ? nay : nby,
+                   c2z = t0 ? ncz : t1 ? ndz : t2 ? naz : nbz;
+      const double r3x = t0 ? ndx : t1 ? nax : t2 ? nbx : ncx, r3y = t0 ? ndy : t1 ? nay : t2 ? nby : ncy,
+                   r3z = t0 ? ndz : t1 ? naz : t2 ? nbz : ncz;
+      const double c1x = mir ? r3x : r1x, c1y = mir ? r3y : r1y, c1z = mir ? r3z : r1z;
+      const double c3x = mir ? r1x : r3x, c3y = mir ? r1y : r3y, c3z = mir ? r1z : r3z;
+      const double l0 = c0x * c0x + c0y * c0y + c0z * c0z, l1 = c1x * c1x + c1y * c1y + c1z * c1z;
+      const double l2 = c2x * c2x + c2y * c2y + c2z * c2z, l3 = c3x * c3x + c3y * c3y + c3z * c3z;
+      const double w0x = e1x * c0x + e1y * c0y + e1z * c0z, w0y = e2x * c0x + e2y * c0y + e2z * c0z,
+                   w0z = f3x * c0x + f3y * c0y + f3z * c0z;
+      const double w1x = e1x * c1x + e1y * c1y + e1z * c1z, w1y = e2x * c1x + e2y * c1y + e2z * c1z,
+                   w1z = f3x * c1x + f3y * c1y + f3z * c1z;
+      const double w2x = e1x * c2x + e1y * c2y + e1z * c2z, w2y = e2x * c2x + e2y * c2y + e2z * c2z,
+                   w2z = f3x * c2x + f3y * c2y + f3z * c2z;
+      const double w3x = e1x * c3x + e1y * c3y + e1z * c3z, w3y = e2x * c3x + e2y * c3y + e2z * c3z,
+                   w3z = f3x * c3x + f3y * c3y + f3z * c3z;
+      const int away0 = w0z * w0z > m_nz * l0, away1 = w1z * w1z > m_nz * l1;
+      const int away2 = w2z * w2z > m_nz * l2, away3 = w3z * w3z > m_nz * l3;
+      const int front = (w0z > 0.0) & (w1z > 0.0) & (w2z > 0.0) & (w3z > 0.0) & away0 & away1 & away2 & away3;
+      const int back = (w0z < 0.0) & (w1z < 0.0) & (w2z < 0.0) & (w3z < 0.0) & away0 & away1 & away2 & away3;
+      const double side = back ? -1.0 : 1.0;
+      const double i0 = 1.0 / w0z, i1 = 1.0 / w1z, i2 = 1.0 / w2z, i3 = 1.0 / w3z;
+      bad = (front | back) ? bad : 1.0;
+      bad = ((l0 > 0.0) & (l1 > 0.0) & (l2 > 0.0) & (l3 > 0.0)) ? bad : 1.0;
+      rescale = ((l0 > 1e-100) & (l0 < 1e100) & (l1 > 1e-100) & (l1 < 1e100) & (l2 > 1e-100) & (l2 < 1e100) &
+                 (l3 > 1e-100) & (l3 < 1e100)) ? rescale : 1.0;
+      f[8 * os] = w0x * i0;
+      f[9 * os] = w0y * i0;
+      f[10 * os] = w1x * i1;
+      f[11 * os] = w1y * i1;
+      f[12 * os] = w2x * i2;
+      f[13 * os] = w2y * i2;
+      f[14 * os] = w3x * i3;
+      f[15 * os] = w3y * i3;
+      nrm[0 * os] = side * w0x;
+      nrm[1 * os] = side * w0y;
+      nrm[2 * os] = side * w0z;
+      nrm[3 * os] = side * w1x;
+      nrm[4 * os] = side * w1y;
+      nrm[5 * os] = side * w1z;
+      nrm[6 * os] = side * w2x;
+      nrm[7 * os] = side * w2y;
+      nrm[8 * os] = side * w2z;
+      nrm[9 * os] = side * w3x;
+      nrm[10 * os] = side * w3y;
+      nrm[11 * os] = side * w3z;
+    }
+    status = finite == 0.0 ? (bad != 0.0 ? (double)CNN_CF_STATUS_DEGENERATE : (double)CNN_CF_STATUS_OK)
+                           : (double)CNN_CF_STATUS_INVALID;
+    info[0 * os] = status;
+    info[1 * os] = rot + 4.0 * mirror;
+    info[2 * os] = (mir ? -1.0 : 1.0) * zsign;
+    info[3 * os] = scale;
+    info[4 * os] = rescale;
+  }
+}
+
+/* A lane whose magnitudes are extreme: the coordinates scaled by one power of two (exact), each normal by its
+ * own, then cnn_cf_lane. A difference of two world coordinates that overflows makes the lane degenerate. */
+static inline void cnn_cf_lane_scaled(const double* CNN_CF_RESTRICT in, int is, int gregory, double* CNN_CF_RESTRICT f,
+                                      double* CNN_CF_RESTRICT nrm, double* CNN_CF_RESTRICT info, int os) {
+  double x[27], m = 0.0;
+  int k, i, j, e = 0, overflow = 0;
+  const int count = gregory ? 27 : 15;
+  for (k = 0; k < count; ++k) x[k] = in[k * is];
+  for (i = 0; i < 5; ++i) {
+    for (j = i + 1; j < 5; ++j) {
+      for (k = 0; k < 3; ++k) overflow |= !(fabs(x[3 * i + k] - x[3 * j + k]) <= 1.7976931348623157e308);
+    }
+  }
+  for (k = 0; k < 15; ++k) m = cnn_cf_max(m, fabs(x[k]));
+  (void)frexp(m, &e);
+  for (k = 0; k < 15; ++k) x[k] = ldexp(x[k], -e);
+  for (i = 0; gregory && i < 4; ++i) {
+    double mn = 0.0;
+    int en = 0;
+    for (k = 0; k < 3; ++k) mn = cnn_cf_max(mn, fabs(x[15 + 3 * i + k]));
+    (void)frexp(mn, &en);
+    for (k = 0; k < 3; ++k) x[15 + 3 * i + k] = ldexp(x[15 + 3 * i + k], -en);
+  }
+  cnn_cf_lane(x, 1, gregory, f, nrm, info, os);
+  if (overflow && info[0] == (double)CNN_CF_STATUS_OK) info[0] = (double)CNN_CF_STATUS_DEGENERATE;
+  info[3 * os] = ldexp(info[3 * os], -e); /* 1 / |AB| of the coordinates as given */
+  info[4 * os] = 0.0;
+}
+
+/* The block: every lane in the vectorised pass, then the rare lanes that need scaling. `info` has 5 rows. */
+static inline void cnn_canonicalise_block(int n, int gregory, const double* CNN_CF_RESTRICT in, double* CNN_CF_RESTRICT f,
+                                          double* CNN_CF_RESTRICT nrm, double* CNN_CF_RESTRICT info) {
+  int l;
+  CNN_CF_IVDEP
+  for (l = 0; l < n; ++l) cnn_cf_lane(in + l, n, gregory, f + l, nrm + l, info + l, n);
+  for (l = 0; l < n; ++l) {
+    if (info[4 * n + l] != 0.0) cnn_cf_lane_scaled(in + l, n, gregory, f + l, nrm + l, info + l, n);
+  }
+}
+
+/* ---- The training domain (geometry::TrainingDomain::contains) ---- */
+
+/* Precomputed from a TrainingDomain with relative tolerance tol = 1e-9 (cnn_domain_init fills it). */
+struct cnn_domain {
+  double lo[16], hi[16];   /* feature_min - slack, feature_max + slack */
+  double xy, z;            /* xy_limit (1 + tol), z_limit (1 + tol) */
+  double ad_bound;         /* 1 + tol: |AD|^2 <= (1 + tol) |AB|^2, |AB| = 1 */
+  double inv_one_plus_tol; /* 1 / (1 + tol) */
+  double tol;
+  double cos_lo, cos_hi;   /* cosines of the relaxed angle bounds */
+  double tilt;             /* max_normal_tilt_tangent */
+  int features;            /* 8 or 16 */
+  int ad_not_longer, nearest_a, segment_test, convex;
+  int check_lo, check_hi;  /* angle bounds to test: 0 when the relaxed bound is outside (0, 180) degrees */
+};
+
+/* One lane: the status row code[0] becomes out_of_domain (5) where it is ok (0) and the configuration lies
+ * outside the domain. Every test is written as a violation, gathered by max into `loose` (the configuration
+ * fails when it is > 0: a non-strict inequality of the reference) or `strict` (fails when >= 0: a strict one),
+ * so that the lane is straight-line floating-point code. `angles` (0 or 1) says whether the domain bounds the
+ * interior angles (cnn_domain_block passes it as a constant). Angles are compared through their cosines,
+ * which agrees with the reference's atan2 form except within a few ulps of the relaxed bound. */
+CNN_CF_INLINE void cnn_domain_lane(const struct cnn_domain* CNN_CF_RESTRICT d, int gregory, int angles,
+                                   const double* CNN_CF_RESTRICT f, const double* CNN_CF_RESTRICT nrm, int s,
+                                   double* CNN_CF_RESTRICT code) {
+  /* Every field read up front: a load under a lane-dependent condition would not vectorise. */
+  const double tol = d->tol, xy = d->xy, zl = d->z, inv_1tol = d->inv_one_plus_tol;
+  const double cos_lo = d->cos_lo, cos_hi = d->cos_hi, tilt = d->tilt;
+  /* A filter that is off adds a violation that never fails. */
+  const double ad_off = d->ad_not_longer ? 0.0 : -1e300, nearest_off = d->nearest_a ? 0.0 : -1e300;
+  const double segment_off = d->segment_test ? 0.0 : -1e300, convex_off = d->convex ? 0.0 : -1e300;
+  const double lo_off = d->check_lo ? 0.0 : -1e300, hi_off = d->check_hi ? 0.0 : -1e300;
+  const double xc = f[0 * s], yc = f[1 * s], zc = f[2 * s], xd = f[3 * s], yd = f[4 * s];
+  const double xs = f[5 * s], ys = f[6 * s], zs = f[7 * s];
+  double loose = -1.0, strict = -1.0;
+  int k;
+  CNN_CF_UNROLL
+  for (k = 0; k < 8; ++k) loose = cnn_cf_max(loose, cnn_cf_max(d->lo[k] - f[k * s], f[k * s] - d->hi[k]));
+  if (gregory) {
+    CNN_CF_UNROLL
+    for (k = 8; k < 16; ++k) loose = cnn_cf_max(loose, cnn_cf_max(d->lo[k] - f[k * s], f[k * s] - d->hi[k]));
+  }
+  /* |x|, |y| of C, D, S below xy_limit (1 + tol); |z| of C and S below z_limit (1 + tol): strict. */
+  strict = cnn_cf_max(strict, cnn_cf_max(cnn_cf_max(fabs(xc), fabs(yc)), cnn_cf_max(fabs(xd), fabs(yd))) - xy);
+  strict = cnn_cf_max(strict, cnn_cf_max(fabs(xs), fabs(ys)) - xy);
+  strict = cnn_cf_max(strict, cnn_cf_max(fabs(zc), fabs(zs)) - zl);
+  /* |AD|^2 <= (1 + tol) |AB|^2 = 1 + tol. */
+  loose = cnn_cf_max(loose, (xd * xd + yd * yd - d->ad_bound) + ad_off);
+  {
+    /* A nearest: |S - A|^2 / (1 + tol) <= |S - X|^2 for X = B, C, D. */
+    const double to_a = (xs * xs + ys * ys + zs * zs) * inv_1tol;
+    const double to_b = (xs - 1.0) * (xs - 1.0) + ys * ys + zs * zs;
+    const double to_c = (xs - xc) * (xs - xc) + (ys - yc) * (ys - yc) + (zs - zc) * (zs - zc);
+    const double to_d = (xs - xd) * (xs - xd) + (ys - yd) * (ys - yd) + zs * zs;
+    loose = cnn_cf_max(loose, (to_a - cnn_cf_min(cnn_cf_min(to_b, to_c), to_d)) + nearest_off);
+  }
+  {
+    /* Eqs 3-6 at A with c1 = B - A = (1,0,0), c2 = D - A = (xd, yd, 0): r = (xs, ys, 0); strict (> -slack). */
+    const double r_len = sqrt(xs * xs + ys * ys);
+    const double lengths = r_len * sqrt(xd * xd + yd * yd);
+    strict = cnn_cf_max(strict, -fabs(yd) + segment_off);
+    strict = cnn_cf_max(strict, (-(ys * yd) - tol * lengths) + segment_off);
+    strict = cnn_cf_max(strict, (-(ys * (xs * yd - ys * xd)) - tol * lengths * r_len) + segment_off);
+  }
+  {
+    /* Corners of A (0,0,0), B (1,0,0), C, D (z = 0): next - X and prev - X. */
+    const double nx_[4] = {1.0, xc - 1.0, xd - xc, -xd}, ny_[4] = {0.0, yc, yd - yc, -yd}, nz_[4] = {0.0, zc, -zc, 0.0};
+    const double px_[4] = {xd, -1.0, 1.0 - xc, xc - xd}, py_[4] = {yd, 0.0, -yc, yc - yd}, pz_[4] = {0.0, 0.0, -zc, zc};
+    const double ref_sq = yd * yd; /* (B - A) x (D - A) = (0, 0, yd) */
+    int i;
+    CNN_CF_UNROLL
+    for (i = 0; i < 4; ++i) {
+      const double kx = ny_[i] * pz_[i] - nz_[i] * py_[i], ky = nz_[i] * px_[i] - nx_[i] * pz_[i],
+                   kz = nx_[i] * py_[i] - ny_[i] * px_[i];
+      const double next_sq = nx_[i] * nx_[i] + ny_[i] * ny_[i] + nz_[i] * nz_[i];
+      const double prev_sq = px_[i] * px_[i] + py_[i] * py_[i] + pz_[i] * pz_[i];
+      const double cross_sq = kx * kx + ky * ky + kz * kz;
+      {
+        /* (next x prev) . reference > -tol |next| |prev| |reference|: fails when along <= 0 and along^2 >=
+         * the slack squared. */
+        const double along = kz * yd;
+        strict = cnn_cf_max(strict, cnn_cf_min(-along, along * along - tol * tol * next_sq * prev_sq * ref_sq) + convex_off);
+      }
+      if (angles) {
+        /* cos(angle) = dot / h, h = |next| |prev| = sqrt(cross^2 + dot^2): angle >= lo <=> dot <= cos_lo h and
+         * angle <= hi <=> dot >= cos_hi h. */
+        const double dot = nx_[i] * px_[i] + ny_[i] * py_[i] + nz_[i] * pz_[i];
+        const double h = sqrt(cross_sq + dot * dot);
+        loose = cnn_cf_max(loose, (dot - cos_lo * h) + lo_off);
+        loose = cnn_cf_max(loose, (cos_hi * h - dot) + hi_off);
+      }
+      if (gregory) {
+        /* tan(angle(node normal, corner normal)) < tilt: corner . n > 0 and |corner x n| < tilt (corner . n) +
+         * tol |corner| |n|. */
+        const double mx = nrm[(3 * i) * s], my = nrm[(3 * i + 1) * s], mz = nrm[(3 * i + 2) * s];
+        const double cos_part = kx * mx + ky * my + kz * mz;
+        const double sx_ = ky * mz - kz * my, sy_ = kz * mx - kx * mz, sz_ = kx * my - ky * mx;
+        const double bound = tilt * cos_part + tol * sqrt(cross_sq * (mx * mx + my * my + mz * mz));
+        strict = cnn_cf_max(strict, cnn_cf_max(-cos_part, (sx_ * sx_ + sy_ * sy_ + sz_ * sz_) - bound * bound));
+      }
+    }
+  }
+  code[0] = (code[0] == (double)CNN_CF_STATUS_OK && !(loose <= 0.0 && strict < 0.0)) ? (double)CNN_CF_STATUS_OUT_OF_DOMAIN
+                                                                                      : code[0];
+}
+
+/* The block: status row `code` (n lanes) updated for every lane. */
+static inline void cnn_domain_block(int n, int gregory, const struct cnn_domain* CNN_CF_RESTRICT d,
+                                    const double* CNN_CF_RESTRICT f, const double* CNN_CF_RESTRICT nrm,
+                                    double* CNN_CF_RESTRICT code) {
+  int l;
+  if (d->check_lo || d->check_hi) {
+    CNN_CF_IVDEP
+    for (l = 0; l < n; ++l) cnn_domain_lane(d, gregory, 1, f + l, nrm + l, n, code + l);
+  } else {
+    CNN_CF_IVDEP
+    for (l = 0; l < n; ++l) cnn_domain_lane(d, gregory, 0, f + l, nrm + l, n, code + l);
+  }
+}
+
+#endif /* CONTACTNN_CANONICAL_FRAME_H */

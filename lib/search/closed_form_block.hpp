@@ -1,0 +1,83 @@
+// Internal to lib/search: the closed-form estimate on a bilinear facet, for the W lanes of a block.
+//
+// S is projected onto the plane through the facet's centre a0 spanned by its centre tangents a1 = P_xi(0,0)
+// and a2 = P_eta(0,0), whose normal n = a1 x a2 is parallel to the diagonals' cross product (C - A) x (D - B).
+// That plane, rather than the plane of A, B, D, treats the four nodes alike (the estimate does not depend on
+// the node order) and stays well defined when the angle at A is near 0 or 180 degrees; for a flat facet both
+// are the facet's own plane and the estimate is exact.
+// In the plane, q = xi a1 + eta a2 + xi eta a3 (q = S - a0, every vector projected along n) is solved as the
+// inverse bilinear map: with [x, y] = n . (x x y), which is the same for a vector and its projection,
+//   k2 eta^2 + k1 eta + k0 = 0,  k2 = [a3, a2],  k1 = [q, a3] + [a1, a2],  k0 = [q, a1],
+// then xi by least squares along w = a1 + eta a3. The roots come from the stable form Q = -(k1 + sign(k1)
+// sqrt(disc)) / 2, eta = k0 / Q and Q / k2: a parallelogram (k2 = 0) gives the linear root k0 / Q without a
+// division by ~0, the other root being infinite and rejected. Of the two, the one nearer the domain (smaller
+// max(|xi|, |eta|)) is taken: inside the domain when either is.
+// Statuses: ok or outside by the domain; no_convergence when the discriminant is negative (the projected
+// point lies beyond the fold of the map: the discriminant is taken as 0 and the nearer of the two roots
+// above reported, a finite estimate that Newton can refine); degenerate when the facet has no plane
+// (|a1 x a2| <= 1e-12 |a1| |a2|) or no root is finite.
+#pragma once
+
+#include <cmath>
+
+#include "search/newton_block.hpp"
+
+namespace contactnn::search::detail {
+
+template <int W>
+void closed_form(const BilinearBlock<W>& b, LaneState<W>& s) {
+  CONTACTNN_LANES
+  for (int l = 0; l < W; ++l) {
+    double a0[3], a1[3], a2[3], a3[3];
+    CONTACTNN_UNROLL
+    for (int c = 0; c < 3; ++c) {
+      a0[c] = b.a[c][l];
+      a1[c] = b.a[3 + c][l];
+      a2[c] = b.a[6 + c][l];
+      a3[c] = b.a[9 + c][l];
+    }
+    const double q[3] = {-a0[0], -a0[1], -a0[2]};
+    const double n[3] = {a1[1] * a2[2] - a1[2] * a2[1], a1[2] * a2[0] - a1[0] * a2[2], a1[0] * a2[1] - a1[1] * a2[0]};
+    const double nn = n[0] * n[0] + n[1] * n[1] + n[2] * n[2];
+    const auto triple = [&n](const double* x, const double* y) {
+      return n[0] * (x[1] * y[2] - x[2] * y[1]) + n[1] * (x[2] * y[0] - x[0] * y[2]) + n[2] * (x[0] * y[1] - x[1] * y[0]);
+    };
+    const double k2 = triple(a3, a2), k1 = triple(q, a3) + nn, k0 = triple(q, a1);
+    const double disc_raw = k1 * k1 - 4.0 * k2 * k0;
+    const bool fold = disc_raw < 0.0;
+    const double root = std::sqrt(fold ? 0.0 : disc_raw);
+    const double big_q = -0.5 * (k1 + (k1 >= 0.0 ? root : -root));
+    const double eta1 = k0 / big_q, eta2 = big_q / k2;
+    // q and a3 projected onto the plane (a1 and a2 lie in it).
+    const double inv_nn = 1.0 / nn;
+    const double qn = (q[0] * n[0] + q[1] * n[1] + q[2] * n[2]) * inv_nn;
+    const double an = (a3[0] * n[0] + a3[1] * n[1] + a3[2] * n[2]) * inv_nn;
+    double xi[2];
+    const double eta[2] = {eta1, eta2};
+    CONTACTNN_UNROLL
+    for (int r = 0; r < 2; ++r) {
+      double num = 0.0, den = 0.0;
+      CONTACTNN_UNROLL
+      for (int c = 0; c < 3; ++c) {
+        const double w = a1[c] + eta[r] * (a3[c] - an * n[c]);
+        num += (q[c] - qn * n[c] - eta[r] * a2[c]) * w;
+        den += w * w;
+      }
+      xi[r] = num / den;
+    }
+    const double score1 = max_of(std::fabs(xi[0]), std::fabs(eta1));
+    const double score2 = max_of(std::fabs(xi[1]), std::fabs(eta2));
+    const bool ok1 = is_finite(score1), ok2 = is_finite(score2);
+    const bool first = ok1 & (!ok2 | (score1 <= score2));
+    const double a1_sq = a1[0] * a1[0] + a1[1] * a1[1] + a1[2] * a1[2];
+    const double a2_sq = a2[0] * a2[0] + a2[1] * a2[1] + a2[2] * a2[2];
+    const bool flat = !(nn > 1e-24 * a1_sq * a2_sq);
+    const bool degenerate = flat | !(ok1 | ok2);
+    const bool active = s.status[l] == kOk;
+    s.u[l] = active & !degenerate ? (first ? xi[0] : xi[1]) : s.u[l];
+    s.v[l] = active & !degenerate ? (first ? eta1 : eta2) : s.v[l];
+    s.status[l] = !active ? s.status[l] : (degenerate ? kDegenerate : (fold ? kNoConvergence : kOk));
+  }
+}
+
+}  // namespace contactnn::search::detail

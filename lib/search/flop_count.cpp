@@ -1,0 +1,82 @@
+#include "search/flop_count.hpp"
+
+#include "core/error.hpp"
+
+namespace contactnn::search {
+
+namespace {
+
+// canonical_frame.h, cnn_cf_lane, per query. Finite test 15 x (mul + add); S - X 12; |S - X|^2 4 x 5; the
+// nearest-node tie 6; the two edges 6 and their lengths 12, reciprocals 2; the |AB| = |AD| tie (two cross
+// products 18, two lengths 14, the ties 6) 38; frame: e1 3, normal 9, its square 5, thresholds 3, Gram-Schmidt
+// 11, normalisation 7, e2 9; C, D, S into the frame 51; orientation 2; collapsed-segment test (six squared
+// distances 25, noise 5, area 15, four corner folds 40) 85; scale 1.
+constexpr double kCanonical = 29 + 12 + 20 + 6 + 6 + 12 + 2 + 38 + 3 + 9 + 5 + 3 + 11 + 7 + 9 + 51 + 2 + 85 + 1;
+// Gregory normals: finite test 24, squared lengths 20, rotation 4 x 3 x 5 = 60, side tests 12, slopes (4
+// divisions, 8 multiplies) 12, oriented copies 12.
+constexpr double kCanonicalNormals = 24 + 20 + 60 + 12 + 12 + 12;
+// cnn_domain_lane: feature ranges 2 per feature; limits 3; |AD| 4; nearest node 28; segment test (2 square
+// roots) 14; four corners of cross products and the convexity test 4 x 31.
+constexpr double kDomainPerFeature = 2;
+constexpr double kDomain = 3 + 4 + 28 + 14 + 4 * 31;
+// Angle bounds 4 x 13 (a square root each); node-normal tilts 4 x 32 (a square root each).
+constexpr double kDomainAngles = 4 * 13;
+constexpr double kDomainTilts = 4 * 32;
+// network_block.hpp: input scaling 3 per input (double); output scaling 3 per output and the map back 4
+// (double); per unit the threshold 1 and 2 per weight; the sigmoid 27 (-gain u 1, exp's reduction 7 and
+// polynomial 15, the scaling multiply 1, 1 + e 1, the division 1, clamps not counted).
+constexpr double kInputScaling = 3, kOutputScaling = 3, kMapBack = 4, kSigmoid = 27;
+// surface_block.hpp: the queries relative to S (finite test 2 per value, 12 differences).
+constexpr double kRelativePerValue = 2, kRelative = 12;
+// Bilinear: coefficients a0..a3 48. One lean Newton step: evaluation 31, residual and Jacobian 33, solve
+// (determinant 3, reciprocal 1, step 8) 12, update and checks 7.
+constexpr double kBilinearBuild = 48, kBilinearStep = 31 + 33 + 12 + 7;
+// Closed form: q, n, |n|^2 17; three triple products 43; discriminant, root and the two roots 11; the plane
+// projections 13; xi for each root 2 x 33; the degeneracy test 12.
+constexpr double kClosedForm = 17 + 43 + 11 + 13 + 66 + 12;
+// Gregory patch (GregoryBlock::build): unit normals 4 x 14; longest distance 48; per node the projected edges
+// and their tests 49 (x 4); edge points 48; per edge the interior points 131 (x 4); base and delta 12.
+constexpr double kGregoryBuild = 56 + 48 + 4 * 49 + 48 + 4 * 131 + 12;
+// One Gregory evaluation with second derivatives: Bernstein values 54, tensor part 396, rational part 4 x 85;
+// the Newton system 45 and its solve and checks 19.
+constexpr double kGregoryEval = 54 + 396 + 340, kGregoryStep = kGregoryEval + 45 + 19;
+// The safeguarded step on top of the evaluation: both determinants, the step cap, the acceptance test 16.
+constexpr double kSafeguard = 16;
+
+}  // namespace
+
+FlopCount flops_per_query(SurfaceKind kind, const Method& method, const NetworkModel* network, double newton_steps) {
+  const bool gregory = kind == SurfaceKind::kGregory;
+  FlopCount count;
+  double& d = count.in_double;
+  const double build = gregory ? kGregoryBuild : kBilinearBuild;
+  const double step = gregory ? kGregoryStep : kBilinearStep;
+  const double eval = gregory ? kGregoryEval : 31.0;
+  const double relative = kRelative + kRelativePerValue * (gregory ? 27 : 15);
+  if (method.start == Method::Start::kNetwork) {
+    CONTACTNN_REQUIRE(network != nullptr, "flops of " << method.name() << " need its network");
+    const int n_features = feature_count(kind);
+    d += kCanonical + (gregory ? kCanonicalNormals : 0.0);
+    d += kDomain + kDomainPerFeature * n_features + (gregory ? kDomainTilts : 0.0);
+    const geometry::DomainFilters& f = network->domain().filters;
+    if (f.min_angle_degrees > 0.0 || f.max_angle_degrees < 180.0) d += kDomainAngles;
+    d += kInputScaling * n_features + kOutputScaling * 2 + kMapBack;
+    double net = 0.0;
+    const auto& sizes = network->layer_sizes();
+    for (std::size_t l = 0; l + 1 < sizes.size(); ++l) net += sizes[l + 1] * (1.0 + 2.0 * sizes[l] + kSigmoid);
+    (network->is_float() ? count.in_float : d) += net;
+  } else {
+    d += relative + build;
+    if (method.start == Method::Start::kClosedForm) d += kClosedForm;
+  }
+  if (method.is_hybrid()) {
+    // The network's start needs the surface too; then one evaluation at the start and one per step.
+    if (method.start == Method::Start::kNetwork) d += relative + build;
+    d += eval + method.newton_steps * (step + kSafeguard);
+  } else if (method.start == Method::Start::kCentre) {
+    d += (method.to_convergence ? newton_steps : method.newton_steps) * step;
+  }
+  return count;
+}
+
+}  // namespace contactnn::search

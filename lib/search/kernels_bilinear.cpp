@@ -1,0 +1,11 @@
+// The bilinear instantiations of the block kernels (a file of their own: they take a while to compile).
+#include "search/search_kernel.hpp"
+
+namespace contactnn::search::detail {
+
+void select_bilinear_kernels(Plan& plan) {
+  select_block_kernels<false>(plan);
+  select_single_kernels(plan);
+}
+
+}  // namespace contactnn::search::detail

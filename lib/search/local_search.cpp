@@ -1,0 +1,90 @@
+#include "search/local_search.hpp"
+
+#include <omp.h>
+
+#include <type_traits>
+
+#include "core/error.hpp"
+#include "search/search_plan.hpp"
+
+namespace contactnn::search {
+
+LocalSearch::LocalSearch(SurfaceKind kind, Method method, SearchOptions options, const NetworkModel* network) {
+  CONTACTNN_REQUIRE(method.newton_steps >= 0, "method " << method.name() << ": newton_steps = " << method.newton_steps
+                                                        << ", expected >= 0");
+  CONTACTNN_REQUIRE(!(method.start == Method::Start::kClosedForm && kind == SurfaceKind::kGregory),
+                    "method " << method.name() << " exists for bilinear segments only, not gregory");
+  CONTACTNN_REQUIRE(!method.to_convergence || method.start == Method::Start::kCentre,
+                    "Newton to convergence starts from the centre; got start " << method.name());
+  if (method.needs_network()) {
+    CONTACTNN_REQUIRE(network != nullptr, "method " << method.name() << " needs a network");
+    CONTACTNN_REQUIRE(network->surface() == kind, "method " << method.name() << " on " << to_string(kind)
+                                                            << " segments got a " << to_string(network->surface())
+                                                            << " network");
+  }
+  CONTACTNN_REQUIRE(options.max_iterations >= 1, "max_iterations = " << options.max_iterations << ", expected >= 1");
+  CONTACTNN_REQUIRE(options.tol_param >= 0.0, "tol_param = " << options.tol_param << ", expected >= 0");
+  CONTACTNN_REQUIRE(options.domain_margin >= 0.0, "domain_margin = " << options.domain_margin << ", expected >= 0");
+  CONTACTNN_REQUIRE(options.gregory_box_margin >= 0.0 && options.bilinear_box_margin >= 0.0,
+                    "box margins must be >= 0, got gregory " << options.gregory_box_margin << ", bilinear "
+                                                             << options.bilinear_box_margin);
+  CONTACTNN_REQUIRE(options.max_step_widths > 0.0, "max_step_widths = " << options.max_step_widths << ", expected > 0");
+  CONTACTNN_REQUIRE(options.max_halvings >= 0, "max_halvings = " << options.max_halvings << ", expected >= 0");
+
+  auto plan = std::make_shared<detail::Plan>();
+  plan->kind = kind;
+  plan->method = method;
+  plan->options = options;
+  plan->network = method.needs_network() ? network : nullptr;
+  const ParamDomain d = param_domain(kind);
+  const double width = d.hi - d.lo;
+  const double box = kind == SurfaceKind::kGregory ? options.gregory_box_margin : options.bilinear_box_margin;
+  plan->guards = detail::Safeguards{d.lo - box * width, d.hi + box * width, options.max_step_widths * width,
+                                    options.tol_param, options.max_halvings};
+  plan->inside_lo = d.lo - options.domain_margin;
+  plan->inside_hi = d.hi + options.domain_margin;
+  if (kind == SurfaceKind::kGregory) {
+    detail::select_gregory_kernels(*plan);
+  } else {
+    detail::select_bilinear_kernels(*plan);
+  }
+  plan_ = std::move(plan);
+}
+
+SurfaceKind LocalSearch::surface() const { return plan_->kind; }
+const Method& LocalSearch::method() const { return plan_->method; }
+const SearchOptions& LocalSearch::options() const { return plan_->options; }
+const NetworkModel* LocalSearch::network() const { return plan_->network; }
+int LocalSearch::block_size() const { return plan_->block_size; }
+
+template <class Real>
+void LocalSearch::run(std::size_t count, const Real* raw, Results<Real> out, int threads) const {
+  if (count == 0) return;
+  CONTACTNN_REQUIRE(raw != nullptr && out.param != nullptr && out.status != nullptr,
+                    "LocalSearch::run: raw, out.param and out.status must not be null for " << count << " queries");
+  const detail::Plan& plan = *plan_;
+  detail::BlockFn<Real> block, single;
+  if constexpr (std::is_same_v<Real, float>) {
+    block = plan.block_f;
+    single = plan.single_f;
+  } else {
+    block = plan.block_d;
+    single = plan.single_d;
+  }
+  const auto width = static_cast<std::size_t>(plan.block_size);
+  const std::size_t blocks = count / width;
+  const int team = threads > 0 ? threads : omp_get_max_threads();
+  if (team > 1 && blocks >= 2 && count >= plan.options.min_parallel_count) {
+    const auto n = static_cast<std::ptrdiff_t>(blocks);
+#pragma omp parallel for num_threads(team) schedule(static)
+    for (std::ptrdiff_t b = 0; b < n; ++b) block(plan, raw, out, static_cast<std::size_t>(b) * width);
+  } else {
+    for (std::size_t b = 0; b < blocks; ++b) block(plan, raw, out, b * width);
+  }
+  for (std::size_t i = blocks * width; i < count; ++i) single(plan, raw, out, i);
+}
+
+template void LocalSearch::run<float>(std::size_t, const float*, Results<float>, int) const;
+template void LocalSearch::run<double>(std::size_t, const double*, Results<double>, int) const;
+
+}  // namespace contactnn::search

@@ -1,0 +1,53 @@
+#include "search/method.hpp"
+
+#include <charconv>
+
+#include "core/error.hpp"
+
+namespace contactnn::search {
+
+namespace {
+
+constexpr std::string_view kForms =
+    "expected one of: network, newton, newton:K, closed_form, network+newton:K, closed_form+newton:K "
+    "(K an integer >= 0)";
+
+/// The K of "...newton:K": a non-negative decimal integer filling the whole of `text`.
+int parse_steps(std::string_view text, std::string_view whole) {
+  int k = -1;
+  const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), k);
+  CONTACTNN_REQUIRE(error == std::errc() && end == text.data() + text.size() && k >= 0 && !text.empty(),
+                    "method '" << whole << "': '" << text << "' is not a step count >= 0; " << kForms);
+  return k;
+}
+
+}  // namespace
+
+Method Method::parse(std::string_view name) {
+  if (name == "network") return Method{Start::kNetwork, 0, false};
+  if (name == "closed_form") return Method{Start::kClosedForm, 0, false};
+  if (name == "newton") return Method{Start::kCentre, 0, true};
+  constexpr std::string_view kNewton = "newton:";
+  constexpr std::string_view kNetworkNewton = "network+newton:";
+  constexpr std::string_view kClosedNewton = "closed_form+newton:";
+  if (name.starts_with(kNewton)) return Method{Start::kCentre, parse_steps(name.substr(kNewton.size()), name), false};
+  if (name.starts_with(kNetworkNewton)) {
+    return Method{Start::kNetwork, parse_steps(name.substr(kNetworkNewton.size()), name), false};
+  }
+  if (name.starts_with(kClosedNewton)) {
+    return Method{Start::kClosedForm, parse_steps(name.substr(kClosedNewton.size()), name), false};
+  }
+  throw InvalidArgument("unknown local-search method '" + std::string(name) + "'; " + std::string(kForms));
+}
+
+std::string Method::name() const {
+  const std::string k = std::to_string(newton_steps);
+  switch (start) {
+    case Start::kCentre: return to_convergence ? "newton" : "newton:" + k;
+    case Start::kNetwork: return newton_steps == 0 ? "network" : "network+newton:" + k;
+    case Start::kClosedForm: return newton_steps == 0 ? "closed_form" : "closed_form+newton:" + k;
+  }
+  return "unknown";
+}
+
+}  // namespace contactnn::search

@@ -1,0 +1,279 @@
+// Internal to lib/search: Newton's method on paper Eqs 7-8 for the W lanes of a block, on a surface block of
+// surface_block.hpp (slave node at the origin, the caller's own segment and parameters: SPEC 8). Three forms:
+//  - lean_newton: K undamped steps, as an explicit FE code runs them (the fair baseline);
+//  - converged_newton: undamped steps until the step is below a tolerance (an FE code's "to convergence");
+//  - safeguarded_newton: the hybrids' refinement of an estimate, kept in a box, with step control.
+// Each lane runs independently: a lane that stops keeps its iterate and status while the others go on, so a
+// lane's result is the same in any block, at any position, with any neighbours.
+#pragma once
+
+#include <cmath>
+#include <limits>
+
+#include "search/surface_block.hpp"
+
+namespace contactnn::search::detail {
+
+/// Per-lane state of a block: the iterate in the caller's parameters, the status (kOk while running) and
+/// the Newton steps taken.
+template <int W>
+struct LaneState {
+  double u[W], v[W];
+  double status[W];
+  double iterations[W];
+};
+
+/// 1 when any flag is non-zero, else 0: an integer OR over the lanes (vectorised, unlike a floating-point
+/// reduction, which GCC must do in order).
+template <int W>
+CONTACTNN_SEARCH_INLINE double any_of(const double* flags) {
+  int any = 0;
+  for (int l = 0; l < W; ++l) any |= flags[l] != 0.0 ? 1 : 0;
+  return any != 0 ? 1.0 : 0.0;
+}
+
+/// Residual r_i = P_i.(S - P) and the exact Jacobian H_ij = P_i.P_j - P_ij.(S - P) of Eqs 7-8 (Newton's update
+/// solves H dp = r), with S at the origin; G = P_i.P_j is the Gauss-Newton part.
+struct NewtonSystem {
+  double r0, r1, g00, g01, g11, h00, h01, h11;
+};
+
+template <bool kPureSecond>
+CONTACTNN_SEARCH_INLINE NewtonSystem newton_system(const Eval& e) {
+  NewtonSystem q;
+  const double* p = e.p;
+  q.r0 = -(e.ps[0] * p[0] + e.ps[1] * p[1] + e.ps[2] * p[2]);
+  q.r1 = -(e.pt[0] * p[0] + e.pt[1] * p[1] + e.pt[2] * p[2]);
+  q.g00 = e.ps[0] * e.ps[0] + e.ps[1] * e.ps[1] + e.ps[2] * e.ps[2];
+  q.g01 = e.ps[0] * e.pt[0] + e.ps[1] * e.pt[1] + e.ps[2] * e.pt[2];
+  q.g11 = e.pt[0] * e.pt[0] + e.pt[1] * e.pt[1] + e.pt[2] * e.pt[2];
+  // S - P = -P: H = G + P_ij . P.
+  q.h01 = q.g01 + (e.pst[0] * p[0] + e.pst[1] * p[1] + e.pst[2] * p[2]);
+  if constexpr (kPureSecond) {
+    q.h00 = q.g00 + (e.pss[0] * p[0] + e.pss[1] * p[1] + e.pss[2] * p[2]);
+    q.h11 = q.g11 + (e.ptt[0] * p[0] + e.ptt[1] * p[1] + e.ptt[2] * p[2]);
+  } else {
+    q.h00 = q.g00;
+    q.h11 = q.g11;
+  }
+  return q;
+}
+
+/// Lean Newton: `steps` undamped steps H dp = r from the lanes' iterates. A lane stops early, keeping its last
+/// iterate, with status degenerate when det H = 0 (as projection::newton_fixed_iterations stops) or
+/// no_convergence when the step is not finite. No line search, no box, no convergence test.
+template <class Surf, int W>
+void lean_newton(const Surf& surf, int steps, LaneState<W>& s) {
+  for (int k = 0; k < steps; ++k) {
+    CONTACTNN_LANES
+    for (int l = 0; l < W; ++l) {
+      Eval e;
+      surf.template eval<true>(l, s.u[l], s.v[l], e);
+      const NewtonSystem q = newton_system<Surf::kHasPureSecond>(e);
+      const double det = q.h00 * q.h11 - q.h01 * q.h01;
+      const double inv = 1.0 / det;
+      const double du = (q.h11 * q.r0 - q.h01 * q.r1) * inv;
+      const double dv = (q.h00 * q.r1 - q.h01 * q.r0) * inv;
+      const bool active = s.status[l] == kOk;
+      const bool singular = det == 0.0;
+      const bool finite = is_finite(du) & is_finite(dv);
+      const bool take = active & !singular & finite;
+      s.u[l] = take ? s.u[l] + du : s.u[l];
+      s.v[l] = take ? s.v[l] + dv : s.v[l];
+      s.iterations[l] += take ? 1.0 : 0.0;
+      s.status[l] = (active & singular) ? kDegenerate : ((active & !singular & !finite) ? kNoConvergence : s.status[l]);
+    }
+  }
+}
+
+/// Undamped Newton until the step (max norm) is at most `tol` or `max_iterations` steps: statuses as
+/// lean_newton, and no_convergence for a lane still moving after the last step.
+template <class Surf, int W>
+void converged_newton(const Surf& surf, int max_iterations, double tol, LaneState<W>& s) {
+  double running[W];
+  for (int l = 0; l < W; ++l) running[l] = s.status[l] == kOk ? 1.0 : 0.0;
+  for (int k = 0; k < max_iterations; ++k) {
+    double any = 0.0;
+    CONTACTNN_LANES
+    for (int l = 0; l < W; ++l) {
+      Eval e;
+      surf.template eval<true>(l, s.u[l], s.v[l], e);
+      const NewtonSystem q = newton_system<Surf::kHasPureSecond>(e);
+      const double det = q.h00 * q.h11 - q.h01 * q.h01;
+      const double inv = 1.0 / det;
+      const double du = (q.h11 * q.r0 - q.h01 * q.r1) * inv;
+      const double dv = (q.h00 * q.r1 - q.h01 * q.r0) * inv;
+      const bool active = running[l] != 0.0;
+      const bool singular = det == 0.0;
+      const bool finite = is_finite(du) & is_finite(dv);
+      const bool take = active & !singular & finite;
+      const double size = max_of(std::fabs(du), std::fabs(dv));
+      s.u[l] = take ? s.u[l] + du : s.u[l];
+      s.v[l] = take ? s.v[l] + dv : s.v[l];
+      s.iterations[l] += take ? 1.0 : 0.0;
+      s.status[l] = (active & singular) ? kDegenerate : ((active & !singular & !finite) ? kNoConvergence : s.status[l]);
+      running[l] = (take & !(size <= tol)) ? 1.0 : 0.0;
+    }
+    any = any_of<W>(running);
+    if (any == 0.0) return;
+  }
+  for (int l = 0; l < W; ++l) s.status[l] = running[l] != 0.0 ? kNoConvergence : s.status[l];
+}
+
+/// The box and step control of the hybrids (SearchOptions).
+struct Safeguards {
+  double lo, hi;       ///< iterates stay in [lo, hi]^2
+  double max_step;     ///< parameter units, max norm
+  double tol;          ///< a step this short ends the lane (converged)
+  int max_halvings;    ///< halvings of a step that does not reduce |S - P|
+};
+
+/// Surface values at the current iterate of every lane, kept between steps. kPureSecond false (the bilinear
+/// facet): P_ss = P_tt = 0 are neither stored nor loaded.
+template <int W, bool kPureSecond>
+struct EvalStore {
+  double p[3][W], ps[3][W], pt[3][W], pst[3][W];
+  double pss[kPureSecond ? 3 : 1][W], ptt[kPureSecond ? 3 : 1][W];
+  double f[W];     ///< |S - P|^2
+  double dist[W];  ///< |S - P|
+
+  CONTACTNN_SEARCH_INLINE void load(int l, Eval& e) const {
+    CONTACTNN_UNROLL
+    for (int c = 0; c < 3; ++c) {
+      e.p[c] = p[c][l];
+      e.ps[c] = ps[c][l];
+      e.pt[c] = pt[c][l];
+      e.pst[c] = pst[c][l];
+      if constexpr (kPureSecond) {
+        e.pss[c] = pss[c][l];
+        e.ptt[c] = ptt[c][l];
+      }
+    }
+  }
+  /// Stores e for lane l where `take`, leaves the lane as it is otherwise.
+  CONTACTNN_SEARCH_INLINE void store_if(int l, bool take, const Eval& e, double f_new) {
+    CONTACTNN_UNROLL
+    for (int c = 0; c < 3; ++c) {
+      p[c][l] = take ? e.p[c] : p[c][l];
+      ps[c][l] = take ? e.ps[c] : ps[c][l];
+      pt[c][l] = take ? e.pt[c] : pt[c][l];
+      pst[c][l] = take ? e.pst[c] : pst[c][l];
+      if constexpr (kPureSecond) {
+        pss[c][l] = take ? e.pss[c] : pss[c][l];
+        ptt[c][l] = take ? e.ptt[c] : ptt[c][l];
+      }
+    }
+    f[l] = take ? f_new : f[l];
+    dist[l] = take ? std::sqrt(f_new) : dist[l];
+  }
+};
+
+CONTACTNN_SEARCH_INLINE double clamp_to(double x, double lo, double hi) {
+  x = x > hi ? hi : x;
+  return x < lo ? lo : x;
+}
+
+/// The hybrids' refinement: from each lane's estimate (clamped into the box), `steps` Newton steps with the
+/// exact Jacobian where it is positive definite and the Gauss-Newton step (downhill on |S - P|^2) where it is
+/// not; a step is shortened to max_step, clamped into the box, and accepted when |S - P| does not grow by more
+/// than the rounding of the positions (noise[l], a length); otherwise halved up to max_halvings times, after
+/// which the lane stops with status no_convergence and keeps its previous iterate. A step shorter than `tol`
+/// ends the lane (converged). Both systems singular: degenerate. A lane ending on the box's edge is not at a
+/// stationary point inside the box: no_convergence. `store` holds the surface at each lane's final iterate.
+template <class Surf, int W>
+void safeguarded_newton(const Surf& surf, int steps, const Safeguards& g, const double* noise, LaneState<W>& s,
+                        EvalStore<W, Surf::kHasPureSecond>& store) {
+  // The settings as locals: a field read under a lane-dependent condition becomes a masked load of an invariant,
+  // which GCC 12 does not vectorise.
+  const double lo = g.lo, hi = g.hi, max_step = g.max_step, tol = g.tol;
+  double running[W], pending[W], tu[W], tv[W], tiny[W];
+  CONTACTNN_LANES
+  for (int l = 0; l < W; ++l) {
+    s.u[l] = clamp_to(s.u[l], lo, hi);
+    s.v[l] = clamp_to(s.v[l], lo, hi);
+    Eval e;
+    surf.template eval<true>(l, s.u[l], s.v[l], e);
+    const double f = e.p[0] * e.p[0] + e.p[1] * e.p[1] + e.p[2] * e.p[2];
+    store.store_if(l, true, e, f);
+    running[l] = s.status[l] == kOk ? 1.0 : 0.0;
+  }
+  for (int k = 0; k < steps; ++k) {
+    double any_pending = 0.0;
+    CONTACTNN_LANES
+    for (int l = 0; l < W; ++l) {
+      Eval e;
+      store.load(l, e);
+      const NewtonSystem q = newton_system<Surf::kHasPureSecond>(e);
+      const double scale = q.g00 + q.g11;
+      const double floor = 1e-24 * scale * scale;
+      const double det_h = q.h00 * q.h11 - q.h01 * q.h01;
+      const double det_g = q.g00 * q.g11 - q.g01 * q.g01;
+      const bool exact = (q.h00 > 0.0) & (det_h > floor);
+      const double a = exact ? q.h00 : q.g00, b = exact ? q.h01 : q.g01, c = exact ? q.h11 : q.g11;
+      const double inv = 1.0 / (exact ? det_h : det_g);
+      double du = (c * q.r0 - b * q.r1) * inv;
+      double dv = (a * q.r1 - b * q.r0) * inv;
+      const bool singular = !exact & !(det_g > floor);
+      const double size = max_of(std::fabs(du), std::fabs(dv));
+      const double shrink = size > max_step ? max_step / size : 1.0;
+      du *= shrink;
+      dv *= shrink;
+      const bool active = running[l] != 0.0;
+      s.status[l] = (active & singular) ? kDegenerate : s.status[l];
+      const bool go = active & !singular & is_finite(du) & is_finite(dv);
+      tu[l] = go ? clamp_to(s.u[l] + du, lo, hi) : s.u[l];
+      tv[l] = go ? clamp_to(s.v[l] + dv, lo, hi) : s.v[l];
+      tiny[l] = size <= tol ? 1.0 : 0.0;
+      s.status[l] = (active & !singular & !go) ? kNoConvergence : s.status[l];
+      running[l] = go ? 1.0 : 0.0;
+      pending[l] = running[l];
+    }
+    // Reductions over lanes in loops of their own: inside a lane loop they would stop its vectorisation.
+    any_pending = any_of<W>(pending);
+    for (int h = 0; h <= g.max_halvings && any_pending != 0.0; ++h) {
+      any_pending = 0.0;
+      CONTACTNN_LANES
+      for (int l = 0; l < W; ++l) {
+        Eval e;
+        surf.template eval<true>(l, tu[l], tv[l], e);
+        const double f = e.p[0] * e.p[0] + e.p[1] * e.p[1] + e.p[2] * e.p[2];
+        const double reach = noise[l] * (2.0 * store.dist[l] + noise[l]);
+        const bool wait = pending[l] != 0.0;
+        const bool accept = wait & ((f <= store.f[l] + reach) | (tiny[l] != 0.0));
+        store.store_if(l, accept, e, f);
+        s.u[l] = accept ? tu[l] : s.u[l];
+        s.v[l] = accept ? tv[l] : s.v[l];
+        s.iterations[l] += accept ? 1.0 : 0.0;
+        const bool again = wait & !accept;
+        tu[l] = again ? s.u[l] + 0.5 * (tu[l] - s.u[l]) : tu[l];
+        tv[l] = again ? s.v[l] + 0.5 * (tv[l] - s.v[l]) : tv[l];
+        pending[l] = again ? 1.0 : 0.0;
+      }
+      any_pending = any_of<W>(pending);
+    }
+    CONTACTNN_LANES
+    for (int l = 0; l < W; ++l) {
+      const bool rejected = pending[l] != 0.0;
+      s.status[l] = rejected ? kNoConvergence : s.status[l];
+      running[l] = ((running[l] != 0.0) & !rejected & (tiny[l] == 0.0)) ? 1.0 : 0.0;
+    }
+    if (any_of<W>(running) == 0.0) break;
+  }
+  CONTACTNN_LANES
+  for (int l = 0; l < W; ++l) {
+    const bool pinned = (s.u[l] == lo) | (s.u[l] == hi) | (s.v[l] == lo) | (s.v[l] == hi);
+    s.status[l] = ((s.status[l] == kOk) & pinned) ? kNoConvergence : s.status[l];
+  }
+}
+
+/// gap = n.(S - P) with n the unit normal P_s x P_t; 0 where the normal vanishes or a value is not finite.
+CONTACTNN_SEARCH_INLINE double gap_at(const Eval& e) {
+  const double nx = e.ps[1] * e.pt[2] - e.ps[2] * e.pt[1];
+  const double ny = e.ps[2] * e.pt[0] - e.ps[0] * e.pt[2];
+  const double nz = e.ps[0] * e.pt[1] - e.ps[1] * e.pt[0];
+  const double n_sq = nx * nx + ny * ny + nz * nz;
+  const double gap = -(nx * e.p[0] + ny * e.p[1] + nz * e.p[2]) / std::sqrt(n_sq);
+  return (n_sq > 0.0) & is_finite(gap) ? gap : 0.0;
+}
+
+}  // namespace contactnn::search::detail

@@ -1,0 +1,216 @@
+// Internal to lib/search: one block of W queries through a method, from the raw rows to the Results. Included
+// by kernels_bilinear.cpp and kernels_gregory.cpp, which instantiate it per surface, input type, network type
+// and block width (W = 1 is the path of queries outside whole blocks).
+#pragma once
+
+#include <cstdint>
+#include <limits>
+#include <type_traits>
+
+#include "search/closed_form_block.hpp"
+#include "search/network_block.hpp"
+#include "search/newton_block.hpp"
+#include "search/search_plan.hpp"
+#include "search/surface_block.hpp"
+
+namespace contactnn::search::detail {
+
+template <bool kGregory, class Net, int W, class In>
+void search_block(const Plan& plan, const In* raw_rows, const Results<In>& out, std::size_t first) {
+  using Surf = std::conditional_t<kGregory, GregoryBlock<W>, BilinearBlock<W>>;
+  constexpr int kStride = kGregory ? 27 : 15;
+  constexpr double kCentre = kGregory ? 0.5 : 0.0;
+  const Method& method = plan.method;
+
+  alignas(64) double raw[27][W];
+  load_raw<W>(raw_rows + first * kStride, kStride, raw);
+  // The queries relative to S, for the surface: made when a method needs the surface (not by a network alone
+  // without the gap, whose canonical frame works on the raw coordinates and finds non-finite inputs itself).
+  QueryBlock<W> q;
+  LaneState<W> s;
+  for (int l = 0; l < W; ++l) {
+    s.u[l] = s.v[l] = kCentre;
+    s.status[l] = kOk;
+    s.iterations[l] = 0.0;
+  }
+  bool relative = false;
+  const auto make_relative = [&] {
+    if (relative) return;
+    relative_queries<W>(raw, kGregory, q);
+    // Invalid where an input is not finite (lanes a network already marked keep their status).
+    for (int l = 0; l < W; ++l) s.status[l] = q.finite[l] != 0.0 ? s.status[l] : kInvalid;
+    relative = true;
+  };
+  if (method.start != Method::Start::kNetwork) make_relative();
+
+  // The surface, built once. Where it does not exist (a Gregory patch GregoryPatch::diagnose refuses),
+  // patch_status is degenerate; the methods that work on the surface take that status over.
+  Surf surf;
+  double patch_status[W];
+  bool built = false;
+  const auto build = [&] {
+    make_relative();
+    if (built) return;
+    for (int l = 0; l < W; ++l) patch_status[l] = kOk;
+    surf.build(q, patch_status);
+    built = true;
+  };
+  const auto build_for_method = [&] {
+    build();
+    for (int l = 0; l < W; ++l) s.status[l] = (s.status[l] == kOk) & (patch_status[l] != kOk) ? kDegenerate : s.status[l];
+  };
+  const bool hybrid = method.is_hybrid();
+  double extrapolated[W] = {};
+
+  // 1. The start.
+  if (method.start == Method::Start::kNetwork) {
+    network_estimate<Net, W, kGregory>(*plan.network, plan.options.check_domain, &raw[0][0], s);
+    if (hybrid) {
+      // Newton decides the status. Without a canonical frame (a finite input) the network has no estimate: the
+      // refinement starts from the domain centre. Outside its training domain the network extrapolates: its
+      // estimate is still the start (near the domain it is good), but a refinement from it that fails is
+      // retried from the centre (step 2).
+      for (int l = 0; l < W; ++l) {
+        extrapolated[l] = s.status[l] == kOutOfDomain ? 1.0 : 0.0;
+        const bool none = s.status[l] == kDegenerate;
+        s.u[l] = none ? kCentre : s.u[l];
+        s.v[l] = none ? kCentre : s.v[l];
+        s.status[l] = (none | (s.status[l] == kOutOfDomain)) ? kOk : s.status[l];
+      }
+    }
+  } else if (method.start == Method::Start::kClosedForm) {
+    if constexpr (!kGregory) {
+      build_for_method();
+      closed_form<W>(surf, s);
+      if (hybrid) {
+        for (int l = 0; l < W; ++l) s.status[l] = s.status[l] == kNoConvergence ? kOk : s.status[l];
+      }
+    }
+  }
+
+  // 2. Newton.
+  EvalStore<W, Surf::kHasPureSecond> store;
+  if (hybrid) {
+    build_for_method();
+    double noise[W];
+    for (int l = 0; l < W; ++l) {
+      double size = 0.0;
+      CONTACTNN_UNROLL
+      for (int k = 0; k < 12; ++k) size = max_of(size, std::fabs(q.node[k][l]));
+      noise[l] = 16.0 * std::numeric_limits<double>::epsilon() * size;
+    }
+    safeguarded_newton<Surf, W>(surf, method.newton_steps, plan.guards, noise, s, store);
+    bool retry = false;
+    for (int l = 0; l < W; ++l) {
+      extrapolated[l] = (extrapolated[l] != 0.0) & ((s.status[l] == kNoConvergence) | (s.status[l] == kDegenerate));
+      retry = retry || extrapolated[l] != 0.0;
+    }
+    if (retry) {
+      // Only the retried lanes run (the others are held by a status other than ok); their steps add up.
+      LaneState<W> again;
+      EvalStore<W, Surf::kHasPureSecond> again_store;
+      for (int l = 0; l < W; ++l) {
+        again.u[l] = again.v[l] = kCentre;
+        again.status[l] = extrapolated[l] != 0.0 ? kOk : kInvalid;
+        again.iterations[l] = s.iterations[l];
+      }
+      safeguarded_newton<Surf, W>(surf, method.newton_steps, plan.guards, noise, again, again_store);
+      for (int l = 0; l < W; ++l) {
+        if (extrapolated[l] == 0.0) continue;
+        s.u[l] = again.u[l];
+        s.v[l] = again.v[l];
+        s.status[l] = again.status[l];
+        s.iterations[l] = again.iterations[l];
+        CONTACTNN_UNROLL
+        for (int c = 0; c < 3; ++c) {
+          store.p[c][l] = again_store.p[c][l];
+          store.ps[c][l] = again_store.ps[c][l];
+          store.pt[c][l] = again_store.pt[c][l];
+        }
+      }
+    }
+  } else if (method.start == Method::Start::kCentre) {
+    build_for_method();
+    if (method.to_convergence) {
+      converged_newton<Surf, W>(surf, plan.options.max_iterations, plan.options.tol_param, s);
+    } else {
+      lean_newton<Surf, W>(surf, method.newton_steps, s);
+    }
+  }
+
+  // 3. ok or outside by the domain (a network alone reports its own statuses).
+  if (method.start != Method::Start::kNetwork || hybrid) {
+    const double lo = plan.inside_lo, hi = plan.inside_hi;
+    CONTACTNN_LANES
+    for (int l = 0; l < W; ++l) {
+      const bool inside = (s.u[l] >= lo) & (s.u[l] <= hi) & (s.v[l] >= lo) & (s.v[l] <= hi);
+      s.status[l] = ((s.status[l] == kOk) & !inside) ? kOutside : s.status[l];
+    }
+  }
+
+  // 4. The gap at the reported point.
+  double gap[W];
+  if (out.gap != nullptr) {
+    if (hybrid) {
+      for (int l = 0; l < W; ++l) {
+        Eval e;
+        store.load(l, e);
+        gap[l] = gap_at(e);
+      }
+    } else {
+      build();
+      CONTACTNN_LANES
+      for (int l = 0; l < W; ++l) {
+        Eval e;
+        surf.template eval<false>(l, s.u[l], s.v[l], e);
+        gap[l] = gap_at(e);
+      }
+    }
+    for (int l = 0; l < W; ++l) {
+      const bool none = (s.status[l] == kInvalid) | (s.status[l] == kDegenerate) | (patch_status[l] != kOk);
+      gap[l] = none ? 0.0 : gap[l];
+    }
+  }
+
+  // 5. Out, never a NaN: a non-finite estimate (only possible from a network fed extreme values) is the centre.
+  for (int l = 0; l < W; ++l) {
+    const std::size_t i = first + static_cast<std::size_t>(l);
+    const bool finite = is_finite(s.u[l]) & is_finite(s.v[l]);
+    out.param[2 * i] = static_cast<In>(finite ? s.u[l] : kCentre);
+    out.param[2 * i + 1] = static_cast<In>(finite ? s.v[l] : kCentre);
+    out.status[i] = static_cast<Status>(static_cast<int>(finite ? s.status[l] : kNoConvergence));
+    if (out.iterations != nullptr) out.iterations[i] = static_cast<std::int32_t>(s.iterations[l]);
+    if (out.gap != nullptr) out.gap[i] = static_cast<In>(gap[l]);
+  }
+}
+
+/// The block kernels of one surface kind. Widths measured on AVX-512 (scripts/bench-search): wider blocks
+/// give each vector operation several independent vectors to overlap, up to the register file: a float network
+/// 32 lanes (its 8 accumulators of 32 floats fill 16 of the 32 vector registers), a double network 16; lean and
+/// safeguarded Newton and the closed form 32 (12.3 ns for newton:5 against 15.5 at 16 and 24.7 at 8); Newton to
+/// convergence 16, since a block iterates until its slowest lane has converged.
+template <bool kGregory>
+void select_block_kernels(Plan& plan) {
+  const bool network = plan.method.needs_network();
+  if (network && plan.network->is_float()) {
+    plan.block_size = 32;
+    plan.block_f = &search_block<kGregory, float, 32, float>;
+    plan.block_d = &search_block<kGregory, float, 32, double>;
+  } else if (network || plan.method.to_convergence) {
+    plan.block_size = 16;
+    plan.block_f = &search_block<kGregory, double, 16, float>;
+    plan.block_d = &search_block<kGregory, double, 16, double>;
+  } else {
+    plan.block_size = 32;
+    plan.block_f = &search_block<kGregory, double, 32, float>;
+    plan.block_d = &search_block<kGregory, double, 32, double>;
+  }
+}
+
+/// The one-lane kernels (kernels_single.cpp, compiled without auto-vectorisation: with it, GCC vectorises
+/// other loops of a one-lane kernel than the lane loops of a block, e.g. a layer's sum over inputs, and the
+/// changed contraction of multiply-adds changes the last bits; without it every statement rounds as in the
+/// vectorised lane loops, so a query gives the same bits in a block and alone).
+void select_single_kernels(Plan& plan);
+
+}  // namespace contactnn::search::detail

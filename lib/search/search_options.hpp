@@ -1,0 +1,41 @@
+// Every tolerance and limit of lib/search, with its default and the reason for it.
+#pragma once
+
+#include <cstddef>
+
+namespace contactnn::search {
+
+struct SearchOptions {
+  /// "newton" (to convergence): iteration limit. Quadratic convergence needs fewer than 10 steps from the
+  /// centre on the paper's domains; 50 leaves room for slow cases without letting a divergent one run on.
+  int max_iterations = 50;
+  /// "newton": converged when the Newton step (max norm, parameter units) is at most this; the hybrids stop
+  /// a lane early on the same test. 1e-10 of a domain width is far below any contact tolerance; tighter
+  /// than rounding-level it would never be met on ill-conditioned segments.
+  double tol_param = 1e-10;
+  /// ok versus outside: a final point within this distance of the parameter domain (parameter units) is
+  /// inside. The reference solver's domain_margin, so that statuses are comparable.
+  double domain_margin = 1e-10;
+  /// Hybrids on a Gregory patch: iterates stay in the domain enlarged by this many domain widths:
+  /// [-0.1, 1.1]^2. The rational interior points are singular on lines through the corners outside
+  /// [0, 1]^2 (SPEC 3); this box meets them only in short pieces next to the corners.
+  double gregory_box_margin = 0.1;
+  /// Hybrids on a bilinear facet: [-1.5, 1.5]^2. The facet is defined everywhere, but a point more than a
+  /// quarter width beyond an edge is no contact on this segment, and a warped quad's far stationary points
+  /// (the other root, beyond the fold) lie further out: the box keeps a bad start from walking there.
+  double bilinear_box_margin = 0.25;
+  /// Hybrids: a Newton step longer than this many domain widths (max norm) is shortened to it before the
+  /// box. Half a width: the start is already an estimate; a longer step means the quadratic model is not
+  /// trusted (the reference solver's cap).
+  double max_step_widths = 0.5;
+  /// Hybrids: a step that does not reduce |S - P| is halved this many times before the lane stops with
+  /// status no_convergence (keeping the previous iterate). Each halving costs one surface evaluation for the
+  /// whole block, so only a few.
+  int max_halvings = 3;
+  /// Network methods: test each query against the network's training domain (status out_of_domain).
+  bool check_domain = true;
+  /// Below this many queries run() stays on the calling thread: an OpenMP region costs microseconds.
+  std::size_t min_parallel_count = 512;
+};
+
+}  // namespace contactnn::search

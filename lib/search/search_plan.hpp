@@ -1,0 +1,31 @@
+// Internal to lib/search: what a LocalSearch fixed at construction, and the block kernels it dispatches to.
+#pragma once
+
+#include <cstddef>
+
+#include "search/local_search.hpp"
+#include "search/newton_block.hpp"
+
+namespace contactnn::search::detail {
+
+template <class Real>
+using BlockFn = void (*)(const Plan& plan, const Real* raw, const Results<Real>& out, std::size_t first);
+
+struct Plan {
+  SurfaceKind kind = SurfaceKind::kBilinear;
+  Method method;
+  SearchOptions options;
+  const NetworkModel* network = nullptr;
+  Safeguards guards{};    ///< hybrids: box, step cap, tolerance, halvings
+  double inside_lo = 0.0;  ///< ok versus outside: the domain enlarged by domain_margin
+  double inside_hi = 0.0;
+  int block_size = 8;
+  BlockFn<float> block_f = nullptr, single_f = nullptr;
+  BlockFn<double> block_d = nullptr, single_d = nullptr;
+};
+
+/// Fills plan.block_size and the kernels for plan.kind (defined in kernels_bilinear.cpp, kernels_gregory.cpp).
+void select_bilinear_kernels(Plan& plan);
+void select_gregory_kernels(Plan& plan);
+
+}  // namespace contactnn::search::detail

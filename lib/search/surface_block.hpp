@@ -1,0 +1,392 @@
+// Internal to lib/search: the bilinear facet and the Gregory patch of W queries at once, as structures of
+// arrays, with the slave node at the origin (every node is given relative to S). Built once per query, then
+// evaluated lane by lane inside loops over the lanes that the compiler vectorises.
+//
+// The formulas are those of geometry::BilinearPatch and geometry::GregoryPatch (SPEC 1 and 3); the tests
+// compare both to rounding. What differs is only the arrangement: one array per coordinate and lane, the
+// degeneracy checks of GregoryPatch::diagnose done once while building (not twice), lengths compared squared,
+// and divisions by a length replaced by products with its reciprocal.
+#pragma once
+
+#include <cmath>
+
+#include "core/conventions.hpp"
+
+#if defined(__GNUC__)
+#define CONTACTNN_SEARCH_INLINE [[gnu::always_inline]] inline
+#else
+#define CONTACTNN_SEARCH_INLINE inline
+#endif
+// A loop over the lanes of a block: the lanes never alias and the loop carries no dependence. (Not OpenMP's
+// simd construct: GCC 12 privatises the lane body's local structures into arrays there, and then gives up.)
+#if defined(__clang__)
+#define CONTACTNN_LANES _Pragma("clang loop vectorize(assume_safety)")
+#elif defined(__GNUC__)
+#define CONTACTNN_LANES _Pragma("GCC ivdep")
+#else
+#define CONTACTNN_LANES
+#endif
+
+// Short loops inside a lane must be unrolled (and their small arrays scalarised) before the loop over lanes
+// can vectorise.
+#if defined(__clang__)
+#define CONTACTNN_UNROLL _Pragma("unroll")
+#elif defined(__GNUC__)
+#define CONTACTNN_UNROLL _Pragma("GCC unroll 16")
+#else
+#define CONTACTNN_UNROLL
+#endif
+
+namespace contactnn::search::detail {
+
+/// Status codes held per lane as doubles inside a block (contactnn::Status values), so that every per-lane
+/// quantity of a vectorised loop has the same width.
+inline constexpr double kOk = 0.0, kOutside = 1.0, kNoConvergence = 2.0, kDegenerate = 3.0, kInvalid = 4.0,
+                        kOutOfDomain = 5.0;
+
+/// A surface point and its derivatives, for one lane (P relative to S). With kSecond false, the second
+/// derivatives are not computed.
+struct Eval {
+  double p[3], ps[3], pt[3], pss[3], pst[3], ptt[3];
+};
+
+/// max and min as x86's vector instructions take them (b where either is NaN): one instruction in a vectorised
+/// loop, where std::fmax is a library call that stops vectorisation.
+CONTACTNN_SEARCH_INLINE double max_of(double a, double b) { return a > b ? a : b; }
+CONTACTNN_SEARCH_INLINE double min_of(double a, double b) { return a < b ? a : b; }
+
+/// x is finite: 0 * x is 0 for every finite x, NaN otherwise.
+CONTACTNN_SEARCH_INLINE bool is_finite(double x) { return x * 0.0 == 0.0; }
+
+/// W queries relative to their slave nodes: node[3 i + c][l] is coordinate c of node i (A, B, C, D) minus
+/// the same coordinate of S; normal[3 i + c][l] the raw node normal (Gregory). finite[l] is 1 when every input
+/// of lane l is finite (otherwise the lane's values are replaced by a unit square, so that no NaN enters the
+/// arithmetic of the other lanes' vector operations).
+template <int W>
+struct QueryBlock {
+  double node[12][W];
+  double normal[12][W];
+  double finite[W];
+};
+
+/// Loads W queries (rows of `stride` = 15 or 27 values, SPEC 6 order) starting at `raw` into raw[k][l], as
+/// double, unchanged (the canonical frame works on the world coordinates as given).
+template <int W, class In>
+CONTACTNN_SEARCH_INLINE void load_raw(const In* rows, int stride, double (*raw)[W]) {
+  for (int l = 0; l < W; ++l) {
+    const In* row = rows + static_cast<std::size_t>(l) * static_cast<std::size_t>(stride);
+    for (int k = 0; k < stride; ++k) raw[k][l] = static_cast<double>(row[k]);
+  }
+}
+
+/// The queries of a raw block relative to their slave nodes. A lane with a non-finite input gets finite[l] = 0
+/// and a unit square 1 above S in place of its values, so that no NaN runs through the other lanes' arithmetic.
+/// Every loop runs over the lanes (vectorised).
+template <int W>
+CONTACTNN_SEARCH_INLINE void relative_queries(const double (*raw)[W], bool gregory, QueryBlock<W>& q) {
+  static constexpr double kSquare[12] = {-0.5, -0.5, -1, 0.5, -0.5, -1, 0.5, 0.5, -1, -0.5, 0.5, -1};
+  const int stride = gregory ? 27 : 15;
+  double check[W];
+  for (int l = 0; l < W; ++l) check[l] = 0.0;
+  for (int k = 0; k < stride; ++k) {
+#pragma omp simd
+    for (int l = 0; l < W; ++l) check[l] += raw[k][l] * 0.0;
+  }
+#pragma omp simd
+  for (int l = 0; l < W; ++l) q.finite[l] = check[l] == 0.0 ? 1.0 : 0.0;
+  for (int k = 0; k < 12; ++k) {
+    const double* x = raw[k];
+    const double* slave = raw[12 + k % 3];
+    const double square = kSquare[k];
+#pragma omp simd
+    for (int l = 0; l < W; ++l) q.node[k][l] = check[l] == 0.0 ? x[l] - slave[l] : square;
+  }
+  for (int k = 0; k < 12; ++k) {
+    const double fallback = k % 3 == 2 ? 1.0 : 0.0;
+    if (gregory) {
+      const double* n = raw[15 + k];
+#pragma omp simd
+      for (int l = 0; l < W; ++l) q.normal[k][l] = check[l] == 0.0 ? n[l] : fallback;
+    } else {
+      for (int l = 0; l < W; ++l) q.normal[k][l] = fallback;
+    }
+  }
+}
+
+// ---------------------------------------------------------------------------------------------------------
+// Bilinear facet: P = a0 + s a1 + t a2 + s t a3 (geometry::BilinearPatch).
+
+template <int W>
+struct BilinearBlock {
+  static constexpr SurfaceKind kKind = SurfaceKind::kBilinear;
+  static constexpr bool kHasPureSecond = false;  // P_ss = P_tt = 0
+  double a[12][W];  // a0 xyz, a1 xyz, a2 xyz, a3 xyz
+
+  /// Never fails: the facet exists for any four nodes (a collapsed one shows as a singular Newton system).
+  void build(const QueryBlock<W>& q, double* /*status*/) {
+    CONTACTNN_LANES
+    for (int l = 0; l < W; ++l) {
+      CONTACTNN_UNROLL
+      for (int c = 0; c < 3; ++c) {
+        const double pa = q.node[c][l], pb = q.node[3 + c][l], pc = q.node[6 + c][l], pd = q.node[9 + c][l];
+        a[c][l] = 0.25 * (pa + pb + pc + pd);
+        a[3 + c][l] = 0.25 * (-pa + pb + pc - pd);
+        a[6 + c][l] = 0.25 * (-pa - pb + pc + pd);
+        a[9 + c][l] = 0.25 * (pa - pb + pc - pd);
+      }
+    }
+  }
+
+  template <bool kSecond = true>
+  CONTACTNN_SEARCH_INLINE void eval(int l, double s, double t, Eval& e) const {
+    const double st = s * t;
+    CONTACTNN_UNROLL
+    for (int c = 0; c < 3; ++c) {
+      const double a0 = a[c][l], a1 = a[3 + c][l], a2 = a[6 + c][l], a3 = a[9 + c][l];
+      e.p[c] = a0 + s * a1 + t * a2 + st * a3;
+      e.ps[c] = a1 + t * a3;
+      e.pt[c] = a2 + s * a3;
+      e.pst[c] = a3;
+    }
+  }
+};
+
+// ---------------------------------------------------------------------------------------------------------
+// Gregory patch (geometry::GregoryPatch, SPEC 3: Puso & Laursen 2002, Chiyokura & Kimura 1983).
+
+/// Cubic Bernstein values and their first and second derivatives at t.
+struct Bernstein {
+  double b[4], d1[4], d2[4];
+};
+CONTACTNN_SEARCH_INLINE Bernstein bernstein(double t) {
+  const double s = 1.0 - t;
+  return Bernstein{{s * s * s, 3.0 * t * s * s, 3.0 * t * t * s, t * t * t},
+                   {-3.0 * s * s, 3.0 * s * (1.0 - 3.0 * t), 3.0 * t * (2.0 - 3.0 * t), 3.0 * t * t},
+                   {6.0 * s, 6.0 * (3.0 * t - 2.0), 6.0 * (1.0 - 3.0 * t), 6.0 * t}};
+}
+
+template <int W>
+struct GregoryBlock {
+  static constexpr SurfaceKind kKind = SurfaceKind::kGregory;
+  static constexpr bool kHasPureSecond = true;
+  /// P = sum B_i(u) B_j(v) base_ij + sum_interior B_i B_j w_ij delta_ij: base holds P_ij with P_ij1 in the four
+  /// interior slots, delta = P_ij0 - P_ij1 in the order 11, 21, 12, 22, w_ij = s / (s + t) (Eqs 28-31).
+  double base[48][W];   // point i + 4 j, coordinate c at [3 (i + 4 j) + c]
+  double delta[12][W];  // interior k, coordinate c at [3 k + c]
+
+  /// Builds the patch of every lane and sets status[l] = kDegenerate where GregoryPatch::diagnose would refuse
+  /// it: a node normal of zero length, or an edge whose projection on an end's tangent plane is not longer
+  /// than 1e-8 of the longest node distance (coincident nodes, a normal along an edge).
+  void build(const QueryBlock<W>& q, double* status) {
+    CONTACTNN_LANES
+    for (int l = 0; l < W; ++l) build_lane(q, l, status);
+  }
+
+  CONTACTNN_SEARCH_INLINE void build_lane(const QueryBlock<W>& q, int l, double* status) {
+    double x[4][3], u[4][3], pn[4][3], pp[4][3], inv_pn[4], inv_pp[4], dot_np[4];
+    bool bad = false;
+    CONTACTNN_UNROLL
+    for (int i = 0; i < 4; ++i) {
+      CONTACTNN_UNROLL
+      for (int c = 0; c < 3; ++c) x[i][c] = q.node[3 * i + c][l];
+    }
+    // Unit normals: scaled by their largest component first, so that any positive length works.
+    CONTACTNN_UNROLL
+    for (int i = 0; i < 4; ++i) {
+      const double nx = q.normal[3 * i][l], ny = q.normal[3 * i + 1][l], nz = q.normal[3 * i + 2][l];
+      const double ax = std::fabs(nx), ay = std::fabs(ny), az = std::fabs(nz);
+      const double m = ax < ay ? (ay < az ? az : ay) : (ax < az ? az : ax);
+      bad = bad | !(m > 0.0);
+      const double inv_m = 1.0 / (m > 0.0 ? m : 1.0);
+      const double tx = nx * inv_m, ty = ny * inv_m, tz = nz * inv_m;
+      const double inv_len = 1.0 / std::sqrt(tx * tx + ty * ty + tz * tz);
+      u[i][0] = tx * inv_len;
+      u[i][1] = ty * inv_len;
+      u[i][2] = tz * inv_len;
+    }
+    // The longest node distance, for the relative edge test.
+    double longest_sq = 0.0;
+    CONTACTNN_UNROLL
+    for (int i = 0; i < 4; ++i) {
+      CONTACTNN_UNROLL
+      for (int j = i + 1; j < 4; ++j) {
+        const double dx = x[i][0] - x[j][0], dy = x[i][1] - x[j][1], dz = x[i][2] - x[j][2];
+        const double d2 = dx * dx + dy * dy + dz * dz;
+        longest_sq = longest_sq < d2 ? d2 : longest_sq;
+      }
+    }
+    // Each node's edges projected onto its tangent plane: pn towards the next node, pp towards the previous.
+    CONTACTNN_UNROLL
+    for (int i = 0; i < 4; ++i) {
+      const int next = (i + 1) % 4, prev = (i + 3) % 4;
+      double cn[3], cp[3];
+      CONTACTNN_UNROLL
+      for (int c = 0; c < 3; ++c) {
+        cn[c] = x[next][c] - x[i][c];
+        cp[c] = x[prev][c] - x[i][c];
+      }
+      const double an = u[i][0] * cn[0] + u[i][1] * cn[1] + u[i][2] * cn[2];
+      const double ap = u[i][0] * cp[0] + u[i][1] * cp[1] + u[i][2] * cp[2];
+      CONTACTNN_UNROLL
+      for (int c = 0; c < 3; ++c) {
+        pn[i][c] = cn[c] - an * u[i][c];
+        pp[i][c] = cp[c] - ap * u[i][c];
+      }
+      const double pn_sq = pn[i][0] * pn[i][0] + pn[i][1] * pn[i][1] + pn[i][2] * pn[i][2];
+      const double pp_sq = pp[i][0] * pp[i][0] + pp[i][1] * pp[i][1] + pp[i][2] * pp[i][2];
+      bad = bad | !(pn_sq > 1e-16 * longest_sq) | !(pp_sq > 1e-16 * longest_sq);
+      inv_pn[i] = 1.0 / std::sqrt(pn_sq);
+      inv_pp[i] = 1.0 / std::sqrt(pp_sq);
+      dot_np[i] = pn[i][0] * pp[i][0] + pn[i][1] * pp[i][1] + pn[i][2] * pp[i][2];
+    }
+    status[l] = bad ? kDegenerate : status[l];
+
+    // Corners and edge points E(X->Y) = X + (1/3)(I - n n^T)(Y - X).
+    constexpr double third = 1.0 / 3.0;
+    constexpr int corner[4] = {0, 3, 15, 12};         // A, B, C, D
+    constexpr int toward_next[4] = {1, 7, 14, 8};     // P10, P31, P23, P02: E(A->B), E(B->C), E(C->D), E(D->A)
+    constexpr int toward_prev[4] = {4, 2, 11, 13};    // P01, P20, P32, P13: E(A->D), E(B->A), E(C->B), E(D->C)
+    // Interior points: edge k (X = k, Y = k + 1) gives the point near X and the one near Y (SPEC 3); the slot
+    // is base (P_ij1) or delta's P_ij0 (stored first in `interior0`, combined below).
+    double interior0[4][3], interior1[4][3];  // P_ij0 and P_ij1 in the order 11, 21, 12, 22
+    CONTACTNN_UNROLL
+    for (int i = 0; i < 4; ++i) {
+      CONTACTNN_UNROLL
+      for (int c = 0; c < 3; ++c) {
+        base[3 * corner[i] + c][l] = x[i][c];
+        base[3 * toward_next[i] + c][l] = x[i][c] + third * pn[i][c];
+        base[3 * toward_prev[i] + c][l] = x[i][c] + third * pp[i][c];
+      }
+    }
+    CONTACTNN_UNROLL
+    for (int k = 0; k < 4; ++k) {
+      const int y = (k + 1) % 4;
+      double chord[3], a0[3], a3[3], c0[3], c1[3], c2[3], b0[3], b3[3];
+      CONTACTNN_UNROLL
+      for (int c = 0; c < 3; ++c) chord[c] = x[y][c] - x[k][c];
+      // a0 = unit(n_X x (Y - X)): |n_X x chord| is the length of chord's projection pn[k]; likewise a3 with
+      // |n_Y x chord| = |pp[y]|.
+      a0[0] = (u[k][1] * chord[2] - u[k][2] * chord[1]) * inv_pn[k];
+      a0[1] = (u[k][2] * chord[0] - u[k][0] * chord[2]) * inv_pn[k];
+      a0[2] = (u[k][0] * chord[1] - u[k][1] * chord[0]) * inv_pn[k];
+      a3[0] = (u[y][1] * chord[2] - u[y][2] * chord[1]) * inv_pp[y];
+      a3[1] = (u[y][2] * chord[0] - u[y][0] * chord[2]) * inv_pp[y];
+      a3[2] = (u[y][0] * chord[1] - u[y][1] * chord[0]) * inv_pp[y];
+      CONTACTNN_UNROLL
+      for (int c = 0; c < 3; ++c) {
+        c0[c] = third * pn[k][c];   // y1 - y0
+        c2[c] = -third * pp[y][c];  // y3 - y2
+        c1[c] = chord[c] - c0[c] - c2[c];
+        b0[c] = third * pp[k][c];   // E(X->X') - X
+        b3[c] = third * pn[y][c];   // E(Y->Y') - Y
+      }
+      const double k0 = a0[0] * b0[0] + a0[1] * b0[1] + a0[2] * b0[2];
+      const double k1 = a3[0] * b3[0] + a3[1] * b3[1] + a3[2] * b3[2];
+      // h0 = (c0.b0)/(c0.c0) = (pn[k].pp[k]) / |pn[k]|^2; h1 = (c2.b3)/(c2.c2) = -(pp[y].pn[y]) / |pp[y]|^2.
+      const double h0 = dot_np[k] * inv_pn[k] * inv_pn[k];
+      const double h1 = -dot_np[y] * inv_pp[y] * inv_pp[y];
+      double near_x[3], near_y[3];
+      CONTACTNN_UNROLL
+      for (int c = 0; c < 3; ++c) {
+        const double b1 = third * ((k0 + k1) * a0[c] + k0 * a3[c] + 2.0 * h0 * c1[c] + h1 * c0[c]);
+        const double b2 = third * ((k0 + k1) * a3[c] + k1 * a0[c] + 2.0 * h1 * c1[c] + h0 * c2[c]);
+        near_x[c] = x[k][c] + c0[c] + b1;
+        near_y[c] = x[y][c] - c2[c] + b2;
+      }
+      // Edge AB: P110, P210; BC: P211, P221; CD: P220, P120; DA: P121, P111 (order 11, 21, 12, 22).
+      CONTACTNN_UNROLL
+      for (int c = 0; c < 3; ++c) {
+        switch (k) {
+          case 0: interior0[0][c] = near_x[c]; interior0[1][c] = near_y[c]; break;
+          case 1: interior1[1][c] = near_x[c]; interior1[3][c] = near_y[c]; break;
+          case 2: interior0[3][c] = near_x[c]; interior0[2][c] = near_y[c]; break;
+          default: interior1[2][c] = near_x[c]; interior1[0][c] = near_y[c]; break;
+        }
+      }
+    }
+    constexpr int interior_slot[4] = {5, 6, 9, 10};  // P11, P21, P12, P22
+    CONTACTNN_UNROLL
+    for (int k = 0; k < 4; ++k) {
+      CONTACTNN_UNROLL
+      for (int c = 0; c < 3; ++c) {
+        base[3 * interior_slot[k] + c][l] = interior1[k][c];
+        delta[3 * k + c][l] = interior0[k][c] - interior1[k][c];
+      }
+    }
+  }
+
+  /// Position and derivatives at (u, v) for lane l: GregoryPatch::evaluate, quotient rule included; a rational
+  /// weight whose denominator is below 1e-14 in magnitude is 1/2 with zero derivatives (SPEC 3).
+  template <bool kSecond = true>
+  CONTACTNN_SEARCH_INLINE void eval(int l, double uu, double vv, Eval& e) const {
+    const Bernstein bu = bernstein(uu), bv = bernstein(vv);
+    CONTACTNN_UNROLL
+    for (int c = 0; c < 3; ++c) {
+      e.p[c] = e.ps[c] = e.pt[c] = 0.0;
+      if constexpr (kSecond) e.pss[c] = e.pst[c] = e.ptt[c] = 0.0;
+    }
+    CONTACTNN_UNROLL
+    for (int j = 0; j < 4; ++j) {
+      CONTACTNN_UNROLL
+      for (int c = 0; c < 3; ++c) {
+        const double q0 = base[3 * (4 * j) + c][l], q1 = base[3 * (4 * j + 1) + c][l];
+        const double q2 = base[3 * (4 * j + 2) + c][l], q3 = base[3 * (4 * j + 3) + c][l];
+        const double r = bu.b[0] * q0 + bu.b[1] * q1 + bu.b[2] * q2 + bu.b[3] * q3;
+        const double r_u = bu.d1[0] * q0 + bu.d1[1] * q1 + bu.d1[2] * q2 + bu.d1[3] * q3;
+        e.p[c] += bv.b[j] * r;
+        e.ps[c] += bv.b[j] * r_u;
+        e.pt[c] += bv.d1[j] * r;
+        if constexpr (kSecond) {
+          const double r_uu = bu.d2[0] * q0 + bu.d2[1] * q1 + bu.d2[2] * q2 + bu.d2[3] * q3;
+          e.pss[c] += bv.b[j] * r_uu;
+          e.pst[c] += bv.d1[j] * r_u;
+          e.ptt[c] += bv.d2[j] * r;
+        }
+      }
+    }
+    const double s_of[2] = {uu, 1.0 - uu}, t_of[2] = {vv, 1.0 - vv};
+    CONTACTNN_UNROLL
+    for (int k = 0; k < 4; ++k) {
+      const int a = k & 1, b = k >> 1;
+      const double su = a == 0 ? 1.0 : -1.0, sv = b == 0 ? 1.0 : -1.0;
+      const double s = s_of[a], t = t_of[b];
+      const double den = s + t;
+      const bool guard = std::fabs(den) < 1e-14;
+      const double inv = 1.0 / (guard ? 1.0 : den);
+      const double inv2 = inv * inv, inv3 = inv2 * inv;
+      // w = s / (s + t); w_s = t/d^2, w_t = -s/d^2, w_ss = -2t/d^3, w_st = (s - t)/d^3, w_tt = 2s/d^3.
+      const double w = guard ? 0.5 : s * inv;
+      const double w_u = guard ? 0.0 : su * t * inv2;
+      const double w_v = guard ? 0.0 : -sv * s * inv2;
+      const double p = bu.b[1 + a], p1 = bu.d1[1 + a], q = bv.b[1 + b], q1 = bv.d1[1 + b];
+      const double c_p = p * q * w;
+      const double c_s = p1 * q * w + p * q * w_u;
+      const double c_t = p * q1 * w + p * q * w_v;
+      CONTACTNN_UNROLL
+      for (int c = 0; c < 3; ++c) {
+        const double dk = delta[3 * k + c][l];
+        e.p[c] += c_p * dk;
+        e.ps[c] += c_s * dk;
+        e.pt[c] += c_t * dk;
+      }
+      if constexpr (kSecond) {
+        const double w_uu = guard ? 0.0 : -2.0 * t * inv3;
+        const double w_uv = guard ? 0.0 : su * sv * (s - t) * inv3;
+        const double w_vv = guard ? 0.0 : 2.0 * s * inv3;
+        const double p2 = bu.d2[1 + a], q2 = bv.d2[1 + b];
+        const double c_ss = p2 * q * w + 2.0 * p1 * q * w_u + p * q * w_uu;
+        const double c_st = p1 * q1 * w + p1 * q * w_v + p * q1 * w_u + p * q * w_uv;
+        const double c_tt = p * q2 * w + 2.0 * p * q1 * w_v + p * q * w_vv;
+        CONTACTNN_UNROLL
+        for (int c = 0; c < 3; ++c) {
+          const double dk = delta[3 * k + c][l];
+          e.pss[c] += c_ss * dk;
+          e.pst[c] += c_st * dk;
+          e.ptt[c] += c_tt * dk;
+        }
+      }
+    }
+  }
+};
+
+}  // namespace contactnn::search::detail

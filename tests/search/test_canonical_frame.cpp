@@ -1,0 +1,446 @@
+// lib/search/canonical_frame.h against its reference, geometry::normalise and geometry::TrainingDomain::contains:
+// random configurations in any node order and placement, the tie rules, and the extreme cases of
+// tests/extremes (scales, translations, collapsed and folded segments, straight angles, non-finite inputs,
+// Gregory normals of any length, in the plane or on both sides). Also: the kernel compiled as C99.
+#include "search/canonical_frame.h"
+
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cmath>
+#include <fstream>
+#include <iterator>
+#include <limits>
+#include <random>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "geometry/affine_frame.hpp"
+#include "geometry/domain.hpp"
+#include "search/embedded_sources.hpp"
+#include "search/network_model.hpp"
+#include "search/random_queries.hpp"
+
+extern "C" void contactnn_canonicalise_c99(int n, int gregory, const double* in, double* f, double* nrm, double* info);
+
+namespace contactnn::search {
+namespace {
+
+using geometry::Configuration;
+using geometry::Vec3;
+using testing::random_order;
+
+const std::array<Vec3, 4> kNoNormals = {Vec3::Zero(), Vec3::Zero(), Vec3::Zero(), Vec3::Zero()};
+
+struct KernelResult {
+  int status = 0;
+  SquareSymmetry symmetry;
+  double orientation = 0.0;
+  double scale = 0.0;
+  std::array<double, 16> features{};
+  std::array<double, 12> normals{};
+};
+
+/// Runs the kernel on `configs` as blocks of `lanes` lanes (the last block padded with the first config).
+std::vector<KernelResult> run_kernel(const std::vector<Configuration>& configs, SurfaceKind kind, int lanes,
+                                     bool c99 = false) {
+  const bool gregory = kind == SurfaceKind::kGregory;
+  std::vector<KernelResult> results;
+  for (std::size_t first = 0; first < configs.size(); first += static_cast<std::size_t>(lanes)) {
+    std::vector<double> in(27 * static_cast<std::size_t>(lanes)), f(16 * static_cast<std::size_t>(lanes)),
+        nrm(12 * static_cast<std::size_t>(lanes)), info(5 * static_cast<std::size_t>(lanes));
+    for (int l = 0; l < lanes; ++l) {
+      const std::size_t i = first + static_cast<std::size_t>(l) < configs.size() ? first + static_cast<std::size_t>(l) : 0;
+      std::vector<double> row;
+      testing::append_raw(configs[i], kind, row);
+      for (std::size_t k = 0; k < row.size(); ++k) in[k * static_cast<std::size_t>(lanes) + static_cast<std::size_t>(l)] = row[k];
+    }
+    if (c99) {
+      contactnn_canonicalise_c99(lanes, gregory ? 1 : 0, in.data(), f.data(), nrm.data(), info.data());
+    } else {
+      cnn_canonicalise_block(lanes, gregory ? 1 : 0, in.data(), f.data(), nrm.data(), info.data());
+    }
+    for (int l = 0; l < lanes && first + static_cast<std::size_t>(l) < configs.size(); ++l) {
+      const auto at = [&](const std::vector<double>& v, int row) {
+        return v[static_cast<std::size_t>(row) * static_cast<std::size_t>(lanes) + static_cast<std::size_t>(l)];
+      };
+      KernelResult r;
+      r.status = static_cast<int>(at(info, 0));
+      const int code = static_cast<int>(at(info, 1));
+      r.symmetry = SquareSymmetry{code % 4, code >= 4};
+      r.orientation = at(info, 2);
+      r.scale = at(info, 3);
+      for (int k = 0; k < 16; ++k) r.features[static_cast<std::size_t>(k)] = at(f, k);
+      for (int k = 0; k < 12 && gregory; ++k) r.normals[static_cast<std::size_t>(k)] = at(nrm, k);
+      results.push_back(r);
+    }
+  }
+  return results;
+}
+
+/// The reference's status for a network: ok only with a canonical frame.
+int reference_status(const geometry::NormaliseOutcome& n) {
+  if (!n.value) return n.failure == geometry::NormaliseFailure::kNonFinite ? 4 : 3;
+  return n.value->canonical ? 0 : 3;
+}
+
+/// How far two implementations of the frame may differ, relative: the world coordinates' rounding seen in the
+/// frame (eps max|x| / |AB|), amplified by the angle at the canonical A (the frame's e3 comes from AB x AD),
+/// times a few roundings per step.
+double frame_tolerance(const Configuration& world, const geometry::NormalisedConfiguration& n) {
+  double big = world.slave.cwiseAbs().maxCoeff();
+  for (const Vec3& x : world.nodes) big = std::max(big, x.cwiseAbs().maxCoeff());
+  const Vec3& d = n.config.nodes[3];
+  const double sin_a = std::abs(d.y()) / d.norm();
+  return 64.0 * std::numeric_limits<double>::epsilon() * (1.0 + big * n.frame.scale()) / sin_a;
+}
+
+/// The kernel's result `k` against the reference's `n` (status ok on both), features to `tol` relative. Where
+/// S lies in the plane of A, B, D up to that tolerance, the orientation of z is decided by rounding: either
+/// is accepted, with z_C, z_S and the normals' slopes changing sign together.
+void expect_same_frame(const KernelResult& k, const geometry::NormalisedConfiguration& n, SurfaceKind kind, double tol,
+                       const std::string& what) {
+  EXPECT_EQ(k.symmetry, n.symmetry) << what;
+  const bool flipped = k.orientation != n.orientation;
+  if (flipped) {
+    EXPECT_EQ(k.orientation, -n.orientation) << what;
+    EXPECT_LE(std::abs(n.features[7]), tol) << what << ": z orientation differs with S off the plane";
+  }
+  for (int f = 0; f < feature_count(kind); ++f) {
+    const bool odd = f == 2 || f == 7 || f >= 8;  // z_C, z_S and the slopes change sign with z
+    const double expected = (flipped && odd ? -1.0 : 1.0) * n.features[static_cast<std::size_t>(f)];
+    EXPECT_NEAR(k.features[static_cast<std::size_t>(f)], expected, tol * std::max(1.0, std::abs(expected)))
+        << what << " feature " << kFeatureNames[static_cast<std::size_t>(f)];
+  }
+  if (kind == SurfaceKind::kGregory) {
+    // The kernel's normals are the reference's unit normals times a positive factor.
+    for (int c = 0; c < 4; ++c) {
+      const auto at = [&](int j) { return k.normals[3 * static_cast<std::size_t>(c) + static_cast<std::size_t>(j)]; };
+      Vec3 expected = n.config.normals[static_cast<std::size_t>(c)];
+      if (flipped) expected = Vec3(-expected.x(), -expected.y(), expected.z());
+      EXPECT_NEAR((Vec3(at(0), at(1), at(2)).normalized() - expected).norm(), 0.0, tol) << what << " normal " << c;
+    }
+  }
+}
+
+/// Checks the kernel against normalise for every configuration (features to frame_tolerance * `slack`).
+void expect_matches_reference(const std::vector<Configuration>& configs, SurfaceKind kind, int lanes,
+                              double slack = 1.0, bool c99 = false) {
+  const std::vector<KernelResult> got = run_kernel(configs, kind, lanes, c99);
+  ASSERT_EQ(got.size(), configs.size());
+  for (std::size_t i = 0; i < configs.size(); ++i) {
+    const geometry::NormaliseOutcome ref = geometry::normalise(configs[i], kind);
+    const KernelResult& k = got[i];
+    ASSERT_EQ(k.status, reference_status(ref)) << "config " << i;
+    if (k.status != 0) continue;
+    EXPECT_NEAR(k.scale, ref.value->frame.scale(), 1e-14 * ref.value->frame.scale()) << "config " << i;
+    expect_same_frame(k, *ref.value, kind, slack * frame_tolerance(configs[i], *ref.value), "config " + std::to_string(i));
+  }
+}
+
+/// A segment and slave anywhere: A is not the nearest node in 3 of 4 cases, |AD| > |AB| half the time, the
+/// slave on either side; normals tilted by up to ~0.3 and of any length; then placed at random.
+Configuration random_world(std::mt19937_64& rng) {
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  Configuration local{{Vec3(0, 0, 0), Vec3(1 + 0.5 * u(rng), 0.1 * u(rng), 0.1 * u(rng)),
+                       Vec3(1 + 0.4 * u(rng), 1 + 0.4 * u(rng), 0.2 * u(rng)), Vec3(0.1 * u(rng), 1 + 0.5 * u(rng), 0)},
+                      Vec3(0.5 + 0.8 * u(rng), 0.5 + 0.8 * u(rng), 0.4 * u(rng)),
+                      kNoNormals};
+  for (auto& n : local.normals) n = Vec3(0.3 * u(rng), 0.3 * u(rng), 1.0);
+  return testing::place(local, rng, random_order(rng));
+}
+
+TEST(CanonicalFrameKernel, MatchesNormaliseOnRandomConfigurationsInAnyOrderAndPlacement) {
+  std::mt19937_64 rng(101);
+  for (const SurfaceKind kind : {SurfaceKind::kBilinear, SurfaceKind::kGregory}) {
+    std::vector<Configuration> configs;
+    for (int i = 0; i < 2000; ++i) configs.push_back(random_world(rng));
+    for (const int lanes : {1, 16}) expect_matches_reference(configs, kind, lanes);
+  }
+}
+
+TEST(CanonicalFrameKernel, MatchesNormaliseOnThePapersDomains) {
+  std::mt19937_64 rng(102);
+  for (const SurfaceKind kind : {SurfaceKind::kBilinear, SurfaceKind::kGregory}) {
+    std::vector<Configuration> configs;
+    for (int i = 0; i < 1000; ++i) {
+      configs.push_back(testing::place(testing::random_domain_configuration(kind, rng), rng, random_order(rng)));
+    }
+    expect_matches_reference(configs, kind, 8);
+  }
+}
+
+/// Exact ties of the reference's rules, each in all 8 node orders and several placements: the slave
+/// equidistant from two nodes, |AB| = |AD| (a rhombus and a square), the slave on a diagonal of a square.
+TEST(CanonicalFrameKernel, BreaksExactTiesAsTheReferenceDoes) {
+  std::mt19937_64 rng(103);
+  const std::array<Vec3, 4> square = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0.1), Vec3(0, 1, 0)};
+  const std::array<Vec3, 4> rhombus = {Vec3(0, 0, 0), Vec3(5, 0, 0), Vec3(8, 4, 0.3), Vec3(3, 4, 0)};
+  const std::vector<Configuration> bases = {
+      {square, Vec3(0.5, 0.2, 0.3), kNoNormals},   // equidistant from A and B
+      {square, Vec3(0.3, 0.3, 0.2), kNoNormals},   // on the diagonal AC: |AB| = |AD| and S equally near both lines
+      {square, Vec3(0.2, 0.4, -0.2), kNoNormals},  // nearer the line AB
+      {rhombus, Vec3(2, 0.5, 0.4), kNoNormals},
+      {rhombus, Vec3(1, 1.5, 0.2), kNoNormals},
+      {square, Vec3(0.5, 0.5, 0.5), kNoNormals},   // all four nodes equidistant in the plane's projection
+  };
+  std::vector<Configuration> configs;
+  for (const Configuration& base : bases) {
+    for (const SquareSymmetry& order : all_square_symmetries()) {
+      Configuration c = base;
+      for (int i = 0; i < 4; ++i) c.nodes[static_cast<std::size_t>(order.caller_node(i))] = base.nodes[static_cast<std::size_t>(i)];
+      configs.push_back(c);
+      // Placements with scale and rotation: the reference's tie tolerance absorbs their rounding.
+      for (int p = 0; p < 3; ++p) configs.push_back(testing::place(c, rng, SquareSymmetry{}));
+    }
+  }
+  expect_matches_reference(configs, SurfaceKind::kBilinear, 16);
+}
+
+Configuration make(const std::array<Vec3, 4>& nodes, const Vec3& slave) {
+  Configuration c{nodes, slave, kNoNormals};
+  for (auto& n : c.normals) n = Vec3(0, 0, 1);
+  return c;
+}
+
+/// The extremes of tests/extremes (issue 5) that concern the frame, and the Gregory normal cases.
+std::vector<Configuration> extreme_cases() {
+  const double nan = std::numeric_limits<double>::quiet_NaN(), inf = std::numeric_limits<double>::infinity();
+  const std::array<Vec3, 4> square = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0), Vec3(0, 1, 0)};
+  const std::array<Vec3, 4> warped = {Vec3(0, 0, 0), Vec3(1, 0, 0.15), Vec3(1.1, 0.95, -0.1), Vec3(-0.05, 1, 0.2)};
+  const Vec3 s(0.3, 0.4, 0.2);
+  std::vector<Configuration> cases;
+  // Ordinary, and the slave at a corner, on an edge, on the plane, far away.
+  for (const Vec3& slave : {s, Vec3(0, 0, 0), Vec3(1.1, 0.95, -0.1), Vec3(0.5, 0, 0.075), Vec3(0.3, 0.4, 0.0),
+                            Vec3(1e3, 0.5, 0.0), Vec3(0.2, 0.1, 1e3), Vec3(0.2, 0.1, -1e3)}) {
+    cases.push_back(make(warped, slave));
+  }
+  // Thin and obtuse angles, aspect ratio 1e3 either way.
+  for (const double degrees : {0.1, 1.0, 179.0, 179.9}) {
+    const double t = degrees * std::numbers::pi / 180.0;
+    cases.push_back(make({Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1.3 * std::cos(t / 2), 1.3 * std::sin(t / 2), 0),
+                          Vec3(std::cos(t), std::sin(t), 0)}, Vec3(0.2, 0.01, 0.01)));
+    cases.push_back(make({Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0.05), Vec3(std::cos(t), std::sin(t), 0)},
+                         Vec3(0.05, 0.05, 0.02)));
+  }
+  cases.push_back(make({Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1e-3, 0), Vec3(0, 1e-3, 0)}, Vec3(0.4, 0.0002, 0.001)));
+  cases.push_back(make({Vec3(0, 0, 0), Vec3(1e-3, 0, 0), Vec3(1e-3, 1, 0), Vec3(0, 1, 0)}, Vec3(0.0002, 0.4, 0.001)));
+  // Collapsed: coincident pairs, all coincident, collinear, D on the ray AB (folded), bow tie.
+  cases.push_back(make({Vec3(0, 0, 0), Vec3(0, 0, 0), Vec3(1, 1, 0), Vec3(0, 1, 0)}, s));
+  cases.push_back(make({Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0)}, s));
+  cases.push_back(make({Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0), Vec3(1, 1, 0)}, s));
+  cases.push_back(make({Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 0, 0), Vec3(0, 1, 0)}, s));
+  cases.push_back(make({Vec3(1, 2, 3), Vec3(1, 2, 3), Vec3(1, 2, 3), Vec3(1, 2, 3)}, s));
+  cases.push_back(make({Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(3, 0, 0), Vec3(2, 0, 0)}, s));
+  cases.push_back(make({Vec3(0, 0, 0), Vec3(1, 1, 1), Vec3(2.5, 2.5, 2.5), Vec3(-1, -1, -1)}, s));
+  cases.push_back(make({Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0), Vec3(2, 0, 0)}, s));
+  cases.push_back(make({Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(1, 1, 0)}, s));
+  // Straight angles: at B (usable, the reference takes another corner: no network input), at A.
+  cases.push_back(make({Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(2, 0, 0), Vec3(0, 1, 0)}, Vec3(0.9, 0.3, 0.2)));
+  cases.push_back(make({Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0), Vec3(-1, 0, 0)}, Vec3(0.2, 0.3, 0.2)));
+  cases.push_back(make({Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0), Vec3(1 - 1e-9, 1, 0)}, Vec3(0.6, 0.3, 0.2)));
+  // Non-finite values anywhere; differences that overflow.
+  for (int k = 0; k < 15; k += 4) {
+    for (const double bad : {nan, inf, -inf}) {
+      Configuration c = make(square, s);
+      (k < 12 ? c.nodes[static_cast<std::size_t>(k / 3)] : c.slave)[k % 3] = bad;
+      cases.push_back(c);
+    }
+  }
+  cases.push_back(make({Vec3(-1.5e308, 0, 0), Vec3(1.5e308, 0, 0), Vec3(1.5e308, 1.5e308, 0), Vec3(-1.5e308, 1.5e308, 0)},
+                       Vec3(0, 1e307, 1e307)));
+  return cases;
+}
+
+TEST(CanonicalFrameKernel, MatchesNormaliseOnTheExtremeCasesAtEveryScaleAndPlacement) {
+  std::mt19937_64 rng(104);
+  std::vector<Configuration> configs;
+  for (const Configuration& base : extreme_cases()) {
+    configs.push_back(base);
+    // Rotated and translated 1e5 element sizes (the inputs keep ~11 digits relative to the element).
+    const Eigen::Matrix3d r = testing::random_rotation_matrix(rng);
+    Configuration moved = base;
+    for (auto& x : moved.nodes) x = r * x + Vec3(1e5, -2e5, 3e5);
+    moved.slave = r * moved.slave + Vec3(1e5, -2e5, 3e5);
+    configs.push_back(moved);
+  }
+  expect_matches_reference(configs, SurfaceKind::kBilinear, 16);
+}
+
+TEST(CanonicalFrameKernel, ExtremeScalesGiveTheUnitScalesResult) {
+  // The features, symmetry and status of a configuration do not depend on its scale. Compared with the
+  // reference at unit scale: at 1e-300 and 1e300 the reference's tie test |AB| = |AD| squares lengths in its
+  // cross products, which under- or overflow there (e.g. the 0.1-degree kite below 1e-300 gets the other
+  // mirror), while the kernel scales such queries by a power of two first.
+  std::vector<Configuration> unit;
+  for (const Configuration& base : extreme_cases()) {
+    if (base.is_finite(false) && base.nodes[0].x() > -1e300) unit.push_back(base);
+  }
+  for (const double scale : {1e-300, 1e-150, 1e-6, 1e6, 1e150, 1e300}) {
+    std::vector<Configuration> scaled = unit;
+    for (Configuration& c : scaled) {
+      for (auto& x : c.nodes) x *= scale;
+      c.slave *= scale;
+    }
+    const std::vector<KernelResult> got = run_kernel(scaled, SurfaceKind::kBilinear, 16);
+    for (std::size_t i = 0; i < unit.size(); ++i) {
+      const geometry::NormaliseOutcome ref = geometry::normalise(unit[i], SurfaceKind::kBilinear);
+      ASSERT_EQ(got[i].status, reference_status(ref)) << "scale " << scale << " config " << i;
+      if (got[i].status != 0) continue;
+      EXPECT_NEAR(got[i].scale * scale, ref.value->frame.scale(), 1e-14 * ref.value->frame.scale());
+      // The scaled inputs are rounded once more: the unit case's tolerance, a little wider.
+      std::ostringstream what;
+      what << "scale " << scale << " config " << i;
+      expect_same_frame(got[i], *ref.value, SurfaceKind::kBilinear, 4.0 * frame_tolerance(unit[i], *ref.value), what.str());
+    }
+  }
+}
+
+TEST(CanonicalFrameKernel, GregoryNormalsOfAnyLengthInThePlaneOrOnBothSides) {
+  const std::array<Vec3, 4> square = {Vec3(0, 0, 0), Vec3(2, 0, 0), Vec3(2, 2, 0.2), Vec3(0, 2, 0)};
+  std::vector<Configuration> configs;
+  const Configuration base{square, Vec3(0.5, 0.7, 0.4), {Vec3(0.05, 0.1, 1), Vec3(-0.1, 0.05, 1), Vec3(0.1, 0.1, 1), Vec3(0, -0.1, 1)}};
+  for (const double length : {1e-300, 1e-200, 1e-60, 1.0, 1e60, 1e200, 1e300}) {
+    Configuration c = base;
+    for (auto& n : c.normals) n *= length;
+    configs.push_back(c);
+    for (auto& n : c.normals) n = -n;  // all on the back side: the same patch
+    configs.push_back(c);
+  }
+  Configuration in_plane = base;
+  in_plane.normals[1] = Vec3(1, 0, 0);
+  configs.push_back(in_plane);
+  Configuration both_sides = base;
+  both_sides.normals[2] = -both_sides.normals[2];
+  configs.push_back(both_sides);
+  Configuration zero = base;
+  zero.normals[3] = Vec3::Zero();
+  configs.push_back(zero);
+  Configuration nan_normal = base;
+  nan_normal.normals[0].y() = std::numeric_limits<double>::quiet_NaN();
+  configs.push_back(nan_normal);
+  Configuration along_edge = base;
+  along_edge.normals[0] = Vec3(1, 0, 1e-14);
+  configs.push_back(along_edge);
+  expect_matches_reference(configs, SurfaceKind::kGregory, 16);
+}
+
+TEST(CanonicalFrameKernel, TheC99CompilationAgreesWithTheCxxOne) {
+  // tests/search/canonical_frame_c99.c is compiled with -std=c99 -pedantic -Werror and includes the header
+  // twice (the guard lets two exported headers share it).
+  std::mt19937_64 rng(105);
+  for (const SurfaceKind kind : {SurfaceKind::kBilinear, SurfaceKind::kGregory}) {
+    std::vector<Configuration> configs;
+    for (int i = 0; i < 500; ++i) configs.push_back(random_world(rng));
+    expect_matches_reference(configs, kind, 16, 1.0, true);
+  }
+}
+
+TEST(EmbeddedSources, AreTheHeadersVerbatim) {
+  // The exported C header embeds the kernels from this text: it must be the files, byte for byte.
+  const auto read = [](const char* name) {
+    std::ifstream in(std::string(CONTACTNN_SOURCE_DIR) + "/lib/search/" + name, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  };
+  const std::string frame = read("canonical_frame.h"), sigmoid = read("vector_sigmoid.h");
+  ASSERT_FALSE(frame.empty());
+  EXPECT_EQ(canonical_frame_source(), frame);
+  EXPECT_EQ(vector_sigmoid_source(), sigmoid);
+}
+
+// ---- The training domain ----
+
+/// A domain with the paper's filters of `kind` and feature ranges that cut through the sampled region, so
+/// that about half of the configurations fall outside.
+geometry::TrainingDomain test_domain(SurfaceKind kind) {
+  geometry::TrainingDomain d;
+  d.surface = kind;
+  d.filters = testing::paper_filters(kind);
+  const std::array<double, 16> lo = {-0.5, 0.2, -0.2, -1.5, 0.1, -1.2, -1.0, 0.0, -0.2, -0.2, -0.2, -0.2, -0.2, -0.2, -0.2, -0.2};
+  const std::array<double, 16> hi = {1.8, 1.9, 0.25, 1.2, 1.0, 1.5, 1.6, 0.25, 0.2, 0.2, 0.2, 0.2, 0.2, 0.2, 0.2, 0.2};
+  for (int f = 0; f < feature_count(kind); ++f) {
+    d.feature_min.push_back(lo[static_cast<std::size_t>(f)]);
+    d.feature_max.push_back(hi[static_cast<std::size_t>(f)]);
+  }
+  return d;
+}
+
+/// The kernel's domain verdict per configuration (status 0 -> in, 5 -> out), for configurations that
+/// normalise.
+std::vector<int> kernel_domain(const std::vector<Configuration>& configs, SurfaceKind kind, const cnn_domain& d, int lanes) {
+  const bool gregory = kind == SurfaceKind::kGregory;
+  std::vector<int> verdict;
+  for (std::size_t first = 0; first < configs.size(); first += static_cast<std::size_t>(lanes)) {
+    const auto n = static_cast<std::size_t>(lanes);
+    std::vector<double> in(27 * n), f(16 * n), nrm(12 * n), info(5 * n);
+    for (std::size_t l = 0; l < n; ++l) {
+      std::vector<double> row;
+      testing::append_raw(configs[first + l < configs.size() ? first + l : 0], kind, row);
+      for (std::size_t k = 0; k < row.size(); ++k) in[k * n + l] = row[k];
+    }
+    cnn_canonicalise_block(lanes, gregory, in.data(), f.data(), nrm.data(), info.data());
+    cnn_domain_block(lanes, gregory, &d, f.data(), nrm.data(), info.data());
+    for (std::size_t l = 0; l < n && first + l < configs.size(); ++l) verdict.push_back(static_cast<int>(info[l]));
+  }
+  return verdict;
+}
+
+TEST(DomainKernel, AgreesWithTrainingDomainContains) {
+  std::mt19937_64 rng(106);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (const SurfaceKind kind : {SurfaceKind::kBilinear, SurfaceKind::kGregory}) {
+    const geometry::TrainingDomain domain = test_domain(kind);
+    const cnn_domain bounds = domain_bounds(domain);
+    std::vector<Configuration> configs;
+    for (int i = 0; i < 2000; ++i) {
+      // Half from the paper's domain, half perturbed out of it (angles, tilts, ranges, nearest node).
+      Configuration local = testing::random_domain_configuration(kind, rng);
+      if (i % 2 == 1) {
+        local.nodes[2] += Vec3(0.3 * u(rng), 0.3 * u(rng), 0.1 * u(rng));
+        local.slave += Vec3(0.3 * u(rng), 0.3 * u(rng), 0.1 * u(rng));
+        for (auto& n : local.normals) n = (n + Vec3(0.1 * u(rng), 0.1 * u(rng), 0.0)).normalized();
+      }
+      configs.push_back(testing::place(local, rng, random_order(rng)));
+    }
+    const std::vector<int> got = kernel_domain(configs, kind, bounds, 16);
+    int inside = 0, outside = 0;
+    for (std::size_t i = 0; i < configs.size(); ++i) {
+      const geometry::NormaliseOutcome n = geometry::normalise(configs[i], kind);
+      if (!n.value || !n.value->canonical) continue;
+      const bool contains = domain.contains(n.value->config, n.value->features.data());
+      EXPECT_EQ(got[i], contains ? 0 : 5) << to_string(kind) << " config " << i;
+      (contains ? inside : outside) += 1;
+    }
+    // Both verdicts are exercised in earnest.
+    EXPECT_GT(inside, 300) << to_string(kind);
+    EXPECT_GT(outside, 300) << to_string(kind);
+  }
+}
+
+TEST(DomainKernel, ConfigurationsOnTheBoundsAgreeWithTheReference) {
+  // Features exactly on a range bound or on a filter's boundary: grid-like configurations of the bilinear
+  // study (S equidistant from A and B, |AD| = |AB|, xy on the range bound) in several placements.
+  std::mt19937_64 rng(107);
+  geometry::TrainingDomain domain = test_domain(SurfaceKind::kBilinear);
+  domain.feature_max[0] = 1.5;  // x_C
+  domain.feature_min[4] = 0.5;  // y_D
+  const cnn_domain bounds = domain_bounds(domain);
+  std::vector<Configuration> configs;
+  for (const Vec3& slave : {Vec3(0.5, 0.3, 0.1), Vec3(0.2, 0.2, 0.05), Vec3(0.4, 0.0, 0.2)}) {
+    for (const Vec3& d : {Vec3(0, 1, 0), Vec3(0.6, 0.8, 0), Vec3(-0.3, 0.5, 0)}) {
+      const Configuration c{{Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1.5, 1.2, 0.1), d}, slave, kNoNormals};
+      configs.push_back(c);
+      for (int p = 0; p < 4; ++p) configs.push_back(testing::place(c, rng, SquareSymmetry{}));
+    }
+  }
+  const std::vector<int> got = kernel_domain(configs, SurfaceKind::kBilinear, bounds, 16);
+  for (std::size_t i = 0; i < configs.size(); ++i) {
+    const geometry::NormaliseOutcome n = geometry::normalise(configs[i], SurfaceKind::kBilinear);
+    ASSERT_TRUE(n.value && n.value->canonical);
+    EXPECT_EQ(got[i], domain.contains(n.value->config, n.value->features.data()) ? 0 : 5) << "config " << i;
+  }
+}
+
+}  // namespace
+}  // namespace contactnn::search

@@ -1,0 +1,60 @@
+// lib/search/method: names parse to the methods they describe and back; malformed names are refused with
+// a message listing the accepted forms.
+#include "search/method.hpp"
+
+#include <gtest/gtest.h>
+
+#include "core/error.hpp"
+
+namespace contactnn::search {
+namespace {
+
+using Start = Method::Start;
+
+TEST(Method, ParsesEveryForm) {
+  EXPECT_EQ(Method::parse("network"), (Method{Start::kNetwork, 0, false}));
+  EXPECT_EQ(Method::parse("newton"), (Method{Start::kCentre, 0, true}));
+  EXPECT_EQ(Method::parse("newton:5"), (Method{Start::kCentre, 5, false}));
+  EXPECT_EQ(Method::parse("newton:0"), (Method{Start::kCentre, 0, false}));
+  EXPECT_EQ(Method::parse("closed_form"), (Method{Start::kClosedForm, 0, false}));
+  EXPECT_EQ(Method::parse("network+newton:3"), (Method{Start::kNetwork, 3, false}));
+  EXPECT_EQ(Method::parse("closed_form+newton:12"), (Method{Start::kClosedForm, 12, false}));
+  // ":0" is the start alone.
+  EXPECT_EQ(Method::parse("network+newton:0"), Method::parse("network"));
+  EXPECT_EQ(Method::parse("closed_form+newton:0"), Method::parse("closed_form"));
+}
+
+TEST(Method, NameRoundTrips) {
+  for (const char* name : {"network", "newton", "newton:0", "newton:1", "newton:10", "closed_form",
+                           "network+newton:1", "network+newton:3", "closed_form+newton:1", "closed_form+newton:25"}) {
+    const Method m = Method::parse(name);
+    EXPECT_EQ(m.name(), name);
+    EXPECT_EQ(Method::parse(m.name()), m);
+  }
+  EXPECT_EQ(Method::parse("network+newton:0").name(), "network");
+}
+
+TEST(Method, HybridsAndNetworkNeedsAreClassified) {
+  EXPECT_TRUE(Method::parse("network").needs_network());
+  EXPECT_FALSE(Method::parse("network").is_hybrid());
+  EXPECT_TRUE(Method::parse("network+newton:1").is_hybrid());
+  EXPECT_TRUE(Method::parse("closed_form+newton:2").is_hybrid());
+  EXPECT_FALSE(Method::parse("closed_form+newton:2").needs_network());
+  EXPECT_FALSE(Method::parse("newton:5").is_hybrid());
+}
+
+TEST(Method, MalformedNamesAreRefusedNamingTheForms) {
+  for (const char* bad : {"", "Network", "newton:", "newton:-1", "newton:x", "newton:3x", "newton: 3", "newton:1.5",
+                          "network+newton", "network+newton:", "closed_form+newton:-2", "gauss", "network+",
+                          "newton:99999999999999999999"}) {
+    try {
+      (void)Method::parse(bad);
+      ADD_FAILURE() << "accepted '" << bad << "'";
+    } catch (const InvalidArgument& e) {
+      EXPECT_NE(std::string(e.what()).find("closed_form+newton:K"), std::string::npos) << e.what();
+    }
+  }
+}
+
+}  // namespace
+}  // namespace contactnn::search
