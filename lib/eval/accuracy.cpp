@@ -7,84 +7,87 @@
 
 namespace contactnn::eval {
 
-void Estimates::resize(std::size_t n) {
-  param.assign(n, {0.0, 0.0});
-  status.assign(n, Status::kOk);
-  iterations.assign(n, 0);
+Estimates run_on_set(const search::LocalSearch& search, const EvaluationSet& set, int threads) {
+  CONTACTNN_REQUIRE(search.surface() == set.surface, "a " << to_string(search.surface()) << " search on the "
+                                                          << to_string(set.surface) << " set '" << set.name << "'");
+  Estimates e;
+  const auto n = static_cast<std::size_t>(set.rows());
+  e.param.resize(2 * n);
+  e.gap.resize(n);
+  e.status.resize(n);
+  e.iterations.resize(n);
+  search.run(n, set.raw.data(), search::Results<double>{e.param.data(), e.gap.data(), e.status.data(), e.iterations.data()},
+             threads);
+  return e;
 }
 
-Estimates newton_estimates(const std::vector<geometry::Configuration>& world, SurfaceKind kind, const Method& method,
-                           const NewtonMethodOptions& options) {
-  CONTACTNN_REQUIRE(method.kind != Method::Kind::kNetwork, "newton_estimates: " << method.name() << " is not a Newton method");
-  Estimates out;
-  out.method = method;
-  out.resize(world.size());
-  const auto n = static_cast<std::int64_t>(world.size());
-#pragma omp parallel for schedule(dynamic, 256)
-  for (std::int64_t i = 0; i < n; ++i) {
-    const auto r = static_cast<std::size_t>(i);
-    Estimate e;
-    switch (method.kind) {
-      case Method::Kind::kNewtonFixed:
-        e = newton_fixed_estimate(world[r], kind, method.iterations);
-        break;
-      case Method::Kind::kNewtonConverged:
-        e = newton_converged_estimate(world[r], kind, options);
-        break;
-      default:
-        e = reference_estimate(world[r], kind, options);
-        break;
-    }
-    out.param[r] = e.param;
-    out.status[r] = e.status;
-    out.iterations[r] = e.iterations;
-  }
-  return out;
+bool inside_domain(const double* p, SurfaceKind kind, double margin) {
+  const ParamDomain d = param_domain(kind);
+  // False for NaN: a non-finite estimate is inside nothing.
+  return p[0] >= d.lo - margin && p[0] <= d.hi + margin && p[1] >= d.lo - margin && p[1] <= d.hi + margin;
 }
 
-MethodErrors compare_with_labels(const Estimates& estimates, const dataset::MatrixRM<double>& labels,
-                                 const std::vector<Status>& label_status, SurfaceKind kind, double failure_box_margin) {
+MethodErrors compare_with_labels(std::string method, const Estimates& estimates, const EvaluationSet& set,
+                                 double failure_box_margin, bool keep_rows) {
   const std::size_t n = estimates.size();
-  CONTACTNN_REQUIRE(static_cast<std::size_t>(labels.rows()) == n && labels.cols() == 2 && label_status.size() == n,
-                    "compare_with_labels: " << n << " estimates, labels " << labels.rows() << " x " << labels.cols()
-                                            << ", " << label_status.size() << " label statuses");
+  CONTACTNN_REQUIRE(static_cast<std::int64_t>(n) == set.rows(),
+                    "compare_with_labels: " << n << " estimates for the " << set.rows() << " rows of '" << set.name << "'");
+  const ParamDomain d = param_domain(set.surface);
+  const double box = failure_box_margin * (d.hi - d.lo);
+  constexpr double kInsideMargin = 1e-10;  // the reference solver's domain_margin: ok versus outside
   MethodErrors m;
-  m.method = estimates.method;
+  m.method = std::move(method);
   m.rows = static_cast<std::int64_t>(n);
-  m.failed.assign(n, 0);
-  for (auto& e : m.errors) e.assign(n, 0.0);
+  std::vector<std::uint8_t> failed(n, 0);
+  std::array<std::vector<double>, 2> errors{std::vector<double>(n, 0.0), std::vector<double>(n, 0.0)};
+  std::vector<double> gap_errors;
+  std::vector<std::uint8_t> gap_failed;
+  m.converged_iterations.assign(n, -1);
   for (std::size_t r = 0; r < n; ++r) {
     const Status s = estimates.status[r];
     ++m.status_counts[static_cast<std::size_t>(s)];
-    if (label_status[r] != Status::kOk) {
-      m.failed[r] = 1;
+    if (s == Status::kOk || s == Status::kOutside) m.converged_iterations[r] = estimates.iterations[r];
+    const Status label = set.label_status[r];
+    if (label != Status::kOk && label != Status::kOutside) {
+      failed[r] = 1;
       ++m.failures_reference;
       continue;
     }
-    const std::array<double, 2>& p = estimates.param[r];
-    const bool usable = (s == Status::kOk || s == Status::kOutside) && inside_box(p, kind, failure_box_margin);
-    if (!usable) {
-      m.failed[r] = 1;
+    const double* p = &estimates.param[2 * r];
+    const bool answered = s == Status::kOk || s == Status::kOutside || s == Status::kOutOfDomain;
+    if (!answered || !inside_domain(p, set.surface, box)) {
+      failed[r] = 1;
       ++m.failures_method;
       continue;
     }
     const auto row = static_cast<Eigen::Index>(r);
-    m.errors[0][r] = p[0] - labels(row, 0);
-    m.errors[1][r] = p[1] - labels(row, 1);
-    if (!inside_domain(p, kind, 1e-10)) ++m.outside_domain;
+    errors[0][r] = p[0] - set.labels(row, 0);
+    errors[1][r] = p[1] - set.labels(row, 1);
+    if (s == Status::kOutOfDomain) ++m.out_of_domain;
+    const bool inside = inside_domain(p, set.surface, kInsideMargin);
+    if (!inside) ++m.outside_domain;
+    ++m.inside_compared;
+    if (inside == (label == Status::kOk)) ++m.inside_agree;
+    if (set.size[r] > 0.0 && std::isfinite(estimates.gap[r])) {
+      gap_errors.push_back((estimates.gap[r] - set.label_gap[r]) / set.size[r]);
+      gap_failed.push_back(0);
+    }
   }
-  for (int c = 0; c < 2; ++c) m.stats[static_cast<std::size_t>(c)] = summarize_errors(m.errors[static_cast<std::size_t>(c)], m.failed);
+  for (std::size_t c = 0; c < 2; ++c) m.stats[c] = summarize_errors(errors[c], failed);
+  m.gap_relative = summarize_errors(gap_errors, gap_failed);
+  if (keep_rows) {
+    m.errors = std::move(errors);
+    m.failed = std::move(failed);
+  }
   return m;
 }
 
-std::vector<std::int64_t> count_values(const std::vector<int>& values, const std::vector<bool>& include, int size) {
-  CONTACTNN_REQUIRE(size >= 1 && values.size() == include.size(),
-                    "count_values: size " << size << ", " << values.size() << " values, " << include.size() << " flags");
+std::vector<std::int64_t> count_values(const std::vector<std::int32_t>& values, int size) {
+  CONTACTNN_REQUIRE(size >= 1, "count_values: size " << size);
   std::vector<std::int64_t> counts(static_cast<std::size_t>(size), 0);
-  for (std::size_t i = 0; i < values.size(); ++i) {
-    if (!include[i]) continue;
-    const int k = std::clamp(values[i], 0, size - 1);
-    ++counts[static_cast<std::size_t>(k)];
+  for (const std::int32_t v : values) {
+    if (v < 0) continue;
+    ++counts[static_cast<std::size_t>(std::min(v, size - 1))];
   }
   return counts;
 }

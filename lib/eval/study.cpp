@@ -1,168 +1,319 @@
 #include "eval/study.hpp"
 
 #include <algorithm>
-#include <array>
 #include <cmath>
-#include <numeric>
+#include <memory>
+#include <sstream>
 
 #include "core/error.hpp"
+#include "mlp/random.hpp"
 
 namespace contactnn::eval {
 
-std::vector<geometry::Configuration> world_configurations(const dataset::LabelledSet& set,
-                                                          const StudyOptions& options) {
-  std::vector<geometry::Configuration> world(static_cast<std::size_t>(set.size()));
-  const std::int64_t n = set.size();
-#pragma omp parallel for schedule(static)
-  for (std::int64_t i = 0; i < n; ++i) {
-    const geometry::Configuration local =
-        configuration_from_features(set.surface, set.features.row(static_cast<Eigen::Index>(i)).data());
-    world[static_cast<std::size_t>(i)] =
-        options.random_placement ? place(local, random_placement(options.seed, static_cast<std::uint64_t>(i))) : local;
-  }
-  return world;
-}
-
-void add_network_errors(const dataset::LabelledSet& set, const Estimates& network, const StudyOptions& options,
-                        StudyResult& result) {
-  for (const Status s : set.status) ++result.label_status_counts[static_cast<std::size_t>(s)];
-  MethodErrors m = compare_with_labels(network, set.labels, set.status, set.surface, options.failure_box_margin);
-  result.network_out_of_domain = m.status_counts[static_cast<std::size_t>(Status::kOutOfDomain)];
-
-  // Histogram range: fixed, or nice_ceil of the 99.9th percentile of |e| over both coordinates.
-  double range = options.hist_range;
-  if (!(range > 0.0)) {
-    std::vector<double> abs_errors;
-    for (int c = 0; c < 2; ++c) {
-      for (std::size_t r = 0; r < m.failed.size(); ++r) {
-        if (m.failed[r] == 0) abs_errors.push_back(std::abs(m.errors[static_cast<std::size_t>(c)][r]));
-      }
-    }
-    std::sort(abs_errors.begin(), abs_errors.end());
-    range = abs_errors.empty() ? 1.0 : nice_ceil(percentile(abs_errors, 99.9));
-  }
-  for (int c = 0; c < 2; ++c) {
-    result.histograms[static_cast<std::size_t>(c)] =
-        make_histogram(m.errors[static_cast<std::size_t>(c)], m.failed, -range, range, options.hist_bins);
-  }
-  result.errors.insert(result.errors.begin(), std::move(m));
-}
-
-void add_newton_errors(const dataset::LabelledSet& set, const std::vector<geometry::Configuration>& world,
-                       const StudyOptions& options, StudyResult& result, const StudyLog& log) {
-  // The dataset's own iteration counts (the label solver's start that produced each label).
-  std::vector<int> label_iterations(set.iterations.data(), set.iterations.data() + set.iterations.size());
-  std::vector<bool> ok(set.status.size());
-  for (std::size_t r = 0; r < ok.size(); ++r) ok[r] = set.status[r] == Status::kOk;
-  result.label_iterations = count_values(label_iterations, ok, kIterationBins);
-  result.label_rows_ok = std::count(ok.begin(), ok.end(), true);
-
-  for (const Method& method : error_table_methods(options.max_fixed_iterations)) {
-    if (method.kind == Method::Kind::kNetwork) continue;
-    if (log) log("accuracy: " + method.name());
-    const Estimates e = newton_estimates(world, set.surface, method, options.newton);
-    MethodErrors m = compare_with_labels(e, set.labels, set.status, set.surface, options.failure_box_margin);
-    for (auto& v : m.errors) std::vector<double>().swap(v);  // only the network's rows are kept
-    std::vector<std::uint8_t>().swap(m.failed);
-    if (method.kind == Method::Kind::kNewtonConverged) {
-      std::vector<bool> converged(e.size());
-      for (std::size_t r = 0; r < e.size(); ++r) {
-        converged[r] = e.status[r] == Status::kOk || e.status[r] == Status::kOutside;
-      }
-      result.newton_converged_iterations = count_values(e.iterations, converged, kIterationBins);
-      result.newton_converged_failures =
-          static_cast<std::int64_t>(std::count(converged.begin(), converged.end(), false));
-    }
-    result.errors.push_back(std::move(m));
-  }
-}
-
-std::vector<TimedMethod> newton_timed_methods(std::span<const geometry::Configuration> batch, SurfaceKind kind,
-                                              const StudyOptions& options) {
-  const auto n = static_cast<std::int64_t>(batch.size());
-  std::vector<TimedMethod> methods;
-  for (int k = 1; k <= options.max_fixed_iterations; ++k) {
-    const Method m{Method::Kind::kNewtonFixed, k};
-    methods.push_back({m.name(), m.description(), n,
-                       batch_runner(batch, [kind, k](const geometry::Configuration& c) {
-                         return newton_fixed_estimate(c, kind, k).param;
-                       })});
-  }
-  const NewtonMethodOptions newton = options.newton;
-  const Method converged{Method::Kind::kNewtonConverged, 0};
-  methods.push_back({converged.name(), converged.description(), n,
-                     batch_runner(batch, [kind, newton](const geometry::Configuration& c) {
-                       return newton_converged_estimate(c, kind, newton).param;
-                     })});
-  const Method reference{Method::Kind::kReference, 0};
-  methods.push_back({reference.name(), reference.description(), n,
-                     batch_runner(batch, [kind, newton](const geometry::Configuration& c) {
-                       return reference_estimate(c, kind, newton).param;
-                     })});
-  return methods;
-}
-
-std::vector<std::size_t> timing_sample(const dataset::LabelledSet& set, std::int64_t count, std::uint64_t seed) {
-  CONTACTNN_REQUIRE(count >= 1, "timing_queries = " << count << ", expected >= 1");
-  std::vector<std::size_t> ok_rows;
-  for (std::size_t r = 0; r < set.status.size(); ++r) {
-    if (set.status[r] == Status::kOk) ok_rows.push_back(r);
-  }
-  CONTACTNN_REQUIRE_AS(FormatError, !ok_rows.empty(), "the dataset has no row with status ok to time on");
-  // Partial Fisher-Yates: the first `count` entries become a uniform sample in random order (random order
-  // so that no method profits from the grid order, e.g. Newton's branch history).
-  mlp::Rng rng(mlp::Rng::derive_seed(seed, 0x7173ULL));
-  const std::size_t take = std::min<std::size_t>(ok_rows.size(), static_cast<std::size_t>(count));
-  for (std::size_t i = 0; i < take; ++i) {
-    const std::size_t j = i + static_cast<std::size_t>(rng.below(ok_rows.size() - i));
-    std::swap(ok_rows[i], ok_rows[j]);
-  }
-  ok_rows.resize(take);
-  return ok_rows;
-}
-
 namespace {
-// Upper iteration bound of each class; the last class takes the rest and the failures.
+
+/// A timed pass is at least this many queries, so that one pass is long enough for the clock and a
+/// preemption does not dominate it: small sets (a scene's pairs) are cycled up to it.
+constexpr std::int64_t kMinTimingQueries = 4096;
+
+// Classes of configuration by the steps "newton" needs: upper bounds, the last class taking the rest.
 constexpr std::array<int, 3> kClassUpper = {5, 7, 10};
 constexpr std::array<const char*, 4> kClassLabels = {"1-5 iterations", "6-7 iterations", "8-10 iterations",
                                                      "more than 10 or not converged"};
-}  // namespace
 
-std::vector<ConfigurationClass> split_by_newton_iterations(const std::vector<geometry::Configuration>& batch,
-                                                           SurfaceKind kind, const StudyOptions& options) {
-  std::vector<ConfigurationClass> groups(kClassLabels.size());
-  for (std::size_t g = 0; g < groups.size(); ++g) groups[g].label = kClassLabels[g];
-  for (const geometry::Configuration& c : batch) {
-    const Estimate e = newton_converged_estimate(c, kind, options.newton);
-    const bool converged = e.status == Status::kOk || e.status == Status::kOutside;
-    std::size_t g = kClassUpper.size();
-    for (std::size_t k = 0; converged && k < kClassUpper.size(); ++k) {
-      if (e.iterations <= kClassUpper[k]) {
-        g = k;
-        break;
-      }
-    }
-    groups[g].items.push_back(c);
-  }
-  return groups;
+/// A method of the study: its search and which network (index, -1: none) it uses.
+struct StudyMethod {
+  std::string name;
+  search::Method method;
+  int network = -1;
+};
+
+std::string trim(std::string s) {
+  const auto first = s.find_first_not_of(" \t");
+  if (first == std::string::npos) return "";
+  return s.substr(first, s.find_last_not_of(" \t") - first + 1);
 }
 
-void finish_timings(StudyResult& result, const StudyOptions& options) {
+std::vector<StudyMethod> expand_methods(const std::string& list, const std::vector<EvaluatedNetwork>& networks) {
+  std::vector<StudyMethod> methods;
+  std::stringstream in(list);
+  std::string item;
+  while (std::getline(in, item, ',')) {
+    item = trim(item);
+    if (item.empty()) continue;
+    const search::Method m = search::Method::parse(item);
+    if (!m.needs_network()) {
+      methods.push_back({m.name(), m, -1});
+      continue;
+    }
+    CONTACTNN_REQUIRE(!networks.empty(), "method '" << item << "' needs a network: give --weights");
+    for (std::size_t k = 0; k < networks.size(); ++k) {
+      methods.push_back({m.name() + "[" + networks[k].name + "]", m, static_cast<int>(k)});
+    }
+  }
+  CONTACTNN_REQUIRE(!methods.empty(), "no method to evaluate in '" << list << "'");
+  for (std::size_t i = 0; i < methods.size(); ++i) {
+    for (std::size_t j = 0; j < i; ++j) {
+      CONTACTNN_REQUIRE(methods[i].name != methods[j].name, "method '" << methods[i].name << "' is listed twice");
+    }
+  }
+  return methods;
+}
+
+/// `count` queries for timing: distinct usable rows (the label has a point) in random order (seeded, so that
+/// no method profits from the set's order), cycled when the set has fewer.
+std::vector<std::size_t> timing_rows(const EvaluationSet& set, std::int64_t count, std::uint64_t seed) {
+  std::vector<std::size_t> rows;
+  for (std::size_t r = 0; r < set.label_status.size(); ++r) {
+    if (set.label_status[r] == Status::kOk || set.label_status[r] == Status::kOutside) rows.push_back(r);
+  }
+  CONTACTNN_REQUIRE_AS(FormatError, !rows.empty(), "'" << set.source << "' has no row with a reference point to time on");
+  mlp::Rng rng(mlp::Rng::derive_seed(seed, 0x7173ULL));
+  const std::size_t take = std::min<std::size_t>(rows.size(), static_cast<std::size_t>(count));
+  for (std::size_t i = 0; i < take; ++i) {
+    const std::size_t j = i + static_cast<std::size_t>(rng.below(rows.size() - i));
+    std::swap(rows[i], rows[j]);
+  }
+  rows.resize(take);
+  const auto target = static_cast<std::size_t>(std::max(count, kMinTimingQueries));
+  for (std::size_t i = 0; rows.size() < target && i < take * target; ++i) rows.push_back(rows[i % take]);
+  return rows;
+}
+
+/// Buffers of one timed method: the search and where its results go (allocated once, reused by every pass).
+struct Runner {
+  search::LocalSearch search;
+  const std::vector<double>* raw;
+  std::vector<double> param;
+  std::vector<Status> status;
+  std::size_t n, columns;
+
+  Runner(search::LocalSearch s, const std::vector<double>& queries, std::size_t count, std::size_t cols)
+      : search(std::move(s)), raw(&queries), param(2 * count), status(count), n(count), columns(cols) {}
+
+  double checksum() const {
+    double sum = 0.0;
+    for (std::size_t i = 0; i < n; ++i) sum += param[2 * i] + 0.5 * param[2 * i + 1];
+    return sum;
+  }
+  /// Every query in one call (lib/search's blocks), on `threads` threads.
+  double batched(int threads) {
+    search.run(n, raw->data(), search::Results<double>{param.data(), nullptr, status.data(), nullptr}, threads);
+    return checksum();
+  }
+  /// One call per query, as a code that searches query by query.
+  double one_at_a_time() {
+    for (std::size_t i = 0; i < n; ++i) {
+      search.run(1, raw->data() + i * columns, search::Results<double>{param.data() + 2 * i, nullptr, status.data() + i, nullptr},
+                 1);
+    }
+    return checksum();
+  }
+};
+
+/// The raw values of `rows` of `set`, in that order.
+std::vector<double> gather_raw(const EvaluationSet& set, const std::vector<std::size_t>& rows) {
+  const auto cols = static_cast<std::size_t>(EvaluationSet::raw_columns(set.surface));
+  std::vector<double> out;
+  out.reserve(rows.size() * cols);
+  for (const std::size_t r : rows) out.insert(out.end(), set.raw.begin() + static_cast<std::ptrdiff_t>(r * cols),
+                                               set.raw.begin() + static_cast<std::ptrdiff_t>((r + 1) * cols));
+  return out;
+}
+
+const MethodTiming* find_timing(const SetResult& set, const std::string& method) {
+  for (const MethodTiming& t : set.timings) {
+    if (t.method == method) return &t;
+  }
+  return nullptr;
+}
+
+void time_set(const EvaluationSet& set, const std::vector<StudyMethod>& methods, const std::vector<search::LocalSearch>& searches,
+              const StudyOptions& options, SetResult& result, const StudyLog& log) {
+  const std::vector<std::size_t> rows = timing_rows(set, options.timing_queries, options.seed);
+  const std::vector<double> raw = gather_raw(set, rows);
+  const auto cols = static_cast<std::size_t>(EvaluationSet::raw_columns(set.surface));
+  const auto n = static_cast<std::int64_t>(rows.size());
   result.timed = true;
-  std::vector<double> k, t, t_min;
-  for (const Timing& timing : result.timings) {
-    for (int i = 1; i <= options.max_fixed_iterations; ++i) {
-      if (timing.name == Method{Method::Kind::kNewtonFixed, i}.name()) {
-        k.push_back(i);
-        t.push_back(timing.median_ns);
-        t_min.push_back(timing.min_ns);
-      }
+  result.timing_queries = n;
+  result.timing_distinct = std::min<std::int64_t>(n, static_cast<std::int64_t>(std::count_if(
+                                                        set.label_status.begin(), set.label_status.end(), [](Status s) {
+                                                          return s == Status::kOk || s == Status::kOutside;
+                                                        })));
+  std::vector<std::unique_ptr<Runner>> runners;
+  std::vector<TimedMethod> timed;
+  const int threads = std::max(1, options.timing_threads);
+  for (std::size_t m = 0; m < methods.size(); ++m) {
+    runners.push_back(std::make_unique<Runner>(searches[m], raw, rows.size(), cols));
+    Runner* r = runners.back().get();
+    timed.push_back({methods[m].name + " one", "", n, [r] { return r->one_at_a_time(); }});
+    timed.push_back({methods[m].name + " batched", "", n, [r] { return r->batched(1); }});
+    timed.push_back({methods[m].name + " threads", "", n, [r, threads] { return r->batched(threads); }});
+  }
+  if (log) log("speed: " + set.name + ": " + std::to_string(timed.size()) + " timed runs");
+  const std::vector<Timing> t = time_methods(timed, options.timing_options);
+  for (std::size_t m = 0; m < methods.size(); ++m) {
+    result.timings.push_back({methods[m].name, t[3 * m], t[3 * m + 1], t[3 * m + 2]});
+  }
+  // Newton with k fixed steps: a line over k (its intercept the per-query setup, its slope one step).
+  std::vector<double> k, batched, one;
+  for (int i = 1; i <= 100; ++i) {
+    if (const MethodTiming* mt = find_timing(result, "newton:" + std::to_string(i))) {
+      k.push_back(i);
+      batched.push_back(mt->batched.median_ns);
+      one.push_back(mt->one_at_a_time.median_ns);
     }
   }
   if (k.size() >= 2) {
-    result.newton_fit = fit_line(k, t);
-    result.newton_fit_min = fit_line(k, t_min);
+    result.newton_fit = fit_line(k, batched);
+    result.newton_fit_one = fit_line(k, one);
   }
+
+  // The first network and "newton" per class of configuration (by the steps "newton" needs).
+  const auto first_network = std::find_if(methods.begin(), methods.end(), [](const StudyMethod& m) {
+    return m.method.needs_network() && !m.method.is_hybrid();
+  });
+  const auto newton = std::find_if(methods.begin(), methods.end(), [](const StudyMethod& m) { return m.name == "newton"; });
+  if (first_network == methods.end() || newton == methods.end()) return;
+  const search::LocalSearch& newton_search = searches[static_cast<std::size_t>(newton - methods.begin())];
+  const search::LocalSearch& network_search = searches[static_cast<std::size_t>(first_network - methods.begin())];
+  std::vector<Status> status(rows.size());
+  std::vector<std::int32_t> steps(rows.size());
+  std::vector<double> param(2 * rows.size());
+  newton_search.run(rows.size(), raw.data(), search::Results<double>{param.data(), nullptr, status.data(), steps.data()});
+  std::array<std::vector<std::size_t>, kClassLabels.size()> classes;
+  for (std::size_t i = 0; i < rows.size() && i < static_cast<std::size_t>(result.timing_distinct); ++i) {
+    const bool converged = status[i] == Status::kOk || status[i] == Status::kOutside;
+    std::size_t c = kClassUpper.size();
+    for (std::size_t u = 0; converged && u < kClassUpper.size(); ++u) {
+      if (steps[i] <= kClassUpper[u]) {
+        c = u;
+        break;
+      }
+    }
+    classes[c].push_back(i);
+  }
+  for (std::size_t c = 0; c < classes.size(); ++c) {
+    if (classes[c].empty()) continue;
+    std::vector<std::size_t> cycled;
+    for (std::size_t i = 0; cycled.size() < rows.size(); ++i) cycled.push_back(classes[c][i % classes[c].size()]);
+    std::vector<double> class_raw;
+    class_raw.reserve(cycled.size() * cols);
+    for (const std::size_t i : cycled) {
+      class_raw.insert(class_raw.end(), raw.begin() + static_cast<std::ptrdiff_t>(i * cols),
+                       raw.begin() + static_cast<std::ptrdiff_t>((i + 1) * cols));
+    }
+    Runner net(network_search, class_raw, cycled.size(), cols), plain(newton_search, class_raw, cycled.size(), cols);
+    const std::vector<Timing> ct =
+        time_methods({{"network", "", n, [&net] { return net.batched(1); }}, {"newton", "", n, [&plain] { return plain.batched(1); }}},
+                     options.timing_options);
+    result.class_timings.push_back({kClassLabels[c], static_cast<std::int64_t>(classes[c].size()), ct[0].median_ns,
+                                    ct[1].median_ns});
+  }
+}
+
+}  // namespace
+
+std::string default_methods(SurfaceKind kind, int max_fixed_iterations, bool with_networks) {
+  std::string list = with_networks ? "network,network+newton:1,network+newton:2,network+newton:3," : "";
+  if (kind == SurfaceKind::kBilinear) list += "closed_form,closed_form+newton:1,closed_form+newton:2,";
+  for (int k = 1; k <= max_fixed_iterations; ++k) list += "newton:" + std::to_string(k) + ",";
+  return list + "newton";
+}
+
+StudyResult run_study(const std::vector<EvaluationSet>& sets, const std::vector<EvaluatedNetwork>& networks,
+                      const StudyOptions& options, const StudyLog& log) {
+  const auto say = [&](const std::string& s) {
+    if (log) log(s);
+  };
+  CONTACTNN_REQUIRE(!sets.empty(), "no set to evaluate on");
+  StudyResult result;
+  result.surface = sets.front().surface;
+  result.networks = networks;
+  result.timing_threads = std::max(1, options.timing_threads);
+  for (const EvaluationSet& s : sets) {
+    CONTACTNN_REQUIRE_AS(FormatError, s.surface == result.surface,
+                         "'" << s.source << "' is a " << to_string(s.surface) << " set, '" << sets.front().source
+                             << "' a " << to_string(result.surface) << " one: a study is of one surface");
+  }
+  for (const EvaluatedNetwork& n : networks) {
+    CONTACTNN_REQUIRE_AS(FormatError, n.model != nullptr && n.model->surface() == result.surface,
+                         "network '" << n.name << "' is not a " << to_string(result.surface) << " network");
+  }
+  const std::string list = options.methods.empty()
+                               ? default_methods(result.surface, options.max_fixed_iterations, !networks.empty())
+                               : options.methods;
+  const std::vector<StudyMethod> methods = expand_methods(list, networks);
+  std::vector<search::LocalSearch> searches;
+  for (const StudyMethod& m : methods) {
+    searches.emplace_back(result.surface, m.method, options.search,
+                          m.network >= 0 ? networks[static_cast<std::size_t>(m.network)].model : nullptr);
+    result.methods.push_back(m.name);
+  }
+
+  for (std::size_t s = 0; s < sets.size(); ++s) {
+    const EvaluationSet& set = sets[s];
+    SetResult r;
+    r.name = set.name;
+    r.source = set.source;
+    r.rows = set.rows();
+    r.skipped_no_segment = set.skipped_no_segment;
+    for (const Status st : set.label_status) ++r.label_status_counts[static_cast<std::size_t>(st)];
+    std::vector<std::int32_t> label_iterations;
+    for (std::size_t i = 0; i < set.label_iterations.size(); ++i) {
+      if (set.label_status[i] == Status::kOk && set.label_iterations[i] >= 0) label_iterations.push_back(set.label_iterations[i]);
+    }
+    r.label_rows_ok = r.label_status_counts[static_cast<std::size_t>(Status::kOk)];
+    if (!label_iterations.empty()) r.label_iterations = count_values(label_iterations, kIterationBins);
+
+    // 1. Accuracy: every method on the same world coordinates.
+    for (std::size_t m = 0; m < methods.size(); ++m) {
+      say("accuracy: " + set.name + ": " + methods[m].name);
+      const Estimates e = run_on_set(searches[m], set, 0);
+      const bool histogram = s == 0 && result.histogram_method.empty() && methods[m].method.needs_network() &&
+                             !methods[m].method.is_hybrid();
+      MethodErrors errors = compare_with_labels(methods[m].name, e, set, options.failure_box_margin, histogram);
+      if (methods[m].name == "newton") {
+        r.newton_iterations = count_values(errors.converged_iterations, kIterationBins);
+        r.newton_failures = std::count(errors.converged_iterations.begin(), errors.converged_iterations.end(), -1);
+      }
+      std::vector<std::int32_t>().swap(errors.converged_iterations);
+      if (histogram) {
+        result.histogram_method = methods[m].name;
+        double range = options.hist_range;
+        if (!(range > 0.0)) {
+          std::vector<double> abs_errors;
+          for (std::size_t c = 0; c < 2; ++c) {
+            for (std::size_t i = 0; i < errors.failed.size(); ++i) {
+              if (errors.failed[i] == 0) abs_errors.push_back(std::abs(errors.errors[c][i]));
+            }
+          }
+          std::sort(abs_errors.begin(), abs_errors.end());
+          range = abs_errors.empty() ? 1.0 : nice_ceil(percentile(abs_errors, 99.9));
+        }
+        for (std::size_t c = 0; c < 2; ++c) {
+          result.histograms[c] = make_histogram(errors.errors[c], errors.failed, -range, range, options.hist_bins);
+        }
+        for (auto& v : errors.errors) std::vector<double>().swap(v);
+        std::vector<std::uint8_t>().swap(errors.failed);
+      }
+      r.errors.push_back(std::move(errors));
+    }
+    // 2. Speed.
+    if (options.timing) time_set(set, methods, searches, options, r, log);
+    result.sets.push_back(std::move(r));
+  }
+  return result;
+}
+
+NetworkCostInIterations network_cost_in_iterations(const SetResult& set, const std::string& network_method) {
+  NetworkCostInIterations c;
+  const MethodTiming* net = find_timing(set, network_method);
+  if (net == nullptr || !(set.newton_fit.slope > 0.0) || !(set.newton_fit_one.slope > 0.0)) return c;
+  c.available = true;
+  c.batched = (net->batched.median_ns - set.newton_fit.intercept) / set.newton_fit.slope;
+  c.one_at_a_time = (net->one_at_a_time.median_ns - set.newton_fit_one.intercept) / set.newton_fit_one.slope;
+  return c;
 }
 
 }  // namespace contactnn::eval

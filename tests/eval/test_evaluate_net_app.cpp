@@ -11,7 +11,6 @@
 #include <fstream>
 #include <sstream>
 
-#include "eval/methods.hpp"
 #include "eval/placement.hpp"
 #include "io/csv.hpp"
 #include "io/dataset_file.hpp"
@@ -102,29 +101,125 @@ TEST_F(EvaluateNetApp, ReportListsEveryMethodAndWritesWellFormedSvg) {
       << read_file(dir_ / "report.log");
   EXPECT_NE(read_file(dir_ / "report.log").find("report.md"), std::string::npos);
 
+  // The default methods for one bilinear network named after its file, written out.
+  std::vector<std::string> methods = {"network[net]",          "network+newton:1[net]", "network+newton:2[net]",
+                                      "network+newton:3[net]", "closed_form",           "closed_form+newton:1",
+                                      "closed_form+newton:2"};
+  for (int k = 1; k <= 10; ++k) methods.push_back("newton:" + std::to_string(k));
+  methods.push_back("newton");
   const io::CsvTable errors = io::read_csv(report / "errors.csv");
-  const std::vector<Method> methods = error_table_methods(10);
   ASSERT_EQ(errors.rows.size(), 2 * methods.size());
   for (std::size_t m = 0; m < methods.size(); ++m) {
-    EXPECT_EQ(errors.rows[2 * m][0], methods[m].name());
-    EXPECT_EQ(errors.rows[2 * m][1], "xi");
-    EXPECT_EQ(errors.rows[2 * m + 1][1], "eta");
+    EXPECT_EQ(errors.rows[2 * m][errors.column("set")], "tiny");
+    EXPECT_EQ(errors.rows[2 * m][errors.column("method")], methods[m]);
+    EXPECT_EQ(errors.rows[2 * m][errors.column("coordinate")], "xi");
+    EXPECT_EQ(errors.rows[2 * m + 1][errors.column("coordinate")], "eta");
     // Every row of the dataset is accounted for: in the statistics or counted as a failure.
     EXPECT_EQ(errors.number(2 * m, errors.column("rows")), static_cast<double>(set_.size()));
     EXPECT_EQ(errors.number(2 * m, errors.column("n")) + errors.number(2 * m, errors.column("failures")),
               static_cast<double>(set_.size()));
   }
   const std::string md = read_file(report / "report.md");
-  for (const Method& m : methods) EXPECT_NE(md.find("| " + m.name() + " |"), std::string::npos) << m.name();
+  for (const std::string& m : methods) EXPECT_NE(md.find("| " + m + " |"), std::string::npos) << m;
   EXPECT_NE(md.find("evaluate-net"), std::string::npos);
 
   const io::CsvTable speed = io::read_csv(report / "speed.csv");
-  EXPECT_EQ(speed.rows.size(), 3u + 10u + 2u);  // three network variants, newton_1..10, converged, reference
+  EXPECT_EQ(speed.rows.size(), methods.size());
   for (const std::string c : {"xi", "eta"}) {
     EXPECT_EQ(contactnn::testing::xml_well_formedness_error(read_file(report / ("hist_" + c + ".svg"))), "") << c;
     EXPECT_TRUE(fs::exists(report / ("hist_" + c + ".csv")));
   }
   EXPECT_TRUE(fs::exists(report / "evaluate-net.config.toml"));
+}
+
+TEST_F(EvaluateNetApp, SeveralNetworksAndAPairsFileInOneReport) {
+  // The same network under a second name, the dataset and a labelled RAW.csv of its first rows (label mode of
+  // gen-configs on raw rows): one report with both sets and both networks' methods.
+  fs::copy_file(dir_ / "net.h5", dir_ / "twin.h5", fs::copy_options::overwrite_existing);
+  std::string csv;
+  for (const auto name : kRawPointColumns) csv += (csv.empty() ? "" : ",") + std::string(name);
+  csv += "\n";
+  for (Eigen::Index r = 0; r < 20; ++r) {
+    const geometry::Configuration c =
+        place(configuration_from_features(SurfaceKind::kBilinear, set_.features.row(r).data()), random_placement(5, 0));
+    std::string line;
+    for (int node = 0; node < 4; ++node) {
+      for (int k = 0; k < 3; ++k) line += (line.empty() ? "" : ",") + io::format_double(c.nodes[node][k]);
+    }
+    for (int k = 0; k < 3; ++k) line += "," + io::format_double(c.slave[k]);
+    csv += line + "\n";
+  }
+  std::ofstream(dir_ / "some.csv") << csv;
+  const std::string gen = (kBin / "apps/gen-configs/gen-configs").string();
+  ASSERT_EQ(run(gen + " --surface bilinear --input " + (dir_ / "some.csv").string() + " --output " +
+                    (dir_ / "some-labels.csv").string(),
+                dir_ / "label.log"),
+            0)
+      << read_file(dir_ / "label.log");
+  const fs::path report = dir_ / "report2";
+  ASSERT_EQ(run(evaluate_net() + " --quiet --weights " + (dir_ / "net.h5").string() + " --weights " +
+                    (dir_ / "twin.h5").string() + " --data " + (dir_ / "tiny.h5").string() + " --pairs " +
+                    (dir_ / "some-labels.csv").string() + " --methods network,newton:10 --report " + report.string() +
+                    " --timing_queries 100 --timing_repetitions 1",
+                dir_ / "report2.log"),
+            0)
+      << read_file(dir_ / "report2.log");
+  const io::CsvTable errors = io::read_csv(report / "errors.csv");
+  ASSERT_EQ(errors.rows.size(), 2u * 3u * 2u);  // sets x methods x coordinates
+  // Rows: tiny/network[net], tiny/network[twin], tiny/newton:10, then the same for some-labels; twins answer
+  // alike.
+  EXPECT_EQ(errors.rows[0][errors.column("method")], "network[net]");
+  EXPECT_EQ(errors.rows[2][errors.column("method")], "network[twin]");
+  EXPECT_EQ(errors.rows[4][errors.column("method")], "newton:10");
+  EXPECT_EQ(errors.rows[0][errors.column("mean_abs")], errors.rows[2][errors.column("mean_abs")]);
+  EXPECT_EQ(errors.rows[6][errors.column("set")], "some-labels");
+  EXPECT_EQ(errors.number(6, errors.column("rows")), 20.0);
+}
+
+TEST_F(EvaluateNetApp, NewtonStepsAfterTheNetworkReachTheLabels) {
+  // SPEC 8: --newton-steps K refines the network's estimate on the caller's segment; with enough steps the
+  // answer is the reference's (gen-configs label mode) to Newton's tolerance, whatever the network.
+  std::string csv;
+  for (const auto name : kRawPointColumns) csv += (csv.empty() ? "" : ",") + std::string(name);
+  csv += "\n";
+  for (Eigen::Index r = 0; r < set_.size(); r += 7) {
+    const geometry::Configuration c =
+        place(configuration_from_features(SurfaceKind::kBilinear, set_.features.row(r).data()), random_placement(6, r));
+    std::string line;
+    for (int node = 0; node < 4; ++node) {
+      for (int k = 0; k < 3; ++k) line += (line.empty() ? "" : ",") + io::format_double(c.nodes[node][k]);
+    }
+    for (int k = 0; k < 3; ++k) line += "," + io::format_double(c.slave[k]);
+    csv += line + "\n";
+  }
+  std::ofstream(dir_ / "steps.csv") << csv;
+  const std::string gen = (kBin / "apps/gen-configs/gen-configs").string();
+  ASSERT_EQ(run(gen + " --surface bilinear --input " + (dir_ / "steps.csv").string() + " --output " +
+                    (dir_ / "steps-labels.csv").string(),
+                dir_ / "steps-label.log"),
+            0);
+  ASSERT_EQ(run(evaluate_net() + " --weights " + (dir_ / "net.h5").string() + " --input " + (dir_ / "steps.csv").string() +
+                    " --output " + (dir_ / "steps-pred.csv").string() + " --newton-steps 12",
+                dir_ / "steps.log"),
+            0)
+      << read_file(dir_ / "steps.log");
+  const io::CsvTable labels = io::read_csv(dir_ / "steps-labels.csv");
+  const io::CsvTable pred = io::read_csv(dir_ / "steps-pred.csv");
+  ASSERT_EQ(labels.rows.size(), pred.rows.size());
+  int compared = 0;
+  for (std::size_t r = 0; r < labels.rows.size(); ++r) {
+    if (labels.rows[r][labels.column("status")] != "ok") continue;
+    ASSERT_EQ(pred.rows[r][pred.column("status")], "ok") << "row " << r;
+    EXPECT_NEAR(pred.number(r, pred.column("xi")), labels.number(r, labels.column("xi")), 1e-8) << "row " << r;
+    EXPECT_NEAR(pred.number(r, pred.column("eta")), labels.number(r, labels.column("eta")), 1e-8) << "row " << r;
+    ++compared;
+  }
+  EXPECT_GT(compared, 10);
+  // Two networks in input mode: refused.
+  EXPECT_EQ(run(evaluate_net() + " --weights " + (dir_ / "net.h5").string() + " --weights " + (dir_ / "net.h5").string() +
+                    " --input " + (dir_ / "steps.csv").string() + " --output " + (dir_ / "x.csv").string(),
+                dir_ / "steps2.log"),
+            2);
 }
 
 TEST_F(EvaluateNetApp, InputModeKeepsRowsAndOrderWithRightStatuses) {

@@ -11,6 +11,8 @@
 #include "dataset/labeller.hpp"
 #include "eval/report.hpp"
 #include "eval/study.hpp"
+#include "eval/placement.hpp"
+#include "mlp/network.hpp"
 #include "io/csv.hpp"
 #include "xml_check.hpp"
 
@@ -24,15 +26,19 @@ std::string read_file(const std::filesystem::path& p) {
   return s.str();
 }
 
-/// Returns the label itself plus a fixed offset: a "network" with a known error of +0.01 in xi, -0.02 in eta.
-struct OffsetPredictor {
-  void predict(const double* features, double* out) {
-    const geometry::Configuration c = configuration_from_features(SurfaceKind::kBilinear, features);
-    const dataset::Label l = dataset::label_configuration(c, SurfaceKind::kBilinear);
-    out[0] = l.param[0] + 0.01;
-    out[1] = l.param[1] - 0.02;
-  }
-};
+/// A network whose every weight is zero: whatever its input, it answers the same canonical coordinates (the
+/// sigmoid of minus its output thresholds, unscaled), so its error on each row is known from the labels.
+mlp::Network<float> constant_network() {
+  mlp::Scaling scaling;
+  scaling.input_min.assign(8, -2.0);
+  scaling.input_max.assign(8, 2.0);
+  scaling.output_min.assign(2, -1.0);
+  scaling.output_max.assign(2, 1.0);
+  mlp::Network<float> net({8, 3, 2}, 2.0, scaling);
+  net.thresholds(1)[0] = 0.4f;
+  net.thresholds(1)[1] = -0.7f;
+  return net;
+}
 
 dataset::LabelledSet small_set() {
   // A 3 x 3 x 2 grid of slave positions over one segment; every label computed by the reference solver.
@@ -51,9 +57,9 @@ dataset::LabelledSet small_set() {
                                      SurfaceKind::kBilinear);
     // A dataset holds the canonical features (SPEC 4: here z_S < 0 rows are reflected to z_S > 0).
     for (int f = 0; f < 8; ++f) set.features(i, f) = l.features[static_cast<std::size_t>(f)];
-    set.labels(i, 0) = l.param[0];
-    set.labels(i, 1) = l.param[1];
-    set.gap(i) = l.gap;
+    set.labels(i, 0) = l.canonical_param[0];
+    set.labels(i, 1) = l.canonical_param[1];
+    set.gap(i) = l.canonical_gap;
     set.iterations(i) = l.iterations;
     set.status[r] = l.status;
     set.scale(i) = 1.0;
@@ -95,64 +101,88 @@ TEST(FitLine, ExactLineAndBadInput) {
   EXPECT_THROW((void)fit_line(std::vector<double>{1, 1}, std::vector<double>{2, 3}), InvalidArgument);
 }
 
-TEST(StudyReport, ListsEveryMethodAndWritesEveryFile) {
+TEST(StudyReport, KnownNetworkErrorsEveryMethodEveryFile) {
   const dataset::LabelledSet set = small_set();
   const geometry::TrainingDomain domain = geometry::TrainingDomain::from_features(
       SurfaceKind::kBilinear, set.features.data(), static_cast<long>(set.size()), set.status, set.filters);
+  const mlp::Network<float> constant = constant_network();
+  const search::NetworkModel model(constant, domain);
+  // The constant answer, through mlp::predict (an independent route to lib/search's forward pass).
+  std::array<double, 2> answer{};
+  mlp::ForwardPass<float> pass(constant);
+  mlp::predict(constant, set.features.row(0).data(), answer.data(), pass);
+
   StudyOptions options;
+  options.methods = "network, newton:1, newton:5, newton:10, newton, closed_form";
   options.timing_queries = 8;
   options.timing_options.repetitions = 2;
   options.hist_bins = 10;
-  const StudyResult result = run_study(set, OffsetPredictor{}, domain, options);
-
-  // The network's errors are the known offsets; the failed reference row is excluded.
-  const MethodErrors& net = result.errors.front();
-  ASSERT_EQ(net.method.name(), "network");
-  EXPECT_EQ(net.failures_reference, 1);
-  EXPECT_EQ(net.stats[0].n, static_cast<std::int64_t>(set.size()) - 1);
-  EXPECT_NEAR(net.stats[0].mean_signed, 0.01, 1e-12);
-  EXPECT_NEAR(net.stats[1].mean_signed, -0.02, 1e-12);
-  EXPECT_EQ(result.network_out_of_domain, 0);
+  const std::vector<EvaluationSet> sets = {set_from_dataset(set, "small", "small.h5", false, 1),
+                                           set_from_dataset(set, "small-placed", "small.h5", true, 3)};
+  const StudyResult result = run_study(sets, {{"constant", "8-3-2, all weights 0", &model}}, options);
+  ASSERT_EQ(result.methods, (std::vector<std::string>{"network[constant]", "newton:1", "newton:5", "newton:10", "newton",
+                                                      "closed_form"}));
+  ASSERT_EQ(result.sets.size(), 2u);
+  EXPECT_EQ(result.histogram_method, "network[constant]");
+  // The network's errors are the constant minus each label; the row without a reference is excluded.
+  for (const SetResult& r : result.sets) {
+    const MethodErrors& net = r.errors.front();
+    ASSERT_EQ(net.method, "network[constant]");
+    double sum0 = 0.0, sum1 = 0.0;
+    for (Eigen::Index i = 0; i < set.size(); ++i) {
+      if (set.status[static_cast<std::size_t>(i)] != Status::kOk) continue;
+      sum0 += answer[0] - set.labels(i, 0);
+      sum1 += answer[1] - set.labels(i, 1);
+    }
+    const double n = static_cast<double>(set.size() - 1);
+    EXPECT_EQ(net.failures_reference, 1);
+    EXPECT_EQ(net.stats[0].n, set.size() - 1);
+    EXPECT_NEAR(net.stats[0].mean_signed, sum0 / n, 1e-6);  // float network
+    EXPECT_NEAR(net.stats[1].mean_signed, sum1 / n, 1e-6);
+    EXPECT_EQ(net.out_of_domain, 0);
+    // Newton with 10 steps from the centre reaches the labels on this well-shaped segment.
+    const MethodErrors& n10 = r.errors[3];
+    EXPECT_EQ(n10.method, "newton:10");
+    EXPECT_LT(std::max(n10.stats[0].max_abs, n10.stats[1].max_abs), 1e-10);
+    EXPECT_TRUE(r.timed);
+    ASSERT_EQ(r.timings.size(), result.methods.size());
+  }
   EXPECT_EQ(result.histograms[0].total() + result.histograms[0].excluded, static_cast<std::int64_t>(set.size()));
 
   RunInfo info;
-  info.network_summary = "stand-in";
   info.command_line = "test";
   const std::filesystem::path dir = std::filesystem::path(::testing::TempDir()) / "contactnn_study_report";
   std::filesystem::remove_all(dir);
   write_report(dir, result, info, options);
 
   const io::CsvTable errors = io::read_csv(dir / "errors.csv");
-  std::vector<std::string> error_methods;
-  for (const auto& row : errors.rows) error_methods.push_back(row[errors.column("method")] + "/" + row[errors.column("coordinate")]);
-  for (const Method& m : error_table_methods(options.max_fixed_iterations)) {
-    for (const std::string c : {"xi", "eta"}) {
-      EXPECT_NE(std::find(error_methods.begin(), error_methods.end(), m.name() + "/" + c), error_methods.end())
-          << m.name() << " " << c << " missing from errors.csv";
+  EXPECT_EQ(errors.rows.size(), 2 * 2 * result.methods.size());  // sets x coordinates x methods
+  for (const std::string& m : result.methods) {
+    for (const std::string set_name : {"small", "small-placed"}) {
+      for (const std::string c : {"xi", "eta"}) {
+        const auto found = std::find_if(errors.rows.begin(), errors.rows.end(), [&](const std::vector<std::string>& row) {
+          return row[errors.column("set")] == set_name && row[errors.column("method")] == m &&
+                 row[errors.column("coordinate")] == c;
+        });
+        EXPECT_NE(found, errors.rows.end()) << set_name << " " << m << " " << c << " missing from errors.csv";
+      }
     }
   }
-  EXPECT_EQ(errors.rows.size(), 2 * error_table_methods(options.max_fixed_iterations).size());
-
   const io::CsvTable speed = io::read_csv(dir / "speed.csv");
-  std::vector<std::string> speed_methods;
-  for (const auto& row : speed.rows) speed_methods.push_back(row[0]);
-  for (const std::string name : {"network", "network_forward_only", "network_with_domain_check", "newton_1", "newton_5",
-                                 "newton_10", "newton_converged", "reference"}) {
-    EXPECT_NE(std::find(speed_methods.begin(), speed_methods.end(), name), speed_methods.end()) << name;
-  }
-  // ratio_to_newton_5 of newton_5 is 1 by definition.
+  EXPECT_EQ(speed.rows.size(), 2 * result.methods.size());
   for (const auto& row : speed.rows) {
-    if (row[0] == "newton_5") {
-      EXPECT_EQ(row[speed.column("ratio_to_newton_5")], "1");
+    if (row[speed.column("method")] == "newton:5") {
+      EXPECT_EQ(row[speed.column("batched_per_newton_5")], "1");
     }
+    EXPECT_EQ(row[speed.column("threads")], "2");
   }
-
   const std::string md = read_file(dir / "report.md");
-  for (const Method& m : error_table_methods(options.max_fixed_iterations)) {
-    EXPECT_NE(md.find("| " + m.name() + " |"), std::string::npos) << m.name() << " missing from report.md";
+  for (const std::string& m : result.methods) {
+    EXPECT_NE(md.find("| " + m + " |"), std::string::npos) << m << " missing from report.md";
   }
   for (const std::string needle : {"seven iterations", "more than ten iterations", "Fig 4", "Machine and build",
-                                   "hist_xi.svg", "Newton iteration counts"}) {
+                                   "hist_xi.svg", "Newton iteration counts", "Fastest method at each accuracy level",
+                                   "Set `small-placed`"}) {
     EXPECT_NE(md.find(needle), std::string::npos) << needle;
   }
   for (const std::string c : {"xi", "eta"}) {
@@ -161,6 +191,33 @@ TEST(StudyReport, ListsEveryMethodAndWritesEveryFile) {
     EXPECT_EQ(hist.rows.size(), static_cast<std::size_t>(options.hist_bins) + 3);
   }
   std::filesystem::remove_all(dir);
+}
+
+TEST(StudyReport, EffectiveErrorCountsFailuresAsAWidthAndTheFastestMethodIsPicked) {
+  MethodErrors accurate, failing;
+  accurate.method = "slow";
+  failing.method = "fast";
+  for (ErrorStatistics* s : {&accurate.stats[0], &accurate.stats[1]}) {
+    s->n = 100;
+    s->mean_abs = 0.001;
+  }
+  for (ErrorStatistics* s : {&failing.stats[0], &failing.stats[1]}) {
+    s->n = 90;
+    s->mean_abs = 0.0;
+  }
+  failing.failures_method = 10;  // 10 of 100 rows fail: (0 * 90 + 10 * 2) / 100 = 0.2 in xi units
+  EXPECT_NEAR(effective_mean_error(accurate, SurfaceKind::kBilinear), 0.001, 1e-15);
+  EXPECT_NEAR(effective_mean_error(failing, SurfaceKind::kBilinear), 0.2, 1e-15);
+  EXPECT_NEAR(effective_mean_error(failing, SurfaceKind::kGregory), 0.1, 1e-15);
+  SetResult set;
+  set.errors = {accurate, failing};
+  Timing slow, fast;
+  slow.median_ns = 50;
+  fast.median_ns = 10;
+  set.timings = {{"slow", slow, slow, slow}, {"fast", fast, fast, fast}};
+  EXPECT_EQ(fastest_within(set, SurfaceKind::kBilinear, 0.5)->method, "fast");
+  EXPECT_EQ(fastest_within(set, SurfaceKind::kBilinear, 0.01)->method, "slow");
+  EXPECT_EQ(fastest_within(set, SurfaceKind::kBilinear, 1e-4), nullptr);
 }
 
 }  // namespace

@@ -1,0 +1,104 @@
+// Tests of lib/eval/accuracy: running a search method on a set, and the failure rules and statistics.
+#include "eval/accuracy.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+#include "dataset/sampling.hpp"
+
+namespace contactnn::eval {
+namespace {
+
+/// A set of `rows` unit squares with made-up labels; only the labels, statuses, gaps and sizes matter here.
+EvaluationSet synthetic_set(int rows) {
+  EvaluationSet s;
+  s.name = "synthetic";
+  s.surface = SurfaceKind::kBilinear;
+  s.raw.assign(static_cast<std::size_t>(15 * rows), 0.0);
+  s.labels.resize(rows, 2);
+  for (int r = 0; r < rows; ++r) {
+    s.labels(r, 0) = 0.1 * r;
+    s.labels(r, 1) = -0.1 * r;
+    s.label_status.push_back(Status::kOk);
+    s.label_gap.push_back(0.5);
+    s.size.push_back(2.0);
+    s.label_iterations.push_back(3);
+  }
+  return s;
+}
+
+Estimates estimates_for(const EvaluationSet& s) {
+  Estimates e;
+  const auto n = static_cast<std::size_t>(s.rows());
+  e.param.resize(2 * n);
+  e.gap.assign(n, 0.5);
+  e.status.assign(n, Status::kOk);
+  e.iterations.assign(n, 2);
+  for (std::size_t r = 0; r < n; ++r) {
+    e.param[2 * r] = s.labels(static_cast<Eigen::Index>(r), 0) + 0.01;
+    e.param[2 * r + 1] = s.labels(static_cast<Eigen::Index>(r), 1);
+  }
+  return e;
+}
+
+TEST(CompareWithLabels, FailureRulesAndStatistics) {
+  EvaluationSet s = synthetic_set(7);
+  Estimates e = estimates_for(s);
+  s.label_status[1] = Status::kNoConvergence;                  // no reference point
+  e.param[4] = std::numeric_limits<double>::quiet_NaN();       // row 2: non-finite estimate
+  e.param[6] = 2.0 + 1e-9;                                     // row 3: beyond the box [-2, 2]
+  e.status[4] = Status::kNoConvergence;                        // row 4: the method failed
+  e.param[10] = 1.5;                                           // row 5: outside the domain, inside the box
+  e.param[11] = -0.5;
+  e.status[6] = Status::kOutOfDomain;                          // row 6: a network's answer out of its domain
+  e.gap[0] = 0.5 + 0.2;                                        // row 0: gap off by 0.2 of size 2
+  const MethodErrors m = compare_with_labels("m", e, s, 0.5, true);
+  EXPECT_EQ(m.failures_reference, 1);
+  EXPECT_EQ(m.failures_method, 3);
+  EXPECT_EQ(m.stats[0].n, 3);  // rows 0, 5, 6
+  EXPECT_EQ(m.out_of_domain, 1);
+  EXPECT_EQ(m.outside_domain, 1);
+  // Errors in xi: row 0 0.01, row 5 1.5 - 0.5 = 1.0, row 6 0.01.
+  EXPECT_NEAR(m.stats[0].mean_abs, (0.01 + 1.0 + 0.01) / 3, 1e-15);
+  EXPECT_NEAR(m.stats[1].max_abs, 0.0, 1e-15);
+  // Gap error relative to the size: 0.2 / 2 on row 0, 0 elsewhere.
+  EXPECT_NEAR(m.gap_relative.max_abs, 0.1, 1e-15);
+  EXPECT_NEAR(m.gap_relative.mean_abs, 0.1 / 3, 1e-15);
+  // Inside agreement: every reference is ok (inside); row 5's estimate is outside.
+  EXPECT_EQ(m.inside_compared, 3);
+  EXPECT_EQ(m.inside_agree, 2);
+  EXPECT_EQ(m.errors[0].size(), 7u);
+  EXPECT_EQ(m.failed, (std::vector<std::uint8_t>{0, 1, 1, 1, 1, 0, 0}));
+  EXPECT_EQ(m.converged_iterations, (std::vector<std::int32_t>{2, 2, 2, 2, -1, 2, -1}));
+}
+
+TEST(RunOnSet, NewtonFromWorldCoordinatesReachesTheLabels) {
+  // Random configurations of the paper's domain restricted to well-shaped segments (angles 60-120), placed at
+  // random: newton:10 from the centre converges to the reference there; every estimate agrees to rounding.
+  dataset::EnumerationOptions o;
+  o.filters.min_angle_degrees = 60;
+  o.filters.max_angle_degrees = 120;
+  o.filters.z_limit = 0.05;
+  dataset::EnumerationSummary summary;
+  const EvaluationSet s = set_from_dataset(dataset::sample_configurations(o, 200, summary), "s", "s", true, 2);
+  const search::LocalSearch newton(SurfaceKind::kBilinear, search::Method::parse("newton:10"));
+  const Estimates e = run_on_set(newton, s, 0);
+  const MethodErrors m = compare_with_labels("newton:10", e, s, 0.5, false);
+  EXPECT_EQ(m.failures_method, 0);
+  EXPECT_LT(m.stats[0].max_abs, 1e-10);
+  EXPECT_LT(m.stats[1].max_abs, 1e-10);
+  EXPECT_LT(m.gap_relative.max_abs, 1e-10);
+  EXPECT_EQ(m.inside_agree, m.inside_compared);
+  // The same with one thread: lib/search's answers do not depend on the thread count.
+  const Estimates one = run_on_set(newton, s, 1);
+  EXPECT_EQ(one.param, e.param);
+}
+
+TEST(CountValues, LastBinTakesTheRestNegativesAreSkipped) {
+  EXPECT_EQ(count_values({0, 3, 3, 5, 99, -1, 4}, 5), (std::vector<std::int64_t>{1, 0, 0, 2, 3}));
+}
+
+}  // namespace
+}  // namespace contactnn::eval
