@@ -1,16 +1,13 @@
 #include "dataset/sampling.hpp"
 
-#include <omp.h>
-
 #include <algorithm>
-#include <atomic>
-#include <chrono>
 #include <cmath>
-#include <vector>
+#include <sstream>
 
 #include "core/error.hpp"
 #include "dataset/labeller.hpp"
 #include "dataset/random_stream.hpp"
+#include "dataset/row_sampler.hpp"
 #include "geometry/segment_checks.hpp"
 
 namespace contactnn::dataset {
@@ -22,13 +19,6 @@ namespace {
 
 /// Draws that land nowhere for this long mean the filters exclude everything.
 constexpr std::int64_t kMaxDrawsPerRow = 10'000'000;
-
-/// Per-row tallies, summed after the parallel loop (integer sums: the same in any order).
-struct RowTally {
-  std::int64_t drawn = 0;
-  std::int64_t labelled = 0;
-  std::array<std::int64_t, kStatusCount> status{};
-};
 
 }  // namespace
 
@@ -52,74 +42,27 @@ std::optional<Configuration> draw_candidate(const EnumerationOptions& options, R
 
 LabelledSet sample_configurations(const EnumerationOptions& options, std::int64_t count, EnumerationSummary& summary,
                                   const ProgressFn& progress) {
-  const auto start_time = std::chrono::steady_clock::now();
-  CONTACTNN_REQUIRE(count >= 1, "count must be >= 1, got " << count);
   const SurfaceKind kind = options.surface;
   const geometry::DomainFilters& filters = options.filters;
-
-  LabelledSet set;
-  set.resize(count, kind);
+  std::ostringstream hopeless;
+  hopeless << "no configuration of the " << to_string(kind) << " domain passed the filters in " << kMaxDrawsPerRow
+           << " draws: the filters exclude everything?\n"
+           << filters.describe();
+  LabelledSet set = detail::sample_rows(
+      kind, count, options.seed, kMaxDrawsPerRow,
+      [&](RandomStream& random) {
+        detail::Attempt a;
+        std::optional<Configuration> c = draw_candidate(options, random);
+        if (!c) return a;
+        if (kind == SurfaceKind::kGregory) {
+          c->normals = random_node_normals(c->nodes, filters.max_normal_tilt_tangent, random);
+        }
+        a.label = label_configuration(*c, kind, options.projection);
+        a.keep = !options.require_projection_inside || a.label->status == Status::kOk;
+        return a;
+      },
+      summary, progress, hopeless.str());
   set.filters = filters;
-  std::vector<RowTally> tally(static_cast<std::size_t>(count));
-  std::atomic<std::int64_t> done{0};
-  std::atomic<bool> hopeless{false};
-  auto last_report = std::chrono::steady_clock::now();
-#pragma omp parallel for schedule(dynamic, 256)
-  for (std::int64_t row = 0; row < count; ++row) {
-    if (hopeless.load(std::memory_order_relaxed)) continue;
-    RandomStream random(options.seed, static_cast<std::uint64_t>(row));
-    RowTally& t = tally[static_cast<std::size_t>(row)];
-    for (;;) {
-      if (t.drawn >= kMaxDrawsPerRow) {
-        hopeless = true;
-        break;
-      }
-      ++t.drawn;
-      std::optional<Configuration> candidate = draw_candidate(options, random);
-      if (!candidate) continue;
-      Configuration& c = *candidate;
-      if (kind == SurfaceKind::kGregory) {
-        c.normals = random_node_normals(c.nodes, filters.max_normal_tilt_tangent, random);
-      }
-      const Label label = label_configuration(c, kind, options.projection);
-      ++t.labelled;
-      ++t.status[static_cast<std::size_t>(label.status)];
-      if (options.require_projection_inside && label.status != Status::kOk) continue;
-      const auto i = static_cast<Eigen::Index>(row);
-      for (int f = 0; f < feature_count(kind); ++f) set.features(i, f) = label.features[static_cast<std::size_t>(f)];
-      set.labels(i, 0) = label.canonical_param[0];
-      set.labels(i, 1) = label.canonical_param[1];
-      set.gap[i] = label.canonical_gap;
-      set.iterations[i] = label.iterations;
-      set.status[static_cast<std::size_t>(row)] = label.status;
-      set.scale[i] = label.scale;
-      break;
-    }
-    const std::int64_t finished = ++done;
-    if (progress && omp_get_thread_num() == 0 && (finished & 255) == 0) {
-      const auto now = std::chrono::steady_clock::now();
-      if (now - last_report > std::chrono::milliseconds(500)) {
-        last_report = now;
-        progress(finished, count);
-      }
-    }
-  }
-  CONTACTNN_REQUIRE(!hopeless, "no configuration of the " << to_string(kind) << " domain passed the filters in "
-                                                          << kMaxDrawsPerRow << " draws: the filters exclude everything?\n"
-                                                          << filters.describe());
-  if (progress) progress(count, count);
-
-  summary = EnumerationSummary{};
-  for (const RowTally& t : tally) {
-    summary.grid_points += t.drawn;
-    summary.geometric_kept += t.labelled;
-    for (int s = 0; s < kStatusCount; ++s) summary.status_counts[static_cast<std::size_t>(s)] += t.status[static_cast<std::size_t>(s)];
-  }
-  for (std::int64_t row = 0; row < count; ++row) {
-    ++summary.iteration_histogram[static_cast<std::size_t>(std::min(set.iterations[row], 63))];
-  }
-  summary.kept = count;
-  summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_time).count();
   return set;
 }
 

@@ -1,16 +1,13 @@
 #include "dataset/scene_sampling.hpp"
 
-#include <omp.h>
-
 #include <algorithm>
-#include <atomic>
-#include <chrono>
 #include <cmath>
 #include <limits>
 
 #include "core/error.hpp"
 #include "dataset/labeller.hpp"
 #include "dataset/random_stream.hpp"
+#include "dataset/row_sampler.hpp"
 #include "geometry/affine_frame.hpp"
 #include "geometry/bilinear_patch.hpp"
 #include "geometry/segment_checks.hpp"
@@ -62,18 +59,11 @@ double largest_tilt_tangent(const Configuration& c) {
   return largest;
 }
 
-struct RowTally {
-  std::int64_t drawn = 0;
-  std::int64_t labelled = 0;
-  std::array<std::int64_t, kStatusCount> status{};
-};
-
 }  // namespace
 
 LabelledSet sample_scene(const std::vector<SceneSegment>& segments, const SceneDomainOptions& domain,
                          const EnumerationOptions& options, std::int64_t count, EnumerationSummary& summary,
                          const ProgressFn& progress) {
-  const auto start_time = std::chrono::steady_clock::now();
   CONTACTNN_REQUIRE(!segments.empty(), "the scene has no master segment to sample");
   CONTACTNN_REQUIRE(count >= 1, "count must be >= 1, got " << count);
   CONTACTNN_REQUIRE(domain.deformation >= 0.0 && domain.deformation < 0.5,
@@ -95,89 +85,54 @@ LabelledSet sample_scene(const std::vector<SceneSegment>& segments, const SceneD
   }
   CONTACTNN_REQUIRE(total_area > 0.0 && std::isfinite(total_area), "the scene's segments have no area");
 
-  LabelledSet set;
-  set.resize(count, kind);
-  std::vector<RowTally> tally(static_cast<std::size_t>(count));
-  std::atomic<std::int64_t> done{0};
-  std::atomic<bool> hopeless{false};
-  auto last_report = std::chrono::steady_clock::now();
-#pragma omp parallel for schedule(dynamic, 256)
-  for (std::int64_t row = 0; row < count; ++row) {
-    if (hopeless.load(std::memory_order_relaxed)) continue;
-    RandomStream random(options.seed, static_cast<std::uint64_t>(row));
-    RowTally& t = tally[static_cast<std::size_t>(row)];
-    for (;;) {
-      if (t.drawn >= kMaxDrawsPerRow) {
-        hopeless = true;
-        break;
-      }
-      ++t.drawn;
-      // 1. A segment, deformed.
-      const double pick = random.uniform01() * total_area;
-      const auto k = static_cast<std::size_t>(
-          std::min<std::ptrdiff_t>(std::lower_bound(cumulative_area.begin(), cumulative_area.end(), pick) -
-                                       cumulative_area.begin(),
-                                   static_cast<std::ptrdiff_t>(segments.size()) - 1));
-      const SceneSegment& segment = segments[k];
-      const double e = shortest_edge(segment.nodes);
-      Configuration c{};
-      for (int i = 0; i < 4; ++i) c.nodes[i] = segment.nodes[i] + domain.deformation * e * in_unit_ball(random);
-      for (int i = 0; i < 4; ++i) {
-        c.normals[i] = gregory ? tilted(segment.normals[i], domain.normal_tilt_tangent, random) : Vec3::Zero();
-      }
-      // 2. The slave along the facet's normal over a foot point.
-      double xi = random.uniform(-1.0, 1.0);
-      double eta = random.uniform(-1.0, 1.0);
-      const double where = random.uniform01();
-      if (where < 0.5 * domain.boundary_fraction) {  // at a node
-        xi = xi < 0.0 ? -1.0 : 1.0;
-        eta = eta < 0.0 ? -1.0 : 1.0;
-      } else if (where < domain.boundary_fraction) {  // on an edge
-        if (random.uniform01() < 0.5) {
-          xi = xi < 0.0 ? -1.0 : 1.0;
-        } else {
-          eta = eta < 0.0 ? -1.0 : 1.0;
+  LabelledSet set = detail::sample_rows(
+      kind, count, options.seed, kMaxDrawsPerRow,
+      [&](RandomStream& random) {
+        detail::Attempt attempt;
+        // 1. A segment, deformed.
+        const double pick = random.uniform01() * total_area;
+        const auto k = static_cast<std::size_t>(
+            std::min<std::ptrdiff_t>(std::lower_bound(cumulative_area.begin(), cumulative_area.end(), pick) -
+                                         cumulative_area.begin(),
+                                     static_cast<std::ptrdiff_t>(segments.size()) - 1));
+        const SceneSegment& segment = segments[k];
+        const double e = shortest_edge(segment.nodes);
+        Configuration c{};
+        for (int i = 0; i < 4; ++i) c.nodes[i] = segment.nodes[i] + domain.deformation * e * in_unit_ball(random);
+        for (int i = 0; i < 4; ++i) {
+          c.normals[i] = gregory ? tilted(segment.normals[i], domain.normal_tilt_tangent, random) : Vec3::Zero();
         }
-      }
-      const geometry::SurfacePoint foot = geometry::BilinearPatch(c.nodes).evaluate(xi, eta);
-      const Vec3 normal = foot.d_s.cross(foot.d_t);
-      if (!(normal.norm() > 0.0)) continue;
-      c.slave = foot.position + random.uniform(-domain.capture, domain.capture) * e * normal.normalized();
-      // 3. A pair the global search could make: the segment's node nearest S, and S passes the segment test
-      //    of Eqs 3-6 there (the SPEC 4 frame requires both).
-      const SquareSymmetry symmetry = geometry::canonical_symmetry(c.nodes, c.slave);
-      const int a = symmetry.rotation;
-      if (!geometry::passes_segment_test(c.nodes[a], c.nodes[(a + 1) % 4], c.nodes[(a + 3) % 4], c.slave,
-                                         geometry::kSegmentTestTolerance)) {
-        continue;
-      }
-      // 4. The label.
-      const Label label = label_configuration(c, kind, options.projection);
-      ++t.labelled;
-      ++t.status[static_cast<std::size_t>(label.status)];
-      if (label.status != Status::kOk) continue;  // inside the segment, as the paper's sets
-      const auto r = static_cast<Eigen::Index>(row);
-      for (int f = 0; f < feature_count(kind); ++f) set.features(r, f) = label.features[static_cast<std::size_t>(f)];
-      set.labels(r, 0) = label.canonical_param[0];
-      set.labels(r, 1) = label.canonical_param[1];
-      set.gap[r] = label.canonical_gap;
-      set.iterations[r] = label.iterations;
-      set.status[static_cast<std::size_t>(row)] = Status::kOk;
-      set.scale[r] = label.scale;
-      break;
-    }
-    const std::int64_t finished = ++done;
-    if (progress && omp_get_thread_num() == 0 && (finished & 255) == 0) {
-      const auto now = std::chrono::steady_clock::now();
-      if (now - last_report > std::chrono::milliseconds(500)) {
-        last_report = now;
-        progress(finished, count);
-      }
-    }
-  }
-  CONTACTNN_REQUIRE(!hopeless, "no configuration of the scene's domain was accepted in " << kMaxDrawsPerRow
-                                                                                      << " draws");
-  if (progress) progress(count, count);
+        // 2. The slave along the facet's normal over a foot point.
+        double xi = random.uniform(-1.0, 1.0);
+        double eta = random.uniform(-1.0, 1.0);
+        const double where = random.uniform01();
+        if (where < 0.5 * domain.boundary_fraction) {  // at a node
+          xi = xi < 0.0 ? -1.0 : 1.0;
+          eta = eta < 0.0 ? -1.0 : 1.0;
+        } else if (where < domain.boundary_fraction) {  // on an edge
+          if (random.uniform01() < 0.5) {
+            xi = xi < 0.0 ? -1.0 : 1.0;
+          } else {
+            eta = eta < 0.0 ? -1.0 : 1.0;
+          }
+        }
+        const geometry::SurfacePoint foot = geometry::BilinearPatch(c.nodes).evaluate(xi, eta);
+        const Vec3 normal = foot.d_s.cross(foot.d_t);
+        if (!(normal.norm() > 0.0)) return attempt;
+        c.slave = foot.position + random.uniform(-domain.capture, domain.capture) * e * normal.normalized();
+        // 3. A pair the global search could make: the segment's node nearest S, and S passes the segment test
+        //    of Eqs 3-6 there (the SPEC 4 frame requires both).
+        const int a = geometry::canonical_symmetry(c.nodes, c.slave).rotation;
+        if (!geometry::passes_segment_test(c.nodes[a], c.nodes[(a + 1) % 4], c.nodes[(a + 3) % 4], c.slave,
+                                           geometry::kSegmentTestTolerance)) {
+          return attempt;
+        }
+        // 4. The label; inside the segment, as the paper's sets.
+        attempt.label = label_configuration(c, kind, options.projection);
+        attempt.keep = attempt.label->status == Status::kOk;
+        return attempt;
+      },
+      summary, progress, "no configuration of the scene's domain was accepted in " + std::to_string(kMaxDrawsPerRow) + " draws");
 
   // The domain drawn, as filters: the accepted rows' extremes, widened.
   geometry::DomainFilters& f = set.filters;
@@ -217,17 +172,6 @@ LabelledSet sample_scene(const std::vector<SceneSegment>& segments, const SceneD
   f.max_angle_degrees = std::min(180.0, f.max_angle_degrees + 180.0 * kWidening);
   f.max_normal_tilt_tangent = gregory ? f.max_normal_tilt_tangent * (1.0 + kWidening) : geometry::DomainFilters{}.max_normal_tilt_tangent;
 
-  summary = EnumerationSummary{};
-  for (const RowTally& t : tally) {
-    summary.grid_points += t.drawn;
-    summary.geometric_kept += t.labelled;
-    for (int s = 0; s < kStatusCount; ++s) summary.status_counts[static_cast<std::size_t>(s)] += t.status[static_cast<std::size_t>(s)];
-  }
-  for (Eigen::Index r = 0; r < set.size(); ++r) {
-    ++summary.iteration_histogram[static_cast<std::size_t>(std::min(set.iterations[r], 63))];
-  }
-  summary.kept = count;
-  summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_time).count();
   return set;
 }
 

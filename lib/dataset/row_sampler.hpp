@@ -1,0 +1,103 @@
+// Internal to lib/dataset: the loop every random dataset shares. Row i draws from its own counter-based stream
+// (seed, i) until an attempt gives a label worth keeping, so the set is the same for any thread count; draws
+// and labelled candidates are tallied per row and summed after the loop (integer sums: order-free).
+#pragma once
+
+#include <omp.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/error.hpp"
+#include "dataset/enumeration.hpp"
+#include "dataset/labeller.hpp"
+#include "dataset/labelled_set.hpp"
+#include "dataset/random_stream.hpp"
+
+namespace contactnn::dataset::detail {
+
+/// One attempt: nothing that passed the filters (no label), or a labelled candidate and whether it is kept.
+struct Attempt {
+  std::optional<Label> label;
+  bool keep = false;
+};
+
+/// Fills `count` rows of a `kind` set: for row i, `attempt(random)` with random = RandomStream(seed, i) until
+/// one is kept (its canonical features, label and gap go in the row); more than `max_draws` attempts for a row
+/// is InvalidArgument with `hopeless_message`. `summary`: grid_points = attempts, geometric_kept = labelled
+/// candidates, status counts over those, the kept rows' iteration histogram, time.
+template <class AttemptFn>
+LabelledSet sample_rows(SurfaceKind kind, std::int64_t count, std::uint64_t seed, std::int64_t max_draws,
+                        const AttemptFn& attempt, EnumerationSummary& summary, const ProgressFn& progress,
+                        const std::string& hopeless_message) {
+  const auto start_time = std::chrono::steady_clock::now();
+  CONTACTNN_REQUIRE(count >= 1, "count must be >= 1, got " << count);
+  struct RowTally {
+    std::int64_t drawn = 0;
+    std::int64_t labelled = 0;
+    std::array<std::int64_t, kStatusCount> status{};
+  };
+  LabelledSet set;
+  set.resize(count, kind);
+  std::vector<RowTally> tally(static_cast<std::size_t>(count));
+  std::atomic<std::int64_t> done{0};
+  std::atomic<bool> hopeless{false};
+  auto last_report = std::chrono::steady_clock::now();
+#pragma omp parallel for schedule(dynamic, 256)
+  for (std::int64_t row = 0; row < count; ++row) {
+    if (hopeless.load(std::memory_order_relaxed)) continue;
+    RandomStream random(seed, static_cast<std::uint64_t>(row));
+    RowTally& t = tally[static_cast<std::size_t>(row)];
+    for (;;) {
+      if (t.drawn >= max_draws) {
+        hopeless = true;
+        break;
+      }
+      ++t.drawn;
+      const Attempt a = attempt(random);
+      if (!a.label) continue;
+      ++t.labelled;
+      ++t.status[static_cast<std::size_t>(a.label->status)];
+      if (!a.keep) continue;
+      const Label& label = *a.label;
+      const auto i = static_cast<Eigen::Index>(row);
+      for (int f = 0; f < feature_count(kind); ++f) set.features(i, f) = label.features[static_cast<std::size_t>(f)];
+      set.labels(i, 0) = label.canonical_param[0];
+      set.labels(i, 1) = label.canonical_param[1];
+      set.gap[i] = label.canonical_gap;
+      set.iterations[i] = label.iterations;
+      set.status[static_cast<std::size_t>(row)] = label.status;
+      set.scale[i] = label.scale;
+      break;
+    }
+    const std::int64_t finished = ++done;
+    if (progress && omp_get_thread_num() == 0 && (finished & 255) == 0) {
+      const auto now = std::chrono::steady_clock::now();
+      if (now - last_report > std::chrono::milliseconds(500)) {
+        last_report = now;
+        progress(finished, count);
+      }
+    }
+  }
+  CONTACTNN_REQUIRE(!hopeless, hopeless_message);
+  if (progress) progress(count, count);
+
+  summary = EnumerationSummary{};
+  for (const RowTally& t : tally) {
+    summary.grid_points += t.drawn;
+    summary.geometric_kept += t.labelled;
+    for (int s = 0; s < kStatusCount; ++s) summary.status_counts[static_cast<std::size_t>(s)] += t.status[static_cast<std::size_t>(s)];
+  }
+  for (std::int64_t row = 0; row < count; ++row) {
+    ++summary.iteration_histogram[static_cast<std::size_t>(std::min(set.iterations[row], 63))];
+  }
+  summary.kept = count;
+  summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_time).count();
+  return set;
+}
+
+}  // namespace contactnn::dataset::detail
