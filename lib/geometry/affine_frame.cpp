@@ -45,18 +45,33 @@ std::optional<AffineFrame> AffineFrame::from_nodes(const Vec3& a, const Vec3& b,
   return AffineFrame(a, rotation, 1.0 / length_ab);
 }
 
-CanonicalSymmetries canonical_symmetries(const std::array<Vec3, 4>& nodes, const Vec3& slave) {
+CanonicalSymmetries canonical_symmetries(const std::array<Vec3, 4>& world_nodes, const Vec3& world_slave) {
+  // The choice must not depend on the scale of the coordinates (SPEC 6: any unit). Near 1e+-300 the
+  // differences below overflow (no node would be nearest) and the cross products of the |AB| = |AD| test
+  // under- or overflow (the mirror would depend on the scale), so the configuration is first scaled by the
+  // power of two that brings its largest coordinate into [0.5, 1): exact, so every comparison below is the
+  // one of the unscaled configuration in exact arithmetic, and nothing under- or overflows.
+  double largest = world_slave.cwiseAbs().maxCoeff();
+  for (const Vec3& node : world_nodes) largest = std::max(largest, node.cwiseAbs().maxCoeff());
+  int exponent = 0;
+  if (largest > 0.0 && std::isfinite(largest)) (void)std::frexp(largest, &exponent);
+  std::array<Vec3, 4> nodes;
+  for (int i = 0; i < 4; ++i) {
+    for (int c = 0; c < 3; ++c) nodes[static_cast<std::size_t>(i)][c] = std::ldexp(world_nodes[static_cast<std::size_t>(i)][c], -exponent);
+  }
+  Vec3 slave;
+  for (int c = 0; c < 3; ++c) slave[c] = std::ldexp(world_slave[c], -exponent);
+  largest = std::ldexp(largest, -exponent);
+
   // Two lengths count as equal when they differ by less than a relative 1e-12 plus the rounding the world
   // coordinates already carry (eps * max|x| each): an exact tie stays a tie wherever the segment is placed,
   // instead of being decided by the rounding of the placement.
-  double largest = slave.cwiseAbs().maxCoeff();
-  for (const Vec3& node : nodes) largest = std::max(largest, node.cwiseAbs().maxCoeff());
   const double noise = 16.0 * std::numeric_limits<double>::epsilon() * largest;
   const auto tie = [&](double x, double y) { return std::abs(x - y) <= 1e-12 * std::max(x, y) + noise; };
 
   CanonicalSymmetries result;
   std::array<double, 4> distance{};
-  for (int i = 0; i < 4; ++i) distance[i] = length_of(slave - nodes[i]);
+  for (int i = 0; i < 4; ++i) distance[static_cast<std::size_t>(i)] = length_of(slave - nodes[static_cast<std::size_t>(i)]);
   const double nearest = *std::min_element(distance.begin(), distance.end());
   for (int r = 0; r < 4; ++r) {
     if (!tie(distance[r], nearest)) continue;  // the nearest nodes, in the caller's order (SPEC 4: the first)

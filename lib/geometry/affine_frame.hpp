@@ -56,7 +56,9 @@ class AffineFrame {
 /// when |AD| > |AB|. Where SPEC 4 is silent, |AD| = |AB|, the mirror is taken when S lies nearer the line AD
 /// than the line AB (so that S ends nearer the canonical AB), which makes the choice the same for every node
 /// order of the segment. Lengths within a relative 1e-12 plus the rounding of the world coordinates
-/// (16 eps max|x|) are a tie, so that the choice does not depend on where the segment is placed.
+/// (16 eps max|x|) are a tie, so that the choice does not depend on where the segment is placed; the lengths
+/// are those of the configuration scaled by a power of two (exact), so that the choice does not depend on the
+/// scale either (no square under- or overflows, from 1e-300 up to 1e308).
 [[nodiscard]] SquareSymmetry canonical_symmetry(const std::array<Vec3, 4>& nodes, const Vec3& slave);
 
 /// Every symmetry that canonical_symmetry could have chosen if its ties went another way: one per node tied

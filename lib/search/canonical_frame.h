@@ -10,7 +10,10 @@
  *  - invalid (status 4) when a coordinate (or, Gregory, a normal component) is not finite;
  *  - the symmetry of the square: canonical A is the first node nearest S (distances within 1e-12 relative
  *    plus 16 eps max|x| are a tie), then the mirror when |AD| > |AB| (on a tie: when S is nearer the line AD);
- *  - the frame of SPEC 4 on the canonical A, B, D; z oriented so that z_S >= 0 (on z_S = 0: z_C >= 0);
+ *  - the frame of SPEC 4 on the canonical A, B, D; z oriented so that z_S > 0 (with S on the plane: z_C > 0),
+ *    a height within 1e-12 + 16 eps max|x| / |AB| counting as 0 (both on the plane: a z tie, no flip);
+ *  - a flag for the lanes on a tie (another node as near S, |AB| = |AD| with S on the diagonal, a z tie), whose
+ *    other canonical forms cnn_cf_forms lists afterwards (the scalar path of ties, below);
  *  - degenerate (status 3) when that frame does not exist, when the segment is collapsed
  *    (geometry::is_degenerate_segment with the coordinates' own rounding as noise), or when a Gregory node
  *    normal is zero, in the segment plane, or the normals lie on both sides. Where the reference falls back to
@@ -33,13 +36,18 @@
  *   f:     features xc yc zc xd yd xs ys zs (+ Gregory pa qa pb qb pc qc pd qd), 8 or 16 rows;
  *   nrm:   Gregory only (else may be 0): the canonical node normals A..D in the canonical frame, 12 rows,
  *          oriented to the +z side but not normalised;
- *   info:  4 rows: status (0 ok, 3 degenerate, 4 invalid), symmetry (rotation + 4 * mirror: canonical node i
- *          is the caller's node ((mirror ? (4 - i) % 4 : i) + rotation) % 4), orientation (+1 or -1: the
- *          caller's gap is orientation * canonical gap / scale), scale (1 / |AB|, canonical AB).
+ *   info:  CNN_CF_INFO_ROWS = 6 rows: status (0 ok, 3 degenerate, 4 invalid), symmetry (rotation + 4 * mirror:
+ *          canonical node i is the caller's node ((mirror ? (4 - i) % 4 : i) + rotation) % 4), orientation (+1
+ *          or -1: the caller's gap is orientation * canonical gap / scale), scale (1 / |AB|, canonical AB),
+ *          a work row, and the tie code (1: a symmetry tie, + 2: a z tie; cnn_cf_needs_forms reads it).
  * Where the status is not 0, f and nrm hold unspecified finite or non-finite values.
  */
 #ifndef CONTACTNN_CANONICAL_FRAME_H
 #define CONTACTNN_CANONICAL_FRAME_H
+
+/* Raised whenever what this file computes or its interface changes: an exported header checks that the copy
+ * in force (the first one included in a translation unit) is the one it was generated with. */
+#define CNN_CANONICAL_FRAME_VERSION 2
 
 #include <math.h>
 
@@ -79,14 +87,22 @@
 #define CNN_CF_STATUS_INVALID 4
 #define CNN_CF_STATUS_OUT_OF_DOMAIN 5
 
+/* Rows of `info` per lane, and the most canonical forms a query can have (4 tied nodes x 2 mirrors, x 2
+ * orientations of z; geometry::kMaxCanonicalForms). */
+#define CNN_CF_INFO_ROWS 6
+#define CNN_CF_MAX_FORMS 16
+
 /* std::max / std::min semantics (the first argument when the comparison is false). */
 CNN_CF_INLINE double cnn_cf_max(double a, double b) { return a < b ? b : a; }
 CNN_CF_INLINE double cnn_cf_min(double a, double b) { return b < a ? b : a; }
 
-/* One lane. Reads quantity k at in[k * is], writes at f[k * os], nrm[k * os], info[k * os]. info row 4 (the
- * caller provides 5 rows here) receives 1 when the lane must be redone by cnn_cf_lane_scaled. */
-CNN_CF_INLINE void cnn_cf_lane(const double* CNN_CF_RESTRICT in, int is, int gregory, double* CNN_CF_RESTRICT f,
-                               double* CNN_CF_RESTRICT nrm, double* CNN_CF_RESTRICT info, int os) {
+/* One lane. Reads quantity k at in[k * is], writes at f[k * os], nrm[k * os], info[k * os] (CNN_CF_INFO_ROWS
+ * rows; row 4 receives 1 when the lane must be redone by cnn_cf_lane_scaled). `forced` 0: the canonical form
+ * (form 0); 1: the form of symmetry `forced_sym` (rotation + 4 * mirror) with the other orientation of z on a
+ * z tie when `other_z` (cnn_cf_forms). The loops over lanes pass forced = 0, a constant. */
+CNN_CF_INLINE void cnn_cf_lane(const double* CNN_CF_RESTRICT in, int is, int gregory, int forced, int forced_sym,
+                               int other_z, double* CNN_CF_RESTRICT f, double* CNN_CF_RESTRICT nrm,
+                               double* CNN_CF_RESTRICT info, int os) {
   const double eps = 2.220446049250313e-16;
   const double ax = in[0 * is], ay = in[1 * is], az = in[2 * is];
   const double bx = in[3 * is], by = in[4 * is], bz = in[5 * is];
@@ -127,7 +143,10 @@ CNN_CF_INLINE void cnn_cf_lane(const double* CNN_CF_RESTRICT in, int is, int gre
     const double nearest_plus = sqrt(cnn_cf_min(cnn_cf_min(q0, q1), cnn_cf_min(q2, q3))) + tie_noise;
     const double reach = nearest_plus * nearest_plus;
     const double shrink = (1.0 - 1e-12) * (1.0 - 1e-12);
-    const int t0 = q0 * shrink <= reach, t1 = q1 * shrink <= reach, t2 = q2 * shrink <= reach;
+    const int n0 = q0 * shrink <= reach, n1 = q1 * shrink <= reach, n2 = q2 * shrink <= reach,
+              n3 = q3 * shrink <= reach;
+    const int fr = forced_sym & 3;
+    const int t0 = forced ? fr == 0 : n0, t1 = forced ? fr == 1 : n1, t2 = forced ? fr == 2 : n2;
     /* Canonical A, and the caller's nodes that follow it counter-clockwise (rotation r: A = node r). */
     const double rot = t0 ? 0.0 : t1 ? 1.0 : t2 ? 2.0 : 3.0;
     const double pax = t0 ? ax : t1 ? bx : t2 ? cx : dx, pay = t0 ? ay : t1 ? by : t2 ? cy : dy,
@@ -152,8 +171,11 @@ CNN_CF_INLINE void cnn_cf_lane(const double* CNN_CF_RESTRICT in, int is, int gre
     const double to_b = sqrt(xbx * xbx + xby * xby + xbz * xbz) * inv_b;
     const double to_d = sqrt(xdx * xdx + xdy * xdy + xdz * xdz) * inv_d;
     const int line_tie = fabs(to_d - to_b) <= 1e-12 * cnn_cf_max(to_d, to_b) + tie_noise;
-    const double mirror = lengths_tie ? ((!line_tie & (to_d < to_b)) ? 1.0 : 0.0) : (len_d > len_b ? 1.0 : 0.0);
+    const double mirror = forced ? (double)(forced_sym >> 2)
+                                 : lengths_tie ? ((!line_tie & (to_d < to_b)) ? 1.0 : 0.0) : (len_d > len_b ? 1.0 : 0.0);
     const int mir = mirror != 0.0;
+    /* Another canonical form exists: another node as near S, or |AD| = |AB| with S on the diagonal. */
+    const int sym_tie = (n0 + n1 + n2 + n3 > 1) | (lengths_tie & line_tie);
 
     /* 3. The frame on the canonical A, B, D (geometry::AffineFrame::from_nodes): B and D swap under the mirror. */
     const double abx = mir ? e_dx : e_bx, aby = mir ? e_dy : e_by, abz = mir ? e_dz : e_bz;
@@ -184,8 +206,12 @@ CNN_CF_INLINE void cnn_cf_lane(const double* CNN_CF_RESTRICT in, int is, int gre
     const double xs = scale * (e1x * sax + e1y * say + e1z * saz);
     const double ys = scale * (e2x * sax + e2y * say + e2z * saz);
     const double zs0 = scale * (e3x * sax + e3y * say + e3z * saz);
-    /* z oriented so that S (on the plane: C) is on its + side. */
-    const int flip = (zs0 < 0.0) | ((zs0 == 0.0) & (zc0 < 0.0));
+    /* z oriented so that S (on the plane: C) is on its + side; a height within 1e-12 plus the rounding of the
+     * world coordinates counts as 0, so that the orientation does not depend on where the query is placed.
+     * Both on the plane: a z tie, no flip (the other orientation is the form with other_z). */
+    const double z_tol = 1e-12 + 16.0 * eps * big * scale;
+    const int s_on = fabs(zs0) <= z_tol, z_tie = s_on & (fabs(zc0) <= z_tol);
+    const int flip = z_tie ? other_z : (s_on ? zc0 < 0.0 : zs0 < 0.0);
     const double zsign = flip ? -1.0 : 1.0;
     const double zc = zsign * zc0, zs = zsign * zs0;
 
@@ -291,13 +317,15 @@ CNN_CF_INLINE void cnn_cf_lane(const double* CNN_CF_RESTRICT in, int is, int gre
     info[2 * os] = (mir ? -1.0 : 1.0) * zsign;
     info[3 * os] = scale;
     info[4 * os] = rescale;
+    info[5 * os] = (double)(sym_tie + 2 * z_tie);
   }
 }
 
 /* A lane whose magnitudes are extreme: the coordinates scaled by one power of two (exact), each normal by its
  * own, then cnn_cf_lane. A difference of two world coordinates that overflows makes the lane degenerate. */
-static inline void cnn_cf_lane_scaled(const double* CNN_CF_RESTRICT in, int is, int gregory, double* CNN_CF_RESTRICT f,
-                                      double* CNN_CF_RESTRICT nrm, double* CNN_CF_RESTRICT info, int os) {
+static inline void cnn_cf_lane_scaled(const double* CNN_CF_RESTRICT in, int is, int gregory, int forced, int forced_sym,
+                                      int other_z, double* CNN_CF_RESTRICT f, double* CNN_CF_RESTRICT nrm,
+                                      double* CNN_CF_RESTRICT info, int os) {
   double x[27], m = 0.0;
   int k, i, j, e = 0, overflow = 0;
   const int count = gregory ? 27 : 15;
@@ -317,21 +345,142 @@ static inline void cnn_cf_lane_scaled(const double* CNN_CF_RESTRICT in, int is, 
     (void)frexp(mn, &en);
     for (k = 0; k < 3; ++k) x[15 + 3 * i + k] = ldexp(x[15 + 3 * i + k], -en);
   }
-  cnn_cf_lane(x, 1, gregory, f, nrm, info, os);
+  cnn_cf_lane(x, 1, gregory, forced, forced_sym, other_z, f, nrm, info, os);
   if (overflow && info[0] == (double)CNN_CF_STATUS_OK) info[0] = (double)CNN_CF_STATUS_DEGENERATE;
   info[3 * os] = ldexp(info[3 * os], -e); /* 1 / |AB| of the coordinates as given */
   info[4 * os] = 0.0;
 }
 
-/* The block: every lane in the vectorised pass, then the rare lanes that need scaling. `info` has 5 rows. */
+/* The block: every lane in the vectorised pass, then the rare lanes that need scaling. `info` has
+ * CNN_CF_INFO_ROWS rows. */
 static inline void cnn_canonicalise_block(int n, int gregory, const double* CNN_CF_RESTRICT in, double* CNN_CF_RESTRICT f,
                                           double* CNN_CF_RESTRICT nrm, double* CNN_CF_RESTRICT info) {
   int l;
   CNN_CF_IVDEP
-  for (l = 0; l < n; ++l) cnn_cf_lane(in + l, n, gregory, f + l, nrm + l, info + l, n);
+  for (l = 0; l < n; ++l) cnn_cf_lane(in + l, n, gregory, 0, 0, 0, f + l, nrm + l, info + l, n);
   for (l = 0; l < n; ++l) {
-    if (info[4 * n + l] != 0.0) cnn_cf_lane_scaled(in + l, n, gregory, f + l, nrm + l, info + l, n);
+    if (info[4 * n + l] != 0.0) cnn_cf_lane_scaled(in + l, n, gregory, 0, 0, 0, f + l, nrm + l, info + l, n);
   }
+}
+
+/* ---- Ties: every canonical form of a query (geometry::canonical_forms) ----
+ *
+ * A query on a tie (info row 5 of the block pass: another node as near S, |AB| = |AD| with S on the diagonal,
+ * or, for Gregory, S and C on the plane of A, B, D) has several canonical configurations that are the same
+ * problem. A network's answer is the mean of its predictions over all of them, mapped back to the caller's
+ * node order, and it is in the domain only if every one is (eval::network_estimate): so that the answer does
+ * not depend on the node order the caller happens to use. Ties are rare; this is the scalar path for them. */
+
+/* True when lane's info row 5 `tie` asks for cnn_cf_forms. */
+CNN_CF_INLINE int cnn_cf_needs_forms(double tie, int gregory) {
+  const int code = (int)tie;
+  return (code & 1) | (gregory & (code >> 1));
+}
+
+/* The symmetries geometry::canonical_symmetries lists for query `x` (15 or more values, SPEC 6 order): one per
+ * node tied for nearest, in the caller's order, two (no mirror, mirror) for such a node with |AB| = |AD| and S
+ * on the diagonal. The arithmetic of cnn_cf_lane's symmetry step on the query scaled by the power of two that
+ * brings its largest coordinate into [0.5, 1) (exact; nothing under- or overflows). sym[k] = rotation + 4 *
+ * mirror; returns the count (1 to 8). */
+static inline int cnn_cf_symmetries(const double* CNN_CF_RESTRICT x_in, int* CNN_CF_RESTRICT sym) {
+  const double eps = 2.220446049250313e-16;
+  const double shrink = (1.0 - 1e-12) * (1.0 - 1e-12);
+  double x[15], q[4], big = 0.0, tie_noise, nearest_plus, reach;
+  int k, r, e = 0, count = 0;
+  for (k = 0; k < 15; ++k) big = cnn_cf_max(big, fabs(x_in[k]));
+  if (big > 0.0 && big <= 1.7976931348623157e308) (void)frexp(big, &e);
+  for (k = 0; k < 15; ++k) x[k] = ldexp(x_in[k], -e);
+  big = ldexp(big, -e);
+  tie_noise = 16.0 * eps * big;
+  for (r = 0; r < 4; ++r) {
+    const double sx = x[12] - x[3 * r], sy = x[13] - x[3 * r + 1], sz = x[14] - x[3 * r + 2];
+    q[r] = sx * sx + sy * sy + sz * sz;
+  }
+  nearest_plus = sqrt(cnn_cf_min(cnn_cf_min(q[0], q[1]), cnn_cf_min(q[2], q[3]))) + tie_noise;
+  reach = nearest_plus * nearest_plus;
+  for (r = 0; r < 4; ++r) {
+    const double* a = x + 3 * r;
+    const double* b = x + 3 * ((r + 1) % 4);
+    const double* d = x + 3 * ((r + 3) % 4);
+    double sax, say, saz, e_bx, e_by, e_bz, e_dx, e_dy, e_dz, len_b, len_d, xbx, xby, xbz, xdx, xdy, xdz, to_b, to_d;
+    if (!(q[r] * shrink <= reach)) continue;
+    sax = x[12] - a[0];
+    say = x[13] - a[1];
+    saz = x[14] - a[2];
+    e_bx = b[0] - a[0];
+    e_by = b[1] - a[1];
+    e_bz = b[2] - a[2];
+    e_dx = d[0] - a[0];
+    e_dy = d[1] - a[1];
+    e_dz = d[2] - a[2];
+    len_b = sqrt(e_bx * e_bx + e_by * e_by + e_bz * e_bz);
+    len_d = sqrt(e_dx * e_dx + e_dy * e_dy + e_dz * e_dz);
+    if (!(fabs(len_d - len_b) <= 1e-12 * cnn_cf_max(len_d, len_b) + tie_noise)) {
+      sym[count++] = r + (len_d > len_b ? 4 : 0);
+      continue;
+    }
+    xbx = say * e_bz - saz * e_by;
+    xby = saz * e_bx - sax * e_bz;
+    xbz = sax * e_by - say * e_bx;
+    xdx = say * e_dz - saz * e_dy;
+    xdy = saz * e_dx - sax * e_dz;
+    xdz = sax * e_dy - say * e_dx;
+    to_b = sqrt(xbx * xbx + xby * xby + xbz * xbz) * (1.0 / len_b);
+    to_d = sqrt(xdx * xdx + xdy * xdy + xdz * xdz) * (1.0 / len_d);
+    if (!(fabs(to_d - to_b) <= 1e-12 * cnn_cf_max(to_d, to_b) + tie_noise)) {
+      sym[count++] = r + (to_d < to_b ? 4 : 0);
+    } else {
+      sym[count++] = r;
+      sym[count++] = r + 4;
+    }
+  }
+  return count;
+}
+
+/* One form of query `x` (contiguous, 15 or 27 values): cnn_cf_lane (forced or not), redone scaled where the
+ * lane needs it. f: 16 values, nrm: 12, info: CNN_CF_INFO_ROWS. */
+static inline void cnn_cf_form(const double* CNN_CF_RESTRICT x, int gregory, int forced, int sym, int other_z,
+                               double* CNN_CF_RESTRICT f, double* CNN_CF_RESTRICT nrm, double* CNN_CF_RESTRICT info) {
+  cnn_cf_lane(x, 1, gregory, forced, sym, other_z, f, nrm, info, 1);
+  if (info[4] != 0.0) cnn_cf_lane_scaled(x, 1, gregory, forced, sym, other_z, f, nrm, info, 1);
+}
+
+/* Every canonical form of query `x` (contiguous, 15 or 27 values), in geometry::canonical_forms' order: form 0
+ * is the block pass's (cnn_cf_lane unforced), then for each symmetry of cnn_cf_symmetries and, Gregory on a z
+ * tie of form 0, each orientation of z, the forms that exist (status ok). Form k's features are at f[16 k],
+ * its normals at nrm[12 k], its info rows at info[CNN_CF_INFO_ROWS k]. Returns the count (1 to
+ * CNN_CF_MAX_FORMS); only form 0 when its status is not ok. */
+static inline int cnn_cf_forms(const double* CNN_CF_RESTRICT x, int gregory, double* CNN_CF_RESTRICT f,
+                               double* CNN_CF_RESTRICT nrm, double* CNN_CF_RESTRICT info) {
+  int sym[8], k, z, count = 1, sym0, z_ties, tied;
+  cnn_cf_form(x, gregory, 0, 0, 0, f, nrm, info);
+  if (info[0] != (double)CNN_CF_STATUS_OK) return 1;
+  sym0 = (int)info[1];
+  z_ties = gregory & ((int)info[5] >> 1);
+  tied = cnn_cf_symmetries(x, sym);
+  for (k = 0; k < tied; ++k) {
+    for (z = 0; z <= z_ties && count < CNN_CF_MAX_FORMS; ++z) {
+      double* fk = f + 16 * count;
+      double* nk = nrm + 12 * count;
+      double* ik = info + CNN_CF_INFO_ROWS * count;
+      if (sym[k] == sym0 && z == 0) continue; /* form 0 */
+      cnn_cf_form(x, gregory, 1, sym[k], z, fk, nk, ik);
+      if (ik[0] == (double)CNN_CF_STATUS_OK) ++count;
+    }
+  }
+  return count;
+}
+
+/* Canonical local coordinates (x, y) -> the caller's for symmetry code `sym` (info row 1): the inverse of the
+ * relabelling (SquareSymmetry::to_caller). `centre`: 0 for (xi, eta), 0.5 for (u, v). Branch-free. */
+CNN_CF_INLINE void cnn_cf_to_caller(double sym, double centre, double* CNN_CF_RESTRICT px, double* CNN_CF_RESTRICT py) {
+  const int mirror = sym >= 4.0;
+  const double rotation = mirror ? sym - 4.0 : sym;
+  const double x = *px - centre, y = *py - centre;
+  const double sx = mirror ? y : x, sy = mirror ? x : y;
+  /* rot(x, y) = (-y, x) applied `rotation` times. */
+  *px = (rotation == 0.0 ? sx : rotation == 1.0 ? -sy : rotation == 2.0 ? -sx : sy) + centre;
+  *py = (rotation == 0.0 ? sy : rotation == 1.0 ? sx : rotation == 2.0 ? -sy : -sx) + centre;
 }
 
 /* ---- The training domain (geometry::TrainingDomain::contains) ---- */

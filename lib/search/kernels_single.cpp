@@ -1,5 +1,6 @@
-// The one-lane instantiations of the block kernels, for queries outside whole blocks. This file is compiled
-// without auto-vectorisation (see CMakeLists.txt and select_single_kernels in search_kernel.hpp).
+// The one-lane instantiations of the block kernels, for queries outside whole blocks, and the scalar path of
+// queries on a tie. This file is compiled without auto-vectorisation (see CMakeLists.txt and
+// select_single_kernels in search_kernel.hpp).
 #include "search/search_kernel.hpp"
 
 namespace contactnn::search::detail {
@@ -14,5 +15,40 @@ void select_single_kernels(Plan& plan) {
     plan.single_d = float_network ? &search_block<false, float, 1, double> : &search_block<false, double, 1, double>;
   }
 }
+
+template <class Net, bool kGregory>
+void tie_estimate(const NetworkModel& m, bool check_domain, const double* query, double& u, double& v, double& status) {
+  constexpr int kG = kGregory ? 1 : 0;
+  double f[16 * CNN_CF_MAX_FORMS], nrm[12 * CNN_CF_MAX_FORMS], info[CNN_CF_INFO_ROWS * CNN_CF_MAX_FORMS];
+  const int count = cnn_cf_forms(query, kG, f, nrm, info);
+  if (info[0] != kOk) return;  // the block pass's form 0 is ok; the same code cannot say otherwise
+  const cnn_domain& d = m.domain_bounds();
+  const int angles = d.check_lo | d.check_hi;
+  const double centre = kGregory ? 0.5 : 0.0;
+  double sum_u = 0.0, sum_v = 0.0;
+  bool inside = true;
+  // In geometry::canonical_forms' order, summed as eval::network_estimate sums.
+  for (int k = 0; k < count; ++k) {
+    const double* fk = f + 16 * k;
+    if (check_domain) {
+      double code = kOk;
+      cnn_domain_lane(&d, kG, angles, fk, nrm + 12 * k, 1, &code);
+      inside = inside && code == kOk;
+    }
+    double out[2];
+    forward_pass<Net, 1>(m, fk, out);
+    cnn_cf_to_caller(info[CNN_CF_INFO_ROWS * k + 1], centre, &out[0], &out[1]);
+    sum_u += out[0];
+    sum_v += out[1];
+  }
+  u = sum_u / count;
+  v = sum_v / count;
+  status = inside ? kOk : kOutOfDomain;
+}
+
+template void tie_estimate<float, false>(const NetworkModel&, bool, const double*, double&, double&, double&);
+template void tie_estimate<float, true>(const NetworkModel&, bool, const double*, double&, double&, double&);
+template void tie_estimate<double, false>(const NetworkModel&, bool, const double*, double&, double&, double&);
+template void tie_estimate<double, true>(const NetworkModel&, bool, const double*, double&, double&, double&);
 
 }  // namespace contactnn::search::detail

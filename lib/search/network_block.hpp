@@ -51,8 +51,44 @@ void sigmoid_all(Net* y, int n, Net gain) {
   for (int k = 0; k < n; ++k) y[k] = sigmoid(y[k], gain);
 }
 
-/// Features f (F x W, canonical order) -> raw outputs out (2 x W, canonical local coordinates): the scaling
-/// of mlp::predict (scaled inputs clamped to +-1e6, so any finite feature gives a finite output), then every
+/// The affine input features of map_input_features (core/input_features.hpp) for W lanes: the same
+/// operations in the same order, so that they round as mlp::predict's. f and g: F x W.
+template <int W>
+CONTACTNN_SEARCH_INLINE void affine_inputs(const double* f, bool gregory, double* g) {
+  CONTACTNN_LANES
+  for (int l = 0; l < W; ++l) {
+    const double xd = f[3 * W + l], y = f[4 * W + l];
+    const double yd = y < 1e-300 ? 1e-300 : y;  // std::max(y, 1e-300)
+    const double rho = std::sqrt(xd * xd + yd * yd);
+    const double height = 1.0 / std::sqrt(yd);
+    const double beta_c = f[1 * W + l] / yd, beta_s = f[6 * W + l] / yd;
+    g[0 * W + l] = f[0 * W + l] - xd * beta_c;
+    g[1 * W + l] = beta_c;
+    g[2 * W + l] = f[2 * W + l] * height;
+    g[3 * W + l] = rho;
+    g[4 * W + l] = xd / rho;
+    g[5 * W + l] = f[5 * W + l] - xd * beta_s;
+    g[6 * W + l] = beta_s;
+    g[7 * W + l] = f[7 * W + l] * height;
+  }
+  if (gregory) {
+    CONTACTNN_LANES
+    for (int l = 0; l < W; ++l) {
+      const double xd = f[3 * W + l], y = f[4 * W + l];
+      const double yd = y < 1e-300 ? 1e-300 : y;
+      const double rho = std::sqrt(xd * xd + yd * yd);
+      CONTACTNN_UNROLL
+      for (int i = 0; i < 4; ++i) {
+        const double p = f[(8 + 2 * i) * W + l], q = f[(9 + 2 * i) * W + l];
+        g[(8 + 2 * i) * W + l] = p;
+        g[(9 + 2 * i) * W + l] = (p * xd + q * yd) / rho;
+      }
+    }
+  }
+}
+
+/// Features f (F x W, canonical order) -> raw outputs out (2 x W, canonical local coordinates): the input map
+/// (affine_inputs, when the network has it) and the scaling of mlp::predict (scaled inputs clamped to +-1e6, so any finite feature gives a finite output), then every
 /// layer U_j = sum_i W_ji I_i - theta_j, O_j = sigmoid(U_j) in Net, eight units at a time for all lanes.
 template <class Net, int W>
 void forward_pass(const NetworkModel& m, const double* f, double* out) {
@@ -60,6 +96,11 @@ void forward_pass(const NetworkModel& m, const double* f, double* out) {
   const auto& sizes = m.layer_sizes();
   const double* in_min = m.input_min().data();
   const double* in_gain = m.input_gain().data();
+  alignas(64) double mapped[16 * W];
+  if (m.input_features() == InputFeatures::kAffine) {
+    affine_inputs<W>(f, sizes[0] == 16, mapped);
+    f = mapped;
+  }
   for (int i = 0; i < sizes[0]; ++i) {
     const double lo = in_min[i], gain = in_gain[i];
     CONTACTNN_LANES
@@ -101,31 +142,45 @@ void forward_pass(const NetworkModel& m, const double* f, double* out) {
   }
 }
 
+/// The estimate of a lane on a tie (cnn_cf_needs_forms): the mean over its canonical forms (cnn_cf_forms) of the
+/// network's prediction mapped to the caller's order; status out_of_domain when check_domain and any form is
+/// outside the domain, else ok. `query`: the lane's 15 or 27 raw values, contiguous. Defined once, in
+/// kernels_single.cpp (compiled without auto-vectorisation), so that a query gives the same bits in a block of
+/// any width.
+template <class Net, bool kGregory>
+void tie_estimate(const NetworkModel& m, bool check_domain, const double* query, double& u, double& v, double& status);
+
 /// The network's estimate for every lane of a raw block (`raw`: 15 or 27 rows of W, world coordinates), in
 /// the caller's node order: status ok, out_of_domain (with check_domain), degenerate or invalid; the estimate
-/// is the domain centre for the last two.
+/// is the domain centre for the last two. Lanes on a tie go through tie_estimate after the block.
 template <class Net, int W, bool kGregory>
 void network_estimate(const NetworkModel& m, bool check_domain, const double* raw, LaneState<W>& s) {
-  alignas(64) double features[16 * W], normals[12 * W], info[5 * W], out[2 * W];
-  cnn_canonicalise_block(W, kGregory ? 1 : 0, raw, features, normals, info);
-  if (check_domain) cnn_domain_block(W, kGregory ? 1 : 0, &m.domain_bounds(), features, normals, info);
+  alignas(64) double features[16 * W], normals[12 * W], info[CNN_CF_INFO_ROWS * W], out[2 * W];
+  constexpr int kG = kGregory ? 1 : 0;
+  cnn_canonicalise_block(W, kG, raw, features, normals, info);
+  if (check_domain) cnn_domain_block(W, kG, &m.domain_bounds(), features, normals, info);
   forward_pass<Net, W>(m, features, out);
   const double centre = kGregory ? 0.5 : 0.0;
+  int ties = 0;
   CONTACTNN_LANES
   for (int l = 0; l < W; ++l) {
-    const double status = info[l], symmetry = info[W + l];
-    const bool mirror = symmetry >= 4.0;
-    const double rotation = mirror ? symmetry - 4.0 : symmetry;
-    double x = out[l] - centre, y = out[W + l] - centre;
-    const double sx = mirror ? y : x, sy = mirror ? x : y;
-    // rot(x, y) = (-y, x) applied `rotation` times.
-    x = rotation == 0.0 ? sx : rotation == 1.0 ? -sy : rotation == 2.0 ? -sx : sy;
-    y = rotation == 0.0 ? sy : rotation == 1.0 ? sx : rotation == 2.0 ? -sy : -sx;
+    const double status = info[l];
+    double x = out[l], y = out[W + l];
+    cnn_cf_to_caller(info[W + l], centre, &x, &y);
     const bool usable = (status == kOk) | (status == kOutOfDomain);
-    s.u[l] = usable ? x + centre : centre;
-    s.v[l] = usable ? y + centre : centre;
+    s.u[l] = usable ? x : centre;
+    s.v[l] = usable ? y : centre;
     s.status[l] = status;
     s.iterations[l] = 0.0;
+  }
+  for (int l = 0; l < W; ++l) ties |= cnn_cf_needs_forms(info[5 * W + l], kG) & (info[l] == kOk || info[l] == kOutOfDomain);
+  if (ties == 0) return;
+  constexpr int kStride = kGregory ? 27 : 15;
+  for (int l = 0; l < W; ++l) {
+    if (!(cnn_cf_needs_forms(info[5 * W + l], kG) && (info[l] == kOk || info[l] == kOutOfDomain))) continue;
+    double query[27];
+    for (int k = 0; k < kStride; ++k) query[k] = raw[k * W + l];
+    tie_estimate<Net, kGregory>(m, check_domain, query, s.u[l], s.v[l], s.status[l]);
   }
 }
 

@@ -79,6 +79,7 @@ void NetworkModel::init(const mlp::Network<Real>& network) {
   output_min_ = s.output_min;
   for (const double g : network.output_gains()) output_inverse_gain_.push_back(1.0 / g);
   target_low_ = s.target_low;
+  input_features_ = s.input_features;
 }
 
 NetworkModel::NetworkModel(const mlp::Network<float>& network, const geometry::TrainingDomain& domain)

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "core/conventions.hpp"
+#include "core/input_features.hpp"
 #include "geometry/domain.hpp"
 #include "mlp/network.hpp"
 #include "search/canonical_frame.h"
@@ -15,7 +16,8 @@
 namespace contactnn::search {
 
 /// An inference-ready copy of an mlp::Network<float> or <double> and its geometry::TrainingDomain. The forward
-/// pass runs in the network's own real type (float or double); scaling and the canonical frame in double.
+/// pass runs in the network's own real type (float or double); the input map, scaling and the canonical frame
+/// in double.
 /// Immutable after construction: one model serves any number of threads and LocalSearch objects.
 class NetworkModel {
  public:
@@ -66,6 +68,9 @@ class NetworkModel {
   [[nodiscard]] const std::vector<double>& output_min() const { return output_min_; }
   [[nodiscard]] const std::vector<double>& output_inverse_gain() const { return output_inverse_gain_; }
   [[nodiscard]] double target_low() const { return target_low_; }
+  /// The map from the canonical features to the network's inputs (mlp::Scaling::input_features), applied
+  /// before the input scaling.
+  [[nodiscard]] InputFeatures input_features() const { return input_features_; }
 
   [[nodiscard]] const geometry::TrainingDomain& domain() const { return domain_; }
   /// The domain as canonical_frame.h's cnn_domain_lane tests it (TrainingDomain::kRelativeTolerance slack).
@@ -84,6 +89,7 @@ class NetworkModel {
   double gain_ = 1.0;
   std::vector<double> input_min_, input_gain_, output_min_, output_inverse_gain_;
   double target_low_ = 0.1;
+  InputFeatures input_features_ = InputFeatures::kPaper;
   cnn_domain bounds_{};
 };
 

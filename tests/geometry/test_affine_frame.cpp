@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
+#include <numbers>
 #include <random>
 #include <utility>
 #include <vector>
@@ -190,6 +192,41 @@ TEST(CanonicalConfiguration, ExactTieOfEdgeLengthsIsBrokenTheSameWayInEveryOrder
       EXPECT_EQ(normalise(relabel(rhombus, order), SurfaceKind::kBilinear).value->features, base.value->features);
     }
   }
+}
+
+TEST(CanonicalConfiguration, SymmetriesAreTheSameAtEveryScaleDownTo1eMinus300AndUpTo1e300) {
+  // The choice of node order must not depend on the unit of the coordinates. Near 1e+-300 the squares in the
+  // distances and in the |AB| = |AD| test under- or overflow unless the configuration is scaled first: a kite
+  // of 0.1 degrees got the other mirror at 1e-300, and coordinates of 1e308 had no nearest node.
+  const double t = 0.1 * std::numbers::pi / 180.0;
+  const std::array<Vec3, 4> none = {Vec3::Zero(), Vec3::Zero(), Vec3::Zero(), Vec3::Zero()};
+  const std::vector<Configuration> cases = {
+      {{Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1.3 * std::cos(t / 2), 1.3 * std::sin(t / 2), 0), Vec3(std::cos(t), std::sin(t), 0)},
+       Vec3(0.2, 0.01, 0.01), none},                                                                     // thin kite
+      {{Vec3(0, 0, 0), Vec3(5, 0, 0), Vec3(8, 4, 0.3), Vec3(3, 4, 0)}, Vec3(1, 1.5, 0.2), none},        // rhombus
+      {{Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0.1), Vec3(0, 1, 0)}, Vec3(0.3, 0.3, 0.2), none},      // diagonal
+      {{Vec3(0, 0, 0), Vec3(2, 0, 0), Vec3(2, 1, 0), Vec3(0, 1, 0)}, Vec3(1, 0.3, 0.1), none},          // A and B
+      {{Vec3(1, 1, 1), Vec3(3, 1, 2), Vec3(3, 4, 1), Vec3(0, 3, 1)}, Vec3(2.5, 3.2, 1.7), none},        // plain
+  };
+  for (const Configuration& unit : cases) {
+    const CanonicalSymmetries base = canonical_symmetries(unit.nodes, unit.slave);
+    ASSERT_GE(base.count, 1);
+    for (const double scale : {0x1p-1000, 1e-300, 1e-150, 1e150, 1e300, 0x1p1020}) {
+      Configuration c = unit;
+      for (Vec3& x : c.nodes) x *= scale;
+      c.slave *= scale;
+      const CanonicalSymmetries got = canonical_symmetries(c.nodes, c.slave);
+      ASSERT_EQ(got.count, base.count) << "scale " << scale;
+      for (int k = 0; k < got.count; ++k) EXPECT_EQ(got.symmetries[k], base.symmetries[k]) << "scale " << scale;
+    }
+  }
+  // Coordinates whose differences overflow: a nearest node is still found (the frame then does not exist).
+  const Configuration huge{{Vec3(-1.5e308, 0, 0), Vec3(1.5e308, 0, 0), Vec3(1.5e308, 1.5e308, 0), Vec3(-1.5e308, 1.5e308, 0)},
+                           Vec3(-1e308, 1e307, 1e307), none};
+  const CanonicalSymmetries far = canonical_symmetries(huge.nodes, huge.slave);
+  ASSERT_EQ(far.count, 1);
+  EXPECT_EQ(far.symmetries[0].rotation, 0);
+  EXPECT_FALSE(normalise(huge, SurfaceKind::kBilinear).value);
 }
 
 TEST(CanonicalConfiguration, TiesGiveEveryCanonicalFormTheSameSetInEveryOrder) {

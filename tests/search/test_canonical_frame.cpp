@@ -23,6 +23,7 @@
 #include "search/random_queries.hpp"
 
 extern "C" void contactnn_canonicalise_c99(int n, int gregory, const double* in, double* f, double* nrm, double* info);
+extern "C" int contactnn_forms_c99(const double* x, int gregory, double* f, double* nrm, double* info);
 
 namespace contactnn::search {
 namespace {
@@ -49,7 +50,7 @@ std::vector<KernelResult> run_kernel(const std::vector<Configuration>& configs, 
   std::vector<KernelResult> results;
   for (std::size_t first = 0; first < configs.size(); first += static_cast<std::size_t>(lanes)) {
     std::vector<double> in(27 * static_cast<std::size_t>(lanes)), f(16 * static_cast<std::size_t>(lanes)),
-        nrm(12 * static_cast<std::size_t>(lanes)), info(5 * static_cast<std::size_t>(lanes));
+        nrm(12 * static_cast<std::size_t>(lanes)), info(CNN_CF_INFO_ROWS * static_cast<std::size_t>(lanes));
     for (int l = 0; l < lanes; ++l) {
       const std::size_t i = first + static_cast<std::size_t>(l) < configs.size() ? first + static_cast<std::size_t>(l) : 0;
       std::vector<double> row;
@@ -269,10 +270,8 @@ TEST(CanonicalFrameKernel, MatchesNormaliseOnTheExtremeCasesAtEveryScaleAndPlace
 }
 
 TEST(CanonicalFrameKernel, ExtremeScalesGiveTheUnitScalesResult) {
-  // The features, symmetry and status of a configuration do not depend on its scale. Compared with the
-  // reference at unit scale: at 1e-300 and 1e300 the reference's tie test |AB| = |AD| squares lengths in its
-  // cross products, which under- or overflow there (e.g. the 0.1-degree kite below 1e-300 gets the other
-  // mirror), while the kernel scales such queries by a power of two first.
+  // The features, symmetry and status of a configuration do not depend on its scale: the kernel at each scale
+  // against the reference at unit scale and at that scale (both scale such queries by a power of two first).
   std::vector<Configuration> unit;
   for (const Configuration& base : extreme_cases()) {
     if (base.is_finite(false) && base.nodes[0].x() > -1e300) unit.push_back(base);
@@ -287,6 +286,11 @@ TEST(CanonicalFrameKernel, ExtremeScalesGiveTheUnitScalesResult) {
     for (std::size_t i = 0; i < unit.size(); ++i) {
       const geometry::NormaliseOutcome ref = geometry::normalise(unit[i], SurfaceKind::kBilinear);
       ASSERT_EQ(got[i].status, reference_status(ref)) << "scale " << scale << " config " << i;
+      const geometry::NormaliseOutcome at_scale = geometry::normalise(scaled[i], SurfaceKind::kBilinear);
+      ASSERT_EQ(reference_status(at_scale), reference_status(ref)) << "scale " << scale << " config " << i;
+      if (at_scale.value) {
+        EXPECT_EQ(at_scale.value->symmetry, ref.value->symmetry) << "scale " << scale << " config " << i;
+      }
       if (got[i].status != 0) continue;
       EXPECT_NEAR(got[i].scale * scale, ref.value->frame.scale(), 1e-14 * ref.value->frame.scale());
       // The scaled inputs are rounded once more: the unit case's tolerance, a little wider.
@@ -324,6 +328,82 @@ TEST(CanonicalFrameKernel, GregoryNormalsOfAnyLengthInThePlaneOrOnBothSides) {
   along_edge.normals[0] = Vec3(1, 0, 1e-14);
   configs.push_back(along_edge);
   expect_matches_reference(configs, SurfaceKind::kGregory, 16);
+}
+
+/// Configurations on a tie of each kind, for bilinear and Gregory: S midway between two nodes (2 forms), |AB| =
+/// |AD| with S on the diagonal (2), S over the centre of a square (8), S and C on the plane of A, B, D (Gregory:
+/// 2 orientations of z), S on a flat square's centre (16), and one with no tie.
+std::vector<Configuration> tie_cases() {
+  const std::array<Vec3, 4> normals = {Vec3(0.05, -0.03, 1), Vec3(-0.02, 0.06, 1), Vec3(-0.1, 0.02, 1), Vec3(0.04, 0.05, 1)};
+  const auto with = [&](const std::array<Vec3, 4>& nodes, const Vec3& slave) { return Configuration{nodes, slave, normals}; };
+  const std::array<Vec3, 4> strip = {Vec3(0, 0, 0), Vec3(2, 0, 0), Vec3(2, 1, 0.2), Vec3(0, 1, 0)};
+  const std::array<Vec3, 4> square = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0.1), Vec3(0, 1, 0)};
+  const std::array<Vec3, 4> flat = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0), Vec3(0, 1, 0)};
+  const std::array<Vec3, 4> kite = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1.1, 0.9, 0), Vec3(0, 0.8, 0)};
+  return {with(strip, Vec3(0, 0.5, 0.1)),   with(square, Vec3(0.3, 0.3, 0.2)), with(square, Vec3(0.5, 0.5, 0.3)),
+          with(kite, Vec3(0.3, 0.2, 0.0)),   with(flat, Vec3(0.5, 0.5, 0.0)),   with(flat, Vec3(0.5, 0.2, 0.0)),
+          with(strip, Vec3(0.3, 0.2, 0.1))};
+}
+
+TEST(CanonicalFrameKernel, ListsEveryCanonicalFormOfATieAsTheReferenceDoes) {
+  // cnn_cf_forms against geometry::canonical_forms: the same count and, form by form, the same symmetry and
+  // features, for every tie case in every node order and placement; the block pass flags exactly the queries
+  // with more than one form.
+  std::mt19937_64 rng(108);
+  for (const SurfaceKind kind : {SurfaceKind::kBilinear, SurfaceKind::kGregory}) {
+    const int gregory = kind == SurfaceKind::kGregory ? 1 : 0;
+    int tied = 0;
+    for (const Configuration& base : tie_cases()) {
+      for (const SquareSymmetry& order : all_square_symmetries()) {
+        Configuration c = base;
+        for (int i = 0; i < 4; ++i) {
+          c.nodes[static_cast<std::size_t>(order.caller_node(i))] = base.nodes[static_cast<std::size_t>(i)];
+          c.normals[static_cast<std::size_t>(order.caller_node(i))] = base.normals[static_cast<std::size_t>(i)];
+        }
+        for (int p = 0; p < 3; ++p) {
+          const Configuration placed = p == 0 ? c : testing::place(c, rng, SquareSymmetry{});
+          const geometry::CanonicalForms ref = geometry::canonical_forms(placed, kind);
+          ASSERT_GT(ref.count, 0);
+          std::vector<double> x;
+          testing::append_raw(placed, kind, x);
+          std::array<double, 16 * CNN_CF_MAX_FORMS> f{};
+          std::array<double, 12 * CNN_CF_MAX_FORMS> nrm{};
+          std::array<double, CNN_CF_INFO_ROWS * CNN_CF_MAX_FORMS> info{};
+          // The block pass's flag (one lane).
+          cnn_canonicalise_block(1, gregory, x.data(), f.data(), nrm.data(), info.data());
+          const std::string what = std::string(to_string(kind)) + " order " + std::to_string(order.rotation) +
+                                   (order.mirror ? "m" : "") + " placement " + std::to_string(p);
+          ASSERT_EQ(cnn_cf_needs_forms(info[5], gregory) != 0, ref.count > 1) << what;
+          const int count = cnn_cf_forms(x.data(), gregory, f.data(), nrm.data(), info.data());
+          ASSERT_EQ(count, ref.count) << what;
+          {
+            // The C99 compilation lists the same forms.
+            std::array<double, 16 * CNN_CF_MAX_FORMS> f99{};
+            std::array<double, 12 * CNN_CF_MAX_FORMS> nrm99{};
+            std::array<double, CNN_CF_INFO_ROWS * CNN_CF_MAX_FORMS> info99{};
+            ASSERT_EQ(contactnn_forms_c99(x.data(), gregory, f99.data(), nrm99.data(), info99.data()), count) << what;
+            for (int k = 0; k < count; ++k) EXPECT_EQ(info99[CNN_CF_INFO_ROWS * static_cast<std::size_t>(k) + 1], info[CNN_CF_INFO_ROWS * static_cast<std::size_t>(k) + 1]) << what;
+          }
+          tied += count > 1;
+          for (int k = 0; k < count; ++k) {
+            const geometry::NormalisedConfiguration& n = ref.form[static_cast<std::size_t>(k)];
+            KernelResult r;
+            const auto at = static_cast<std::size_t>(CNN_CF_INFO_ROWS * k);
+            r.status = static_cast<int>(info[at]);
+            const int code = static_cast<int>(info[at + 1]);
+            r.symmetry = SquareSymmetry{code % 4, code >= 4};
+            r.orientation = info[at + 2];
+            for (std::size_t j = 0; j < 16; ++j) r.features[j] = f[16 * static_cast<std::size_t>(k) + j];
+            for (std::size_t j = 0; j < 12; ++j) r.normals[j] = nrm[12 * static_cast<std::size_t>(k) + j];
+            ASSERT_EQ(r.status, 0) << what << " form " << k;
+            EXPECT_EQ(r.orientation, n.orientation) << what << " form " << k;
+            expect_same_frame(r, n, kind, frame_tolerance(placed, n), what + " form " + std::to_string(k));
+          }
+        }
+      }
+    }
+    EXPECT_GT(tied, 100) << to_string(kind);
+  }
 }
 
 TEST(CanonicalFrameKernel, TheC99CompilationAgreesWithTheCxxOne) {
@@ -373,7 +453,7 @@ std::vector<int> kernel_domain(const std::vector<Configuration>& configs, Surfac
   std::vector<int> verdict;
   for (std::size_t first = 0; first < configs.size(); first += static_cast<std::size_t>(lanes)) {
     const auto n = static_cast<std::size_t>(lanes);
-    std::vector<double> in(27 * n), f(16 * n), nrm(12 * n), info(5 * n);
+    std::vector<double> in(27 * n), f(16 * n), nrm(12 * n), info(CNN_CF_INFO_ROWS * n);
     for (std::size_t l = 0; l < n; ++l) {
       std::vector<double> row;
       testing::append_raw(configs[first + l < configs.size() ? first + l : 0], kind, row);

@@ -19,6 +19,7 @@
 
 #include "core/error.hpp"
 #include "dataset/labeller.hpp"
+#include "eval/methods.hpp"
 #include "geometry/affine_frame.hpp"
 #include "geometry/bilinear_patch.hpp"
 #include "geometry/gregory_patch.hpp"
@@ -134,6 +135,116 @@ TEST(NetworkMethod, EqualsPredictOnTheCanonicalFeaturesInTheCallersOrder) {
     SCOPED_TRACE(name);
     expect_network_matches_predict(trained.network, trained.domain, raw, kFloatNetworkTol);
     expect_network_matches_predict(trained.network.cast<double>(), trained.domain, raw, kDoubleNetworkTol);
+  }
+}
+
+/// A network as eval::network_estimate takes it (mlp::predict on the features).
+template <class Real>
+struct Predictor {
+  const mlp::Network<Real>* net;
+  mlp::ForwardPass<Real> pass;
+  explicit Predictor(const mlp::Network<Real>& n) : net(&n), pass(n) {}
+  void predict(const double* features, double* out) { mlp::predict(*net, features, out, pass); }
+};
+
+TEST(NetworkMethod, AffineInputFeaturesArePredictsOnTheSameFeatures) {
+  // A network whose scaling maps the features to the affine frame of AB and AD (core/input_features.hpp)
+  // before scaling them: untrained weights (any weights test the map), ranges covering the affine inputs.
+  for (const SurfaceKind kind : {kBilinear, kGregory}) {
+    const int n = feature_count(kind);
+    mlp::Scaling s;
+    s.input_features = InputFeatures::kAffine;
+    s.input_min.assign(static_cast<std::size_t>(n), -1.5);
+    s.input_max.assign(static_cast<std::size_t>(n), 1.5);
+    const ParamDomain range = param_domain(kind);
+    s.output_min.assign(2, range.lo);
+    s.output_max.assign(2, range.hi);
+    mlp::Network<float> net({n, 12, 2}, 1.0, s);
+    net.initialize(5);
+    geometry::TrainingDomain domain = shipped(kind == kBilinear ? "bilinear-8.h5" : "gregory-48.h5").domain;
+    SCOPED_TRACE(to_string(kind));
+    const std::vector<double> raw = random_queries(kind, 700, 8);
+    expect_network_matches_predict(net, domain, raw, kFloatNetworkTol);
+    expect_network_matches_predict(net.cast<double>(), domain, raw, kDoubleNetworkTol);
+    // The map changes the answer: the same weights without it predict something else.
+    s.input_features = InputFeatures::kPaper;
+    mlp::Network<float> plain({n, 12, 2}, 1.0, s);
+    plain.initialize(5);
+    const NetworkModel with_map(net, domain), without(plain, domain);
+    const Output<double> a = run_method(kind, "network", raw, &with_map), b = run_method(kind, "network", raw, &without);
+    double largest = 0.0;
+    for (std::size_t i = 0; i < a.param.size(); ++i) largest = std::max(largest, std::abs(a.param[i] - b.param[i]));
+    EXPECT_GT(largest, 1e-3);
+  }
+}
+
+/// Queries on a tie (tests/search/test_canonical_frame.cpp has the same shapes), each in all 8 node orders and
+/// placed at random.
+std::vector<Configuration> tie_queries(SurfaceKind kind, std::mt19937_64& rng) {
+  const std::array<Vec3, 4> normals = {Vec3(0.05, -0.03, 1), Vec3(-0.02, 0.06, 1), Vec3(-0.1, 0.02, 1), Vec3(0.04, 0.05, 1)};
+  const std::array<Vec3, 4> strip = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 0.6, 0.1), Vec3(0, 0.6, 0)};
+  const std::array<Vec3, 4> square = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0.1), Vec3(0, 1, 0)};
+  const std::array<Vec3, 4> flat = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1.05, 0.95, 0), Vec3(0, 0.9, 0)};
+  const std::vector<Configuration> bases = {
+      {strip, Vec3(0.5, 0.2, 0.1), normals},      // as near A as B
+      {square, Vec3(0.3, 0.3, 0.15), normals},    // |AB| = |AD|, S on the diagonal
+      {square, Vec3(0.5, 0.5, 0.2), normals},     // all four nodes, each on its diagonal
+      {flat, Vec3(0.3, 0.25, 0.0), normals},      // S and C on the plane of A, B, D (Gregory: z tie)
+      {flat, Vec3(0.5, 0.3, 0.0), normals},       // both
+  };
+  std::vector<Configuration> out;
+  for (const Configuration& base : bases) {
+    for (const SquareSymmetry& order : all_square_symmetries()) {
+      for (int p = 0; p < 2; ++p) out.push_back(testing::place(base, rng, order));
+    }
+  }
+  (void)kind;
+  return out;
+}
+
+TEST(NetworkMethod, OnATieIsTheMeanOverTheCanonicalFormsWhateverTheNodeOrder) {
+  // The reference semantics (eval::network_estimate): the mean of the predictions over every canonical form
+  // of the query, in the domain only if every form is. Then the answer, mapped to one node order, is the same
+  // for all 8 orders of a segment.
+  std::mt19937_64 rng(22);
+  for (const char* name : {"bilinear-8.h5", "gregory-48.h5"}) {
+    const auto& trained = shipped(name);
+    const SurfaceKind kind = trained.domain.surface;
+    const NetworkModel model(trained.network, trained.domain);
+    const std::vector<Configuration> queries = tie_queries(kind, rng);
+    std::vector<double> raw;
+    for (const Configuration& c : queries) testing::append_raw(c, kind, raw);
+    SCOPED_TRACE(name);
+    // Alone, in a block, and at another position in a block: the same bits.
+    const Output<double> out = run_method(kind, "network", raw, &model);
+    Predictor<float> predictor(trained.network);
+    int several = 0;
+    for (std::size_t i = 0; i < queries.size(); ++i) {
+      const eval::Estimate e = eval::network_estimate(queries[i], kind, predictor, &trained.domain);
+      several += geometry::canonical_forms(queries[i], kind).count > 1;
+      EXPECT_EQ(out.status[i], e.status) << "query " << i;
+      EXPECT_NEAR(out.param[2 * i], e.param[0], kFloatNetworkTol) << "query " << i;
+      EXPECT_NEAR(out.param[2 * i + 1], e.param[1], kFloatNetworkTol) << "query " << i;
+      const std::vector<double> one(raw.begin() + static_cast<std::ptrdiff_t>(i * static_cast<std::size_t>(stride(kind))),
+                                    raw.begin() + static_cast<std::ptrdiff_t>((i + 1) * static_cast<std::size_t>(stride(kind))));
+      const Output<double> alone = run_method(kind, "network", one, &model);
+      EXPECT_EQ(alone.param[0], out.param[2 * i]) << "query " << i;
+      EXPECT_EQ(alone.param[1], out.param[2 * i + 1]) << "query " << i;
+    }
+    // Every query has several forms but the bilinear z tie (one form: a bilinear network's features are the
+    // same in either orientation of z there).
+    EXPECT_EQ(several, static_cast<int>(queries.size()) - (kind == kBilinear ? 16 : 0));
+    // Node-order independence: each base's 16 queries (8 orders x 2 placements) map to the same point.
+    for (std::size_t b = 0; b < queries.size(); b += 16) {
+      for (std::size_t j = 0; j < 16; ++j) {
+        const SquareSymmetry order = all_square_symmetries()[j / 2];
+        const std::array<double, 2> p = order.to_canonical({out.param[2 * (b + j)], out.param[2 * (b + j) + 1]}, kind);
+        const std::array<double, 2> p0 = {out.param[2 * b], out.param[2 * b + 1]};
+        // A float network's rounding through the different placements: 1e-6 (scripts/node-orders' tolerance).
+        EXPECT_NEAR(p[0], p0[0], 1e-6) << "base " << b / 16 << " order " << j / 2;
+        EXPECT_NEAR(p[1], p0[1], 1e-6) << "base " << b / 16 << " order " << j / 2;
+      }
+    }
   }
 }
 
