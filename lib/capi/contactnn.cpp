@@ -1,0 +1,245 @@
+// The C interface (contactnn/contactnn.h) over search::LocalSearch and io::read_network. Each entry point
+// is a boundary: exceptions become return codes and a thread-local message, nothing else leaves.
+#include "contactnn/contactnn.h"
+
+#include <cstdint>
+#include <limits>
+#include <memory>
+#include <mutex>
+#include <new>
+#include <optional>
+#include <string>
+#include <type_traits>
+#include <vector>
+
+#include "core/conventions.hpp"
+#include "core/error.hpp"
+#include "io/network_file.hpp"
+#include "search/local_search.hpp"
+#include "search/method.hpp"
+#include "search/network_model.hpp"
+#include "search/search_options.hpp"
+
+using namespace contactnn;
+
+// The header's numbers are contactnn's own: a change on either side must fail here, not in an FE code.
+static_assert(CONTACTNN_ERROR_INTERNAL == static_cast<int>(ExitCode::kInternal));
+static_assert(CONTACTNN_ERROR_INVALID_ARGUMENT == static_cast<int>(ExitCode::kUsage));
+static_assert(CONTACTNN_ERROR_FORMAT == static_cast<int>(ExitCode::kBadInput));
+static_assert(CONTACTNN_ERROR_IO == static_cast<int>(ExitCode::kIo));
+static_assert(CONTACTNN_ERROR_NUMERICAL == static_cast<int>(ExitCode::kNumerical));
+static_assert(CONTACTNN_STATUS_OK == static_cast<int>(Status::kOk));
+static_assert(CONTACTNN_STATUS_OUTSIDE == static_cast<int>(Status::kOutside));
+static_assert(CONTACTNN_STATUS_NO_CONVERGENCE == static_cast<int>(Status::kNoConvergence));
+static_assert(CONTACTNN_STATUS_DEGENERATE == static_cast<int>(Status::kDegenerate));
+static_assert(CONTACTNN_STATUS_INVALID == static_cast<int>(Status::kInvalid));
+static_assert(CONTACTNN_STATUS_OUT_OF_DOMAIN == static_cast<int>(Status::kOutOfDomain));
+static_assert(CONTACTNN_STATUS_NO_SEGMENT == static_cast<int>(Status::kNoSegment));
+static_assert(CONTACTNN_STATUS_NO_SEGMENT + 1 == kStatusCount);
+static_assert(CONTACTNN_SURFACE_BILINEAR == static_cast<int>(SurfaceKind::kBilinear));
+static_assert(CONTACTNN_SURFACE_GREGORY == static_cast<int>(SurfaceKind::kGregory));
+// iterations are written straight into the caller's int array.
+static_assert(std::is_same_v<std::int32_t, int>);
+
+/// The handle: the network (if any) and the search that points to it, never changed after creation.
+struct contactnn_search {
+  std::unique_ptr<const search::NetworkModel> network;
+  std::optional<search::LocalSearch> search;
+  int threads = 0;
+};
+
+namespace {
+
+thread_local std::string t_last_error;
+/// Set when even the message could not be stored (no memory for it).
+thread_local bool t_last_error_lost = false;
+
+int record_error(int code, const char* message) noexcept {
+  try {
+    t_last_error.assign(message);
+    t_last_error_lost = false;
+  } catch (...) {
+    t_last_error.clear();
+    t_last_error_lost = true;
+  }
+  return code;
+}
+
+/// Runs `body` and turns what it throws into a return code and this thread's message.
+template <class Body>
+int guarded(const char* function, Body&& body) noexcept {
+  try {
+    body();
+    return CONTACTNN_SUCCESS;
+  } catch (const Error& e) {
+    return record_error(e.exit_code(), e.what());
+  } catch (const std::bad_alloc&) {
+    return record_error(CONTACTNN_ERROR_OUT_OF_MEMORY, "out of memory");
+  } catch (const std::exception& e) {
+    try {
+      return record_error(CONTACTNN_ERROR_INTERNAL,
+                          (std::string(function) + ": internal error: " + e.what()).c_str());
+    } catch (...) {
+      return record_error(CONTACTNN_ERROR_INTERNAL, "internal error");
+    }
+  } catch (...) {
+    return record_error(CONTACTNN_ERROR_INTERNAL, "internal error: an unknown exception");
+  }
+}
+
+/// HDF5 as Debian builds it is not thread-safe: one network file read at a time.
+std::mutex g_network_read_mutex;
+
+std::unique_ptr<const search::NetworkModel> load_network(const std::string& path) {
+  const std::lock_guard<std::mutex> lock(g_network_read_mutex);
+  if (io::read_network_real_type(path) == "float32") {
+    const io::TrainedNetwork<float> trained = io::read_network<float>(path);
+    return std::make_unique<const search::NetworkModel>(trained.network, trained.domain);
+  }
+  const io::TrainedNetwork<double> trained = io::read_network<double>(path);
+  return std::make_unique<const search::NetworkModel>(trained.network, trained.domain);
+}
+
+search::SearchOptions to_search_options(const contactnn_options& o) {
+  search::SearchOptions s;
+  s.max_iterations = o.max_iterations;
+  s.tol_param = o.tol_param;
+  s.domain_margin = o.domain_margin;
+  s.gregory_box_margin = o.gregory_box_margin;
+  s.bilinear_box_margin = o.bilinear_box_margin;
+  s.max_step_widths = o.max_step_widths;
+  s.max_halvings = o.max_halvings;
+  s.check_domain = o.check_domain != 0;
+  s.min_parallel_count = o.min_parallel_count;
+  return s;
+}
+
+template <class Real>
+int run(const char* function, const contactnn_search* handle, std::size_t count, const Real* raw, Real* param,
+        Real* gap, int* status, int* iterations) noexcept {
+  return guarded(function, [&] {
+    CONTACTNN_REQUIRE_AS(InvalidArgument, handle != nullptr, function << ": search is NULL");
+    if (count == 0) return;
+    CONTACTNN_REQUIRE_AS(InvalidArgument, raw != nullptr && param != nullptr && status != nullptr,
+                         function << ": raw, param and status must not be NULL for count = " << count
+                                  << " (raw " << (raw ? "set" : "NULL") << ", param "
+                                  << (param ? "set" : "NULL") << ", status " << (status ? "set" : "NULL")
+                                  << ")");
+    const auto columns =
+        static_cast<std::size_t>(search::LocalSearch::raw_columns(handle->search->surface()));
+    CONTACTNN_REQUIRE_AS(
+        InvalidArgument, count <= std::numeric_limits<std::size_t>::max() / (columns * sizeof(Real)),
+        function << ": count = " << count << " queries of " << columns << " values overflow size_t");
+    // LocalSearch writes one byte per status; the C caller gets ints.
+    std::vector<Status> statuses(count);
+    handle->search->run(count, raw, search::Results<Real>{param, gap, statuses.data(), iterations},
+                        handle->threads);
+    for (std::size_t i = 0; i < count; ++i) status[i] = static_cast<int>(statuses[i]);
+  });
+}
+
+}  // namespace
+
+extern "C" {
+
+const char* contactnn_version(int* major, int* minor, int* patch) {
+  if (major != nullptr) *major = CONTACTNN_VERSION_MAJOR;
+  if (minor != nullptr) *minor = CONTACTNN_VERSION_MINOR;
+  if (patch != nullptr) *patch = CONTACTNN_VERSION_PATCH;
+  return CONTACTNN_VERSION_STRING;
+}
+
+const char* contactnn_last_error(void) {
+  return t_last_error_lost ? "out of memory (the error message was lost)" : t_last_error.c_str();
+}
+
+int contactnn_set_last_error(int code, const char* message) {
+  return record_error(code, message != nullptr ? message : "");
+}
+
+const char* contactnn_status_name(int status) {
+  if (status < 0 || status >= kStatusCount) return "unknown";
+  // to_string returns views of string literals: null-terminated.
+  return to_string(static_cast<Status>(status)).data();
+}
+
+int contactnn_raw_columns(int surface) {
+  if (surface == CONTACTNN_SURFACE_BILINEAR) return search::LocalSearch::raw_columns(SurfaceKind::kBilinear);
+  if (surface == CONTACTNN_SURFACE_GREGORY) return search::LocalSearch::raw_columns(SurfaceKind::kGregory);
+  return 0;
+}
+
+int contactnn_options_init(contactnn_options* options) {
+  return guarded("contactnn_options_init", [&] {
+    CONTACTNN_REQUIRE_AS(InvalidArgument, options != nullptr, "contactnn_options_init: options is NULL");
+    const search::SearchOptions d;
+    *options = contactnn_options{};
+    options->threads = 0;
+    options->check_domain = d.check_domain ? 1 : 0;
+    options->max_iterations = d.max_iterations;
+    options->max_halvings = d.max_halvings;
+    options->tol_param = d.tol_param;
+    options->domain_margin = d.domain_margin;
+    options->gregory_box_margin = d.gregory_box_margin;
+    options->bilinear_box_margin = d.bilinear_box_margin;
+    options->max_step_widths = d.max_step_widths;
+    options->min_parallel_count = d.min_parallel_count;
+  });
+}
+
+int contactnn_search_create(contactnn_search** out, int surface, const char* method, const char* network_file,
+                            const contactnn_options* options) {
+  return guarded("contactnn_search_create", [&] {
+    CONTACTNN_REQUIRE_AS(InvalidArgument, out != nullptr,
+                         "contactnn_search_create: search (where the handle goes) is NULL");
+    *out = nullptr;
+    CONTACTNN_REQUIRE_AS(
+        InvalidArgument, surface == CONTACTNN_SURFACE_BILINEAR || surface == CONTACTNN_SURFACE_GREGORY,
+        "contactnn_search_create: surface = " << surface
+                                              << ", expected CONTACTNN_SURFACE_BILINEAR (0) or "
+                                                 "CONTACTNN_SURFACE_GREGORY (1)");
+    CONTACTNN_REQUIRE_AS(InvalidArgument, method != nullptr, "contactnn_search_create: method is NULL");
+    const auto kind = static_cast<SurfaceKind>(surface);
+    const search::Method parsed = search::Method::parse(method);
+    const bool has_file = network_file != nullptr && network_file[0] != '\0';
+    CONTACTNN_REQUIRE_AS(InvalidArgument, has_file || !parsed.needs_network(),
+                         "contactnn_search_create: method '" << method
+                                                             << "' needs a network file; network_file is "
+                                                             << (network_file == nullptr ? "NULL" : "empty"));
+    contactnn_options defaults{};
+    if (options == nullptr) {
+      contactnn_options_init(&defaults);
+      options = &defaults;
+    }
+
+    auto handle = std::make_unique<contactnn_search>();
+    handle->threads = options->threads;
+    if (has_file) {
+      handle->network = load_network(network_file);
+      CONTACTNN_REQUIRE_AS(InvalidArgument, handle->network->surface() == kind,
+                           "contactnn_search_create: '"
+                               << network_file << "' is a " << to_string(handle->network->surface())
+                               << " network, the search is for " << to_string(kind) << " surfaces");
+    }
+    handle->search.emplace(kind, parsed, to_search_options(*options), handle->network.get());
+    *out = handle.release();
+  });
+}
+
+void contactnn_search_destroy(contactnn_search* handle) { delete handle; }
+
+int contactnn_search_run(const contactnn_search* handle, size_t count, const double* raw, double* param,
+                         double* gap, int* status, int* iterations) {
+  return run("contactnn_search_run", handle, count, raw, param, gap, status, iterations);
+}
+
+int contactnn_search_run_float(const contactnn_search* handle, size_t count, const float* raw, float* param,
+                               float* gap, int* status, int* iterations) {
+  return run("contactnn_search_run_float", handle, count, raw, param, gap, status, iterations);
+}
+
+int contactnn_search_surface(const contactnn_search* handle) {
+  return handle == nullptr ? -1 : static_cast<int>(handle->search->surface());
+}
+
+}  // extern "C"

@@ -1,0 +1,319 @@
+! contactnn.f90: module contactnn, the Fortran 2008 interface of contactnn's run-time local search, over the
+! C interface (contactnn/contactnn.h, whose comments are the full contract) with iso_c_binding.
+!
+! Compile this file with your own code (any Fortran 2008 compiler; the module file it makes belongs to that
+! compiler) and link libcontactnn_c: with CMake, find_package(contactnn) gives its path as
+! ${contactnn_FORTRAN_MODULE} and the library as contactnn::c.
+!
+! Layout: Fortran arrays are column-major, so one query's values are one column:
+!   raw(15, n)    bilinear: ax ay az bx by bz cx cy cz dx dy dz sx sy sz (SPEC 6 order), world coordinates
+!   raw(27, n)    Gregory: the same 15, then the node normals nax nay naz ... ndx ndy ndz (any positive length)
+!   param(2, n)   (xi, eta) in [-1, 1]^2 (bilinear) or (u, v) in [0, 1]^2 (Gregory) of the closest point
+!   status(n)     CONTACTNN_STATUS_* per query
+!   gap(n)        optional: signed distance along the unit normal at the reported point (< 0: penetration)
+!   iterations(n) optional: Newton steps taken
+! which is the C interface's row-major n x 15 / n x 2: nothing is copied for contiguous arrays. Every array
+! of a call must have the extent n = size(raw, 2) (param: 2 x n); real(c_double) or real(c_float) arrays,
+! one kind per call.
+!
+! Errors: every procedure that can fail has an integer ierr, CONTACTNN_SUCCESS (0) or a CONTACTNN_ERROR_*
+! code; contactnn_last_error() then returns the message. Nothing stops the program.
+!
+! Sample use:
+!   use contactnn
+!   type(contactnn_search) :: search
+!   call contactnn_create(search, CONTACTNN_SURFACE_BILINEAR, 'network+newton:2', ierr, network='bilinear-8.h5')
+!   if (ierr /= CONTACTNN_SUCCESS) print *, contactnn_last_error()
+!   call contactnn_run(search, raw, param, status, ierr, gap=gap)
+!   call contactnn_destroy(search)
+module contactnn
+  use, intrinsic :: iso_c_binding, only: c_int, c_double, c_float, c_size_t, c_char, c_ptr, c_null_ptr, &
+                                         c_null_char, c_associated, c_f_pointer, c_loc
+  implicit none
+  private
+
+  ! Return codes (contactnn_return_code).
+  integer, parameter, public :: CONTACTNN_SUCCESS = 0, CONTACTNN_ERROR_INTERNAL = 1, &
+                                CONTACTNN_ERROR_INVALID_ARGUMENT = 2, CONTACTNN_ERROR_FORMAT = 3, &
+                                CONTACTNN_ERROR_IO = 4, CONTACTNN_ERROR_NUMERICAL = 5, &
+                                CONTACTNN_ERROR_OUT_OF_MEMORY = 6
+  ! Per-query statuses (contactnn_status, the values of contactnn::Status).
+  integer(c_int), parameter, public :: CONTACTNN_STATUS_OK = 0, CONTACTNN_STATUS_OUTSIDE = 1, &
+                                       CONTACTNN_STATUS_NO_CONVERGENCE = 2, CONTACTNN_STATUS_DEGENERATE = 3, &
+                                       CONTACTNN_STATUS_INVALID = 4, CONTACTNN_STATUS_OUT_OF_DOMAIN = 5, &
+                                       CONTACTNN_STATUS_NO_SEGMENT = 6
+  ! Surface kinds (contactnn_surface).
+  integer, parameter, public :: CONTACTNN_SURFACE_BILINEAR = 0, CONTACTNN_SURFACE_GREGORY = 1
+
+  !> The C struct contactnn_options, field for field: get the defaults from contactnn_default_options().
+  type, bind(C), public :: contactnn_options
+    integer(c_int) :: threads             ! OpenMP threads per run; <= 0: OpenMP's default
+    integer(c_int) :: check_domain        ! network methods: /= 0 flags out_of_domain queries
+    integer(c_int) :: max_iterations      ! "newton": iteration limit
+    integer(c_int) :: max_halvings        ! hybrids: step halvings before no_convergence
+    real(c_double) :: tol_param           ! "newton": step tolerance, parameter units
+    real(c_double) :: domain_margin       ! ok versus outside: slack, parameter units
+    real(c_double) :: gregory_box_margin  ! hybrids, Gregory: box margin in domain widths
+    real(c_double) :: bilinear_box_margin ! hybrids, bilinear: box margin in domain widths
+    real(c_double) :: max_step_widths     ! hybrids: longest step in domain widths
+    integer(c_size_t) :: min_parallel_count ! below this many queries a run uses one thread
+  end type contactnn_options
+
+  !> A search (one method on one surface kind); create with contactnn_create, free with contactnn_destroy.
+  type, public :: contactnn_search
+    private
+    type(c_ptr) :: handle = c_null_ptr
+    integer :: columns = 0
+  end type contactnn_search
+
+  public :: contactnn_create, contactnn_run, contactnn_destroy, contactnn_default_options, &
+            contactnn_last_error, contactnn_version, contactnn_status_name
+
+  !> call contactnn_run(search, raw, param, status, ierr [, gap] [, iterations]): double or single precision.
+  interface contactnn_run
+    module procedure run_double, run_float
+  end interface contactnn_run
+
+  interface
+    function c_version(major, minor, patch) bind(C, name='contactnn_version')
+      import :: c_ptr, c_int
+      integer(c_int), intent(out) :: major, minor, patch
+      type(c_ptr) :: c_version
+    end function c_version
+
+    function c_last_error() bind(C, name='contactnn_last_error')
+      import :: c_ptr
+      type(c_ptr) :: c_last_error
+    end function c_last_error
+
+    function c_set_last_error(code, message) bind(C, name='contactnn_set_last_error')
+      import :: c_int, c_char
+      integer(c_int), value :: code
+      character(kind=c_char), intent(in) :: message(*)
+      integer(c_int) :: c_set_last_error
+    end function c_set_last_error
+
+    function c_status_name(status) bind(C, name='contactnn_status_name')
+      import :: c_int, c_ptr
+      integer(c_int), value :: status
+      type(c_ptr) :: c_status_name
+    end function c_status_name
+
+    function c_raw_columns(surface) bind(C, name='contactnn_raw_columns')
+      import :: c_int
+      integer(c_int), value :: surface
+      integer(c_int) :: c_raw_columns
+    end function c_raw_columns
+
+    function c_options_init(options) bind(C, name='contactnn_options_init')
+      import :: c_int, contactnn_options
+      type(contactnn_options), intent(out) :: options
+      integer(c_int) :: c_options_init
+    end function c_options_init
+
+    function c_search_create(search, surface, method, network_file, options) bind(C, name='contactnn_search_create')
+      import :: c_int, c_char, c_ptr, contactnn_options
+      type(c_ptr), intent(out) :: search
+      integer(c_int), value :: surface
+      character(kind=c_char), intent(in) :: method(*), network_file(*)
+      type(contactnn_options), intent(in) :: options
+      integer(c_int) :: c_search_create
+    end function c_search_create
+
+    subroutine c_search_destroy(search) bind(C, name='contactnn_search_destroy')
+      import :: c_ptr
+      type(c_ptr), value :: search
+    end subroutine c_search_destroy
+
+    function c_search_run(search, count, raw, param, gap, status, iterations) bind(C, name='contactnn_search_run')
+      import :: c_int, c_size_t, c_ptr
+      type(c_ptr), value :: search
+      integer(c_size_t), value :: count
+      type(c_ptr), value :: raw, param, gap, status, iterations
+      integer(c_int) :: c_search_run
+    end function c_search_run
+
+    function c_search_run_float(search, count, raw, param, gap, status, iterations) &
+        bind(C, name='contactnn_search_run_float')
+      import :: c_int, c_size_t, c_ptr
+      type(c_ptr), value :: search
+      integer(c_size_t), value :: count
+      type(c_ptr), value :: raw, param, gap, status, iterations
+      integer(c_int) :: c_search_run_float
+    end function c_search_run_float
+
+    function c_strlen(s) bind(C, name='strlen')
+      import :: c_ptr, c_size_t
+      type(c_ptr), value :: s
+      integer(c_size_t) :: c_strlen
+    end function c_strlen
+  end interface
+
+contains
+
+  !> A Fortran string from a C string (empty for a null pointer).
+  function from_c_string(p) result(s)
+    type(c_ptr), intent(in) :: p
+    character(len=:), allocatable :: s
+    character(kind=c_char), pointer :: chars(:)
+    integer :: i, n
+    if (.not. c_associated(p)) then
+      s = ''
+      return
+    end if
+    n = int(c_strlen(p))
+    call c_f_pointer(p, chars, [n])
+    allocate (character(len=n) :: s)
+    do i = 1, n
+      s(i:i) = chars(i)
+    end do
+  end function from_c_string
+
+  !> The message of the most recent failing call on this thread ('' when none has).
+  function contactnn_last_error() result(message)
+    character(len=:), allocatable :: message
+    message = from_c_string(c_last_error())
+  end function contactnn_last_error
+
+  !> The library's version as 'MAJOR.MINOR.PATCH'.
+  function contactnn_version() result(version)
+    character(len=:), allocatable :: version
+    integer(c_int) :: major, minor, patch
+    version = from_c_string(c_version(major, minor, patch))
+  end function contactnn_version
+
+  !> The CSV spelling of a status ('ok', 'outside', ..., 'unknown' for other values).
+  function contactnn_status_name(status) result(name)
+    integer, intent(in) :: status
+    character(len=:), allocatable :: name
+    name = from_c_string(c_status_name(int(status, c_int)))
+  end function contactnn_status_name
+
+  !> The library's default options (then change the fields you need and pass them to contactnn_create).
+  function contactnn_default_options() result(options)
+    type(contactnn_options) :: options
+    integer(c_int) :: ierr
+    ierr = c_options_init(options)  ! cannot fail: the argument is never null
+  end function contactnn_default_options
+
+  !> Creates a search: surface CONTACTNN_SURFACE_BILINEAR or _GREGORY; method 'network', 'newton:K',
+  !> 'newton', 'closed_form', 'network+newton:K' or 'closed_form+newton:K'; network: a train-net network file
+  !> (required by the network methods); options: contactnn_default_options() when absent. On failure search
+  !> holds no handle and ierr /= CONTACTNN_SUCCESS. A search that already holds one is destroyed first.
+  subroutine contactnn_create(search, surface, method, ierr, network, options)
+    type(contactnn_search), intent(inout) :: search
+    integer, intent(in) :: surface
+    character(len=*), intent(in) :: method
+    integer, intent(out) :: ierr
+    character(len=*), intent(in), optional :: network
+    type(contactnn_options), intent(in), optional :: options
+    type(contactnn_options) :: effective
+    type(c_ptr) :: handle
+
+    call contactnn_destroy(search)
+    if (present(options)) then
+      effective = options
+    else
+      effective = contactnn_default_options()
+    end if
+    if (present(network)) then
+      ierr = c_search_create(handle, int(surface, c_int), trim(method)//c_null_char, trim(network)//c_null_char, &
+                             effective)
+    else
+      ! An empty file name is the C interface's "no network".
+      ierr = c_search_create(handle, int(surface, c_int), trim(method)//c_null_char, c_null_char, effective)
+    end if
+    if (ierr /= CONTACTNN_SUCCESS) return
+    search%handle = handle
+    search%columns = c_raw_columns(int(surface, c_int))
+  end subroutine contactnn_create
+
+  !> Frees a search (nothing happens for one that holds no handle).
+  subroutine contactnn_destroy(search)
+    type(contactnn_search), intent(inout) :: search
+    if (c_associated(search%handle)) call c_search_destroy(search%handle)
+    search%handle = c_null_ptr
+    search%columns = 0
+  end subroutine contactnn_destroy
+
+  !> ierr for arrays that do not fit the search: CONTACTNN_ERROR_INVALID_ARGUMENT with the message set.
+  function check_shapes(search, raw_rows, n, param_rows, param_cols, status_size, gap_size, iterations_size) &
+      result(ierr)
+    type(contactnn_search), intent(in) :: search
+    integer, intent(in) :: raw_rows, n, param_rows, param_cols, status_size, gap_size, iterations_size
+    integer :: ierr
+    character(len=200) :: message
+    ierr = CONTACTNN_SUCCESS
+    if (.not. c_associated(search%handle)) then
+      message = 'contactnn_run: the search was not created (or was destroyed)'
+    else if (raw_rows /= search%columns) then
+      write (message, '(a,i0,a,i0,a)') 'contactnn_run: raw has ', raw_rows, ' rows, the search expects ', &
+        search%columns, ' (raw(15, n) bilinear, raw(27, n) Gregory)'
+    else if (param_rows /= 2 .or. param_cols /= n) then
+      write (message, '(a,i0,a,i0,a,i0,a)') 'contactnn_run: param is ', param_rows, ' x ', param_cols, &
+        ', expected 2 x ', n, ' (n = size(raw, 2))'
+    else if (status_size /= n) then
+      write (message, '(a,i0,a,i0)') 'contactnn_run: status has ', status_size, ' elements, expected ', n
+    else if (gap_size >= 0 .and. gap_size /= n) then
+      write (message, '(a,i0,a,i0)') 'contactnn_run: gap has ', gap_size, ' elements, expected ', n
+    else if (iterations_size >= 0 .and. iterations_size /= n) then
+      write (message, '(a,i0,a,i0)') 'contactnn_run: iterations has ', iterations_size, ' elements, expected ', n
+    else
+      return
+    end if
+    ierr = c_set_last_error(int(CONTACTNN_ERROR_INVALID_ARGUMENT, c_int), trim(message)//c_null_char)
+  end function check_shapes
+
+  subroutine run_double(search, raw, param, status, ierr, gap, iterations)
+    type(contactnn_search), intent(in) :: search
+    real(c_double), intent(in), contiguous, target :: raw(:, :)
+    real(c_double), intent(out), contiguous, target :: param(:, :)
+    integer(c_int), intent(out), contiguous, target :: status(:)
+    integer, intent(out) :: ierr
+    real(c_double), intent(out), optional, contiguous, target :: gap(:)
+    integer(c_int), intent(out), optional, contiguous, target :: iterations(:)
+    type(c_ptr) :: gap_ptr, iterations_ptr
+    integer :: gap_size, iterations_size
+
+    gap_size = -1
+    iterations_size = -1
+    if (present(gap)) gap_size = size(gap)
+    if (present(iterations)) iterations_size = size(iterations)
+    ierr = check_shapes(search, size(raw, 1), size(raw, 2), size(param, 1), size(param, 2), size(status), &
+                        gap_size, iterations_size)
+    if (ierr /= CONTACTNN_SUCCESS .or. size(raw, 2) == 0) return
+    gap_ptr = c_null_ptr
+    iterations_ptr = c_null_ptr
+    if (present(gap)) gap_ptr = c_loc(gap)
+    if (present(iterations)) iterations_ptr = c_loc(iterations)
+    ierr = c_search_run(search%handle, int(size(raw, 2), c_size_t), c_loc(raw), c_loc(param), gap_ptr, &
+                        c_loc(status), iterations_ptr)
+  end subroutine run_double
+
+  subroutine run_float(search, raw, param, status, ierr, gap, iterations)
+    type(contactnn_search), intent(in) :: search
+    real(c_float), intent(in), contiguous, target :: raw(:, :)
+    real(c_float), intent(out), contiguous, target :: param(:, :)
+    integer(c_int), intent(out), contiguous, target :: status(:)
+    integer, intent(out) :: ierr
+    real(c_float), intent(out), optional, contiguous, target :: gap(:)
+    integer(c_int), intent(out), optional, contiguous, target :: iterations(:)
+    type(c_ptr) :: gap_ptr, iterations_ptr
+    integer :: gap_size, iterations_size
+
+    gap_size = -1
+    iterations_size = -1
+    if (present(gap)) gap_size = size(gap)
+    if (present(iterations)) iterations_size = size(iterations)
+    ierr = check_shapes(search, size(raw, 1), size(raw, 2), size(param, 1), size(param, 2), size(status), &
+                        gap_size, iterations_size)
+    if (ierr /= CONTACTNN_SUCCESS .or. size(raw, 2) == 0) return
+    gap_ptr = c_null_ptr
+    iterations_ptr = c_null_ptr
+    if (present(gap)) gap_ptr = c_loc(gap)
+    if (present(iterations)) iterations_ptr = c_loc(iterations)
+    ierr = c_search_run_float(search%handle, int(size(raw, 2), c_size_t), c_loc(raw), c_loc(param), gap_ptr, &
+                              c_loc(status), iterations_ptr)
+  end subroutine run_float
+
+end module contactnn

@@ -1,0 +1,170 @@
+/* contactnn.h: the C interface of contactnn's run-time local search (lib/search, SPEC 2, 4, 6 and 8), for
+ * finite-element codes written in C, Fortran (module contactnn, contactnn.f90, binds this header) or any
+ * language that calls C.
+ *
+ * A search is one method on one surface kind, with its options and (network methods) a network file,
+ * fixed at creation; it then finds, for batches of slave-node / master-segment pairs given in world
+ * coordinates, the local coordinates of the closest point on the segment, the gap, a status and the Newton
+ * steps taken. The computation is contactnn::search::LocalSearch's (search/local_search.hpp): blocks of
+ * queries vectorised across queries, blocks in parallel with OpenMP, every query's result independent of
+ * the batch it is in.
+ *
+ * Conventions:
+ *  - Every function that can fail returns a CONTACTNN_* return code (CONTACTNN_SUCCESS = 0) and no C++
+ *    exception ever leaves it; on failure contactnn_last_error() holds a message naming the argument or file,
+ *    the expected and the actual value.
+ *  - Arrays are C row-major: query i's values are contiguous. In Fortran column-major terms raw is
+ *    raw(15, n) or raw(27, n) and param is param(2, n), so Fortran arrays pass unchanged.
+ *  - Units: coordinates in any consistent length unit (the gap is in the same unit); local coordinates
+ *    (xi, eta) in [-1, 1]^2 for the bilinear facet, (u, v) in [0, 1]^2 for the Gregory patch (SPEC 1).
+ *  - Thread safety: any number of threads may run one search at the same time (a run only reads it);
+ *    destroy it only when no run is under way. Creating searches is serialised inside the library (the
+ *    network file is read with HDF5, which Debian builds without thread safety); a program that uses HDF5
+ *    itself must not do so while a search is being created.
+ *
+ * Sample use (error handling shortened):
+ *   contactnn_search* s = NULL;
+ *   if (contactnn_search_create(&s, CONTACTNN_SURFACE_BILINEAR, "network+newton:2", "bilinear-8.h5", NULL))
+ *     fprintf(stderr, "contactnn: %s\n", contactnn_last_error());
+ *   contactnn_search_run(s, n, raw, param, gap, status, NULL);
+ *   contactnn_search_destroy(s);
+ *
+ * Link: CMake `find_package(contactnn REQUIRED)` and `target_link_libraries(app PRIVATE contactnn::c)`;
+ * otherwise `-I<prefix>/include -L<prefix>/lib -lcontactnn_c`.
+ */
+#ifndef CONTACTNN_CONTACTNN_H
+#define CONTACTNN_CONTACTNN_H
+
+#include <stddef.h>
+
+#if defined(__GNUC__)
+#define CONTACTNN_API __attribute__((visibility("default")))
+#else
+#define CONTACTNN_API
+#endif
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Return codes. 1 to 5 are the contactnn tools' exit codes for the same kinds of failure. */
+enum contactnn_return_code {
+  CONTACTNN_SUCCESS = 0,
+  CONTACTNN_ERROR_INTERNAL = 1,         /* a bug in contactnn: please report the message */
+  CONTACTNN_ERROR_INVALID_ARGUMENT = 2, /* a NULL pointer, unknown surface or method, option out of range */
+  CONTACTNN_ERROR_FORMAT = 3,           /* the network file is not a contactnn network of a known schema */
+  CONTACTNN_ERROR_IO = 4,               /* the network file cannot be opened or read */
+  CONTACTNN_ERROR_NUMERICAL = 5,        /* a non-finite value where a finite one is required */
+  CONTACTNN_ERROR_OUT_OF_MEMORY = 6
+};
+
+/* Per-query statuses: the values of contactnn::Status (SPEC 2), never renumbered. */
+enum contactnn_status {
+  CONTACTNN_STATUS_OK = 0,             /* converged (or estimated), inside the parameter domain */
+  CONTACTNN_STATUS_OUTSIDE = 1,        /* converged, outside the domain; coordinates still reported */
+  CONTACTNN_STATUS_NO_CONVERGENCE = 2, /* Newton did not converge or a safeguarded step stalled */
+  CONTACTNN_STATUS_DEGENERATE = 3,     /* the segment or its Jacobian is unusable (collapsed, no frame) */
+  CONTACTNN_STATUS_INVALID = 4,        /* a non-finite input */
+  CONTACTNN_STATUS_OUT_OF_DOMAIN = 5,  /* network methods: outside the network's training domain */
+  CONTACTNN_STATUS_NO_SEGMENT = 6      /* SPEC 7: no segment for the slave node (never returned by a run) */
+};
+
+/* Surface kinds: the values of contactnn::SurfaceKind. */
+enum contactnn_surface {
+  CONTACTNN_SURFACE_BILINEAR = 0, /* 4-node bilinear facet: raw rows of 15 values */
+  CONTACTNN_SURFACE_GREGORY = 1   /* Gregory patch from nodes and node normals: raw rows of 27 values */
+};
+
+/* The tolerances and limits of a search: contactnn::search::SearchOptions plus the thread count. Fill it
+ * with contactnn_options_init (the library's defaults) and change the fields you need. */
+typedef struct contactnn_options {
+  int threads;        /* OpenMP threads per run; <= 0: OpenMP's default (OMP_NUM_THREADS). Default 0 */
+  int check_domain;   /* network methods: nonzero tests each query against the network's training domain
+                         (status out_of_domain). Default 1 */
+  int max_iterations; /* "newton" (to convergence): iteration limit, >= 1. Default 50 */
+  int max_halvings;   /* hybrids: halvings of a step that does not reduce |S - P|, >= 0. Default 3 */
+  double tol_param;   /* "newton": converged when the step (max norm, parameter units) is at most this, >= 0.
+                         Default 1e-10 */
+  double domain_margin;       /* ok versus outside: slack of the parameter domain, parameter units, >= 0.
+                                 Default 1e-10 */
+  double gregory_box_margin;  /* hybrids, Gregory: iterates stay in the domain enlarged by this many domain
+                                 widths, >= 0. Default 0.1 */
+  double bilinear_box_margin; /* hybrids, bilinear: the same for the facet, >= 0. Default 0.25 */
+  double max_step_widths;     /* hybrids: longest Newton step in domain widths (max norm), > 0. Default 0.5 */
+  size_t min_parallel_count;  /* below this many queries a run stays on the calling thread. Default 512 */
+} contactnn_options;
+
+/* Opaque handle of a search. */
+typedef struct contactnn_search contactnn_search;
+
+/* The library's version as "MAJOR.MINOR.PATCH"; the numbers are also written to major, minor and patch
+ * where those are not NULL. Never fails. */
+CONTACTNN_API const char* contactnn_version(int* major, int* minor, int* patch);
+
+/* The message of the most recent call that failed on the calling thread ("" when none has); calls that
+ * succeed leave it unchanged. Valid until the next failing call on the same thread. */
+CONTACTNN_API const char* contactnn_last_error(void);
+
+/* Records `message` as this thread's last error and returns `code`: for language bindings that check
+ * arguments themselves (the Fortran module does), so that every error reads the same way. */
+CONTACTNN_API int contactnn_set_last_error(int code, const char* message);
+
+/* The CSV spelling of a status ("ok", "outside", "no_convergence", "degenerate", "invalid",
+ * "out_of_domain", "no_segment"), or "unknown" for any other value. Never fails. */
+CONTACTNN_API const char* contactnn_status_name(int status);
+
+/* Values per query in raw for a surface: 15 (bilinear), 27 (Gregory), 0 for any other value. */
+CONTACTNN_API int contactnn_raw_columns(int surface);
+
+/* Writes the default options (those of search/search_options.hpp, threads 0) to *options.
+ * Returns CONTACTNN_ERROR_INVALID_ARGUMENT when options is NULL. */
+CONTACTNN_API int contactnn_options_init(contactnn_options* options);
+
+/* Creates a search.
+ *   search        where the handle is written (NULL on failure)
+ *   surface       CONTACTNN_SURFACE_BILINEAR or CONTACTNN_SURFACE_GREGORY
+ *   method        "network", "newton:K", "newton", "closed_form" (bilinear only), "network+newton:K" or
+ *                 "closed_form+newton:K" (K >= 0; search/method.hpp describes each)
+ *   network_file  a network file of train-net (HDF5), or NULL / "" for the methods without a network. It is
+ *                 read once, here; a network file given to a method without a network is still read and
+ *                 must be of the search's surface.
+ *   options       NULL for the defaults
+ * Errors: INVALID_ARGUMENT (NULL search or method, an unknown surface or method, a network method without
+ * network_file, a network of the other surface, an option out of range), IO (network_file cannot be
+ * opened or read), FORMAT (it is not a contactnn network, or is damaged). */
+CONTACTNN_API int contactnn_search_create(contactnn_search** search, int surface, const char* method,
+                                          const char* network_file, const contactnn_options* options);
+
+/* Frees a search (NULL is allowed and does nothing). */
+CONTACTNN_API void contactnn_search_destroy(contactnn_search* search);
+
+/* Runs the search on `count` queries (count = 0 does nothing and succeeds).
+ *   raw         count x 15 (bilinear) or count x 27 (Gregory), row-major, in SPEC 6's column order:
+ *               ax ay az bx by bz cx cy cz dx dy dz sx sy sz (segment nodes A, B, C, D counter-clockwise seen
+ *               from the side the normal points to, then the slave node S), then for Gregory the node
+ *               normals nax nay naz nbx nby nbz ncx ncy ncz ndx ndy ndz (any positive length)
+ *   param       count x 2, out: (xi, eta) or (u, v) in the caller's node order. Finite for every status:
+ *               the estimate, or the last iterate, or the domain centre (invalid; network methods:
+ *               degenerate)
+ *   gap         count, out, optional (NULL: not computed): g = n.(S - P) at the reported point, n the unit
+ *               normal of the caller's parametrisation, g < 0 penetration; 0 for invalid and degenerate
+ *   status      count, out: CONTACTNN_STATUS_* per query (search/local_search.hpp lists them by method)
+ *   iterations  count, out, optional (NULL: not written): Newton steps taken (0 for network, closed_form)
+ * The geometry is computed in double whatever the call's precision, a network in its own precision.
+ * Allocates count bytes of scratch per call (the statuses before their widening to int).
+ * Errors: INVALID_ARGUMENT (NULL search, or NULL raw, param or status with count > 0, or count so large
+ * that count x 27 values overflow), OUT_OF_MEMORY. A failed run may have written part of the outputs. */
+CONTACTNN_API int contactnn_search_run(const contactnn_search* search, size_t count, const double* raw,
+                                       double* param, double* gap, int* status, int* iterations);
+/* The same in single precision (inputs and outputs float). */
+CONTACTNN_API int contactnn_search_run_float(const contactnn_search* search, size_t count, const float* raw,
+                                             float* param, float* gap, int* status, int* iterations);
+
+/* The surface (CONTACTNN_SURFACE_*) a search was created for, or -1 for NULL. Never fails. */
+CONTACTNN_API int contactnn_search_surface(const contactnn_search* search);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* CONTACTNN_CONTACTNN_H */

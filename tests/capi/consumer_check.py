@@ -1,0 +1,246 @@
+#!/usr/bin/env python3
+"""The C, Fortran and C++ interfaces as a finite-element code gets them: from the INSTALLED package.
+
+install:  `cmake --install BUILD` (components contactnn_runtime and contactnn_development) into an empty PREFIX,
+          then checks what a consumer relies on: the C header and the Fortran module's source, the package
+          config and version files, and a libcontactnn_c that exports the contactnn_* functions and nothing else.
+consumer: configures and builds a consumer project (tests/capi/consumer: C and Fortran; consumer_cxx: C++)
+          against PREFIX in a fresh build directory (CMAKE_PREFIX_PATH=PREFIX only), checks that its programs
+          load the installed libcontactnn_c and that none of contactnn's own build flags (-march=native, -O3)
+          reached its compile commands, then runs each program on each case below and compares it with
+          `evaluate-net --input` on the same RAW.csv:
+            - statuses equal, row by row;
+            - where evaluate-net writes a prediction (ok, out_of_domain), both coordinates within 1e-6 (the
+              acceptance line of issue 11); float runs within 1e-6 of max(1, |value|) (a float holds 7 digits);
+            - every output finite, iterations 0 (the network alone);
+            - bilinear: the gap equals n.(S - P) at the reported point, recomputed here (P, n from the bilinear
+              map in plain Python), within 1e-9 (double) or 1e-5 (float) of the segment size plus |gap|.
+          Cases: the shipped examples (data/examples, data/weights) in double, and 300 random queries per
+          surface from capi_make_queries (the paper's domains placed at random, hostile rows mixed in, values
+          exact in float) in double and float.
+
+Usage: consumer_check.py install --cmake CMAKE --build BUILD --prefix PREFIX
+       consumer_check.py consumer --cmake CMAKE --generator G --prefix PREFIX --project DIR --work DIR
+                         --programs NAME... --source-dir SRC --evaluate-net P --make-queries P [--set VAR=VALUE]...
+"""
+import argparse
+import csv
+import json
+import math
+import os
+import shutil
+import subprocess
+import sys
+
+POINT_COLUMNS = "ax,ay,az,bx,by,bz,cx,cy,cz,dx,dy,dz,sx,sy,sz".split(",")
+NORMAL_COLUMNS = "nax,nay,naz,nbx,nby,nbz,ncx,ncy,ncz,ndx,ndy,ndz".split(",")
+STATUS = {"ok": 0, "outside": 1, "no_convergence": 2, "degenerate": 3, "invalid": 4, "out_of_domain": 5,
+          "no_segment": 6}
+TOLERANCE = 1e-6           # predictions against evaluate-net (issue 11's acceptance line)
+GAP_TOLERANCE_DOUBLE = 1e-9  # relative to segment size + |gap|: rounding of a few dozen operations
+GAP_TOLERANCE_FLOAT = 1e-5   # a float gap and a float point: 7 digits, a few roundings
+
+failures = []
+
+
+def check(condition, message):
+    if not condition:
+        failures.append(message)
+        if len(failures) <= 30:
+            print("FAIL: " + message)
+
+
+def run(command, **kwargs):
+    p = subprocess.run(command, capture_output=True, text=True, **kwargs)
+    if p.returncode != 0:
+        raise SystemExit(f"FAIL: {' '.join(command)} exited {p.returncode}:\n{p.stdout}\n{p.stderr}")
+    return p
+
+
+def install(args):
+    if os.path.exists(args.prefix):
+        shutil.rmtree(args.prefix)
+    for component in ("contactnn_runtime", "contactnn_development"):
+        run([args.cmake, "--install", args.build, "--prefix", args.prefix, "--component", component])
+    files = []
+    for root, _, names in os.walk(args.prefix):
+        files += [os.path.relpath(os.path.join(root, n), args.prefix) for n in names]
+    for wanted in ("include/contactnn/contactnn.h", "include/contactnn/contactnn.f90",
+                   "include/contactnn/search/local_search.hpp", "include/contactnn/io/network_file.hpp"):
+        check(wanted in files, f"{wanted} is not installed")
+    for suffix in ("contactnnConfig.cmake", "contactnnConfigVersion.cmake", "contactnnTargets.cmake"):
+        check(any(f.endswith("cmake/contactnn/" + suffix) for f in files), f"{suffix} is not installed")
+    check(not any("/eval/" in f or "/contact/" in f for f in files), "the tools' own modules were installed")
+    libraries = [f for f in files if os.path.basename(f).startswith("libcontactnn_c.so.")
+                 and not os.path.islink(os.path.join(args.prefix, f))]
+    check(len(libraries) == 1, f"one libcontactnn_c.so.X.Y.Z expected, found {libraries}")
+    if libraries:
+        nm = run(["nm", "-D", "--defined-only", os.path.join(args.prefix, libraries[0])]).stdout.split("\n")
+        symbols = [line.split()[-1] for line in nm if line.strip()]
+        others = [s for s in symbols if not s.startswith("contactnn_")]
+        check(len(symbols) > 0 and not others, f"libcontactnn_c exports more than the C interface: {others[:5]}")
+        print(f"installed: {len(files)} files; libcontactnn_c exports {len(symbols)} symbols, all contactnn_*")
+
+
+def raw_text(csv_path, surface, out_path):
+    """RAW.csv -> the programs' plain format: the count, then one row of 15 or 27 numbers per query."""
+    columns = POINT_COLUMNS + (NORMAL_COLUMNS if surface == "gregory" else [])
+    with open(csv_path, newline="") as f:
+        rows = [[float(r[c]) for c in columns] for r in csv.DictReader(f)]
+    with open(out_path, "w") as f:
+        f.write(f"{len(rows)}\n")
+        for r in rows:
+            f.write(" ".join(repr(x) for x in r) + "\n")
+    return rows
+
+
+def read_predictions(path, surface):
+    names = ("xi", "eta") if surface == "bilinear" else ("u", "v")
+    with open(path, newline="") as f:
+        return [(r[names[0]], r[names[1]], STATUS[r["status"]]) for r in csv.DictReader(f)]
+
+
+def read_output(path):
+    rows = []
+    with open(path) as f:
+        for line in f:
+            p0, p1, status, gap, iterations = line.split()
+            rows.append((float(p0), float(p1), int(status), float(gap), int(iterations)))
+    return rows
+
+
+def sub(p, q):
+    return [p[k] - q[k] for k in range(3)]
+
+
+def bilinear_gap(raw, xi, eta):
+    """n.(S - P) at (xi, eta) of the bilinear facet A B C D (SPEC 1, 2), n = unit(P_xi x P_eta)."""
+    a, b, c, d, s = (raw[3 * i:3 * i + 3] for i in range(5))
+    shape = [(1 - xi) * (1 - eta) / 4, (1 + xi) * (1 - eta) / 4, (1 + xi) * (1 + eta) / 4, (1 - xi) * (1 + eta) / 4]
+    p = [sum(w * x[k] for w, x in zip(shape, (a, b, c, d))) for k in range(3)]
+    p_xi = [((b[k] - a[k]) * (1 - eta) + (c[k] - d[k]) * (1 + eta)) / 4 for k in range(3)]
+    p_eta = [((d[k] - a[k]) * (1 - xi) + (c[k] - b[k]) * (1 + xi)) / 4 for k in range(3)]
+    n = [p_xi[1] * p_eta[2] - p_xi[2] * p_eta[1], p_xi[2] * p_eta[0] - p_xi[0] * p_eta[2],
+         p_xi[0] * p_eta[1] - p_xi[1] * p_eta[0]]
+    length = math.sqrt(sum(x * x for x in n))
+    size = max(math.dist(a, b), math.dist(b, c), math.dist(c, d), math.dist(d, a))
+    if length == 0 or not math.isfinite(length):
+        return None, size
+    return sum(n[k] / length * (s[k] - p[k]) for k in range(3)), size
+
+
+def compare(name, surface, raw, reference, output, precision):
+    check(len(output) == len(reference), f"{name}: {len(output)} rows, evaluate-net wrote {len(reference)}")
+    worst = 0.0
+    for i, (ref, got) in enumerate(zip(reference, output)):
+        row = f"{name} row {i + 1}"
+        p0, p1, status, gap, iterations = got
+        check(status == ref[2], f"{row}: status {status}, evaluate-net {ref[2]}")
+        check(all(math.isfinite(v) for v in (p0, p1, gap)), f"{row}: a non-finite output {got}")
+        check(iterations == 0, f"{row}: {iterations} iterations for the network alone")
+        if ref[0] != "" and status == ref[2]:
+            for got_value, ref_value in ((p0, float(ref[0])), (p1, float(ref[1]))):
+                scale = max(1.0, abs(ref_value)) if precision == "float" else 1.0
+                error = abs(got_value - ref_value) / scale
+                worst = max(worst, error)
+                check(error <= TOLERANCE, f"{row}: {got_value!r} against evaluate-net's {ref_value!r}")
+        if surface == "bilinear" and status in (STATUS["ok"], STATUS["out_of_domain"]):
+            expected, size = bilinear_gap(raw[i], p0, p1)
+            if expected is not None:
+                tolerance = GAP_TOLERANCE_FLOAT if precision == "float" else GAP_TOLERANCE_DOUBLE
+                check(abs(gap - expected) <= tolerance * (size + abs(expected)),
+                      f"{row}: gap {gap!r}, recomputed {expected!r}")
+        if status in (STATUS["invalid"], STATUS["degenerate"]):
+            check(gap == 0.0, f"{row}: gap {gap!r} for status {status}, expected 0")
+    return worst
+
+
+def consumer(args):
+    # 1. A fresh build of the consumer project against the installed package only.
+    if os.path.exists(args.work):
+        shutil.rmtree(args.work)
+    build = os.path.join(args.work, "build")
+    configure = [args.cmake, "-S", args.project, "-B", build, "-G", args.generator,
+                 f"-DCMAKE_PREFIX_PATH={os.path.abspath(args.prefix)}", "-DCMAKE_EXPORT_COMPILE_COMMANDS=ON",
+                 "-DCMAKE_FIND_USE_PACKAGE_REGISTRY=OFF"]
+    configure += [f"-D{s}" for s in args.set]
+    run(configure)
+    run([args.cmake, "--build", build])
+    with open(os.path.join(build, "compile_commands.json")) as f:
+        commands = [entry["command"] for entry in json.load(f)]
+    for command in commands:
+        check("-march" not in command and "-O3" not in command,
+              f"contactnn's build flags reached the consumer: {command}")
+        if command.split()[0].endswith(("c++", "g++", "clang++")):
+            check("EIGEN_MAX_ALIGN_BYTES=64" in command, f"the C++ consumer lacks Eigen's alignment setting: {command}")
+    prefix = os.path.realpath(args.prefix)
+    for program in args.programs:
+        ldd = run(["ldd", os.path.join(build, program)]).stdout
+        for line in ldd.split("\n"):
+            if "libcontactnn_c" in line:
+                check(prefix in os.path.realpath(line.split("=>")[1].split()[0]),
+                      f"{program} loads {line.strip()}, not the installed library under {prefix}")
+
+    # 2. The cases: shipped examples, and random queries exact in float.
+    source = args.source_dir
+    cases = [("examples-bilinear", "bilinear", f"{source}/data/weights/bilinear-8.h5",
+              f"{source}/data/examples/raw-bilinear.csv", ["double"]),
+             ("examples-gregory", "gregory", f"{source}/data/weights/gregory-48.h5",
+              f"{source}/data/examples/raw-gregory.csv", ["double"])]
+    for surface, network, seed in (("bilinear", "bilinear-32-32.h5", 11), ("gregory", "gregory-32.h5", 12)):
+        path = os.path.join(args.work, f"random-{surface}.csv")
+        run([args.make_queries, surface, "300", str(seed), path])
+        cases.append((f"random-{surface}", surface, f"{source}/data/weights/{network}", path, ["double", "float"]))
+
+    # 3. Every program on every case, against evaluate-net.
+    for name, surface, network, raw_csv, precisions in cases:
+        predictions = os.path.join(args.work, f"{name}-evaluate-net.csv")
+        run([args.evaluate_net, "--weights", network, "--input", raw_csv, "--output", predictions])
+        reference = read_predictions(predictions, surface)
+        text = os.path.join(args.work, f"{name}.txt")
+        raw = raw_text(raw_csv, surface, text)
+        statuses = sorted({r[2] for r in reference})
+        for program in args.programs:
+            for precision in precisions:
+                if program == "search_cxx" and precision == "float":
+                    continue
+                out = os.path.join(args.work, f"{name}-{program}-{precision}.txt")
+                command = [os.path.join(build, program), surface, "network", network, text, out]
+                if program != "search_cxx":
+                    command.append(precision)
+                p = run(command)
+                if program == "search_fortran":
+                    check("shape check: ok" in p.stdout, f"search_fortran's shape check: {p.stdout}")
+                worst = compare(f"{name} {program} {precision}", surface, raw, reference, read_output(out), precision)
+                print(f"{name:18s} {program:15s} {precision:6s} {len(reference):4d} rows, statuses {statuses}, "
+                      f"max |difference| with evaluate-net {worst:.2e}")
+
+
+def main():
+    parser = argparse.ArgumentParser()
+    parser.add_argument("mode", choices=["install", "consumer"])
+    parser.add_argument("--cmake", required=True)
+    parser.add_argument("--build")
+    parser.add_argument("--prefix", required=True)
+    parser.add_argument("--generator")
+    parser.add_argument("--project")
+    parser.add_argument("--work")
+    parser.add_argument("--programs", nargs="+", default=[])
+    parser.add_argument("--source-dir")
+    parser.add_argument("--evaluate-net")
+    parser.add_argument("--make-queries")
+    parser.add_argument("--set", action="append", default=[])
+    args = parser.parse_args()
+    if args.mode == "install":
+        install(args)
+    else:
+        consumer(args)
+    if failures:
+        print(f"{len(failures)} failures")
+        return 1
+    print("all checks passed")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

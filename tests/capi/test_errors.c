@@ -1,0 +1,163 @@
+/* test_errors: the C interface's error paths, from C99. Every bad call returns its documented code, leaves
+ * a message naming what was wrong, writes no handle, and the process goes on (no exception, no abort).
+ *
+ * Usage: test_capi_errors SOURCE_DIR   (for data/weights and data/examples). Exit status 0 when every
+ * check holds; each failed check is printed. */
+#include <contactnn/contactnn.h>
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+static int failures = 0;
+
+static void expect(int condition, const char* what) {
+  if (!condition) {
+    printf("FAIL: %s\n", what);
+    ++failures;
+  }
+}
+
+/* A creation that must fail with `code` and a message containing `needle`. */
+static void expect_create_fails(int surface, const char* method, const char* network,
+                                const contactnn_options* options, int code, const char* needle,
+                                const char* what) {
+  contactnn_search* search = (contactnn_search*)&failures; /* not NULL: a failed create must clear it */
+  const int result = contactnn_search_create(&search, surface, method, network, options);
+  printf("%-44s -> %d: %s\n", what, result, contactnn_last_error());
+  if (result != code) {
+    printf("FAIL: %s: returned %d, expected %d\n", what, result, code);
+    ++failures;
+  }
+  if (search != NULL) {
+    printf("FAIL: %s: a handle was written\n", what);
+    ++failures;
+  }
+  if (strstr(contactnn_last_error(), needle) == NULL) {
+    printf("FAIL: %s: the message does not name '%s'\n", what, needle);
+    ++failures;
+  }
+}
+
+int main(int argc, char** argv) {
+  char bilinear_net[4096], gregory_net[4096], csv[4096], missing[4096];
+  contactnn_options options;
+  contactnn_search* search = NULL;
+  double raw[15] = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0, 0.25, 0.5, 0.1};
+  double param[2], gap;
+  int status = -1, iterations = -1, major = -1, minor = -1, patch = -1;
+  char version[64];
+
+  if (argc != 2) {
+    printf("usage: test_capi_errors SOURCE_DIR\n");
+    return 2;
+  }
+  sprintf(bilinear_net, "%.4000s/data/weights/bilinear-8.h5", argv[1]);
+  sprintf(gregory_net, "%.4000s/data/weights/gregory-48.h5", argv[1]);
+  sprintf(csv, "%.4000s/data/examples/raw-bilinear.csv", argv[1]);
+  sprintf(missing, "%.4000s/data/weights/no-such-network.h5", argv[1]);
+
+  /* 1. Before anything failed, the message is empty; version and the fixed tables. */
+  expect(strcmp(contactnn_last_error(), "") == 0, "no message before any failure");
+  strcpy(version, contactnn_version(&major, &minor, &patch));
+  {
+    char numbers[64];
+    sprintf(numbers, "%d.%d.%d", major, minor, patch);
+    expect(strcmp(version, numbers) == 0, "the version string spells the version numbers");
+  }
+  expect(strcmp(contactnn_version(NULL, NULL, NULL), version) == 0, "contactnn_version accepts NULL numbers");
+  expect(strcmp(contactnn_status_name(CONTACTNN_STATUS_OUT_OF_DOMAIN), "out_of_domain") == 0,
+         "status name 5");
+  expect(
+      strcmp(contactnn_status_name(7), "unknown") == 0 && strcmp(contactnn_status_name(-1), "unknown") == 0,
+      "status names outside 0..6 are unknown");
+  expect(contactnn_raw_columns(CONTACTNN_SURFACE_BILINEAR) == 15 &&
+             contactnn_raw_columns(CONTACTNN_SURFACE_GREGORY) == 27 && contactnn_raw_columns(2) == 0,
+         "raw columns 15, 27, 0");
+
+  /* 2. Creation. */
+  expect_create_fails(CONTACTNN_SURFACE_BILINEAR, "netwrok", bilinear_net, NULL,
+                      CONTACTNN_ERROR_INVALID_ARGUMENT, "netwrok", "a misspelt method");
+  expect_create_fails(CONTACTNN_SURFACE_BILINEAR, "newton:-2", NULL, NULL, CONTACTNN_ERROR_INVALID_ARGUMENT,
+                      "newton:-2", "a negative step count");
+  expect_create_fails(CONTACTNN_SURFACE_BILINEAR, NULL, NULL, NULL, CONTACTNN_ERROR_INVALID_ARGUMENT,
+                      "method is NULL", "a NULL method");
+  expect_create_fails(CONTACTNN_SURFACE_BILINEAR, "network", NULL, NULL, CONTACTNN_ERROR_INVALID_ARGUMENT,
+                      "needs a network file", "a network method without a file");
+  expect_create_fails(CONTACTNN_SURFACE_BILINEAR, "network+newton:2", "", NULL,
+                      CONTACTNN_ERROR_INVALID_ARGUMENT, "needs a network file",
+                      "a hybrid with an empty file name");
+  expect_create_fails(CONTACTNN_SURFACE_BILINEAR, "network", missing, NULL, CONTACTNN_ERROR_IO,
+                      "no-such-network.h5", "a missing network file");
+  expect_create_fails(CONTACTNN_SURFACE_BILINEAR, "network", csv, NULL, CONTACTNN_ERROR_FORMAT,
+                      "raw-bilinear.csv", "a CSV file as the network");
+  expect_create_fails(2, "newton:5", NULL, NULL, CONTACTNN_ERROR_INVALID_ARGUMENT, "surface = 2",
+                      "surface 2");
+  expect_create_fails(-1, "newton:5", NULL, NULL, CONTACTNN_ERROR_INVALID_ARGUMENT, "surface = -1",
+                      "surface -1");
+  expect_create_fails(CONTACTNN_SURFACE_BILINEAR, "network", gregory_net, NULL,
+                      CONTACTNN_ERROR_INVALID_ARGUMENT, "gregory network",
+                      "a Gregory network for bilinear surfaces");
+  expect_create_fails(CONTACTNN_SURFACE_GREGORY, "network", bilinear_net, NULL,
+                      CONTACTNN_ERROR_INVALID_ARGUMENT, "bilinear network",
+                      "a bilinear network for Gregory surfaces");
+  expect_create_fails(CONTACTNN_SURFACE_GREGORY, "closed_form", NULL, NULL, CONTACTNN_ERROR_INVALID_ARGUMENT,
+                      "closed_form", "closed_form on Gregory");
+  expect(contactnn_options_init(&options) == CONTACTNN_SUCCESS, "options_init");
+  options.max_iterations = 0;
+  expect_create_fails(CONTACTNN_SURFACE_BILINEAR, "newton", NULL, &options, CONTACTNN_ERROR_INVALID_ARGUMENT,
+                      "max_iterations = 0", "max_iterations 0");
+  expect(contactnn_options_init(&options) == CONTACTNN_SUCCESS, "options_init");
+  options.max_step_widths = -1.0;
+  expect_create_fails(CONTACTNN_SURFACE_BILINEAR, "closed_form+newton:1", NULL, &options,
+                      CONTACTNN_ERROR_INVALID_ARGUMENT, "max_step_widths", "a negative step cap");
+  expect(contactnn_search_create(NULL, CONTACTNN_SURFACE_BILINEAR, "newton:5", NULL, NULL) ==
+             CONTACTNN_ERROR_INVALID_ARGUMENT,
+         "a NULL handle pointer");
+  expect(contactnn_options_init(NULL) == CONTACTNN_ERROR_INVALID_ARGUMENT, "options_init(NULL)");
+
+  /* 3. A good search; bad runs on it. */
+  expect(contactnn_search_create(&search, CONTACTNN_SURFACE_BILINEAR, "network", bilinear_net, NULL) ==
+             CONTACTNN_SUCCESS,
+         "a good search is created");
+  expect(strstr(contactnn_last_error(), "contactnn_options_init") != NULL,
+         "a success leaves the last message unchanged");
+  expect(
+      contactnn_search_surface(search) == CONTACTNN_SURFACE_BILINEAR && contactnn_search_surface(NULL) == -1,
+      "contactnn_search_surface");
+  expect(contactnn_search_run(NULL, 1, raw, param, &gap, &status, &iterations) ==
+                 CONTACTNN_ERROR_INVALID_ARGUMENT &&
+             strstr(contactnn_last_error(), "search is NULL") != NULL,
+         "a run without a search");
+  expect(contactnn_search_run(search, 1, NULL, param, &gap, &status, &iterations) ==
+                 CONTACTNN_ERROR_INVALID_ARGUMENT &&
+             strstr(contactnn_last_error(), "raw NULL") != NULL,
+         "a run without raw");
+  expect(contactnn_search_run(search, 1, raw, param, &gap, NULL, &iterations) ==
+                 CONTACTNN_ERROR_INVALID_ARGUMENT &&
+             strstr(contactnn_last_error(), "status NULL") != NULL,
+         "a run without status");
+  expect(contactnn_search_run(search, (size_t)-1, raw, param, &gap, &status, &iterations) ==
+                 CONTACTNN_ERROR_INVALID_ARGUMENT &&
+             strstr(contactnn_last_error(), "overflow") != NULL,
+         "a count that overflows");
+  expect(contactnn_search_run(search, 0, NULL, NULL, NULL, NULL, NULL) == CONTACTNN_SUCCESS,
+         "count 0 needs no arrays");
+
+  /* 4. After all that, the search still works: S = (0.25, 0.5, 0.1) above the unit square A = 0, B = x, D = y
+   *    projects to xi = 2 * 0.25 - 1, eta = 2 * 0.5 - 1 at gap 0.1 (within the network's accuracy). */
+  expect(contactnn_search_run(search, 1, raw, param, &gap, &status, NULL) == CONTACTNN_SUCCESS, "a good run");
+  expect(status == CONTACTNN_STATUS_OK || status == CONTACTNN_STATUS_OUT_OF_DOMAIN, "a good run's status");
+  expect(fabs(param[0] + 0.5) < 0.2 && fabs(param[1]) < 0.2 && fabs(gap - 0.1) < 0.02,
+         "a good run's answer is near (-0.5, 0), gap 0.1 (the 8-8-2 network's accuracy: 0.2)");
+  contactnn_search_destroy(search);
+  contactnn_search_destroy(NULL);
+
+  /* 5. Bindings record their own errors the same way. */
+  expect(contactnn_set_last_error(CONTACTNN_ERROR_INVALID_ARGUMENT, "from a binding") ==
+                 CONTACTNN_ERROR_INVALID_ARGUMENT &&
+             strcmp(contactnn_last_error(), "from a binding") == 0,
+         "contactnn_set_last_error");
+
+  if (failures == 0) printf("all error paths behave\n");
+  return failures == 0 ? 0 : 1;
+}
