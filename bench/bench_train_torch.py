@@ -14,7 +14,7 @@
 #
 # Writes, like bench_train, one line per measurement to stdout:
 #   blas threads=T name=... library=... core=... parallel=...    what BLAS this process loaded
-#   torch threads=T version=... capability=...                   the ATen kernel set in use
+#   torch threads=T version=... capability=... allocator=...     the ATen kernel set and the allocator in use
 #   sgemm threads=T gflops=<best> samples=<r1,r2,...>             torch.mm on n x n float32 (BLAS sgemm)
 #   <variant> threads=T sec_per_epoch=<best> samples=<s1,...> minflt_per_epoch=<f> loss=<l>
 # Samples are seconds per epoch of each timed block, after warm-up epochs that are not timed; minflt_per_epoch
@@ -34,6 +34,7 @@
 # Before timing, the hand-written kernels are checked against autograd (and TorchScript against them) on a
 # small float64 problem; a mismatch exits 1, so a fast but wrong variant is never timed.
 import argparse
+import concurrent.futures
 import ctypes
 import math
 import os
@@ -57,12 +58,17 @@ ap.add_argument("--online-patterns", type=int, default=2000,
 ap.add_argument("--repeats", type=int, default=5, help="timed blocks per variant")
 ap.add_argument("--block-seconds", type=float, default=0.1, help="a timed block has enough epochs to last this long")
 ap.add_argument("--sgemm-n", type=int, default=1024)
+ap.add_argument("--split", type=int, default=1,
+                help="in-place variants: split each batch over this many Python threads, each running ops with "
+                     "threads/split intra-op threads (their names get -split<k>)")
 ap.add_argument("--only", default="", help="comma-separated: sgemm and variant names (default: all)")
 a = ap.parse_args()
 
 GAIN = 2.0 / a.u0  # Eq 12: f(x) = 1 / (1 + exp(-2 x / U0))
 LR, MOMENTUM = 0.01, 0.9
-torch.set_num_threads(a.threads)
+if a.threads < 1 or a.split < 1 or a.threads % a.split:
+    sys.exit("bench_train_torch: --threads must be a positive multiple of --split")
+torch.set_num_threads(a.threads // a.split)  # new threads take ATen's global setting
 P, I, H, O = a.patterns, a.inputs, a.hidden, a.outputs
 
 
@@ -101,6 +107,12 @@ def describe_blas():
             return "MKL", path, "-", "-"
         return "reference BLAS (Netlib)", path, "-", "-"
     return "none found", "-", "-", "-"
+
+
+def allocator():
+    if any("libjemalloc" in os.path.basename(p) for p in loaded_libraries()):
+        return "jemalloc"
+    return "glibc" + ("(" + os.environ["GLIBC_TUNABLES"] + ")" if "malloc" in os.environ.get("GLIBC_TUNABLES", "") else "")
 
 
 def capability():
@@ -146,15 +158,13 @@ def forward(p, xb):
     return torch.sigmoid(GAIN * torch.nn.functional.linear(h, p[2], p[3]))
 
 
-class InPlace:
-    """Momentum back-propagation of the 2-layer sigmoid MLP with every buffer preallocated.
+class Accumulator:
+    """Sums of the gradient of E = 1/2 |o - t|^2 (Eq 14) and of E over rows of a batch, in preallocated
+    buffers with in-place ops, in tiles of at most `tile` rows (cache-sized tiles: each tile goes forward and
+    backward while its activations are still in cache)."""
 
-    step(xb, yb) is one update from the mean gradient of E = 1/2 |o - t|^2 (Eq 14) over the rows of xb,
-    accumulated over tiles of at most `tile` rows."""
-
-    def __init__(self, params, tile, dtype=torch.float32):
+    def __init__(self, params, tile, dtype):
         self.p = params
-        self.v = [torch.zeros_like(q) for q in params]
         self.g = [torch.zeros_like(q) for q in params]
         self.tile = tile
         self.h, self.t1, self.dh = (torch.empty(tile, H, dtype=dtype) for _ in range(3))
@@ -163,14 +173,13 @@ class InPlace:
         self.sq = torch.zeros((), dtype=dtype)
         self.loss = torch.zeros((), dtype=dtype)
 
-    def step(self, xb, yb):
+    def run(self, xb, yb):
         w1, b1, w2, b2 = self.p
         gw1, gb1, gw2, gb2 = self.g
         for g in self.g:
             g.zero_()
         self.loss.zero_()
-        n_all = xb.shape[0]
-        for s in range(0, n_all, self.tile):
+        for s in range(0, xb.shape[0], self.tile):
             x, y = xb[s:s + self.tile], yb[s:s + self.tile]
             n = x.shape[0]
             h, t1, dh, o, e, d2 = (b[:n] for b in (self.h, self.t1, self.dh, self.o, self.e, self.d2))
@@ -192,8 +201,38 @@ class InPlace:
             dh.mul_(t1)  # hidden delta / GAIN^2
             gw1.addmm_(dh.t(), x)
             gb1.addmv_(dh.t(), self.ones[:n])
+
+
+class InPlace:
+    """Momentum back-propagation of the 2-layer sigmoid MLP with every buffer preallocated.
+
+    step(xb, yb) is one update from the mean gradient over the rows of xb. With a pool of k threads the rows
+    are split into k contiguous parts, each accumulated by its own thread into its own buffers (PyTorch ops
+    release the GIL while they run), and the k sums are added in a fixed order before the update."""
+
+    def __init__(self, params, tile, dtype=torch.float32, pool=None, parts=1):
+        self.p = params
+        self.v = [torch.zeros_like(q) for q in params]
+        self.acc = [Accumulator(params, tile, dtype) for _ in range(parts)]
+        self.pool = pool
+        self.loss = self.acc[0].loss
+
+    def step(self, xb, yb):
+        n_all = xb.shape[0]
+        if len(self.acc) == 1:
+            self.acc[0].run(xb, yb)
+        else:
+            k = len(self.acc)
+            bounds = [n_all * i // k for i in range(k + 1)]
+            for f in [self.pool.submit(acc.run, xb[bounds[i]:bounds[i + 1]], yb[bounds[i]:bounds[i + 1]])
+                      for i, acc in enumerate(self.acc)]:
+                f.result()
+            for acc in self.acc[1:]:
+                for g, part in zip(self.acc[0].g, acc.g):
+                    g.add_(part)
+                self.loss.add_(acc.loss)
         rate2, rate1 = -LR * GAIN / n_all, -LR * GAIN * GAIN / n_all
-        for q, v, g, rate in zip(self.p, self.v, self.g, (rate1, rate1, rate2, rate2)):
+        for q, v, g, rate in zip(self.p, self.v, self.acc[0].g, (rate1, rate1, rate2, rate2)):
             v.mul_(MOMENTUM).add_(g, alpha=rate)
             q.add_(v)
 
@@ -253,14 +292,16 @@ def check_kernels():
             for q, v, gr in zip(ref, vel, grads):
                 v.mul_(MOMENTUM).add_(gr, alpha=-LR)
                 q.add_(v)
-    for tile in (n, 8):  # one tile and several: the accumulation across tiles
-        k = InPlace(new_parameters(torch.float64), tile, torch.float64)
+    pool = concurrent.futures.ThreadPoolExecutor(3)
+    for tile, parts in ((n, 1), (8, 1), (8, 3)):  # one tile, several, several in each of 3 threads
+        k = InPlace(new_parameters(torch.float64), tile, torch.float64, pool, parts)
         for _ in range(2):
             k.step(x, y)
         for q, r in zip(k.p, ref):
             if not torch.allclose(q, r.detach(), rtol=0, atol=1e-12):
-                sys.exit("bench_train_torch: in-place kernel (tile %d) disagrees with autograd by %g"
-                         % (tile, (q - r.detach()).abs().max().item()))
+                sys.exit("bench_train_torch: in-place kernel (tile %d, %d parts) disagrees with autograd by %g"
+                         % (tile, parts, (q - r.detach()).abs().max().item()))
+    pool.shutdown()
     # Online: three single-pattern updates in order, by the in-place kernel and by TorchScript.
     k = InPlace(new_parameters(torch.float64), 1, torch.float64)
     for i in range(3):
@@ -279,8 +320,8 @@ def main():
     name, path, core, parallel = describe_blas()
     emit("blas threads=%d name=%s library=%s core=%s parallel=%s"
          % (a.threads, name.replace(" ", "_"), path, core, parallel))
-    emit("torch threads=%d version=%s capability=%s torch_threads=%d"
-         % (a.threads, torch.__version__, capability(), torch.get_num_threads()))
+    emit("torch threads=%d version=%s capability=%s torch_threads=%d allocator=%s"
+         % (a.threads, torch.__version__, capability(), torch.get_num_threads(), allocator()))
     check_kernels()
 
     if want("sgemm"):
@@ -314,15 +355,17 @@ def main():
         measure("pytorch-autograd-full-batch", epoch, lambda: last[0])
         del p, opt
 
-    for variant, tile in (("inplace-full-batch", P), ("inplace-tiled-full-batch", min(a.tile, P))):
+    pool = concurrent.futures.ThreadPoolExecutor(a.split) if a.split > 1 else None
+    split = "-split%d" % a.split if a.split > 1 else ""
+    for variant, tile in (("inplace-full-batch", -(-P // a.split)), ("inplace-tiled-full-batch", min(a.tile, P))):
         if want(variant):
-            k = InPlace(new_parameters(), tile)
-            measure("pytorch-" + variant, lambda: k.step(x, y), lambda: k.loss.item() * 0.5 / P)
+            k = InPlace(new_parameters(), tile, pool=pool, parts=a.split)
+            measure("pytorch-" + variant + split, lambda: k.step(x, y), lambda: k.loss.item() * 0.5 / P)
             del k
 
     if want("inplace-mini-batch"):
         b = min(a.mini_batch, P)
-        k = InPlace(new_parameters(), b)
+        k = InPlace(new_parameters(), -(-b // a.split), pool=pool, parts=a.split)
         xs, ys = torch.empty_like(x), torch.empty_like(y)
         order = torch.empty(P, dtype=torch.long)
         gen = torch.Generator().manual_seed(3)
@@ -333,7 +376,7 @@ def main():
             torch.index_select(y, 0, order, out=ys)
             for s in range(0, P, b):
                 k.step(xs[s:s + b], ys[s:s + b])
-        measure("pytorch-inplace-mini-batch", epoch)
+        measure("pytorch-inplace-mini-batch" + split, epoch)
         del k
 
     count = min(a.online_patterns, P)
@@ -354,4 +397,5 @@ def main():
         measure("pytorch-autograd-online", epoch, scale=P / count)
 
 
-main()
+if __name__ == "__main__":
+    main()
