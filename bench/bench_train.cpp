@@ -4,11 +4,13 @@
 // scripts/bench-train runs it at 1 and 2 threads beside PyTorch and prints the comparison table.
 //
 // Sample runs:
-//   build-mlp/bench/bench_train --threads 2
-//   build-mlp/bench/bench_train --threads 1 --hidden 32 --only full
+//   build/bench/bench_train --threads 2
+//   build/bench/bench_train --threads 1 --hidden 32 --only full --repeats 9
 //
-// Writes one line per measurement to stdout: `<method> threads=<T> sec_per_epoch=<s> [extra=...]`,
-// and `gemm threads=<T> gflops=<rate>`; a plain timing main, not a test.
+// Writes one line per measurement to stdout: `<method> threads=<T> sec_per_epoch=<best> samples=<s1,...>
+// [extra=...]`, and `gemm threads=<T> gflops=<best> samples=<r1,...>`: every timed repetition (after an untimed
+// warm-up) as seconds per epoch or GFLOP/s, so the caller can take minima and medians over several runs; a
+// plain timing main, not a test.
 #include <floatfann.h>
 #include <omp.h>
 
@@ -38,6 +40,7 @@ struct Args {
   long patterns = 83552;
   std::size_t mini_batch = 1024;
   double u0 = 2.0;
+  int repeats = 5;    // timed repetitions per method
   std::string only;  // run one method only: gemm, full, mini, online, fann
 };
 
@@ -45,16 +48,24 @@ double seconds_since(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
 }
 
-// Best of `repeats` timings of `body` divided by `work`: the least disturbed run on a shared machine.
+// Seconds of each of `repeats` runs of `body`: on a shared machine the least disturbed run is the minimum,
+// and the median says how disturbed the others were.
 template <class F>
-double best_time(int repeats, F&& body) {
-  double best = 1e300;
+std::vector<double> timings(int repeats, F&& body) {
+  std::vector<double> seconds;
   for (int r = 0; r < repeats; ++r) {
     const auto start = Clock::now();
     body();
-    best = std::min(best, seconds_since(start));
+    seconds.push_back(seconds_since(start));
   }
-  return best;
+  return seconds;
+}
+
+// `<name> threads=<T> sec_per_epoch=<best> samples=<s1,...>` for timings of `epochs` epochs each; no newline.
+void print_epochs(const char* name, int threads, const std::vector<double>& seconds, int epochs) {
+  std::printf("%s threads=%d sec_per_epoch=%.6g samples=", name, threads,
+              *std::min_element(seconds.begin(), seconds.end()) / epochs);
+  for (std::size_t i = 0; i < seconds.size(); ++i) std::printf("%s%.6g", i ? "," : "", seconds[i] / epochs);
 }
 
 void bench_gemm(const Args& a) {
@@ -62,8 +73,12 @@ void bench_gemm(const Args& a) {
   Eigen::setNbThreads(a.threads);
   Eigen::MatrixXf x = Eigen::MatrixXf::Random(n, n), y = Eigen::MatrixXf::Random(n, n), z(n, n);
   z.noalias() = x * y;  // warm-up: page faults and thread start-up
-  const double t = best_time(5, [&] { z.noalias() = x * y; });
-  std::printf("gemm threads=%d gflops=%.1f\n", a.threads, 2.0 * n * n * double(n) / t * 1e-9);
+  const std::vector<double> seconds = timings(a.repeats, [&] { z.noalias() = x * y; });
+  const double flops = 2.0 * n * n * double(n);
+  std::printf("gemm threads=%d gflops=%.1f samples=", a.threads,
+              flops / *std::min_element(seconds.begin(), seconds.end()) * 1e-9);
+  for (std::size_t i = 0; i < seconds.size(); ++i) std::printf("%s%.1f", i ? "," : "", flops / seconds[i] * 1e-9);
+  std::printf("\n");
 }
 
 void bench_contactnn(const Args& a, TrainingMode mode, std::size_t batch, const char* name, int epochs,
@@ -85,11 +100,11 @@ void bench_contactnn(const Args& a, TrainingMode mode, std::size_t batch, const 
   const MatrixRM<float> none(0, a.inputs), none_t(0, a.outputs);
   Trainer<float> trainer(net, o, x, t, none, none_t);
   trainer.train_epoch();  // warm-up
-  const double per_epoch = best_time(5, [&] {
-                             for (int e = 0; e < epochs; ++e) trainer.train_epoch();
-                           }) / epochs;
-  std::printf("%s threads=%d sec_per_epoch=%.6g loss=%.4g\n", name, a.threads, per_epoch,
-              trainer.state().training_loss);
+  const std::vector<double> seconds = timings(a.repeats, [&] {
+    for (int e = 0; e < epochs; ++e) trainer.train_epoch();
+  });
+  print_epochs(name, a.threads, seconds, epochs);
+  std::printf(" loss=%.4g\n", trainer.state().training_loss);
 }
 
 void bench_fann(const Args& a, const MatrixRM<float>& x, const MatrixRM<float>& t) {
@@ -114,10 +129,11 @@ void bench_fann(const Args& a, const MatrixRM<float>& x, const MatrixRM<float>& 
   }
   float mse = fann_train_epoch(ann, data);  // warm-up
   const int epochs = 2;
-  const double per_epoch = best_time(3, [&] {
-                             for (int e = 0; e < epochs; ++e) mse = fann_train_epoch(ann, data);
-                           }) / epochs;
-  std::printf("fann-incremental threads=%d sec_per_epoch=%.6g mse=%.4g\n", a.threads, per_epoch, mse);
+  const std::vector<double> seconds = timings(a.repeats, [&] {
+    for (int e = 0; e < epochs; ++e) mse = fann_train_epoch(ann, data);
+  });
+  print_epochs("fann-incremental", a.threads, seconds, epochs);
+  std::printf(" mse=%.4g\n", mse);
   fann_destroy_train(data);
   fann_destroy(ann);
 }
@@ -131,11 +147,16 @@ Args parse(int argc, char** argv) {
     else if (k == "--inputs") a.inputs = std::atoi(v.c_str());
     else if (k == "--patterns") a.patterns = std::atol(v.c_str());
     else if (k == "--mini-batch") a.mini_batch = static_cast<std::size_t>(std::atol(v.c_str()));
+    else if (k == "--repeats") a.repeats = std::atoi(v.c_str());
     else if (k == "--only") a.only = v;
     else {
       std::fprintf(stderr, "bench_train: unknown option %s\n", k.c_str());
       std::exit(2);
     }
+  }
+  if (a.threads < 1 || a.repeats < 1 || a.patterns < 1 || a.inputs < 1 || a.hidden < 1) {
+    std::fprintf(stderr, "bench_train: --threads, --repeats, --patterns, --inputs and --hidden must be >= 1\n");
+    std::exit(2);
   }
   return a;
 }
