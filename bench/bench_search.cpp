@@ -4,7 +4,9 @@
 // shipped networks of data/weights. For each method: ns per query one at a time (LocalSearch::run with
 // count = 1, the call an FE code makes per pair) and batched (one call for all queries) at 1 and 2 threads,
 // with its accuracy against the reference labels and its floating-point work per query
-// (search::flops_per_query); and Eigen's float and double matrix-product rates at 1 and 2 threads, for the floor.
+// (search::flops_per_query); the exported C headers of bilinear-8 and gregory-48 (c-header rows: one call per
+// query and the batched entry point, 1 thread); and Eigen's float and double matrix-product rates at 1 and 2
+// threads, for the floor.
 // scripts/bench-search runs it with repetitions in random interleaving (so load drift is shared) and prints
 // the table.
 //
@@ -80,12 +82,9 @@ struct Accuracy {
   int failures = 0;
 };
 
-Accuracy accuracy_of(const search::LocalSearch& search, const QuerySet& set) {
+Accuracy accuracy_from(const QuerySet& set, const std::vector<double>& param, const std::vector<Status>& status,
+                       const std::vector<std::int32_t>& steps) {
   const std::size_t n = set.count();
-  std::vector<double> param(2 * n);
-  std::vector<Status> status(n);
-  std::vector<std::int32_t> steps(n);
-  search.run(n, set.raw.data(), search::Results<double>{param.data(), nullptr, status.data(), steps.data()}, 1);
   Accuracy a;
   std::vector<double> errors;
   double step_sum = 0.0;
@@ -114,6 +113,32 @@ Accuracy accuracy_of(const search::LocalSearch& search, const QuerySet& set) {
     a.max = errors.back();
   }
   return a;
+}
+
+Accuracy accuracy_of(const search::LocalSearch& search, const QuerySet& set) {
+  const std::size_t n = set.count();
+  std::vector<double> param(2 * n);
+  std::vector<Status> status(n);
+  std::vector<std::int32_t> steps(n);
+  search.run(n, set.raw.data(), search::Results<double>{param.data(), nullptr, status.data(), steps.data()}, 1);
+  return accuracy_from(set, param, status, steps);
+}
+
+// The exported C headers of bilinear-8 and gregory-48 (c_header_entry.c): one call per query, and the batch.
+extern "C" void cnn_bench_c_header_one(int gregory, std::size_t n, const double* raw, double* out, int* status);
+extern "C" void cnn_bench_c_header_batch(int gregory, std::size_t n, const double* raw, double* out, int* status);
+
+/// The header's accuracy, its return codes read as statuses (0 ok, 1 degenerate or invalid, 2 out of domain).
+Accuracy c_header_accuracy(const QuerySet& set) {
+  const std::size_t n = set.count();
+  std::vector<double> param(2 * n);
+  std::vector<int> code(n);
+  cnn_bench_c_header_batch(set.kind == SurfaceKind::kGregory ? 1 : 0, n, set.raw.data(), param.data(), code.data());
+  std::vector<Status> status(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    status[i] = code[i] == 0 ? Status::kOk : code[i] == 2 ? Status::kOutOfDomain : Status::kDegenerate;
+  }
+  return accuracy_from(set, param, status, std::vector<std::int32_t>(n, 0));
 }
 
 /// One method to time.
@@ -280,6 +305,28 @@ int main(int argc, char** argv) {
                                    })
           ->UseRealTime()
           ->Unit(benchmark::kMicrosecond);
+    }
+  }
+  // 3b. The exported C headers of the two paper networks (the network method's flops: the same arithmetic).
+  for (const auto& [kind, file] : {std::pair{SurfaceKind::kBilinear, "bilinear-8.h5"}, std::pair{SurfaceKind::kGregory, "gregory-48.h5"}}) {
+    const QuerySet& set = sets.at(kind);
+    const Accuracy acc = c_header_accuracy(set);
+    const search::NetworkModel* model = networks.at(file).get();
+    const search::FlopCount flops = search::flops_per_query(kind, search::Method::parse("network"), model, 0.0);
+    const std::string name = std::string(to_string(kind)) + "/c-header[" + std::string(file).substr(0, std::string(file).find(".h5")) + "]";
+    const int gregory = kind == SurfaceKind::kGregory ? 1 : 0;
+    const std::size_t n = set.count();
+    for (const bool batched : {false, true}) {
+      benchmark::RegisterBenchmark((name + (batched ? "/batched/threads:1" : "/one")).c_str(), [=, &set](benchmark::State& state) {
+        std::vector<double> param(2 * n);
+        std::vector<int> code(n);
+        for (auto _ : state) {
+          (batched ? cnn_bench_c_header_batch : cnn_bench_c_header_one)(gregory, n, set.raw.data(), param.data(), code.data());
+          benchmark::ClobberMemory();
+        }
+        state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(n));
+        set_counters(state, flops, acc);
+      })->UseRealTime()->Unit(benchmark::kMicrosecond);
     }
   }
   // 4. The stages of the two paper networks (parts/<surface>/<network>/<stage>; scripts/bench-search prints

@@ -37,10 +37,10 @@
 #include "io/dataset_file.hpp"
 #include "io/file_identity.hpp"
 #include "io/network_file.hpp"
-#include "mlp/export_c_header.hpp"
 #include "mlp/pattern_selection.hpp"
 #include "mlp/random.hpp"
 #include "mlp/trainer.hpp"
+#include "search/export_c_header.hpp"
 
 namespace {
 
@@ -256,14 +256,11 @@ int train(const CLI::App& app, const NetSettings& net_settings, mlp::TrainOption
   const auto config_file = cli::write_effective_config(app, "train-net", output);
   std::unique_ptr<io::AtomicOutput> header_file;
   if (!header_path.empty()) {
-    mlp::CHeaderOptions h;
+    search::CHeaderOptions h;
     h.prefix = c_prefix(header_path);
-    h.surface = set.surface;
-    h.domain_min = domain.feature_min;
-    h.domain_max = domain.feature_max;
     h.description = "network " + output.filename().string() + ", dataset " + data_path + " (" + checksum + "), seed " +
                     std::to_string(options.seed);
-    header_file = io::write_text_uncommitted(header_path, mlp::export_c_header(network, h));
+    header_file = io::write_text_uncommitted(header_path, search::export_c_header(search::NetworkModel(network, domain), h));
   }
   io::commit_together({network_file.get(), config_file.get(), header_file.get()});
 

@@ -1,5 +1,5 @@
-// The C99 kernels of lib/search as text, for the exported C header of a network (mlp::export_c_header's
-// successor embeds them verbatim, so that the header and the library canonicalise with one source).
+// The C99 kernels of lib/search as text, for the exported C header of a network (search::export_c_header
+// embeds them verbatim, so that the header and the library canonicalise with one source).
 #pragma once
 
 #include <string_view>

@@ -11,6 +11,10 @@
 #ifndef CONTACTNN_VECTOR_SIGMOID_H
 #define CONTACTNN_VECTOR_SIGMOID_H
 
+/* Raised whenever what this file computes or its interface changes: an exported header checks that the copy
+ * in force (the first one included in a translation unit) is the one it was generated with. */
+#define CNN_VECTOR_SIGMOID_VERSION 1
+
 #include <stdint.h>
 #include <string.h>
 

@@ -200,30 +200,6 @@ TEST(NetworkMethod, AffineInputFeaturesArePredictsOnTheSameFeatures) {
   }
 }
 
-/// Queries on a tie (tests/search/test_canonical_frame.cpp has the same shapes), each in all 8 node orders and
-/// placed at random.
-std::vector<Configuration> tie_queries(SurfaceKind kind, std::mt19937_64& rng) {
-  const std::array<Vec3, 4> normals = {Vec3(0.05, -0.03, 1), Vec3(-0.02, 0.06, 1), Vec3(-0.1, 0.02, 1), Vec3(0.04, 0.05, 1)};
-  const std::array<Vec3, 4> strip = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 0.6, 0.1), Vec3(0, 0.6, 0)};
-  const std::array<Vec3, 4> square = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0.1), Vec3(0, 1, 0)};
-  const std::array<Vec3, 4> flat = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1.05, 0.95, 0), Vec3(0, 0.9, 0)};
-  const std::vector<Configuration> bases = {
-      {strip, Vec3(0.5, 0.2, 0.1), normals},      // as near A as B
-      {square, Vec3(0.3, 0.3, 0.15), normals},    // |AB| = |AD|, S on the diagonal
-      {square, Vec3(0.5, 0.5, 0.2), normals},     // all four nodes, each on its diagonal
-      {flat, Vec3(0.3, 0.25, 0.0), normals},      // S and C on the plane of A, B, D (Gregory: z tie)
-      {flat, Vec3(0.5, 0.3, 0.0), normals},       // both
-  };
-  std::vector<Configuration> out;
-  for (const Configuration& base : bases) {
-    for (const SquareSymmetry& order : all_square_symmetries()) {
-      for (int p = 0; p < 2; ++p) out.push_back(testing::place(base, rng, order));
-    }
-  }
-  (void)kind;
-  return out;
-}
-
 TEST(NetworkMethod, OnATieIsTheMeanOverTheCanonicalFormsWhateverTheNodeOrder) {
   // The reference semantics (tie_reference): the mean of the predictions over every canonical form
   // of the query, in the domain only if every form is. Then the answer, mapped to one node order, is the same
@@ -233,7 +209,7 @@ TEST(NetworkMethod, OnATieIsTheMeanOverTheCanonicalFormsWhateverTheNodeOrder) {
     const auto& trained = shipped(name);
     const SurfaceKind kind = trained.domain.surface;
     const NetworkModel model(trained.network, trained.domain);
-    const std::vector<Configuration> queries = tie_queries(kind, rng);
+    const std::vector<Configuration> queries = testing::tie_queries(rng);
     std::vector<double> raw;
     for (const Configuration& c : queries) testing::append_raw(c, kind, raw);
     SCOPED_TRACE(name);

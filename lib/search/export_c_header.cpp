@@ -1,0 +1,398 @@
+#include "search/export_c_header.hpp"
+
+#include <cctype>
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+#include <string_view>
+#include <type_traits>
+
+#include "core/error.hpp"
+#include "search/embedded_sources.hpp"
+
+namespace contactnn::search {
+
+namespace {
+
+// Lanes per block of the batched entry point: 16 doubles fill 2 AVX-512 or 4 AVX2 registers per quantity,
+// enough independent vectors per operation; wider blocks spill the canonical frame's many live values.
+constexpr int kBlockLanes = 16;
+// Units of a layer computed together: 4 independent multiply-add chains of kBlockLanes lanes each, so that
+// a layer is bound by throughput rather than by the latency of one chain, within 16 vector registers (AVX2).
+constexpr int kUnitsTogether = 4;
+
+// Text that reads back to the same value: 9 significant digits for float, 17 for double; the infinities of
+// an open bound as HUGE_VAL (a constant expression in C99).
+template <class Real>
+std::string literal(Real v) {
+  if (std::isinf(v)) return v > 0 ? "HUGE_VAL" : "(-HUGE_VAL)";
+  char buf[40];
+  if constexpr (std::is_same_v<Real, float>) {
+    std::snprintf(buf, sizeof buf, "%.9g", static_cast<double>(v));
+  } else {
+    std::snprintf(buf, sizeof buf, "%.17g", v);
+  }
+  std::string s = buf;
+  if (s.find_first_of(".eE") == std::string::npos) s += ".";  // "1" is an int, "1." a double
+  if constexpr (std::is_same_v<Real, float>) s += "f";
+  return s;
+}
+
+bool is_c_identifier(const std::string& s) {
+  if (s.empty() || std::isdigit(static_cast<unsigned char>(s[0]))) return false;
+  for (char c : s) {
+    if (!std::isalnum(static_cast<unsigned char>(c)) && c != '_') return false;
+  }
+  return true;
+}
+
+// The value of `#define NAME value` in an embedded source: the generated header checks it, so that the copy
+// in force in a translation unit (the first included) is the one the header was generated with.
+std::string macro_value(std::string_view text, const std::string& name) {
+  const std::string key = "#define " + name + " ";
+  const auto at = text.find(key);
+  CONTACTNN_REQUIRE(at != std::string_view::npos, "the embedded C source does not define " << name);
+  const auto start = at + key.size();
+  return std::string(text.substr(start, text.find('\n', start) - start));
+}
+
+template <class Real>
+void table(std::ostringstream& o, const std::string& type, const std::string& name, const Real* v, std::size_t n,
+           std::size_t per_line) {
+  o << "static const " << type << " " << name << "[" << n << "] = {";
+  for (std::size_t i = 0; i < n; ++i) {
+    CONTACTNN_REQUIRE(std::isfinite(v[i]), "the C header's table " << name << "[" << i << "] is not finite: " << v[i]);
+    o << (i == 0 ? "" : ",") << (i % per_line == 0 ? "\n  " : " ") << literal(v[i]);
+  }
+  o << "};\n";
+}
+
+// The forward pass over n lanes, in the network's real type (lib/search's forward_pass, network_block.hpp):
+// the same operations in the same order, so that each lane rounds as the library's.
+template <class Net>
+void forward_pass(std::ostringstream& o, const NetworkModel& m, const std::string& p) {
+  constexpr bool kFloat = std::is_same_v<Net, float>;
+  const std::string net = kFloat ? "float" : "double";
+  const std::string sigmoid = kFloat ? "cnn_sigmoidf" : "cnn_sigmoid";
+  const std::string block = p + "_block_lanes";
+  const auto& sizes = m.layer_sizes();
+  const int n_features = sizes[0];
+  const bool gregory = m.surface() == SurfaceKind::kGregory;
+  o << "/* The network on n <= " << block << " lanes of canonical features f[k n + l] (cnn_canonicalise_block's\n"
+    << " * layout): canonical local coordinates est[c n + l]. lib/search's forward pass (network_block.hpp) in the\n"
+    << " * same operations and order: input map, input scaling clamped to +-1e6, each layer's sums (Eq 13) from\n"
+    << " * -theta in input order, the sigmoid of Eq 12, output scaling. */\n"
+    << "CNN_CF_INLINE void " << p << "_forward(int n, const double* CNN_CF_RESTRICT f, double* CNN_CF_RESTRICT est) {\n";
+  for (std::size_t l = 0; l < sizes.size(); ++l) o << "  " << net << " a" << l << "[" << sizes[l] << " * " << block << "];\n";
+  o << "  const double* in = f;\n  int i, l;\n";
+  if (m.input_features() == InputFeatures::kAffine) {
+    o << "  double g[" << n_features << " * " << block << "];\n"
+      << "  /* The affine input features (core/input_features: x = alpha + beta xd, y = beta yd; heights / sqrt(yd)). */\n"
+      << "  CNN_CF_IVDEP\n"
+      << "  for (l = 0; l < n; ++l) {\n"
+      << "    const double xd = f[3 * n + l], y = f[4 * n + l];\n"
+      << "    const double yd = y < 1e-300 ? 1e-300 : y;\n"
+      << "    const double rho = sqrt(xd * xd + yd * yd);\n"
+      << "    const double height = 1.0 / sqrt(yd);\n"
+      << "    const double beta_c = f[1 * n + l] / yd, beta_s = f[6 * n + l] / yd;\n"
+      << "    g[0 * n + l] = f[0 * n + l] - xd * beta_c;\n"
+      << "    g[1 * n + l] = beta_c;\n"
+      << "    g[2 * n + l] = f[2 * n + l] * height;\n"
+      << "    g[3 * n + l] = rho;\n"
+      << "    g[4 * n + l] = xd / rho;\n"
+      << "    g[5 * n + l] = f[5 * n + l] - xd * beta_s;\n"
+      << "    g[6 * n + l] = beta_s;\n"
+      << "    g[7 * n + l] = f[7 * n + l] * height;\n"
+      << "  }\n";
+    if (gregory) {
+      o << "  CNN_CF_IVDEP\n"
+        << "  for (l = 0; l < n; ++l) {\n"
+        << "    const double xd = f[3 * n + l], y = f[4 * n + l];\n"
+        << "    const double yd = y < 1e-300 ? 1e-300 : y;\n"
+        << "    const double rho = sqrt(xd * xd + yd * yd);\n"
+        << "    int k;\n"
+        << "    CNN_CF_UNROLL\n"
+        << "    for (k = 0; k < 4; ++k) {\n"
+        << "      const double pk = f[(8 + 2 * k) * n + l], qk = f[(9 + 2 * k) * n + l];\n"
+        << "      g[(8 + 2 * k) * n + l] = pk;\n"
+        << "      g[(9 + 2 * k) * n + l] = (pk * xd + qk * yd) / rho;\n"
+        << "    }\n"
+        << "  }\n";
+    }
+    o << "  in = g;\n";
+  }
+  o << "  for (i = 0; i < " << n_features << "; ++i) {\n"
+    << "    const double lo = " << p << "_input_min[i], gain = " << p << "_input_gain[i];\n"
+    << "    CNN_CF_IVDEP\n"
+    << "    for (l = 0; l < n; ++l) {\n"
+    << "      double x = (in[i * n + l] - lo) * gain - 1.0;\n"
+    << "      x = x > 1e6 ? 1e6 : x;\n"
+    << "      x = x < -1e6 ? -1e6 : x;\n"
+    << "      a0[i * n + l] = (" << net << ")x;\n"
+    << "    }\n"
+    << "  }\n";
+  for (int layer = 0; layer < m.layer_count(); ++layer) {
+    const int n_in = sizes[static_cast<std::size_t>(layer)], n_out = sizes[static_cast<std::size_t>(layer) + 1];
+    const std::string w = p + "_w" + std::to_string(layer), theta = p + "_theta" + std::to_string(layer);
+    const std::string x = "a" + std::to_string(layer), y = "a" + std::to_string(layer + 1);
+    o << "  { /* layer " << layer + 1 << ": " << n_out << " units of " << n_in << " inputs */\n"
+      << "    int j;\n";
+    // Groups of kUnitsTogether units, then single units; each unit's sum is the same chain either way. The
+    // bounds are constants (a loop that starts where another ended trips GCC's -Waggressive-loop-optimizations).
+    const int grouped = n_out - n_out % kUnitsTogether;
+    for (const int units : {kUnitsTogether, 1}) {
+      const int first = units == 1 ? grouped : 0, end = units == 1 ? n_out : grouped;
+      if (first == end) continue;
+      o << "    for (j = " << first << "; j < " << end << "; j += " << units << ") {\n"
+        << "      " << net;
+      for (int u = 0; u < units; ++u) o << (u ? ", " : " ") << "s" << u << "[" << block << "]";
+      o << ";\n"
+        << "      CNN_CF_IVDEP\n"
+        << "      for (l = 0; l < n; ++l) {\n";
+      for (int u = 0; u < units; ++u) o << "        s" << u << "[l] = -" << theta << "[j + " << u << "];\n";
+      o << "      }\n"
+        << "      for (i = 0; i < " << n_in << "; ++i) {\n"
+        << "        const " << net << "* CNN_CF_RESTRICT x = " << x << " + i * n;\n";
+      for (int u = 0; u < units; ++u) {
+        o << "        const " << net << " w" << u << " = " << w << "[(j + " << u << ") * " << n_in << " + i];\n";
+      }
+      o << "        CNN_CF_IVDEP\n"
+        << "        for (l = 0; l < n; ++l) {\n";
+      for (int u = 0; u < units; ++u) o << "          s" << u << "[l] += w" << u << " * x[l];\n";
+      o << "        }\n"
+        << "      }\n"
+        << "      CNN_CF_IVDEP\n"
+        << "      for (l = 0; l < n; ++l) {\n";
+      for (int u = 0; u < units; ++u) {
+        o << "        " << y << "[(j + " << u << ") * n + l] = " << sigmoid << "(s" << u << "[l], " << p << "_gain);\n";
+      }
+      o << "      }\n"
+        << "    }\n";
+    }
+    o << "  }\n";
+  }
+  const std::string last = "a" + std::to_string(m.layer_count());
+  o << "  for (i = 0; i < 2; ++i) {\n"
+    << "    const double lo = " << p << "_output_min[i], inverse_gain = " << p << "_output_inverse_gain[i];\n"
+    << "    CNN_CF_IVDEP\n"
+    << "    for (l = 0; l < n; ++l) est[i * n + l] = lo + ((double)" << last << "[i * n + l] - " << literal(m.target_low())
+    << ") * inverse_gain;\n"
+    << "  }\n"
+    << "}\n\n";
+}
+
+template <class Net>
+void parameter_tables(std::ostringstream& o, const NetworkModel& m, const std::string& p) {
+  const std::string net = std::is_same_v<Net, float> ? "float" : "double";
+  const auto& sizes = m.layer_sizes();
+  for (int l = 0; l < m.layer_count(); ++l) {
+    const auto n_in = static_cast<std::size_t>(sizes[static_cast<std::size_t>(l)]);
+    const auto n_out = static_cast<std::size_t>(sizes[static_cast<std::size_t>(l) + 1]);
+    o << "/* Layer " << l + 1 << ": W (" << n_out << " units x " << n_in << " inputs, row-major) and theta. */\n";
+    table(o, net, p + "_w" + std::to_string(l), m.weights<Net>(l), n_out * n_in, n_in);
+    table(o, net, p + "_theta" + std::to_string(l), m.thresholds<Net>(l), n_out, 8);
+  }
+  o << "/* 2 / U0 (Eq 12). */\n"
+    << "static const " << net << " " << p << "_gain = " << literal(m.gain<Net>()) << ";\n";
+}
+
+}  // namespace
+
+std::string export_c_header(const NetworkModel& m, const CHeaderOptions& options) {
+  CONTACTNN_REQUIRE(is_c_identifier(options.prefix), "the C header's prefix '" << options.prefix << "' is not a C identifier");
+  const std::string& p = options.prefix;
+  const bool gregory = m.surface() == SurfaceKind::kGregory;
+  const int n_raw = gregory ? 27 : 15;
+  const std::string real = m.is_float() ? "float" : "double";
+  const std::string block = p + "_block_lanes";
+  const std::string g = gregory ? "1" : "0";
+  const std::string centre = gregory ? "0.5" : "0.0";
+  std::string guard = p + "_H";
+  for (char& c : guard) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+  const std::string_view frame = canonical_frame_source();
+  const std::string_view sigmoid = vector_sigmoid_source();
+  const std::string frame_version = macro_value(frame, "CNN_CANONICAL_FRAME_VERSION");
+  const std::string sigmoid_version = macro_value(sigmoid, "CNN_VECTOR_SIGMOID_VERSION");
+  const cnn_domain& d = m.domain_bounds();
+  const bool angles = d.check_lo != 0 || d.check_hi != 0;
+
+  std::ostringstream o;
+  // 1. What it is and how to call it.
+  o << "/* Generated by contactnn (search::export_c_header; train-net --export-header). Do not edit: regenerate\n"
+    << " * from the network file.\n"
+    << " * " << (options.description.empty() ? std::string("contactnn network") : options.description) << "\n"
+    << " * " << to_string(m.surface()) << " segment; sigmoid network";
+  for (std::size_t l = 0; l < m.layer_sizes().size(); ++l) o << (l ? "-" : " ") << m.layer_sizes()[l];
+  o << ", computed in " << real << ", "
+    << (m.input_features() == InputFeatures::kAffine ? "affine" : "paper") << " input features; training domain "
+    << (options.check_domain ? "checked" : "not checked") << ".\n"
+    << " *\n"
+    << " *   int " << p << "_local_coordinates(const double raw[" << n_raw << "], double out[2]);\n"
+    << " *   void " << p << "_local_coordinates_batch(size_t n, const double* raw, double* out, int* status);\n"
+    << " *\n"
+    << " * raw: ax ay az bx by bz cx cy cz dx dy dz sx sy sz (world coordinates of the segment's nodes A, B, C, D\n"
+    << " * counter-clockwise, and of the slave node S" << (gregory ? "), then the node normals nax nay naz ... ndz (any\n"
+                                                              " * positive length"
+                                                            : "")
+    << "), in any node order.\n"
+    << " * out: " << (gregory ? "(u, v) in [0, 1]^2" : "(xi, eta) in [-1, 1]^2")
+    << ", the network's estimate of the closest point, in the caller's node order.\n"
+    << " * Returns 0 on success, 1 for a non-finite input or a degenerate segment (out untouched), 2 when the\n"
+    << " * canonical configuration lies outside the network's training domain (out is written, but it is an\n"
+    << " * extrapolation). The batch: n queries, raw n x " << n_raw << " and out n x 2 row-major, status[i] the\n"
+    << " * code query i would return alone (rows of status 1 untouched).\n"
+    << " *\n"
+    << " * Each query is contactnn's LocalSearch method \"network\", computed by the same C99 kernels (embedded\n"
+    << " * below, verbatim): the canonical configuration of SPEC 4 (relabelling, frame, z orientation); on a tie\n"
+    << " * (a slave as near two nodes, ...) the mean over every tied canonical form, so that the answer does not\n"
+    << " * depend on the node order; the input scaling; the forward pass; the domain test of\n"
+    << " * TrainingDomain::contains (feature ranges and the generator's filters).\n"
+    << " * The batch runs blocks of " << kBlockLanes << " queries through loops over the queries that GCC and Clang vectorise at\n"
+    << " * -O3 given -fno-math-errno -fno-trapping-math (neither changes a result; without them the same code runs\n"
+    << " * scalar). Its results are those of the one-query function bit for bit where the compiler does not\n"
+    << " * contract multiply-adds (ISO C modes such as -std=c99, or -ffp-contract=off); with contraction (GNU\n"
+    << " * modes, C++) the vectorised and the one-query code contract differently: the same to the rounding of\n"
+    << " * the network's precision (" << real << ").\n"
+    << " * C99; two headers with different prefixes can share a translation unit. Link with -lm.\n"
+    << " */\n"
+    << "#ifndef " << guard << "\n#define " << guard << "\n\n#include <math.h>\n#include <stddef.h>\n\n";
+
+  // 2. lib/search's kernels, verbatim.
+  o << "/* ======== lib/search/canonical_frame.h, verbatim ======== */\n" << frame
+    << "\n/* ======== lib/search/vector_sigmoid.h, verbatim ======== */\n" << sigmoid << "\n"
+    << "/* ======== the network ======== */\n"
+    << "#if CNN_CANONICAL_FRAME_VERSION != " << frame_version << " || CNN_VECTOR_SIGMOID_VERSION != " << sigmoid_version
+    << "\n#error \"" << p << ": a header included earlier in this translation unit brought other versions of canonical_frame.h or "
+    << "vector_sigmoid.h; regenerate the exported headers with one contactnn\"\n#endif\n\n";
+
+  // 3. Tables: parameters, scaling, domain.
+  if (m.is_float()) {
+    parameter_tables<float>(o, m, p);
+  } else {
+    parameter_tables<double>(o, m, p);
+  }
+  o << "/* Input scaling x_s = (x - min) gain - 1, output t = min + (o - target_low) inverse_gain (mlp::Scaling). */\n";
+  table(o, "double", p + "_input_min", m.input_min().data(), m.input_min().size(), 4);
+  table(o, "double", p + "_input_gain", m.input_gain().data(), m.input_gain().size(), 4);
+  table(o, "double", p + "_output_min", m.output_min().data(), m.output_min().size(), 4);
+  table(o, "double", p + "_output_inverse_gain", m.output_inverse_gain().data(), m.output_inverse_gain().size(), 4);
+  if (options.check_domain) {
+    o << "/* The training domain as cnn_domain_lane tests it (search::domain_bounds). */\n"
+      << "static const struct cnn_domain " << p << "_domain = {\n";
+    auto row = [&](const char* name, const double* v, int n) {
+      o << "  ." << name << " = {";
+      for (int i = 0; i < n; ++i) {
+        CONTACTNN_REQUIRE(!std::isnan(v[i]), "domain bound " << name << "[" << i << "] is NaN");
+        o << (i ? ", " : "") << literal(v[i]);
+      }
+      o << "},\n";
+    };
+    row("lo", d.lo, 16);
+    row("hi", d.hi, 16);
+    o << "  .xy = " << literal(d.xy) << ", .z = " << literal(d.z) << ", .ad_bound = " << literal(d.ad_bound)
+      << ", .inv_one_plus_tol = " << literal(d.inv_one_plus_tol) << ",\n"
+      << "  .tol = " << literal(d.tol) << ", .cos_lo = " << literal(d.cos_lo) << ", .cos_hi = " << literal(d.cos_hi)
+      << ", .tilt = " << literal(d.tilt) << ",\n"
+      << "  .features = " << d.features << ", .ad_not_longer = " << d.ad_not_longer << ", .nearest_a = " << d.nearest_a
+      << ", .segment_test = " << d.segment_test << ", .convex = " << d.convex << ",\n"
+      << "  .check_lo = " << d.check_lo << ", .check_hi = " << d.check_hi << "};\n";
+  }
+  o << "\nenum { " << block << " = " << kBlockLanes << " };\n\n";
+
+  // 4. The forward pass.
+  if (m.is_float()) {
+    forward_pass<float>(o, m, p);
+  } else {
+    forward_pass<double>(o, m, p);
+  }
+
+  // 5. Ties: lib/search's tie_estimate (kernels_single.cpp).
+  o << "/* A query on a tie: the mean over its canonical forms (cnn_cf_forms, in geometry::canonical_forms' order) of\n"
+    << " * the network's estimate in the caller's node order; out of the domain when any form is. */\n"
+    << "static inline void " << p << "_tie(const double* CNN_CF_RESTRICT x, double* u, double* v, double* code) {\n"
+    << "  double f[16 * CNN_CF_MAX_FORMS], nrm[12 * CNN_CF_MAX_FORMS], info[CNN_CF_INFO_ROWS * CNN_CF_MAX_FORMS];\n"
+    << "  double sum_u = 0.0, sum_v = 0.0;\n"
+    << "  int k, inside = 1;\n"
+    << "  const int count = cnn_cf_forms(x, " << g << ", f, nrm, info);\n"
+    << "  if (info[0] != (double)CNN_CF_STATUS_OK) return;\n"
+    << "  for (k = 0; k < count; ++k) {\n"
+    << "    double e[2];\n";
+  if (options.check_domain) {
+    o << "    double c = (double)CNN_CF_STATUS_OK;\n"
+      << "    cnn_domain_lane(&" << p << "_domain, " << g << ", " << (angles ? 1 : 0) << ", f + 16 * k, nrm + 12 * k, 1, &c);\n"
+      << "    inside = inside && c == (double)CNN_CF_STATUS_OK;\n";
+  }
+  o << "    " << p << "_forward(1, f + 16 * k, e);\n"
+    << "    cnn_cf_to_caller(info[CNN_CF_INFO_ROWS * k + 1], " << centre << ", &e[0], &e[1]);\n"
+    << "    sum_u += e[0];\n"
+    << "    sum_v += e[1];\n"
+    << "  }\n"
+    << "  *u = sum_u / count;\n"
+    << "  *v = sum_v / count;\n"
+    << "  *code = inside ? (double)CNN_CF_STATUS_OK : (double)CNN_CF_STATUS_OUT_OF_DOMAIN;\n"
+    << "}\n\n";
+
+  // 6. A block of n lanes: lib/search's network_estimate.
+  o << "/* n <= " << block << " queries (rows of " << n_raw << "): canonical frame, domain test, forward pass for all lanes\n"
+    << " * at once, then each lane mapped back to the caller's order (ties through " << p << "_tie). */\n"
+    << "CNN_CF_INLINE void " << p << "_block(int n, const double* CNN_CF_RESTRICT raw, double* CNN_CF_RESTRICT out,\n"
+    << "                                  int* CNN_CF_RESTRICT status) {\n"
+    << "  double in[" << n_raw << " * " << block << "], f[16 * " << block << "], nrm[12 * " << block
+    << "], info[CNN_CF_INFO_ROWS * " << block << "];\n"
+    << "  double est[2 * " << block << "];\n"
+    << "  int k, l;\n"
+    << "  for (l = 0; l < n; ++l) {\n"
+    << "    for (k = 0; k < " << n_raw << "; ++k) in[k * n + l] = raw[l * " << n_raw << " + k];\n"
+    << "  }\n"
+    << "  cnn_canonicalise_block(n, " << g << ", in, f, nrm, info);\n";
+  if (options.check_domain) o << "  cnn_domain_block(n, " << g << ", &" << p << "_domain, f, nrm, info);\n";
+  o << "  " << p << "_forward(n, f, est);\n"
+    << "  for (l = 0; l < n; ++l) {\n"
+    << "    double code = info[l], u = est[l], v = est[n + l];\n"
+    << "    if (code != (double)CNN_CF_STATUS_OK && code != (double)CNN_CF_STATUS_OUT_OF_DOMAIN) {\n"
+    << "      status[l] = 1;\n"
+    << "      continue;\n"
+    << "    }\n"
+    << "    cnn_cf_to_caller(info[n + l], " << centre << ", &u, &v);\n"
+    << "    if (cnn_cf_needs_forms(info[5 * n + l], " << g << ")) " << p << "_tie(raw + l * " << n_raw << ", &u, &v, &code);\n"
+
+    << "    out[2 * l] = u;\n"
+    << "    out[2 * l + 1] = v;\n"
+    << "    status[l] = code == (double)CNN_CF_STATUS_OK ? 0 : 2;\n"
+    << "  }\n"
+    << "}\n\n";
+
+  // 7. The entry points.
+  o << "static inline int " << p << "_local_coordinates(const double raw[" << n_raw << "], double out[2]) {\n"
+    << "  int status;\n"
+    << "  " << p << "_block(1, raw, out, &status);\n"
+    << "  return status;\n"
+    << "}\n\n"
+    << "/* Blocks of " << block << " queries; the last, partial block padded with copies of its last query. */\n"
+    << "static inline void " << p << "_local_coordinates_batch(size_t n, const double* raw, double* out, int* status) {\n"
+    << "  size_t i = 0;\n"
+    << "  for (; i + " << block << " <= n; i += " << block << ") {\n"
+    << "    " << p << "_block(" << block << ", raw + i * " << n_raw << ", out + 2 * i, status + i);\n"
+    << "  }\n"
+    << "  if (i < n) {\n"
+    << "    double pad[" << block << " * " << n_raw << "], pad_out[2 * " << block << "];\n"
+    << "    int pad_status[" << block << "], l, k;\n"
+    << "    const int rest = (int)(n - i);\n"
+    << "    for (l = 0; l < " << block << "; ++l) {\n"
+    << "      const double* row = raw + (i + (size_t)(l < rest ? l : rest - 1)) * " << n_raw << ";\n"
+    << "      for (k = 0; k < " << n_raw << "; ++k) pad[l * " << n_raw << " + k] = row[k];\n"
+    << "    }\n"
+    << "    " << p << "_block(" << block << ", pad, pad_out, pad_status);\n"
+    << "    for (l = 0; l < rest; ++l) {\n"
+    << "      status[i + l] = pad_status[l];\n"
+    << "      if (pad_status[l] == 1) continue;\n"
+    << "      out[2 * (i + l)] = pad_out[2 * l];\n"
+    << "      out[2 * (i + l) + 1] = pad_out[2 * l + 1];\n"
+    << "    }\n"
+    << "  }\n"
+    << "}\n\n"
+    << "#endif /* " << guard << " */\n";
+  return o.str();
+}
+
+}  // namespace contactnn::search
