@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <type_traits>
+
 #include "core/error.hpp"
 #include "io/dataset_file.hpp"
 #include "io/domain_io.hpp"
@@ -65,7 +67,8 @@ std::string error_of(const std::filesystem::path& path) {
 
 template <class Real>
 void check_round_trip() {
-  const auto path = temp_dir() / "round.h5";
+  // One file per real type: ctest -j runs the float and the double case at once, in one directory.
+  const auto path = temp_dir() / (std::is_same_v<Real, float> ? "round-float.h5" : "round-double.h5");
   const auto net = bilinear_network<Real>({8, 5, 3, 2}, 4);
   write_network(path, net, bilinear_domain(), provenance());
   const TrainedNetwork<Real> back = read_network<Real>(path);
