@@ -38,7 +38,7 @@
 #include "search/flop_count.hpp"
 #include "search/local_search.hpp"
 #include "search/random_queries.hpp"
-#include "search/search_kernel.hpp"
+#include "search/search_plan.hpp"
 
 namespace {
 
@@ -182,39 +182,19 @@ void gemm(benchmark::State& state, int threads) {
   Eigen::setNbThreads(0);
 }
 
-/// Where a network method's time goes: its stages run cumulatively over the same blocks as LocalSearch::run
-/// (blocks of W, one thread): 1 the rows loaded into the block (transposed to lanes), 2 + the canonical frame,
-/// 3 + the domain test, 4 + the input map and scaling, the forward pass and the map back (network_estimate: the
-/// whole method but writing the results). Each stage's cost is its time minus the previous stage's.
-template <bool kGregory, class Net, int W>
+/// Where a network method's time goes (search::detail::network_stages, which runs in the kernels' own
+/// translation unit): its stages cumulatively over the same blocks as LocalSearch::run, one thread.
 void network_parts(benchmark::State& state, const std::vector<double>& raw, const search::NetworkModel& model, int stage) {
-  using namespace search::detail;
-  constexpr int kStride = kGregory ? 27 : 15;
-  constexpr int kG = kGregory ? 1 : 0;
-  const std::size_t blocks = raw.size() / kStride / W;
+  const auto stride = static_cast<std::size_t>(search::LocalSearch::raw_columns(model.surface()));
+  const std::size_t count = raw.size() / stride;
   double sink = 0.0;
+  std::size_t done = 0;
   for (auto _ : state) {
-    for (std::size_t b = 0; b < blocks; ++b) {
-      alignas(64) double rows[27][W];
-      load_raw<W>(raw.data() + b * W * kStride, kStride, rows);
-      if (stage == 1) {
-        sink += rows[0][0] + rows[kStride - 1][W - 1];
-        continue;
-      }
-      if (stage == 4) {
-        LaneState<W> lanes;
-        network_estimate<Net, W, kGregory>(model, true, &rows[0][0], lanes);
-        sink += lanes.u[0] + lanes.v[W - 1];
-        continue;
-      }
-      alignas(64) double features[16 * W], normals[12 * W], info[CNN_CF_INFO_ROWS * W];
-      cnn_canonicalise_block(W, kG, &rows[0][0], features, normals, info);
-      if (stage >= 3) cnn_domain_block(W, kG, &model.domain_bounds(), features, normals, info);
-      sink += features[0] + info[W - 1];
-    }
+    done = 0;
+    sink += search::detail::network_stages(model, raw.data(), count, stage, done);
     benchmark::DoNotOptimize(sink);
   }
-  state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(blocks * W));
+  state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(done));
 }
 
 Args parse_own_flags(int& argc, char** argv) {
@@ -335,10 +315,10 @@ int main(int argc, char** argv) {
   for (int stage = 1; stage <= 4; ++stage) {
     const std::string suffix = std::string("/") + stages[stage];
     benchmark::RegisterBenchmark(("parts/bilinear/bilinear-8" + suffix).c_str(), [stage](benchmark::State& state) {
-      network_parts<false, float, 32>(state, sets.at(SurfaceKind::kBilinear).raw, *networks.at("bilinear-8.h5"), stage);
+      network_parts(state, sets.at(SurfaceKind::kBilinear).raw, *networks.at("bilinear-8.h5"), stage);
     })->UseRealTime()->Unit(benchmark::kMicrosecond);
     benchmark::RegisterBenchmark(("parts/gregory/gregory-48" + suffix).c_str(), [stage](benchmark::State& state) {
-      network_parts<true, float, 32>(state, sets.at(SurfaceKind::kGregory).raw, *networks.at("gregory-48.h5"), stage);
+      network_parts(state, sets.at(SurfaceKind::kGregory).raw, *networks.at("gregory-48.h5"), stage);
     })->UseRealTime()->Unit(benchmark::kMicrosecond);
   }
   for (const int threads : {1, 2}) {

@@ -8,4 +8,8 @@ void select_bilinear_kernels(Plan& plan) {
   select_single_kernels(plan);
 }
 
+double network_stages_bilinear(const NetworkModel& model, const double* raw, std::size_t count, int stage, std::size_t& done) {
+  return network_stages_for<false>(model, raw, count, stage, done);
+}
+
 }  // namespace contactnn::search::detail

@@ -8,4 +8,8 @@ void select_gregory_kernels(Plan& plan) {
   select_single_kernels(plan);
 }
 
+double network_stages_gregory(const NetworkModel& model, const double* raw, std::size_t count, int stage, std::size_t& done) {
+  return network_stages_for<true>(model, raw, count, stage, done);
+}
+
 }  // namespace contactnn::search::detail

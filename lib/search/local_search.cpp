@@ -84,6 +84,15 @@ void LocalSearch::run(std::size_t count, const Real* raw, Results<Real> out, int
   for (std::size_t i = blocks * width; i < count; ++i) single(plan, raw, out, i);
 }
 
+namespace detail {
+
+double network_stages(const NetworkModel& model, const double* raw, std::size_t count, int stage, std::size_t& done) {
+  return model.surface() == SurfaceKind::kGregory ? network_stages_gregory(model, raw, count, stage, done)
+                                                  : network_stages_bilinear(model, raw, count, stage, done);
+}
+
+}  // namespace detail
+
 template void LocalSearch::run<float>(std::size_t, const float*, Results<float>, int) const;
 template void LocalSearch::run<double>(std::size_t, const double*, Results<double>, int) const;
 

@@ -207,6 +207,41 @@ void select_block_kernels(Plan& plan) {
   }
 }
 
+/// network_stages (search_plan.hpp) for one surface, network type and block width.
+template <bool kGregory, class Net, int W>
+double network_stages_of(const NetworkModel& model, const double* raw_rows, std::size_t count, int stage,
+                         std::size_t& done) {
+  constexpr int kStride = kGregory ? 27 : 15;
+  constexpr int kG = kGregory ? 1 : 0;
+  const std::size_t blocks = count / W;
+  double sink = 0.0;
+  for (std::size_t b = 0; b < blocks; ++b) {
+    alignas(64) double raw[27][W];
+    load_raw<W>(raw_rows + b * W * kStride, kStride, raw);
+    if (stage <= 1) {
+      sink += raw[0][0] + raw[kStride - 1][W - 1];
+    } else if (stage >= 4) {
+      LaneState<W> lanes;
+      network_estimate<Net, W, kGregory>(model, true, &raw[0][0], lanes);
+      sink += lanes.u[0] + lanes.v[W - 1];
+    } else {
+      alignas(64) double features[16 * W], normals[12 * W], info[CNN_CF_INFO_ROWS * W];
+      cnn_canonicalise_block(W, kG, &raw[0][0], features, normals, info);
+      if (stage >= 3) cnn_domain_block(W, kG, &model.domain_bounds(), features, normals, info);
+      sink += features[0] + info[W - 1];
+    }
+  }
+  done = blocks * W;
+  return sink;
+}
+
+template <bool kGregory>
+double network_stages_for(const NetworkModel& model, const double* raw, std::size_t count, int stage, std::size_t& done) {
+  // The widths of select_block_kernels.
+  return model.is_float() ? network_stages_of<kGregory, float, 32>(model, raw, count, stage, done)
+                          : network_stages_of<kGregory, double, 16>(model, raw, count, stage, done);
+}
+
 /// The one-lane kernels (kernels_single.cpp, compiled without auto-vectorisation: with it, GCC vectorises
 /// other loops of a one-lane kernel than the lane loops of a block, e.g. a layer's sum over inputs, and the
 /// changed contraction of multiply-adds changes the last bits; without it every statement rounds as in the

@@ -28,4 +28,13 @@ struct Plan {
 void select_bilinear_kernels(Plan& plan);
 void select_gregory_kernels(Plan& plan);
 
+/// For bench_search's breakdown of the network method's time: the first `stage` stages of the network method
+/// (1 the rows loaded into a block, 2 + the canonical frame, 3 + the domain test, 4 + the input map, scaling,
+/// forward pass and map back) over the whole blocks among `count` queries of `raw` (SPEC 6 rows), with the
+/// block width and the code of LocalSearch::run: they run in the kernels' own translation unit (a template
+/// instantiated elsewhere could replace them at link time). `done`: the queries processed. Returns a checksum.
+double network_stages(const NetworkModel& model, const double* raw, std::size_t count, int stage, std::size_t& done);
+double network_stages_bilinear(const NetworkModel& model, const double* raw, std::size_t count, int stage, std::size_t& done);
+double network_stages_gregory(const NetworkModel& model, const double* raw, std::size_t count, int stage, std::size_t& done);
+
 }  // namespace contactnn::search::detail
