@@ -6,8 +6,6 @@
 //
 // Usage: capi_make_queries bilinear|gregory COUNT SEED OUTPUT.csv
 #include <cstdio>
-#include <limits>
-#include <random>
 #include <string>
 #include <vector>
 
@@ -25,32 +23,12 @@ int main(int argc, char** argv) {
   const std::uint64_t seed = std::stoull(argv[3]);
   const std::size_t columns = kind == SurfaceKind::kGregory ? 27 : 15;
 
-  std::vector<double> raw = testing::random_queries(kind, count, seed);
-  std::mt19937_64 rng(seed + 1);
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
-  for (std::size_t i = 3; i < count; i += 7) {
-    double* q = raw.data() + i * columns;
-    switch ((i / 7) % 6) {
-      case 0:
-        q[i % columns] = std::numeric_limits<double>::quiet_NaN();
-        break;
-      case 1:
-        for (int k = 3; k < 6; ++k) q[k] = q[k - 3];
-        break;  // A = B
-      case 2:
-        for (int k = 12; k < 15; ++k) q[k] += 1e3 * u(rng);
-        break;
-      case 3:
-        for (std::size_t k = 0; k < 15; ++k) q[k] *= 1e-20;
-        break;
-      case 4:
-        for (std::size_t k = 0; k < 15; ++k) q[k] *= 1e20;
-        break;
-      default:
-        for (std::size_t k = 0; k < columns; ++k) q[k] = 1e3 * u(rng);
-        break;
-    }
-  }
+  // Rows from the fourth on spoiled; tiny and huge within float's range (the float run must see the same values).
+  testing::Spoiling spoiling;
+  spoiling.first = 3;
+  spoiling.tiny = 1e-20;
+  spoiling.huge = 1e20;
+  const std::vector<double> raw = testing::mixed_queries(kind, count, seed, spoiling);
 
   std::FILE* out = std::fopen(argv[4], "w");
   if (out == nullptr) {

@@ -23,6 +23,8 @@ using namespace contactnn;
 using search::LocalSearch;
 using search::Method;
 using search::SearchOptions;
+using contactnn::testing::methods_of;
+using contactnn::testing::mixed_queries;
 
 constexpr auto kBilinear = SurfaceKind::kBilinear;
 constexpr auto kGregory = SurfaceKind::kGregory;
@@ -47,48 +49,6 @@ const search::NetworkModel& model(SurfaceKind kind) {
     }
   }
   return *m;
-}
-
-std::vector<std::string> methods_of(SurfaceKind kind) {
-  std::vector<std::string> m = {"network", "newton:0", "newton:3", "newton", "network+newton:2"};
-  if (kind == kBilinear) {
-    m.push_back("closed_form");
-    m.push_back("closed_form+newton:2");
-  }
-  return m;
-}
-
-/// Queries of the paper's domain placed at random, every seventh made hostile: non-finite, collapsed, far,
-/// tiny, huge, or a random box (every status is reached).
-std::vector<double> mixed_queries(SurfaceKind kind, std::size_t count, std::uint64_t seed) {
-  std::vector<double> raw = contactnn::testing::random_queries(kind, count, seed);
-  const auto columns = static_cast<std::size_t>(LocalSearch::raw_columns(kind));
-  std::mt19937_64 rng(seed + 1);
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
-  for (std::size_t i = 0; i < count; i += 7) {
-    double* q = raw.data() + i * columns;
-    switch ((i / 7) % 6) {
-      case 0:
-        q[i % columns] = std::numeric_limits<double>::quiet_NaN();
-        break;
-      case 1:
-        for (int k = 3; k < 6; ++k) q[k] = q[k - 3];
-        break;
-      case 2:
-        for (int k = 12; k < 15; ++k) q[k] += 1e3 * u(rng);
-        break;
-      case 3:
-        for (std::size_t k = 0; k < columns; ++k) q[k] *= 1e-200;
-        break;
-      case 4:
-        for (std::size_t k = 0; k < 15; ++k) q[k] *= 1e200;
-        break;
-      default:
-        for (std::size_t k = 0; k < columns; ++k) q[k] = 1e3 * u(rng);
-        break;
-    }
-  }
-  return raw;
 }
 
 template <class Real>

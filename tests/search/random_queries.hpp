@@ -7,8 +7,10 @@
 #include <Eigen/Geometry>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <random>
+#include <string>
 #include <vector>
 
 #include "core/conventions.hpp"
@@ -143,6 +145,52 @@ inline std::vector<double> random_queries(SurfaceKind kind, std::size_t count, s
     append_raw(place(local, rng, random_order(rng)), kind, raw);
   }
   return raw;
+}
+
+/// Which rows spoil_rows spoils, and how far its tiny and huge rows are scaled.
+struct Spoiling {
+  std::size_t first = 0;  ///< the first spoiled row; then every seventh
+  double tiny = 1e-200;   ///< every value of a tiny row is multiplied by this
+  double huge = 1e200;    ///< the coordinates of a huge row by this (float consumers: 1e-20 and 1e20)
+};
+
+/// Every seventh row of `raw` (SPEC 6 rows of `kind`) from `s.first` spoiled in turn, so that every status is
+/// reached: a NaN, a collapsed segment (A = B), the slave node moved up to 1e3 away, a tiny row, a huge row,
+/// a random box of values in (-1e3, 1e3).
+inline void spoil_rows(SurfaceKind kind, std::vector<double>& raw, std::uint64_t seed, const Spoiling& s = {}) {
+  const std::size_t columns = kind == SurfaceKind::kGregory ? 27 : 15;
+  const std::size_t count = raw.size() / columns;
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (std::size_t i = s.first; i < count; i += 7) {
+    double* q = raw.data() + i * columns;
+    switch ((i / 7) % 6) {
+      case 0: q[i % columns] = std::numeric_limits<double>::quiet_NaN(); break;
+      case 1: for (std::size_t k = 3; k < 6; ++k) q[k] = q[k - 3]; break;
+      case 2: for (std::size_t k = 12; k < 15; ++k) q[k] += 1e3 * u(rng); break;
+      case 3: for (std::size_t k = 0; k < columns; ++k) q[k] *= s.tiny; break;
+      case 4: for (std::size_t k = 0; k < 15; ++k) q[k] *= s.huge; break;
+      default: for (std::size_t k = 0; k < columns; ++k) q[k] = 1e3 * u(rng); break;
+    }
+  }
+}
+
+/// random_queries with spoil_rows applied (seed + 1 for the spoiling).
+inline std::vector<double> mixed_queries(SurfaceKind kind, std::size_t count, std::uint64_t seed, const Spoiling& s = {}) {
+  std::vector<double> raw = random_queries(kind, count, seed);
+  spoil_rows(kind, raw, seed + 1, s);
+  return raw;
+}
+
+/// Methods that together take every path of lib/search's block kernel (network, lean and converged Newton,
+/// the hybrids; bilinear: the closed form), for tests that compare runs of the same queries.
+inline std::vector<std::string> methods_of(SurfaceKind kind) {
+  std::vector<std::string> m = {"network", "newton:0", "newton:3", "newton", "network+newton:2"};
+  if (kind == SurfaceKind::kBilinear) {
+    m.push_back("closed_form");
+    m.push_back("closed_form+newton:2");
+  }
+  return m;
 }
 
 /// Queries on a tie (tests/search/test_canonical_frame.cpp has the same shapes), each in all 8 node orders and

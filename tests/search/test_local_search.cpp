@@ -33,6 +33,8 @@ namespace {
 using geometry::Configuration;
 using geometry::Vec3;
 using testing::configuration_of;
+using testing::methods_of;
+using testing::mixed_queries;
 using testing::random_queries;
 
 constexpr SurfaceKind kBilinear = SurfaceKind::kBilinear;
@@ -540,35 +542,6 @@ TEST(Hybrids, AStepThatDoesNotReduceTheDistanceKeepsThePreviousIterate) {
 }
 
 // ---- float against double, independence of count, position and threads ----
-
-std::vector<std::string> methods_of(SurfaceKind kind) {
-  std::vector<std::string> m = {"network", "newton:0", "newton:3", "newton", "network+newton:2"};
-  if (kind == kBilinear) {
-    m.push_back("closed_form");
-    m.push_back("closed_form+newton:2");
-  }
-  return m;
-}
-
-/// Queries of the paper's domain with hostile ones mixed in: non-finite, collapsed, far, tiny and huge.
-std::vector<double> mixed_queries(SurfaceKind kind, std::size_t count, std::uint64_t seed) {
-  std::vector<double> raw = random_queries(kind, count, seed);
-  const auto s = static_cast<std::size_t>(stride(kind));
-  std::mt19937_64 rng(seed);
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
-  for (std::size_t i = 0; i < count; i += 7) {
-    double* q = raw.data() + i * s;
-    switch ((i / 7) % 6) {
-      case 0: q[static_cast<std::size_t>(i % s)] = std::numeric_limits<double>::quiet_NaN(); break;
-      case 1: for (int k = 3; k < 6; ++k) q[k] = q[k - 3]; break;  // A = B
-      case 2: for (int k = 12; k < 15; ++k) q[k] += 1e3 * u(rng); break;
-      case 3: for (std::size_t k = 0; k < s; ++k) q[k] *= 1e-200; break;
-      case 4: for (std::size_t k = 0; k < 15; ++k) q[k] *= 1e200; break;
-      default: for (std::size_t k = 0; k < s; ++k) q[k] = 1e3 * u(rng); break;
-    }
-  }
-  return raw;
-}
 
 TEST(LocalSearch, FloatResultsAreTheDoubleResultsRounded) {
   // The same (float-representable) inputs in float and in double: everything is computed in double (or in the
