@@ -59,24 +59,40 @@ CONTACTNN_SEARCH_INLINE NewtonSystem newton_system(const Eval& e) {
   return q;
 }
 
+/// The undamped Newton step H dp = r at an iterate (lean_newton, converged_newton): singular when det H = 0,
+/// finite when both components are.
+struct PlainStep {
+  double du, dv;
+  bool singular, finite;
+};
+
+template <bool kPureSecond>
+CONTACTNN_SEARCH_INLINE PlainStep plain_step(const Eval& e) {
+  const NewtonSystem q = newton_system<kPureSecond>(e);
+  const double det = q.h00 * q.h11 - q.h01 * q.h01;
+  const double inv = 1.0 / det;
+  PlainStep p;
+  p.du = (q.h11 * q.r0 - q.h01 * q.r1) * inv;
+  p.dv = (q.h00 * q.r1 - q.h01 * q.r0) * inv;
+  p.singular = det == 0.0;
+  p.finite = is_finite(p.du) & is_finite(p.dv);
+  return p;
+}
+
 /// Lean Newton: `steps` undamped steps H dp = r from the lanes' iterates. A lane stops early, keeping its last
 /// iterate, with status degenerate when det H = 0 (as projection::newton_fixed_iterations stops) or
 /// no_convergence when the step is not finite. No line search, no box, no convergence test.
 template <class Surf, int W>
-void lean_newton(const Surf& surf, int steps, LaneState<W>& s) {
+static void lean_newton(const Surf& surf, int steps, LaneState<W>& s) {
   for (int k = 0; k < steps; ++k) {
     CONTACTNN_LANES
     for (int l = 0; l < W; ++l) {
       Eval e;
       surf.template eval<true>(l, s.u[l], s.v[l], e);
-      const NewtonSystem q = newton_system<Surf::kHasPureSecond>(e);
-      const double det = q.h00 * q.h11 - q.h01 * q.h01;
-      const double inv = 1.0 / det;
-      const double du = (q.h11 * q.r0 - q.h01 * q.r1) * inv;
-      const double dv = (q.h00 * q.r1 - q.h01 * q.r0) * inv;
+      const PlainStep p = plain_step<Surf::kHasPureSecond>(e);
+      const double du = p.du, dv = p.dv;
       const bool active = s.status[l] == kOk;
-      const bool singular = det == 0.0;
-      const bool finite = is_finite(du) & is_finite(dv);
+      const bool singular = p.singular, finite = p.finite;
       const bool take = active & !singular & finite;
       s.u[l] = take ? s.u[l] + du : s.u[l];
       s.v[l] = take ? s.v[l] + dv : s.v[l];
@@ -89,7 +105,7 @@ void lean_newton(const Surf& surf, int steps, LaneState<W>& s) {
 /// Undamped Newton until the step (max norm) is at most `tol` or `max_iterations` steps: statuses as
 /// lean_newton, and no_convergence for a lane still moving after the last step.
 template <class Surf, int W>
-void converged_newton(const Surf& surf, int max_iterations, double tol, LaneState<W>& s) {
+static void converged_newton(const Surf& surf, int max_iterations, double tol, LaneState<W>& s) {
   double running[W];
   for (int l = 0; l < W; ++l) running[l] = s.status[l] == kOk ? 1.0 : 0.0;
   for (int k = 0; k < max_iterations; ++k) {
@@ -98,14 +114,10 @@ void converged_newton(const Surf& surf, int max_iterations, double tol, LaneStat
     for (int l = 0; l < W; ++l) {
       Eval e;
       surf.template eval<true>(l, s.u[l], s.v[l], e);
-      const NewtonSystem q = newton_system<Surf::kHasPureSecond>(e);
-      const double det = q.h00 * q.h11 - q.h01 * q.h01;
-      const double inv = 1.0 / det;
-      const double du = (q.h11 * q.r0 - q.h01 * q.r1) * inv;
-      const double dv = (q.h00 * q.r1 - q.h01 * q.r0) * inv;
+      const PlainStep p = plain_step<Surf::kHasPureSecond>(e);
+      const double du = p.du, dv = p.dv;
       const bool active = running[l] != 0.0;
-      const bool singular = det == 0.0;
-      const bool finite = is_finite(du) & is_finite(dv);
+      const bool singular = p.singular, finite = p.finite;
       const bool take = active & !singular & finite;
       const double size = max_of(std::fabs(du), std::fabs(dv));
       s.u[l] = take ? s.u[l] + du : s.u[l];
@@ -181,7 +193,7 @@ CONTACTNN_SEARCH_INLINE double clamp_to(double x, double lo, double hi) {
 /// ends the lane (converged). Both systems singular: degenerate. A lane ending on the box's edge is not at a
 /// stationary point inside the box: no_convergence. `store` holds the surface at each lane's final iterate.
 template <class Surf, int W>
-void safeguarded_newton(const Surf& surf, int steps, const Safeguards& g, const double* noise, LaneState<W>& s,
+static void safeguarded_newton(const Surf& surf, int steps, const Safeguards& g, const double* noise, LaneState<W>& s,
                         EvalStore<W, Surf::kHasPureSecond>& store) {
   // The settings as locals: a field read under a lane-dependent condition becomes a masked load of an invariant,
   // which GCC 12 does not vectorise.
