@@ -25,7 +25,7 @@
 namespace contactnn::search::detail {
 
 template <int W>
-void closed_form(const BilinearBlock<W>& b, LaneState<W>& s) {
+static void closed_form(const BilinearBlock<W>& b, LaneState<W>& s) {
   CONTACTNN_LANES
   for (int l = 0; l < W; ++l) {
     double a0[3], a1[3], a2[3], a3[3];

@@ -46,7 +46,7 @@ CONTACTNN_SEARCH_INLINE void layer_units(const Net* w, const Net* theta, const N
 
 /// y[k] = sigmoid(y[k]) for k < n (Eq 12): one flat loop, which vectorises as it stands.
 template <class Net>
-void sigmoid_all(Net* y, int n, Net gain) {
+static void sigmoid_all(Net* y, int n, Net gain) {
   CONTACTNN_LANES
   for (int k = 0; k < n; ++k) y[k] = sigmoid(y[k], gain);
 }
@@ -91,7 +91,7 @@ CONTACTNN_SEARCH_INLINE void affine_inputs(const double* f, bool gregory, double
 /// (affine_inputs, when the network has it) and the scaling of mlp::predict (scaled inputs clamped to +-1e6, so any finite feature gives a finite output), then every
 /// layer U_j = sum_i W_ji I_i - theta_j, O_j = sigmoid(U_j) in Net, eight units at a time for all lanes.
 template <class Net, int W>
-void forward_pass(const NetworkModel& m, const double* f, double* out) {
+static void forward_pass(const NetworkModel& m, const double* f, double* out) {
   alignas(64) Net buffer[2][NetworkModel::kMaxWidth * W];
   const auto& sizes = m.layer_sizes();
   const double* in_min = m.input_min().data();
@@ -154,7 +154,7 @@ void tie_estimate(const NetworkModel& m, bool check_domain, const double* query,
 /// the caller's node order: status ok, out_of_domain (with check_domain), degenerate or invalid; the estimate
 /// is the domain centre for the last two. Lanes on a tie go through tie_estimate after the block.
 template <class Net, int W, bool kGregory>
-void network_estimate(const NetworkModel& m, bool check_domain, const double* raw, LaneState<W>& s) {
+static void network_estimate(const NetworkModel& m, bool check_domain, const double* raw, LaneState<W>& s) {
   alignas(64) double features[16 * W], normals[12 * W], info[CNN_CF_INFO_ROWS * W], out[2 * W];
   constexpr int kG = kGregory ? 1 : 0;
   cnn_canonicalise_block(W, kG, raw, features, normals, info);

@@ -1,6 +1,14 @@
 // Internal to lib/search: one block of W queries through a method, from the raw rows to the Results. Included
 // by kernels_bilinear.cpp and kernels_gregory.cpp, which instantiate it per surface, input type, network type
 // and block width (W = 1 is the path of queries outside whole blocks).
+//
+// The kernels' function templates here and in the *_block.hpp headers are `static`: each translation unit keeps
+// the copies it compiled with its own flags (kernels_single.cpp without auto-vectorisation, the others with
+// it). With external linkage the linker keeps one copy of each instantiation for the whole program: a
+// width-independent one such as sigmoid_all<float> came from whichever object it saw first, and a benchmark
+// that instantiated the block kernels in its own translation unit once replaced the library's (1.6-2x slower).
+// The surface blocks' member functions keep external linkage; they are keyed on W, which no two of the
+// kernel files share. tie_estimate is the one kernel meant to be shared (kernels_single.cpp).
 #pragma once
 
 #include <cstdint>
@@ -16,7 +24,7 @@
 namespace contactnn::search::detail {
 
 template <bool kGregory, class Net, int W, class In>
-void search_block(const Plan& plan, const In* raw_rows, const Results<In>& out, std::size_t first) {
+static void search_block(const Plan& plan, const In* raw_rows, const Results<In>& out, std::size_t first) {
   using Surf = std::conditional_t<kGregory, GregoryBlock<W>, BilinearBlock<W>>;
   constexpr int kStride = kGregory ? 27 : 15;
   constexpr double kCentre = kGregory ? 0.5 : 0.0;
@@ -190,7 +198,7 @@ void search_block(const Plan& plan, const In* raw_rows, const Results<In>& out, 
 /// safeguarded Newton and the closed form 32 (12.3 ns for newton:5 against 15.5 at 16 and 24.7 at 8); Newton to
 /// convergence 16, since a block iterates until its slowest lane has converged.
 template <bool kGregory>
-void select_block_kernels(Plan& plan) {
+static void select_block_kernels(Plan& plan) {
   const bool network = plan.method.needs_network();
   if (network && plan.network->is_float()) {
     plan.block_size = 32;
@@ -209,7 +217,7 @@ void select_block_kernels(Plan& plan) {
 
 /// network_stages (search_plan.hpp) for one surface, network type and block width.
 template <bool kGregory, class Net, int W>
-double network_stages_of(const NetworkModel& model, const double* raw_rows, std::size_t count, int stage,
+static double network_stages_of(const NetworkModel& model, const double* raw_rows, std::size_t count, int stage,
                          std::size_t& done) {
   constexpr int kStride = kGregory ? 27 : 15;
   constexpr int kG = kGregory ? 1 : 0;
@@ -236,7 +244,7 @@ double network_stages_of(const NetworkModel& model, const double* raw_rows, std:
 }
 
 template <bool kGregory>
-double network_stages_for(const NetworkModel& model, const double* raw, std::size_t count, int stage, std::size_t& done) {
+static double network_stages_for(const NetworkModel& model, const double* raw, std::size_t count, int stage, std::size_t& done) {
   // The widths of select_block_kernels.
   return model.is_float() ? network_stages_of<kGregory, float, 32>(model, raw, count, stage, done)
                           : network_stages_of<kGregory, double, 16>(model, raw, count, stage, done);
