@@ -1,6 +1,7 @@
 // Tests of lib/eval/timing (the harness's bookkeeping, never its speed), study and report: a study of a
 // stand-in predictor on a small hand-built dataset writes every file and lists every method.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <filesystem>
 #include <algorithm>
@@ -151,7 +152,9 @@ TEST(StudyReport, KnownNetworkErrorsEveryMethodEveryFile) {
 
   RunInfo info;
   info.command_line = "test";
-  const std::filesystem::path dir = std::filesystem::path(::testing::TempDir()) / "contactnn_study_report";
+  // One folder per process: two runs of the suite on one machine must not share it.
+  const std::filesystem::path dir =
+      std::filesystem::path(::testing::TempDir()) / ("contactnn_study_report_" + std::to_string(::getpid()));
   std::filesystem::remove_all(dir);
   write_report(dir, result, info, options);
 
