@@ -12,6 +12,7 @@
 #include "core/error.hpp"
 #include "geometry/segment_checks.hpp"
 #include "mesh/surface_mesh.hpp"
+#include "mesh/grid_surface.hpp"
 #include "test_support.hpp"
 
 namespace contactnn::contact {
@@ -25,29 +26,7 @@ constexpr double kShapeTol = 1e-12;
 /// An nx x ny grid of unit squares on z = height(x, y), counter-clockwise seen from +z (outward = up);
 /// node (i, j) has index and id i + (nx + 1) j (+1 for the id).
 mesh::SurfaceMesh grid(int nx, int ny, double (*height)(double, double) = nullptr) {
-  mesh::SurfaceMesh s;
-  for (int j = 0; j <= ny; ++j) {
-    for (int i = 0; i <= nx; ++i) {
-      s.node_ids.push_back(static_cast<long>(s.node_ids.size()) + 1);
-      s.positions.emplace_back(i, j, height ? height(i, j) : 0.0);
-    }
-  }
-  const auto at = [&](int i, int j) { return i + (nx + 1) * j; };
-  for (int j = 0; j < ny; ++j) {
-    for (int i = 0; i < nx; ++i) s.segments.push_back({at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)});
-  }
-  const std::size_t n = s.positions.size();
-  s.adjacency_offsets.assign(n + 1, 0);
-  for (const auto& q : s.segments) {
-    for (int v : q) ++s.adjacency_offsets[static_cast<std::size_t>(v) + 1];
-  }
-  for (std::size_t i = 0; i < n; ++i) s.adjacency_offsets[i + 1] += s.adjacency_offsets[i];
-  s.adjacency.resize(static_cast<std::size_t>(s.adjacency_offsets[n]));
-  std::vector<int> fill(s.adjacency_offsets.begin(), s.adjacency_offsets.end() - 1);
-  for (std::size_t q = 0; q < s.segments.size(); ++q) {
-    for (int v : s.segments[q]) s.adjacency[static_cast<std::size_t>(fill[static_cast<std::size_t>(v)]++)] = static_cast<int>(q);
-  }
-  return s;
+  return testing::grid_surface(nx, ny, [&](double i, double j) { return geometry::Vec3(i, j, height ? height(i, j) : 0.0); });
 }
 
 NodeSegmentPair search_one(const mesh::SurfaceMesh& s, const Vec3& slave, SurfaceKind kind = SurfaceKind::kBilinear) {

@@ -14,6 +14,7 @@
 #include "core/error.hpp"
 #include "geometry/node_normals.hpp"
 #include "mesh/element_type.hpp"
+#include "mesh/grid_surface.hpp"
 #include "mesh/solid_mesh.hpp"
 #include "mesh/surface_mesh.hpp"
 #include "test_support.hpp"
@@ -192,32 +193,7 @@ TEST(SurfaceMesh, FaceNumberOutsideTheElementsTableIsRejected) {
   EXPECT_THROW((void)build_surface_mesh(mesh, faces), InvalidArgument);
 }
 
-/// A structured nx x ny quad mesh of the surface z = f(x, y) (counter-clockwise seen from +z).
-SurfaceMesh grid_surface(int nx, int ny, const std::function<Vec3(double, double)>& point) {
-  SurfaceMesh s;
-  for (int j = 0; j <= ny; ++j) {
-    for (int i = 0; i <= nx; ++i) {
-      s.node_ids.push_back(static_cast<long>(s.node_ids.size()) + 1);
-      s.positions.push_back(point(i, j));
-    }
-  }
-  const auto at = [&](int i, int j) { return i + (nx + 1) * j; };
-  for (int j = 0; j < ny; ++j) {
-    for (int i = 0; i < nx; ++i) s.segments.push_back({at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)});
-  }
-  const std::size_t n = s.positions.size();
-  s.adjacency_offsets.assign(n + 1, 0);
-  for (const auto& q : s.segments) {
-    for (int v : q) ++s.adjacency_offsets[static_cast<std::size_t>(v) + 1];
-  }
-  for (std::size_t i = 0; i < n; ++i) s.adjacency_offsets[i + 1] += s.adjacency_offsets[i];
-  s.adjacency.resize(static_cast<std::size_t>(s.adjacency_offsets[n]));
-  std::vector<int> fill(s.adjacency_offsets.begin(), s.adjacency_offsets.end() - 1);
-  for (std::size_t q = 0; q < s.segments.size(); ++q) {
-    for (int v : s.segments[q]) s.adjacency[static_cast<std::size_t>(fill[static_cast<std::size_t>(v)]++)] = static_cast<int>(q);
-  }
-  return s;
-}
+using contactnn::testing::grid_surface;
 
 TEST(NodeNormals, AgreeWithGeometryNodeNormalOnABumpyMesh) {
   // An independent implementation: geometry::node_normal scans every segment for the node.
