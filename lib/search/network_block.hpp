@@ -44,10 +44,12 @@ CONTACTNN_SEARCH_INLINE void layer_units(const Net* w, const Net* theta, const N
   }
 }
 
-/// y[k] = sigmoid(y[k]) for k < n (Eq 12): one flat loop, which vectorises as it stands.
+/// y[k] = sigmoid(y[k]) for k < n (Eq 12): one flat loop. `omp simd` vectorises it in kernels_single.cpp too
+/// (built without auto-vectorisation): a one-lane layer of 32 units is 32 independent sigmoids, and each
+/// element rounds as in the scalar loop (no reduction), so a query keeps the same bits alone and in a block.
 template <class Net>
 static void sigmoid_all(Net* y, int n, Net gain) {
-  CONTACTNN_LANES
+#pragma omp simd
   for (int k = 0; k < n; ++k) y[k] = sigmoid(y[k], gain);
 }
 
