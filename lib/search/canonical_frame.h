@@ -352,8 +352,10 @@ static inline void cnn_cf_lane_scaled(const double* CNN_CF_RESTRICT in, int is, 
 }
 
 /* The block: every lane in the vectorised pass, then the rare lanes that need scaling. `info` has
- * CNN_CF_INFO_ROWS rows. */
-static inline void cnn_canonicalise_block(int n, int gregory, const double* CNN_CF_RESTRICT in, double* CNN_CF_RESTRICT f,
+ * CNN_CF_INFO_ROWS rows. Always inlined, as cnn_domain_block: GCC 12 otherwise makes a clone for the constant
+ * arguments of one caller (a constant domain, n = 1) whose lane loop it does not vectorise, and uses it for
+ * the block calls too (an exported header's batch ran its domain test scalar: 2.6x the library's time). */
+CNN_CF_INLINE void cnn_canonicalise_block(int n, int gregory, const double* CNN_CF_RESTRICT in, double* CNN_CF_RESTRICT f,
                                           double* CNN_CF_RESTRICT nrm, double* CNN_CF_RESTRICT info) {
   int l;
   CNN_CF_IVDEP
@@ -590,7 +592,7 @@ CNN_CF_INLINE void cnn_domain_lane(const struct cnn_domain* CNN_CF_RESTRICT d, i
 }
 
 /* The block: status row `code` (n lanes) updated for every lane. */
-static inline void cnn_domain_block(int n, int gregory, const struct cnn_domain* CNN_CF_RESTRICT d,
+CNN_CF_INLINE void cnn_domain_block(int n, int gregory, const struct cnn_domain* CNN_CF_RESTRICT d,
                                     const double* CNN_CF_RESTRICT f, const double* CNN_CF_RESTRICT nrm,
                                     double* CNN_CF_RESTRICT code) {
   int l;
