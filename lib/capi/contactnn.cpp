@@ -1,5 +1,5 @@
-// The C interface (contactnn/contactnn.h) over search::LocalSearch and io::read_network. Each entry point
-// is a boundary: exceptions become return codes and a thread-local message, nothing else leaves.
+// The C interface (contactnn/contactnn.h) over search::LocalSearch and io::read_network_model. Each entry
+// point is a boundary: exceptions become return codes and a thread-local message, nothing else leaves.
 #include "contactnn/contactnn.h"
 
 #include <cstdint>
@@ -14,7 +14,7 @@
 
 #include "core/conventions.hpp"
 #include "core/error.hpp"
-#include "io/network_file.hpp"
+#include "io/network_model_file.hpp"
 #include "search/local_search.hpp"
 #include "search/method.hpp"
 #include "search/network_model.hpp"
@@ -92,12 +92,7 @@ std::mutex g_network_read_mutex;
 
 std::unique_ptr<const search::NetworkModel> load_network(const std::string& path) {
   const std::lock_guard<std::mutex> lock(g_network_read_mutex);
-  if (io::read_network_real_type(path) == "float32") {
-    const io::TrainedNetwork<float> trained = io::read_network<float>(path);
-    return std::make_unique<const search::NetworkModel>(trained.network, trained.domain);
-  }
-  const io::TrainedNetwork<double> trained = io::read_network<double>(path);
-  return std::make_unique<const search::NetworkModel>(trained.network, trained.domain);
+  return io::read_network_model(path);
 }
 
 search::SearchOptions to_search_options(const contactnn_options& o) {

@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "contactnn/contactnn.h"
-#include "io/network_file.hpp"
+#include "io/network_model_file.hpp"
 #include "search/local_search.hpp"
 #include "search/random_queries.hpp"
 
@@ -39,14 +39,7 @@ const search::NetworkModel& model(SurfaceKind kind) {
   static std::unique_ptr<search::NetworkModel> models[2];
   auto& m = models[static_cast<int>(kind)];
   if (!m) {
-    const std::string path = network_path(kind);
-    if (io::read_network_real_type(path) == "float32") {
-      const auto trained = io::read_network<float>(path);
-      m = std::make_unique<search::NetworkModel>(trained.network, trained.domain);
-    } else {
-      const auto trained = io::read_network<double>(path);
-      m = std::make_unique<search::NetworkModel>(trained.network, trained.domain);
-    }
+    m = io::read_network_model(network_path(kind));
   }
   return *m;
 }

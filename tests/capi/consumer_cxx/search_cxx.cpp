@@ -14,24 +14,10 @@
 #include <vector>
 
 #include "core/error.hpp"
-#include "io/network_file.hpp"
+#include "io/network_model_file.hpp"
 #include "search/local_search.hpp"
 
-namespace {
-
 using namespace contactnn;
-
-/// The network file as a NetworkModel, in the precision it was trained in.
-std::unique_ptr<search::NetworkModel> load(const std::string& path) {
-  if (io::read_network_real_type(path) == "float32") {
-    const io::TrainedNetwork<float> trained = io::read_network<float>(path);
-    return std::make_unique<search::NetworkModel>(trained.network, trained.domain);
-  }
-  const io::TrainedNetwork<double> trained = io::read_network<double>(path);
-  return std::make_unique<search::NetworkModel>(trained.network, trained.domain);
-}
-
-}  // namespace
 
 int main(int argc, char** argv) {
   if (argc != 6) {
@@ -55,7 +41,7 @@ int main(int argc, char** argv) {
                          "cannot read " << n << " queries from " << argv[4]);
 
     // 2. The network and the search.
-    const std::unique_ptr<search::NetworkModel> network = load(argv[3]);
+    const std::unique_ptr<search::NetworkModel> network = io::read_network_model(argv[3]);
     const search::LocalSearch search(kind, search::Method::parse(argv[2]), {}, network.get());
 
     // 3. One batched call.
