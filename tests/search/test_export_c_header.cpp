@@ -21,6 +21,7 @@
 #include "search/embedded_sources.hpp"
 #include "search/local_search.hpp"
 #include "search/random_queries.hpp"
+#include "search/shipped_networks.hpp"
 
 namespace contactnn::search {
 namespace {
@@ -38,14 +39,7 @@ constexpr double kDoubleNetworkTol = 1e-11;
 // out of a query of status 1 must be left untouched: the driver fills it with this first.
 constexpr double kUntouched = 12345.0;
 
-const io::TrainedNetwork<float>& shipped(const std::string& name) {
-  static std::map<std::string, io::TrainedNetwork<float>> cache;
-  auto it = cache.find(name);
-  if (it == cache.end()) {
-    it = cache.emplace(name, io::read_network<float>(std::string(CONTACTNN_SOURCE_DIR) + "/data/weights/" + name)).first;
-  }
-  return it->second;
-}
+using testing::shipped;
 
 /// A network of `sizes` in Real with random weights, scaled to the feature ranges of `domain`.
 template <class Real>

@@ -26,6 +26,7 @@
 #include "io/network_file.hpp"
 #include "projection/newton_projection.hpp"
 #include "search/random_queries.hpp"
+#include "search/shipped_networks.hpp"
 
 namespace contactnn::search {
 namespace {
@@ -65,15 +66,7 @@ Output<double> run_method(SurfaceKind kind, const std::string& method, const std
   return run(LocalSearch(kind, Method::parse(method), {}, network), raw, threads);
 }
 
-/// The shipped networks (data/weights), read once.
-const io::TrainedNetwork<float>& shipped(const std::string& name) {
-  static std::map<std::string, io::TrainedNetwork<float>> cache;
-  auto it = cache.find(name);
-  if (it == cache.end()) {
-    it = cache.emplace(name, io::read_network<float>(std::string(CONTACTNN_SOURCE_DIR) + "/data/weights/" + name)).first;
-  }
-  return it->second;
-}
+using testing::shipped;
 
 std::vector<dataset::Label> labels_of(const std::vector<double>& raw, SurfaceKind kind) {
   std::vector<dataset::Label> labels;
