@@ -102,13 +102,7 @@ LabelledSet enumerate_configurations(const EnumerationOptions& options, Enumerat
       config.normals = random_node_normals(config.nodes, filters.max_normal_tilt_tangent, random);
     }
     const Label label = label_configuration(config, kind, options.projection);
-    for (int f = 0; f < feature_count(kind); ++f) all.features(row, f) = label.features[static_cast<std::size_t>(f)];
-    all.labels(row, 0) = label.canonical_param[0];
-    all.labels(row, 1) = label.canonical_param[1];
-    all.gap[row] = label.canonical_gap;
-    all.iterations[row] = label.iterations;
-    all.status[static_cast<std::size_t>(row)] = label.status;
-    all.scale[row] = label.scale;
+    store_label(label, row, all);
     const std::int64_t finished = ++done;
     if (progress && omp_get_thread_num() == 0 && (finished & 1023) == 0) {
       const auto now = std::chrono::steady_clock::now();

@@ -47,4 +47,14 @@ Label label_configuration(const geometry::Configuration& world, SurfaceKind kind
   return label;
 }
 
+void store_label(const Label& label, Eigen::Index row, LabelledSet& set) {
+  for (int f = 0; f < feature_count(set.surface); ++f) set.features(row, f) = label.features[static_cast<std::size_t>(f)];
+  set.labels(row, 0) = label.canonical_param[0];
+  set.labels(row, 1) = label.canonical_param[1];
+  set.gap[row] = label.canonical_gap;
+  set.iterations[row] = label.iterations;
+  set.status[static_cast<std::size_t>(row)] = label.status;
+  set.scale[row] = label.scale;
+}
+
 }  // namespace contactnn::dataset

@@ -5,6 +5,7 @@
 #include <array>
 
 #include "core/conventions.hpp"
+#include "dataset/labelled_set.hpp"
 #include "geometry/affine_frame.hpp"
 #include "projection/newton_projection.hpp"
 
@@ -29,6 +30,10 @@ struct Label {
 /// status in the normalised frame, where the projection is computed (scale-free tolerances).
 [[nodiscard]] Label label_configuration(const geometry::Configuration& world, SurfaceKind kind,
                                         const projection::ProjectionOptions& options = {});
+
+/// Writes row `row` of `set` (allocated for it) from `label`: its features, canonical local coordinates, canonical
+/// gap, iterations, status and scale (the generators' one way of filling a dataset row).
+void store_label(const Label& label, Eigen::Index row, LabelledSet& set);
 
 /// Projects a configuration already in the normalised frame (gap in frame units, scale 1).
 [[nodiscard]] projection::ProjectionResult project_normalised(const geometry::Configuration& normalised,

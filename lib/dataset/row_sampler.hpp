@@ -63,15 +63,7 @@ LabelledSet sample_rows(SurfaceKind kind, std::int64_t count, std::uint64_t seed
       ++t.labelled;
       ++t.status[static_cast<std::size_t>(a.label->status)];
       if (!a.keep) continue;
-      const Label& label = *a.label;
-      const auto i = static_cast<Eigen::Index>(row);
-      for (int f = 0; f < feature_count(kind); ++f) set.features(i, f) = label.features[static_cast<std::size_t>(f)];
-      set.labels(i, 0) = label.canonical_param[0];
-      set.labels(i, 1) = label.canonical_param[1];
-      set.gap[i] = label.canonical_gap;
-      set.iterations[i] = label.iterations;
-      set.status[static_cast<std::size_t>(row)] = label.status;
-      set.scale[i] = label.scale;
+      store_label(*a.label, static_cast<Eigen::Index>(row), set);
       break;
     }
     const std::int64_t finished = ++done;
