@@ -40,15 +40,8 @@ dataset::LabelledSet labelled_set() {
   constexpr Eigen::Index n = 40;
   set.resize(n, SurfaceKind::kBilinear);
   for (Eigen::Index i = 0; i < n; ++i) {
-    const dataset::Label l =
-        dataset::label_configuration(testing::random_paper_configuration(rng), SurfaceKind::kBilinear);
-    for (int f = 0; f < 8; ++f) set.features(i, f) = l.features[static_cast<std::size_t>(f)];
-    set.labels(i, 0) = l.param[0];
-    set.labels(i, 1) = l.param[1];
-    set.gap[i] = l.gap;
-    set.iterations[i] = l.iterations;
-    set.status[static_cast<std::size_t>(i)] = l.status;
-    set.scale[i] = l.scale;
+    dataset::store_label(
+        dataset::label_configuration(testing::random_paper_configuration(rng), SurfaceKind::kBilinear), i, set);
   }
   set.config_toml = "[gen-configs]\n";
   return set;
