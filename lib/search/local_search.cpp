@@ -39,10 +39,10 @@ LocalSearch::LocalSearch(SurfaceKind kind, Method method, SearchOptions options,
   const ParamDomain d = param_domain(kind);
   const double width = d.hi - d.lo;
   const double box = kind == SurfaceKind::kGregory ? options.gregory_box_margin : options.bilinear_box_margin;
-  plan->guards = detail::Safeguards{d.lo - box * width, d.hi + box * width, options.max_step_widths * width,
-                                    options.tol_param, options.max_halvings};
   plan->inside_lo = d.lo - options.domain_margin;
   plan->inside_hi = d.hi + options.domain_margin;
+  plan->guards = detail::Safeguards{d.lo - box * width, d.hi + box * width, options.max_step_widths * width,
+                                    options.tol_param, options.max_halvings, plan->inside_lo, plan->inside_hi};
   if (kind == SurfaceKind::kGregory) {
     detail::select_gregory_kernels(*plan);
   } else {

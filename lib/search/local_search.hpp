@@ -70,8 +70,10 @@ class LocalSearch {
   ///    bilinear map (the estimate is still reported); degenerate (no plane); invalid.
   ///  - network+newton:K, closed_form+newton:K: the start, then K safeguarded steps (box, step cap,
   ///    halving): ok or outside; no_convergence when a step does not reduce |S - P| after max_halvings
-  ///    halvings (the previous iterate is kept) or the iterate ends on the box's edge; degenerate (both Newton
-  ///    systems singular, or no Gregory patch); invalid. A network start without a canonical frame (e.g. a
+  ///    halvings (the previous iterate is kept) or the iterate ends on the box's edge beyond the domain. Where
+  ///    the box is the domain (the Gregory default), an iterate held on its edge is outside when |S - P|
+  ///    still falls outward there (the edge point is reported, not the stationary point beyond it), else
+  ///    ok; degenerate (both Newton systems singular, or no Gregory patch); invalid. A network start without a canonical frame (e.g. a
   ///    straight angle at the canonical corner) is refined from the centre; an out_of_domain estimate is refined
   ///    from itself, and where that refinement fails, again from the centre (its steps add up).
   template <class Real>

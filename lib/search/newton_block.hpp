@@ -138,6 +138,7 @@ struct Safeguards {
   double max_step;     ///< parameter units, max norm
   double tol;          ///< a step this short ends the lane (converged)
   int max_halvings;    ///< halvings of a step that does not reduce |S - P|
+  double inside_lo, inside_hi;  ///< the domain enlarged by domain_margin (ok versus outside)
 };
 
 /// Surface values at the current iterate of every lane, kept between steps. kPureSecond false (the bilinear
@@ -185,13 +186,51 @@ CONTACTNN_SEARCH_INLINE double clamp_to(double x, double lo, double hi) {
   return x < lo ? lo : x;
 }
 
+/// The end of safeguarded_newton for the lanes held on the box's edge, out of line: inlined, its use of the
+/// stored surface changed how GCC contracts the steps' multiply-adds in one of the two builds (the one-lane
+/// and the vectorised kernel), and a query's bits then depended on its block.
+template <int W, bool kPureSecond>
+[[gnu::noinline]] static void classify_held_lanes(const Safeguards& g, LaneState<W>& s,
+                                                  const EvalStore<W, kPureSecond>& store) {
+  // A lane held on the box's edge. Where the box is larger than the domain, the iterate is not at a stationary
+  // point in the box: no_convergence (a step pointing further out there follows a far stationary point or
+  // the fold of a warped bilinear map as often as the answer: on random bilinear configurations labelled
+  // inside, calling those outside gave wrong answers). Where the box's edge is the domain's (the Gregory
+  // default), the gradient of |S - P|^2 at the iterate (the surface is in `store`: no evaluation) says
+  // whether the nearest point of the segment is there: the distance still falling outward across the edge
+  // (by more than a step of tol) -> outside, reported at the edge; otherwise -> ok, a point of the edge.
+  const double lo = g.lo, hi = g.hi, tol = g.tol;
+  const double in_lo = g.inside_lo, in_hi = g.inside_hi;
+  CONTACTNN_LANES
+  for (int l = 0; l < W; ++l) {
+    const bool at_lo_u = s.u[l] == lo, at_hi_u = s.u[l] == hi, at_lo_v = s.v[l] == lo, at_hi_v = s.v[l] == hi;
+    const bool pinned = at_lo_u | at_hi_u | at_lo_v | at_hi_v;
+    // r_i = P_i.(S - P) = -(1/2) d|S - P|^2 / di: positive where the distance falls as i grows.
+    double r0 = 0.0, r1 = 0.0, m0 = 0.0, m1 = 0.0;
+    CONTACTNN_UNROLL
+    for (int c = 0; c < 3; ++c) {
+      r0 -= store.ps[c][l] * store.p[c][l];
+      r1 -= store.pt[c][l] * store.p[c][l];
+      m0 += store.ps[c][l] * store.ps[c][l];
+      m1 += store.pt[c][l] * store.pt[c][l];
+    }
+    const double t0 = tol * m0, t1 = tol * m1;
+    const bool outward = (at_lo_u & (r0 < -t0)) | (at_hi_u & (r0 > t0)) | (at_lo_v & (r1 < -t1)) | (at_hi_v & (r1 > t1));
+    const bool on_domain = (s.u[l] >= in_lo) & (s.u[l] <= in_hi) & (s.v[l] >= in_lo) & (s.v[l] <= in_hi);
+    const bool held = (s.status[l] == kOk) & pinned;
+    s.status[l] = (held & !on_domain) ? kNoConvergence : ((held & outward) ? kOutside : s.status[l]);
+  }
+}
+
 /// The hybrids' refinement: from each lane's estimate (clamped into the box), `steps` Newton steps with the
 /// exact Jacobian where it is positive definite and the Gauss-Newton step (downhill on |S - P|^2) where it is
 /// not; a step is shortened to max_step, clamped into the box, and accepted when |S - P| does not grow by more
 /// than the rounding of the positions (noise[l], a length); otherwise halved up to max_halvings times, after
 /// which the lane stops with status no_convergence and keeps its previous iterate. A step shorter than `tol`
-/// ends the lane (converged). Both systems singular: degenerate. A lane ending on the box's edge is not at a
-/// stationary point inside the box: no_convergence. `store` holds the surface at each lane's final iterate.
+/// ends the lane (converged). Both systems singular: degenerate. A lane ending on the box's edge:
+/// no_convergence where that edge lies beyond the domain; on an edge of the domain, outside when |S - P| still
+/// falls outward across it, else ok (see the last loop). `store` holds the surface at each lane's final
+/// iterate.
 template <class Surf, int W>
 static void safeguarded_newton(const Surf& surf, int steps, const Safeguards& g, const double* noise, LaneState<W>& s,
                         EvalStore<W, Surf::kHasPureSecond>& store) {
@@ -271,11 +310,7 @@ static void safeguarded_newton(const Surf& surf, int steps, const Safeguards& g,
     }
     if (any_of<W>(running) == 0.0) break;
   }
-  CONTACTNN_LANES
-  for (int l = 0; l < W; ++l) {
-    const bool pinned = (s.u[l] == lo) | (s.u[l] == hi) | (s.v[l] == lo) | (s.v[l] == hi);
-    s.status[l] = ((s.status[l] == kOk) & pinned) ? kNoConvergence : s.status[l];
-  }
+  classify_held_lanes<W, Surf::kHasPureSecond>(g, s, store);
 }
 
 /// gap = n.(S - P) with n the unit normal P_s x P_t; 0 where the normal vanishes or a value is not finite.

@@ -171,7 +171,7 @@ TEST(CApi, EveryOptionReachesTheSearch) {
       {"tol_param", kBilinear, "newton", [](SearchOptions& o) { o.tol_param = 1e-2; }},
       {"domain_margin", kBilinear, "newton:3", [](SearchOptions& o) { o.domain_margin = 0.5; }},
       {"gregory_box_margin", kGregory, "network+newton:2",
-       [](SearchOptions& o) { o.gregory_box_margin = 0.0; }},
+       [](SearchOptions& o) { o.gregory_box_margin = 0.1; }},
       {"bilinear_box_margin", kBilinear, "closed_form+newton:2",
        [](SearchOptions& o) { o.bilinear_box_margin = 0.0; }},
       {"max_step_widths", kBilinear, "closed_form+newton:2",

@@ -88,7 +88,7 @@ typedef struct contactnn_options {
   double domain_margin;       /* ok versus outside: slack of the parameter domain, parameter units, >= 0.
                                  Default 1e-10 */
   double gregory_box_margin;  /* hybrids, Gregory: iterates stay in the domain enlarged by this many domain
-                                 widths, >= 0. Default 0.1 */
+                                 widths, >= 0. Default 0: the segment itself, [0, 1]^2 */
   double bilinear_box_margin; /* hybrids, bilinear: the same for the facet, >= 0. Default 0.25 */
   double max_step_widths;     /* hybrids: longest Newton step in domain widths (max norm), > 0. Default 0.5 */
   size_t min_parallel_count;  /* below this many queries a run stays on the calling thread. Default 512 */
