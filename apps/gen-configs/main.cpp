@@ -137,6 +137,11 @@ void print_scene_summary(const std::string& deck, const contact::Scene& scene, c
               scene.master_name.c_str(), scene.where.c_str());
   std::printf("  surface              %s\n", std::string(to_string(surface)).c_str());
   std::printf("  master segments      %zu (%d nodes)\n", scene.master.segments.size(), scene.master.node_count());
+  if (scene.cyclic_sectors > 0) {
+    std::printf("  cyclic symmetry      %d sectors (%s)\n", scene.cyclic_sectors, scene.cyclic_where.c_str());
+    std::printf("                       master segments: the sector's and its two neighbours' (+-360/%d deg)\n",
+                scene.cyclic_sectors);
+  }
   std::printf("  slave nodes          %zu (%d also on the master surface, left out)\n", scene.slave_ids.size(),
               scene.slaves.shared_with_master);
   std::printf("  pairs found          %ld\n", result.found);

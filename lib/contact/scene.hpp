@@ -16,14 +16,21 @@ struct Scene {
   int pair = 0;                       ///< K, the *CONTACT PAIR data line (from 0)
   std::string slave_name, master_name;
   std::string where;                  ///< "'file':line" of the pair's data line
-  mesh::SurfaceMesh master;           ///< segments oriented outward
+  /// Segments oriented outward. For a pair between the two cut faces of a cyclic symmetry model: the master
+  /// surface of the sector and its copies rotated one sector either way (nodes and segments in that order,
+  /// node ids repeated in each copy), so that a slave node finds the neighbouring sector's face it touches.
+  mesh::SurfaceMesh master;
+  int cyclic_sectors = 0;             ///< N of the cyclic symmetry model applied, 0 when none
+  std::string cyclic_where;           ///< its "'file':line"
   std::vector<Vec3> master_normals;   ///< unit node normals of Eq 26 (zero where a node has none)
   mesh::SlaveNodes slaves;            ///< slave nodes in increasing id, skipped slave faces
   std::vector<long> slave_ids;        ///< deck ids of slaves.nodes
   std::vector<Vec3> slave_positions;
 };
 
-/// The scene of pair `k` of `model`: master surface, its node normals, slave nodes (SPEC 7).
+/// The scene of pair `k` of `model`: master surface, its node normals, slave nodes (SPEC 7). When the pair's
+/// two surfaces are the dependent and independent surface of a *CYCLIC SYMMETRY MODEL's tie (either order),
+/// the master surface is repeated in the two neighbouring sectors (Scene::master).
 /// Errors of mesh::contact_pair, mesh::master_surface and mesh::slave_nodes.
 [[nodiscard]] Scene make_scene(const mesh::ContactModel& model, int k);
 

@@ -1,6 +1,7 @@
 #include "io/inp_deck.hpp"
 
 #include <algorithm>
+#include <array>
 #include <charconv>
 #include <cmath>
 #include <fstream>
@@ -155,7 +156,22 @@ struct PendingPair {
   Location where;
 };
 
-enum class Block { kSkip, kNode, kElement, kNset, kElset, kSurface, kContactPair };
+/// A *TIE, CYCLIC SYMMETRY data line: "dependent surface, independent surface".
+struct PendingTie {
+  std::string name, dependent, independent;
+  Location where;
+};
+
+/// A *CYCLIC SYMMETRY MODEL: N=, TIE= (empty: the deck's only cyclic tie) and its axis line.
+struct PendingCyclic {
+  int sectors = 0;
+  std::string tie;
+  std::array<double, 6> axis{};
+  bool has_axis = false;
+  Location where;
+};
+
+enum class Block { kSkip, kNode, kElement, kNset, kElset, kSurface, kContactPair, kTie, kCyclic };
 
 class DeckReader {
  public:
@@ -318,8 +334,24 @@ class DeckReader {
       block_ = Block::kContactPair;
       const auto type = params.get("TYPE");
       node_to_surface_ = !type || keyword_form(*type) == "NODETOSURFACE";
+    } else if (name == "TIE" && params.has("CYCLICSYMMETRY")) {
+      block_ = Block::kTie;
+      ties_.push_back({required("NAME"), "", "", loc});
+    } else if (name == "CYCLICSYMMETRYMODEL") {
+      block_ = Block::kCyclic;
+      PendingCyclic c;
+      const std::string n = required("N");
+      long sectors = 0;
+      if (!parse_id(n, sectors) || sectors < 1 || sectors > 1000000) {
+        fail(loc, shown, "N=" + n + " is not a number of sectors (a positive integer)");
+      }
+      c.sectors = static_cast<int>(sectors);
+      c.tie = params.get("TIE").value_or("");
+      c.where = loc;
+      cyclic_.push_back(std::move(c));
     }
-    if (block_ != Block::kSkip && block_ != Block::kSurface && block_ != Block::kContactPair) {
+    if (block_ != Block::kSkip && block_ != Block::kSurface && block_ != Block::kContactPair && block_ != Block::kTie &&
+        block_ != Block::kCyclic) {
       if (const auto input = params.get("INPUT")) push_file(*input, loc, shown);
     }
   }
@@ -334,6 +366,8 @@ class DeckReader {
       case Block::kElset: return set_line(elsets_, "element", line, loc);
       case Block::kSurface: return surface_line(line, loc);
       case Block::kContactPair: return pair_line(line, loc);
+      case Block::kTie: return tie_line(line, loc);
+      case Block::kCyclic: return cyclic_line(line, loc);
     }
   }
 
@@ -560,6 +594,72 @@ class DeckReader {
     pairs_.push_back({std::string(f[0]), std::string(f[1]), node_to_surface_, loc});
   }
 
+  // ---- Cyclic symmetry ----------------------------------------------------------------------------------
+  std::vector<PendingTie> ties_;
+  std::vector<PendingCyclic> cyclic_;
+
+  void tie_line(std::string_view line, Location loc) {
+    PendingTie& tie = ties_.back();
+    if (!tie.dependent.empty()) fail(loc, keyword_, "tie '" + tie.name + "' has a second data line");
+    const std::vector<std::string_view> f = non_empty(split_fields(line));
+    if (f.size() != 2) {
+      fail(loc, keyword_, "expected 'dependent surface, independent surface', got " + std::to_string(f.size()) +
+                              " fields");
+    }
+    tie.dependent = std::string(f[0]);
+    tie.independent = std::string(f[1]);
+  }
+
+  void cyclic_line(std::string_view line, Location loc) {
+    PendingCyclic& c = cyclic_.back();
+    if (c.has_axis) fail(loc, keyword_, "a second data line (the axis is one line: ax, ay, az, bx, by, bz)");
+    const std::vector<std::string_view> f = non_empty(split_fields(line));
+    if (f.size() != 6) {
+      fail(loc, keyword_, "expected the axis 'ax, ay, az, bx, by, bz', got " + std::to_string(f.size()) + " fields");
+    }
+    for (std::size_t k = 0; k < 6; ++k) {
+      if (!parse_coordinate(f[k], c.axis[k])) {
+        fail(loc, keyword_, "field " + std::to_string(k + 1) + ": '" + std::string(f[k]) + "' is not a finite number");
+      }
+    }
+    const mesh::Vec3 a(c.axis[0], c.axis[1], c.axis[2]), b(c.axis[3], c.axis[4], c.axis[5]);
+    if (!((b - a).norm() > 0.0)) fail(loc, keyword_, "the axis points a and b coincide");
+    c.has_axis = true;
+  }
+
+  void resolve_cyclic() {
+    std::vector<const PendingTie*> cyclic_ties;
+    for (const PendingTie& t : ties_) {
+      if (t.dependent.empty()) fail(t.where, "*TIE", "tie '" + t.name + "' has no 'dependent, independent' line");
+      cyclic_ties.push_back(&t);
+    }
+    for (const PendingCyclic& c : cyclic_) {
+      if (!c.has_axis) fail(c.where, "*CYCLIC SYMMETRY MODEL", "no axis line (ax, ay, az, bx, by, bz)");
+      const PendingTie* tie = nullptr;
+      if (c.tie.empty()) {
+        if (cyclic_ties.size() != 1) {
+          fail(c.where, "*CYCLIC SYMMETRY MODEL",
+               "TIE= is needed: the deck has " + std::to_string(cyclic_ties.size()) + " *TIE, CYCLIC SYMMETRY cards");
+        }
+        tie = cyclic_ties.front();
+      } else {
+        for (const PendingTie* t : cyclic_ties) {
+          if (upper(trim(t->name)) == upper(trim(c.tie))) tie = t;
+        }
+        if (tie == nullptr) fail(c.where, "*CYCLIC SYMMETRY MODEL", "TIE=" + c.tie + ": no *TIE, CYCLIC SYMMETRY of that name");
+      }
+      mesh::CyclicSymmetry s;
+      s.sectors = c.sectors;
+      s.axis_a = mesh::Vec3(c.axis[0], c.axis[1], c.axis[2]);
+      s.axis_b = mesh::Vec3(c.axis[3], c.axis[4], c.axis[5]);
+      s.tie = tie->name;
+      s.dependent = tie->dependent;
+      s.independent = tie->independent;
+      s.where = where(c.where);
+      model_.cyclic.push_back(std::move(s));
+    }
+  }
+
   // ---- Resolution ---------------------------------------------------------------------------------------
   mesh::ContactModel resolve() {
     mesh::SolidMesh& mesh = model_.mesh;
@@ -578,6 +678,7 @@ class DeckReader {
       mesh.add_element(e.id, types_[static_cast<std::size_t>(e.type)], nodes);
     }
     for (const PendingSurface& s : surfaces_) model_.surfaces.push_back(resolve_surface(s));
+    resolve_cyclic();
     for (const PendingPair& p : pairs_) {
       mesh::ContactPairDefinition pair;
       pair.slave_name = p.slave;

@@ -6,7 +6,10 @@
 // data line "slave, master"; TYPE= NODE TO SURFACE, CalculiX's default, or another), *INCLUDE, INPUT=
 // (relative to the including file; the included lines take the place of the *INCLUDE line, so they may
 // continue the data of the keyword before it). INPUT= on *NODE, *ELEMENT, *NSET, *ELSET reads that
-// keyword's data lines from the file. Every other keyword is skipped with its data lines.
+// keyword's data lines from the file. *TIE, CYCLIC SYMMETRY (NAME=; "dependent, independent") and *CYCLIC
+// SYMMETRY MODEL (N=, TIE=, optional with one cyclic tie; the axis line "ax, ay, az, bx, by, bz"): the
+// model's sectors (mesh::CyclicSymmetry). Every other keyword (other *TIE cards too) is skipped with its
+// data lines.
 //
 // Lexical rules: keywords, parameter names and values, and set / surface names are case-insensitive
 // (blanks inside keywords are ignored: "*Contact Pair" = "*CONTACTPAIR"); a line starting "**" is a comment;
@@ -26,7 +29,8 @@
 // coordinates (both lines named), an element defined twice differently, an element with too many or too
 // few nodes or an undefined node, a missing TYPE= or NAME=, an unknown set, surface or element name, a
 // face label that is not S1..S<faces of the element>, a bad GENERATE range, a *CONTACT PAIR line that is
-// not two names, an *INCLUDE that includes itself (the chain named). IoError (exit 4) naming the file for
+// not two names, an *INCLUDE that includes itself (the chain named), a cyclic symmetry model without N=,
+// axis line or tie (or naming an unknown one).  IoError (exit 4) naming the file for
 // a deck or included file that cannot be read.
 #pragma once
 

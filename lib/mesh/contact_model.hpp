@@ -33,10 +33,22 @@ struct ContactPairDefinition {
   std::string where;                    ///< "'file':line" of the data line
 };
 
+/// A *CYCLIC SYMMETRY MODEL with its *TIE, CYCLIC SYMMETRY: the deck is one sector of `sectors`, repeated
+/// about the axis through axis_a and axis_b; the tie names the sector's two cut faces. A contact pair
+/// between those two surfaces is a contact between a sector and its neighbour (contact::make_scene).
+struct CyclicSymmetry {
+  int sectors = 0;
+  Vec3 axis_a = Vec3::Zero(), axis_b = Vec3::Zero();
+  std::string tie;                     ///< the tie's NAME
+  std::string dependent, independent;  ///< its surfaces, as written
+  std::string where;                   ///< "'file':line" of the *CYCLIC SYMMETRY MODEL line
+};
+
 struct ContactModel {
   SolidMesh mesh;
   std::vector<SurfaceDefinition> surfaces;
   std::vector<ContactPairDefinition> pairs;  ///< in file order; SPEC 7's K indexes this from 0
+  std::vector<CyclicSymmetry> cyclic;        ///< in file order
 };
 
 /// Pair `k`. InvalidArgument (exit 2) naming the number of pairs if `k` is out of range.

@@ -242,6 +242,19 @@ TEST(InpDeck, EveryMalformedDeckNamesFileAndLine) {
       {"generate-range.inp", "*NSET, NSET=A, GENERATE\n10, 1\n", 2, "GENERATE range 10..1"},
       {"generate-fields.inp", "*NSET, NSET=A, GENERATE\n1\n", 2, "GENERATE needs 'first, last[, increment]'"},
       {"cylindrical-nodes.inp", "*NODE, SYSTEM=C\n1, 1, 0, 0\n", 1, "SYSTEM=C is not supported"},
+      {"cyclic-no-axis.inp", head + "*TIE, NAME=T, CYCLIC SYMMETRY\nSTOP, SBOTTOM\n" + "*CYCLIC SYMMETRY MODEL, N=4, TIE=T\n", 24, "no axis line"},
+      {"cyclic-bad-n.inp", head + "*TIE, NAME=T, CYCLIC SYMMETRY\nSTOP, SBOTTOM\n" + "*CYCLIC SYMMETRY MODEL, N=4x, TIE=T\n0, 0, 0, 1, 0, 0\n", 24,
+       "N=4x is not a number of sectors"},
+      {"cyclic-unknown-tie.inp", head + "*TIE, NAME=T, CYCLIC SYMMETRY\nSTOP, SBOTTOM\n" + "*CYCLIC SYMMETRY MODEL, N=4, TIE=NOSUCH\n0, 0, 0, 1, 0, 0\n", 24,
+       "TIE=NOSUCH: no *TIE, CYCLIC SYMMETRY of that name"},
+      {"cyclic-axis-fields.inp", head + "*TIE, NAME=T, CYCLIC SYMMETRY\nSTOP, SBOTTOM\n" + "*CYCLIC SYMMETRY MODEL, N=4, TIE=T\n0, 0, 0, 1, 0\n", 25,
+       "expected the axis 'ax, ay, az, bx, by, bz', got 5 fields"},
+      {"cyclic-axis-point.inp", head + "*TIE, NAME=T, CYCLIC SYMMETRY\nSTOP, SBOTTOM\n" + "*CYCLIC SYMMETRY MODEL, N=4, TIE=T\n1, 2, 3, 1, 2, 3\n", 25,
+       "the axis points a and b coincide"},
+      {"cyclic-tie-fields.inp", head + "*TIE, NAME=T, CYCLIC SYMMETRY\nSTOP\n", 23,
+       "expected 'dependent surface, independent surface', got 1 fields"},
+      {"cyclic-which-tie.inp", head + "*TIE, NAME=T, CYCLIC SYMMETRY\nSTOP, SBOTTOM\n" + "*TIE, NAME=U, CYCLIC SYMMETRY\nSBOTTOM, STOP\n"
+       "*CYCLIC SYMMETRY MODEL, N=4\n0, 0, 0, 1, 0, 0\n", 26, "TIE= is needed: the deck has 2 *TIE, CYCLIC SYMMETRY cards"},
   };
   for (const BadDeck& c : cases) {
     const std::string message = error_of<FormatError>(c.name, c.text);
