@@ -42,6 +42,9 @@ constexpr double kGregoryBuild = 56 + 48 + 4 * 49 + 48 + 4 * 131 + 12;
 constexpr double kGregoryEval = 54 + 396 + 340, kGregoryStep = kGregoryEval + 45 + 19;
 // The safeguarded step on top of the evaluation: both determinants, the step cap, the acceptance test 16.
 constexpr double kSafeguard = 16;
+// Gregory only: the shift of an indefinite Jacobian (both smaller eigenvalues, 2 x 8 with a square root each;
+// the shift 2; the shifted diagonal and determinant 5), computed in every lane of the vectorised step.
+constexpr double kGregoryShift = 23;
 
 }  // namespace
 
@@ -72,7 +75,7 @@ FlopCount flops_per_query(SurfaceKind kind, const Method& method, const NetworkM
   if (method.is_hybrid()) {
     // The network's start needs the surface too; then one evaluation at the start and one per step.
     if (method.start == Method::Start::kNetwork) d += relative + build;
-    d += eval + method.newton_steps * (step + kSafeguard);
+    d += eval + method.newton_steps * (step + kSafeguard + (gregory ? kGregoryShift : 0.0));
   } else if (method.start == Method::Start::kCentre) {
     d += (method.to_convergence ? newton_steps : method.newton_steps) * step;
   }

@@ -223,11 +223,12 @@ template <int W, bool kPureSecond>
 }
 
 /// The hybrids' refinement: from each lane's estimate (clamped into the box), `steps` Newton steps with the
-/// exact Jacobian where it is positive definite and the Gauss-Newton step (downhill on |S - P|^2) where it is
-/// not; a step is shortened to max_step, clamped into the box, and accepted when |S - P| does not grow by more
-/// than the rounding of the positions (noise[l], a length); otherwise halved up to max_halvings times, after
-/// which the lane stops with status no_convergence and keeps its previous iterate. A step shorter than `tol`
-/// ends the lane (converged). Both systems singular: degenerate. A lane ending on the box's edge:
+/// exact Jacobian where it is positive definite; where it is not, on a Gregory patch the Jacobian shifted to
+/// positive definite (below), on a bilinear facet (and where the shift fails) the Gauss-Newton step
+/// (downhill on |S - P|^2); a step is shortened to max_step, clamped into the box, and accepted when |S - P|
+/// does not grow by more than the rounding of the positions (noise[l], a length); otherwise halved up to
+/// max_halvings times, after which the lane stops with status no_convergence and keeps its previous iterate. A
+/// step shorter than `tol` ends the lane (converged). Both systems singular: degenerate. A lane ending on the box's edge:
 /// no_convergence where that edge lies beyond the domain; on an edge of the domain, outside when |S - P| still
 /// falls outward across it, else ok (see the last loop). `store` holds the surface at each lane's final
 /// iterate.
@@ -260,8 +261,24 @@ static void safeguarded_newton(const Surf& surf, int steps, const Safeguards& g,
       const double det_h = q.h00 * q.h11 - q.h01 * q.h01;
       const double det_g = q.g00 * q.g11 - q.g01 * q.g01;
       const bool exact = (q.h00 > 0.0) & (det_h > floor);
-      const double a = exact ? q.h00 : q.g00, b = exact ? q.h01 : q.g01, c = exact ? q.h11 : q.g11;
-      const double inv = 1.0 / (exact ? det_h : det_g);
+      double a = exact ? q.h00 : q.g00, b = exact ? q.h01 : q.g01, c = exact ? q.h11 : q.g11;
+      double det = exact ? det_h : det_g;
+      if constexpr (Surf::kHasPureSecond) {
+        // H not positive definite (a Gregory patch curving away from S): H + mu I with mu chosen so that its
+        // smallest eigenvalue is a tenth of G's, a Newton step that keeps the curvature along the other
+        // direction, instead of the Gauss-Newton step, which drops it in both.
+        const double half_h = 0.5 * (q.h00 - q.h11), half_g = 0.5 * (q.g00 - q.g11);
+        const double min_h = 0.5 * (q.h00 + q.h11) - std::sqrt(half_h * half_h + q.h01 * q.h01);
+        const double min_g = 0.5 * (q.g00 + q.g11) - std::sqrt(half_g * half_g + q.g01 * q.g01);
+        const double mu = 0.1 * min_g - min_h;
+        const double sa = q.h00 + mu, sc = q.h11 + mu, det_s = sa * sc - q.h01 * q.h01;
+        const bool shifted = !exact & (min_g > 0.0) & (sa > 0.0) & (det_s > floor);
+        a = shifted ? sa : a;
+        b = shifted ? q.h01 : b;
+        c = shifted ? sc : c;
+        det = shifted ? det_s : det;
+      }
+      const double inv = 1.0 / det;
       double du = (c * q.r0 - b * q.r1) * inv;
       double dv = (a * q.r1 - b * q.r0) * inv;
       const bool singular = !exact & !(det_g > floor);
