@@ -103,9 +103,9 @@ static void lean_newton(const Surf& surf, int steps, LaneState<W>& s) {
 }
 
 /// Undamped Newton until the step (max norm) is at most `tol` or `max_iterations` steps: statuses as
-/// lean_newton, and no_convergence for a lane still moving after the last step.
+/// lean_newton, and for a lane still moving after the last step no_convergence, or kPending when `pause`.
 template <class Surf, int W>
-static void converged_newton(const Surf& surf, int max_iterations, double tol, LaneState<W>& s) {
+static void converged_newton(const Surf& surf, int max_iterations, double tol, bool pause, LaneState<W>& s) {
   double running[W];
   for (int l = 0; l < W; ++l) running[l] = s.status[l] == kOk ? 1.0 : 0.0;
   for (int k = 0; k < max_iterations; ++k) {
@@ -129,7 +129,8 @@ static void converged_newton(const Surf& surf, int max_iterations, double tol, L
     any = any_of<W>(running);
     if (any == 0.0) return;
   }
-  for (int l = 0; l < W; ++l) s.status[l] = running[l] != 0.0 ? kNoConvergence : s.status[l];
+  const double stopped = pause ? kPending : kNoConvergence;
+  for (int l = 0; l < W; ++l) s.status[l] = running[l] != 0.0 ? stopped : s.status[l];
 }
 
 /// The box and step control of the hybrids (SearchOptions).

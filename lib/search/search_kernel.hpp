@@ -23,15 +23,26 @@
 
 namespace contactnn::search::detail {
 
+/// One block of W queries: rows first .. first + W - 1 of raw_rows, or (rows not null) the rows rows[0 .. W - 1],
+/// in any order, repeats allowed. cap > 0 (Newton to convergence only): at most cap iterations, a lane still
+/// running then gets status kPending (LocalSearch::run computes it again in a block of such lanes, without cap).
 template <bool kGregory, class Net, int W, class In>
-static void search_block(const Plan& plan, const In* raw_rows, const Results<In>& out, std::size_t first) {
+static void search_rows(const Plan& plan, const In* raw_rows, const Results<In>& out, std::size_t first,
+                        const std::size_t* rows, int cap) {
   using Surf = std::conditional_t<kGregory, GregoryBlock<W>, BilinearBlock<W>>;
   constexpr int kStride = kGregory ? 27 : 15;
   constexpr double kCentre = kGregory ? 0.5 : 0.0;
   const Method& method = plan.method;
 
   alignas(64) double raw[27][W];
-  load_raw<W>(raw_rows + first * kStride, kStride, raw);
+  if (rows == nullptr) {
+    load_raw<W>(raw_rows + first * kStride, kStride, raw);
+  } else {
+    for (int l = 0; l < W; ++l) {
+      const In* row = raw_rows + rows[l] * static_cast<std::size_t>(kStride);
+      for (int k = 0; k < kStride; ++k) raw[k][l] = static_cast<double>(row[k]);
+    }
+  }
   // The queries relative to S, for the surface: made when a method needs the surface (not by a network alone
   // without the gap, whose canonical frame works on the raw coordinates and finds non-finite inputs itself).
   QueryBlock<W> q;
@@ -155,7 +166,7 @@ static void search_block(const Plan& plan, const In* raw_rows, const Results<In>
   } else if (method.start == Method::Start::kCentre) {
     build_for_method();
     if (method.to_convergence) {
-      converged_newton<Surf, W>(surf, plan.options.max_iterations, plan.options.tol_param, s);
+      converged_newton<Surf, W>(surf, cap > 0 ? cap : plan.options.max_iterations, plan.options.tol_param, cap > 0, s);
     } else {
       lean_newton<Surf, W>(surf, method.newton_steps, s);
     }
@@ -197,7 +208,7 @@ static void search_block(const Plan& plan, const In* raw_rows, const Results<In>
 
   // 5. Out, never a NaN: a non-finite estimate (only possible from a network fed extreme values) is the centre.
   for (int l = 0; l < W; ++l) {
-    const std::size_t i = first + static_cast<std::size_t>(l);
+    const std::size_t i = rows == nullptr ? first + static_cast<std::size_t>(l) : rows[l];
     const bool finite = is_finite(s.u[l]) & is_finite(s.v[l]);
     out.param[2 * i] = static_cast<In>(finite ? s.u[l] : kCentre);
     out.param[2 * i + 1] = static_cast<In>(finite ? s.v[l] : kCentre);
@@ -205,6 +216,12 @@ static void search_block(const Plan& plan, const In* raw_rows, const Results<In>
     if (out.iterations != nullptr) out.iterations[i] = static_cast<std::int32_t>(s.iterations[l]);
     if (out.gap != nullptr) out.gap[i] = static_cast<In>(gap[l]);
   }
+}
+
+/// search_rows for the rows first .. first + W - 1, no cap: the BlockFn of a plan.
+template <bool kGregory, class Net, int W, class In>
+static void search_block(const Plan& plan, const In* raw_rows, const Results<In>& out, std::size_t first) {
+  search_rows<kGregory, Net, W, In>(plan, raw_rows, out, first, nullptr, 0);
 }
 
 /// The block kernels of one surface kind. Widths measured on AVX-512 (scripts/bench-search): wider blocks
@@ -223,6 +240,10 @@ static void select_block_kernels(Plan& plan) {
     plan.block_size = 16;
     plan.block_f = &search_block<kGregory, double, 16, float>;
     plan.block_d = &search_block<kGregory, double, 16, double>;
+    if (plan.method.to_convergence) {
+      plan.rows_f = &search_rows<kGregory, double, 16, float>;
+      plan.rows_d = &search_rows<kGregory, double, 16, double>;
+    }
   } else {
     plan.block_size = 32;
     plan.block_f = &search_block<kGregory, double, 32, float>;

@@ -8,8 +8,19 @@
 
 namespace contactnn::search::detail {
 
+/// The widest block of any kernel (select_block_kernels).
+inline constexpr int kMaxBlockSize = 32;
+/// Newton to convergence: the iteration caps of LocalSearch::run's passes (the last pass has none). From the
+/// iterations random bilinear queries need (LocalSearch::run), the passes cost a block of 16 lanes, in
+/// iterations per query: one pass 28.0; caps 10 then none 16.9; 8, 20, then none 14.8.
+inline constexpr int kPassCaps[] = {8, 20};
+
 template <class Real>
 using BlockFn = void (*)(const Plan& plan, const Real* raw, const Results<Real>& out, std::size_t first);
+/// search_rows (search_kernel.hpp): a block of the given rows, or of rows first.., with an iteration cap.
+template <class Real>
+using RowsFn = void (*)(const Plan& plan, const Real* raw, const Results<Real>& out, std::size_t first,
+                        const std::size_t* rows, int cap);
 
 struct Plan {
   SurfaceKind kind = SurfaceKind::kBilinear;
@@ -22,6 +33,9 @@ struct Plan {
   int block_size = 8;
   BlockFn<float> block_f = nullptr, single_f = nullptr;
   BlockFn<double> block_d = nullptr, single_d = nullptr;
+  /// Newton to convergence only: the block kernel with rows and a cap, for LocalSearch::run's two passes.
+  RowsFn<float> rows_f = nullptr;
+  RowsFn<double> rows_d = nullptr;
 };
 
 /// Fills plan.block_size and the kernels for plan.kind (defined in kernels_bilinear.cpp, kernels_gregory.cpp).

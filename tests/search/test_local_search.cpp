@@ -697,6 +697,42 @@ TEST(LocalSearch, EachResultIsIndependentOfCountPositionAndThreads) {
   }
 }
 
+TEST(LocalSearch, NewtonToConvergenceInPassesGivesTheOnePassResults) {
+  // Newton to convergence runs a batch in passes (every block stops at 8 iterations, its running lanes are
+  // computed again in blocks of such lanes up to 20, then without cap): each query's outputs are those of the
+  // one-lane path, which runs every query straight to its end, whatever pass it finished in.
+  for (const SurfaceKind kind : {kBilinear, kGregory}) {
+    const std::vector<double> raw = random_queries(kind, 2000, 23);
+    const auto s = static_cast<std::size_t>(stride(kind));
+    SearchOptions options;
+    options.min_parallel_count = 1;
+    const LocalSearch search(kind, Method::parse("newton"), options);
+    int past_first = 0, past_second = 0, at_limit = 0;
+    for (const int threads : {1, 2}) {
+      const Output<double> batch = run(search, raw, threads);
+      for (std::size_t i = 0; i < batch.status.size(); ++i) {
+        const std::vector<double> one_raw(raw.begin() + static_cast<std::ptrdiff_t>(i * s),
+                                          raw.begin() + static_cast<std::ptrdiff_t>((i + 1) * s));
+        const Output<double> one = run(search, one_raw, 1);
+        ASSERT_EQ(batch.status[i], one.status[0]) << "query " << i;
+        ASSERT_EQ(batch.param[2 * i], one.param[0]) << "query " << i;
+        ASSERT_EQ(batch.param[2 * i + 1], one.param[1]) << "query " << i;
+        ASSERT_EQ(batch.gap[i], one.gap[0]) << "query " << i;
+        ASSERT_EQ(batch.iterations[i], one.iterations[0]) << "query " << i;
+        past_first += batch.iterations[i] > 8 ? 1 : 0;
+        past_second += batch.iterations[i] > 20 ? 1 : 0;
+        at_limit += batch.status[i] == Status::kNoConvergence ? 1 : 0;
+      }
+    }
+    // Every pass ran, the last one to the iteration limit.
+    EXPECT_GT(past_first, 0) << to_string(kind);
+    EXPECT_GT(past_second, 0) << to_string(kind);
+    if (kind == kBilinear) {
+      EXPECT_GT(at_limit, 0);
+    }
+  }
+}
+
 // ---- statuses, NaN, construction ----
 
 TEST(LocalSearch, EveryStatusIsReachableAndNoOutputIsEverNaN) {
