@@ -77,9 +77,9 @@ struct QueryBlock {
 /// double, unchanged (the canonical frame works on the world coordinates as given).
 template <int W, class In>
 CONTACTNN_SEARCH_INLINE void load_raw(const In* rows, int stride, double (*raw)[W]) {
-  for (int l = 0; l < W; ++l) {
-    const In* row = rows + static_cast<std::size_t>(l) * static_cast<std::size_t>(stride);
-    for (int k = 0; k < stride; ++k) raw[k][l] = static_cast<double>(row[k]);
+  for (int k = 0; k < stride; ++k) {
+#pragma omp simd
+    for (int l = 0; l < W; ++l) raw[k][l] = static_cast<double>(rows[static_cast<std::size_t>(l) * static_cast<std::size_t>(stride) + static_cast<std::size_t>(k)]);
   }
 }
 
