@@ -83,7 +83,7 @@ CONTACTNN_SEARCH_INLINE PlainStep plain_step(const Eval& e) {
 /// iterate, with status degenerate when det H = 0 (as projection::newton_fixed_iterations stops) or
 /// no_convergence when the step is not finite. No line search, no box, no convergence test.
 template <class Surf, int W>
-static void lean_newton(const Surf& surf, int steps, LaneState<W>& s) {
+CONTACTNN_SEARCH_INLINE void lean_steps(const Surf& surf, int steps, LaneState<W>& s) {
   for (int k = 0; k < steps; ++k) {
     CONTACTNN_LANES
     for (int l = 0; l < W; ++l) {
@@ -99,6 +99,20 @@ static void lean_newton(const Surf& surf, int steps, LaneState<W>& s) {
       s.iterations[l] += take ? 1.0 : 0.0;
       s.status[l] = (active & singular) ? kDegenerate : ((active & !singular & !finite) ? kNoConvergence : s.status[l]);
     }
+  }
+}
+
+template <class Surf, int W>
+static void lean_newton(const Surf& surf, int steps, LaneState<W>& s) {
+  if constexpr (W == 1) {
+    // One lane: its state in a local, which the compiler keeps in registers. Through `s` (which might alias
+    // `surf` as far as it knows) every step stored its iterate and loaded it again, a store-to-load delay in
+    // each step's chain of dependent operations.
+    LaneState<1> local = s;
+    lean_steps<Surf, 1>(surf, steps, local);
+    s = local;
+  } else {
+    lean_steps<Surf, W>(surf, steps, s);
   }
 }
 
