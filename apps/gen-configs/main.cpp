@@ -85,8 +85,9 @@ void label_chunk(std::span<const geometry::Configuration> configs, SurfaceKind s
 /// no_segment row (SPEC 7) keeps every field but the status empty.
 std::vector<std::string> label_fields(const dataset::Label& l) {
   const bool has_value = l.status == Status::kOk || l.status == Status::kOutside;
-  return {has_value ? io::format_double(l.param[0]) : "", has_value ? io::format_double(l.param[1]) : "",
-          std::string(to_string(l.status)), has_value ? io::format_double(l.gap) : "",
+  // A result of zero is written 0, never -0 (x + 0.0 is +0 for x = -0 and x otherwise).
+  const auto value = [&](double x) { return has_value ? io::format_double(x + 0.0) : std::string(); };
+  return {value(l.param[0]), value(l.param[1]), std::string(to_string(l.status)), value(l.gap),
           l.status == Status::kNoSegment ? "" : std::to_string(l.iterations)};
 }
 
@@ -116,14 +117,16 @@ int label_mode(SurfaceKind surface, const std::string& input, const std::string&
   return 0;
 }
 
+/// Faces skipped by element type, e.g. "CPE4R face 1, C3D4 face 12", or "none".
+std::string faces(const std::map<std::string, int>& skipped) {
+  std::string text;
+  for (const auto& [kind, count] : skipped) text += (text.empty() ? "" : ", ") + kind + " " + std::to_string(count);
+  return text.empty() ? std::string("none") : text;
+}
+
 /// The scene's summary: counts, skipped faces and the shape statistics (min / median / max).
 void print_scene_summary(const std::string& deck, const contact::Scene& scene, const contact::SceneResult& result,
                          SurfaceKind surface, const std::string& output, double seconds) {
-  const auto faces = [](const std::map<std::string, int>& skipped) {
-    std::string text;
-    for (const auto& [kind, count] : skipped) text += (text.empty() ? "" : ", ") + kind + " " + std::to_string(count);
-    return text.empty() ? std::string("none") : text;
-  };
   const auto spread = [](const char* name, const contact::Spread& s) {
     if (s.count == 0) {
       std::printf("    %-34s -\n", name);
@@ -211,13 +214,7 @@ int scene_mode(const std::string& deck, int pair, const contact::SearchOptions& 
         for (int k = 0; k < 3; ++k) row[c++] = io::format_double(n[k]);
       }
     }
-    const dataset::Label& l = p.label;
-    const bool has_value = l.status == Status::kOk || l.status == Status::kOutside;
-    row[c++] = has_value ? io::format_double(l.param[0]) : "";
-    row[c++] = has_value ? io::format_double(l.param[1]) : "";
-    row[c++] = std::string(to_string(l.status));
-    row[c++] = has_value ? io::format_double(l.gap) : "";
-    row[c++] = std::to_string(l.iterations);
+    for (std::string& field : label_fields(p.label)) row[c++] = std::move(field);
     io::append_csv_row(text, row);
   }
   io::write_text_atomically(output, text);
@@ -225,6 +222,15 @@ int scene_mode(const std::string& deck, int pair, const contact::SearchOptions& 
   // 5. Summary.
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   print_scene_summary(deck, scene, result, options.surface, output, seconds);
+  // A pair with nothing to search is valid input but almost certainly not what the user meant (a 2-D deck, shell
+  // or tetrahedral surfaces, a set that names no element): say so where a script will see it.
+  if (scene.master.segments.empty() || scene.slave_ids.empty()) {
+    std::fprintf(stderr,
+                 "gen-configs: warning: contact pair %d of %s has %zu master segments and %zu slave nodes (faces "
+                 "skipped, master: %s; slave: %s); %s has no pair\n",
+                 scene.pair, deck.c_str(), scene.master.segments.size(), scene.slave_ids.size(),
+                 faces(scene.master.skipped_faces).c_str(), faces(scene.slaves.skipped_faces).c_str(), output.c_str());
+  }
   return 0;
 }
 

@@ -299,6 +299,26 @@ def _(ctx):
         raise Failure(f"extra columns not copied or rows not labelled: {out}")
 
 
+@case("scene_without_segments_warns")
+def _(ctx):
+    # A 2-D deck (CPE4R, x,y nodes): a well-formed pair with nothing to search. Valid input (exit 0, the header
+    # alone), but a warning on stderr names the skipped faces, where a script checking only the exit code
+    # would otherwise take it for an empty scene.
+    deck = ctx.write("plane.inp", "*NODE\n1, 0., 0.\n2, 1., 0.\n3, 1., 1.\n4, 0., 1.\n"
+                                  "5, 0., 1.1\n6, 1., 1.1\n7, 1., 2.1\n8, 0., 2.1\n"
+                                  "*ELEMENT, TYPE=CPE4R\n1, 1, 2, 3, 4\n2, 5, 6, 7, 8\n"
+                                  "*SURFACE, NAME=MASTER\n1, S3\n*SURFACE, NAME=SLAVE\n2, S1\n"
+                                  "*CONTACT PAIR, INTERACTION=I, TYPE=SURFACE TO SURFACE\nSLAVE, MASTER\n")
+    _, err = ctx.expect_success("gen-configs", ["--scene", deck, "--surface", "bilinear", "--output", "pairs.csv"])
+    if not re.search(r"warning: contact pair 0 of .*plane\.inp has 0 master segments and 0 slave nodes "
+                     r"\(faces skipped, master: CPE4R face 1; slave: CPE4R face 1\)", err):
+        raise Failure(f"no warning naming the skipped faces:\n{err}")
+    with open(ctx.path("pairs.csv")) as f:
+        lines = f.read().splitlines()
+    if len(lines) != 1 or not lines[0].startswith("slave,a,b,c,d,"):
+        raise Failure(f"expected the header alone, got {lines[:3]}")
+
+
 # ------------------------------------------------------------------------------------------------------
 # Config files and option values (enumeration mode). Message: config file 'F', line N, key K.
 
