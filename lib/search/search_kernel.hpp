@@ -26,7 +26,8 @@ namespace contactnn::search::detail {
 
 /// One block of W queries: rows first .. first + W - 1 of raw_rows, or (rows not null) the rows rows[0 .. W - 1],
 /// in any order, repeats allowed. cap > 0 (Newton to convergence only): at most cap iterations, a lane still
-/// running then gets status kPending (LocalSearch::run computes it again in a block of such lanes, without cap).
+/// running then gets status kPending (LocalSearch::run computes it again, from the centre, in a block of such
+/// lanes with the next cap or none).
 template <bool kGregory, class Net, int W, class In>
 static void search_rows(const Plan& plan, const In* raw_rows, const Results<In>& out, std::size_t first,
                         const std::size_t* rows, int cap) {

@@ -33,7 +33,7 @@ struct Plan {
   int block_size = 8;
   BlockFn<float> block_f = nullptr, single_f = nullptr;
   BlockFn<double> block_d = nullptr, single_d = nullptr;
-  /// Newton to convergence only: the block kernel with rows and a cap, for LocalSearch::run's two passes.
+  /// Newton to convergence only: the block kernel with rows and a cap, for LocalSearch::run's passes.
   RowsFn<float> rows_f = nullptr;
   RowsFn<double> rows_d = nullptr;
 };
