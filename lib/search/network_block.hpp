@@ -152,6 +152,67 @@ static void forward_pass(const NetworkModel& m, const double* f, double* out) {
 template <class Net, bool kGregory>
 void tie_estimate(const NetworkModel& m, bool check_domain, const double* query, double& u, double& v, double& status);
 
+/// tie_estimate's first part, for the block path: every canonical form of query `x` (cnn_cf_forms), with its
+/// features at features[16 k] and its symmetry code at symmetry[k]; `inside`: every form in the domain (with
+/// check_domain). Returns the count (0 when the query has no canonical frame). Defined in kernels_single.cpp,
+/// so that the forms have the same bits as tie_estimate's.
+template <bool kGregory>
+int tie_forms(const NetworkModel& m, bool check_domain, const double* query, double* features, double* symmetry,
+              bool& inside);
+
+/// The lanes of a block on a tie, W > 1: tie_estimate's answers, with the forward pass run W forms at a time
+/// (the forms of all tie lanes one after another) instead of one form at a time. Each lane's predictions are
+/// summed in the order of its forms, as tie_estimate sums them, so the bits are the same.
+template <class Net, int W, bool kGregory>
+static void tie_estimates_block(const NetworkModel& m, bool check_domain, const double* raw, const int* lanes,
+                                int n_lanes, LaneState<W>& s) {
+  constexpr int kStride = kGregory ? 27 : 15;
+  constexpr double kCentreOf = kGregory ? 0.5 : 0.0;
+  alignas(64) double block[16 * W], out[2 * W];
+  double symmetry[W];
+  int owner[W];
+  int filled = 0;
+  double sum_u[W], sum_v[W], forms_of[W];
+  bool inside[W];
+  const auto flush = [&] {
+    for (int slot = filled; slot < W; ++slot) {  // the empty slots: copies of the first (never read back)
+      for (int i = 0; i < 16; ++i) block[i * W + slot] = block[i * W];
+    }
+    forward_pass<Net, W>(m, block, out);
+    for (int slot = 0; slot < filled; ++slot) {
+      double x = out[slot], y = out[W + slot];
+      cnn_cf_to_caller(symmetry[slot], kCentreOf, &x, &y);
+      sum_u[owner[slot]] += x;
+      sum_v[owner[slot]] += y;
+    }
+    filled = 0;
+  };
+  for (int t = 0; t < n_lanes; ++t) {
+    const int l = lanes[t];
+    double query[27], f[16 * CNN_CF_MAX_FORMS], sym[CNN_CF_MAX_FORMS];
+    for (int k = 0; k < kStride; ++k) query[k] = raw[k * W + l];
+    bool in = true;
+    const int count = tie_forms<kGregory>(m, check_domain, query, f, sym, in);
+    sum_u[l] = sum_v[l] = 0.0;
+    forms_of[l] = count;
+    inside[l] = in;
+    for (int k = 0; k < count; ++k) {
+      for (int i = 0; i < 16; ++i) block[i * W + filled] = f[16 * k + i];
+      symmetry[filled] = sym[k];
+      owner[filled] = l;
+      if (++filled == W) flush();
+    }
+  }
+  if (filled > 0) flush();
+  for (int t = 0; t < n_lanes; ++t) {
+    const int l = lanes[t];
+    if (forms_of[l] == 0) continue;  // no canonical frame: tie_estimate leaves the lane as the block made it
+    s.u[l] = sum_u[l] / forms_of[l];
+    s.v[l] = sum_v[l] / forms_of[l];
+    s.status[l] = inside[l] ? kOk : kOutOfDomain;
+  }
+}
+
 /// The network's estimate for every lane of a raw block (`raw`: 15 or 27 rows of W, world coordinates), in
 /// the caller's node order: status ok, out_of_domain (with check_domain), degenerate or invalid; the estimate
 /// is the domain centre for the last two. Lanes on a tie go through tie_estimate after the block.
@@ -177,12 +238,17 @@ static void network_estimate(const NetworkModel& m, bool check_domain, const dou
   }
   for (int l = 0; l < W; ++l) ties |= cnn_cf_needs_forms(info[5 * W + l], kG) & (info[l] == kOk || info[l] == kOutOfDomain);
   if (ties == 0) return;
-  constexpr int kStride = kGregory ? 27 : 15;
-  for (int l = 0; l < W; ++l) {
-    if (!(cnn_cf_needs_forms(info[5 * W + l], kG) && (info[l] == kOk || info[l] == kOutOfDomain))) continue;
+  if constexpr (W == 1) {
+    constexpr int kStride = kGregory ? 27 : 15;
     double query[27];
-    for (int k = 0; k < kStride; ++k) query[k] = raw[k * W + l];
-    tie_estimate<Net, kGregory>(m, check_domain, query, s.u[l], s.v[l], s.status[l]);
+    for (int k = 0; k < kStride; ++k) query[k] = raw[k];
+    tie_estimate<Net, kGregory>(m, check_domain, query, s.u[0], s.v[0], s.status[0]);
+  } else {
+    int lanes[W], n_lanes = 0;
+    for (int l = 0; l < W; ++l) {
+      if (cnn_cf_needs_forms(info[5 * W + l], kG) && (info[l] == kOk || info[l] == kOutOfDomain)) lanes[n_lanes++] = l;
+    }
+    tie_estimates_block<Net, W, kGregory>(m, check_domain, raw, lanes, n_lanes, s);
   }
 }
 
