@@ -16,6 +16,11 @@ void select_single_kernels(Plan& plan) {
   }
 }
 
+namespace {
+
+/// Every canonical form of query `x` (cnn_cf_forms), with its features at features[16 k] and its symmetry code at
+/// symmetry[k]; `inside`: every form in the domain (with check_domain). Returns the count (0 when the query has
+/// no canonical frame).
 template <bool kGregory>
 int tie_forms(const NetworkModel& m, bool check_domain, const double* query, double* features, double* symmetry,
               bool& inside) {
@@ -39,6 +44,8 @@ int tie_forms(const NetworkModel& m, bool check_domain, const double* query, dou
   return count;
 }
 
+}  // namespace
+
 template <class Net, bool kGregory>
 void tie_estimate(const NetworkModel& m, bool check_domain, const double* query, double& u, double& v, double& status) {
   double f[16 * CNN_CF_MAX_FORMS], symmetry[CNN_CF_MAX_FORMS];
@@ -59,9 +66,6 @@ void tie_estimate(const NetworkModel& m, bool check_domain, const double* query,
   v = sum_v / count;
   status = inside ? kOk : kOutOfDomain;
 }
-
-template int tie_forms<false>(const NetworkModel&, bool, const double*, double*, double*, bool&);
-template int tie_forms<true>(const NetworkModel&, bool, const double*, double*, double*, bool&);
 
 template void tie_estimate<float, false>(const NetworkModel&, bool, const double*, double&, double&, double&);
 template void tie_estimate<float, true>(const NetworkModel&, bool, const double*, double&, double&, double&);

@@ -152,61 +152,85 @@ static void forward_pass(const NetworkModel& m, const double* f, double* out) {
 template <class Net, bool kGregory>
 void tie_estimate(const NetworkModel& m, bool check_domain, const double* query, double& u, double& v, double& status);
 
-/// tie_estimate's first part, for the block path: every canonical form of query `x` (cnn_cf_forms), with its
-/// features at features[16 k] and its symmetry code at symmetry[k]; `inside`: every form in the domain (with
-/// check_domain). Returns the count (0 when the query has no canonical frame). Defined in kernels_single.cpp,
-/// so that the forms have the same bits as tie_estimate's.
-template <bool kGregory>
-int tie_forms(const NetworkModel& m, bool check_domain, const double* query, double* features, double* symmetry,
-              bool& inside);
-
-/// The lanes of a block on a tie, W > 1: tie_estimate's answers, with the forward pass run W forms at a time
-/// (the forms of all tie lanes one after another) instead of one form at a time. Each lane's predictions are
-/// summed in the order of its forms, as tie_estimate sums them, so the bits are the same.
+/// The lanes of a block on a tie, W > 1: tie_estimate's answers, computed W forms at a time. A lane's form 0 is
+/// the block's own (its features, domain status and prediction are already in the block); its other forms (one
+/// per symmetry of cnn_cf_symmetries and, Gregory on a z tie, each orientation of z, in cnn_cf_forms' order)
+/// go through cnn_cf_lane with that symmetry forced, the domain test and the forward pass in blocks of W forms,
+/// the forms of all the tie lanes one after another. Each lane's predictions are summed in the order of its
+/// forms, as tie_estimate sums them, and every step is the one the one-lane path takes, so the bits are the
+/// same (tested against a query alone).
 template <class Net, int W, bool kGregory>
-static void tie_estimates_block(const NetworkModel& m, bool check_domain, const double* raw, const int* lanes,
-                                int n_lanes, LaneState<W>& s) {
+static void tie_estimates_block(const NetworkModel& m, bool check_domain, const double* raw, const double* info,
+                                const int* lanes, int n_lanes, LaneState<W>& s) {
   constexpr int kStride = kGregory ? 27 : 15;
+  constexpr int kG = kGregory ? 1 : 0;
   constexpr double kCentreOf = kGregory ? 0.5 : 0.0;
-  alignas(64) double block[16 * W], out[2 * W];
-  double symmetry[W];
-  int owner[W];
+  alignas(64) double in[27 * W], features[16 * W], normals[12 * W], form_info[CNN_CF_INFO_ROWS * W], out[2 * W];
+  int form_sym[W], form_z[W], owner[W];
   int filled = 0;
   double sum_u[W], sum_v[W], forms_of[W];
   bool inside[W];
   const auto flush = [&] {
     for (int slot = filled; slot < W; ++slot) {  // the empty slots: copies of the first (never read back)
-      for (int i = 0; i < 16; ++i) block[i * W + slot] = block[i * W];
+      for (int k = 0; k < kStride; ++k) in[k * W + slot] = in[k * W];
+      form_sym[slot] = form_sym[0];
+      form_z[slot] = form_z[0];
     }
-    forward_pass<Net, W>(m, block, out);
+    CNN_CF_IVDEP
+    for (int slot = 0; slot < W; ++slot) {
+      cnn_cf_lane(in + slot, W, kG, 1, form_sym[slot], form_z[slot], features + slot, normals + slot, form_info + slot, W);
+    }
+    bool valid[W];
     for (int slot = 0; slot < filled; ++slot) {
+      if (form_info[4 * W + slot] != 0.0) {
+        cnn_cf_lane_scaled(in + slot, W, kG, 1, form_sym[slot], form_z[slot], features + slot, normals + slot,
+                           form_info + slot, W);
+      }
+      valid[slot] = form_info[slot] == kOk;  // cnn_cf_forms keeps the forms that exist
+    }
+    if (check_domain) cnn_domain_block(W, kG, &m.domain_bounds(), features, normals, form_info);
+    forward_pass<Net, W>(m, features, out);
+    for (int slot = 0; slot < filled; ++slot) {
+      if (!valid[slot]) continue;
       double x = out[slot], y = out[W + slot];
-      cnn_cf_to_caller(symmetry[slot], kCentreOf, &x, &y);
-      sum_u[owner[slot]] += x;
-      sum_v[owner[slot]] += y;
+      cnn_cf_to_caller(form_info[W + slot], kCentreOf, &x, &y);
+      const int l = owner[slot];
+      sum_u[l] += x;
+      sum_v[l] += y;
+      forms_of[l] += 1.0;
+      inside[l] = inside[l] && form_info[slot] == kOk;
     }
     filled = 0;
   };
   for (int t = 0; t < n_lanes; ++t) {
     const int l = lanes[t];
-    double query[27], f[16 * CNN_CF_MAX_FORMS], sym[CNN_CF_MAX_FORMS];
+    double query[27];
     for (int k = 0; k < kStride; ++k) query[k] = raw[k * W + l];
-    bool in = true;
-    const int count = tie_forms<kGregory>(m, check_domain, query, f, sym, in);
-    sum_u[l] = sum_v[l] = 0.0;
-    forms_of[l] = count;
-    inside[l] = in;
-    for (int k = 0; k < count; ++k) {
-      for (int i = 0; i < 16; ++i) block[i * W + filled] = f[16 * k + i];
-      symmetry[filled] = sym[k];
-      owner[filled] = l;
-      if (++filled == W) flush();
+    // Form 0: the block's.
+    sum_u[l] = 0.0;
+    sum_v[l] = 0.0;
+    sum_u[l] += s.u[l];
+    sum_v[l] += s.v[l];
+    forms_of[l] = 1.0;
+    inside[l] = info[l] == kOk;
+    int sym[8];
+    const int tied = cnn_cf_symmetries(query, sym);
+    const int sym0 = static_cast<int>(info[W + l]);
+    const int z_ties = kG & (static_cast<int>(info[5 * W + l]) >> 1);
+    for (int k = 0; k < tied; ++k) {
+      for (int z = 0; z <= z_ties; ++z) {
+        if (sym[k] == sym0 && z == 0) continue;  // form 0
+        for (int c = 0; c < kStride; ++c) in[c * W + filled] = query[c];
+        form_sym[filled] = sym[k];
+        form_z[filled] = z;
+        owner[filled] = l;
+        if (++filled == W) flush();
+      }
     }
   }
   if (filled > 0) flush();
   for (int t = 0; t < n_lanes; ++t) {
     const int l = lanes[t];
-    if (forms_of[l] == 0) continue;  // no canonical frame: tie_estimate leaves the lane as the block made it
     s.u[l] = sum_u[l] / forms_of[l];
     s.v[l] = sum_v[l] / forms_of[l];
     s.status[l] = inside[l] ? kOk : kOutOfDomain;
@@ -248,7 +272,7 @@ static void network_estimate(const NetworkModel& m, bool check_domain, const dou
     for (int l = 0; l < W; ++l) {
       if (cnn_cf_needs_forms(info[5 * W + l], kG) && (info[l] == kOk || info[l] == kOutOfDomain)) lanes[n_lanes++] = l;
     }
-    tie_estimates_block<Net, W, kGregory>(m, check_domain, raw, lanes, n_lanes, s);
+    tie_estimates_block<Net, W, kGregory>(m, check_domain, raw, info, lanes, n_lanes, s);
   }
 }
 

@@ -8,7 +8,7 @@
 // width-independent one such as sigmoid_all<float> came from whichever object it saw first, and a benchmark
 // that instantiated the block kernels in its own translation unit once replaced the library's (1.6-2x slower).
 // The surface blocks' member functions keep external linkage; they are keyed on W, which no two of the
-// kernel files share. tie_estimate and tie_forms are the kernels meant to be shared (kernels_single.cpp).
+// kernel files share. tie_estimate is the one kernel meant to be shared (kernels_single.cpp).
 #pragma once
 
 #include <algorithm>
