@@ -14,8 +14,11 @@ namespace {
 
 namespace fs = std::filesystem;
 
+/// A folder of its own for the running test case: ctest -j runs the cases as separate processes at once, and
+/// a shared folder, emptied by one case while the other filled it, failed a clean CI-style run.
 fs::path fresh_dir() {
-  const fs::path dir = testing::test_output_dir("test-file-identity");
+  const fs::path dir = testing::test_output_dir("test-file-identity") /
+                       ::testing::UnitTest::GetInstance()->current_test_info()->name();
   fs::remove_all(dir);
   fs::create_directories(dir / "sub");
   std::ofstream(dir / "data.h5") << "data";
