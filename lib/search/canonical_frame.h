@@ -391,8 +391,15 @@ static inline int cnn_cf_symmetries(const double* CNN_CF_RESTRICT x_in, int* CNN
   int k, r, e = 0, count = 0;
   for (k = 0; k < 15; ++k) big = cnn_cf_max(big, fabs(x_in[k]));
   if (big > 0.0 && big <= 1.7976931348623157e308) (void)frexp(big, &e);
-  for (k = 0; k < 15; ++k) x[k] = ldexp(x_in[k], -e);
-  big = ldexp(big, -e);
+  if (e > -1000 && e < 1000) {
+    /* A product with an exact power of two rounds as ldexp does; one call instead of sixteen. */
+    const double p = ldexp(1.0, -e);
+    for (k = 0; k < 15; ++k) x[k] = x_in[k] * p;
+    big = big * p;
+  } else {
+    for (k = 0; k < 15; ++k) x[k] = ldexp(x_in[k], -e);
+    big = ldexp(big, -e);
+  }
   tie_noise = 16.0 * eps * big;
   for (r = 0; r < 4; ++r) {
     const double sx = x[12] - x[3 * r], sy = x[13] - x[3 * r + 1], sz = x[14] - x[3 * r + 2];
