@@ -371,7 +371,10 @@ CNN_CF_INLINE void cnn_canonicalise_block(int n, int gregory, const double* CNN_
  * or, for Gregory, S and C on the plane of A, B, D) has several canonical configurations that are the same
  * problem. A network's answer is the mean of its predictions over all of them, mapped back to the caller's
  * node order, and it is in the domain only if every one is (eval::network_estimate): so that the answer does
- * not depend on the node order the caller happens to use. Ties are rare; this is the scalar path for them. */
+ * not depend on the node order the caller happens to use. Ties are rare on random queries and common on
+ * structured meshes (a slave midway between two master nodes). cnn_cf_forms makes the forms of one query; a
+ * block of queries can instead list each tie lane's symmetries (cnn_cf_symmetries) and run cnn_cf_lane with
+ * each one forced, a block of forms at a time, as lib/search does: the same forms, bit for bit. */
 
 /* True when lane's info row 5 `tie` asks for cnn_cf_forms. */
 CNN_CF_INLINE int cnn_cf_needs_forms(double tie, int gregory) {
