@@ -16,21 +16,18 @@ void select_single_kernels(Plan& plan) {
   }
 }
 
-namespace {
-
-/// Every canonical form of query `x` (cnn_cf_forms), with its features at features[16 k] and its symmetry code at
-/// symmetry[k]; `inside`: every form in the domain (with check_domain). Returns the count (0 when the query has
-/// no canonical frame).
-template <bool kGregory>
-int tie_forms(const NetworkModel& m, bool check_domain, const double* query, double* features, double* symmetry,
-              bool& inside) {
+template <class Net, bool kGregory>
+void tie_estimate(const NetworkModel& m, bool check_domain, const double* query, double& u, double& v, double& status) {
   constexpr int kG = kGregory ? 1 : 0;
   double f[16 * CNN_CF_MAX_FORMS], nrm[12 * CNN_CF_MAX_FORMS], info[CNN_CF_INFO_ROWS * CNN_CF_MAX_FORMS];
   const int count = cnn_cf_forms(query, kG, f, nrm, info);
-  if (info[0] != kOk) return 0;
+  if (info[0] != kOk) return;  // the block pass's form 0 is ok; the same code cannot say otherwise
   const cnn_domain& d = m.domain_bounds();
   const int angles = d.check_lo | d.check_hi;
-  inside = true;
+  const double centre = kGregory ? 0.5 : 0.0;
+  double sum_u = 0.0, sum_v = 0.0;
+  bool inside = true;
+  // In geometry::canonical_forms' order, summed as eval::network_estimate sums.
   for (int k = 0; k < count; ++k) {
     const double* fk = f + 16 * k;
     if (check_domain) {
@@ -38,27 +35,9 @@ int tie_forms(const NetworkModel& m, bool check_domain, const double* query, dou
       cnn_domain_lane(&d, kG, angles, fk, nrm + 12 * k, 1, &code);
       inside = inside && code == kOk;
     }
-    for (int i = 0; i < 16; ++i) features[16 * k + i] = fk[i];
-    symmetry[k] = info[CNN_CF_INFO_ROWS * k + 1];
-  }
-  return count;
-}
-
-}  // namespace
-
-template <class Net, bool kGregory>
-void tie_estimate(const NetworkModel& m, bool check_domain, const double* query, double& u, double& v, double& status) {
-  double f[16 * CNN_CF_MAX_FORMS], symmetry[CNN_CF_MAX_FORMS];
-  bool inside = true;
-  const int count = tie_forms<kGregory>(m, check_domain, query, f, symmetry, inside);
-  if (count == 0) return;  // the block pass's form 0 is ok; the same code cannot say otherwise
-  const double centre = kGregory ? 0.5 : 0.0;
-  double sum_u = 0.0, sum_v = 0.0;
-  // In geometry::canonical_forms' order, summed as eval::network_estimate sums.
-  for (int k = 0; k < count; ++k) {
     double out[2];
-    forward_pass<Net, 1>(m, f + 16 * k, out);
-    cnn_cf_to_caller(symmetry[k], centre, &out[0], &out[1]);
+    forward_pass<Net, 1>(m, fk, out);
+    cnn_cf_to_caller(info[CNN_CF_INFO_ROWS * k + 1], centre, &out[0], &out[1]);
     sum_u += out[0];
     sum_v += out[1];
   }

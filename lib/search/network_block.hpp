@@ -178,7 +178,8 @@ static void tie_estimates_block(const NetworkModel& m, bool check_domain, const 
     }
     CNN_CF_IVDEP
     for (int slot = 0; slot < W; ++slot) {
-      cnn_cf_lane(in + slot, W, kG, 1, form_sym[slot], form_z[slot], features + slot, normals + slot, form_info + slot, W);
+      cnn_cf_lane(in + slot, W, kG, 1, form_sym[slot], form_z[slot], features + slot, normals + slot,
+                  form_info + slot, W);
     }
     bool valid[W];
     for (int slot = 0; slot < filled; ++slot) {
@@ -239,7 +240,8 @@ static void tie_estimates_block(const NetworkModel& m, bool check_domain, const 
 
 /// The network's estimate for every lane of a raw block (`raw`: 15 or 27 rows of W, world coordinates), in
 /// the caller's node order: status ok, out_of_domain (with check_domain), degenerate or invalid; the estimate
-/// is the domain centre for the last two. Lanes on a tie go through tie_estimate after the block.
+/// is the domain centre for the last two. Lanes on a tie are redone after the block: tie_estimate for a block of
+/// one lane, tie_estimates_block for wider blocks.
 template <class Net, int W, bool kGregory>
 static void network_estimate(const NetworkModel& m, bool check_domain, const double* raw, LaneState<W>& s) {
   alignas(64) double features[16 * W], normals[12 * W], info[CNN_CF_INFO_ROWS * W], out[2 * W];

@@ -243,10 +243,10 @@ template <int W, bool kPureSecond>
 /// (downhill on |S - P|^2); a step is shortened to max_step, clamped into the box, and accepted when |S - P|
 /// does not grow by more than the rounding of the positions (noise[l], a length); otherwise halved up to
 /// max_halvings times, after which the lane stops with status no_convergence and keeps its previous iterate. A
-/// step shorter than `tol` ends the lane (converged). Both systems singular: degenerate. A lane ending on the box's edge:
-/// no_convergence where that edge lies beyond the domain; on an edge of the domain, outside when |S - P| still
-/// falls outward across it, else ok (see the last loop). `store` holds the surface at each lane's final
-/// iterate.
+/// step shorter than `tol` ends the lane (converged). Both systems singular: degenerate. A lane ending on the
+/// box's edge: no_convergence where that edge lies beyond the domain; on an edge of the domain, outside when
+/// |S - P| still falls outward across it, else ok (see the last loop). `store` holds the surface at each lane's
+/// final iterate.
 template <class Surf, int W>
 static void safeguarded_newton(const Surf& surf, int steps, const Safeguards& g, const double* noise, LaneState<W>& s,
                         EvalStore<W, Surf::kHasPureSecond>& store) {

@@ -134,7 +134,8 @@ static void search_rows(const Plan& plan, const In* raw_rows, const Results<In>&
     safeguarded_newton<Surf, W>(surf, method.newton_steps, plan.guards, noise, s, store);
     bool retry = false;
     for (int l = 0; l < W; ++l) {
-      retry_from_centre[l] = (retry_from_centre[l] != 0.0) & ((s.status[l] == kNoConvergence) | (s.status[l] == kDegenerate));
+      const bool failed = (s.status[l] == kNoConvergence) | (s.status[l] == kDegenerate);
+      retry_from_centre[l] = (retry_from_centre[l] != 0.0) & failed ? 1.0 : 0.0;
       retry = retry || retry_from_centre[l] != 0.0;
     }
     if (retry) {

@@ -43,8 +43,8 @@ namespace contactnn::search::detail {
 /// quantity of a vectorised loop has the same width.
 inline constexpr double kOk = 0.0, kOutside = 1.0, kNoConvergence = 2.0, kDegenerate = 3.0, kInvalid = 4.0,
                         kOutOfDomain = 5.0;
-/// Not a status of the interface: Newton to convergence stopped at the first pass's cap (LocalSearch::run), the
-/// lane to be computed again. Written to the caller's status array only until that second pass.
+/// Not a status of the interface: Newton to convergence stopped at a pass's cap (LocalSearch::run), the lane to
+/// be computed again. Written to the caller's status array only until a later pass.
 inline constexpr double kPending = 255.0;
 inline constexpr Status kPendingStatus = static_cast<Status>(255);
 
