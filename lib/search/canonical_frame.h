@@ -369,9 +369,11 @@ CNN_CF_INLINE void cnn_canonicalise_block(int n, int gregory, const double* CNN_
  *
  * A query on a tie (info row 5 of the block pass: another node as near S, |AB| = |AD| with S on the diagonal,
  * or, for Gregory, S and C on the plane of A, B, D) has several canonical configurations that are the same
- * problem. A network's answer is the mean of its predictions over all of them, mapped back to the caller's
- * node order, and it is in the domain only if every one is (eval::network_estimate): so that the answer does
- * not depend on the node order the caller happens to use. Ties are rare on random queries and common on
+ * problem. A network's answer is the mean of its predictions, mapped back to the caller's node order, over
+ * those of them in the network's domain (over all of them, flagged out of the domain, when none is): so that
+ * the answer does not depend on the node order the caller happens to use (SPEC 4 takes the first tied node in
+ * the caller's order; with a network that would make the answer depend on it), and no form the network was
+ * not trained on enters it. Ties are rare on random queries and common on
  * structured meshes (a slave midway between two master nodes). cnn_cf_forms makes the forms of one query; a
  * block of queries can instead list each tie lane's symmetries (cnn_cf_symmetries) and run cnn_cf_lane with
  * each one forced, a block of forms at a time, as lib/search does: the same forms, bit for bit. */

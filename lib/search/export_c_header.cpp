@@ -307,29 +307,33 @@ std::string export_c_header(const NetworkModel& m, const CHeaderOptions& options
   }
 
   // 5. Ties: lib/search's tie_estimate (kernels_single.cpp).
-  o << "/* A query on a tie: the mean over its canonical forms (cnn_cf_forms, in geometry::canonical_forms' order) of\n"
-    << " * the network's estimate in the caller's node order; out of the domain when any form is. */\n"
+  o << "/* A query on a tie: the mean over its canonical forms in the domain (cnn_cf_forms, in\n"
+    << " * geometry::canonical_forms' order) of the network's estimate in the caller's node order; when no form is\n"
+    << " * in the domain, the mean over every form, out of the domain. */\n"
     << "static inline void " << p << "_tie(const double* CNN_CF_RESTRICT x, double* u, double* v, double* code) {\n"
     << "  double f[16 * CNN_CF_MAX_FORMS], nrm[12 * CNN_CF_MAX_FORMS], info[CNN_CF_INFO_ROWS * CNN_CF_MAX_FORMS];\n"
-    << "  double sum_u = 0.0, sum_v = 0.0;\n"
-    << "  int k, inside = 1;\n"
+    << "  double all_u = 0.0, all_v = 0.0, in_u = 0.0, in_v = 0.0, inside = 0.0;\n"
+    << "  int k;\n"
     << "  const int count = cnn_cf_forms(x, " << g << ", f, nrm, info);\n"
     << "  if (info[0] != (double)CNN_CF_STATUS_OK) return;\n"
     << "  for (k = 0; k < count; ++k) {\n"
-    << "    double e[2];\n";
+    << "    double e[2], c = (double)CNN_CF_STATUS_OK;\n";
   if (options.check_domain) {
-    o << "    double c = (double)CNN_CF_STATUS_OK;\n"
-      << "    cnn_domain_lane(&" << p << "_domain, " << g << ", " << (angles ? 1 : 0) << ", f + 16 * k, nrm + 12 * k, 1, &c);\n"
-      << "    inside = inside && c == (double)CNN_CF_STATUS_OK;\n";
+    o << "    cnn_domain_lane(&" << p << "_domain, " << g << ", " << (angles ? 1 : 0) << ", f + 16 * k, nrm + 12 * k, 1, &c);\n";
   }
   o << "    " << p << "_forward(1, f + 16 * k, e);\n"
     << "    cnn_cf_to_caller(info[CNN_CF_INFO_ROWS * k + 1], " << centre << ", &e[0], &e[1]);\n"
-    << "    sum_u += e[0];\n"
-    << "    sum_v += e[1];\n"
+    << "    all_u += e[0];\n"
+    << "    all_v += e[1];\n"
+    << "    if (c == (double)CNN_CF_STATUS_OK) {\n"
+    << "      in_u += e[0];\n"
+    << "      in_v += e[1];\n"
+    << "      inside += 1.0;\n"
+    << "    }\n"
     << "  }\n"
-    << "  *u = sum_u / count;\n"
-    << "  *v = sum_v / count;\n"
-    << "  *code = inside ? (double)CNN_CF_STATUS_OK : (double)CNN_CF_STATUS_OUT_OF_DOMAIN;\n"
+    << "  *u = inside > 0.0 ? in_u / inside : all_u / count;\n"
+    << "  *v = inside > 0.0 ? in_v / inside : all_v / count;\n"
+    << "  *code = inside > 0.0 ? (double)CNN_CF_STATUS_OK : (double)CNN_CF_STATUS_OUT_OF_DOMAIN;\n"
     << "}\n\n";
 
   // 6. A block of n lanes: lib/search's network_estimate.

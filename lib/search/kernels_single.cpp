@@ -25,25 +25,27 @@ void tie_estimate(const NetworkModel& m, bool check_domain, const double* query,
   const cnn_domain& d = m.domain_bounds();
   const int angles = d.check_lo | d.check_hi;
   const double centre = kGregory ? 0.5 : 0.0;
-  double sum_u = 0.0, sum_v = 0.0;
-  bool inside = true;
-  // In geometry::canonical_forms' order, summed as eval::network_estimate sums.
+  // Two sums in geometry::canonical_forms' order: over every form, and over the forms in the domain.
+  double all_u = 0.0, all_v = 0.0, in_u = 0.0, in_v = 0.0, inside = 0.0;
   for (int k = 0; k < count; ++k) {
     const double* fk = f + 16 * k;
-    if (check_domain) {
-      double code = kOk;
-      cnn_domain_lane(&d, kG, angles, fk, nrm + 12 * k, 1, &code);
-      inside = inside && code == kOk;
-    }
+    double code = kOk;
+    if (check_domain) cnn_domain_lane(&d, kG, angles, fk, nrm + 12 * k, 1, &code);
     double out[2];
     forward_pass<Net, 1>(m, fk, out);
     cnn_cf_to_caller(info[CNN_CF_INFO_ROWS * k + 1], centre, &out[0], &out[1]);
-    sum_u += out[0];
-    sum_v += out[1];
+    all_u += out[0];
+    all_v += out[1];
+    if (code == kOk) {
+      in_u += out[0];
+      in_v += out[1];
+      inside += 1.0;
+    }
   }
-  u = sum_u / count;
-  v = sum_v / count;
-  status = inside ? kOk : kOutOfDomain;
+  const bool any = inside > 0.0;
+  u = any ? in_u / inside : all_u / count;
+  v = any ? in_v / inside : all_v / count;
+  status = any ? kOk : kOutOfDomain;
 }
 
 template void tie_estimate<float, false>(const NetworkModel&, bool, const double*, double&, double&, double&);

@@ -144,11 +144,11 @@ static void forward_pass(const NetworkModel& m, const double* f, double* out) {
   }
 }
 
-/// The estimate of a lane on a tie (cnn_cf_needs_forms): the mean over its canonical forms (cnn_cf_forms) of the
-/// network's prediction mapped to the caller's order; status out_of_domain when check_domain and any form is
-/// outside the domain, else ok. `query`: the lane's 15 or 27 raw values, contiguous. Defined once, in
-/// kernels_single.cpp (compiled without auto-vectorisation), so that a query gives the same bits in a block of
-/// any width.
+/// The estimate of a lane on a tie (cnn_cf_needs_forms): the mean over its canonical forms (cnn_cf_forms) in the
+/// domain of the network's prediction mapped to the caller's order, status ok; when no form is in the domain,
+/// the mean over every form, status out_of_domain. Without check_domain every form counts as in the domain.
+/// `query`: the lane's 15 or 27 raw values, contiguous. Defined once, in kernels_single.cpp (compiled without
+/// auto-vectorisation), so that a query gives the same bits in a block of any width.
 template <class Net, bool kGregory>
 void tie_estimate(const NetworkModel& m, bool check_domain, const double* query, double& u, double& v, double& status);
 
@@ -168,8 +168,8 @@ static void tie_estimates_block(const NetworkModel& m, bool check_domain, const 
   alignas(64) double in[27 * W], features[16 * W], normals[12 * W], form_info[CNN_CF_INFO_ROWS * W], out[2 * W];
   int form_sym[W], form_z[W], owner[W];
   int filled = 0;
-  double sum_u[W], sum_v[W], forms_of[W];
-  bool inside[W];
+  // Per tie lane, in the order of its forms: the sums over every form and over the forms in the domain.
+  double all_u[W], all_v[W], forms_of[W], in_u[W], in_v[W], inside[W];
   const auto flush = [&] {
     for (int slot = filled; slot < W; ++slot) {  // the empty slots: copies of the first (never read back)
       for (int k = 0; k < kStride; ++k) in[k * W + slot] = in[k * W];
@@ -196,10 +196,13 @@ static void tie_estimates_block(const NetworkModel& m, bool check_domain, const 
       double x = out[slot], y = out[W + slot];
       cnn_cf_to_caller(form_info[W + slot], kCentreOf, &x, &y);
       const int l = owner[slot];
-      sum_u[l] += x;
-      sum_v[l] += y;
+      all_u[l] += x;
+      all_v[l] += y;
       forms_of[l] += 1.0;
-      inside[l] = inside[l] && form_info[slot] == kOk;
+      const bool in_domain = form_info[slot] == kOk;
+      in_u[l] += in_domain ? x : 0.0;
+      in_v[l] += in_domain ? y : 0.0;
+      inside[l] += in_domain ? 1.0 : 0.0;
     }
     filled = 0;
   };
@@ -208,12 +211,13 @@ static void tie_estimates_block(const NetworkModel& m, bool check_domain, const 
     double query[27];
     for (int k = 0; k < kStride; ++k) query[k] = raw[k * W + l];
     // Form 0: the block's.
-    sum_u[l] = 0.0;
-    sum_v[l] = 0.0;
-    sum_u[l] += s.u[l];
-    sum_v[l] += s.v[l];
+    const bool in_domain = info[l] == kOk;
+    all_u[l] = 0.0 + s.u[l];
+    all_v[l] = 0.0 + s.v[l];
     forms_of[l] = 1.0;
-    inside[l] = info[l] == kOk;
+    in_u[l] = 0.0 + (in_domain ? s.u[l] : 0.0);
+    in_v[l] = 0.0 + (in_domain ? s.v[l] : 0.0);
+    inside[l] = in_domain ? 1.0 : 0.0;
     int sym[8];
     const int tied = cnn_cf_symmetries(query, sym);
     const int sym0 = static_cast<int>(info[W + l]);
@@ -232,9 +236,10 @@ static void tie_estimates_block(const NetworkModel& m, bool check_domain, const 
   if (filled > 0) flush();
   for (int t = 0; t < n_lanes; ++t) {
     const int l = lanes[t];
-    s.u[l] = sum_u[l] / forms_of[l];
-    s.v[l] = sum_v[l] / forms_of[l];
-    s.status[l] = inside[l] ? kOk : kOutOfDomain;
+    const bool any = inside[l] > 0.0;
+    s.u[l] = any ? in_u[l] / inside[l] : all_u[l] / forms_of[l];
+    s.v[l] = any ? in_v[l] / inside[l] : all_v[l] / forms_of[l];
+    s.status[l] = any ? kOk : kOutOfDomain;
   }
 }
 

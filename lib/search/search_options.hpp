@@ -38,7 +38,8 @@ struct SearchOptions {
   /// status no_convergence (keeping the previous iterate). Each halving costs one surface evaluation for the
   /// whole block, so only a few.
   int max_halvings = 3;
-  /// Network methods: test each query against the network's training domain (status out_of_domain).
+  /// Network methods: test each query against the network's training domain (status out_of_domain). A query on a
+  /// tie averages the network over its canonical forms in the domain; without the test, over all of them.
   bool check_domain = true;
   /// Below this many queries run() stays on the calling thread: an OpenMP region costs microseconds.
   std::size_t min_parallel_count = 512;

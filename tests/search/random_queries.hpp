@@ -206,6 +206,9 @@ inline std::vector<Configuration> tie_queries(std::mt19937_64& rng) {
       {square, Vec3(0.5, 0.5, 0.2), normals},     // all four nodes, each on its diagonal
       {flat, Vec3(0.3, 0.25, 0.0), normals},      // S and C on the plane of A, B, D (Gregory: z tie)
       {flat, Vec3(0.5, 0.3, 0.0), normals},       // both
+      // As near A as B, one form in the paper's domain and one outside it: z_S scaled by the longer edge at A
+      // (1.2) is 0.28, by the one at B (1.1) 0.31, over the domain's 0.3.
+      {{Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1.1, 0), Vec3(0, 1.2, 0)}, Vec3(0.5, 0.3, 0.34), normals},
   };
   std::vector<Configuration> out;
   for (const Configuration& base : bases) {

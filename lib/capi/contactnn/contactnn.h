@@ -80,7 +80,8 @@ enum contactnn_surface {
 typedef struct contactnn_options {
   int threads;        /* OpenMP threads per run; <= 0: OpenMP's default (OMP_NUM_THREADS). Default 0 */
   int check_domain;   /* network methods: nonzero tests each query against the network's training domain
-                         (status out_of_domain). Default 1 */
+                         (status out_of_domain); a query on a tie then averages the network over its
+                         canonical forms in the domain, else over all of them. Default 1 */
   int max_iterations; /* "newton" (to convergence): iteration limit, >= 1. Default 50 */
   int max_halvings;   /* hybrids: halvings of a step that does not reduce |S - P|, >= 0. Default 3 */
   double tol_param;   /* "newton": converged when the step (max norm, parameter units) is at most this, >= 0.
