@@ -204,9 +204,18 @@ bool CsvReader::next(CsvRecord& record, std::size_t& line) {
   }
   std::size_t record_line = 0;
   if (!read_record(record, record_line)) return false;
+  // A ragged row names the first column it lacks, or the first field beyond the header (SPEC 6: file, line and
+  // column).
   CONTACTNN_REQUIRE_AS(FormatError, header_.empty() || record.size() == header_.size(),
                        file_label(path_) << ":" << record_line << ": ragged row: " << record.size()
-                                         << " fields, the header has " << header_.size());
+                                         << " fields, the header has " << header_.size() << " ("
+                                         << (record.size() < header_.size()
+                                                 ? "column " + std::to_string(record.size() + 1) + ", " +
+                                                       quote_text(std::string(trim(header_[record.size()]))) +
+                                                       ", missing"
+                                                 : "column " + std::to_string(header_.size() + 1) +
+                                                       " is beyond the header")
+                                         << ")");
   line = record_line;
   return true;
 }

@@ -14,12 +14,14 @@ namespace contactnn::search {
 
 namespace {
 
-// Lanes per block of the batched entry point: 16 doubles fill 2 AVX-512 or 4 AVX2 registers per quantity,
-// enough independent vectors per operation; wider blocks spill the canonical frame's many live values.
-constexpr int kBlockLanes = 16;
-// Units of a layer computed together: 4 independent multiply-add chains of kBlockLanes lanes each, so that
-// a layer is bound by throughput rather than by the latency of one chain, within 16 vector registers (AVX2).
-constexpr int kUnitsTogether = 4;
+// Lanes per block of the batched entry point, and units of a layer computed together (independent
+// multiply-add chains of kBlockLanes lanes each, so that a layer is bound by throughput rather than by the
+// latency of one chain): the library's 32 and 8 (network_block.hpp). Measured with bench_search's c-header
+// rows (batched, 1 thread, AMD EPYC with AVX-512): 16 lanes and 4 units took 1.47x (bilinear-8) and 1.75x
+// (gregory-48) the library's time, 32 and 8 take 1.12x and 1.17x; compiled for AVX2 only (-mno-avx512f),
+// 32 lanes are faster too (gregory-48 811 -> 562 us per 4096 queries), the frame's spills notwithstanding.
+constexpr int kBlockLanes = 32;
+constexpr int kUnitsTogether = 8;
 
 // Text that reads back to the same value: 9 significant digits for float, 17 for double; the infinities of
 // an open bound as HUGE_VAL (a constant expression in C99).

@@ -40,8 +40,9 @@ constexpr double kGregoryBuild = 56 + 48 + 4 * 49 + 48 + 4 * 131 + 12;
 // One Gregory evaluation with second derivatives: Bernstein values 54, tensor part 396, rational part 4 x 85;
 // the Newton system 45 and its solve and checks 19.
 constexpr double kGregoryEval = 54 + 396 + 340, kGregoryStep = kGregoryEval + 45 + 19;
-// The safeguarded step on top of the evaluation: both determinants, the step cap, the acceptance test 16.
-constexpr double kSafeguard = 16;
+// The safeguarded step on top of the evaluation: both determinants, the step cap, the acceptance test 16; the
+// steps along a face of the box (two divisions) 2.
+constexpr double kSafeguard = 16 + 2;
 // Gregory only: the shift of an indefinite Jacobian (both smaller eigenvalues, 2 x 8 with a square root each;
 // the shift 2; the shifted diagonal and determinant 5), computed in every lane of the vectorised step.
 constexpr double kGregoryShift = 23;

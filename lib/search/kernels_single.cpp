@@ -1,6 +1,8 @@
 // The one-lane instantiations of the block kernels, for queries outside whole blocks, and the scalar path of
 // queries on a tie. This file is compiled without auto-vectorisation (see CMakeLists.txt and
 // select_single_kernels in search_kernel.hpp).
+#include "geometry/affine_frame.hpp"
+#include "geometry/segment_checks.hpp"
 #include "search/search_kernel.hpp"
 
 namespace contactnn::search::detail {
@@ -46,6 +48,17 @@ void tie_estimate(const NetworkModel& m, bool check_domain, const double* query,
   u = any ? in_u / inside : all_u / count;
   v = any ? in_v / inside : all_v / count;
   status = any ? kOk : kOutOfDomain;
+}
+
+bool degenerate_as_labelled(const double* query, bool gregory) {
+  geometry::Configuration c;
+  for (std::size_t i = 0; i < 4; ++i) {
+    c.nodes[i] = geometry::Vec3(query[3 * i], query[3 * i + 1], query[3 * i + 2]);
+    if (gregory) c.normals[i] = geometry::Vec3(query[15 + 3 * i], query[16 + 3 * i], query[17 + 3 * i]);
+  }
+  c.slave = geometry::Vec3(query[12], query[13], query[14]);
+  const geometry::NormaliseOutcome n = geometry::normalise(c, gregory ? SurfaceKind::kGregory : SurfaceKind::kBilinear);
+  return !n.value || geometry::is_degenerate_segment(n.value->config.nodes);
 }
 
 template void tie_estimate<float, false>(const NetworkModel&, bool, const double*, double&, double&, double&);

@@ -152,6 +152,12 @@ static void forward_pass(const NetworkModel& m, const double* f, double* out) {
 template <class Net, bool kGregory>
 void tie_estimate(const NetworkModel& m, bool check_domain, const double* query, double& u, double& v, double& status);
 
+/// Whether the labels call query `query` (15 or 27 raw values, finite) degenerate, as dataset::label_configuration
+/// decides: no canonical frame at any corner (geometry::normalise) or a collapsed segment
+/// (geometry::is_degenerate_segment). The network's own frame has no fallback corner, so a query it cannot
+/// canonicalise may still have a label. Defined in kernels_single.cpp; scalar, for the rare lanes that need it.
+bool degenerate_as_labelled(const double* query, bool gregory);
+
 /// The lanes of a block on a tie, W > 1: tie_estimate's answers, computed W forms at a time. A lane's form 0 is
 /// the block's own (its features, domain status and prediction are already in the block); its other forms (one
 /// per symmetry of cnn_cf_symmetries and, Gregory on a z tie, each orientation of z, in cnn_cf_forms' order)

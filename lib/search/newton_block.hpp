@@ -296,6 +296,24 @@ static void safeguarded_newton(const Surf& surf, int steps, const Safeguards& g,
       const double inv = 1.0 / det;
       double du = (c * q.r0 - b * q.r1) * inv;
       double dv = (a * q.r1 - b * q.r0) * inv;
+      if constexpr (Surf::kHasPureSecond) {
+        // A Gregory patch, whose box is the domain: on an edge with the step pointing out of the segment, the
+        // coordinate stays on the edge and the other takes the step of the problem along the edge (projected
+        // Newton). The full step, clamped, moved the free coordinate by an amount meant for a move off the
+        // edge too, which could raise |S - P| however it was halved: a node whose nearest point is outside,
+        // held at the edge, ended no_convergence after 3 to 5 steps. Out through both edges of a corner: no
+        // step (converged there). Not on the bilinear facet, whose box lies beyond the domain: a lane that
+        // reaches it has left for a far stationary point, and sliding along the box's face brought some back
+        // to wrong answers (closed_form+newton:3's mean error on the bilinear domain rose 1.5x).
+        const bool out_u = ((s.u[l] <= lo) & (du < 0.0)) | ((s.u[l] >= hi) & (du > 0.0));
+        const bool out_v = ((s.v[l] <= lo) & (dv < 0.0)) | ((s.v[l] >= hi) & (dv > 0.0));
+        const double du_face = q.r0 / (a > 0.0 ? a : 1.0), dv_face = q.r1 / (c > 0.0 ? c : 1.0);
+        const bool still_u = ((s.u[l] <= lo) & (du_face < 0.0)) | ((s.u[l] >= hi) & (du_face > 0.0));
+        const bool still_v = ((s.v[l] <= lo) & (dv_face < 0.0)) | ((s.v[l] >= hi) & (dv_face > 0.0));
+        const bool hold_u = out_u | (out_v & still_u), hold_v = out_v | (out_u & still_v);
+        du = hold_u ? 0.0 : (hold_v ? du_face : du);
+        dv = hold_v ? 0.0 : (hold_u ? dv_face : dv);
+      }
       const bool singular = !exact & !(det_g > floor);
       const double size = max_of(std::fabs(du), std::fabs(dv));
       const double shrink = size > max_step ? max_step / size : 1.0;

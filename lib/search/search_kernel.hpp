@@ -92,13 +92,20 @@ static void search_rows(const Plan& plan, const In* raw_rows, const Results<In>&
   if (method.start == Method::Start::kNetwork) {
     network_estimate<Net, W, kGregory>(*plan.network, plan.options.check_domain, &raw[0][0], s);
     if (hybrid) {
-      // Newton decides the status. Without a canonical frame (a finite input) the network has no estimate: the
-      // refinement starts from the domain centre. Outside its training domain the network extrapolates: its
-      // estimate is still the start (near the domain it is good), but a refinement from it that fails is
-      // retried from the centre (step 2).
+      // Newton decides the status. Where the network has no canonical frame, the segment is degenerate when its
+      // label says so (degenerate_as_labelled: collapsed, or no frame at any corner; a collapsed segment refined
+      // from the centre came back ok); otherwise (a Gregory node normal on the far side of the canonical
+      // corner's plane, where another corner has a frame) the refinement starts from the domain centre.
+      // Outside its training domain the network extrapolates: its estimate is still the start (near the
+      // domain it is good), but a refinement from it that fails is retried from the centre (step 2).
       for (int l = 0; l < W; ++l) {
         retry_from_centre[l] = s.status[l] == kOutOfDomain ? 1.0 : 0.0;
-        const bool none = s.status[l] == kDegenerate;
+        bool none = false;
+        if (s.status[l] == kDegenerate) {
+          double query[27];
+          for (int k = 0; k < kStride; ++k) query[k] = raw[k][l];
+          none = !degenerate_as_labelled(query, kGregory);
+        }
         s.u[l] = none ? kCentre : s.u[l];
         s.v[l] = none ? kCentre : s.v[l];
         s.status[l] = (none | (s.status[l] == kOutOfDomain)) ? kOk : s.status[l];
@@ -134,7 +141,11 @@ static void search_rows(const Plan& plan, const In* raw_rows, const Results<In>&
     safeguarded_newton<Surf, W>(surf, method.newton_steps, plan.guards, noise, s, store);
     bool retry = false;
     for (int l = 0; l < W; ++l) {
-      const bool failed = (s.status[l] == kNoConvergence) | (s.status[l] == kDegenerate);
+      // On a Gregory patch an answer at the edge (outside) is checked from the centre too: a start in another
+      // basin slides along the edge to a point where the distance falls outward while an interior stationary
+      // point, the answer by SPEC 2, lies elsewhere. The centre's answer replaces it only when ok and nearer.
+      const bool failed = (s.status[l] == kNoConvergence) | (s.status[l] == kDegenerate) |
+                          (kGregory & (s.status[l] == kOutside));
       retry_from_centre[l] = (retry_from_centre[l] != 0.0) & failed ? 1.0 : 0.0;
       retry = retry || retry_from_centre[l] != 0.0;
     }
@@ -154,6 +165,13 @@ static void search_rows(const Plan& plan, const In* raw_rows, const Results<In>&
       safeguarded_newton<Surf, W>(surf, method.newton_steps, plan.guards, noise, again, again_store);
       for (int l = 0; l < W; ++l) {
         if (retry_from_centre[l] == 0.0) continue;
+        // An answer at the edge stays unless the centre's is inside and nearer S (after few steps the centre's
+        // run may be on its way, not there: an interior point farther than the edge is no better answer).
+        const bool edge_stays = (again.status[l] != kOk) | !(again_store.dist[l] < store.dist[l]);
+        if (s.status[l] == kOutside && edge_stays) {  // the steps of both runs
+          s.iterations[l] = again.iterations[l];
+          continue;
+        }
         s.u[l] = again.u[l];
         s.v[l] = again.v[l];
         s.status[l] = again.status[l];

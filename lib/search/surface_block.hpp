@@ -194,10 +194,15 @@ struct GregoryBlock {
       CONTACTNN_UNROLL
       for (int c = 0; c < 3; ++c) x[i][c] = q.node[3 * i + c][l];
     }
-    // Unit normals: scaled by their largest component first, so that any positive length works.
+    // Unit normals: scaled by their largest component first, so that any positive length works; a normal
+    // whose components are all below 2^-900 (subnormal lengths included, whose reciprocal overflows) is first
+    // multiplied by 2^600, exactly.
     CONTACTNN_UNROLL
     for (int i = 0; i < 4; ++i) {
-      const double nx = q.normal[3 * i][l], ny = q.normal[3 * i + 1][l], nz = q.normal[3 * i + 2][l];
+      const double n0x = q.normal[3 * i][l], n0y = q.normal[3 * i + 1][l], n0z = q.normal[3 * i + 2][l];
+      const double m0 = max_of(max_of(std::fabs(n0x), std::fabs(n0y)), std::fabs(n0z));
+      const double up = m0 < 0x1p-900 ? 0x1p600 : 1.0;
+      const double nx = n0x * up, ny = n0y * up, nz = n0z * up;
       const double ax = std::fabs(nx), ay = std::fabs(ny), az = std::fabs(nz);
       const double m = ax < ay ? (ay < az ? az : ay) : (ax < az ? az : ax);
       bad = bad | !(m > 0.0);

@@ -55,7 +55,11 @@ TEST(Csv, EveryMalformedCaseNamesFileLineAndWhat) {
   EXPECT_NE(message_of("a,b\n").find("header only"), std::string::npos);
   const std::string ragged = message_of("a,b\n1,2\n3\n");
   EXPECT_NE(ragged.find("'in.csv':3"), std::string::npos) << ragged;
-  EXPECT_NE(ragged.find("1 fields, the header has 2"), std::string::npos) << ragged;
+  EXPECT_NE(ragged.find("1 fields, the header has 2 (column 2, 'b', missing)"), std::string::npos) << ragged;
+  const std::string long_row = message_of("a,b\n1,2,3\n");
+  EXPECT_NE(long_row.find("'in.csv':2: ragged row: 3 fields, the header has 2 (column 3 is beyond the header)"),
+            std::string::npos)
+      << long_row;
   EXPECT_NE(message_of("a,b,a\n1,2,3\n").find("duplicate column 'a'"), std::string::npos);
   EXPECT_NE(message_of("a,b\n1,\"2\n").find("unterminated"), std::string::npos);
   const CsvTable t = parse_csv("ax,ay\n1,2\n3,oops\n", "in.csv");

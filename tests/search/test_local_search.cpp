@@ -616,6 +616,97 @@ TEST(Hybrids, AGregoryNodeBeyondAnEdgeIsOutsideAtTheEdge) {
   }
 }
 
+TEST(Hybrids, AGregoryNodeWhoseNearestPointIsOutsideStaysOutsideAtAnyK) {
+  // Two random Gregory configurations of the paper's domain, placed at random: the nearest point lies just
+  // beyond an edge (labels: outside at u = -0.0072 and at u < 0). The descent is held at the edge u = 0; the
+  // full Newton step, clamped there, moved v by an amount meant for a move off the edge too, which raised
+  // |S - P| however it was halved: no_convergence from K = 3 or 5 on (found by probing evaluate-net
+  // --newton-steps; 30 of 54 outside labels of 3000 such configurations). Along the edge: outside at every K.
+  const auto& trained = shipped("gregory-48.h5");
+  const NetworkModel model(trained.network, trained.domain);
+  std::vector<double> raw = {
+      90.81401314162818, 12.36001440387318, 15.328822870353292, 90.80190014906508, 12.380945362260567,
+      15.263338079244795, 90.79996105434928, 12.424853822782032, 15.300024861125342, 90.7934560667935,
+      12.41110856418107, 15.358743914979435, 90.79361603691947, 12.3618532618509, 15.333630744518432,
+      0.5863449502676554, 0.21525823611647613, -0.011758361744666318, 0.25722903798553765, 0.04290381942143495,
+      -0.043497906724244695, 6.095367276338588, -0.4826268244052117, 0.2896184014988287, 5.861773053845725,
+      1.3601565792826231, 1.0652088804656905,
+      -85.50340010515707, 48.24610467871506, -12.951950056017296, -85.5692477062633, 48.26522045187271,
+      -12.991965748703894, -85.59733494763732, 48.266512821457795, -12.962428069391573, -85.53032077075747,
+      48.28485460152605, -12.89352409153229, -85.50473460117895, 48.27869662676037, -12.936411250629465,
+      1.9688345839942543, 4.674823725620447, -2.2061072766954615, 0.23144333623045668, 1.0609314527486071,
+      0.043458574424061716, -0.6058863089849148, 2.7799869122229612, -0.12184706159333396, 0.2932579346753613,
+      1.9584024910766282, -1.2600431182666751};
+  const std::vector<dataset::Label> labels = labels_of(raw, kGregory);
+  for (std::size_t i = 0; i < 2; ++i) ASSERT_EQ(labels[i].status, Status::kOutside);
+  for (const int k : {1, 2, 3, 5, 8, 20}) {
+    const Output<double> out = run_method(kGregory, "network+newton:" + std::to_string(k), raw, &model);
+    for (std::size_t i = 0; i < 2; ++i) {
+      EXPECT_EQ(out.status[i], Status::kOutside) << "K " << k << " query " << i;
+      EXPECT_EQ(out.param[2 * i], 0.0) << "K " << k << " query " << i;  // on the edge u = 0
+      // v: the nearest point of the edge, near the label's beyond it.
+      EXPECT_NEAR(out.param[2 * i + 1], labels[i].param[1], 0.01) << "K " << k << " query " << i;
+    }
+  }
+}
+
+TEST(Hybrids, KeepTheDegenerateStatusOfTheLabels) {
+  // A bilinear segment with A = B: degenerate for its label and for the network; Newton steps from the centre
+  // used to report it ok (K = 1 at (0.49, -0.36), K = 3 at (0.99, -0.40)).
+  const auto& bilinear = shipped("bilinear-8.h5");
+  const NetworkModel bilinear_model(bilinear.network, bilinear.domain);
+  const std::vector<double> collapsed = {0, 0, 0, 0, 0, 0, 1, 1, 0, 0, 1, 0, 0.3, 0.4, 0.2};
+  ASSERT_EQ(labels_of(collapsed, kBilinear)[0].status, Status::kDegenerate);
+  for (const char* method : {"network", "network+newton:1", "network+newton:3"}) {
+    EXPECT_EQ(run_method(kBilinear, method, collapsed, &bilinear_model).status[0], Status::kDegenerate) << method;
+  }
+  // A Gregory configuration whose canonical corner has a node normal on the far side of its plane: the
+  // network has no frame there (degenerate), the label a frame at the next corner (ok). The refinement starts
+  // from the centre and converges to the label.
+  const auto& gregory = shipped("gregory-48.h5");
+  const NetworkModel gregory_model(gregory.network, gregory.domain);
+  const std::vector<double> no_frame = {
+      14.965173617986489, 12.371862287085902, -10.610882442964515, 17.670652316394726, 12.590882563642005,
+      -11.354241559800363, 17.043137792303771, 13.290488130305958, -11.692528180353968, 15.115458880844086,
+      12.216076777519753, -11.158016782337979, 17.046983148932974, 12.776622569162456, -11.473182595340214,
+      -0.094314486325367916, 0.94849795384591873, -0.30241760732352729, 0.219756056191725, 0.52795554227080521,
+      0.82034762214112611, -0.035808355866756882, 0.39234961177313332, 0.91911889535118974, -0.65442895866917739,
+      0.64977572587048649, -0.38667071795606511};
+  const dataset::Label label = labels_of(no_frame, kGregory)[0];
+  ASSERT_EQ(label.status, Status::kOk);
+  EXPECT_EQ(run_method(kGregory, "network", no_frame, &gregory_model).status[0], Status::kDegenerate);
+  const Output<double> k5 = run_method(kGregory, "network+newton:5", no_frame, &gregory_model);
+  EXPECT_EQ(k5.status[0], Status::kOk);
+  EXPECT_LT(param_error(k5, 0, label), 1e-8);
+}
+
+TEST(Hybrids, GregoryNodeNormalsOfSubnormalLengthWork) {
+  // SPEC 6: node normals of any positive length. Scaled to 1e-310 and 1e-320 (subnormal: the reciprocal of
+  // the length overflows), the Newton steps see the normals as the same normals scaled up by 2^600, exactly:
+  // the same bits (reported degenerate before). The subnormals round the directions, so the comparison is
+  // with those rounded normals, not with the unit ones.
+  const auto& trained = shipped("gregory-48.h5");
+  const NetworkModel model(trained.network, trained.domain);
+  std::vector<double> tiny = random_queries(kGregory, 40, 31);
+  for (std::size_t i = 0; i < 40; ++i) {
+    for (std::size_t k = 15; k < 27; ++k) tiny[27 * i + k] *= (i % 2 == 0 ? 1e-310 : 1e-320);
+  }
+  std::vector<double> scaled = tiny;
+  for (std::size_t i = 0; i < 40; ++i) {
+    for (std::size_t k = 15; k < 27; ++k) scaled[27 * i + k] = std::ldexp(tiny[27 * i + k], 600);
+  }
+  for (const char* method : {"newton:5", "network+newton:2"}) {
+    const Output<double> a = run_method(kGregory, method, scaled, &model);
+    const Output<double> b = run_method(kGregory, method, tiny, &model);
+    for (std::size_t i = 0; i < 40; ++i) {
+      EXPECT_NE(b.status[i], Status::kDegenerate) << method << " query " << i;
+      EXPECT_EQ(b.status[i], a.status[i]) << method << " query " << i;
+      EXPECT_EQ(b.param[2 * i], a.param[2 * i]) << method << " query " << i;
+      EXPECT_EQ(b.param[2 * i + 1], a.param[2 * i + 1]) << method << " query " << i;
+    }
+  }
+}
+
 TEST(Hybrids, ClosedFormPlusNewtonConvergesOnTheBilinearDomain) {
   const std::vector<double> raw = random_queries(kBilinear, 2000, 16);
   const std::vector<dataset::Label> labels = labels_of(raw, kBilinear);
