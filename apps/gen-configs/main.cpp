@@ -175,12 +175,22 @@ void print_scene_summary(const std::string& deck, const contact::Scene& scene, c
   std::printf("  time                 %.3f s\n", seconds);
 }
 
+/// Pair `pair` of `deck` made ready for the global search. A deck without that pair is a usage error (exit 2)
+/// whose message names the deck.
+contact::Scene read_scene(const std::string& deck, int pair) {
+  const mesh::ContactModel model = io::read_inp_deck(deck);
+  try {
+    return contact::make_scene(model, pair);
+  } catch (const InvalidArgument& e) {
+    throw InvalidArgument("'" + deck + "': " + e.what());
+  }
+}
+
 /// Scene mode (SPEC 7): the pairs of one *CONTACT PAIR of a deck, labelled, as a RAW.csv with node ids.
 int scene_mode(const std::string& deck, int pair, const contact::SearchOptions& options, const std::string& output) {
   const auto start = std::chrono::steady_clock::now();
   // 1. Read the deck; 2. the pair's master segments, node normals and slave nodes; 3. search and label.
-  const mesh::ContactModel model = io::read_inp_deck(deck);
-  const contact::Scene scene = contact::make_scene(model, pair);
+  const contact::Scene scene = read_scene(deck, pair);
   const contact::SceneResult result = contact::search_scene(scene, options);
 
   // 4. One row per slave node: ids, world coordinates (round-trip exact), then the label columns.
@@ -241,8 +251,7 @@ int scene_mode(const std::string& deck, int pair, const contact::SearchOptions& 
 dataset::LabelledSet scene_domain(const std::string& deck, int pair, dataset::SceneDomainOptions domain,
                                   const dataset::EnumerationOptions& options, std::int64_t count,
                                   dataset::EnumerationSummary& summary, const dataset::ProgressFn& progress) {
-  const mesh::ContactModel model = io::read_inp_deck(deck);
-  const contact::Scene scene = contact::make_scene(model, pair);
+  const contact::Scene scene = read_scene(deck, pair);
   contact::SearchOptions search;
   search.surface = options.surface;
   search.projection = options.projection;

@@ -319,6 +319,15 @@ def _(ctx):
         raise Failure(f"expected the header alone, got {lines[:3]}")
 
 
+@case("scene_pair_missing_names_the_deck")
+def _(ctx):
+    # A deck without *CONTACT PAIR, and a pair number past the last: usage errors (exit 2) naming the deck.
+    body = "*NODE\n1, 0., 0., 0.\n2, 1., 0., 0.\n3, 1., 1., 0.\n4, 0., 1., 0.\n"
+    ctx.write("nopair.inp", body)
+    ctx.expect_failure("gen-configs", ["--scene", "nopair.inp", "--surface", "bilinear", "--output", "p.csv"], 2,
+                       r"'[^']*nopair\.inp': the deck has no \*CONTACT PAIR")
+
+
 # ------------------------------------------------------------------------------------------------------
 # Config files and option values (enumeration mode). Message: config file 'F', line N, key K.
 
