@@ -211,7 +211,7 @@ bool CsvReader::next(CsvRecord& record, std::size_t& line) {
                                          << " fields, the header has " << header_.size() << " ("
                                          << (record.size() < header_.size()
                                                  ? "column " + std::to_string(record.size() + 1) + ", " +
-                                                       quote_text(std::string(trim(header_[record.size()]))) +
+                                                       quote_text(header_[record.size()]) +
                                                        ", missing"
                                                  : "column " + std::to_string(header_.size() + 1) +
                                                        " is beyond the header")

@@ -216,7 +216,7 @@ static void tie_estimates_block(const NetworkModel& m, bool check_domain, const 
     const int l = lanes[t];
     double query[27];
     for (int k = 0; k < kStride; ++k) query[k] = raw[k * W + l];
-    // Form 0: the block's.
+    // Form 0: the block's (0.0 + x: tie_estimate's sums start from 0.0, which turns a -0 into +0).
     const bool in_domain = info[l] == kOk;
     all_u[l] = 0.0 + s.u[l];
     all_v[l] = 0.0 + s.v[l];

@@ -242,7 +242,8 @@ template <int W, bool kPureSecond>
 /// positive definite (below), on a bilinear facet (and where the shift fails) the Gauss-Newton step
 /// (downhill on |S - P|^2); a step is shortened to max_step, clamped into the box, and accepted when |S - P|
 /// does not grow by more than the rounding of the positions (noise[l], a length); otherwise halved up to
-/// max_halvings times, after which the lane stops with status no_convergence and keeps its previous iterate. A
+/// max_halvings times, after which the lane stops with status no_convergence and keeps its previous iterate. On
+/// a Gregory patch a lane on the box's edge whose step points out of the box steps along the edge instead. A
 /// step shorter than `tol` ends the lane (converged). Both systems singular: degenerate. A lane ending on the
 /// box's edge: no_convergence where that edge lies beyond the domain; on an edge of the domain, outside when
 /// |S - P| still falls outward across it, else ok (see the last loop). `store` holds the surface at each lane's
@@ -305,12 +306,12 @@ static void safeguarded_newton(const Surf& surf, int steps, const Safeguards& g,
         // step (converged there). Not on the bilinear facet, whose box lies beyond the domain: a lane that
         // reaches it has left for a far stationary point, and sliding along the box's face brought some back
         // to wrong answers (closed_form+newton:3's mean error on the bilinear domain rose 1.5x).
-        const bool out_u = ((s.u[l] <= lo) & (du < 0.0)) | ((s.u[l] >= hi) & (du > 0.0));
-        const bool out_v = ((s.v[l] <= lo) & (dv < 0.0)) | ((s.v[l] >= hi) & (dv > 0.0));
+        // A move by d from x on the box's edge that leaves the box.
+        const auto leaves = [lo, hi](double x, double d) { return ((x <= lo) & (d < 0.0)) | ((x >= hi) & (d > 0.0)); };
         const double du_face = q.r0 / (a > 0.0 ? a : 1.0), dv_face = q.r1 / (c > 0.0 ? c : 1.0);
-        const bool still_u = ((s.u[l] <= lo) & (du_face < 0.0)) | ((s.u[l] >= hi) & (du_face > 0.0));
-        const bool still_v = ((s.v[l] <= lo) & (dv_face < 0.0)) | ((s.v[l] >= hi) & (dv_face > 0.0));
-        const bool hold_u = out_u | (out_v & still_u), hold_v = out_v | (out_u & still_v);
+        const bool out_u = leaves(s.u[l], du), out_v = leaves(s.v[l], dv);
+        const bool hold_u = out_u | (out_v & leaves(s.u[l], du_face));
+        const bool hold_v = out_v | (out_u & leaves(s.v[l], dv_face));
         du = hold_u ? 0.0 : (hold_v ? du_face : du);
         dv = hold_v ? 0.0 : (hold_u ? dv_face : dv);
       }

@@ -151,10 +151,9 @@ static void search_rows(const Plan& plan, const In* raw_rows, const Results<In>&
     }
     if (retry) {
       // A start in another basin: on a Gregory sliver a network estimate 0.5 off sends the descent to the edge
-      // of the segment, where it is held with the distance still falling along the edge, while the
-      // reference's nearest local minimum lies inside (held-out sets of 100000: 1 such failure in 4 sets of
-      // network+newton:3, none after the retry). Only the retried lanes run (the others are held by a status
-      // other than ok); their steps add up.
+      // of the segment, where it fails or stops at an edge point, while the reference's nearest local minimum
+      // lies inside (held-out sets of 100000: 1 such failure in 4 sets of network+newton:3, none after the
+      // retry). Only the retried lanes run (the others are held by a status other than ok); their steps add up.
       LaneState<W> again;
       EvalStore<W, Surf::kHasPureSecond> again_store;
       for (int l = 0; l < W; ++l) {

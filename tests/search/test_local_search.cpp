@@ -580,8 +580,8 @@ TEST(Hybrids, AnIndefiniteGregoryHessianIsShiftedNotDropped) {
 
 TEST(Hybrids, AGregoryRefinementThatFailsIsRetriedFromTheCentre) {
   // A held-out sliver (seed 404, row 46820): the shipped gregory-48 starts 0.52 off in v, in the basin of the
-  // edge v = 1, where the descent is held with |S - P| still falling along the edge and the next step refused:
-  // no_convergence, although the reference converges inside at v = 0.297. Retried from the centre, three
+  // edge v = 1, where the descent ends on the edge (no_convergence, or since steps follow the edge, outside at
+  // an edge point), although the reference converges inside at v = 0.297. Retried from the centre, three
   // steps land within 1e-3 of it (their iterations add up).
   const std::vector<double> raw = {
       -0.68046180430079661, -2.6692613761491444, 2.1627217340511575,  -0.42208078826788914, -2.449482824712562,
