@@ -99,7 +99,7 @@ int label_mode(SurfaceKind surface, const std::string& input, const std::string&
   const std::vector<std::string> header = {std::string(names[0]), std::string(names[1]), "status", "gap", "iterations"};
   std::vector<std::string> replaced;
   std::vector<dataset::Label> labels;
-  io::map_raw_configurations(
+  const std::size_t n = io::map_raw_configurations(
       input, output, surface, header,
       [&](const io::RawChunk& chunk, std::vector<std::vector<std::string>>& rows) {
         labels.resize(chunk.size());
@@ -113,6 +113,10 @@ int label_mode(SurfaceKind surface, const std::string& input, const std::string&
   for (const auto& name : replaced) {
     std::fprintf(stderr, "warning: input column '%s' is replaced by gen-configs' own '%s' column\n", name.c_str(),
                  name.c_str());
+  }
+  if (n == 0) {
+    std::fprintf(stderr, "warning: '%s' has a header and no data rows: '%s' has the header only\n", input.c_str(),
+                 output.c_str());
   }
   return 0;
 }

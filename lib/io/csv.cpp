@@ -63,14 +63,17 @@ std::string not_a_number_message(const std::filesystem::path& file, std::size_t 
 // ---------------------------------------------------------------------------------------------------------
 // CsvReader
 
-CsvReader::CsvReader(const std::filesystem::path& path) : path_(path), streaming_(true) {
+CsvReader::CsvReader(const std::filesystem::path& path, DataRows rows) : path_(path), streaming_(true) {
   file_.open(path, std::ios::binary);
   CONTACTNN_REQUIRE_AS(IoError, file_.good(), "cannot open " << file_label(path) << " for reading");
   buffer_.resize(kReadBytes);
-  start();
+  start(rows);
 }
 
-CsvReader::CsvReader(std::string_view text, const std::filesystem::path& name) : path_(name), view_(text) { start(); }
+CsvReader::CsvReader(std::string_view text, const std::filesystem::path& name, DataRows rows)
+    : path_(name), view_(text) {
+  start(rows);
+}
 
 bool CsvReader::refill() {
   if (!streaming_) return false;
@@ -118,7 +121,7 @@ void CsvReader::check_encoding() {
   pos_ -= head.size() - skip;
 }
 
-void CsvReader::start() {
+void CsvReader::start(DataRows rows) {
   check_encoding();
   std::size_t line = 0;
   CsvRecord record;
@@ -137,7 +140,7 @@ void CsvReader::start() {
   }
   header_ = std::move(fields);
   have_lookahead_ = next(lookahead_, lookahead_line_);
-  CONTACTNN_REQUIRE_AS(FormatError, have_lookahead_,
+  CONTACTNN_REQUIRE_AS(FormatError, have_lookahead_ || rows == DataRows::kMayBeNone,
                        file_label(path_) << ": header only: expected at least one data row");
 }
 

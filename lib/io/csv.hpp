@@ -45,22 +45,27 @@ class CsvRecord {
   std::vector<std::uint32_t> ends_;
 };
 
+/// Whether a CSV file must hold data rows after its header. kMayBeNone: a header alone is a table of no rows
+/// (a RAW.csv of no configurations, such as the pairs file of a contact pair without slave nodes: SPEC 7
+/// makes it valid input); kRequired: it is an error (a dataset or report needs rows).
+enum class DataRows { kRequired, kMayBeNone };
+
 /// Reads a CSV file record by record, holding one buffer of the file and one record at a time, so a file of
 /// any size is read in bounded memory.
 ///
 /// Format: comma-separated, RFC 4180 double quotes (a quoted field may hold commas, quotes as "" and line
 /// breaks), LF or CRLF line ends, blank lines skipped, a leading UTF-8 byte-order mark ignored, blanks
 /// around column names ignored. FormatError naming the file and line for: an empty file, a header without
-/// data rows, a duplicate or empty column name, a row whose field count differs from the header's, an
+/// data rows (unless DataRows::kMayBeNone), a duplicate or empty column name, a row whose field count differs from the header's, an
 /// unterminated quote, a carriage return not followed by a line feed (CR-only line ends), UTF-16 or UTF-32
 /// text (by its byte-order mark, or NUL bytes in the header). IoError if the file cannot be opened or read.
 class CsvReader {
  public:
   /// Streams the file at `path`. Reads the header and looks ahead to the first data row (so an empty file
-  /// or a header alone is reported here).
-  explicit CsvReader(const std::filesystem::path& path);
+  /// or, where rows are required, a header alone is reported here).
+  explicit CsvReader(const std::filesystem::path& path, DataRows rows = DataRows::kRequired);
   /// Same, from text in memory; `name` stands for the file in messages. `text` must outlive the reader.
-  CsvReader(std::string_view text, const std::filesystem::path& name);
+  CsvReader(std::string_view text, const std::filesystem::path& name, DataRows rows = DataRows::kRequired);
 
   [[nodiscard]] const std::filesystem::path& path() const { return path_; }
   [[nodiscard]] const std::vector<std::string>& header() const { return header_; }
@@ -77,7 +82,7 @@ class CsvReader {
   bool refill();
   bool read_record(CsvRecord& record, std::size_t& line);
   void check_encoding();
-  void start();
+  void start(DataRows rows);
 
   std::filesystem::path path_;
   std::ifstream file_;

@@ -7,14 +7,14 @@
 
 namespace contactnn::io {
 
-RawConfigurationReader::RawConfigurationReader(const std::filesystem::path& path, SurfaceKind kind)
-    : csv_(path), kind_(kind) {
+RawConfigurationReader::RawConfigurationReader(const std::filesystem::path& path, SurfaceKind kind, DataRows rows)
+    : csv_(path, rows), kind_(kind) {
   locate_columns();
 }
 
 RawConfigurationReader::RawConfigurationReader(std::string_view text, const std::filesystem::path& name,
-                                               SurfaceKind kind)
-    : csv_(text, name), kind_(kind) {
+                                               SurfaceKind kind, DataRows rows)
+    : csv_(text, name, rows), kind_(kind) {
   locate_columns();
 }
 
@@ -77,7 +77,7 @@ bool RawConfigurationReader::next_chunk(RawChunk& chunk, std::size_t max_rows) {
 
 RawConfigurations parse_raw_configurations(std::string_view text, const std::filesystem::path& name,
                                            SurfaceKind kind) {
-  RawConfigurationReader reader(text, name, kind);
+  RawConfigurationReader reader(text, name, kind, DataRows::kMayBeNone);
   RawConfigurations raw;
   raw.table.path = name;
   raw.table.header = reader.header();
@@ -96,7 +96,7 @@ std::size_t map_raw_configurations(const std::filesystem::path& input, const std
                                    SurfaceKind kind, const std::vector<std::string>& extra_header,
                                    const ChunkComputation& compute, std::vector<std::string>* replaced,
                                    std::size_t chunk_rows) {
-  RawConfigurationReader reader(input, kind);
+  RawConfigurationReader reader(input, kind, DataRows::kMayBeNone);
   const std::vector<std::string>& header = reader.header();
   std::vector<std::size_t> kept;
   for (std::size_t c = 0; c < header.size(); ++c) {

@@ -40,9 +40,10 @@ struct RawChunk {
 /// CsvReader. Memory: one chunk, however long the file.
 class RawConfigurationReader {
  public:
-  RawConfigurationReader(const std::filesystem::path& path, SurfaceKind kind);
+  RawConfigurationReader(const std::filesystem::path& path, SurfaceKind kind, DataRows rows = DataRows::kRequired);
   /// From CSV text in memory (`name` stands for the file in messages); `text` must outlive the reader.
-  RawConfigurationReader(std::string_view text, const std::filesystem::path& name, SurfaceKind kind);
+  RawConfigurationReader(std::string_view text, const std::filesystem::path& name, SurfaceKind kind,
+                         DataRows rows = DataRows::kRequired);
 
   [[nodiscard]] const std::vector<std::string>& header() const { return csv_.header(); }
   [[nodiscard]] const std::filesystem::path& path() const { return csv_.path(); }
@@ -59,7 +60,8 @@ class RawConfigurationReader {
   std::array<std::size_t, 12> normal_columns_{};
 };
 
-/// The whole of a RAW.csv text in memory (the fuzzer's view): its table and one configuration per row.
+/// The whole of a RAW.csv text in memory (the fuzzer's view): its table and one configuration per row; a
+/// header alone is a table of no rows, as for map_raw_configurations.
 struct RawConfigurations {
   CsvTable table;
   std::vector<geometry::Configuration> configs;
@@ -74,7 +76,8 @@ using ChunkComputation = std::function<void(const RawChunk& chunk, std::vector<s
 /// Streams `input` (RAW.csv) to `output`: chunk by chunk of `chunk_rows` rows, `compute` gives each row's
 /// `extra_header` fields, and the output gets the input's header and rows followed by those columns, in
 /// input order. An input column named like an extra column is replaced by it (so an output can be fed back
-/// in); `replaced` (if not null) receives those names. The output is atomic (AtomicOutput): an error at any
+/// in); `replaced` (if not null) receives those names. A header without rows gives a header without rows
+/// (SPEC 7: the pairs file of a pair without slave nodes is valid input), and returns 0. The output is atomic (AtomicOutput): an error at any
 /// row, however late, leaves no output and no temporary. Returns the number of rows.
 std::size_t map_raw_configurations(const std::filesystem::path& input, const std::filesystem::path& output,
                                    SurfaceKind kind, const std::vector<std::string>& extra_header,

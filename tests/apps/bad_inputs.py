@@ -187,7 +187,25 @@ def _(ctx):
 
 @case("csv_header_only")
 def _(ctx):
-    label(ctx, f"{HEADER}\n", 3, r"in\.csv': header only: expected at least one data row")
+    # A header alone is a RAW.csv of no configurations (SPEC 7: a pair without slave nodes gives one, and it is
+    # valid input): exit 0, the header with the label columns and no row, a warning saying so. Not so for a
+    # dataset of the report mode, which needs rows (evaluate_net_pairs_header_only).
+    src = ctx.write("in.csv", f"id,{HEADER}\r\n")
+    _, err = ctx.expect_success("gen-configs", ["--surface", "bilinear", "--input", src, "--output", "out.csv"])
+    if not re.search(r"warning: '[^']*in\.csv' has a header and no data rows: '[^']*out\.csv' has the header only",
+                     err):
+        raise Failure(f"no warning about the empty input:\n{err}")
+    rows = read_csv_rows(ctx.path("out.csv"))
+    if rows != [["id"] + HEADER.split(",") + ["xi", "eta", "status", "gap", "iterations"]]:
+        raise Failure(f"expected the header and the label columns alone, got {rows}")
+
+
+@case("evaluate_net_pairs_header_only", needs=("gen-configs", "train-net", "evaluate-net"))
+def _(ctx):
+    net = make_network(ctx, make_dataset(ctx))
+    src = ctx.write("in.csv", f"{HEADER}\n")
+    ctx.expect_failure("evaluate-net", ["--weights", net, "--pairs", src, "--report", "rep", "--quiet"], 3,
+                       r"in\.csv': header only: expected at least one data row")
 
 
 @case("csv_duplicate_column")
@@ -299,7 +317,7 @@ def _(ctx):
         raise Failure(f"extra columns not copied or rows not labelled: {out}")
 
 
-@case("scene_without_segments_warns")
+@case("scene_without_segments_warns", needs=("gen-configs", "train-net", "evaluate-net"))
 def _(ctx):
     # A 2-D deck (CPE4R, x,y nodes): a well-formed pair with nothing to search. Valid input (exit 0, the header
     # alone), but a warning on stderr names the skipped faces, where a script checking only the exit code
@@ -317,6 +335,15 @@ def _(ctx):
         lines = f.read().splitlines()
     if len(lines) != 1 or not lines[0].startswith("slave,a,b,c,d,"):
         raise Failure(f"expected the header alone, got {lines[:3]}")
+    # SPEC 7: the pairs file is a valid RAW.csv for evaluate-net --input, this one too: the header alone out.
+    net = make_network(ctx, make_dataset(ctx))
+    _, err = ctx.expect_success("evaluate-net", ["--weights", net, "--input", "pairs.csv", "--output", "pred.csv"])
+    if "has a header and no data rows" not in err:
+        raise Failure(f"no warning about the empty input:\n{err}")
+    pred = read_csv_rows(ctx.path("pred.csv"))
+    computed = ["xi", "eta", "status"]  # replace the pairs file's label columns of the same name
+    if pred != [[c for c in lines[0].split(",") if c not in computed] + computed]:
+        raise Failure(f"expected the pairs header with the prediction columns alone, got {pred}")
 
 
 @case("scene_pair_missing_names_the_deck")

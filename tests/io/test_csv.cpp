@@ -233,5 +233,27 @@ TEST(RawConfigurations, RowsWithoutCoordinatesAreNoSegmentRowsOthersMustBeNumber
   EXPECT_EQ(chunk.configs[0].slave.y(), 0.4);
 }
 
+TEST(RawConfigurations, AHeaderAloneIsNoRowsWhereRowsMayBeNoneAndAnErrorElsewhere) {
+  // SPEC 7: the pairs file of a pair without slave nodes is a header alone, and valid input for the tools'
+  // input modes; a dataset (report mode) still needs rows. An empty file is an error either way.
+  const std::string header = "slave,ax,ay,az,bx,by,bz,cx,cy,cz,dx,dy,dz,sx,sy,sz\n";
+  RawConfigurationReader none(header, "pairs.csv", SurfaceKind::kBilinear, DataRows::kMayBeNone);
+  EXPECT_EQ(none.header().size(), 16u);
+  RawChunk chunk;
+  EXPECT_FALSE(none.next_chunk(chunk, 10));
+  EXPECT_EQ(chunk.size(), 0u);
+  EXPECT_EQ(parse_raw_configurations(header, "pairs.csv", SurfaceKind::kBilinear).configs.size(), 0u);
+  try {
+    RawConfigurationReader required(header, "pairs.csv", SurfaceKind::kBilinear);
+    FAIL() << "a header alone was accepted where rows are required";
+  } catch (const FormatError& e) {
+    EXPECT_EQ(std::string(e.what()), "'pairs.csv': header only: expected at least one data row");
+  }
+  EXPECT_THROW(RawConfigurationReader("", "pairs.csv", SurfaceKind::kBilinear, DataRows::kMayBeNone), FormatError);
+  // The columns are still checked.
+  EXPECT_THROW(RawConfigurationReader("ax,ay\n", "pairs.csv", SurfaceKind::kBilinear, DataRows::kMayBeNone),
+               FormatError);
+}
+
 }  // namespace
 }  // namespace contactnn::io
