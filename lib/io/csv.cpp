@@ -151,6 +151,7 @@ bool CsvReader::read_record(CsvRecord& record, std::size_t& record_line) {
     record.clear();
     bool in_quotes = false;
     bool record_has_content = false;
+    std::size_t quote_line = 0;  // where the last quoted field opened, for the message of an unterminated one
     for (int c = get(); c >= 0; c = get()) {
       if (in_quotes) {
         if (c == '"') {
@@ -168,6 +169,7 @@ bool CsvReader::read_record(CsvRecord& record, std::size_t& record_line) {
       }
       if (c == '"') {
         in_quotes = true;
+        quote_line = line_;
         record_has_content = true;
       } else if (c == ',') {
         record.end_field();
@@ -188,7 +190,12 @@ bool CsvReader::read_record(CsvRecord& record, std::size_t& record_line) {
         if (c != ' ' && c != '\t') record_has_content = true;
       }
     }
-    CONTACTNN_REQUIRE_AS(FormatError, !in_quotes, file_label(path_) << ":" << record_line << ": unterminated quoted field");
+    // An unterminated quote names the column it opens in (the header's name once the header is read).
+    CONTACTNN_REQUIRE_AS(FormatError, !in_quotes,
+                         file_label(path_) << ":" << quote_line << ": column " << record.size() + 1
+                                           << (record.size() < header_.size() ? " (" + quote_text(header_[record.size()]) + ")"
+                                                                              : std::string())
+                                           << ": unterminated quoted field (no closing '\"' before the end of the file)");
     if (!record_has_content && is_blank(record.current_field())) continue;  // blank line
     // Field ends are 32-bit: a record of 4 GB or more is not a CSV row anyone means.
     CONTACTNN_REQUIRE_AS(FormatError, record.text_size() < (std::size_t{1} << 32),

@@ -221,7 +221,7 @@ def _(ctx):
 @case("csv_unterminated_quote")
 def _(ctx):
     label(ctx, f"{HEADER},note\n{ROW},fine\n{ROW},\"never closed\n{ROW},x\n", 3,
-          r"in\.csv':3: unterminated quoted field")
+          r"in\.csv':3: column 16 \('note'\): unterminated quoted field")
 
 
 @case("csv_binary_garbage")
