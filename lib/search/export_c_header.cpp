@@ -6,6 +6,7 @@
 #include <sstream>
 #include <string_view>
 #include <type_traits>
+#include <vector>
 
 #include "core/error.hpp"
 #include "search/embedded_sources.hpp"
@@ -70,21 +71,32 @@ void table(std::ostringstream& o, const std::string& type, const std::string& na
 }
 
 // The forward pass over n lanes, in the network's real type (lib/search's forward_pass, network_block.hpp):
-// the same operations in the same order, so that each lane rounds as the library's.
+// the same operations in the same order, so that each lane rounds as the library's. `one`: the pass of one
+// query (p_forward_one), whose layers run across the units instead of the lanes (transposed weights,
+// p_w<l>t): the same sums in the same order for each unit, so the same bits as a lane of the block pass; the
+// block pass with n = 1 ran every unit's chain as a loop of one lane (gregory-48: 600 ns a query, the rest of
+// the query 180).
 template <class Net>
-void forward_pass(std::ostringstream& o, const NetworkModel& m, const std::string& p) {
+void forward_pass(std::ostringstream& o, const NetworkModel& m, const std::string& p, bool one) {
   constexpr bool kFloat = std::is_same_v<Net, float>;
   const std::string net = kFloat ? "float" : "double";
   const std::string sigmoid = kFloat ? "cnn_sigmoidf" : "cnn_sigmoid";
-  const std::string block = p + "_block_lanes";
+  const std::string block = one ? std::string("1") : p + "_block_lanes";
   const auto& sizes = m.layer_sizes();
   const int n_features = sizes[0];
   const bool gregory = m.surface() == SurfaceKind::kGregory;
-  o << "/* The network on n <= " << block << " lanes of canonical features f[k n + l] (cnn_canonicalise_block's\n"
-    << " * layout): canonical local coordinates est[c n + l]. lib/search's forward pass (network_block.hpp) in the\n"
-    << " * same operations and order: input map, input scaling clamped to +-1e6, each layer's sums (Eq 13) from\n"
-    << " * -theta in input order, the sigmoid of Eq 12, output scaling. */\n"
-    << "CNN_CF_INLINE void " << p << "_forward(int n, const double* CNN_CF_RESTRICT f, double* CNN_CF_RESTRICT est) {\n";
+  if (one) {
+    o << "/* The network on one query's canonical features f[k] (n = 1 of " << p << "_forward, the same bits):\n"
+      << " * canonical local coordinates est[c]. Each layer runs across its units. */\n"
+      << "CNN_CF_INLINE void " << p << "_forward_one(const double* CNN_CF_RESTRICT f, double* CNN_CF_RESTRICT est) {\n"
+      << "  const int n = 1;\n";
+  } else {
+    o << "/* The network on n <= " << block << " lanes of canonical features f[k n + l] (cnn_canonicalise_block's\n"
+      << " * layout): canonical local coordinates est[c n + l]. lib/search's forward pass (network_block.hpp) in the\n"
+      << " * same operations and order: input map, input scaling clamped to +-1e6, each layer's sums (Eq 13) from\n"
+      << " * -theta in input order, the sigmoid of Eq 12, output scaling. */\n"
+      << "CNN_CF_INLINE void " << p << "_forward(int n, const double* CNN_CF_RESTRICT f, double* CNN_CF_RESTRICT est) {\n";
+  }
   for (std::size_t l = 0; l < sizes.size(); ++l) o << "  " << net << " a" << l << "[" << sizes[l] << " * " << block << "];\n";
   o << "  const double* in = f;\n  int i, l;\n";
   if (m.input_features() == InputFeatures::kAffine) {
@@ -139,6 +151,20 @@ void forward_pass(std::ostringstream& o, const NetworkModel& m, const std::strin
     const std::string x = "a" + std::to_string(layer), y = "a" + std::to_string(layer + 1);
     o << "  { /* layer " << layer + 1 << ": " << n_out << " units of " << n_in << " inputs */\n"
       << "    int j;\n";
+    if (one) {
+      o << "    " << net << " s[" << n_out << "];\n"
+        << "    for (j = 0; j < " << n_out << "; ++j) s[j] = -" << theta << "[j];\n"
+        << "    for (i = 0; i < " << n_in << "; ++i) {\n"
+        << "      const " << net << " x = " << x << "[i];\n"
+        << "      const " << net << "* CNN_CF_RESTRICT w = " << w << "t + i * " << n_out << ";\n"
+        << "      CNN_CF_IVDEP\n"
+        << "      for (j = 0; j < " << n_out << "; ++j) s[j] += w[j] * x;\n"
+        << "    }\n"
+        << "    CNN_CF_IVDEP\n"
+        << "    for (j = 0; j < " << n_out << "; ++j) " << y << "[j] = " << sigmoid << "(s[j], " << p << "_gain);\n"
+        << "  }\n";
+      continue;
+    }
     // Groups of kUnitsTogether units, then single units; each unit's sum is the same chain either way. The
     // bounds are constants (a loop that starts where another ended trips GCC's -Waggressive-loop-optimizations).
     const int grouped = n_out - n_out % kUnitsTogether;
@@ -192,6 +218,12 @@ void parameter_tables(std::ostringstream& o, const NetworkModel& m, const std::s
     const auto n_out = static_cast<std::size_t>(sizes[static_cast<std::size_t>(l) + 1]);
     o << "/* Layer " << l + 1 << ": W (" << n_out << " units x " << n_in << " inputs, row-major) and theta. */\n";
     table(o, net, p + "_w" + std::to_string(l), m.weights<Net>(l), n_out * n_in, n_in);
+    std::vector<Net> transposed(n_out * n_in);
+    for (std::size_t j = 0; j < n_out; ++j) {
+      for (std::size_t i = 0; i < n_in; ++i) transposed[i * n_out + j] = m.weights<Net>(l)[j * n_in + i];
+    }
+    o << "/* The same W transposed (" << n_in << " inputs x " << n_out << " units), for the one-query pass. */\n";
+    table(o, net, p + "_w" + std::to_string(l) + "t", transposed.data(), n_out * n_in, n_out);
     table(o, net, p + "_theta" + std::to_string(l), m.thresholds<Net>(l), n_out, 8);
   }
   o << "/* 2 / U0 (Eq 12). */\n"
@@ -302,10 +334,12 @@ std::string export_c_header(const NetworkModel& m, const CHeaderOptions& options
   o << "\nenum { " << block << " = " << kBlockLanes << " };\n\n";
 
   // 4. The forward pass.
-  if (m.is_float()) {
-    forward_pass<float>(o, m, p);
-  } else {
-    forward_pass<double>(o, m, p);
+  for (const bool one : {false, true}) {
+    if (m.is_float()) {
+      forward_pass<float>(o, m, p, one);
+    } else {
+      forward_pass<double>(o, m, p, one);
+    }
   }
 
   // 5. Ties: lib/search's tie_estimate (kernels_single.cpp).
@@ -323,7 +357,7 @@ std::string export_c_header(const NetworkModel& m, const CHeaderOptions& options
   if (options.check_domain) {
     o << "    cnn_domain_lane(&" << p << "_domain, " << g << ", " << (angles ? 1 : 0) << ", f + 16 * k, nrm + 12 * k, 1, &c);\n";
   }
-  o << "    " << p << "_forward(1, f + 16 * k, e);\n"
+  o << "    " << p << "_forward_one(f + 16 * k, e);\n"
     << "    cnn_cf_to_caller(info[CNN_CF_INFO_ROWS * k + 1], " << centre << ", &e[0], &e[1]);\n"
     << "    all_u += e[0];\n"
     << "    all_v += e[1];\n"
@@ -352,7 +386,11 @@ std::string export_c_header(const NetworkModel& m, const CHeaderOptions& options
     << "  }\n"
     << "  cnn_canonicalise_block(n, " << g << ", in, f, nrm, info);\n";
   if (options.check_domain) o << "  cnn_domain_block(n, " << g << ", &" << p << "_domain, f, nrm, info);\n";
-  o << "  " << p << "_forward(n, f, est);\n"
+  o << "  if (n == 1) {\n"
+    << "    " << p << "_forward_one(f, est);\n"
+    << "  } else {\n"
+    << "    " << p << "_forward(n, f, est);\n"
+    << "  }\n"
     << "  for (l = 0; l < n; ++l) {\n"
     << "    double code = info[l], u = est[l], v = est[n + l];\n"
     << "    if (code != (double)CNN_CF_STATUS_OK && code != (double)CNN_CF_STATUS_OUT_OF_DOMAIN) {\n"
