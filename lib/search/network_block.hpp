@@ -121,6 +121,32 @@ static void forward_pass(const NetworkModel& m, const double* f, double* out) {
     const Net* thresholds = weights + static_cast<std::size_t>(n_out) * static_cast<std::size_t>(n_in);
     const Net* x = buffer[current];
     Net* y = buffer[1 - current];
+    if constexpr (W == 1) {
+      // One query: the layer across its units, kUnitGroup at a time in registers (W_l transposed and padded),
+      // each unit's chain -theta + w_0 x_0 + w_1 x_1 + ... as layer_units runs it for a lane, so the same bits.
+      // layer_units with one lane ran 8 chains of scalar multiply-adds (gregory-48: half a one-query call).
+      constexpr int G = NetworkModel::kUnitGroup;
+      const Net* wt = m.transposed_weights<Net>(layer);
+      const auto stride = static_cast<std::size_t>(m.padded_units(layer));
+      const Net* theta = wt + static_cast<std::size_t>(n_in) * stride;
+      for (int j0 = 0; j0 < n_out; j0 += G) {
+        Net acc[G];
+#pragma omp simd
+        for (int k = 0; k < G; ++k) acc[k] = -theta[j0 + k];
+        for (int i = 0; i < n_in; ++i) {
+          const Net xi = x[i];
+          const Net* row = wt + static_cast<std::size_t>(i) * stride + static_cast<std::size_t>(j0);
+#pragma omp simd
+          for (int k = 0; k < G; ++k) acc[k] += row[k] * xi;
+        }
+        // The padding units land in y past n_out (the buffer holds kMaxWidth, a multiple of G) and are never read.
+#pragma omp simd
+        for (int k = 0; k < G; ++k) y[j0 + k] = acc[k];
+      }
+      sigmoid_all(y, n_out, gain);
+      current = 1 - current;
+      continue;
+    }
     const auto row = [&](int j) { return weights + static_cast<std::size_t>(j) * static_cast<std::size_t>(n_in); };
     int j = 0;
     for (; j + 8 <= n_out; j += 8) layer_units<Net, W, 8>(row(j), thresholds + j, x, n_in, y + j * W);

@@ -67,10 +67,25 @@ void NetworkModel::init(const mlp::Network<Real>& network) {
   sizes_ = network.layer_sizes();
   for (int l = 0; l < network.layer_count(); ++l) offsets_.push_back(network.weight_offset(l));
   const auto& p = network.parameters();
+  std::vector<Real> transposed;
+  for (int l = 0; l < network.layer_count(); ++l) {
+    const auto n_in = static_cast<std::size_t>(sizes_[static_cast<std::size_t>(l)]);
+    const auto n_out = static_cast<std::size_t>(sizes_[static_cast<std::size_t>(l) + 1]);
+    const auto padded = static_cast<std::size_t>(padded_units(l));
+    const std::size_t w = offsets_[static_cast<std::size_t>(l)], at = transposed.size();
+    transposed_offsets_.push_back(at);
+    transposed.resize(at + (n_in + 1) * padded, Real(0));
+    for (std::size_t j = 0; j < n_out; ++j) {
+      for (std::size_t i = 0; i < n_in; ++i) transposed[at + i * padded + j] = p[w + j * n_in + i];
+      transposed[at + n_in * padded + j] = p[w + n_out * n_in + j];
+    }
+  }
   if constexpr (std::is_same_v<Real, float>) {
     params_f_.assign(p.begin(), p.end());
+    transposed_f_ = std::move(transposed);
   } else {
     params_d_.assign(p.begin(), p.end());
+    transposed_d_ = std::move(transposed);
   }
   gain_ = 2.0 / network.u0();
   const mlp::Scaling& s = network.scaling();

@@ -53,6 +53,25 @@ class NetworkModel {
       return is_float_ ? nullptr : params_d_.data();
     }
   }
+  /// Units of a layer the one-query forward pass computes together (a group's sums stay in registers).
+  static constexpr int kUnitGroup = 16;
+  static_assert(kMaxWidth % kUnitGroup == 0, "the forward pass's buffers hold the padded units");
+  /// For the one-query forward pass, which runs a layer across its units (each unit's sum in the same order
+  /// as a lane of the block pass): W_l transposed (n_l rows of padded_units(l) values, input-major), then
+  /// theta_l, both padded with zeros to padded_units(l) units, a multiple of kUnitGroup. Real as parameters().
+  template <class Real>
+  [[nodiscard]] const Real* transposed_weights(int layer) const noexcept {
+    const std::size_t at = transposed_offsets_[static_cast<std::size_t>(layer)];
+    if constexpr (std::is_same_v<Real, float>) {
+      return is_float_ ? transposed_f_.data() + at : nullptr;
+    } else {
+      return is_float_ ? nullptr : transposed_d_.data() + at;
+    }
+  }
+  [[nodiscard]] int padded_units(int layer) const noexcept {
+    const int n = sizes_[static_cast<std::size_t>(layer) + 1];
+    return (n + kUnitGroup - 1) / kUnitGroup * kUnitGroup;
+  }
   /// Offset of W_l in parameters(); theta_l follows W_l.
   [[nodiscard]] std::size_t weight_offset(int layer) const noexcept { return offsets_[static_cast<std::size_t>(layer)]; }
   /// 2 / U0 in the network's real type.
@@ -84,8 +103,9 @@ class NetworkModel {
   bool is_float_ = true;
   std::vector<int> sizes_;
   std::vector<std::size_t> offsets_;  ///< per layer: start of W_l; theta_l follows it
-  std::vector<float> params_f_;
-  std::vector<double> params_d_;
+  std::vector<std::size_t> transposed_offsets_;  ///< per layer: start of W_l^T (padded) in transposed_*_
+  std::vector<float> params_f_, transposed_f_;
+  std::vector<double> params_d_, transposed_d_;
   double gain_ = 1.0;
   std::vector<double> input_min_, input_gain_, output_min_, output_inverse_gain_;
   double target_low_ = 0.1;
