@@ -191,11 +191,13 @@ bool CsvReader::read_record(CsvRecord& record, std::size_t& record_line) {
       }
     }
     // An unterminated quote names the column it opens in (the header's name once the header is read).
-    CONTACTNN_REQUIRE_AS(FormatError, !in_quotes,
-                         file_label(path_) << ":" << quote_line << ": column " << record.size() + 1
-                                           << (record.size() < header_.size() ? " (" + quote_text(header_[record.size()]) + ")"
-                                                                              : std::string())
-                                           << ": unterminated quoted field (no closing '\"' before the end of the file)");
+    if (in_quotes) {
+      const std::size_t column = record.size();
+      throw FormatError(file_label(path_) + ":" + std::to_string(quote_line) + ": column " +
+                        std::to_string(column + 1) +
+                        (column < header_.size() ? " (" + quote_text(header_[column]) + ")" : std::string()) +
+                        ": unterminated quoted field (no closing '\"' before the end of the file)");
+    }
     if (!record_has_content && is_blank(record.current_field())) continue;  // blank line
     // Field ends are 32-bit: a record of 4 GB or more is not a CSV row anyone means.
     CONTACTNN_REQUIRE_AS(FormatError, record.text_size() < (std::size_t{1} << 32),

@@ -56,9 +56,10 @@ enum class DataRows { kRequired, kMayBeNone };
 /// Format: comma-separated, RFC 4180 double quotes (a quoted field may hold commas, quotes as "" and line
 /// breaks), LF or CRLF line ends, blank lines skipped, a leading UTF-8 byte-order mark ignored, blanks
 /// around column names ignored. FormatError naming the file and line for: an empty file, a header without
-/// data rows (unless DataRows::kMayBeNone), a duplicate or empty column name, a row whose field count differs from the header's, an
-/// unterminated quote, a carriage return not followed by a line feed (CR-only line ends), UTF-16 or UTF-32
-/// text (by its byte-order mark, or NUL bytes in the header). IoError if the file cannot be opened or read.
+/// data rows (unless DataRows::kMayBeNone), a duplicate or empty column name, a row whose field count differs
+/// from the header's, an unterminated quote (and the column it opens in), a carriage return not followed by a
+/// line feed (CR-only line ends), UTF-16 or UTF-32 text (by its byte-order mark, or NUL bytes in the header).
+/// IoError if the file cannot be opened or read.
 class CsvReader {
  public:
   /// Streams the file at `path`. Reads the header and looks ahead to the first data row (so an empty file

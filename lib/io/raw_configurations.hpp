@@ -77,8 +77,9 @@ using ChunkComputation = std::function<void(const RawChunk& chunk, std::vector<s
 /// `extra_header` fields, and the output gets the input's header and rows followed by those columns, in
 /// input order. An input column named like an extra column is replaced by it (so an output can be fed back
 /// in); `replaced` (if not null) receives those names. A header without rows gives a header without rows
-/// (SPEC 7: the pairs file of a pair without slave nodes is valid input), and returns 0. The output is atomic (AtomicOutput): an error at any
-/// row, however late, leaves no output and no temporary. Returns the number of rows.
+/// (SPEC 7: the pairs file of a pair without slave nodes is valid input). The output is atomic
+/// (AtomicOutput): an error at any row, however late, leaves no output and no temporary. Returns the number
+/// of rows.
 std::size_t map_raw_configurations(const std::filesystem::path& input, const std::filesystem::path& output,
                                    SurfaceKind kind, const std::vector<std::string>& extra_header,
                                    const ChunkComputation& compute, std::vector<std::string>* replaced,

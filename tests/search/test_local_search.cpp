@@ -240,7 +240,9 @@ TEST(NetworkMethod, OneQueryAloneIsItsLaneOfABlockBitForBitInFloatAndDouble) {
           ASSERT_EQ(one.status[0], block.status[i]) << to_string(kind) << " width " << sizes[1] << " query " << i;
           ASSERT_EQ(one.param[0], block.param[2 * i]) << to_string(kind) << " width " << sizes[1] << " query " << i;
           ASSERT_EQ(one.param[1], block.param[2 * i + 1]) << to_string(kind) << " width " << sizes[1] << " query " << i;
-          if (std::isfinite(block.param[2 * i])) spread = std::max(spread, std::abs(block.param[2 * i] - block.param[0]));
+          if (std::isfinite(block.param[2 * i])) {
+            spread = std::max(spread, std::abs(block.param[2 * i] - block.param[0]));
+          }
         }
         EXPECT_GT(spread, 1e-4) << "the random network answers differently for different queries";
       }
