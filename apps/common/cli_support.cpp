@@ -505,6 +505,18 @@ CLI::Validator integer_in(std::int64_t lo, std::int64_t hi) {
       "INT in [" + std::to_string(lo) + " - " + std::to_string(hi) + "]");
 }
 
+void warn_about_raw_output(const char* tools, const std::string& input, const std::string& output,
+                           const std::vector<std::string>& replaced, std::size_t rows) {
+  for (const auto& name : replaced) {
+    std::fprintf(stderr, "warning: input column '%s' is replaced by %s own '%s' column\n", name.c_str(), tools,
+                 name.c_str());
+  }
+  if (rows == 0) {
+    std::fprintf(stderr, "warning: '%s' has a header and no data rows: '%s' has the header only\n", input.c_str(),
+                 output.c_str());
+  }
+}
+
 void add_exit_code_footer(CLI::App& app) {
   app.footer(
       "Exit codes: 0 success; 1 internal error; 2 bad command line or config (unknown key, value out of range,\n"

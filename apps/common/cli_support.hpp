@@ -91,6 +91,12 @@ inline constexpr std::int64_t kMaxThreads = 1024;
 /// --seed: 0 .. 2^63 - 1 (a TOML integer is 64-bit signed, and the effective config must read back).
 inline constexpr std::int64_t kMaxSeed = INT64_MAX;
 
+/// The warnings after a RAW.csv went through io::map_raw_configurations to `output`: each input column
+/// the tool replaced by its own column of the same name (`tools` is its possessive: "gen-configs'"), and an
+/// input with a header and no rows.
+void warn_about_raw_output(const char* tools, const std::string& input, const std::string& output,
+                           const std::vector<std::string>& replaced, std::size_t rows);
+
 /// Adds the exit-code table to the app's --help footer.
 void add_exit_code_footer(CLI::App& app);
 

@@ -149,14 +149,7 @@ int input_mode(const LoadedNetwork& network, const Paths& paths) {
         }
       },
       &replaced);
-  for (const auto& name : replaced) {
-    std::fprintf(stderr, "warning: input column '%s' is replaced by evaluate-net's own '%s' column\n", name.c_str(),
-                 name.c_str());
-  }
-  if (n == 0) {
-    std::fprintf(stderr, "warning: '%s' has a header and no data rows: '%s' has the header only\n",
-                 paths.input.c_str(), paths.output.c_str());
-  }
+  cli::warn_about_raw_output("evaluate-net's", paths.input, paths.output, replaced, n);
   std::printf("evaluate-net: %lld rows -> %s (%s)\n", static_cast<long long>(n), paths.output.c_str(),
               method.name().c_str());
   for (int s = 0; s < kStatusCount; ++s) {

@@ -110,14 +110,7 @@ int label_mode(SurfaceKind surface, const std::string& input, const std::string&
         }
       },
       &replaced);
-  for (const auto& name : replaced) {
-    std::fprintf(stderr, "warning: input column '%s' is replaced by gen-configs' own '%s' column\n", name.c_str(),
-                 name.c_str());
-  }
-  if (n == 0) {
-    std::fprintf(stderr, "warning: '%s' has a header and no data rows: '%s' has the header only\n", input.c_str(),
-                 output.c_str());
-  }
+  cli::warn_about_raw_output("gen-configs'", input, output, replaced, n);
   return 0;
 }
 
