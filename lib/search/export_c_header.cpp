@@ -218,9 +218,12 @@ void parameter_tables(std::ostringstream& o, const NetworkModel& m, const std::s
     const auto n_out = static_cast<std::size_t>(sizes[static_cast<std::size_t>(l) + 1]);
     o << "/* Layer " << l + 1 << ": W (" << n_out << " units x " << n_in << " inputs, row-major) and theta. */\n";
     table(o, net, p + "_w" + std::to_string(l), m.weights<Net>(l), n_out * n_in, n_in);
-    std::vector<Net> transposed(n_out * n_in);
-    for (std::size_t j = 0; j < n_out; ++j) {
-      for (std::size_t i = 0; i < n_in; ++i) transposed[i * n_out + j] = m.weights<Net>(l)[j * n_in + i];
+    // NetworkModel's transposed copy (the library's one-query pass), without its padding units.
+    const Net* padded = m.transposed_weights<Net>(l);
+    const auto stride = static_cast<std::size_t>(m.padded_units(l));
+    std::vector<Net> transposed;
+    for (std::size_t i = 0; i < n_in; ++i) {
+      transposed.insert(transposed.end(), padded + i * stride, padded + i * stride + n_out);
     }
     o << "/* The same W transposed (" << n_in << " inputs x " << n_out << " units), for the one-query pass. */\n";
     table(o, net, p + "_w" + std::to_string(l) + "t", transposed.data(), n_out * n_in, n_out);
