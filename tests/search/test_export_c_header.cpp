@@ -39,28 +39,8 @@ constexpr double kDoubleNetworkTol = 1e-11;
 // out of a query of status 1 must be left untouched: the driver fills it with this first.
 constexpr double kUntouched = 12345.0;
 
+using testing::random_network;
 using testing::shipped;
-
-/// A network of `sizes` in Real with random weights, scaled to the feature ranges of `domain`.
-template <class Real>
-mlp::Network<Real> random_network(const geometry::TrainingDomain& domain, std::vector<int> hidden, InputFeatures map,
-                                  std::uint64_t seed) {
-  const int n_in = feature_count(domain.surface);
-  mlp::Scaling s;
-  s.input_min.assign(static_cast<std::size_t>(n_in), -2.0);
-  s.input_max.assign(static_cast<std::size_t>(n_in), 2.0);
-  s.input_max[4] = s.input_min[4];  // a constant input: gain 0
-  s.input_features = map;
-  const ParamDomain range = param_domain(domain.surface);
-  s.output_min.assign(2, range.lo);
-  s.output_max.assign(2, range.hi);
-  std::vector<int> sizes{n_in};
-  sizes.insert(sizes.end(), hidden.begin(), hidden.end());
-  sizes.push_back(2);
-  mlp::Network<Real> net(sizes, 1.7, s);
-  net.initialize(seed);
-  return net;
-}
 
 /// One exported header under test and its queries.
 struct Case {

@@ -215,19 +215,11 @@ TEST(NetworkMethod, OneQueryAloneIsItsLaneOfABlockBitForBitInFloatAndDouble) {
   // 17, 40: one partial group, one full, a full and a partial, several), in float and double: each query's
   // answer alone must be its answer in a block, bit for bit.
   for (const SurfaceKind kind : {kBilinear, kGregory}) {
-    const int n = feature_count(kind);
-    mlp::Scaling s;
-    s.input_min.assign(static_cast<std::size_t>(n), -2.0);
-    s.input_max.assign(static_cast<std::size_t>(n), 2.0);
-    const ParamDomain range = param_domain(kind);
-    s.output_min.assign(2, range.lo);
-    s.output_max.assign(2, range.hi);
     const geometry::TrainingDomain domain = shipped(kind == kBilinear ? "bilinear-8.h5" : "gregory-48.h5").domain;
     const std::vector<double> raw = mixed_queries(kind, 200, 31);
     const auto st = static_cast<std::size_t>(stride(kind));
-    for (const std::vector<int>& sizes : {std::vector<int>{n, 5, 2}, {n, 16, 17, 2}, {n, 40, 2}}) {
-      mlp::Network<float> net(sizes, 1.3, s);
-      net.initialize(9);
+    for (const std::vector<int>& hidden : {std::vector<int>{5}, {16, 17}, {40}}) {
+      const mlp::Network<float> net = testing::random_network<float>(domain, hidden, InputFeatures::kPaper, 9);
       for (const bool in_double : {false, true}) {
         const NetworkModel model = in_double ? NetworkModel(net.cast<double>(), domain) : NetworkModel(net, domain);
         const LocalSearch search(kind, Method::parse("network"), {}, &model);
@@ -237,9 +229,9 @@ TEST(NetworkMethod, OneQueryAloneIsItsLaneOfABlockBitForBitInFloatAndDouble) {
           const std::vector<double> one_raw(raw.begin() + static_cast<std::ptrdiff_t>(i * st),
                                             raw.begin() + static_cast<std::ptrdiff_t>((i + 1) * st));
           const Output<double> one = run(search, one_raw, 1);
-          ASSERT_EQ(one.status[0], block.status[i]) << to_string(kind) << " width " << sizes[1] << " query " << i;
-          ASSERT_EQ(one.param[0], block.param[2 * i]) << to_string(kind) << " width " << sizes[1] << " query " << i;
-          ASSERT_EQ(one.param[1], block.param[2 * i + 1]) << to_string(kind) << " width " << sizes[1] << " query " << i;
+          ASSERT_EQ(one.status[0], block.status[i]) << to_string(kind) << " width " << hidden[0] << " query " << i;
+          ASSERT_EQ(one.param[0], block.param[2 * i]) << to_string(kind) << " width " << hidden[0] << " query " << i;
+          ASSERT_EQ(one.param[1], block.param[2 * i + 1]) << to_string(kind) << " width " << hidden[0] << " query " << i;
           if (std::isfinite(block.param[2 * i])) {
             spread = std::max(spread, std::abs(block.param[2 * i] - block.param[0]));
           }
