@@ -6,14 +6,17 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <fstream>
 #include <iterator>
 #include <limits>
+#include <numbers>
 #include <random>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "geometry/affine_frame.hpp"
@@ -495,6 +498,57 @@ TEST(DomainKernel, AgreesWithTrainingDomainContains) {
     // Both verdicts are exercised in earnest.
     EXPECT_GT(inside, 300) << to_string(kind);
     EXPECT_GT(outside, 300) << to_string(kind);
+  }
+}
+
+TEST(DomainKernel, AngleBoundsOnEitherSideOfARightAngleAgreeWithTheReference) {
+  // The kernel compares the interior angles through their cosines. The paper's 60-120 degrees (the other tests'
+  // bounds) is symmetric about 90, so a corner taken for its supplement passes unseen there, and its upper
+  // cosine is negative. These bounds are not symmetric, and two of them have a positive upper or a negative
+  // lower cosine.
+  std::mt19937_64 rng(108);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (const SurfaceKind kind : {SurfaceKind::kBilinear, SurfaceKind::kGregory}) {
+    for (const auto& [lo, hi] : {std::pair{45.0, 100.0}, std::pair{80.0, 135.0}, std::pair{0.0, 95.0},
+                                 std::pair{10.0, 89.0}, std::pair{95.0, 170.0}}) {
+      // Only the angles (and convexity) decide: wide feature ranges, the other filters off.
+      geometry::TrainingDomain domain = test_domain(kind);
+      std::fill(domain.feature_min.begin(), domain.feature_min.end(), -1e3);
+      std::fill(domain.feature_max.begin(), domain.feature_max.end(), 1e3);
+      domain.filters.xy_limit = 1e3;
+      domain.filters.z_limit = 1e3;
+      domain.filters.ad_not_longer_than_ab = false;
+      domain.filters.nearest_node_a = false;
+      domain.filters.segment_test_a = false;
+      domain.filters.max_normal_tilt_tangent = 1e3;
+      domain.filters.min_angle_degrees = lo;
+      domain.filters.max_angle_degrees = hi;
+      const cnn_domain bounds = domain_bounds(domain);
+      std::vector<Configuration> configs;
+      for (int i = 0; i < 1000; ++i) {
+        // A parallelogram with an angle of 40 to 140 degrees at A, C moved, S above: corners around both bounds.
+        const double angle = (90.0 + 50.0 * u(rng)) * std::numbers::pi / 180.0, length = 0.8 + 0.2 * u(rng);
+        const Vec3 d(length * std::cos(angle), length * std::sin(angle), 0.0);
+        const Vec3 c = Vec3(1, 0, 0) + d + Vec3(0.15 * u(rng), 0.15 * u(rng), 0.05 * u(rng));
+        const Vec3 up(0.1 * u(rng), 0.1 * u(rng), 1.0);
+        const Configuration local{{Vec3(0, 0, 0), Vec3(1, 0, 0), c, d}, Vec3(0.3 + 0.2 * u(rng), 0.3, 0.1 * u(rng)),
+                                  {up, up, up, up}};
+        configs.push_back(testing::place(local, rng, random_order(rng)));
+      }
+      const std::vector<int> got = kernel_domain(configs, kind, bounds, 16);
+      int inside = 0, outside = 0;
+      for (std::size_t i = 0; i < configs.size(); ++i) {
+        const geometry::NormaliseOutcome n = geometry::normalise(configs[i], kind);
+        if (!n.value || !n.value->canonical) continue;
+        const bool contains = domain.contains(n.value->config, n.value->features.data());
+        EXPECT_EQ(got[i], contains ? 0 : 5) << to_string(kind) << " angles " << lo << "-" << hi << " config " << i;
+        (contains ? inside : outside) += 1;
+      }
+      // No flat quadrilateral has every angle below (above) 90 degrees: with an upper bound below 90 (a positive
+      // cosine) or a lower bound above 90 (a negative one) every configuration is outside.
+      EXPECT_GT(inside, lo < 90.0 && hi > 90.0 ? 20 : -1) << to_string(kind) << " angles " << lo << "-" << hi;
+      EXPECT_GT(outside, 20) << to_string(kind) << " angles " << lo << "-" << hi;
+    }
   }
 }
 
