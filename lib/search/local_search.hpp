@@ -63,17 +63,19 @@ class LocalSearch {
   ///    at the canonical corner A, Gregory normals in the segment's plane or on both sides); invalid
   ///    (a non-finite input).
   ///  - newton:K: after K undamped steps from the centre, ok or outside by the domain enlarged by
-  ///    domain_margin; degenerate (a singular step, or a Gregory patch that does not exist), no_convergence (a
+  ///    domain_margin; degenerate (a collapsed bilinear segment as the labels judge it: coincident nodes, zero
+  ///    area, a corner of zero angle; a Gregory patch that does not exist; a singular step), no_convergence (a
   ///    non-finite step); both keep the last iterate. invalid for a non-finite input.
   ///  - newton: as newton:K, iterating until the step is at most tol_param; no_convergence after max_iterations.
   ///  - closed_form: ok or outside; no_convergence where the projected point lies beyond the fold of the
-  ///    bilinear map (the estimate is still reported); degenerate (no plane); invalid.
+  ///    bilinear map (the estimate is still reported); degenerate (no plane, or a collapsed segment as for
+  ///    newton:K); invalid.
   ///  - network+newton:K, closed_form+newton:K: the start, then K safeguarded steps (box, step cap,
   ///    halving): ok or outside; no_convergence when a step does not reduce |S - P| after max_halvings
   ///    halvings (the previous iterate is kept) or the iterate ends on the box's edge beyond the domain. Where
   ///    the box is the domain (the Gregory default), an iterate held on its edge is outside when |S - P|
   ///    still falls outward there (the edge point is reported, not the stationary point beyond it), else
-  ///    ok; degenerate (both Newton systems singular, or no Gregory patch); invalid. A network start without a canonical frame (e.g. a
+  ///    ok; degenerate (a collapsed segment, both Newton systems singular, or no Gregory patch); invalid. A network start without a canonical frame (e.g. a
   ///    straight angle at the canonical corner) is refined from the centre; an out_of_domain estimate is refined
   ///    from itself, and where that refinement fails, again from the centre (its steps add up).
   template <class Real>

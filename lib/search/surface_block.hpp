@@ -126,8 +126,14 @@ struct BilinearBlock {
   static constexpr bool kHasPureSecond = false;  // P_ss = P_tt = 0
   double a[12][W];  // a0 xyz, a1 xyz, a2 xyz, a3 xyz
 
-  /// Never fails: the facet exists for any four nodes (a collapsed one shows as a singular Newton system).
-  void build(const QueryBlock<W>& q, double* /*status*/) {
+  /// Builds the facet of every lane and sets status[l] = kDegenerate where the segment is collapsed as the labels
+  /// judge it (geometry::is_degenerate_segment; SPEC 2: coincident nodes, zero area): two nodes within 1e-10 of
+  /// the longest node distance L, half the cross product of the diagonals at most 1e-12 L^2, or a corner of zero
+  /// angle. The facet exists for any four nodes, and Newton from the centre reported a point of such a segment ok
+  /// (A = B: ok at K = 1 and 3). Compared squared (no square root), so a decision can differ from the
+  /// reference's only within a few ulps of a threshold; beyond element sizes of about 1e+-76 the fourth powers
+  /// leave the double range and a segment is degenerate, where Newton's own system already fails (1e+-80).
+  void build(const QueryBlock<W>& q, double* status) {
     CONTACTNN_LANES
     for (int l = 0; l < W; ++l) {
       CONTACTNN_UNROLL
@@ -138,6 +144,42 @@ struct BilinearBlock {
         a[6 + c][l] = 0.25 * (-pa - pb + pc + pd);
         a[9 + c][l] = 0.25 * (pa - pb + pc - pd);
       }
+    }
+    CONTACTNN_LANES
+    for (int l = 0; l < W; ++l) {
+      // Edges e_i = P_{i+1} - P_i (A B C D), the diagonals C - A and D - B. Corner i has next = e_i and prev =
+      // -e_{i-1}: next . prev = -(e_i . e_{i-1}), |next x prev| = |e_i x e_{i-1}|, as the reference computes them.
+      double e[4][3], g[2][3];
+      CONTACTNN_UNROLL
+      for (int c = 0; c < 3; ++c) {
+        const double pa = q.node[c][l], pb = q.node[3 + c][l], pc = q.node[6 + c][l], pd = q.node[9 + c][l];
+        e[0][c] = pb - pa;
+        e[1][c] = pc - pb;
+        e[2][c] = pd - pc;
+        e[3][c] = pa - pd;
+        g[0][c] = pc - pa;
+        g[1][c] = pd - pb;
+      }
+      const auto sq = [](const double* v) { return v[0] * v[0] + v[1] * v[1] + v[2] * v[2]; };
+      const double d01 = sq(e[0]), d12 = sq(e[1]), d23 = sq(e[2]), d30 = sq(e[3]), d02 = sq(g[0]), d13 = sq(g[1]);
+      const double longest = max_of(max_of(max_of(d01, d12), max_of(d23, d30)), max_of(d02, d13));
+      const double shortest = min_of(min_of(min_of(d01, d12), min_of(d23, d30)), min_of(d02, d13));
+      const double flat = 1e-24 * longest * longest;
+      const auto cross_sq = [](const double* u, const double* v) {
+        const double x = u[1] * v[2] - u[2] * v[1], y = u[2] * v[0] - u[0] * v[2], z = u[0] * v[1] - u[1] * v[0];
+        return x * x + y * y + z * z;
+      };
+      // Twice the area: |(C - A) x (D - B)|.
+      bool collapsed = !(longest > 0.0) | !(shortest > 1e-20 * longest) | !(0.25 * cross_sq(g[0], g[1]) > flat);
+      CONTACTNN_UNROLL
+      for (int i = 0; i < 4; ++i) {
+        // A corner of zero angle: next . prev > 0 and next x prev ~ 0 (a straight angle is usable).
+        const double* next = e[i];
+        const double* back = e[(i + 3) % 4];
+        const double along = next[0] * back[0] + next[1] * back[1] + next[2] * back[2];
+        collapsed = collapsed | ((along < 0.0) & !(cross_sq(next, back) > flat));
+      }
+      status[l] = collapsed ? kDegenerate : status[l];
     }
   }
 

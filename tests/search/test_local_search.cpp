@@ -406,6 +406,58 @@ TEST(NewtonMethod, ToConvergenceMatchesThePlainSolverAndTheLabelsWhereTheyAgree)
 
 // ---- closed form ----
 
+TEST(NewtonMethod, ACollapsedBilinearSegmentIsDegenerateAsItsLabelAtAnyScaleAloneAndInABlock) {
+  // SPEC 2: coincident nodes or zero area make a segment degenerate, as its label says. The bilinear facet
+  // exists for any four nodes, and Newton from the centre (or the closed form) answered ok on A = B. Beside the
+  // collapsed segments, nearly collapsed ones that the labels project (a triangle with a straight angle, nodes
+  // 1e-9 apart, a 0.1-degree corner, aspect 1e3) must stay usable. Each at 1e-6, 1 and 1e6 and 1e5 sizes from
+  // the origin, in blocks and one query at a time.
+  const Vec3 s(0.3, 0.4, 0.2);
+  const std::vector<std::pair<std::array<Vec3, 4>, bool>> segments = {
+      {{Vec3(0, 0, 0), Vec3(0, 0, 0), Vec3(1, 1, 0), Vec3(0, 1, 0)}, true},   // A = B
+      {{Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0)}, true},   // B = C
+      {{Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0), Vec3(1, 1, 0)}, true},   // C = D
+      {{Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0), Vec3(0, 0, 0)}, true},   // D = A
+      {{Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 0, 0), Vec3(0, 1, 0)}, true},   // A = C
+      {{Vec3(1, 2, 3), Vec3(1, 2, 3), Vec3(1, 2, 3), Vec3(1, 2, 3)}, true},   // all at one point
+      {{Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(3, 0, 0), Vec3(2, 0, 0)}, true},   // collinear
+      {{Vec3(0, 0, 0), Vec3(1, 1, 1), Vec3(2.5, 2.5, 2.5), Vec3(-1, -1, -1)}, true},
+      {{Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0), Vec3(2, 0, 0)}, true},   // folded: zero angle at A
+      {{Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(1, 1, 0)}, true},   // bow tie: zero area
+      {{Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(2, 0, 0), Vec3(0, 1, 0)}, false},  // straight angle at B
+      {{Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0), Vec3(1 - 1e-9, 1, 0)}, false},
+      {{Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 0.0017, 0), Vec3(0.99, 0.0017, 0)}, false},
+      {{Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1e-3, 0), Vec3(0, 1e-3, 0)}, false},
+  };
+  std::vector<double> raw;
+  std::vector<bool> collapsed;
+  for (const double scale : {1e-6, 1.0, 1e6}) {
+    for (const double offset : {0.0, 1e5}) {
+      for (const auto& [nodes, is_collapsed] : segments) {
+        for (const Vec3& n : nodes) {
+          for (int c = 0; c < 3; ++c) raw.push_back(scale * (n[c] + offset));
+        }
+        for (int c = 0; c < 3; ++c) raw.push_back(scale * (s[c] + offset));
+        collapsed.push_back(is_collapsed);
+      }
+    }
+  }
+  const std::vector<dataset::Label> labels = labels_of(raw, kBilinear);
+  for (std::size_t i = 0; i < labels.size(); ++i) {
+    ASSERT_EQ(labels[i].status == Status::kDegenerate, collapsed[i]) << "query " << i;
+  }
+  for (const char* method : {"newton:1", "newton:5", "newton", "closed_form", "closed_form+newton:2"}) {
+    const Output<double> block = run_method(kBilinear, method, raw);
+    for (std::size_t i = 0; i < labels.size(); ++i) {
+      const std::vector<double> one(raw.begin() + static_cast<std::ptrdiff_t>(15 * i),
+                                    raw.begin() + static_cast<std::ptrdiff_t>(15 * (i + 1)));
+      const Status alone = run_method(kBilinear, method, one).status[0];
+      EXPECT_EQ(block.status[i] == Status::kDegenerate, collapsed[i]) << method << " query " << i;
+      EXPECT_EQ(alone, block.status[i]) << method << " query " << i;
+    }
+  }
+}
+
 TEST(ClosedForm, IsExactOnFlatSegmentsInsideAndOutside) {
   std::mt19937_64 rng(13);
   std::vector<double> raw;
