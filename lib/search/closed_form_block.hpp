@@ -42,14 +42,16 @@ static void closed_form(const BilinearBlock<W>& b, LaneState<W>& s) {
     const auto triple = [&n](const double* x, const double* y) {
       return n[0] * (x[1] * y[2] - x[2] * y[1]) + n[1] * (x[2] * y[0] - x[0] * y[2]) + n[2] * (x[0] * y[1] - x[1] * y[0]);
     };
-    const double k2 = triple(a3, a2), k1 = triple(q, a3) + nn, k0 = triple(q, a1);
+    // Divided by nn (~ size^4): the discriminant would be ~ size^8 and leave the double range beyond sizes of
+    // 1e+-38 (at 1e+-60 the estimate was another point, or no_convergence).
+    const double inv_nn = 1.0 / nn;
+    const double k2 = triple(a3, a2) * inv_nn, k1 = triple(q, a3) * inv_nn + 1.0, k0 = triple(q, a1) * inv_nn;
     const double disc_raw = k1 * k1 - 4.0 * k2 * k0;
     const bool fold = disc_raw < 0.0;
     const double root = std::sqrt(fold ? 0.0 : disc_raw);
     const double big_q = -0.5 * (k1 + (k1 >= 0.0 ? root : -root));
     const double eta1 = k0 / big_q, eta2 = big_q / k2;
     // q and a3 projected onto the plane (a1 and a2 lie in it).
-    const double inv_nn = 1.0 / nn;
     const double qn = (q[0] * n[0] + q[1] * n[1] + q[2] * n[2]) * inv_nn;
     const double an = (a3[0] * n[0] + a3[1] * n[1] + a3[2] * n[2]) * inv_nn;
     double xi[2];

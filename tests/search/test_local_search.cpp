@@ -930,6 +930,43 @@ TEST(LocalSearch, NewtonToConvergenceInPassesGivesTheOnePassResults) {
 
 // ---- statuses, NaN, construction ----
 
+TEST(LocalSearch, EveryMethodGivesTheSameAnswerAtScales2ToThePowerMinus200To200) {
+  // SPEC 4: local coordinates do not depend on the scale. A power of two scales every product and sum of the
+  // methods' arithmetic exactly, so a scale-free method gives the same bits, until a square or a fourth power
+  // leaves the double range (the closed form's discriminant, ~ size^8, did beyond 1e+-38). 2^+-200 is 1e+-60.
+  for (const SurfaceKind kind : {kBilinear, kGregory}) {
+    const auto& trained = shipped(kind == kBilinear ? "bilinear-8.h5" : "gregory-48.h5");
+    const NetworkModel model(trained.network, trained.domain);
+    const std::vector<double> unit = random_queries(kind, 512, 23);
+    std::vector<std::string> names = methods_of(kind);
+    names.push_back("newton:5");
+    names.push_back("network+newton:3");
+    for (const std::string& method : names) {
+      const Output<double> reference = run_method(kind, method, unit, &model);
+      for (const int power : {-200, -100, 100, 200}) {
+        std::vector<double> raw = unit;
+        const std::size_t columns = static_cast<std::size_t>(stride(kind));
+        for (std::size_t i = 0; i < raw.size(); ++i) {
+          if (i % columns < 15) raw[i] = std::ldexp(raw[i], power);  // coordinates; node normals unchanged
+        }
+        const Output<double> out = run_method(kind, method, raw, &model);
+        int differ = 0;
+        for (std::size_t i = 0; i < out.status.size(); ++i) {
+          const bool same = out.status[i] == reference.status[i] && out.param[2 * i] == reference.param[2 * i] &&
+                            out.param[2 * i + 1] == reference.param[2 * i + 1] &&
+                            out.gap[i] == std::ldexp(reference.gap[i], power);
+          differ += same ? 0 : 1;
+          EXPECT_TRUE(same) << to_string(kind) << " " << method << " 2^" << power << " query " << i << ": status "
+                            << static_cast<int>(out.status[i]) << " / " << static_cast<int>(reference.status[i])
+                            << ", (" << out.param[2 * i] << ", " << out.param[2 * i + 1] << ") / ("
+                            << reference.param[2 * i] << ", " << reference.param[2 * i + 1] << ")";
+          if (differ > 3) break;
+        }
+      }
+    }
+  }
+}
+
 TEST(LocalSearch, EveryStatusIsReachableAndNoOutputIsEverNaN) {
   for (const SurfaceKind kind : {kBilinear, kGregory}) {
     const auto& trained = shipped(kind == kBilinear ? "bilinear-8.h5" : "gregory-48.h5");
