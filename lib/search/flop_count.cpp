@@ -28,12 +28,13 @@ constexpr double kDomainTilts = 4 * 32;
 constexpr double kInputScaling = 3, kOutputScaling = 3, kMapBack = 4, kSigmoid = 27;
 // surface_block.hpp: the queries relative to S (finite test 2 per value, 12 differences).
 constexpr double kRelativePerValue = 2, kRelative = 12;
-// Bilinear: coefficients a0..a3 48. One lean Newton step: evaluation 31, residual and Jacobian 33, solve
-// (determinant 3, reciprocal 1, step 8) 12, update and checks 7.
-constexpr double kBilinearBuild = 48, kBilinearStep = 31 + 33 + 12 + 7;
-// Closed form: q, n, |n|^2 17; three triple products 43; discriminant, root and the two roots 11; the plane
-// projections 13; xi for each root 2 x 33; the degeneracy test 12.
-constexpr double kClosedForm = 17 + 43 + 11 + 13 + 66 + 12;
+// Bilinear: coefficients a0..a3 48; the collapsed-segment test (edges and diagonals 18, their squared lengths
+// 30, thresholds 3, area 15, four corner folds 4 x 19) 142. One lean Newton step: evaluation 31, residual and
+// Jacobian 33, solve (determinant 3, reciprocal 1, step 8) 12, update and checks 7.
+constexpr double kBilinearBuild = 48 + 142, kBilinearStep = 31 + 33 + 12 + 7;
+// Closed form: q, n, |n|^2 17; three triple products 43 and their division by |n|^2 3; discriminant, root and
+// the two roots 11; the plane projections 13; xi for each root 2 x 33; the degeneracy test 12.
+constexpr double kClosedForm = 17 + 43 + 3 + 11 + 13 + 66 + 12;
 // Gregory patch (GregoryBlock::build): unit normals 4 x 14; longest distance 48; per node the projected edges
 // and their tests 49 (x 4); edge points 48; per edge the interior points 131 (x 4); base and delta 12.
 constexpr double kGregoryBuild = 56 + 48 + 4 * 49 + 48 + 4 * 131 + 12;
