@@ -469,12 +469,27 @@ std::vector<int> kernel_domain(const std::vector<Configuration>& configs, Surfac
   return verdict;
 }
 
+/// Runs the domain kernel on `configs` and expects its verdict to be TrainingDomain::contains' for every
+/// configuration that normalises to a canonical form; returns how many were inside and outside.
+std::pair<int, int> expect_kernel_agrees(const std::vector<Configuration>& configs, SurfaceKind kind,
+                                         const geometry::TrainingDomain& domain, const std::string& what) {
+  const std::vector<int> got = kernel_domain(configs, kind, domain_bounds(domain), 16);
+  int inside = 0, outside = 0;
+  for (std::size_t i = 0; i < configs.size(); ++i) {
+    const geometry::NormaliseOutcome n = geometry::normalise(configs[i], kind);
+    if (!n.value || !n.value->canonical) continue;
+    const bool contains = domain.contains(n.value->config, n.value->features.data());
+    EXPECT_EQ(got[i], contains ? 0 : 5) << what << " config " << i;
+    (contains ? inside : outside) += 1;
+  }
+  return {inside, outside};
+}
+
 TEST(DomainKernel, AgreesWithTrainingDomainContains) {
   std::mt19937_64 rng(106);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   for (const SurfaceKind kind : {SurfaceKind::kBilinear, SurfaceKind::kGregory}) {
     const geometry::TrainingDomain domain = test_domain(kind);
-    const cnn_domain bounds = domain_bounds(domain);
     std::vector<Configuration> configs;
     for (int i = 0; i < 2000; ++i) {
       // Half from the paper's domain, half perturbed out of it (angles, tilts, ranges, nearest node).
@@ -486,15 +501,7 @@ TEST(DomainKernel, AgreesWithTrainingDomainContains) {
       }
       configs.push_back(testing::place(local, rng, random_order(rng)));
     }
-    const std::vector<int> got = kernel_domain(configs, kind, bounds, 16);
-    int inside = 0, outside = 0;
-    for (std::size_t i = 0; i < configs.size(); ++i) {
-      const geometry::NormaliseOutcome n = geometry::normalise(configs[i], kind);
-      if (!n.value || !n.value->canonical) continue;
-      const bool contains = domain.contains(n.value->config, n.value->features.data());
-      EXPECT_EQ(got[i], contains ? 0 : 5) << to_string(kind) << " config " << i;
-      (contains ? inside : outside) += 1;
-    }
+    const auto [inside, outside] = expect_kernel_agrees(configs, kind, domain, std::string(to_string(kind)));
     // Both verdicts are exercised in earnest.
     EXPECT_GT(inside, 300) << to_string(kind);
     EXPECT_GT(outside, 300) << to_string(kind);
@@ -523,7 +530,6 @@ TEST(DomainKernel, AngleBoundsOnEitherSideOfARightAngleAgreeWithTheReference) {
       domain.filters.max_normal_tilt_tangent = 1e3;
       domain.filters.min_angle_degrees = lo;
       domain.filters.max_angle_degrees = hi;
-      const cnn_domain bounds = domain_bounds(domain);
       std::vector<Configuration> configs;
       for (int i = 0; i < 1000; ++i) {
         // A parallelogram with an angle of 40 to 140 degrees at A, C moved, S above: corners around both bounds.
@@ -535,15 +541,9 @@ TEST(DomainKernel, AngleBoundsOnEitherSideOfARightAngleAgreeWithTheReference) {
                                   {up, up, up, up}};
         configs.push_back(testing::place(local, rng, random_order(rng)));
       }
-      const std::vector<int> got = kernel_domain(configs, kind, bounds, 16);
-      int inside = 0, outside = 0;
-      for (std::size_t i = 0; i < configs.size(); ++i) {
-        const geometry::NormaliseOutcome n = geometry::normalise(configs[i], kind);
-        if (!n.value || !n.value->canonical) continue;
-        const bool contains = domain.contains(n.value->config, n.value->features.data());
-        EXPECT_EQ(got[i], contains ? 0 : 5) << to_string(kind) << " angles " << lo << "-" << hi << " config " << i;
-        (contains ? inside : outside) += 1;
-      }
+      std::ostringstream what;
+      what << to_string(kind) << " angles " << lo << "-" << hi;
+      const auto [inside, outside] = expect_kernel_agrees(configs, kind, domain, what.str());
       // No flat quadrilateral has every angle below (above) 90 degrees: with an upper bound below 90 (a positive
       // cosine) or a lower bound above 90 (a negative one) every configuration is outside.
       EXPECT_GT(inside, lo < 90.0 && hi > 90.0 ? 20 : -1) << to_string(kind) << " angles " << lo << "-" << hi;
