@@ -75,9 +75,10 @@ class LocalSearch {
   ///    halvings (the previous iterate is kept) or the iterate ends on the box's edge beyond the domain. Where
   ///    the box is the domain (the Gregory default), an iterate held on its edge is outside when |S - P|
   ///    still falls outward there (the edge point is reported, not the stationary point beyond it), else
-  ///    ok; degenerate (a collapsed segment, both Newton systems singular, or no Gregory patch); invalid. A network start without a canonical frame (e.g. a
-  ///    straight angle at the canonical corner) is refined from the centre; an out_of_domain estimate is refined
-  ///    from itself, and where that refinement fails, again from the centre (its steps add up).
+  ///    ok; degenerate (a collapsed segment, both Newton systems singular, or no Gregory patch); invalid. A
+  ///    network start without a canonical frame (e.g. a straight angle at the canonical corner) is refined from
+  ///    the centre; an out_of_domain estimate is refined from itself, and where that refinement fails, again
+  ///    from the centre (its steps add up).
   template <class Real>
   void run(std::size_t count, const Real* raw, Results<Real> out, int threads = 0) const;
 

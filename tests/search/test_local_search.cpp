@@ -404,14 +404,12 @@ TEST(NewtonMethod, ToConvergenceMatchesThePlainSolverAndTheLabelsWhereTheyAgree)
   }
 }
 
-// ---- closed form ----
-
 TEST(NewtonMethod, ACollapsedBilinearSegmentIsDegenerateAsItsLabelAtAnyScaleAloneAndInABlock) {
   // SPEC 2: coincident nodes or zero area make a segment degenerate, as its label says. The bilinear facet
   // exists for any four nodes, and Newton from the centre (or the closed form) answered ok on A = B. Beside the
   // collapsed segments, nearly collapsed ones that the labels project (a triangle with a straight angle, nodes
-  // 1e-9 apart, a 0.1-degree corner, aspect 1e3) must stay usable. Each at 1e-6, 1 and 1e6 and 1e5 sizes from
-  // the origin, in blocks and one query at a time.
+  // 1e-9 apart, a 0.1-degree corner, aspect 1e3) must stay usable. Each at scales 1e-6, 1 and 1e6, at the
+  // origin and 1e5 sizes from it, in a block and one query at a time.
   const Vec3 s(0.3, 0.4, 0.2);
   const std::vector<std::pair<std::array<Vec3, 4>, bool>> segments = {
       {{Vec3(0, 0, 0), Vec3(0, 0, 0), Vec3(1, 1, 0), Vec3(0, 1, 0)}, true},   // A = B
@@ -457,6 +455,8 @@ TEST(NewtonMethod, ACollapsedBilinearSegmentIsDegenerateAsItsLabelAtAnyScaleAlon
     }
   }
 }
+
+// ---- closed form ----
 
 TEST(ClosedForm, IsExactOnFlatSegmentsInsideAndOutside) {
   std::mt19937_64 rng(13);
