@@ -55,8 +55,10 @@ inline std::array<Vec3, 4> tilted_normals(const std::array<Vec3, 4>& nodes, doub
 /// containing every accepted configuration. Bilinear: C, S in (-2, 2)^2 x (-0.3, 0.3), D in (-2, 2) x (0, 2).
 /// Gregory (the angle at A is in [60, 120] degrees and |AD| <= 1): D uniform on that sector of the unit disk,
 /// S in [-0.5, 0.6] x [-0.05, 1] (A must be its nearest node and its projection in the angle at A), C in the box.
-inline Configuration random_domain_configuration(SurfaceKind kind, std::mt19937_64& rng) {
-  const geometry::DomainFilters filters = paper_filters(kind);
+/// `filters`: the paper's by default; narrower ones of the same kind (e.g. a bilinear angle bound) keep the
+/// proposal valid.
+inline Configuration random_domain_configuration(SurfaceKind kind, std::mt19937_64& rng,
+                                                 const geometry::DomainFilters& filters) {
   std::uniform_real_distribution<double> xy(-2.0, 2.0), z(-0.3, 0.3), up(0.0, 2.0), unit(0.0, 1.0);
   std::uniform_real_distribution<double> sx(-0.5, 0.6), sy(-0.05, 1.0);
   const double third = std::numbers::pi / 3.0;
@@ -79,6 +81,10 @@ inline Configuration random_domain_configuration(SurfaceKind kind, std::mt19937_
     }
     if (filters.accepts(c, kind)) return c;
   }
+}
+
+inline Configuration random_domain_configuration(SurfaceKind kind, std::mt19937_64& rng) {
+  return random_domain_configuration(kind, rng, paper_filters(kind));
 }
 
 /// A uniformly random rotation (a normalised Gaussian quaternion).
@@ -135,16 +141,22 @@ inline Configuration configuration_of(const double* raw, SurfaceKind kind, std::
   return c;
 }
 
-/// `count` random queries of the paper's domain of `kind`, placed at random, as SPEC 6 rows.
-inline std::vector<double> random_queries(SurfaceKind kind, std::size_t count, std::uint64_t seed) {
+/// `count` random queries of the domain of `kind` that `filters` cut out (the paper's by default), placed at
+/// random, as SPEC 6 rows.
+inline std::vector<double> random_queries(SurfaceKind kind, std::size_t count, std::uint64_t seed,
+                                          const geometry::DomainFilters& filters) {
   std::mt19937_64 rng(seed);
   std::vector<double> raw;
   raw.reserve(count * (kind == SurfaceKind::kGregory ? 27 : 15));
   for (std::size_t i = 0; i < count; ++i) {
-    const Configuration local = random_domain_configuration(kind, rng);
+    const Configuration local = random_domain_configuration(kind, rng, filters);
     append_raw(place(local, rng, random_order(rng)), kind, raw);
   }
   return raw;
+}
+
+inline std::vector<double> random_queries(SurfaceKind kind, std::size_t count, std::uint64_t seed) {
+  return random_queries(kind, count, seed, paper_filters(kind));
 }
 
 /// Which rows spoil_rows spoils, and how far its tiny and huge rows are scaled.
