@@ -29,9 +29,13 @@ constexpr double kInputScaling = 3, kOutputScaling = 3, kMapBack = 4, kSigmoid =
 // surface_block.hpp: the queries relative to S (finite test 2 per value, 12 differences).
 constexpr double kRelativePerValue = 2, kRelative = 12;
 // Bilinear: coefficients a0..a3 48; the collapsed-segment test (edges and diagonals 18, their squared lengths
-// 30, thresholds 3, area 15, four corner folds 4 x 19) 142. One lean Newton step: evaluation 31, residual and
-// Jacobian 33, solve (determinant 3, reciprocal 1, step 8) 12, update and checks 7.
+// 30, thresholds 3, area 15, four corner folds 4 x 19) 142. One hybrid (safeguarded) Newton step on the
+// surface's values: evaluation 31, residual and Jacobian 33, solve (determinant 3, reciprocal 1, step 8) 12,
+// update and checks 7. A plain step (lean_newton, converged_newton) on the polynomial system of
+// PlainSystem<BilinearBlock>: its nine dot products once per query 46; per step u v and the doubled
+// coefficients 3, g00 and g11 8, the residual 14, h01 7, then the solve 12 and update and checks 7.
 constexpr double kBilinearBuild = 48 + 142, kBilinearStep = 31 + 33 + 12 + 7;
+constexpr double kBilinearPlainSetup = 46, kBilinearPlainStep = 3 + 8 + 14 + 7 + 12 + 7;
 // Closed form: q, n, |n|^2 17; three triple products 43 and their division by |n|^2 3; discriminant, root and
 // the two roots 11; the plane projections 13; xi for each root 2 x 33; the degeneracy test 12.
 constexpr double kClosedForm = 17 + 43 + 3 + 11 + 13 + 66 + 12;
@@ -79,7 +83,8 @@ FlopCount flops_per_query(SurfaceKind kind, const Method& method, const NetworkM
     if (method.start == Method::Start::kNetwork) d += relative + build;
     d += eval + method.newton_steps * (step + kSafeguard + (gregory ? kGregoryShift : 0.0));
   } else if (method.start == Method::Start::kCentre) {
-    d += (method.to_convergence ? newton_steps : method.newton_steps) * step;
+    const double steps = method.to_convergence ? newton_steps : method.newton_steps;
+    d += gregory ? steps * step : kBilinearPlainSetup + steps * kBilinearPlainStep;
   }
   return count;
 }
