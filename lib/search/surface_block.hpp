@@ -63,9 +63,9 @@ CONTACTNN_SEARCH_INLINE double min_of(double a, double b) { return a < b ? a : b
 CONTACTNN_SEARCH_INLINE bool is_finite(double x) { return x * 0.0 == 0.0; }
 
 /// W queries relative to their slave nodes: node[3 i + c][l] is coordinate c of node i (A, B, C, D) minus
-/// the same coordinate of S; normal[3 i + c][l] the raw node normal (Gregory). finite[l] is 1 when every input
-/// of lane l is finite (otherwise the lane's values are replaced by a unit square, so that no NaN enters the
-/// arithmetic of the other lanes' vector operations).
+/// the same coordinate of S; normal[3 i + c][l] the raw node normal (Gregory only; unset for a bilinear block).
+/// finite[l] is 1 when every input of lane l is finite (otherwise the lane's values are replaced by a unit
+/// square, so that no NaN enters the arithmetic of the other lanes' vector operations).
 template <int W>
 struct QueryBlock {
   double node[12][W];
@@ -90,12 +90,18 @@ template <int W>
 CONTACTNN_SEARCH_INLINE void relative_queries(const double (*raw)[W], bool gregory, QueryBlock<W>& q) {
   static constexpr double kSquare[12] = {-0.5, -0.5, -1, 0.5, -0.5, -1, 0.5, 0.5, -1, -0.5, 0.5, -1};
   const int stride = gregory ? 27 : 15;
-  double check[W];
-  for (int l = 0; l < W; ++l) check[l] = 0.0;
-  for (int k = 0; k < stride; ++k) {
+  // 0 * x summed over the values (NaN where one is not finite), in two chains of additions instead of one.
+  double check[W], odd[W];
+  for (int l = 0; l < W; ++l) check[l] = odd[l] = 0.0;
+  for (int k = 0; k + 1 < stride; k += 2) {
 #pragma omp simd
-    for (int l = 0; l < W; ++l) check[l] += raw[k][l] * 0.0;
+    for (int l = 0; l < W; ++l) {
+      check[l] += raw[k][l] * 0.0;
+      odd[l] += raw[k + 1][l] * 0.0;
+    }
   }
+#pragma omp simd
+  for (int l = 0; l < W; ++l) check[l] += odd[l] + raw[stride - 1][l] * 0.0;
 #pragma omp simd
   for (int l = 0; l < W; ++l) q.finite[l] = check[l] == 0.0 ? 1.0 : 0.0;
   for (int k = 0; k < 12; ++k) {
@@ -105,15 +111,12 @@ CONTACTNN_SEARCH_INLINE void relative_queries(const double (*raw)[W], bool grego
 #pragma omp simd
     for (int l = 0; l < W; ++l) q.node[k][l] = check[l] == 0.0 ? x[l] - slave[l] : square;
   }
+  if (!gregory) return;  // the bilinear facet reads no normals (filling them cost 0.7 ns a query)
   for (int k = 0; k < 12; ++k) {
     const double fallback = k % 3 == 2 ? 1.0 : 0.0;
-    if (gregory) {
-      const double* n = raw[15 + k];
+    const double* n = raw[15 + k];
 #pragma omp simd
-      for (int l = 0; l < W; ++l) q.normal[k][l] = check[l] == 0.0 ? n[l] : fallback;
-    } else {
-      for (int l = 0; l < W; ++l) q.normal[k][l] = fallback;
-    }
+    for (int l = 0; l < W; ++l) q.normal[k][l] = check[l] == 0.0 ? n[l] : fallback;
   }
 }
 
