@@ -79,9 +79,11 @@ FlopCount flops_per_query(SurfaceKind kind, const Method& method, const NetworkM
     if (method.start == Method::Start::kClosedForm) d += kClosedForm;
   }
   if (method.is_hybrid()) {
-    // The network's start needs the surface too; then one evaluation at the start and one per step.
+    // The network's start needs the surface too; then one evaluation at the start and one per step (a bilinear
+    // facet is evaluated again at each iterate and once at the end instead of kept: safeguarded_newton).
     if (method.start == Method::Start::kNetwork) d += relative + build;
     d += eval + method.newton_steps * (step + kSafeguard + (gregory ? kGregoryShift : 0.0));
+    if (!gregory) d += (method.newton_steps + 1) * eval;
   } else if (method.start == Method::Start::kCentre) {
     const double steps = method.to_convergence ? newton_steps : method.newton_steps;
     d += gregory ? steps * step : kBilinearPlainSetup + steps * kBilinearPlainStep;

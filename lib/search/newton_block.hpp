@@ -248,6 +248,11 @@ struct EvalStore {
     f[l] = take ? f_new : f[l];
     dist[l] = take ? std::sqrt(f_new) : dist[l];
   }
+  /// Only |S - P| where `take` (the surface values are filled in afterwards).
+  CONTACTNN_SEARCH_INLINE void store_distance_if(int l, bool take, double f_new) {
+    f[l] = take ? f_new : f[l];
+    dist[l] = take ? std::sqrt(f_new) : dist[l];
+  }
 };
 
 CONTACTNN_SEARCH_INLINE double clamp_to(double x, double lo, double hi) {
@@ -308,6 +313,11 @@ static void safeguarded_newton(const Surf& surf, int steps, const Safeguards& g,
   // The settings as locals: a field read under a lane-dependent condition becomes a masked load of an invariant,
   // which GCC 12 does not vectorise.
   const double lo = g.lo, hi = g.hi, max_step = g.max_step, tol = g.tol;
+  // On a bilinear facet the surface at an iterate (31 flops) is evaluated again where it is needed rather than
+  // kept: storing and reloading its 12 values per lane and step cost more (bench_search A/B, batched, 1 thread:
+  // closed_form+newton:3 41.0 -> 39.5 ns, network+newton:3[bilinear-8] 65.4 -> 63.9). A Gregory evaluation is
+  // 790 flops: kept.
+  constexpr bool kEvaluateAgain = !Surf::kHasPureSecond;
   double running[W], pending[W], tu[W], tv[W], tiny[W];
   CONTACTNN_LANES
   for (int l = 0; l < W; ++l) {
@@ -316,7 +326,11 @@ static void safeguarded_newton(const Surf& surf, int steps, const Safeguards& g,
     Eval e;
     surf.template eval<true>(l, s.u[l], s.v[l], e);
     const double f = e.p[0] * e.p[0] + e.p[1] * e.p[1] + e.p[2] * e.p[2];
-    store.store_if(l, true, e, f);
+    if constexpr (kEvaluateAgain) {
+      store.store_distance_if(l, true, f);
+    } else {
+      store.store_if(l, true, e, f);
+    }
     running[l] = s.status[l] == kOk ? 1.0 : 0.0;
   }
   for (int k = 0; k < steps; ++k) {
@@ -324,7 +338,11 @@ static void safeguarded_newton(const Surf& surf, int steps, const Safeguards& g,
     CONTACTNN_LANES
     for (int l = 0; l < W; ++l) {
       Eval e;
-      store.load(l, e);
+      if constexpr (kEvaluateAgain) {
+        surf.template eval<true>(l, s.u[l], s.v[l], e);
+      } else {
+        store.load(l, e);
+      }
       const NewtonSystem q = newton_system<Surf::kHasPureSecond>(e);
       const double scale = q.g00 + q.g11;
       const double floor = 1e-24 * scale * scale;
@@ -396,7 +414,11 @@ static void safeguarded_newton(const Surf& surf, int steps, const Safeguards& g,
         const double reach = noise[l] * (2.0 * store.dist[l] + noise[l]);
         const bool wait = pending[l] != 0.0;
         const bool accept = wait & ((f <= store.f[l] + reach) | (tiny[l] != 0.0));
-        store.store_if(l, accept, e, f);
+        if constexpr (kEvaluateAgain) {
+          store.store_distance_if(l, accept, f);
+        } else {
+          store.store_if(l, accept, e, f);
+        }
         s.u[l] = accept ? tu[l] : s.u[l];
         s.v[l] = accept ? tv[l] : s.v[l];
         s.iterations[l] += accept ? 1.0 : 0.0;
@@ -414,6 +436,14 @@ static void safeguarded_newton(const Surf& surf, int steps, const Safeguards& g,
       running[l] = ((running[l] != 0.0) & !rejected & (tiny[l] == 0.0)) ? 1.0 : 0.0;
     }
     if (any_of<W>(running) == 0.0) break;
+  }
+  if constexpr (kEvaluateAgain) {
+    CONTACTNN_LANES
+    for (int l = 0; l < W; ++l) {
+      Eval e;
+      surf.template eval<true>(l, s.u[l], s.v[l], e);
+      store.store_if(l, true, e, store.f[l]);
+    }
   }
   classify_held_lanes<W, Surf::kHasPureSecond>(g, s, store);
 }
