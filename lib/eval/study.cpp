@@ -214,7 +214,7 @@ void time_set(const EvaluationSet& set, const std::vector<StudyMethod>& methods,
 
 }  // namespace
 
-std::string default_methods(SurfaceKind kind, int max_fixed_iterations, bool with_networks) {
+std::string default_methods([[maybe_unused]] SurfaceKind kind, int max_fixed_iterations, bool with_networks) {
   // Hybrids at K = 1, 2, 3 and 5, 8: a block's safeguarded steps stop once all its lanes have converged, so
   // K = 8 costs about K = 4 and reaches rounding-level answers where K = 3 leaves a tail (held-out Gregory).
   const char* const ks[] = {"1", "2", "3", "5", "8"};
@@ -223,10 +223,8 @@ std::string default_methods(SurfaceKind kind, int max_fixed_iterations, bool wit
     list += "network,";
     for (const char* k : ks) list += std::string("network+newton:") + k + ",";
   }
-  if (kind == SurfaceKind::kBilinear) {
-    list += "closed_form,";
-    for (const char* k : ks) list += std::string("closed_form+newton:") + k + ",";
-  }
+  list += "closed_form,";
+  for (const char* k : ks) list += std::string("closed_form+newton:") + k + ",";
   for (int k = 1; k <= max_fixed_iterations; ++k) list += "newton:" + std::to_string(k) + ",";
   return list + "newton";
 }

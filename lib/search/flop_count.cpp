@@ -76,7 +76,8 @@ FlopCount flops_per_query(SurfaceKind kind, const Method& method, const NetworkM
     (network->is_float() ? count.in_float : d) += net;
   } else {
     d += relative + build;
-    if (method.start == Method::Start::kClosedForm) d += kClosedForm;
+    // On a Gregory patch the closed form is that of the corner facet: its build and test too, and the map to (u, v).
+    if (method.start == Method::Start::kClosedForm) d += kClosedForm + (gregory ? kBilinearBuild + 4 : 0.0);
   }
   if (method.is_hybrid()) {
     // The network's start needs the surface too; then one evaluation at the start and one per step (a bilinear

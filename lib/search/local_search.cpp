@@ -13,8 +13,6 @@ namespace contactnn::search {
 LocalSearch::LocalSearch(SurfaceKind kind, Method method, SearchOptions options, const NetworkModel* network) {
   CONTACTNN_REQUIRE(method.newton_steps >= 0, "method " << method.name() << ": newton_steps = " << method.newton_steps
                                                         << ", expected >= 0");
-  CONTACTNN_REQUIRE(!(method.start == Method::Start::kClosedForm && kind == SurfaceKind::kGregory),
-                    "method " << method.name() << " exists for bilinear segments only, not gregory");
   CONTACTNN_REQUIRE(!method.to_convergence || method.start == Method::Start::kCentre,
                     "Newton to convergence starts from the centre; got start " << method.name());
   if (method.needs_network()) {

@@ -45,8 +45,7 @@ struct Plan;
 /// run() is const and may be called from several threads at once.
 class LocalSearch {
  public:
-  /// Throws InvalidArgument for closed_form on a Gregory surface, a network method without `network` or with
-  /// a network of another surface kind, a negative step count, or options out of range (max_iterations < 1,
+  /// Throws InvalidArgument for a network method without `network` or with a network of another surface kind, a negative step count, or options out of range (max_iterations < 1,
   /// tol_param or domain_margin < 0, box margins < 0, max_step_widths <= 0, max_halvings < 0). `network` must
   /// outlive this object.
   LocalSearch(SurfaceKind kind, Method method, SearchOptions options = {}, const NetworkModel* network = nullptr);
@@ -69,7 +68,9 @@ class LocalSearch {
   ///  - newton: as newton:K, iterating until the step is at most tol_param; no_convergence after max_iterations.
   ///  - closed_form: ok or outside; no_convergence where the projected point lies beyond the fold of the
   ///    bilinear map (the estimate is still reported); degenerate (no plane, or a collapsed segment as for
-  ///    newton:K); invalid.
+  ///    newton:K; on a Gregory patch also a patch that does not exist); invalid. On a Gregory patch it is the
+  ///    closed form of the bilinear facet of the corner nodes, (u, v) = ((xi + 1) / 2, (eta + 1) / 2): an
+  ///    estimate, exact only where the patch is that facet.
   ///  - network+newton:K, closed_form+newton:K: the start, then K safeguarded steps (box, step cap,
   ///    halving): ok or outside; no_convergence when a step does not reduce |S - P| after max_halvings
   ///    halvings (the previous iterate is kept) or the iterate ends on the box's edge beyond the domain. Where

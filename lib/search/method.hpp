@@ -11,7 +11,8 @@ namespace contactnn::search {
 ///   "network"               the network's estimate alone
 ///   "newton:K"              K plain Newton steps from the domain centre (K >= 0; an FE code's lean Newton)
 ///   "newton"                plain Newton from the centre until the step is below SearchOptions::tol_param
-///   "closed_form"           bilinear only: projection on the plane and the inverse bilinear map
+///   "closed_form"           projection on the bilinear facet's centre plane and the inverse bilinear map; on a
+///                           Gregory patch, of the facet of its corner nodes (a start, exact only where flat)
 ///   "network+newton:K"      the network's estimate, then K safeguarded Newton steps (K >= 0)
 ///   "closed_form+newton:K"  the closed form, then K safeguarded Newton steps (K >= 0)
 /// A start followed by ":0" steps is the start alone: parse("network+newton:0") == parse("network"), and name()

@@ -115,9 +115,24 @@ static void search_rows(const Plan& plan, const In* raw_rows, const Results<In>&
     if constexpr (!kGregory) {
       build_for_method();
       closed_form<W>(surf, s);
-      if (hybrid) {
-        for (int l = 0; l < W; ++l) s.status[l] = s.status[l] == kNoConvergence ? kOk : s.status[l];
+    } else {
+      // A Gregory patch: the closed form on the bilinear facet of its corner nodes, (u, v) = ((xi + 1) / 2,
+      // (eta + 1) / 2), exact where the patch is that facet (a flat segment whose node normals are its normal,
+      // SPEC 1). A collapsed facet is degenerate, as the labels say (geometry::is_degenerate_segment).
+      build_for_method();
+      BilinearBlock<W> facet;
+      double facet_status[W];
+      for (int l = 0; l < W; ++l) facet_status[l] = kOk;
+      facet.build(q, facet_status);
+      for (int l = 0; l < W; ++l) s.status[l] = (s.status[l] == kOk) & (facet_status[l] != kOk) ? kDegenerate : s.status[l];
+      closed_form<W>(facet, s);
+      for (int l = 0; l < W; ++l) {
+        s.u[l] = 0.5 * (s.u[l] + 1.0);
+        s.v[l] = 0.5 * (s.v[l] + 1.0);
       }
+    }
+    if (hybrid) {
+      for (int l = 0; l < W; ++l) s.status[l] = s.status[l] == kNoConvergence ? kOk : s.status[l];
     }
   }
 

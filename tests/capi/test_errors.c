@@ -100,8 +100,8 @@ int main(int argc, char** argv) {
   expect_create_fails(CONTACTNN_SURFACE_GREGORY, "network", bilinear_net, NULL,
                       CONTACTNN_ERROR_INVALID_ARGUMENT, "bilinear network",
                       "a bilinear network for Gregory surfaces");
-  expect_create_fails(CONTACTNN_SURFACE_GREGORY, "closed_form", NULL, NULL, CONTACTNN_ERROR_INVALID_ARGUMENT,
-                      "closed_form", "closed_form on Gregory");
+  expect_create_fails(CONTACTNN_SURFACE_GREGORY, "closed_form+newton:", NULL, NULL, CONTACTNN_ERROR_INVALID_ARGUMENT,
+                      "closed_form+newton:K", "a hybrid without its step count");
   expect(contactnn_options_init(&options) == CONTACTNN_SUCCESS, "options_init");
   options.max_iterations = 0;
   expect_create_fails(CONTACTNN_SURFACE_BILINEAR, "newton", NULL, &options, CONTACTNN_ERROR_INVALID_ARGUMENT,

@@ -124,7 +124,7 @@ CONTACTNN_API int contactnn_options_init(contactnn_options* options);
 /* Creates a search.
  *   search        where the handle is written (NULL on failure)
  *   surface       CONTACTNN_SURFACE_BILINEAR or CONTACTNN_SURFACE_GREGORY
- *   method        "network", "newton:K", "newton", "closed_form" (bilinear only), "network+newton:K" or
+ *   method        "network", "newton:K", "newton", "closed_form", "network+newton:K" or
  *                 "closed_form+newton:K" (K >= 0; search/method.hpp describes each)
  *   network_file  a network file of train-net (HDF5), or NULL / "" for the methods without a network. It is
  *                 read once, here; a network file given to a method without a network is still read and
