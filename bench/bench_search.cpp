@@ -242,6 +242,7 @@ int main(int argc, char** argv) {
       {bl, "network+newton:1", "bilinear-8.h5"}, {bl, "network+newton:3", "bilinear-8.h5"},
       {bl, "network+newton:1", "bilinear-32-32.h5"}, {bl, "network+newton:3", "bilinear-32-32.h5"},
       {gr, "newton:1", ""}, {gr, "newton:3", ""}, {gr, "newton:5", ""}, {gr, "newton:10", ""}, {gr, "newton", ""},
+      {gr, "closed_form", ""}, {gr, "closed_form+newton:1", ""}, {gr, "closed_form+newton:2", ""},
       {gr, "network", "gregory-48.h5"}, {gr, "network", "gregory-48.h5", false}, {gr, "network", "gregory-32.h5"},
       {gr, "network+newton:1", "gregory-48.h5"}, {gr, "network+newton:2", "gregory-48.h5"},
       {gr, "network+newton:3", "gregory-48.h5"}};
