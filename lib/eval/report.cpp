@@ -179,7 +179,7 @@ std::string report_markdown(const StudyResult& r, const RunInfo& info, const Stu
      << options.failure_box_margin
      << " domain widths outside the domain. \"effective\" counts each failure as an error of one domain width. "
         "Gap error: |g - g_ref| / the segment's longest node distance. Inside agreement: the fraction of rows whose "
-        "estimate lies inside the segment exactly when the reference's does.\n\n";
+        "estimate lies inside the segment, and whose status is not outside, exactly when the reference's does.\n\n";
 
   // ---- Per set: the frontier ------------------------------------------------------------------------
   for (const SetResult& s : r.sets) {

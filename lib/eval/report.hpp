@@ -29,7 +29,8 @@ struct RunInfo {
 /// mean_abs,std_abs,mean_signed,std_signed,median_abs,p99_abs,max_abs,outside_domain,gap_rel_mean_abs,
 /// gap_rel_max_abs,inside_agreement; one row per set, method and coordinate. failures = failures_reference +
 /// failures_method = rows - n; gap_rel: |gap - reference gap| / segment size; inside_agreement: the fraction
-/// of rows in the statistics that the method puts inside the segment exactly when the reference does.
+/// of rows in the statistics that the method puts inside the segment (its estimate inside and its status not
+/// outside) exactly when the reference does.
 [[nodiscard]] std::string errors_csv(const StudyResult& result);
 
 /// speed.csv: header set,method,queries,repetitions,one_ns,one_min_ns,batched_ns,batched_min_ns,threads,

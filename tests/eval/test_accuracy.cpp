@@ -74,6 +74,24 @@ TEST(CompareWithLabels, FailureRulesAndStatistics) {
   EXPECT_EQ(m.converged_iterations, (std::vector<std::int32_t>{2, 2, 2, 2, -1, 2, -1}));
 }
 
+TEST(CompareWithLabels, InsideAgreementTakesTheMethodsOutsideStatus) {
+  // Four references just beyond the edge xi = 1 (outside), the estimates held on that edge (coordinates
+  // inside): with status outside the method agrees with the reference, with status ok it does not; a network
+  // (ok or out_of_domain, never outside) is judged by its coordinates. Row 3's estimate lies beyond the edge.
+  EvaluationSet s = synthetic_set(4);
+  Estimates e = estimates_for(s);
+  for (Eigen::Index r = 0; r < 4; ++r) {
+    s.labels(r, 0) = 1.0 + 1e-6;
+    s.label_status[static_cast<std::size_t>(r)] = Status::kOutside;
+    e.param[2 * static_cast<std::size_t>(r)] = 1.0;
+  }
+  e.status = {Status::kOutside, Status::kOk, Status::kOutOfDomain, Status::kOk};
+  e.param[6] = 1.0 + 1e-6;
+  const MethodErrors m = compare_with_labels("m", e, s, 0.5, false);
+  EXPECT_EQ(m.inside_compared, 4);
+  EXPECT_EQ(m.inside_agree, 2);  // rows 0 (outside by status) and 3 (outside by coordinates)
+}
+
 TEST(RunOnSet, NewtonFromWorldCoordinatesReachesTheLabels) {
   // Random configurations of the paper's domain restricted to well-shaped segments (angles 60-120), placed at
   // random: newton:10 from the centre converges to the reference there; every estimate agrees to rounding.
