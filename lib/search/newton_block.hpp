@@ -245,8 +245,7 @@ struct EvalStore {
         ptt[c][l] = take ? e.ptt[c] : ptt[c][l];
       }
     }
-    f[l] = take ? f_new : f[l];
-    dist[l] = take ? std::sqrt(f_new) : dist[l];
+    store_distance_if(l, take, f_new);
   }
   /// Only |S - P| where `take` (the surface values are filled in afterwards).
   CONTACTNN_SEARCH_INLINE void store_distance_if(int l, bool take, double f_new) {
