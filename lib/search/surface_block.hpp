@@ -90,7 +90,8 @@ template <int W>
 CONTACTNN_SEARCH_INLINE void relative_queries(const double (*raw)[W], bool gregory, QueryBlock<W>& q) {
   static constexpr double kSquare[12] = {-0.5, -0.5, -1, 0.5, -0.5, -1, 0.5, 0.5, -1, -0.5, 0.5, -1};
   const int stride = gregory ? 27 : 15;
-  // 0 * x summed over the values (NaN where one is not finite), in two chains of additions instead of one.
+  // 0 * x summed over the values (NaN where one is not finite), in two chains of additions instead of one; the
+  // last value is added apart (both strides, 15 and 27, are odd).
   double check[W], odd[W];
   for (int l = 0; l < W; ++l) check[l] = odd[l] = 0.0;
   for (int k = 0; k + 1 < stride; k += 2) {

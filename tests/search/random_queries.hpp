@@ -141,6 +141,14 @@ inline Configuration configuration_of(const double* raw, SurfaceKind kind, std::
   return c;
 }
 
+/// Rows first .. first + count - 1 of `raw` (SPEC 6 rows of `kind`), as a query list of their own.
+inline std::vector<double> rows_of(const std::vector<double>& raw, SurfaceKind kind, std::size_t first,
+                                   std::size_t count = 1) {
+  const std::size_t stride = kind == SurfaceKind::kGregory ? 27 : 15;
+  return {raw.begin() + static_cast<std::ptrdiff_t>(first * stride),
+          raw.begin() + static_cast<std::ptrdiff_t>((first + count) * stride)};
+}
+
 /// `count` random queries of the domain of `kind` that `filters` cut out (the paper's by default), placed at
 /// random, as SPEC 6 rows.
 inline std::vector<double> random_queries(SurfaceKind kind, std::size_t count, std::uint64_t seed,

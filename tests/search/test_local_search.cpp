@@ -37,6 +37,7 @@ using testing::configuration_of;
 using testing::methods_of;
 using testing::mixed_queries;
 using testing::random_queries;
+using testing::rows_of;
 
 constexpr SurfaceKind kBilinear = SurfaceKind::kBilinear;
 constexpr SurfaceKind kGregory = SurfaceKind::kGregory;
@@ -226,9 +227,7 @@ TEST(NetworkMethod, OneQueryAloneIsItsLaneOfABlockBitForBitInFloatAndDouble) {
         const Output<double> block = run(search, raw, 1);
         double spread = 0.0;
         for (std::size_t i = 0; i < raw.size() / st; ++i) {
-          const std::vector<double> one_raw(raw.begin() + static_cast<std::ptrdiff_t>(i * st),
-                                            raw.begin() + static_cast<std::ptrdiff_t>((i + 1) * st));
-          const Output<double> one = run(search, one_raw, 1);
+          const Output<double> one = run(search, rows_of(raw, kind, i), 1);
           ASSERT_EQ(one.status[0], block.status[i]) << to_string(kind) << " width " << hidden[0] << " query " << i;
           ASSERT_EQ(one.param[0], block.param[2 * i]) << to_string(kind) << " width " << hidden[0] << " query " << i;
           ASSERT_EQ(one.param[1], block.param[2 * i + 1]) << to_string(kind) << " width " << hidden[0] << " query " << i;
@@ -266,9 +265,7 @@ TEST(NetworkMethod, OnATieIsTheMeanOverTheCanonicalFormsWhateverTheNodeOrder) {
       EXPECT_EQ(out.status[i], e.status) << "query " << i;
       EXPECT_NEAR(out.param[2 * i], e.param[0], kFloatNetworkTol) << "query " << i;
       EXPECT_NEAR(out.param[2 * i + 1], e.param[1], kFloatNetworkTol) << "query " << i;
-      const std::vector<double> one(raw.begin() + static_cast<std::ptrdiff_t>(i * static_cast<std::size_t>(stride(kind))),
-                                    raw.begin() + static_cast<std::ptrdiff_t>((i + 1) * static_cast<std::size_t>(stride(kind))));
-      const Output<double> alone = run_method(kind, "network", one, &model);
+      const Output<double> alone = run_method(kind, "network", rows_of(raw, kind, i), &model);
       EXPECT_EQ(alone.param[0], out.param[2 * i]) << "query " << i;
       EXPECT_EQ(alone.param[1], out.param[2 * i + 1]) << "query " << i;
     }
@@ -447,9 +444,7 @@ TEST(NewtonMethod, ACollapsedBilinearSegmentIsDegenerateAsItsLabelAtAnyScaleAlon
   for (const char* method : {"newton:1", "newton:5", "newton", "closed_form", "closed_form+newton:2"}) {
     const Output<double> block = run_method(kBilinear, method, raw);
     for (std::size_t i = 0; i < labels.size(); ++i) {
-      const std::vector<double> one(raw.begin() + static_cast<std::ptrdiff_t>(15 * i),
-                                    raw.begin() + static_cast<std::ptrdiff_t>(15 * (i + 1)));
-      const Status alone = run_method(kBilinear, method, one).status[0];
+      const Status alone = run_method(kBilinear, method, rows_of(raw, kBilinear, i)).status[0];
       EXPECT_EQ(block.status[i] == Status::kDegenerate, collapsed[i]) << method << " query " << i;
       EXPECT_EQ(alone, block.status[i]) << method << " query " << i;
     }
@@ -945,7 +940,6 @@ TEST(LocalSearch, EachResultIsIndependentOfCountPositionAndThreads) {
     const auto& trained = shipped(kind == kBilinear ? "bilinear-8.h5" : "gregory-48.h5");
     const NetworkModel model(trained.network, trained.domain);
     const std::vector<double> raw = mixed_queries(kind, 1000, 18);
-    const auto s = static_cast<std::size_t>(stride(kind));
     for (const std::string& name : methods_of(kind)) {
       SearchOptions options;
       options.min_parallel_count = 1;  // a parallel region even for the small counts
@@ -956,9 +950,7 @@ TEST(LocalSearch, EachResultIsIndependentOfCountPositionAndThreads) {
         for (const std::size_t count : {1, 15, 17, 1000}) {
           for (const std::size_t offset : {std::size_t{0}, std::size_t{5}}) {
             if (offset + count > 1000) continue;
-            const std::vector<double> part(raw.begin() + static_cast<std::ptrdiff_t>(offset * s),
-                                           raw.begin() + static_cast<std::ptrdiff_t>((offset + count) * s));
-            const Output<double> out = run(search, part, threads);
+            const Output<double> out = run(search, rows_of(raw, kind, offset, count), threads);
             for (std::size_t i = 0; i < count; ++i) {
               const std::size_t j = offset + i;
               ASSERT_EQ(out.status[i], all.status[j]) << name << " count " << count << " query " << j;
@@ -980,7 +972,6 @@ TEST(LocalSearch, NewtonToConvergenceInPassesGivesTheOnePassResults) {
   // one-lane path, which runs every query straight to its end, whatever pass it finished in.
   for (const SurfaceKind kind : {kBilinear, kGregory}) {
     const std::vector<double> raw = random_queries(kind, 2000, 23);
-    const auto s = static_cast<std::size_t>(stride(kind));
     SearchOptions options;
     options.min_parallel_count = 1;
     const LocalSearch search(kind, Method::parse("newton"), options);
@@ -988,9 +979,7 @@ TEST(LocalSearch, NewtonToConvergenceInPassesGivesTheOnePassResults) {
     for (const int threads : {1, 2}) {
       const Output<double> batch = run(search, raw, threads);
       for (std::size_t i = 0; i < batch.status.size(); ++i) {
-        const std::vector<double> one_raw(raw.begin() + static_cast<std::ptrdiff_t>(i * s),
-                                          raw.begin() + static_cast<std::ptrdiff_t>((i + 1) * s));
-        const Output<double> one = run(search, one_raw, 1);
+        const Output<double> one = run(search, rows_of(raw, kind, i), 1);
         ASSERT_EQ(batch.status[i], one.status[0]) << "query " << i;
         ASSERT_EQ(batch.param[2 * i], one.param[0]) << "query " << i;
         ASSERT_EQ(batch.param[2 * i + 1], one.param[1]) << "query " << i;
