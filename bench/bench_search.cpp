@@ -25,11 +25,13 @@
 
 #include <Eigen/Core>
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <map>
 #include <memory>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -115,9 +117,10 @@ Accuracy accuracy_from(const QuerySet& set, const std::vector<double>& param, co
   return a;
 }
 
-Accuracy accuracy_of(const search::LocalSearch& search, const QuerySet& set) {
+/// `start`: what param holds when the run begins (start+newton:K reads it; empty: zeros).
+Accuracy accuracy_of(const search::LocalSearch& search, const QuerySet& set, const std::vector<double>& start) {
   const std::size_t n = set.count();
-  std::vector<double> param(2 * n);
+  std::vector<double> param = start.empty() ? std::vector<double>(2 * n) : start;
   std::vector<Status> status(n);
   std::vector<std::int32_t> steps(n);
   search.run(n, set.raw.data(), search::Results<double>{param.data(), nullptr, status.data(), steps.data()}, 1);
@@ -147,12 +150,32 @@ struct Case {
   std::string method;
   std::string network;  ///< file name in the weights folder, or empty
   bool check_domain = true;
+  double start_offset = 0.0;  ///< start+newton:K: the starts are the labels moved this far (a time step's drift)
 };
 
 std::string case_name(const Case& c) {
   std::string name = std::string(to_string(c.kind)) + "/" + c.method;
   if (!c.network.empty()) name += "[" + c.network.substr(0, c.network.find(".h5")) + (c.check_domain ? "" : ",no-domain") + "]";
+  if (search::Method::parse(c.method).needs_start()) {
+    char offset[32];
+    std::snprintf(offset, sizeof offset, "[%g off]", c.start_offset);
+    name += offset;
+  }
   return name;
+}
+
+/// The labels' points moved by `offset` in a random direction (fixed seed): the starts of start+newton:K, as an
+/// FE code's previous time step gives them.
+std::vector<double> starts_near_labels(const QuerySet& set, double offset) {
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> angle(0.0, 2.0 * 3.14159265358979323846);
+  std::vector<double> start(2 * set.count());
+  for (std::size_t i = 0; i < set.count(); ++i) {
+    const double a = angle(rng);
+    start[2 * i] = set.labels[i].param[0] + offset * std::cos(a);
+    start[2 * i + 1] = set.labels[i].param[1] + offset * std::sin(a);
+  }
+  return start;
 }
 
 void set_counters(benchmark::State& state, const search::FlopCount& flops, const Accuracy& a) {
@@ -234,7 +257,7 @@ int main(int argc, char** argv) {
 
   // 2. The methods.
   const SurfaceKind bl = SurfaceKind::kBilinear, gr = SurfaceKind::kGregory;
-  const std::vector<Case> cases = {
+  std::vector<Case> cases = {
       {bl, "newton:1", ""}, {bl, "newton:3", ""}, {bl, "newton:5", ""}, {bl, "newton:10", ""}, {bl, "newton", ""},
       {bl, "closed_form", ""}, {bl, "closed_form+newton:1", ""}, {bl, "closed_form+newton:2", ""},
       {bl, "closed_form+newton:3", ""},
@@ -246,6 +269,11 @@ int main(int argc, char** argv) {
       {gr, "network", "gregory-48.h5"}, {gr, "network", "gregory-48.h5", false}, {gr, "network", "gregory-32.h5"},
       {gr, "network+newton:1", "gregory-48.h5"}, {gr, "network+newton:2", "gregory-48.h5"},
       {gr, "network+newton:3", "gregory-48.h5"}};
+  // The caller's own starts (an FE code's previous time step), 0.01 off: after the others, so that the table
+  // keeps its order; one per surface and K.
+  for (const SurfaceKind kind : {bl, gr}) {
+    for (const char* method : {"start+newton:1", "start+newton:2", "start+newton:3"}) cases.push_back({kind, method, "", true, 0.01});
+  }
 
   // 3. One benchmark per method and mode; accuracy once per method.
   for (const Case& c : cases) {
@@ -254,7 +282,9 @@ int main(int argc, char** argv) {
     const search::NetworkModel* model = c.network.empty() ? nullptr : networks.at(c.network).get();
     auto search = std::make_shared<const search::LocalSearch>(c.kind, search::Method::parse(c.method), options, model);
     const QuerySet& set = sets.at(c.kind);
-    const Accuracy acc = accuracy_of(*search, set);
+    // start+newton:K overwrites its starts: each run copies them in first (2 doubles per query, in the time).
+    const std::vector<double> start = search->method().needs_start() ? starts_near_labels(set, c.start_offset) : std::vector<double>{};
+    const Accuracy acc = accuracy_of(*search, set, start);
     const search::FlopCount flops = search::flops_per_query(c.kind, search->method(), model, acc.steps);
     const std::size_t n = set.count();
     const auto stride = static_cast<std::size_t>(search::LocalSearch::raw_columns(c.kind));
@@ -264,6 +294,7 @@ int main(int argc, char** argv) {
       std::vector<Status> status(n);
       for (auto _ : state) {
         for (std::size_t i = 0; i < n; ++i) {
+          if (!start.empty()) std::copy(start.begin() + static_cast<std::ptrdiff_t>(2 * i), start.begin() + static_cast<std::ptrdiff_t>(2 * i + 2), param.begin() + static_cast<std::ptrdiff_t>(2 * i));
           search->run(1, set.raw.data() + i * stride, search::Results<double>{param.data() + 2 * i, nullptr, status.data() + i}, 1);
         }
         benchmark::ClobberMemory();
@@ -277,6 +308,7 @@ int main(int argc, char** argv) {
                                      std::vector<double> param(2 * n);
                                      std::vector<Status> status(n);
                                      for (auto _ : state) {
+                                       if (!start.empty()) std::copy(start.begin(), start.end(), param.begin());
                                        search->run(n, set.raw.data(), search::Results<double>{param.data(), nullptr, status.data()},
                                                    threads);
                                        benchmark::ClobberMemory();

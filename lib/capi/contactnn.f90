@@ -8,7 +8,8 @@
 ! Layout: Fortran arrays are column-major, so one query's values are one column:
 !   raw(15, n)    bilinear: ax ay az bx by bz cx cy cz dx dy dz sx sy sz (SPEC 6 order), world coordinates
 !   raw(27, n)    Gregory: the same 15, then the node normals nax nay naz ... ndx ndy ndz (any positive length)
-!   param(2, n)   (xi, eta) in [-1, 1]^2 (bilinear) or (u, v) in [0, 1]^2 (Gregory) of the closest point
+!   param(2, n)   (xi, eta) in [-1, 1]^2 (bilinear) or (u, v) in [0, 1]^2 (Gregory) of the closest point;
+!                 intent(inout): the method start+newton:K reads each query's start from it first
 !   status(n)     CONTACTNN_STATUS_* per query
 !   gap(n)        optional: signed distance along the unit normal at the reported point (< 0: penetration)
 !   iterations(n) optional: Newton steps taken
@@ -267,7 +268,7 @@ contains
   subroutine run_double(search, raw, param, status, ierr, gap, iterations)
     type(contactnn_search), intent(in) :: search
     real(c_double), intent(in), contiguous, target :: raw(:, :)
-    real(c_double), intent(out), contiguous, target :: param(:, :)
+    real(c_double), intent(inout), contiguous, target :: param(:, :)
     integer(c_int), intent(out), contiguous, target :: status(:)
     integer, intent(out) :: ierr
     real(c_double), intent(out), optional, contiguous, target :: gap(:)
@@ -293,7 +294,7 @@ contains
   subroutine run_float(search, raw, param, status, ierr, gap, iterations)
     type(contactnn_search), intent(in) :: search
     real(c_float), intent(in), contiguous, target :: raw(:, :)
-    real(c_float), intent(out), contiguous, target :: param(:, :)
+    real(c_float), intent(inout), contiguous, target :: param(:, :)
     integer(c_int), intent(out), contiguous, target :: status(:)
     integer, intent(out) :: ierr
     real(c_float), intent(out), optional, contiguous, target :: gap(:)

@@ -42,6 +42,8 @@ std::vector<StudyMethod> expand_methods(const std::string& list, const std::vect
     item = trim(item);
     if (item.empty()) continue;
     const search::Method m = search::Method::parse(item);
+    CONTACTNN_REQUIRE(!m.needs_start(), "method '" << item << "' refines the caller's own starts (an FE code's "
+                                                   "previous time step); an evaluation set has none to give it");
     if (!m.needs_network()) {
       methods.push_back({m.name(), m, -1});
       continue;

@@ -22,10 +22,10 @@ namespace contactnn::search {
 /// Where run() writes, for `count` queries (any pointer marked optional may be nullptr: not computed).
 template <class Real>
 struct Results {
-  /// count x 2: (xi, eta) for bilinear, (u, v) for Gregory, in the caller's own node order. Finite for every
-  /// status: the estimate for ok, outside, no_convergence, degenerate (Newton: the last iterate before the
-  /// failure) and out_of_domain (the network's extrapolation); the domain centre for invalid and, network
-  /// methods, degenerate.
+  /// count x 2: (xi, eta) for bilinear, (u, v) for Gregory, in the caller's own node order (start+newton:K reads
+  /// it first: each query's start). Finite for every status: the estimate for ok, outside, no_convergence,
+  /// degenerate (Newton: the last iterate before the failure) and out_of_domain (the network's extrapolation);
+  /// the domain centre for invalid and, network methods, degenerate.
   Real* param = nullptr;
   /// count (optional): g = n.(S - P) at the reported point, n the unit normal P_s x P_t of the caller's own
   /// parametrisation (SPEC 2), world units; < 0 is penetration. 0 where the status is invalid or degenerate
@@ -80,6 +80,11 @@ class LocalSearch {
   ///    network start without a canonical frame (e.g. a straight angle at the canonical corner) is refined from
   ///    the centre; an out_of_domain estimate is refined from itself, and where that refinement fails, again
   ///    from the centre (its steps add up).
+  ///  - start+newton:K: as the hybrids, from the caller's start, which run() reads from out.param (each
+  ///    query's row before it writes it): an FE code's local coordinates of the pair at the previous time
+  ///    step. invalid also for a start that is not finite. On a Gregory patch a failed refinement (or one
+  ///    ending outside) is tried again from the centre, as a network's. "start" (K = 0): the start itself,
+  ///    ok or outside, with its gap.
   template <class Real>
   void run(std::size_t count, const Real* raw, Results<Real> out, int threads = 0) const;
 

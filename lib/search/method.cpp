@@ -9,7 +9,8 @@ namespace contactnn::search {
 namespace {
 
 constexpr std::string_view kForms =
-    "expected one of: network, newton, newton:K, closed_form, network+newton:K, closed_form+newton:K "
+    "expected one of: network, newton, newton:K, closed_form, start, network+newton:K, closed_form+newton:K, "
+    "start+newton:K "
     "(K an integer >= 0)";
 
 /// The K of "...newton:K": a non-negative decimal integer filling the whole of `text`.
@@ -27,15 +28,20 @@ Method Method::parse(std::string_view name) {
   if (name == "network") return Method{Start::kNetwork, 0, false};
   if (name == "closed_form") return Method{Start::kClosedForm, 0, false};
   if (name == "newton") return Method{Start::kCentre, 0, true};
+  if (name == "start") return Method{Start::kGiven, 0, false};
   constexpr std::string_view kNewton = "newton:";
   constexpr std::string_view kNetworkNewton = "network+newton:";
   constexpr std::string_view kClosedNewton = "closed_form+newton:";
+  constexpr std::string_view kStartNewton = "start+newton:";
   if (name.starts_with(kNewton)) return Method{Start::kCentre, parse_steps(name.substr(kNewton.size()), name), false};
   if (name.starts_with(kNetworkNewton)) {
     return Method{Start::kNetwork, parse_steps(name.substr(kNetworkNewton.size()), name), false};
   }
   if (name.starts_with(kClosedNewton)) {
     return Method{Start::kClosedForm, parse_steps(name.substr(kClosedNewton.size()), name), false};
+  }
+  if (name.starts_with(kStartNewton)) {
+    return Method{Start::kGiven, parse_steps(name.substr(kStartNewton.size()), name), false};
   }
   throw InvalidArgument("unknown local-search method '" + std::string(name) + "'; " + std::string(kForms));
 }
@@ -46,6 +52,7 @@ std::string Method::name() const {
     case Start::kCentre: return to_convergence ? "newton" : "newton:" + k;
     case Start::kNetwork: return newton_steps == 0 ? "network" : "network+newton:" + k;
     case Start::kClosedForm: return newton_steps == 0 ? "closed_form" : "closed_form+newton:" + k;
+    case Start::kGiven: return newton_steps == 0 ? "start" : "start+newton:" + k;
   }
   return "unknown";
 }

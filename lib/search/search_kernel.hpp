@@ -134,6 +134,18 @@ static void search_rows(const Plan& plan, const In* raw_rows, const Results<In>&
     if (hybrid) {
       for (int l = 0; l < W; ++l) s.status[l] = s.status[l] == kNoConvergence ? kOk : s.status[l];
     }
+  } else if (method.start == Method::Start::kGiven) {
+    // The caller's start: its row of the param array the results go to (each lane's row is read here, before
+    // any row of the block is written). A start that is not finite: invalid.
+    build_for_method();
+    for (int l = 0; l < W; ++l) {
+      const std::size_t i = rows == nullptr ? first + static_cast<std::size_t>(l) : rows[l];
+      const auto u = static_cast<double>(out.param[2 * i]), v = static_cast<double>(out.param[2 * i + 1]);
+      const bool finite = is_finite(u) & is_finite(v);
+      s.u[l] = finite ? u : kCentre;
+      s.v[l] = finite ? v : kCentre;
+      s.status[l] = finite ? s.status[l] : kInvalid;
+    }
   }
 
   // 2. Newton.

@@ -57,10 +57,12 @@ struct Outputs {
   }
 };
 
+/// `start`: what param holds when the run begins (start+newton:K reads it), else zeros.
 template <class Real>
-Outputs<Real> run_c(const contactnn_search* search, const std::vector<Real>& raw, std::size_t count) {
-  Outputs<Real> out{std::vector<Real>(2 * count), std::vector<Real>(count), std::vector<int>(count),
-                    std::vector<int>(count)};
+Outputs<Real> run_c(const contactnn_search* search, const std::vector<Real>& raw, std::size_t count,
+                    const std::vector<Real>* start = nullptr) {
+  Outputs<Real> out{start != nullptr ? *start : std::vector<Real>(2 * count), std::vector<Real>(count),
+                    std::vector<int>(count), std::vector<int>(count)};
   int code = 0;
   if constexpr (std::is_same_v<Real, double>) {
     code = contactnn_search_run(search, count, raw.data(), out.param.data(), out.gap.data(),
@@ -75,9 +77,9 @@ Outputs<Real> run_c(const contactnn_search* search, const std::vector<Real>& raw
 
 template <class Real>
 Outputs<Real> run_library(const LocalSearch& search, const std::vector<Real>& raw, std::size_t count,
-                          int threads) {
-  Outputs<Real> out{std::vector<Real>(2 * count), std::vector<Real>(count), std::vector<int>(count),
-                    std::vector<int>(count)};
+                          int threads, const std::vector<Real>* start = nullptr) {
+  Outputs<Real> out{start != nullptr ? *start : std::vector<Real>(2 * count), std::vector<Real>(count),
+                    std::vector<int>(count), std::vector<int>(count)};
   std::vector<Status> status(count);
   search.run(count, raw.data(),
              search::Results<Real>{out.param.data(), out.gap.data(), status.data(), out.iterations.data()},
@@ -139,6 +141,32 @@ TEST(CApi, GivesLibSearchsResultsBitForBitForEveryMethodInDoubleAndFloat) {
       const std::set<int> statuses(d.status.begin(), d.status.end());
       EXPECT_TRUE(statuses.count(CONTACTNN_STATUS_OK) && statuses.count(CONTACTNN_STATUS_INVALID));
     }
+  }
+}
+
+TEST(CApi, StartPlusNewtonReadsEachQuerysStartFromParam) {
+  constexpr std::size_t kCount = 700;
+  for (const SurfaceKind kind : {kBilinear, kGregory}) {
+    SCOPED_TRACE(to_string(kind));
+    const std::vector<double> raw = mixed_queries(kind, kCount, 43);
+    std::mt19937_64 rng(5);
+    const ParamDomain d = param_domain(kind);
+    std::uniform_real_distribution<double> inside(d.lo + 0.2 * (d.hi - d.lo), d.hi - 0.2 * (d.hi - d.lo));
+    std::vector<double> start(2 * kCount);
+    for (double& x : start) x = inside(rng);
+    const contactnn_options options = c_options(SearchOptions{}, 2);
+    const Handle c(kind, "start+newton:1", &options);
+    const LocalSearch library(kind, Method::parse("start+newton:1"));
+    const Outputs<double> from_start = run_c(c.search, raw, kCount, &start);
+    EXPECT_TRUE(from_start == run_library(library, raw, kCount, 1, &start));
+    const std::vector<float> start_f = as<float>(start);
+    EXPECT_TRUE(run_c(c.search, as<float>(raw), kCount, &start_f) ==
+                run_library(library, as<float>(raw), kCount, 1, &start_f));
+    // One step from other starts ends elsewhere: the starts were read.
+    const Outputs<double> from_zero = run_c(c.search, raw, kCount);
+    int differ = 0;
+    for (std::size_t i = 0; i < kCount; ++i) differ += from_start.param[2 * i] != from_zero.param[2 * i] ? 1 : 0;
+    EXPECT_GT(differ, static_cast<int>(kCount / 2));
   }
 }
 

@@ -303,6 +303,13 @@ TEST_F(EvaluateNetApp, BadCommandLinesFailWithAClearMessage) {
                 dir_ / "bad5.log"),
             2);
   EXPECT_NE(read_file(dir_ / "bad5.log").find("hist_binz"), std::string::npos) << read_file(dir_ / "bad5.log");
+  // A method that refines the caller's own starts: an evaluation set has none.
+  EXPECT_EQ(run(evaluate_net() + " --weights " + net + " --data " + (dir_ / "tiny.h5").string() + " --report " +
+                    (dir_ / "r6").string() + " --methods network,start+newton:2",
+                dir_ / "bad6.log"),
+            2);
+  EXPECT_NE(read_file(dir_ / "bad6.log").find("start+newton:2' refines the caller's own starts"), std::string::npos)
+      << read_file(dir_ / "bad6.log");
 }
 
 }  // namespace

@@ -19,14 +19,18 @@ TEST(Method, ParsesEveryForm) {
   EXPECT_EQ(Method::parse("closed_form"), (Method{Start::kClosedForm, 0, false}));
   EXPECT_EQ(Method::parse("network+newton:3"), (Method{Start::kNetwork, 3, false}));
   EXPECT_EQ(Method::parse("closed_form+newton:12"), (Method{Start::kClosedForm, 12, false}));
+  EXPECT_EQ(Method::parse("start+newton:2"), (Method{Start::kGiven, 2, false}));
+  EXPECT_EQ(Method::parse("start"), (Method{Start::kGiven, 0, false}));
   // ":0" is the start alone.
   EXPECT_EQ(Method::parse("network+newton:0"), Method::parse("network"));
   EXPECT_EQ(Method::parse("closed_form+newton:0"), Method::parse("closed_form"));
+  EXPECT_EQ(Method::parse("start+newton:0"), Method::parse("start"));
 }
 
 TEST(Method, NameRoundTrips) {
   for (const char* name : {"network", "newton", "newton:0", "newton:1", "newton:10", "closed_form",
-                           "network+newton:1", "network+newton:3", "closed_form+newton:1", "closed_form+newton:25"}) {
+                           "network+newton:1", "network+newton:3", "closed_form+newton:1", "closed_form+newton:25", "start",
+                           "start+newton:3"}) {
     const Method m = Method::parse(name);
     EXPECT_EQ(m.name(), name);
     EXPECT_EQ(Method::parse(m.name()), m);
@@ -41,11 +45,16 @@ TEST(Method, HybridsAndNetworkNeedsAreClassified) {
   EXPECT_TRUE(Method::parse("closed_form+newton:2").is_hybrid());
   EXPECT_FALSE(Method::parse("closed_form+newton:2").needs_network());
   EXPECT_FALSE(Method::parse("newton:5").is_hybrid());
+  EXPECT_TRUE(Method::parse("start+newton:3").is_hybrid());
+  EXPECT_TRUE(Method::parse("start+newton:3").needs_start());
+  EXPECT_FALSE(Method::parse("start+newton:3").needs_network());
+  EXPECT_FALSE(Method::parse("network+newton:3").needs_start());
 }
 
 TEST(Method, MalformedNamesAreRefusedNamingTheForms) {
   for (const char* bad : {"", "Network", "newton:", "newton:-1", "newton:x", "newton:3x", "newton: 3", "newton:1.5",
-                          "network+newton", "network+newton:", "closed_form+newton:-2", "gauss", "network+",
+                          "network+newton", "network+newton:", "closed_form+newton:-2", "gauss", "network+", "start+newton",
+                          "start+newton:", "start:3",
                           "newton:99999999999999999999"}) {
     try {
       (void)Method::parse(bad);

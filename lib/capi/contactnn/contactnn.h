@@ -124,8 +124,8 @@ CONTACTNN_API int contactnn_options_init(contactnn_options* options);
 /* Creates a search.
  *   search        where the handle is written (NULL on failure)
  *   surface       CONTACTNN_SURFACE_BILINEAR or CONTACTNN_SURFACE_GREGORY
- *   method        "network", "newton:K", "newton", "closed_form", "network+newton:K" or
- *                 "closed_form+newton:K" (K >= 0; search/method.hpp describes each)
+ *   method        "network", "newton:K", "newton", "closed_form", "network+newton:K",
+ *                 "closed_form+newton:K" or "start+newton:K" (K >= 0; search/method.hpp describes each)
  *   network_file  a network file of train-net (HDF5), or NULL / "" for the methods without a network. It is
  *                 read once, here; a network file given to a method without a network is still read and
  *                 must be of the search's surface.
@@ -146,7 +146,8 @@ CONTACTNN_API void contactnn_search_destroy(contactnn_search* search);
  *               normals nax nay naz nbx nby nbz ncx ncy ncz ndx ndy ndz (any positive length)
  *   param       count x 2, out: (xi, eta) or (u, v) in the caller's node order. Finite for every status:
  *               the estimate, or the last iterate, or the domain centre (invalid; network methods:
- *               degenerate)
+ *               degenerate). In and out for the method start+newton:K: each query's start on input (e.g.
+ *               the pair's local coordinates at the previous time step; not finite: status invalid)
  *   gap         count, out, optional (NULL: not computed): g = n.(S - P) at the reported point, n the unit
  *               normal of the caller's parametrisation, g < 0 penetration; 0 for invalid and degenerate
  *   status      count, out: CONTACTNN_STATUS_* per query (search/local_search.hpp lists them by method)
