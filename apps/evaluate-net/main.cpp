@@ -259,8 +259,13 @@ int main(int argc, char** argv) {
   input->excludes(data)->excludes(pairs)->excludes(report);
   app.add_option("--methods", options.methods,
                  "report mode: comma-separated search methods (network, newton:K, newton, closed_form, "
-                 "network+newton:K, closed_form+newton:K); empty: the default list")
+                 "network+newton:K, closed_form+newton:K, start+newton:K with --start_offset); empty: the default "
+                 "list")
       ->default_str("");
+  app.add_option("--start_offset", options.start_offset,
+                 "report mode: start+newton:K starts from each reference point moved this far (parameter units) "
+                 "in a random direction; -1: no starts, the method is refused")
+      ->check(cli::real_in(-1.0, 1e6));
   app.add_option("--threads", threads, "OpenMP threads of the accuracy part and input mode (0: OpenMP's default)")
       ->transform(cli::integer_in(0, cli::kMaxThreads));
   app.add_flag("--quiet", paths.quiet, "no progress lines");

@@ -2,23 +2,44 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 #include "core/error.hpp"
+#include "mlp/random.hpp"
 
 namespace contactnn::eval {
 
-Estimates run_on_set(const search::LocalSearch& search, const EvaluationSet& set, int threads) {
+Estimates run_on_set(const search::LocalSearch& search, const EvaluationSet& set, int threads,
+                     const std::vector<double>* start) {
   CONTACTNN_REQUIRE(search.surface() == set.surface, "a " << to_string(search.surface()) << " search on the "
                                                           << to_string(set.surface) << " set '" << set.name << "'");
   Estimates e;
   const auto n = static_cast<std::size_t>(set.rows());
-  e.param.resize(2 * n);
+  CONTACTNN_REQUIRE(start == nullptr || start->size() == 2 * n,
+                    "run_on_set: " << start->size() / 2 << " starts for the " << n << " rows of '" << set.name << "'");
+  e.param = start != nullptr ? *start : std::vector<double>(2 * n);
   e.gap.resize(n);
   e.status.resize(n);
   e.iterations.resize(n);
   search.run(n, set.raw.data(), search::Results<double>{e.param.data(), e.gap.data(), e.status.data(), e.iterations.data()},
              threads);
   return e;
+}
+
+std::vector<double> starts_near_reference(const EvaluationSet& set, double offset, std::uint64_t seed) {
+  const ParamDomain d = param_domain(set.surface);
+  const double centre = 0.5 * (d.lo + d.hi);
+  const auto n = static_cast<std::size_t>(set.rows());
+  std::vector<double> start(2 * n, centre);
+  mlp::Rng rng(mlp::Rng::derive_seed(seed, 0x5354415254ULL));  // "START"
+  for (std::size_t i = 0; i < n; ++i) {
+    const double angle = rng.uniform(0.0, 2.0 * std::numbers::pi);
+    if (set.label_status[i] != Status::kOk && set.label_status[i] != Status::kOutside) continue;
+    const auto r = static_cast<Eigen::Index>(i);
+    start[2 * i] = set.labels(r, 0) + offset * std::cos(angle);
+    start[2 * i + 1] = set.labels(r, 1) + offset * std::sin(angle);
+  }
+  return start;
 }
 
 bool inside_domain(const double* p, SurfaceKind kind, double margin) {

@@ -25,8 +25,15 @@ struct Estimates {
 };
 
 /// Runs `search` on every row of `set` with `threads` OpenMP threads (0: OpenMP's default). The results do
-/// not depend on the thread count (lib/search's guarantee).
-[[nodiscard]] Estimates run_on_set(const search::LocalSearch& search, const EvaluationSet& set, int threads);
+/// not depend on the thread count (lib/search's guarantee). `start` (rows x 2, or null): what the results'
+/// param holds when the run begins, the starts of start+newton:K.
+[[nodiscard]] Estimates run_on_set(const search::LocalSearch& search, const EvaluationSet& set, int threads,
+                                   const std::vector<double>* start = nullptr);
+
+/// The starts of start+newton:K on `set` as evaluate-net --start_offset makes them: each row's reference point
+/// moved `offset` (parameter units) in a direction drawn from `seed` and the row (the same for any method);
+/// the domain centre where the reference has no point.
+[[nodiscard]] std::vector<double> starts_near_reference(const EvaluationSet& set, double offset, std::uint64_t seed);
 
 /// Errors of one method against a set's labels.
 struct MethodErrors {

@@ -171,7 +171,14 @@ std::string report_markdown(const StudyResult& r, const RunInfo& info, const Stu
      << (options.random_placement ? "a random similarity per row (seed " + std::to_string(options.seed) + ")"
                                   : "the identity (their own normalised frame)")
      << "; pairs files are world coordinates. Every method starts from the same raw world coordinates and maps "
-        "its answer to the caller's node order.\n\n";
+        "its answer to the caller's node order.\n";
+  if (options.start_offset >= 0.0) {
+    md << "- `start+newton:K` starts from each reference point moved " << options.start_offset
+       << " (parameter units) in a random direction (seed " << options.seed
+       << "), as an FE code's previous time step might give it (the domain centre where the reference has no "
+          "point).\n";
+  }
+  md << "\n";
   md << "Errors are estimate - reference (the reference solver of gen-configs: damped Newton from 3 x 3 starts, the "
         "nearest in-domain local minimum). A row is a failure, counted and never averaged in, when the reference has "
         "no point, the method's status is not ok, outside or out_of_domain (a network's estimate outside its training "

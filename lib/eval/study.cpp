@@ -34,7 +34,8 @@ std::string trim(std::string s) {
   return s.substr(first, s.find_last_not_of(" \t") - first + 1);
 }
 
-std::vector<StudyMethod> expand_methods(const std::string& list, const std::vector<EvaluatedNetwork>& networks) {
+std::vector<StudyMethod> expand_methods(const std::string& list, const std::vector<EvaluatedNetwork>& networks,
+                                        double start_offset) {
   std::vector<StudyMethod> methods;
   std::stringstream in(list);
   std::string item;
@@ -42,8 +43,16 @@ std::vector<StudyMethod> expand_methods(const std::string& list, const std::vect
     item = trim(item);
     if (item.empty()) continue;
     const search::Method m = search::Method::parse(item);
-    CONTACTNN_REQUIRE(!m.needs_start(), "method '" << item << "' refines the caller's own starts (an FE code's "
-                                                   "previous time step); an evaluation set has none to give it");
+    if (m.needs_start()) {
+      CONTACTNN_REQUIRE(start_offset >= 0.0, "method '" << item << "' refines the caller's own starts (an FE code's "
+                                                         "previous time step); an evaluation set has none to give it: "
+                                                         "give --start_offset D to start from each reference point "
+                                                         "moved D");
+      std::ostringstream name;
+      name << m.name() << "[" << start_offset << " off]";
+      methods.push_back({name.str(), m, -1});
+      continue;
+    }
     if (!m.needs_network()) {
       methods.push_back({m.name(), m, -1});
       continue;
@@ -83,15 +92,19 @@ std::vector<std::size_t> timing_rows(const EvaluationSet& set, std::int64_t coun
 }
 
 /// Buffers of one timed method: the search and where its results go (allocated once, reused by every pass).
+/// start+newton:K overwrites its starts: each pass copies them in first (`start`, 2 doubles a query, timed).
 struct Runner {
   search::LocalSearch search;
   const std::vector<double>* raw;
   std::vector<double> param;
   std::vector<Status> status;
   std::size_t n, columns;
+  std::vector<double> start;
 
-  Runner(search::LocalSearch s, const std::vector<double>& queries, std::size_t count, std::size_t cols)
-      : search(std::move(s)), raw(&queries), param(2 * count), status(count), n(count), columns(cols) {}
+  Runner(search::LocalSearch s, const std::vector<double>& queries, std::size_t count, std::size_t cols,
+         std::vector<double> starts = {})
+      : search(std::move(s)), raw(&queries), param(2 * count), status(count), n(count), columns(cols),
+        start(std::move(starts)) {}
 
   double checksum() const {
     double sum = 0.0;
@@ -100,12 +113,17 @@ struct Runner {
   }
   /// Every query in one call (lib/search's blocks), on `threads` threads.
   double batched(int threads) {
+    if (!start.empty()) std::copy(start.begin(), start.end(), param.begin());
     search.run(n, raw->data(), search::Results<double>{param.data(), nullptr, status.data(), nullptr}, threads);
     return checksum();
   }
   /// One call per query, as a code that searches query by query.
   double one_at_a_time() {
     for (std::size_t i = 0; i < n; ++i) {
+      if (!start.empty()) {
+        param[2 * i] = start[2 * i];
+        param[2 * i + 1] = start[2 * i + 1];
+      }
       search.run(1, raw->data() + i * columns, search::Results<double>{param.data() + 2 * i, nullptr, status.data() + i, nullptr},
                  1);
     }
@@ -145,8 +163,14 @@ void time_set(const EvaluationSet& set, const std::vector<StudyMethod>& methods,
   std::vector<std::unique_ptr<Runner>> runners;
   std::vector<TimedMethod> timed;
   const int threads = std::max(1, options.timing_threads);
+  std::vector<double> start;  // the timed rows' starts, for start+newton:K
+  if (std::any_of(methods.begin(), methods.end(), [](const StudyMethod& m) { return m.method.needs_start(); })) {
+    const std::vector<double> all = starts_near_reference(set, options.start_offset, options.seed);
+    for (const std::size_t r : rows) start.insert(start.end(), {all[2 * r], all[2 * r + 1]});
+  }
   for (std::size_t m = 0; m < methods.size(); ++m) {
-    runners.push_back(std::make_unique<Runner>(searches[m], raw, rows.size(), cols));
+    runners.push_back(std::make_unique<Runner>(searches[m], raw, rows.size(), cols,
+                                               methods[m].method.needs_start() ? start : std::vector<double>{}));
     Runner* r = runners.back().get();
     timed.push_back({methods[m].name + " one", "", n, [r] { return r->one_at_a_time(); }});
     timed.push_back({methods[m].name + " batched", "", n, [r] { return r->batched(1); }});
@@ -253,7 +277,7 @@ StudyResult run_study(const std::vector<EvaluationSet>& sets, const std::vector<
   const std::string list = options.methods.empty()
                                ? default_methods(result.surface, options.max_fixed_iterations, !networks.empty())
                                : options.methods;
-  const std::vector<StudyMethod> methods = expand_methods(list, networks);
+  const std::vector<StudyMethod> methods = expand_methods(list, networks, options.start_offset);
   std::vector<search::LocalSearch> searches;
   for (const StudyMethod& m : methods) {
     searches.emplace_back(result.surface, m.method, options.search,
@@ -276,10 +300,12 @@ StudyResult run_study(const std::vector<EvaluationSet>& sets, const std::vector<
     r.label_rows_ok = r.label_status_counts[static_cast<std::size_t>(Status::kOk)];
     if (!label_iterations.empty()) r.label_iterations = count_values(label_iterations, kIterationBins);
 
-    // 1. Accuracy: every method on the same world coordinates.
+    // 1. Accuracy: every method on the same world coordinates (start+newton:K from the references moved).
+    std::vector<double> starts;
+    if (options.start_offset >= 0.0) starts = starts_near_reference(set, options.start_offset, options.seed);
     for (std::size_t m = 0; m < methods.size(); ++m) {
       say("accuracy: " + set.name + ": " + methods[m].name);
-      const Estimates e = run_on_set(searches[m], set, 0);
+      const Estimates e = run_on_set(searches[m], set, 0, methods[m].method.needs_start() ? &starts : nullptr);
       const bool histogram = s == 0 && result.histogram_method.empty() && methods[m].method.needs_network() &&
                              !methods[m].method.is_hybrid();
       MethodErrors errors = compare_with_labels(methods[m].name, e, set, options.failure_box_margin, histogram);

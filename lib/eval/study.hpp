@@ -38,6 +38,10 @@ struct StudyOptions {
   /// out is no contact point on this segment; an FE code would reject it rather than use it.
   double failure_box_margin = 0.5;
   search::SearchOptions search;      ///< every method's settings (Newton's limits, boxes, the domain check)
+  /// start+newton:K (the caller's own start): its starts are each reference point moved this far (parameter
+  /// units) in a random direction (starts_near_reference, from `seed`): how near a start must be for K steps.
+  /// < 0: no starts, such a method is refused (an evaluation set has no previous time step to give).
+  double start_offset = -1.0;
   /// Datasets are placed in world coordinates by: false, the identity (their own frame); true,
   /// random_placement(seed, row) (nothing may depend on the frame). Pairs files are world coordinates.
   bool random_placement = false;

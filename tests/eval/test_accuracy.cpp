@@ -1,4 +1,5 @@
-// Tests of lib/eval/accuracy: running a search method on a set, and the failure rules and statistics.
+// Tests of lib/eval/accuracy: running a search method on a set (and start+newton:K from starts near the
+// references), and the failure rules and statistics.
 #include "eval/accuracy.hpp"
 
 #include <gtest/gtest.h>
@@ -6,6 +7,7 @@
 #include <cmath>
 #include <limits>
 
+#include "core/error.hpp"
 #include "dataset/sampling.hpp"
 
 namespace contactnn::eval {
@@ -112,6 +114,58 @@ TEST(RunOnSet, NewtonFromWorldCoordinatesReachesTheLabels) {
   // The same with one thread: lib/search's answers do not depend on the thread count.
   const Estimates one = run_on_set(newton, s, 1);
   EXPECT_EQ(one.param, e.param);
+}
+
+TEST(StartsNearReference, MoveEachReferencePointByTheOffsetAndGiveTheCentreWithoutOne) {
+  EvaluationSet s = synthetic_set(200);
+  s.label_status[3] = Status::kNoConvergence;
+  s.label_status[4] = Status::kOutside;
+  const std::vector<double> a = starts_near_reference(s, 0.01, 7);
+  ASSERT_EQ(a.size(), 400u);
+  double sum_du = 0.0, sum_dv = 0.0;
+  for (std::size_t r = 0; r < 200; ++r) {
+    const double du = a[2 * r] - s.labels(static_cast<Eigen::Index>(r), 0);
+    const double dv = a[2 * r + 1] - s.labels(static_cast<Eigen::Index>(r), 1);
+    if (r == 3) {  // no reference point: the centre
+      EXPECT_EQ(a[2 * r], 0.0);
+      EXPECT_EQ(a[2 * r + 1], 0.0);
+      continue;
+    }
+    EXPECT_NEAR(std::hypot(du, dv), 0.01, 1e-13) << "row " << r;  // labels up to 20: rounding 4e-15
+    sum_du += du;
+    sum_dv += dv;
+  }
+  // Directions spread around the circle (a fixed direction would sum to about 2).
+  EXPECT_LT(std::abs(sum_du) + std::abs(sum_dv), 0.5);
+  // The seed decides: the same starts again, others with another seed; offset 0 is the reference itself.
+  EXPECT_EQ(starts_near_reference(s, 0.01, 7), a);
+  EXPECT_NE(starts_near_reference(s, 0.01, 8), a);
+  const std::vector<double> zero = starts_near_reference(s, 0.0, 7);
+  EXPECT_EQ(zero[2 * 10], s.labels(10, 0));
+  EXPECT_EQ(zero[2 * 10 + 1], s.labels(10, 1));
+}
+
+TEST(RunOnSet, StartPlusNewtonStartsFromTheGivenStarts) {
+  dataset::EnumerationOptions o;
+  o.filters.min_angle_degrees = 60;
+  o.filters.max_angle_degrees = 120;
+  o.filters.z_limit = 0.05;
+  dataset::EnumerationSummary summary;
+  const EvaluationSet s = set_from_dataset(dataset::sample_configurations(o, 200, summary), "s", "s", true, 2);
+  const std::vector<double> start = starts_near_reference(s, 0.02, 1);
+  const Estimates alone = run_on_set(search::LocalSearch(SurfaceKind::kBilinear, search::Method::parse("start")), s, 0, &start);
+  EXPECT_EQ(alone.param, start);  // the start itself
+  const Estimates refined =
+      run_on_set(search::LocalSearch(SurfaceKind::kBilinear, search::Method::parse("start+newton:3")), s, 0, &start);
+  const MethodErrors m = compare_with_labels("start+newton:3", refined, s, 0.5, false);
+  EXPECT_EQ(m.failures_method, 0);
+  EXPECT_LT(m.stats[0].max_abs, 1e-10);
+  EXPECT_LT(m.stats[1].max_abs, 1e-10);
+  // One value per row is not a start per row.
+  const auto too_few = [&] {
+    return run_on_set(search::LocalSearch(SurfaceKind::kBilinear, search::Method::parse("start")), s, 0, &alone.gap);
+  };
+  EXPECT_THROW((void)too_few(), InvalidArgument);
 }
 
 TEST(CountValues, LastBinTakesTheRestNegativesAreSkipped) {

@@ -223,6 +223,27 @@ TEST_F(EvaluateNetApp, NewtonStepsAfterTheNetworkReachTheLabels) {
             2);
 }
 
+TEST_F(EvaluateNetApp, StartPlusNewtonStartsFromTheReferencesMovedByTheOffset) {
+  const fs::path report = dir_ / "report-start";
+  ASSERT_EQ(run(evaluate_net() + " --quiet --data " + (dir_ / "tiny.h5").string() + " --methods start,start+newton:4 " +
+                    "--start_offset 0.01 --report " + report.string() + " --timing_queries 100 --timing_repetitions 1",
+                dir_ / "start.log"),
+            0)
+      << read_file(dir_ / "start.log");
+  const io::CsvTable errors = io::read_csv(report / "errors.csv");
+  ASSERT_EQ(errors.rows.size(), 2u * 2u);  // methods x coordinates
+  EXPECT_EQ(errors.rows[0][errors.column("method")], "start[0.01 off]");
+  EXPECT_EQ(errors.rows[2][errors.column("method")], "start+newton:4[0.01 off]");
+  // The start alone is 0.01 off in a random direction: |du| and |dv| at most 0.01, 2 / pi of it on average.
+  for (const std::size_t r : {std::size_t{0}, std::size_t{1}}) {
+    EXPECT_LE(errors.number(r, errors.column("max_abs")), 0.01 + 1e-12);
+    EXPECT_NEAR(errors.number(r, errors.column("mean_abs")), 0.01 * 2.0 / 3.14159265358979, 0.002);
+  }
+  // Four steps from there: the reference, except on the enumeration's extreme segments.
+  for (const std::size_t r : {std::size_t{2}, std::size_t{3}}) EXPECT_LT(errors.number(r, errors.column("median_abs")), 1e-12);
+  EXPECT_NE(read_file(report / "report.md").find("moved 0.01 (parameter units)"), std::string::npos);
+}
+
 TEST_F(EvaluateNetApp, InputModeKeepsRowsAndOrderWithRightStatuses) {
   // Rows: in domain, out of domain (slave far above the segment), NaN, degenerate (D on the line AB),
   // in domain again; an extra column `id` must be copied through.

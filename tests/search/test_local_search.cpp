@@ -941,11 +941,12 @@ Output<double> run_from(const LocalSearch& search, const std::vector<double>& ra
 
 TEST(StartMethod, RefinesTheCallersStartsToTheReference) {
   // From the reference point itself one step stays there; from starts a little off, three safeguarded steps
-  // reach the reference. Gregory: on the 100000 held-out configurations of data/gregory-heldout.h5, starts 0.003
-  // off gave a max |error| of 9.5e-11 after three steps, 0.01 off 8.1e-7 (2 rows above 1e-8), 0.03 off 1.3e-3
-  // (51 rows), and plain Newton (projection::newton_fixed_iterations) from the same 0.03 starts 132 rows, 0.88
-  // at most: the tail of network+newton:3 is its start's. Bilinear (domain twice as wide): starts 0.01 off, mean
-  // 7.8e-9 after three steps on the 100000 of scripts/frontier's held-out set.
+  // reach the reference. Gregory, on the 100000 held-out configurations of data/gregory-heldout.h5
+  // (reports/gregory-starts-*, README): max |error| after three steps 3.3e-10 from starts 0.003 off, 2.1e-7
+  // from 0.01, 9.5e-5 from 0.03; the tail of network+newton:3 is its start's. (Plain undamped Newton,
+  // projection::newton_fixed_iterations, from the same kind of 0.03 starts left 132 rows above 1e-8 where these
+  // steps left 51: a one-off comparison.) Bilinear (domain twice as wide): starts 0.01 off, mean 7.8e-9 after
+  // three steps on scripts/frontier's 100000 held-out configurations.
   for (const SurfaceKind kind : {kBilinear, kGregory}) {
     SCOPED_TRACE(to_string(kind));
     const std::vector<double> raw = random_queries(kind, 2000, 41);
