@@ -272,7 +272,9 @@ int main(int argc, char** argv) {
   // The caller's own starts (an FE code's previous time step), 0.01 off: after the others, so that the table
   // keeps its order; one per surface and K.
   for (const SurfaceKind kind : {bl, gr}) {
-    for (const char* method : {"start+newton:1", "start+newton:2", "start+newton:3"}) cases.push_back({kind, method, "", true, 0.01});
+    for (const char* method : {"start+newton:1", "start+newton:2", "start+newton:3"}) {
+      cases.push_back({kind, method, "", true, 0.01});
+    }
   }
 
   // 3. One benchmark per method and mode; accuracy once per method.
@@ -283,7 +285,8 @@ int main(int argc, char** argv) {
     auto search = std::make_shared<const search::LocalSearch>(c.kind, search::Method::parse(c.method), options, model);
     const QuerySet& set = sets.at(c.kind);
     // start+newton:K overwrites its starts: each run copies them in first (2 doubles per query, in the time).
-    const std::vector<double> start = search->method().needs_start() ? starts_near_labels(set, c.start_offset) : std::vector<double>{};
+    const std::vector<double> start =
+        search->method().needs_start() ? starts_near_labels(set, c.start_offset) : std::vector<double>{};
     const Accuracy acc = accuracy_of(*search, set, start);
     const search::FlopCount flops = search::flops_per_query(c.kind, search->method(), model, acc.steps);
     const std::size_t n = set.count();
@@ -294,7 +297,10 @@ int main(int argc, char** argv) {
       std::vector<Status> status(n);
       for (auto _ : state) {
         for (std::size_t i = 0; i < n; ++i) {
-          if (!start.empty()) std::copy(start.begin() + static_cast<std::ptrdiff_t>(2 * i), start.begin() + static_cast<std::ptrdiff_t>(2 * i + 2), param.begin() + static_cast<std::ptrdiff_t>(2 * i));
+          if (!start.empty()) {
+            param[2 * i] = start[2 * i];
+            param[2 * i + 1] = start[2 * i + 1];
+          }
           search->run(1, set.raw.data() + i * stride, search::Results<double>{param.data() + 2 * i, nullptr, status.data() + i}, 1);
         }
         benchmark::ClobberMemory();

@@ -198,9 +198,10 @@ contains
   end function contactnn_default_options
 
   !> Creates a search: surface CONTACTNN_SURFACE_BILINEAR or _GREGORY; method 'network', 'newton:K',
-  !> 'newton', 'closed_form', 'network+newton:K' or 'closed_form+newton:K'; network: a train-net network file
-  !> (required by the network methods); options: contactnn_default_options() when absent. On failure search
-  !> holds no handle and ierr /= CONTACTNN_SUCCESS. A search that already holds one is destroyed first.
+  !> 'newton', 'closed_form', 'network+newton:K', 'closed_form+newton:K' or 'start+newton:K' (param holds
+  !> the starts when contactnn_run is called); network: a train-net network file (required by the network
+  !> methods); options: contactnn_default_options() when absent. On failure search holds no handle and
+  !> ierr /= CONTACTNN_SUCCESS. A search that already holds one is destroyed first.
   subroutine contactnn_create(search, surface, method, ierr, network, options)
     type(contactnn_search), intent(inout) :: search
     integer, intent(in) :: surface

@@ -94,15 +94,21 @@ TEST(CompareWithLabels, InsideAgreementTakesTheMethodsOutsideStatus) {
   EXPECT_EQ(m.inside_agree, 2);  // rows 0 (outside by status) and 3 (outside by coordinates)
 }
 
-TEST(RunOnSet, NewtonFromWorldCoordinatesReachesTheLabels) {
-  // Random configurations of the paper's domain restricted to well-shaped segments (angles 60-120), placed at
-  // random: newton:10 from the centre converges to the reference there; every estimate agrees to rounding.
+/// 200 random configurations of the paper's bilinear domain restricted to well-shaped segments (angles 60-120,
+/// nearly flat), placed at random in world coordinates.
+EvaluationSet well_shaped_set() {
   dataset::EnumerationOptions o;
   o.filters.min_angle_degrees = 60;
   o.filters.max_angle_degrees = 120;
   o.filters.z_limit = 0.05;
   dataset::EnumerationSummary summary;
-  const EvaluationSet s = set_from_dataset(dataset::sample_configurations(o, 200, summary), "s", "s", true, 2);
+  return set_from_dataset(dataset::sample_configurations(o, 200, summary), "s", "s", true, 2);
+}
+
+TEST(RunOnSet, NewtonFromWorldCoordinatesReachesTheLabels) {
+  // On well-shaped segments newton:10 from the centre converges to the reference; every estimate agrees to
+  // rounding.
+  const EvaluationSet s = well_shaped_set();
   const search::LocalSearch newton(SurfaceKind::kBilinear, search::Method::parse("newton:10"));
   const Estimates e = run_on_set(newton, s, 0);
   const MethodErrors m = compare_with_labels("newton:10", e, s, 0.5, false);
@@ -146,12 +152,7 @@ TEST(StartsNearReference, MoveEachReferencePointByTheOffsetAndGiveTheCentreWitho
 }
 
 TEST(RunOnSet, StartPlusNewtonStartsFromTheGivenStarts) {
-  dataset::EnumerationOptions o;
-  o.filters.min_angle_degrees = 60;
-  o.filters.max_angle_degrees = 120;
-  o.filters.z_limit = 0.05;
-  dataset::EnumerationSummary summary;
-  const EvaluationSet s = set_from_dataset(dataset::sample_configurations(o, 200, summary), "s", "s", true, 2);
+  const EvaluationSet s = well_shaped_set();
   const std::vector<double> start = starts_near_reference(s, 0.02, 1);
   const Estimates alone = run_on_set(search::LocalSearch(SurfaceKind::kBilinear, search::Method::parse("start")), s, 0, &start);
   EXPECT_EQ(alone.param, start);  // the start itself
