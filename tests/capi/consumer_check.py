@@ -211,6 +211,7 @@ def consumer(args):
                 p = run(command)
                 if program == "search_fortran":
                     check("shape check: ok" in p.stdout, f"search_fortran's shape check: {p.stdout}")
+                    check("warm start: ok" in p.stdout, f"search_fortran's warm start: {p.stdout}")
                 worst = compare(f"{name} {program} {precision}", surface, raw, reference, read_output(out), precision)
                 print(f"{name:18s} {program:15s} {precision:6s} {len(reference):4d} rows, statuses {statuses}, "
                       f"max |difference| with evaluate-net {worst:.2e}")

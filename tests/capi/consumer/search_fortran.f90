@@ -3,7 +3,8 @@
 ! Usage: search_fortran bilinear|gregory METHOD NETWORK RAW.txt OUT.txt double|float
 !   RAW.txt  the query count n on the first line, then n rows of 15 (bilinear) or 27 (Gregory) numbers
 !   OUT.txt  one line per query: p0 p1 status gap iterations
-! Also checks that arrays of the wrong shape are refused with a message (prints "shape check: ok").
+! Also checks that arrays of the wrong shape are refused with a message (prints "shape check: ok"), and that
+! the method 'start' hands back the starts it reads from param, intent(inout) (prints "warm start: ok").
 ! Exit status 0, or 1 with contactnn's message.
 program search_fortran
   use, intrinsic :: iso_c_binding, only: c_double, c_float, c_int
@@ -14,9 +15,9 @@ program search_fortran
   integer :: surface, columns, n, i, ierr, unit
   real(c_double), allocatable :: raw(:, :), param(:, :), gap(:)
   real(c_float), allocatable :: raw_f(:, :), param_f(:, :), gap_f(:)
-  real(c_double), allocatable :: wrong_param(:, :)
-  integer(c_int), allocatable :: status(:), iterations(:)
-  type(contactnn_search) :: search
+  real(c_double), allocatable :: wrong_param(:, :), start(:, :)
+  integer(c_int), allocatable :: status(:), iterations(:), start_status(:)
+  type(contactnn_search) :: search, warm
   type(contactnn_options) :: options
 
   if (command_argument_count() /= 6) then
@@ -73,7 +74,27 @@ program search_fortran
   if (ierr /= CONTACTNN_SUCCESS) call fail('contactnn_run')
   call contactnn_destroy(search)
 
-  ! 5. The results.
+  ! 5. A warm start ('start': no Newton step) gives back the starts in param wherever it answers ok or outside.
+  call contactnn_create(warm, surface, 'start', ierr, options=options)
+  if (ierr /= CONTACTNN_SUCCESS) call fail('contactnn_create start')
+  allocate (start(2, n), start_status(n))
+  start = param
+  call contactnn_run(warm, raw, start, start_status, ierr)
+  if (ierr /= CONTACTNN_SUCCESS) call fail('contactnn_run start')
+  do i = 1, n
+    if (start_status(i) <= CONTACTNN_STATUS_OUTSIDE .and. any(start(:, i) /= param(:, i))) then
+      print '(a,i0)', 'warm start: FAILED at query ', i
+      stop 1
+    end if
+  end do
+  if (count(start_status <= CONTACTNN_STATUS_OUTSIDE) == 0) then
+    print '(a)', 'warm start: FAILED, no query answered'
+    stop 1
+  end if
+  print '(a)', 'warm start: ok'
+  call contactnn_destroy(warm)
+
+  ! 6. The results.
   open (newunit=unit, file=trim(out_path), status='replace', action='write')
   do i = 1, n
     write (unit, '(2(es26.17e3,1x),i0,1x,es26.17e3,1x,i0)') param(1, i), param(2, i), status(i), gap(i), iterations(i)
