@@ -791,6 +791,38 @@ TEST(Hybrids, AGregoryNodeWhoseNearestPointIsOutsideStaysOutsideAtAnyK) {
   }
 }
 
+TEST(Hybrids, AnEdgePointNearerThanTheReferencesInteriorMinimumIsOutside) {
+  // Row 89361 of data/gregory-heldout.h5 as evaluate-net places it: a shallow valley of |S - P| along v whose
+  // interior local minimum (the reference's answer, SPEC 2: the nearest stationary point inside, (0.384,
+  // 0.069)) is farther from S than the point of the edge v = 0 (8e-5 of the distance nearer), where the
+  // distance still falls outward. The closed form's start (0.053 off) descends to the edge: outside, at the
+  // segment's closest point. Every closed-form hybrid row of the frontier's grid and held-out sets that ends
+  // outside where the reference is inside was checked this way: the edge point nearer in each.
+  const std::vector<double> raw = {
+      -0.30836116969345223, 0.31119437952263179, 0.20322332848144836, -0.30103261877453108, 0.27748544128778413,
+      0.25169772636162091,  -0.30136160704334175, 0.26677115777940086, 0.2422145124579082,  -0.27827154875685589,
+      0.29963466075684519,  0.18913013505605752,  -0.29411420557848678, 0.30720598284159811, 0.22678466057854973,
+      0.43452095508214289,  0.71020660078725328,  0.55389360331449711,  0.98318433584266707, 0.14850157852164475,
+      -0.10628190311710436, 0.93748230072912841,  -0.30525322162184371, 0.16717477832826841, 0.52328837306156972,
+      0.61994391395659587,  0.58466984030882962};
+  const Configuration world = configuration_of(raw.data(), kGregory, 0);
+  const dataset::Label label = dataset::label_configuration(world, kGregory);
+  ASSERT_EQ(label.status, Status::kOk);
+  EXPECT_NEAR(label.param[0], 0.3843, 1e-4);
+  EXPECT_NEAR(label.param[1], 0.0687, 1e-4);
+  const Output<double> out = run_method(kGregory, "closed_form+newton:8", raw);
+  EXPECT_EQ(out.status[0], Status::kOutside);
+  EXPECT_EQ(out.param[1], 0.0);
+  const geometry::GregoryPatch patch(world.nodes, world.normals);
+  const double to_edge = (patch.position(out.param[0], out.param[1]) - world.slave).norm();
+  const double to_label = (patch.position(label.param[0], label.param[1]) - world.slave).norm();
+  EXPECT_LT(to_edge, to_label);
+  // Along the edge, the reported point is the nearest (a step of 1e-4 either way is farther).
+  for (const double du : {-1e-4, 1e-4}) {
+    EXPECT_LT(to_edge, (patch.position(out.param[0] + du, 0.0) - world.slave).norm()) << du;
+  }
+}
+
 TEST(Hybrids, KeepTheDegenerateStatusOfTheLabels) {
   // A bilinear segment with A = B: degenerate for its label and for the network; Newton steps from the centre
   // used to report it ok (K = 1 at (0.49, -0.36), K = 3 at (0.99, -0.40)).
