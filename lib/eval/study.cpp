@@ -148,8 +148,9 @@ const MethodTiming* find_timing(const SetResult& set, const std::string& method)
   return nullptr;
 }
 
+/// `starts`: the set's starts for start+newton:K (starts_near_reference; empty when no method reads them).
 void time_set(const EvaluationSet& set, const std::vector<StudyMethod>& methods, const std::vector<search::LocalSearch>& searches,
-              const StudyOptions& options, SetResult& result, const StudyLog& log) {
+              const std::vector<double>& starts, const StudyOptions& options, SetResult& result, const StudyLog& log) {
   const std::vector<std::size_t> rows = timing_rows(set, options.timing_queries, options.seed);
   const std::vector<double> raw = gather_raw(set, rows);
   const auto cols = static_cast<std::size_t>(EvaluationSet::raw_columns(set.surface));
@@ -164,9 +165,8 @@ void time_set(const EvaluationSet& set, const std::vector<StudyMethod>& methods,
   std::vector<TimedMethod> timed;
   const int threads = std::max(1, options.timing_threads);
   std::vector<double> start;  // the timed rows' starts, for start+newton:K
-  if (std::any_of(methods.begin(), methods.end(), [](const StudyMethod& m) { return m.method.needs_start(); })) {
-    const std::vector<double> all = starts_near_reference(set, options.start_offset, options.seed);
-    for (const std::size_t r : rows) start.insert(start.end(), {all[2 * r], all[2 * r + 1]});
+  if (!starts.empty()) {
+    for (const std::size_t r : rows) start.insert(start.end(), {starts[2 * r], starts[2 * r + 1]});
   }
   for (std::size_t m = 0; m < methods.size(); ++m) {
     runners.push_back(std::make_unique<Runner>(searches[m], raw, rows.size(), cols,
@@ -278,6 +278,8 @@ StudyResult run_study(const std::vector<EvaluationSet>& sets, const std::vector<
                                ? default_methods(result.surface, options.max_fixed_iterations, !networks.empty())
                                : options.methods;
   const std::vector<StudyMethod> methods = expand_methods(list, networks, options.start_offset);
+  const bool any_start =
+      std::any_of(methods.begin(), methods.end(), [](const StudyMethod& m) { return m.method.needs_start(); });
   std::vector<search::LocalSearch> searches;
   for (const StudyMethod& m : methods) {
     searches.emplace_back(result.surface, m.method, options.search,
@@ -301,8 +303,8 @@ StudyResult run_study(const std::vector<EvaluationSet>& sets, const std::vector<
     if (!label_iterations.empty()) r.label_iterations = count_values(label_iterations, kIterationBins);
 
     // 1. Accuracy: every method on the same world coordinates (start+newton:K from the references moved).
-    std::vector<double> starts;
-    if (options.start_offset >= 0.0) starts = starts_near_reference(set, options.start_offset, options.seed);
+    std::vector<double> starts;  // made once per set, for the accuracy and the timing runs
+    if (any_start) starts = starts_near_reference(set, options.start_offset, options.seed);
     for (std::size_t m = 0; m < methods.size(); ++m) {
       say("accuracy: " + set.name + ": " + methods[m].name);
       const Estimates e = run_on_set(searches[m], set, 0, methods[m].method.needs_start() ? &starts : nullptr);
@@ -336,7 +338,7 @@ StudyResult run_study(const std::vector<EvaluationSet>& sets, const std::vector<
       r.errors.push_back(std::move(errors));
     }
     // 2. Speed.
-    if (options.timing) time_set(set, methods, searches, options, r, log);
+    if (options.timing) time_set(set, methods, searches, starts, options, r, log);
     result.sets.push_back(std::move(r));
   }
   return result;
