@@ -58,10 +58,13 @@ struct Output {
   Results<Real> results() { return Results<Real>{param.data(), gap.data(), status.data(), iterations.data()}; }
 };
 
+/// `start` (2 per query, or empty: zeros): what param holds when the run begins, the starts of start+newton:K.
 template <class Real>
-Output<Real> run(const LocalSearch& search, const std::vector<Real>& raw, int threads = 1) {
+Output<Real> run(const LocalSearch& search, const std::vector<Real>& raw, int threads = 1,
+                 std::vector<Real> start = {}) {
   const std::size_t n = raw.size() / static_cast<std::size_t>(stride(search.surface()));
   Output<Real> out(n);
+  if (!start.empty()) out.param = std::move(start);
   search.run(n, raw.data(), out.results(), threads);
   return out;
 }
@@ -973,13 +976,6 @@ std::vector<double> starts_near(const std::vector<dataset::Label>& labels, Surfa
   return start;
 }
 
-Output<double> run_from(const LocalSearch& search, const std::vector<double>& raw, const std::vector<double>& start) {
-  Output<double> out(start.size() / 2);
-  out.param = start;
-  search.run(out.status.size(), raw.data(), out.results(), 1);
-  return out;
-}
-
 TEST(StartMethod, RefinesTheCallersStartsToTheReference) {
   // From the reference point itself one step stays there; from starts a little off, three safeguarded steps
   // reach the reference. Gregory, on the 100000 held-out configurations of data/gregory-heldout.h5
@@ -992,23 +988,23 @@ TEST(StartMethod, RefinesTheCallersStartsToTheReference) {
     SCOPED_TRACE(to_string(kind));
     const std::vector<double> raw = random_queries(kind, 2000, 41);
     const std::vector<dataset::Label> labels = labels_of(raw, kind);
-    const Accuracy exact = accuracy(run_from(LocalSearch(kind, Method::parse("start+newton:1")), raw,
-                                             starts_near(labels, kind, 0.0, 1)), labels);
+    const Accuracy exact = accuracy(run(LocalSearch(kind, Method::parse("start+newton:1")), raw, 1,
+                                        starts_near(labels, kind, 0.0, 1)), labels);
     EXPECT_GT(exact.rows, 1000);
     EXPECT_EQ(exact.failures, 0);
     EXPECT_EQ(exact.wrong_side, 0);
     EXPECT_LE(exact.max, 1e-12);
     const double offset = kind == kGregory ? 0.003 : 0.002;
-    const Accuracy near = accuracy(run_from(LocalSearch(kind, Method::parse("start+newton:3")), raw,
-                                            starts_near(labels, kind, offset, 2)), labels);
+    const Accuracy near = accuracy(run(LocalSearch(kind, Method::parse("start+newton:3")), raw, 1,
+                                       starts_near(labels, kind, offset, 2)), labels);
     RecordProperty(std::string(to_string(kind)) + "_three_steps", "mean " + sci(near.mean) + " max " + sci(near.max));
     EXPECT_EQ(near.failures, 0);
     EXPECT_EQ(near.wrong_side, 0);
     EXPECT_LE(near.mean, 1e-12);
     EXPECT_LE(near.max, 1e-8);
     // Fewer steps from the same starts are not enough: the steps are taken, not skipped.
-    const Accuracy one = accuracy(run_from(LocalSearch(kind, Method::parse("start+newton:1")), raw,
-                                           starts_near(labels, kind, offset, 2)), labels);
+    const Accuracy one = accuracy(run(LocalSearch(kind, Method::parse("start+newton:1")), raw, 1,
+                                      starts_near(labels, kind, offset, 2)), labels);
     EXPECT_GT(one.max, 1e-8);
   }
 }
@@ -1023,7 +1019,7 @@ TEST(StartMethod, ReadsEachStartBeforeWritingAndGivesTheSameBitsAloneAndInABlock
     start[2 * 9 + 1] = std::numeric_limits<double>::infinity();
     for (const char* name : {"start", "start+newton:2"}) {
       const LocalSearch search(kind, Method::parse(name));
-      const Output<double> all = run_from(search, raw, start);
+      const Output<double> all = run(search, raw, 1, start);
       for (const std::size_t i : {std::size_t{7}, std::size_t{9}}) {
         EXPECT_EQ(all.status[i], Status::kInvalid) << name;
         EXPECT_EQ(all.param[2 * i], kind == kGregory ? 0.5 : 0.0) << name;
@@ -1033,7 +1029,7 @@ TEST(StartMethod, ReadsEachStartBeforeWritingAndGivesTheSameBitsAloneAndInABlock
       for (std::size_t i = 0; i < labels.size(); ++i) {
         const std::vector<double> one_start(start.begin() + static_cast<std::ptrdiff_t>(2 * i),
                                             start.begin() + static_cast<std::ptrdiff_t>(2 * i + 2));
-        const Output<double> one = run_from(search, rows_of(raw, kind, i), one_start);
+        const Output<double> one = run(search, rows_of(raw, kind, i), 1, one_start);
         ASSERT_EQ(one.status[0], all.status[i]) << name << " query " << i;
         ASSERT_EQ(one.param[0], all.param[2 * i]) << name << " query " << i;
         ASSERT_EQ(one.param[1], all.param[2 * i + 1]) << name << " query " << i;
