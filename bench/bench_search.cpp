@@ -25,13 +25,11 @@
 
 #include <Eigen/Core>
 #include <algorithm>
-#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <map>
 #include <memory>
-#include <random>
 #include <string>
 #include <vector>
 
@@ -164,20 +162,6 @@ std::string case_name(const Case& c) {
   return name;
 }
 
-/// The labels' points moved by `offset` in a random direction (fixed seed): the starts of start+newton:K, as an
-/// FE code's previous time step gives them.
-std::vector<double> starts_near_labels(const QuerySet& set, double offset) {
-  std::mt19937_64 rng(11);
-  std::uniform_real_distribution<double> angle(0.0, 2.0 * 3.14159265358979323846);
-  std::vector<double> start(2 * set.count());
-  for (std::size_t i = 0; i < set.count(); ++i) {
-    const double a = angle(rng);
-    start[2 * i] = set.labels[i].param[0] + offset * std::cos(a);
-    start[2 * i + 1] = set.labels[i].param[1] + offset * std::sin(a);
-  }
-  return start;
-}
-
 void set_counters(benchmark::State& state, const search::FlopCount& flops, const Accuracy& a) {
   state.counters["flops_double"] = flops.in_double;
   state.counters["flops_float"] = flops.in_float;
@@ -285,8 +269,9 @@ int main(int argc, char** argv) {
     auto search = std::make_shared<const search::LocalSearch>(c.kind, search::Method::parse(c.method), options, model);
     const QuerySet& set = sets.at(c.kind);
     // start+newton:K overwrites its starts: each run copies them in first (2 doubles per query, in the time).
-    const std::vector<double> start =
-        search->method().needs_start() ? starts_near_labels(set, c.start_offset) : std::vector<double>{};
+    const std::vector<double> start = search->method().needs_start()
+                                          ? testing::starts_near(set.labels, set.kind, c.start_offset, 11)
+                                          : std::vector<double>{};
     const Accuracy acc = accuracy_of(*search, set, start);
     const search::FlopCount flops = search::flops_per_query(c.kind, search->method(), model, acc.steps);
     const std::size_t n = set.count();

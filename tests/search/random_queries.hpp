@@ -15,6 +15,7 @@
 
 #include "core/conventions.hpp"
 #include "core/symmetry.hpp"
+#include "dataset/labeller.hpp"
 #include "geometry/configuration.hpp"
 #include "geometry/domain.hpp"
 
@@ -139,6 +140,23 @@ inline Configuration configuration_of(const double* raw, SurfaceKind kind, std::
         kind == SurfaceKind::kGregory ? Vec3(x[15 + 3 * i], x[16 + 3 * i], x[17 + 3 * i]) : Vec3::Zero();
   }
   return c;
+}
+
+/// The labels' points moved by `offset` in a random direction (seeded), where the label is ok; the domain centre
+/// elsewhere. An FE code's previous time step, as near as `offset` (tests of start+newton:K, bench_search).
+inline std::vector<double> starts_near(const std::vector<dataset::Label>& labels, SurfaceKind kind, double offset,
+                                       unsigned seed) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> angle(0.0, 2.0 * std::numbers::pi);
+  const double centre = kind == SurfaceKind::kGregory ? 0.5 : 0.0;
+  std::vector<double> start(2 * labels.size(), centre);
+  for (std::size_t i = 0; i < labels.size(); ++i) {
+    const double a = angle(rng);
+    if (labels[i].status != Status::kOk) continue;
+    start[2 * i] = labels[i].param[0] + offset * std::cos(a);
+    start[2 * i + 1] = labels[i].param[1] + offset * std::sin(a);
+  }
+  return start;
 }
 
 /// Rows first .. first + count - 1 of `raw` (SPEC 6 rows of `kind`), as a query list of their own.

@@ -42,6 +42,7 @@ using testing::methods_of;
 using testing::mixed_queries;
 using testing::random_queries;
 using testing::rows_of;
+using testing::starts_near;
 
 constexpr SurfaceKind kBilinear = SurfaceKind::kBilinear;
 constexpr SurfaceKind kGregory = SurfaceKind::kGregory;
@@ -959,22 +960,6 @@ TEST(Hybrids, AStepThatDoesNotReduceTheDistanceKeepsThePreviousIterate) {
 // ---- float against double, independence of count, position and threads ----
 
 // ---- start+newton:K (the caller's start) ----
-
-/// The labels' points moved by `offset` in a random direction (seeded), where the label is ok; the domain centre
-/// elsewhere. An FE code's previous time step, as near as `offset`.
-std::vector<double> starts_near(const std::vector<dataset::Label>& labels, SurfaceKind kind, double offset, unsigned seed) {
-  std::mt19937_64 rng(seed);
-  std::uniform_real_distribution<double> angle(0.0, 2.0 * std::numbers::pi);
-  const double centre = kind == kGregory ? 0.5 : 0.0;
-  std::vector<double> start(2 * labels.size(), centre);
-  for (std::size_t i = 0; i < labels.size(); ++i) {
-    const double a = angle(rng);
-    if (labels[i].status != Status::kOk) continue;
-    start[2 * i] = labels[i].param[0] + offset * std::cos(a);
-    start[2 * i + 1] = labels[i].param[1] + offset * std::sin(a);
-  }
-  return start;
-}
 
 TEST(StartMethod, RefinesTheCallersStartsToTheReference) {
   // From the reference point itself one step stays there; from starts a little off, three safeguarded steps
