@@ -12,6 +12,8 @@
 #include <sstream>
 #include <string>
 
+#include <unistd.h>
+
 #include "contact/scene.hpp"
 #include "io/inp_deck.hpp"
 #include "scene_checks.hpp"
@@ -84,10 +86,16 @@ std::string sector_deck(bool cyclic) {
   return d.str();
 }
 
+/// The deck written and read back. ctest -j runs this file's cases as processes of their own at the same time,
+/// so each writes its own file (the process id in the name): with one shared name a case once read the deck
+/// while another was rewriting it ("the deck has no *CONTACT PAIR", CI).
 mesh::ContactModel read_sector(bool cyclic) {
-  const auto path = testing::test_output_dir("cyclic") / (cyclic ? "sector-cyclic.inp" : "sector-plain.inp");
+  const auto path = testing::test_output_dir("cyclic") /
+                    ((cyclic ? "sector-cyclic-" : "sector-plain-") + std::to_string(::getpid()) + ".inp");
   std::ofstream(path, std::ios::binary) << sector_deck(cyclic);
-  return io::read_inp_deck(path);
+  mesh::ContactModel model = io::read_inp_deck(path);
+  std::filesystem::remove(path);
+  return model;
 }
 
 /// Bilinear interpolation of the pair's nodes at (xi, eta) in [-1, 1]^2 (A, B, C, D at (-1,-1), (1,-1),
