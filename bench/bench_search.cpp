@@ -16,7 +16,9 @@
 //   scripts/bench-search
 //
 // Flags of its own (before Google Benchmark's): --queries N (default 4096 per surface), --weights DIR
-// (default the source tree's data/weights), --seed S (default 1).
+// (default the source tree's data/weights), --seed S (default 1), --threads LIST (the thread counts of the
+// batched rows and the matrix products, comma-separated; default 1,2; scripts/bench-search --threads
+// 1,2,4,8,16 prints the scaling beyond the 2 cores of CI's machines).
 // Writes Google Benchmark's report; each benchmark carries the counters flops_double, flops_float (per query),
 // mean_error, p99_error, max_error (|error| per coordinate against the labels, over the queries the method did
 // not fail), failures (the method's status not ok/outside/out_of_domain, or its estimate more than half a domain
@@ -48,6 +50,7 @@ struct Args {
   std::size_t queries = 4096;
   std::string weights = std::string(CONTACTNN_SOURCE_DIR) + "/data/weights";
   std::uint64_t seed = 1;
+  std::vector<int> threads = {1, 2};
 };
 
 /// Random queries of the paper's domain of `kind` whose reference label is ok, and the labels.
@@ -209,8 +212,22 @@ Args parse_own_flags(int& argc, char** argv) {
   int out = 1;
   for (int i = 1; i < argc; ++i) {
     const std::string k = argv[i];
-    if ((k == "--queries" || k == "--weights" || k == "--seed") && i + 1 < argc) {
+    if ((k == "--queries" || k == "--weights" || k == "--seed" || k == "--threads") && i + 1 < argc) {
       const std::string v = argv[++i];
+      if (k == "--threads") {
+        a.threads.clear();
+        for (std::size_t at = 0; at < v.size();) {
+          const std::size_t comma = std::min(v.find(',', at), v.size());
+          const int t = std::atoi(v.substr(at, comma - at).c_str());
+          if (t < 1) {
+            std::fprintf(stderr, "bench_search: --threads wants positive thread counts separated by commas, got '%s'\n",
+                         v.c_str());
+            std::exit(2);
+          }
+          a.threads.push_back(t);
+          at = comma + 1;
+        }
+      }
       if (k == "--queries") a.queries = static_cast<std::size_t>(std::atol(v.c_str()));
       if (k == "--weights") a.weights = v;
       if (k == "--seed") a.seed = static_cast<std::uint64_t>(std::atoll(v.c_str()));
@@ -293,7 +310,7 @@ int main(int argc, char** argv) {
       state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(n));
       set_counters(state, flops, acc);
     })->UseRealTime()->Unit(benchmark::kMicrosecond);
-    for (const int threads : {1, 2}) {
+    for (const int threads : args.threads) {
       benchmark::RegisterBenchmark((case_name(c) + "/batched/threads:" + std::to_string(threads)).c_str(),
                                    [=, &set](benchmark::State& state) {
                                      std::vector<double> param(2 * n);
@@ -345,7 +362,7 @@ int main(int argc, char** argv) {
       network_parts(state, sets.at(SurfaceKind::kGregory).raw, *networks.at("gregory-48.h5"), stage);
     })->UseRealTime()->Unit(benchmark::kMicrosecond);
   }
-  for (const int threads : {1, 2}) {
+  for (const int threads : args.threads) {
     benchmark::RegisterBenchmark(("gemm/float/threads:" + std::to_string(threads)).c_str(), gemm<float>, threads)
         ->UseRealTime()->Unit(benchmark::kMillisecond);
     benchmark::RegisterBenchmark(("gemm/double/threads:" + std::to_string(threads)).c_str(), gemm<double>, threads)
