@@ -240,7 +240,7 @@ void time_set(const EvaluationSet& set, const std::vector<StudyMethod>& methods,
 
 }  // namespace
 
-std::string default_methods([[maybe_unused]] SurfaceKind kind, int max_fixed_iterations, bool with_networks) {
+std::string default_methods(int max_fixed_iterations, bool with_networks) {
   // Hybrids at K = 1, 2, 3 and 5, 8: a block's safeguarded steps stop once all its lanes have converged, so
   // K = 8 costs about K = 4 and reaches rounding-level answers where K = 3 leaves a tail (held-out Gregory).
   const char* const ks[] = {"1", "2", "3", "5", "8"};
@@ -275,7 +275,7 @@ StudyResult run_study(const std::vector<EvaluationSet>& sets, const std::vector<
                          "network '" << n.name << "' is not a " << to_string(result.surface) << " network");
   }
   const std::string list = options.methods.empty()
-                               ? default_methods(result.surface, options.max_fixed_iterations, !networks.empty())
+                               ? default_methods(options.max_fixed_iterations, !networks.empty())
                                : options.methods;
   const std::vector<StudyMethod> methods = expand_methods(list, networks, options.start_offset);
   const bool any_start =

@@ -55,10 +55,10 @@ struct StudyOptions {
   TimingOptions timing_options;
 };
 
-/// The default methods for `kind` (the same list for both surfaces): (with networks) network and network+newton:K
+/// The default methods, the same list for both surfaces: (with networks) network and network+newton:K
 /// for K = 1, 2, 3, 5, 8, each run with every network; closed_form and closed_form+newton:K for the same K (on a
 /// Gregory patch the closed form of its corner facet); newton:1..max_fixed_iterations; newton (to convergence).
-[[nodiscard]] std::string default_methods(SurfaceKind kind, int max_fixed_iterations, bool with_networks);
+[[nodiscard]] std::string default_methods(int max_fixed_iterations, bool with_networks);
 
 /// One method's timings, ns per query: one query per call, a batch of all on 1 thread, on timing_threads.
 struct MethodTiming {
