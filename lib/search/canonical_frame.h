@@ -2,8 +2,10 @@
  * of a network's training domain, for blocks of queries, in C99 that is also valid C++.
  *
  * One source for the network's inputs: lib/search compiles it into its network methods, and the exported
- * C header of a network embeds this text verbatim. Self-contained (only <math.h>); the include guard is
- * fixed, so two exported headers in one translation unit share one copy.
+ * C header of a network embeds this text verbatim. Self-contained (only <math.h> and <string.h>); the include
+ * guard is fixed, so two exported headers in one translation unit share one copy. A float network on bilinear
+ * segments takes the float pass at the end of this file (cnn_canonicalise_domain_block_f): the same decisions,
+ * features in float.
  *
  * What it computes is geometry::normalise (lib/geometry/affine_frame.hpp), the reference, written branch-free
  * per lane so that a compiler vectorises the loop over the lanes of a block:
@@ -47,9 +49,10 @@
 
 /* Raised whenever what this file computes or its interface changes: an exported header checks that the copy
  * in force (the first one included in a translation unit) is the one it was generated with. */
-#define CNN_CANONICAL_FRAME_VERSION 2
+#define CNN_CANONICAL_FRAME_VERSION 3
 
 #include <math.h>
+#include <string.h>
 
 #if defined(__cplusplus)
 #define CNN_CF_RESTRICT __restrict
@@ -615,6 +618,332 @@ CNN_CF_INLINE void cnn_domain_block(int n, int gregory, const struct cnn_domain*
     CNN_CF_IVDEP
     for (l = 0; l < n; ++l) cnn_domain_lane(d, gregory, 0, f + l, nrm + l, n, code + l);
   }
+}
+
+/* ---- The frame and the domain test in float, for a bilinear float network (cnn_canonicalise_domain_block_f) ----
+ *
+ * A float network reads its inputs in float, yet the frame and the domain test above run in double: they
+ * decide ties and thresholds at 1e-12. This pass computes the features in float (16 lanes per 512-bit vector
+ * instead of 8) and keeps every decision exact: a lane whose float arithmetic cannot decide one of them is
+ * left to the double pass (cnn_canonicalise_block and cnn_domain_block on the gathered lanes), so status,
+ * symmetry, orientation, tie code and domain verdict are those of the double pass on every lane, and only the
+ * features of the lanes decided in float differ, by float rounding: within delta = 32 u (1 + R) / sin(angle at
+ * A) of the double pass's, u = 2^-24, R the query's extent over |AB| (measured on random lanes up to 15
+ * u (1 + F) / sin(angle at A), F the largest feature).
+ *
+ * Each query is first scaled by the power of two that brings max |B - A| into [0.5, 1) (exact), so the pass
+ * gives the same bits at every power-of-two scale, as the double pass does. A lane is decided in float when
+ * (else it goes to the double pass):
+ *  - its values are finite, max |B - A| lies in [1e-290, 1e290], its scaled nodes' extent in [1e-12, 1e12] and A
+ *    within 1e6 times that extent of the origin (so that the double pass's noise terms, 16 eps max|x|, stay far
+ *    below the margins below), its extent R below 1e4;
+ *  - one node is nearer S than the others by a margin (256 u max|x - A|^2 in the squared distances), |AB|^2 and
+ *    |AD|^2 differ by that margin, |AD|^2 >= 1e-6 |AB|^2 and sin^2(angle at A) >= 1e-4: no tie, the mirror
+ *    decided, the frame well conditioned (so square elements, |AB| = |AD|, go to the double pass);
+ *  - |z_S| exceeds 2 delta plus the double pass's z tolerance: S off the plane on a known side (a slave node on
+ *    the master's plane, touching contact, goes to the double pass);
+ *  - the segment is far from collapsed: every side and diagonal squared above 1e-6 of the longest plus its error
+ *    bound, every corner's cross product above 1e-7 of the longest squared plus its error bound;
+ *  - with the domain: every test of cnn_domain_lane decided beyond its error bound (from the test's partial
+ *    derivatives times delta, twice over, plus rounding), or one failed beyond it.
+ * A domain with angle bounds (a Gregory study's) is not decided in float: the whole block takes the double pass.
+ * Lanes left to the double pass get their bits from it alone, as in a block of any width; lanes decided in float
+ * get theirs from their own values alone: a query gives the same bits alone and in a block. On random queries of
+ * the paper's bilinear domain, placed at random, with bilinear-8's domain, 2 lanes in 100 go to the double pass
+ * (mostly corners at A of under a degree); lib/search gathers them from many blocks (LocalSearch::run), an
+ * exported header redoes them in each block (cnn_canonicalise_domain_block_f). */
+
+#define CNN_CFF_MAX_LANES 64
+
+/* cnn_cf_max and cnn_cf_min in float (fmaxf and fminf do not vectorise: their NaN rule is not the instruction's). */
+CNN_CF_INLINE float cnn_cff_max(float a, float b) { return a < b ? b : a; }
+CNN_CF_INLINE float cnn_cff_min(float a, float b) { return b < a ? b : a; }
+
+/* One lane. rel: 12 rows at rel[k * s]: A - S, B - S, C - S, D - S (x, y, z each), scaled by a power of two.
+ * Writes ff[k * s], 8 feature rows, and fi[k * s]: 0 symmetry code, 1 orientation, 2 scale (1 / |AB|), 3 status
+ * (0 or 5), 4 redo (1: the double pass decides this lane). `domain` 0: no domain test (d unused). */
+CNN_CF_INLINE void cnn_cff_lane(const float* CNN_CF_RESTRICT rel, int s, const struct cnn_domain* CNN_CF_RESTRICT d,
+                                int domain, float* CNN_CF_RESTRICT ff, float* CNN_CF_RESTRICT fi) {
+  const float u = 5.9604645e-8f; /* 2^-24 */
+  /* The nodes relative to S: the same values whatever the caller's node order, so the lane's arithmetic (which
+   * takes differences of these after the canonical relabelling) gives the same bits for all 8 orders. */
+  const float ax = rel[0 * s], ay = rel[1 * s], az = rel[2 * s];
+  const float bx = rel[3 * s], by = rel[4 * s], bz = rel[5 * s];
+  const float cx = rel[6 * s], cy = rel[7 * s], cz = rel[8 * s];
+  const float dx = rel[9 * s], dy = rel[10 * s], dz = rel[11 * s];
+  float redo;
+  /* Magnitudes; a NaN or infinity fails every comparison below and sends the lane to the double pass. */
+  const float m_ab = cnn_cff_max(cnn_cff_max(fabsf(ax), fabsf(ay)), cnn_cff_max(fabsf(az), fabsf(bx)));
+  const float m_bc = cnn_cff_max(cnn_cff_max(fabsf(by), fabsf(bz)), cnn_cff_max(fabsf(cx), fabsf(cy)));
+  const float m_cd = cnn_cff_max(cnn_cff_max(fabsf(cz), fabsf(dx)), cnn_cff_max(fabsf(dy), fabsf(dz)));
+  const float m = cnn_cff_max(cnn_cff_max(m_ab, m_bc), m_cd);
+  const float mq = 256.0f * u * m * m;
+  /* Their sum times 0: NaN when a value is not finite (or the scaled values overflowed float). */
+  const float finite = (ax + ay + az + bx + by + bz + cx + cy + cz + dx + dy + dz) * 0.0f;
+  redo = ((finite == 0.0f) & (m >= 1e-12f) & (m <= 1e12f)) ? 0.0f : 1.0f;
+  {
+    /* The nearest node: one, by a margin. */
+    const float q0 = ax * ax + ay * ay + az * az, q1 = bx * bx + by * by + bz * bz;
+    const float q2 = cx * cx + cy * cy + cz * cz, q3 = dx * dx + dy * dy + dz * dz;
+    const float reach = cnn_cff_min(cnn_cff_min(q0, q1), cnn_cff_min(q2, q3)) + mq;
+    const int t0 = q0 <= reach, t1 = q1 <= reach, t2 = q2 <= reach, t3 = q3 <= reach;
+    const float rot = t0 ? 0.0f : t1 ? 1.0f : t2 ? 2.0f : 3.0f;
+    const float pax = t0 ? ax : t1 ? bx : t2 ? cx : dx, pay = t0 ? ay : t1 ? by : t2 ? cy : dy,
+                paz = t0 ? az : t1 ? bz : t2 ? cz : dz;
+    const float p1x = t0 ? bx : t1 ? cx : t2 ? dx : ax, p1y = t0 ? by : t1 ? cy : t2 ? dy : ay,
+                p1z = t0 ? bz : t1 ? cz : t2 ? dz : az;
+    const float p2x = t0 ? cx : t1 ? dx : t2 ? ax : bx, p2y = t0 ? cy : t1 ? dy : t2 ? ay : by,
+                p2z = t0 ? cz : t1 ? dz : t2 ? az : bz;
+    const float p3x = t0 ? dx : t1 ? ax : t2 ? bx : cx, p3y = t0 ? dy : t1 ? ay : t2 ? by : cy,
+                p3z = t0 ? dz : t1 ? az : t2 ? bz : cz;
+    const float sax = -pax, say = -pay, saz = -paz; /* S - A */
+    const float e_bx = p1x - pax, e_by = p1y - pay, e_bz = p1z - paz;
+    const float e_dx = p3x - pax, e_dy = p3y - pay, e_dz = p3z - paz;
+    const float lb2 = e_bx * e_bx + e_by * e_by + e_bz * e_bz, ld2 = e_dx * e_dx + e_dy * e_dy + e_dz * e_dz;
+    /* The mirror when |AD| > |AB|, by a margin. */
+    const int mir = ld2 > lb2;
+    const float abx = mir ? e_dx : e_bx, aby = mir ? e_dy : e_by, abz = mir ? e_dz : e_bz;
+    const float adx = mir ? e_bx : e_dx, ady = mir ? e_by : e_dy, adz = mir ? e_bz : e_dz;
+    const float lab2 = mir ? ld2 : lb2, lad2 = mir ? lb2 : ld2;
+    const float scale = 1.0f / sqrtf(lab2);
+    const float e1x = abx * scale, e1y = aby * scale, e1z = abz * scale;
+    const float nx = e1y * adz - e1z * ady, ny = e1z * adx - e1x * adz, nz = e1x * ady - e1y * adx;
+    const float normal_sq = nx * nx + ny * ny + nz * nz;
+    const float along = nx * e1x + ny * e1y + nz * e1z;
+    const float gx = nx - along * e1x, gy = ny - along * e1y, gz = nz - along * e1z;
+    const float inv_g = 1.0f / sqrtf(gx * gx + gy * gy + gz * gz);
+    const float e3x = gx * inv_g, e3y = gy * inv_g, e3z = gz * inv_g;
+    const float e2x = e3y * e1z - e3z * e1y, e2y = e3z * e1x - e3x * e1z, e2z = e3x * e1y - e3y * e1x;
+    const float vcx = p2x - pax, vcy = p2y - pay, vcz = p2z - paz;
+    const float xc = scale * (e1x * vcx + e1y * vcy + e1z * vcz);
+    const float yc = scale * (e2x * vcx + e2y * vcy + e2z * vcz);
+    const float zc0 = scale * (e3x * vcx + e3y * vcy + e3z * vcz);
+    const float xd = scale * (e1x * adx + e1y * ady + e1z * adz);
+    const float yd = scale * (e2x * adx + e2y * ady + e2z * adz);
+    const float xs = scale * (e1x * sax + e1y * say + e1z * saz);
+    const float ys = scale * (e2x * sax + e2y * say + e2z * saz);
+    const float zs0 = scale * (e3x * sax + e3y * say + e3z * saz);
+    /* The features' error bound: 64 u (1 + R) over sin(angle at A) (its square >= 1e-4 is required below). */
+    /* The query's extent over |AB| (every node within m of S, so within 2 m of A). */
+    const float extent = 2.0f * m * scale;
+    const float amp = sqrtf(lad2 / cnn_cff_max(normal_sq, 1e-30f));
+    const float delta = 32.0f * u * (1.0f + extent) * amp;
+    /* z oriented so that S is on its + side; S decidedly off the plane. */
+    const float zsign = zs0 < 0.0f ? -1.0f : 1.0f;
+    const float zc = zsign * zc0, zs = zsign * zs0;
+    /* The segment far from collapsed: sides and diagonals (squared, canonical units), and each corner's cross
+     * product, beyond the error bound. */
+    const float n02 = xc * xc + yc * yc + zc * zc, n03 = xd * xd + yd * yd;
+    const float n12 = (xc - 1.0f) * (xc - 1.0f) + yc * yc + zc * zc, n13 = (xd - 1.0f) * (xd - 1.0f) + yd * yd;
+    const float n23 = (xc - xd) * (xc - xd) + (yc - yd) * (yc - yd) + zc * zc;
+    const float longest =
+        cnn_cff_max(cnn_cff_max(cnn_cff_max(1.0f, n02), cnn_cff_max(n03, n12)), cnn_cff_max(n13, n23));
+    const float shortest =
+        cnn_cff_min(cnn_cff_min(cnn_cff_min(1.0f, n02), cnn_cff_min(n03, n12)), cnn_cff_min(n13, n23));
+    const float side_err = 4.0f * delta * (1.0f + longest);
+    /* A corner is folded when its cross product is below max(1e-12 longest, the double pass's noise, at most
+     * 3.6e-9 longest here); decided unfolded above 1e-7 longest plus its error bound, twice the sum of the
+     * edges' components times delta (at A and B 4 delta). */
+    const float fold0 = 1e-7f * longest;
+    /* Corner cross products (next - X) x (prev - X): A (0, 0, yd); B; C; D (as cnn_cf_lane's fold tests). */
+    const float kb_sq = zc * zc + yc * yc; /* at B: (0, -z_C, y_C) */
+    const float ncdx = xd - xc, ncdy = yd - yc, ncdz = -zc, pcbx = 1.0f - xc, pcby = -yc, pcbz = -zc;
+    const float kcx = ncdy * pcbz - ncdz * pcby, kcy = ncdz * pcbx - ncdx * pcbz, kcz = ncdx * pcby - ncdy * pcbx;
+    const float pdcx = xc - xd, pdcy = yc - yd, pdcz = zc;
+    const float kdx = -yd * pdcz, kdy = xd * pdcz, kdz = -xd * pdcy + yd * pdcx;
+    const float wz = xc * yd - yc * (xd - 1.0f);
+    const float fold_ab = fold0 + 4.0f * delta;
+    const float fold_c =
+        fold0 + 4.0f * delta * (fabsf(ncdx) + fabsf(ncdy) + fabsf(ncdz) + fabsf(pcbx) + fabsf(pcby) + fabsf(pcbz));
+    const float fold_d = fold0 + 4.0f * delta * (fabsf(xd) + fabsf(yd) + fabsf(pdcx) + fabsf(pdcy) + fabsf(pdcz));
+    const float fold_w = fold0 + 4.0f * delta * (fabsf(xc) + fabsf(yc) + fabsf(xd - 1.0f) + fabsf(yd));
+    const int unfolded = (yd > fold_ab) & (kb_sq > fold_ab * fold_ab) &
+                         (kcx * kcx + kcy * kcy + kcz * kcz > fold_c * fold_c) &
+                         (kdx * kdx + kdy * kdy + kdz * kdz > fold_d * fold_d) & (wz * wz > fold_w * fold_w);
+    /* The double pass's noise terms (16 eps max |x|, x the world coordinates; scaled, max |x| <= 1 + m since
+     * |S| scaled is below 1) far below the margins: |AB| >= 1e-6 (1 + m). */
+    const int quiet = (1.0f + m) * (1.0f + m) <= 1e12f * lab2;
+    const int decided = (t0 + t1 + t2 + t3 == 1) & quiet & (fabsf(ld2 - lb2) > mq) & (lab2 > mq) & (lad2 >= 1e-6f * lab2) &
+                        (normal_sq >= 1e-4f * lad2) & (extent < 1e4f) &
+                        (fabsf(zs0) > 2.0f * delta + 4e-9f * (1.0f + extent)) &
+                        (shortest > 1e-6f * longest + side_err) & unfolded;
+    redo = decided ? redo : 1.0f;
+    ff[0 * s] = xc;
+    ff[1 * s] = yc;
+    ff[2 * s] = zc;
+    ff[3 * s] = xd;
+    ff[4 * s] = yd;
+    ff[5 * s] = xs;
+    ff[6 * s] = ys;
+    ff[7 * s] = zs;
+    fi[0 * s] = rot + (mir ? 4.0f : 0.0f);
+    fi[1 * s] = (mir ? -1.0f : 1.0f) * zsign;
+    fi[2 * s] = scale;
+    fi[3 * s] = 0.0f;
+    if (domain) {
+      /* cnn_domain_lane's tests, each as a violation v (the test fails when v > 0, or >= 0 if strict) with a
+       * bound m on its error: failed when v - m > 0, undecided when v + m >= 0 and none failed. */
+      const float xy = (float)d->xy, zl = (float)d->z, adb = (float)d->ad_bound;
+      const float inv_1tol = (float)d->inv_one_plus_tol, tol = (float)d->tol;
+      const float big =
+          1.0f + cnn_cff_max(cnn_cff_max(cnn_cff_max(fabsf(xc), fabsf(yc)), cnn_cff_max(fabsf(zc), fabsf(xd))),
+                             cnn_cff_max(cnn_cff_max(fabsf(yd), fabsf(xs)), cnn_cff_max(fabsf(ys), fabsf(zs))));
+      /* Error bounds, twice the sum of the test's partial derivatives (in `big`) times delta, plus rounding. */
+      const float m1 = 2.0f * delta + 8.0f * u * big;
+      const float m_ad = 8.0f * big * delta + 8.0f * u * big * big;
+      const float off_ad = d->ad_not_longer ? 0.0f : -1e30f, off_near = d->nearest_a ? 0.0f : -1e30f;
+      const float off_seg = d->segment_test ? 0.0f : -1e30f, off_convex = d->convex ? 0.0f : -1e30f;
+      float fail = -1.0f, unsure = -1.0f; /* max of v - m and of v + m */
+      int k;
+      CNN_CF_UNROLL
+      for (k = 0; k < 8; ++k) {
+        const float fk = ff[k * s];
+        const float lo = (float)d->lo[k], hi = (float)d->hi[k];
+        const float mk = m1 + 4.0f * u * (fabsf(lo) + fabsf(hi));
+        const float v = cnn_cff_max(lo - fk, fk - hi);
+        fail = cnn_cff_max(fail, v - mk);
+        unsure = cnn_cff_max(unsure, v + mk);
+      }
+      {
+        const float vxy = cnn_cff_max(cnn_cff_max(cnn_cff_max(fabsf(xc), fabsf(yc)), cnn_cff_max(fabsf(xd), fabsf(yd))),
+                                cnn_cff_max(fabsf(xs), fabsf(ys))) - xy;
+        const float vz = cnn_cff_max(fabsf(zc), fabsf(zs)) - zl;
+        const float mxy = m1 + 4.0f * u * xy, mz = m1 + 4.0f * u * zl;
+        const float vad = (xd * xd + yd * yd - adb) + off_ad;
+        const float to_a = (xs * xs + ys * ys + zs * zs) * inv_1tol;
+        const float to_b = (xs - 1.0f) * (xs - 1.0f) + ys * ys + zs * zs;
+        const float to_c = (xs - xc) * (xs - xc) + (ys - yc) * (ys - yc) + (zs - zc) * (zs - zc);
+        const float to_d = (xs - xd) * (xs - xd) + (ys - yd) * (ys - yd) + zs * zs;
+        const float vnear = (to_a - cnn_cff_min(cnn_cff_min(to_b, to_c), to_d)) + off_near;
+        const float r_sq = xs * xs + ys * ys, d_sq = xd * xd + yd * yd;
+        const float lengths = sqrtf(r_sq * d_sq);
+        /* Error bounds of the segment and nearest tests from their partial derivatives. */
+        const float m_seg2 = 2.0f * (fabsf(ys) + fabsf(yd)) * delta + 8.0f * u * big * big;
+        const float m_seg3 =
+            2.0f * (fabsf(xs * yd) + 2.0f * fabsf(ys * xd) + fabsf(ys * yd) + fabsf(ys * xs) + ys * ys) * delta +
+            16.0f * u * big * big * big;
+        const float m_near = 4.0f * delta * (2.0f * (fabsf(xs) + fabsf(ys) + fabsf(zs)) + 2.0f + fabsf(xc) + fabsf(yc) +
+                                              fabsf(zc) + fabsf(xd) + fabsf(yd)) + 16.0f * u * big * big;
+        const float vseg1 = -fabsf(yd) + off_seg;
+        const float vseg2 = (-(ys * yd) - tol * lengths) + off_seg;
+        const float vseg3 = (-(ys * (xs * yd - ys * xd)) - tol * lengths * sqrtf(r_sq)) + off_seg;
+        fail = cnn_cff_max(fail, cnn_cff_max(cnn_cff_max(vxy - mxy, vz - mz), cnn_cff_max(vad - m_ad, vnear - m_near)));
+        unsure =
+            cnn_cff_max(unsure, cnn_cff_max(cnn_cff_max(vxy + mxy, vz + mz), cnn_cff_max(vad + m_ad, vnear + m_near)));
+        fail = cnn_cff_max(fail, cnn_cff_max(vseg1 - m1, cnn_cff_max(vseg2 - m_seg2, vseg3 - m_seg3)));
+        unsure = cnn_cff_max(unsure, cnn_cff_max(vseg1 + m1, cnn_cff_max(vseg2 + m_seg2, vseg3 + m_seg3)));
+      }
+      {
+        /* Convexity: a corner fails when (next x prev) . (0, 0, yd) <= -tol |next| |prev| yd, i.e. (yd > 0 in
+         * the frame) when the cross product's z, kz, is <= -tol |next| |prev|: kz = yd, yc, kcz, kdz at A, B,
+         * C, D, each with the error bound of its fold test (tol's term, below 2 tol longest, added). */
+        const float mt = 8.0f * u * longest + 2.0f * tol * longest;
+        const float va = -yd + off_convex, vb = -yc + off_convex, vc = -kcz + off_convex, vd = -kdz + off_convex;
+        fail = cnn_cff_max(fail, cnn_cff_max(cnn_cff_max(va - fold_ab - mt, vb - fold_ab - mt),
+                                             cnn_cff_max(vc - fold_c - mt, vd - fold_d - mt)));
+        unsure = cnn_cff_max(unsure, cnn_cff_max(cnn_cff_max(va + fold_ab + mt, vb + fold_ab + mt),
+                                                 cnn_cff_max(vc + fold_c + mt, vd + fold_d + mt)));
+      }
+      fi[3 * s] = fail > 0.0f ? (float)CNN_CF_STATUS_OUT_OF_DOMAIN : 0.0f;
+      redo = (fail > 0.0f) | !(unsure >= 0.0f) ? redo : 1.0f;
+    }
+    fi[4 * s] = redo;
+  }
+}
+
+/* The float pass of a block of n <= CNN_CFF_MAX_LANES bilinear lanes, d without angle bounds (or null): f (8
+ * rows) and info as cnn_canonicalise_block and (d not null) cnn_domain_block give them, for the lanes decided in
+ * float; the others get info row 4 = 1 and unspecified values (cnn_cff_redo, or a later double pass, decides
+ * them). Returns how many lanes float did not decide. */
+CNN_CF_INLINE int cnn_cff_block(int n, const struct cnn_domain* CNN_CF_RESTRICT d, const double* CNN_CF_RESTRICT in,
+                                double* CNN_CF_RESTRICT f, double* CNN_CF_RESTRICT info) {
+  float rel[12 * CNN_CFF_MAX_LANES], ff[8 * CNN_CFF_MAX_LANES], fi[5 * CNN_CFF_MAX_LANES];
+  double power[CNN_CFF_MAX_LANES];
+  int k, l, undecided = 0;
+  CNN_CF_IVDEP
+  for (l = 0; l < n; ++l) {
+    /* The power of two that brings max |S| (a coordinate of the slave node, the same in every node order) into
+     * [0.5, 1), from its exponent bits: the float pass sees the same values at every power-of-two scale of the
+     * query, so it gives the same answer there, as the double pass does. NaN (the double pass) when |S| is
+     * outside [1e-290, 1e290] or not finite (a slave node at the origin takes the double pass). */
+    const double m = cnn_cf_max(fabs(in[12 * n + l]), cnn_cf_max(fabs(in[13 * n + l]), fabs(in[14 * n + l])));
+    double bits_as_double;
+    unsigned long long bits;
+    memcpy(&bits, &m, sizeof bits);
+    bits = (2046ULL - ((bits >> 52) & 2047ULL)) << 52; /* 2^-(e+1) for m in [2^e, 2^(e+1)) */
+    memcpy(&bits_as_double, &bits, sizeof bits);
+    power[l] = (m >= 1e-290) & (m <= 1e290) ? bits_as_double : (double)NAN;
+  }
+  for (k = 0; k < 12; ++k) {
+    const double* x = in + k * n;
+    const double* slave = in + (12 + k % 3) * n;
+    CNN_CF_IVDEP
+    for (l = 0; l < n; ++l) rel[k * n + l] = (float)((x[l] - slave[l]) * power[l]);
+  }
+  if (d != 0) {
+    CNN_CF_IVDEP
+    for (l = 0; l < n; ++l) cnn_cff_lane(rel + l, n, d, 1, ff + l, fi + l);
+  } else {
+    CNN_CF_IVDEP
+    for (l = 0; l < n; ++l) cnn_cff_lane(rel + l, n, d, 0, ff + l, fi + l);
+  }
+  for (k = 0; k < 8; ++k) {
+    CNN_CF_IVDEP
+    for (l = 0; l < n; ++l) f[k * n + l] = (double)ff[k * n + l];
+  }
+  CNN_CF_IVDEP
+  for (l = 0; l < n; ++l) {
+    info[l] = (double)fi[3 * n + l];
+    info[n + l] = (double)fi[l];
+    info[2 * n + l] = (double)fi[n + l];
+    info[3 * n + l] = (double)fi[2 * n + l] * power[l];
+    info[4 * n + l] = (double)fi[4 * n + l];
+    info[5 * n + l] = 0.0;
+  }
+  for (l = 0; l < n; ++l) undecided += fi[4 * n + l] != 0.0f;
+  return undecided;
+}
+
+/* The lanes of a block that cnn_cff_block left undecided (info row 4 not 0): the double pass on them, gathered
+ * into a block of their own, its f rows and info rows written back. */
+CNN_CF_INLINE void cnn_cff_redo(int n, const struct cnn_domain* CNN_CF_RESTRICT d, const double* CNN_CF_RESTRICT in,
+                                double* CNN_CF_RESTRICT f, double* CNN_CF_RESTRICT info) {
+  double in2[15 * CNN_CFF_MAX_LANES], f2[8 * CNN_CFF_MAX_LANES], info2[CNN_CF_INFO_ROWS * CNN_CFF_MAX_LANES];
+  int redo[CNN_CFF_MAX_LANES];
+  int k, l, r, nr = 0;
+  for (l = 0; l < n; ++l) {
+    if (info[4 * n + l] != 0.0) redo[nr++] = l;
+  }
+  if (nr == 0) return;
+  for (r = 0; r < nr; ++r) {
+    for (k = 0; k < 15; ++k) in2[k * nr + r] = in[k * n + redo[r]];
+  }
+  cnn_canonicalise_block(nr, 0, in2, f2, 0, info2);
+  if (d != 0) cnn_domain_block(nr, 0, d, f2, 0, info2);
+  for (r = 0; r < nr; ++r) {
+    for (k = 0; k < 8; ++k) f[k * n + redo[r]] = f2[k * nr + r];
+    for (k = 0; k < CNN_CF_INFO_ROWS; ++k) info[k * n + redo[r]] = info2[k * nr + r];
+  }
+}
+
+/* True when a float network's bilinear block can take the float pass: n <= CNN_CFF_MAX_LANES and no angle bounds. */
+CNN_CF_INLINE int cnn_cff_applies(int n, const struct cnn_domain* CNN_CF_RESTRICT d) {
+  return n <= CNN_CFF_MAX_LANES && (d == 0 || !(d->check_lo || d->check_hi));
+}
+
+/* The block: what cnn_canonicalise_block and then (d not null) cnn_domain_block give for n bilinear lanes (f:
+ * 8 rows; info: CNN_CF_INFO_ROWS rows, tie code 0 and row 4 = 0 on the lanes decided in float), the features of
+ * the lanes decided in float in float precision, the others redone in double within the block. Where the float
+ * pass does not apply (cnn_cff_applies), the double pass for every lane. */
+CNN_CF_INLINE void cnn_canonicalise_domain_block_f(int n, const struct cnn_domain* CNN_CF_RESTRICT d,
+                                                   const double* CNN_CF_RESTRICT in, double* CNN_CF_RESTRICT f,
+                                                   double* CNN_CF_RESTRICT info) {
+  if (!cnn_cff_applies(n, d)) {
+    cnn_canonicalise_block(n, 0, in, f, 0, info);
+    if (d != 0) cnn_domain_block(n, 0, d, f, 0, info);
+    return;
+  }
+  if (cnn_cff_block(n, d, in, f, info) > 0) cnn_cff_redo(n, d, in, f, info);
 }
 
 #endif /* CONTACTNN_CANONICAL_FRAME_H */

@@ -136,13 +136,14 @@ void forward_pass(std::ostringstream& o, const NetworkModel& m, const std::strin
     o << "  in = g;\n";
   }
   o << "  for (i = 0; i < " << n_features << "; ++i) {\n"
-    << "    const double lo = " << p << "_input_min[i], gain = " << p << "_input_gain[i];\n"
+    << "    const " << net << " lo = (" << net << ")" << p << "_input_min[i], gain = (" << net << ")" << p
+    << "_input_gain[i];\n"
     << "    CNN_CF_IVDEP\n"
     << "    for (l = 0; l < n; ++l) {\n"
-    << "      double x = (in[i * n + l] - lo) * gain - 1.0;\n"
-    << "      x = x > 1e6 ? 1e6 : x;\n"
-    << "      x = x < -1e6 ? -1e6 : x;\n"
-    << "      a0[i * n + l] = (" << net << ")x;\n"
+    << "      " << net << " x = ((" << net << ")in[i * n + l] - lo) * gain - (" << net << ")1;\n"
+    << "      x = x > (" << net << ")1e6 ? (" << net << ")1e6 : x;\n"
+    << "      x = x < (" << net << ")-1e6 ? (" << net << ")-1e6 : x;\n"
+    << "      a0[i * n + l] = x;\n"
     << "    }\n"
     << "  }\n";
   for (int layer = 0; layer < m.layer_count(); ++layer) {
@@ -376,19 +377,27 @@ std::string export_c_header(const NetworkModel& m, const CHeaderOptions& options
     << "}\n\n";
 
   // 6. A block of n lanes: lib/search's network_estimate.
+  const bool float_frame = !gregory && m.is_float();
   o << "/* n <= " << block << " queries (rows of " << n_raw << "): canonical frame, domain test, forward pass for all lanes\n"
     << " * at once, then each lane mapped back to the caller's order (ties through " << p << "_tie). */\n"
     << "CNN_CF_INLINE void " << p << "_block(int n, const double* CNN_CF_RESTRICT raw, double* CNN_CF_RESTRICT out,\n"
     << "                                  int* CNN_CF_RESTRICT status) {\n"
-    << "  double in[" << n_raw << " * " << block << "], f[16 * " << block << "], nrm[12 * " << block
-    << "], info[CNN_CF_INFO_ROWS * " << block << "];\n"
+    << "  double in[" << n_raw << " * " << block << "], f[16 * " << block << "], "
+    << (float_frame ? std::string() : "nrm[12 * " + block + "], ") << "info[CNN_CF_INFO_ROWS * " << block << "];\n"
     << "  double est[2 * " << block << "];\n"
     << "  int k, l;\n"
     << "  for (l = 0; l < n; ++l) {\n"
     << "    for (k = 0; k < " << n_raw << "; ++k) in[k * n + l] = raw[l * " << n_raw << " + k];\n"
-    << "  }\n"
-    << "  cnn_canonicalise_block(n, " << g << ", in, f, nrm, info);\n";
-  if (options.check_domain) o << "  cnn_domain_block(n, " << g << ", &" << p << "_domain, f, nrm, info);\n";
+    << "  }\n";
+  if (float_frame) {
+    // As lib/search's network_estimate for a float network: the frame and domain test in float where float
+    // decides them, the other lanes in double (canonical_frame.h), so that the header agrees bit for bit.
+    o << "  cnn_canonicalise_domain_block_f(n, " << (options.check_domain ? "&" + p + "_domain" : std::string("0"))
+      << ", in, f, info);\n";
+  } else {
+    o << "  cnn_canonicalise_block(n, " << g << ", in, f, nrm, info);\n";
+    if (options.check_domain) o << "  cnn_domain_block(n, " << g << ", &" << p << "_domain, f, nrm, info);\n";
+  }
   o << "  if (n == 1) {\n"
     << "    " << p << "_forward_one(f, est);\n"
     << "  } else {\n"

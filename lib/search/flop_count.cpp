@@ -22,7 +22,16 @@ constexpr double kDomain = 3 + 4 + 28 + 14 + 4 * 31;
 // Angle bounds 4 x 13 (a square root each); node-normal tilts 4 x 32 (a square root each).
 constexpr double kDomainAngles = 4 * 13;
 constexpr double kDomainTilts = 4 * 32;
-// network_block.hpp: input scaling 3 per input (double); output scaling 3 per output and the map back 4
+// canonical_frame.h's float pass for a float network on bilinear segments (cnn_cff_block, cnn_cff_lane), per
+// query: in double the differences to A and their scaling by a power of two 24, max |B - A| 3; in float the
+// finite test 12, S - X 9, |S - X|^2 20, the margin 3, the edges 6 and their squares 10, scale 2, e1 3, normal
+// 9 and its square 5, Gram-Schmidt 18, e2 9, C - A 3, the eight features 48, extent, conditioning and error
+// bound 8, orientation 2, six squared distances 25 and their margin 3, four corner products 25 and their
+// bounds 25, area 4, the decisions 15 (280); its domain test: feature ranges 4 per feature, limits and |AD| 17,
+// nearest node 28 and the error bounds of the tests 30, segment test 20, convexity 20 (115 + 4 per feature).
+// The lanes it leaves to the double pass (about 2 in 100 of random queries of the paper's domain) are not counted.
+constexpr double kFloatFrameDouble = 27, kFloatFrame = 280, kFloatDomain = 115, kFloatDomainPerFeature = 4;
+// network_block.hpp: input scaling 3 per input (in the network's type); output scaling 3 per output and the map back 4
 // (double); per unit the threshold 1 and 2 per weight; the sigmoid 27 (-gain u 1, exp's reduction 7 and
 // polynomial 15, the scaling multiply 1, 1 + e 1, the division 1, clamps not counted).
 constexpr double kInputScaling = 3, kOutputScaling = 3, kMapBack = 4, kSigmoid = 27;
@@ -65,11 +74,20 @@ FlopCount flops_per_query(SurfaceKind kind, const Method& method, const NetworkM
   if (method.start == Method::Start::kNetwork) {
     CONTACTNN_REQUIRE(network != nullptr, "flops of " << method.name() << " need its network");
     const int n_features = feature_count(kind);
-    d += kCanonical + (gregory ? kCanonicalNormals : 0.0);
-    d += kDomain + kDomainPerFeature * n_features + (gregory ? kDomainTilts : 0.0);
     const geometry::DomainFilters& f = network->domain().filters;
-    if (f.min_angle_degrees > 0.0 || f.max_angle_degrees < 180.0) d += kDomainAngles;
-    d += kInputScaling * n_features + kOutputScaling * 2 + kMapBack;
+    const bool angles = f.min_angle_degrees > 0.0 || f.max_angle_degrees < 180.0;
+    double& net_type = network->is_float() ? count.in_float : d;
+    if (!gregory && network->is_float() && !angles) {
+      // The float pass (with or without the domain test: counted with it, as search options default to).
+      d += kFloatFrameDouble;
+      count.in_float += kFloatFrame + kFloatDomain + kFloatDomainPerFeature * n_features;
+    } else {
+      d += kCanonical + (gregory ? kCanonicalNormals : 0.0);
+      d += kDomain + kDomainPerFeature * n_features + (gregory ? kDomainTilts : 0.0);
+      if (angles) d += kDomainAngles;
+    }
+    net_type += kInputScaling * n_features;
+    d += kOutputScaling * 2 + kMapBack;
     double net = 0.0;
     const auto& sizes = network->layer_sizes();
     for (std::size_t l = 0; l + 1 < sizes.size(); ++l) net += sizes[l + 1] * (1.0 + 2.0 * sizes[l] + kSigmoid);

@@ -104,13 +104,14 @@ static void forward_pass(const NetworkModel& m, const double* f, double* out) {
     f = mapped;
   }
   for (int i = 0; i < sizes[0]; ++i) {
-    const double lo = in_min[i], gain = in_gain[i];
+    // In the network's type: a float network's inputs are floats (and a float frame's features float-accurate).
+    const Net lo = static_cast<Net>(in_min[i]), gain = static_cast<Net>(in_gain[i]);
     CONTACTNN_LANES
     for (int l = 0; l < W; ++l) {
-      double x = (f[i * W + l] - lo) * gain - 1.0;
-      x = x > 1e6 ? 1e6 : x;
-      x = x < -1e6 ? -1e6 : x;
-      buffer[0][i * W + l] = static_cast<Net>(x);
+      Net x = (static_cast<Net>(f[i * W + l]) - lo) * gain - Net(1);
+      x = x > Net(1e6) ? Net(1e6) : x;
+      x = x < Net(-1e6) ? Net(-1e6) : x;
+      buffer[0][i * W + l] = x;
     }
   }
   const Net gain = m.gain<Net>();
@@ -275,16 +276,41 @@ static void tie_estimates_block(const NetworkModel& m, bool check_domain, const 
   }
 }
 
+/// How a float network's bilinear block gets its canonical frame and domain test (canonical_frame.h):
+/// kFloat, in float where float decides them and in double for the other lanes of the block; kFloatDeferred,
+/// the same, but the lanes float does not decide get status kPending (LocalSearch::run computes them again,
+/// gathered from many blocks, with kDouble); kDouble, in double. Every pass gives a lane the same bits: a lane
+/// float decides has its float features in each of the first two, and the others their double ones. Double
+/// networks and Gregory patches: always in double.
+enum class FramePass { kFloat, kFloatDeferred, kDouble };
+
 /// The network's estimate for every lane of a raw block (`raw`: 15 or 27 rows of W, world coordinates), in
 /// the caller's node order: status ok, out_of_domain (with check_domain), degenerate or invalid; the estimate
 /// is the domain centre for the last two. Lanes on a tie are redone after the block: tie_estimate for a block of
 /// one lane, tie_estimates_block for wider blocks.
 template <class Net, int W, bool kGregory>
-static void network_estimate(const NetworkModel& m, bool check_domain, const double* raw, LaneState<W>& s) {
+static void network_estimate(const NetworkModel& m, bool check_domain, const double* raw, LaneState<W>& s,
+                             FramePass pass = FramePass::kFloat) {
   alignas(64) double features[16 * W], normals[12 * W], info[CNN_CF_INFO_ROWS * W], out[2 * W];
   constexpr int kG = kGregory ? 1 : 0;
-  cnn_canonicalise_block(W, kG, raw, features, normals, info);
-  if (check_domain) cnn_domain_block(W, kG, &m.domain_bounds(), features, normals, info);
+  const cnn_domain* domain = check_domain ? &m.domain_bounds() : nullptr;
+  bool deferred = false;
+  if constexpr (!kGregory && sizeof(Net) == sizeof(float)) {
+    // A float network: the frame and the domain test in float where float decides them (canonical_frame.h).
+    if (pass == FramePass::kDouble || !cnn_cff_applies(W, domain)) {
+      cnn_canonicalise_block(W, kG, raw, features, normals, info);
+      if (check_domain) cnn_domain_block(W, kG, domain, features, normals, info);
+    } else if (cnn_cff_block(W, domain, raw, features, info) > 0) {
+      if (pass == FramePass::kFloat) {
+        cnn_cff_redo(W, domain, raw, features, info);
+      } else {
+        deferred = true;
+      }
+    }
+  } else {
+    cnn_canonicalise_block(W, kG, raw, features, normals, info);
+    if (check_domain) cnn_domain_block(W, kG, domain, features, normals, info);
+  }
   forward_pass<Net, W>(m, features, out);
   const double centre = kGregory ? 0.5 : 0.0;
   int ties = 0;
@@ -298,6 +324,16 @@ static void network_estimate(const NetworkModel& m, bool check_domain, const dou
     s.v[l] = usable ? y : centre;
     s.status[l] = status;
     s.iterations[l] = 0.0;
+  }
+  if (deferred) {
+    // The lanes the float pass left undecided: pending, for LocalSearch::run's double pass (FramePass::kDouble).
+    for (int l = 0; l < W; ++l) {
+      const bool pending = info[4 * W + l] != 0.0;
+      s.u[l] = pending ? centre : s.u[l];
+      s.v[l] = pending ? centre : s.v[l];
+      s.status[l] = pending ? kPending : s.status[l];
+      info[5 * W + l] = pending ? 0.0 : info[5 * W + l];
+    }
   }
   for (int l = 0; l < W; ++l) ties |= cnn_cf_needs_forms(info[5 * W + l], kG) & (info[l] == kOk || info[l] == kOutOfDomain);
   if (ties == 0) return;

@@ -90,7 +90,12 @@ static void search_rows(const Plan& plan, const In* raw_rows, const Results<In>&
 
   // 1. The start.
   if (method.start == Method::Start::kNetwork) {
-    network_estimate<Net, W, kGregory>(*plan.network, plan.options.check_domain, &raw[0][0], s);
+    // A float network's bilinear block: lanes the float frame does not decide are left pending for LocalSearch::run
+    // (blocks of consecutive rows only; a one-lane kernel and a block of pending rows decide every lane itself).
+    const FramePass pass = cap == kDoubleFramePass                            ? FramePass::kDouble
+                           : (W > 1 && rows == nullptr && plan.defer_frame) ? FramePass::kFloatDeferred
+                                                                            : FramePass::kFloat;
+    network_estimate<Net, W, kGregory>(*plan.network, plan.options.check_domain, &raw[0][0], s, pass);
     if (hybrid) {
       // Newton decides the status. Where the network has no canonical frame, the segment is degenerate when its
       // label says so (degenerate_as_labelled: collapsed, or no frame at any corner; a collapsed segment refined
@@ -312,6 +317,11 @@ static void select_block_kernels(Plan& plan) {
     plan.block_size = 32;
     plan.block_f = &search_block<kGregory, float, 32, float>;
     plan.block_d = &search_block<kGregory, float, 32, double>;
+    if constexpr (!kGregory) {
+      plan.rows_f = &search_rows<kGregory, float, 32, float>;
+      plan.rows_d = &search_rows<kGregory, float, 32, double>;
+      plan.defer_frame = true;
+    }
   } else if (network || plan.method.to_convergence) {
     plan.block_size = 16;
     plan.block_f = &search_block<kGregory, double, 16, float>;
@@ -342,12 +352,16 @@ static double network_stages_of(const NetworkModel& model, const double* raw_row
       sink += raw[0][0] + raw[kStride - 1][W - 1];
     } else if (stage >= 4) {
       LaneState<W> lanes;
-      network_estimate<Net, W, kGregory>(model, true, &raw[0][0], lanes);
+      network_estimate<Net, W, kGregory>(model, true, &raw[0][0], lanes, FramePass::kFloatDeferred);
       sink += lanes.u[0] + lanes.v[W - 1];
     } else {
       alignas(64) double features[16 * W], normals[12 * W], info[CNN_CF_INFO_ROWS * W];
-      cnn_canonicalise_block(W, kG, &raw[0][0], features, normals, info);
-      if (stage >= 3) cnn_domain_block(W, kG, &model.domain_bounds(), features, normals, info);
+      if constexpr (!kGregory && sizeof(Net) == sizeof(float)) {  // as network_estimate, the undecided lanes left
+        sink += cnn_cff_block(W, stage >= 3 ? &model.domain_bounds() : nullptr, &raw[0][0], features, info);
+      } else {
+        cnn_canonicalise_block(W, kG, &raw[0][0], features, normals, info);
+        if (stage >= 3) cnn_domain_block(W, kG, &model.domain_bounds(), features, normals, info);
+      }
       sink += features[0] + info[W - 1];
     }
   }

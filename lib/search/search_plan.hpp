@@ -15,6 +15,10 @@ inline constexpr int kMaxBlockSize = 32;
 /// iterations per query: one pass 28.0; caps 10 then none 16.9; 8, 20, then none 14.8.
 inline constexpr int kPassCaps[] = {8, 20};
 
+/// The `cap` of search_rows that asks a float network's bilinear block for its canonical frame in double
+/// (FramePass::kDouble): LocalSearch::run's second pass over the lanes the float pass left pending.
+inline constexpr int kDoubleFramePass = -1;
+
 template <class Real>
 using BlockFn = void (*)(const Plan& plan, const Real* raw, const Results<Real>& out, std::size_t first);
 /// search_rows (search_kernel.hpp): a block of the given rows, or of rows first.., with an iteration cap.
@@ -33,9 +37,14 @@ struct Plan {
   int block_size = 8;
   BlockFn<float> block_f = nullptr, single_f = nullptr;
   BlockFn<double> block_d = nullptr, single_d = nullptr;
-  /// Newton to convergence only: the block kernel with rows and a cap, for LocalSearch::run's passes.
+  /// Newton to convergence, and a float network on bilinear segments: the block kernel with rows and a cap, for
+  /// LocalSearch::run's passes.
   RowsFn<float> rows_f = nullptr;
   RowsFn<double> rows_d = nullptr;
+  /// A float network on bilinear segments: the block kernels leave the lanes whose canonical frame float does not
+  /// decide pending (FramePass::kFloatDeferred), and LocalSearch::run computes them again in blocks of such lanes
+  /// with cap kDoubleFramePass.
+  bool defer_frame = false;
 };
 
 /// Fills plan.block_size and the kernels for plan.kind (defined in kernels_bilinear.cpp, kernels_gregory.cpp).

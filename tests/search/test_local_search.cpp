@@ -118,9 +118,13 @@ void expect_network_matches_predict(const mlp::Network<Real>& net, const geometr
     std::array<double, 2> p{};
     mlp::predict(net, n.value->features.data(), p.data(), pass);
     p = n.value->to_caller(p, kind);
-    EXPECT_NEAR(out.param[2 * i], p[0], tol) << "query " << i;
-    EXPECT_NEAR(out.param[2 * i + 1], p[1], tol) << "query " << i;
     const bool contained = domain.contains(n.value->config, n.value->features.data());
+    // A float network on bilinear segments takes its features from the float pass (canonical_frame.h), which
+    // rounds the nodes relative to the slave node: their error grows with the slave's distance, and the
+    // slaves outside the domain here lie up to 50 element sizes off (measured: 2e-5 in the answer).
+    const double lane_tol = contained ? tol : 10.0 * tol;
+    EXPECT_NEAR(out.param[2 * i], p[0], lane_tol) << "query " << i;
+    EXPECT_NEAR(out.param[2 * i + 1], p[1], lane_tol) << "query " << i;
     EXPECT_EQ(out.status[i], contained ? Status::kOk : Status::kOutOfDomain) << "query " << i;
     (contained ? in_domain : out_of_domain) += 1;
     EXPECT_EQ(out.iterations[i], 0);
@@ -329,6 +333,39 @@ TEST(LocalSearch, GapIsTheSignedDistanceAlongTheCallersNormalAtTheReportedPoint)
           EXPECT_NEAR(with_gap.gap[i], expected, 1e-11 * patch.characteristic_length()) << method << " query " << i;
         });
       }
+    }
+  }
+}
+
+TEST(NetworkMethod, LanesTheFloatFrameLeavesToDoubleAreComputedAgainAndAgreeWithOneQueryAtATime) {
+  // A float network on bilinear segments: a block decides in float the lanes whose canonical frame float
+  // decides and leaves the others pending; LocalSearch::run computes those again with the frame in double,
+  // gathered from many blocks. Here a third of the slaves lie on their segment's plane (touching contact, which
+  // float cannot orient), with the network alone and a hybrid: no status is left pending, and each answer is
+  // that of the query alone (whose one-lane kernel redoes it at once), at 1 and 2 threads.
+  std::mt19937_64 rng(131);
+  std::vector<double> raw;
+  for (int i = 0; i < 700; ++i) {
+    Configuration c = testing::random_domain_configuration(kBilinear, rng);
+    if (i % 3 == 0) c.slave.z() = 0.0;
+    testing::append_raw(testing::place(c, rng, testing::random_order(rng)), kBilinear, raw);
+  }
+  const auto& trained = shipped("bilinear-8.h5");
+  const NetworkModel model(trained.network, trained.domain);
+  for (const char* method : {"network", "network+newton:2"}) {
+    const LocalSearch search(kBilinear, Method::parse(method), {}, &model);
+    for (const int threads : {1, 2}) {
+      const Output<double> block = run(search, raw, threads);
+      int on_plane_ok = 0;
+      for (std::size_t i = 0; i < raw.size() / 15; ++i) {
+        ASSERT_NE(static_cast<int>(block.status[i]), 255) << method << " query " << i << " left pending";
+        const Output<double> one = run(search, rows_of(raw, kBilinear, i), 1);
+        ASSERT_EQ(one.status[0], block.status[i]) << method << " threads " << threads << " query " << i;
+        ASSERT_EQ(one.param[0], block.param[2 * i]) << method << " threads " << threads << " query " << i;
+        ASSERT_EQ(one.param[1], block.param[2 * i + 1]) << method << " threads " << threads << " query " << i;
+        on_plane_ok += (i % 3 == 0) & (block.status[i] == Status::kOk);
+      }
+      EXPECT_GT(on_plane_ok, 100) << method << ": the slaves on the plane get answers";
     }
   }
 }
