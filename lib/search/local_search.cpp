@@ -80,78 +80,63 @@ void LocalSearch::run(std::size_t count, const Real* raw, Results<Real> out, int
   } else {
     rows = plan.rows_d;
   }
+  // The rows among blocks b0 .. b1 - 1 left pending by a pass, computed again by `rows` with `cap`, in blocks
+  // of such rows (the last one padded with repeats: the same bits twice).
+  const auto recompute_pending = [&](std::size_t b0, std::size_t b1, int cap) {
+    std::size_t group[detail::kMaxBlockSize];
+    std::size_t filled = 0;
+    for (std::size_t i = b0 * width; i < b1 * width; ++i) {
+      if (out.status[i] != detail::kPendingStatus) continue;
+      group[filled++] = i;
+      if (filled == width) {
+        rows(plan, raw, out, 0, group, cap);
+        filled = 0;
+      }
+    }
+    if (filled > 0) {
+      for (std::size_t k = filled; k < width; ++k) group[k] = group[filled - 1];
+      rows(plan, raw, out, 0, group, cap);
+    }
+  };
+  // `passes` over each thread's share of the blocks (all of them on one thread when not parallel).
+  const auto per_thread = [&](const auto& passes) {
+    if (parallel) {
+#pragma omp parallel num_threads(team)
+      {
+        const auto t = static_cast<std::size_t>(omp_get_thread_num());
+        const auto n = static_cast<std::size_t>(omp_get_num_threads());
+        passes(blocks * t / n, blocks * (t + 1) / n);
+      }
+    } else {
+      passes(0, blocks);
+    }
+  };
   if (plan.defer_frame) {
     // A float network on bilinear segments: each block decides in float the lanes whose canonical frame float
     // decides (98 in 100 of random queries of the paper's domain) and leaves the others pending; those are
     // computed again with the frame in double, gathered into blocks of such lanes (each thread its own), instead
     // of a double pass in every block for its one or two. A lane's arithmetic does not depend on its block: the
     // results are those of FramePass::kFloat, bit for bit.
-    const auto passes = [&](std::size_t b0, std::size_t b1) {
+    per_thread([&](std::size_t b0, std::size_t b1) {
       for (std::size_t b = b0; b < b1; ++b) block(plan, raw, out, b * width);
-      std::size_t group[detail::kMaxBlockSize];
-      std::size_t filled = 0;
-      for (std::size_t i = b0 * width; i < b1 * width; ++i) {
-        if (out.status[i] != detail::kPendingStatus) continue;
-        group[filled++] = i;
-        if (filled == width) {
-          rows(plan, raw, out, 0, group, detail::kDoubleFramePass);
-          filled = 0;
-        }
-      }
-      if (filled > 0) {
-        for (std::size_t k = filled; k < width; ++k) group[k] = group[filled - 1];  // repeats: the same bits twice
-        rows(plan, raw, out, 0, group, detail::kDoubleFramePass);
-      }
-    };
-    if (parallel) {
-#pragma omp parallel num_threads(team)
-      {
-        const auto t = static_cast<std::size_t>(omp_get_thread_num());
-        const auto n = static_cast<std::size_t>(omp_get_num_threads());
-        passes(blocks * t / n, blocks * (t + 1) / n);
-      }
-    } else {
-      passes(0, blocks);
-    }
+      recompute_pending(b0, b1, detail::kDoubleFramePass);
+    });
   } else if (rows != nullptr && plan.options.max_iterations > detail::kPassCaps[0]) {
     // Newton to convergence: a block iterates until its slowest lane stops, and the iterations a lane needs are
     // long-tailed (random bilinear queries: mean 8.5, but 28 for the slowest of 16, and 1.4% run to the limit
     // of 50). So every block stops at the first pass's cap, and the lanes still running are computed again
     // from the centre in blocks of such lanes (each thread its own), up to the next cap, and so on. A lane's
     // arithmetic does not depend on its block, so the results are those of one pass, bit for bit.
-    const auto passes = [&](std::size_t b0, std::size_t b1) {
+    per_thread([&](std::size_t b0, std::size_t b1) {
       for (std::size_t b = b0; b < b1; ++b) rows(plan, raw, out, b * width, nullptr, detail::kPassCaps[0]);
       for (std::size_t p = 1; p < std::size(detail::kPassCaps) + 1; ++p) {
         const int cap = p < std::size(detail::kPassCaps) && detail::kPassCaps[p] < plan.options.max_iterations
                             ? detail::kPassCaps[p]
                             : 0;
-        std::size_t group[detail::kMaxBlockSize];
-        std::size_t filled = 0;
-        for (std::size_t i = b0 * width; i < b1 * width; ++i) {
-          if (out.status[i] != detail::kPendingStatus) continue;
-          group[filled++] = i;
-          if (filled == width) {
-            rows(plan, raw, out, 0, group, cap);
-            filled = 0;
-          }
-        }
-        if (filled > 0) {
-          for (std::size_t k = filled; k < width; ++k) group[k] = group[filled - 1];  // repeats: the same bits twice
-          rows(plan, raw, out, 0, group, cap);
-        }
+        recompute_pending(b0, b1, cap);
         if (cap == 0) break;
       }
-    };
-    if (parallel) {
-#pragma omp parallel num_threads(team)
-      {
-        const auto t = static_cast<std::size_t>(omp_get_thread_num());
-        const auto n = static_cast<std::size_t>(omp_get_num_threads());
-        passes(blocks * t / n, blocks * (t + 1) / n);
-      }
-    } else {
-      passes(0, blocks);
-    }
+    });
   } else if (parallel) {
     const auto n = static_cast<std::ptrdiff_t>(blocks);
 #pragma omp parallel for num_threads(team) schedule(static)
