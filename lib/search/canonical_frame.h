@@ -631,12 +631,13 @@ CNN_CF_INLINE void cnn_domain_block(int n, int gregory, const struct cnn_domain*
  * A) of the double pass's, u = 2^-24, R the query's extent over |AB| (measured on random lanes up to 15
  * u (1 + F) / sin(angle at A), F the largest feature).
  *
- * Each query is first scaled by the power of two that brings max |B - A| into [0.5, 1) (exact), so the pass
- * gives the same bits at every power-of-two scale, as the double pass does. A lane is decided in float when
- * (else it goes to the double pass):
- *  - its values are finite, max |B - A| lies in [1e-290, 1e290], its scaled nodes' extent in [1e-12, 1e12] and A
- *    within 1e6 times that extent of the origin (so that the double pass's noise terms, 16 eps max|x|, stay far
- *    below the margins below), its extent R below 1e4;
+ * Each query's nodes are taken relative to its slave node S and scaled by the power of two that brings max |S|
+ * into [0.5, 1) (exact), so the pass gives the same bits in every node order and at every power-of-two scale, as
+ * the double pass does. A lane is decided in float when (else it goes to the double pass):
+ *  - its values are finite, max |S| lies in [1e-290, 1e290] (a slave at the origin goes to the double pass), the
+ *    scaled nodes lie within [1e-12, 1e12] of S, |AB| is at least 1e-6 of the query's distance from the origin
+ *    (so that the double pass's noise terms, 16 eps max|x|, stay far below the margins below), and the extent R
+ *    is below 1e4;
  *  - one node is nearer S than the others by a margin (256 u max|x - A|^2 in the squared distances), |AB|^2 and
  *    |AD|^2 differ by that margin, |AD|^2 >= 1e-6 |AB|^2 and sin^2(angle at A) >= 1e-4: no tie, the mirror
  *    decided, the frame well conditioned (so square elements, |AB| = |AD|, go to the double pass);
