@@ -23,16 +23,16 @@ constexpr double kDomain = 3 + 4 + 28 + 14 + 4 * 31;
 constexpr double kDomainAngles = 4 * 13;
 constexpr double kDomainTilts = 4 * 32;
 // canonical_frame.h's float pass for a float network on bilinear segments (cnn_cff_block, cnn_cff_lane), per
-// query: in double the differences to A and their scaling by a power of two 24, max |B - A| 3; in float the
-// finite test 12, S - X 9, |S - X|^2 20, the margin 3, the edges 6 and their squares 10, scale 2, e1 3, normal
-// 9 and its square 5, Gram-Schmidt 18, e2 9, C - A 3, the eight features 48, extent, conditioning and error
-// bound 8, orientation 2, six squared distances 25 and their margin 3, four corner products 25 and their
-// bounds 25, area 4, the decisions 15 (280); its domain test: feature ranges 4 per feature, limits and |AD| 17,
-// nearest node 28 and the error bounds of the tests 30, segment test 20, convexity 20 (115 + 4 per feature).
-// The lanes it leaves to the double pass (about 2 in 100 of random queries of the paper's domain) are not counted.
-constexpr double kFloatFrameDouble = 27, kFloatFrame = 280, kFloatDomain = 115, kFloatDomainPerFeature = 4;
-// network_block.hpp: input scaling 3 per input (in the network's type); output scaling 3 per output and the map back 4
-// (double); per unit the threshold 1 and 2 per weight; the sigmoid 27 (-gain u 1, exp's reduction 7 and
+// query: in double the nodes relative to S and their scaling by a power of two 24; in float the finite test 12,
+// |X - S|^2 20, the margin 3, the edges and C - A 9 and their squares 10, scale 2, e1 3, normal 9 and its square
+// 5, Gram-Schmidt 18, e2 9, the eight features 48, extent, conditioning and error bound 8, the noise test 3,
+// orientation 2, six squared distances 25 and their margin 3, four corner products 25 and their bounds 25, area
+// 4, the decisions 15 (258); its domain test: feature ranges 4 per feature, limits and |AD| 17, nearest node 28
+// and the error bounds of the tests 30, segment test 20, convexity 20 (115 + 4 per feature). The lanes it leaves
+// to the double pass (about 2 in 100 of random queries of the paper's domain) are not counted.
+constexpr double kFloatFrameDouble = 24, kFloatFrame = 258, kFloatDomain = 115, kFloatDomainPerFeature = 4;
+// network_block.hpp: input scaling 3 per input (in the network's type); output scaling 3 per output and the map
+// back 4 (double); per unit the threshold 1 and 2 per weight; the sigmoid 27 (-gain u 1, exp's reduction 7 and
 // polynomial 15, the scaling multiply 1, 1 + e 1, the division 1, clamps not counted).
 constexpr double kInputScaling = 3, kOutputScaling = 3, kMapBack = 4, kSigmoid = 27;
 // surface_block.hpp: the queries relative to S (finite test 2 per value, 12 differences).
