@@ -724,8 +724,8 @@ CNN_CF_INLINE void cnn_cff_lane(const float* CNN_CF_RESTRICT rel, int s, const s
     const float xs = scale * (e1x * sax + e1y * say + e1z * saz);
     const float ys = scale * (e2x * sax + e2y * say + e2z * saz);
     const float zs0 = scale * (e3x * sax + e3y * say + e3z * saz);
-    /* The features' error bound: 64 u (1 + R) over sin(angle at A) (its square >= 1e-4 is required below). */
-    /* The query's extent over |AB| (every node within m of S, so within 2 m of A). */
+    /* The features' error bound delta: 32 u (1 + R) over sin(angle at A) (its square >= 1e-4 is required below),
+     * R the query's extent over |AB| (every node within m of S, so within 2 m of A). */
     const float extent = 2.0f * m * scale;
     const float amp = sqrtf(lad2 / cnn_cff_max(normal_sq, 1e-30f));
     const float delta = 32.0f * u * (1.0f + extent) * amp;
@@ -764,8 +764,8 @@ CNN_CF_INLINE void cnn_cff_lane(const float* CNN_CF_RESTRICT rel, int s, const s
     /* The double pass's noise terms (16 eps max |x|, x the world coordinates; scaled, max |x| <= 1 + m since
      * |S| scaled is below 1) far below the margins: |AB| >= 1e-6 (1 + m). */
     const int quiet = (1.0f + m) * (1.0f + m) <= 1e12f * lab2;
-    const int decided = (t0 + t1 + t2 + t3 == 1) & quiet & (fabsf(ld2 - lb2) > mq) & (lab2 > mq) & (lad2 >= 1e-6f * lab2) &
-                        (normal_sq >= 1e-4f * lad2) & (extent < 1e4f) &
+    const int decided = (t0 + t1 + t2 + t3 == 1) & quiet & (fabsf(ld2 - lb2) > mq) & (lab2 > mq) &
+                        (lad2 >= 1e-6f * lab2) & (normal_sq >= 1e-4f * lad2) & (extent < 1e4f) &
                         (fabsf(zs0) > 2.0f * delta + 4e-9f * (1.0f + extent)) &
                         (shortest > 1e-6f * longest + side_err) & unfolded;
     redo = decided ? redo : 1.0f;
