@@ -294,20 +294,18 @@ static void network_estimate(const NetworkModel& m, bool check_domain, const dou
   alignas(64) double features[16 * W], normals[12 * W], info[CNN_CF_INFO_ROWS * W], out[2 * W];
   constexpr int kG = kGregory ? 1 : 0;
   const cnn_domain* domain = check_domain ? &m.domain_bounds() : nullptr;
-  bool deferred = false;
+  bool deferred = false, framed = false;
   if constexpr (!kGregory && sizeof(Net) == sizeof(float)) {
     // A float network: the frame and the domain test in float where float decides them (canonical_frame.h).
-    if (pass == FramePass::kDouble || !cnn_cff_applies(W, domain)) {
-      cnn_canonicalise_block(W, kG, raw, features, normals, info);
-      if (check_domain) cnn_domain_block(W, kG, domain, features, normals, info);
-    } else if (cnn_cff_block(W, domain, raw, features, info) > 0) {
-      if (pass == FramePass::kFloat) {
-        cnn_cff_redo(W, domain, raw, features, info);
-      } else {
-        deferred = true;
-      }
+    if (pass == FramePass::kFloatDeferred && cnn_cff_applies(W, domain)) {
+      deferred = cnn_cff_block(W, domain, raw, features, info) > 0;
+      framed = true;
+    } else if (pass == FramePass::kFloat) {
+      cnn_canonicalise_domain_block_f(W, domain, raw, features, info);
+      framed = true;
     }
-  } else {
+  }
+  if (!framed) {
     cnn_canonicalise_block(W, kG, raw, features, normals, info);
     if (check_domain) cnn_domain_block(W, kG, domain, features, normals, info);
   }
@@ -331,8 +329,7 @@ static void network_estimate(const NetworkModel& m, bool check_domain, const dou
       const bool pending = info[4 * W + l] != 0.0;
       s.u[l] = pending ? centre : s.u[l];
       s.v[l] = pending ? centre : s.v[l];
-      s.status[l] = pending ? kPending : s.status[l];
-      info[5 * W + l] = pending ? 0.0 : info[5 * W + l];
+      s.status[l] = pending ? kPending : s.status[l];  // cnn_cff_block gave them tie code 0: no forms below
     }
   }
   for (int l = 0; l < W; ++l) ties |= cnn_cf_needs_forms(info[5 * W + l], kG) & (info[l] == kOk || info[l] == kOutOfDomain);
