@@ -46,20 +46,28 @@ struct KernelResult {
   std::array<double, 12> normals{};
 };
 
+/// The raw block of configs first .. first + n - 1 (SPEC 6 rows of `kind`, lane l of value k at [k n + l], 27
+/// rows allocated), the lanes past the end filled with the first config.
+std::vector<double> raw_block(const std::vector<Configuration>& configs, std::size_t first, std::size_t n,
+                              SurfaceKind kind) {
+  std::vector<double> in(27 * n);
+  for (std::size_t l = 0; l < n; ++l) {
+    std::vector<double> row;
+    testing::append_raw(configs[first + l < configs.size() ? first + l : 0], kind, row);
+    for (std::size_t k = 0; k < row.size(); ++k) in[k * n + l] = row[k];
+  }
+  return in;
+}
+
 /// Runs the kernel on `configs` as blocks of `lanes` lanes (the last block padded with the first config).
 std::vector<KernelResult> run_kernel(const std::vector<Configuration>& configs, SurfaceKind kind, int lanes,
                                      bool c99 = false) {
   const bool gregory = kind == SurfaceKind::kGregory;
   std::vector<KernelResult> results;
   for (std::size_t first = 0; first < configs.size(); first += static_cast<std::size_t>(lanes)) {
-    std::vector<double> in(27 * static_cast<std::size_t>(lanes)), f(16 * static_cast<std::size_t>(lanes)),
-        nrm(12 * static_cast<std::size_t>(lanes)), info(CNN_CF_INFO_ROWS * static_cast<std::size_t>(lanes));
-    for (int l = 0; l < lanes; ++l) {
-      const std::size_t i = first + static_cast<std::size_t>(l) < configs.size() ? first + static_cast<std::size_t>(l) : 0;
-      std::vector<double> row;
-      testing::append_raw(configs[i], kind, row);
-      for (std::size_t k = 0; k < row.size(); ++k) in[k * static_cast<std::size_t>(lanes) + static_cast<std::size_t>(l)] = row[k];
-    }
+    const std::vector<double> in = raw_block(configs, first, static_cast<std::size_t>(lanes), kind);
+    std::vector<double> f(16 * static_cast<std::size_t>(lanes)), nrm(12 * static_cast<std::size_t>(lanes)),
+        info(CNN_CF_INFO_ROWS * static_cast<std::size_t>(lanes));
     if (c99) {
       contactnn_canonicalise_c99(lanes, gregory ? 1 : 0, in.data(), f.data(), nrm.data(), info.data());
     } else {
@@ -456,12 +464,8 @@ std::vector<int> kernel_domain(const std::vector<Configuration>& configs, Surfac
   std::vector<int> verdict;
   for (std::size_t first = 0; first < configs.size(); first += static_cast<std::size_t>(lanes)) {
     const auto n = static_cast<std::size_t>(lanes);
-    std::vector<double> in(27 * n), f(16 * n), nrm(12 * n), info(CNN_CF_INFO_ROWS * n);
-    for (std::size_t l = 0; l < n; ++l) {
-      std::vector<double> row;
-      testing::append_raw(configs[first + l < configs.size() ? first + l : 0], kind, row);
-      for (std::size_t k = 0; k < row.size(); ++k) in[k * n + l] = row[k];
-    }
+    const std::vector<double> in = raw_block(configs, first, n, kind);
+    std::vector<double> f(16 * n), nrm(12 * n), info(CNN_CF_INFO_ROWS * n);
     cnn_canonicalise_block(lanes, gregory, in.data(), f.data(), nrm.data(), info.data());
     cnn_domain_block(lanes, gregory, &d, f.data(), nrm.data(), info.data());
     for (std::size_t l = 0; l < n && first + l < configs.size(); ++l) verdict.push_back(static_cast<int>(info[l]));
@@ -590,12 +594,8 @@ std::vector<PassOutput> run_pass(const std::vector<Configuration>& configs, cons
   std::vector<PassOutput> out;
   const auto n = static_cast<std::size_t>(lanes);
   for (std::size_t first = 0; first < configs.size(); first += n) {
-    std::vector<double> in(15 * n), f(16 * n), info(CNN_CF_INFO_ROWS * n);
-    for (std::size_t l = 0; l < n; ++l) {
-      std::vector<double> row;
-      testing::append_raw(configs[first + l < configs.size() ? first + l : 0], SurfaceKind::kBilinear, row);
-      for (std::size_t k = 0; k < 15; ++k) in[k * n + l] = row[k];
-    }
+    const std::vector<double> in = raw_block(configs, first, n, SurfaceKind::kBilinear);
+    std::vector<double> f(16 * n), info(CNN_CF_INFO_ROWS * n);
     if (float_pass) {
       cnn_canonicalise_domain_block_f(lanes, d, in.data(), f.data(), info.data());
     } else {
