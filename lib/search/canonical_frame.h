@@ -49,7 +49,7 @@
 
 /* Raised whenever what this file computes or its interface changes: an exported header checks that the copy
  * in force (the first one included in a translation unit) is the one it was generated with. */
-#define CNN_CANONICAL_FRAME_VERSION 3
+#define CNN_CANONICAL_FRAME_VERSION 4
 
 #include <math.h>
 #include <string.h>
@@ -65,6 +65,13 @@
 #define CNN_CF_INLINE static inline __attribute__((always_inline))
 #else
 #define CNN_CF_INLINE static inline
+#endif
+
+/* Code off the hot path: kept out of the callers (a caller's loops are otherwise compiled around its arrays). */
+#if defined(__GNUC__)
+#define CNN_CF_OUTLINE static __attribute__((noinline, unused))
+#else
+#define CNN_CF_OUTLINE static inline
 #endif
 
 /* Lanes never alias one another: the loops over lanes carry no dependence. */
@@ -927,6 +934,75 @@ CNN_CF_INLINE void cnn_cff_redo(int n, const struct cnn_domain* CNN_CF_RESTRICT 
   }
 }
 
+/* True when the float pass would leave lane l of a block undecided, read from the double pass's outputs for the
+ * block (f: 8 rows, info: CNN_CF_INFO_ROWS rows, cnn_canonicalise_block and cnn_domain_block, n lanes): a status
+ * the float pass never decides (degenerate, invalid), a tie, |z_S| at most half the float features' error
+ * bound delta (the float pass needs |z_S| above 2 delta; delta = 32 u (1 + R) / sin(angle at A) with R >= 2 /
+ * sqrt(3) max |X - S|, X a node, in canonical units), or |AD| within 4 u of |AB| (the mirror test needs
+ * |AD|^2 - |AB|^2 beyond 256 u max|x - S|^2, at least 21 u |AB|^2, and the float rounding of the two squares
+ * stays within 168 u max|x - S|^2). Touching contact (slaves on the master's plane) and square elements meet it
+ * on every lane: a caller that expects them can run the double pass first and skip the float pass where every
+ * lane of the block meets it, with the same result as the float pass first. */
+CNN_CF_INLINE int cnn_cff_leaves(int n, int l, const double* CNN_CF_RESTRICT f, const double* CNN_CF_RESTRICT info) {
+  const double u = 5.9604644775390625e-8; /* 2^-24 */
+  const double status = info[l], xc = f[l], yc = f[n + l], zc = f[2 * n + l], xd = f[3 * n + l], yd = f[4 * n + l];
+  const double xs = f[5 * n + l], ys = f[6 * n + l], zs = f[7 * n + l];
+  const double to_a = xs * xs + ys * ys + zs * zs, to_b = (xs - 1.0) * (xs - 1.0) + ys * ys + zs * zs;
+  const double to_c = (xs - xc) * (xs - xc) + (ys - yc) * (ys - yc) + (zs - zc) * (zs - zc);
+  const double to_d = (xs - xd) * (xs - xd) + (ys - yd) * (ys - yd) + zs * zs;
+  const double reach = 2.0 * sqrt(cnn_cf_max(cnn_cf_max(to_a, to_b), cnn_cf_max(to_c, to_d)) / 3.0);
+  const double ad_sq = xd * xd + yd * yd;
+  /* |z_S| sin(angle at A) <= 16 u (1 + R), sin = yd / |AD| (yd > 0 in the frame) */
+  const int on_plane = fabs(zs) * yd <= 16.0 * u * (1.0 + reach) * sqrt(ad_sq);
+  return (status == (double)CNN_CF_STATUS_DEGENERATE) | (status == (double)CNN_CF_STATUS_INVALID) |
+         (info[5 * n + l] != 0.0) | on_plane | (fabs(ad_sq - 1.0) <= 4.0 * u);
+}
+
+/* A block left at least 1 / CNN_CFF_MANY_UNDECIDED of its lanes undecided: the next is expected to as well. */
+#define CNN_CFF_MANY_UNDECIDED 4
+
+/* The float pass of a block (n <= CNN_CFF_MAX_LANES lanes, d as cnn_cff_block) for a caller that runs blocks in
+ * sequence and keeps *expect between them (0 to start with): what cnn_cff_block gives, except that lanes it would
+ * leave undecided may come back decided by the double pass (info row 4 = 0, as cnn_cff_redo leaves them); returns
+ * how many lanes are still undecided. Real decks' contact pairs leave every lane to the double pass (slaves on
+ * the master's plane, square elements), and a block of them paid the float pass for nothing. So: where a block
+ * leaves many lanes undecided, they are redone here and *expect becomes 1; while *expect is 1 the double pass
+ * runs first, the float pass only where cnn_cff_leaves does not name every lane (its lanes then replace the
+ * double pass's), and *expect stays 1 while blocks leave many lanes undecided. Each lane gets the bits it gets
+ * from cnn_cff_block and cnn_cff_redo: *expect changes the speed, never a result. */
+CNN_CF_OUTLINE void cnn_cff_double_first(int n, const struct cnn_domain* CNN_CF_RESTRICT d,
+                                         const double* CNN_CF_RESTRICT in, double* CNN_CF_RESTRICT f,
+                                         double* CNN_CF_RESTRICT info, int* CNN_CF_RESTRICT expect) {
+  double f2[8 * CNN_CFF_MAX_LANES], info2[CNN_CF_INFO_ROWS * CNN_CFF_MAX_LANES];
+  int k, l, undecided, leaves = 0;
+  cnn_canonicalise_block(n, 0, in, f, 0, info);
+  if (d != 0) cnn_domain_block(n, 0, d, f, 0, info);
+  for (l = 0; l < n; ++l) leaves += cnn_cff_leaves(n, l, f, info);
+  if (leaves == n) return;
+  undecided = cnn_cff_block(n, d, in, f2, info2);
+  for (l = 0; l < n; ++l) {
+    if (info2[4 * n + l] != 0.0) continue;
+    for (k = 0; k < 8; ++k) f[k * n + l] = f2[k * n + l];
+    for (k = 0; k < CNN_CF_INFO_ROWS; ++k) info[k * n + l] = info2[k * n + l];
+  }
+  *expect = undecided * CNN_CFF_MANY_UNDECIDED >= n;
+}
+
+CNN_CF_INLINE int cnn_cff_block_expecting(int n, const struct cnn_domain* CNN_CF_RESTRICT d,
+                                          const double* CNN_CF_RESTRICT in, double* CNN_CF_RESTRICT f,
+                                          double* CNN_CF_RESTRICT info, int* CNN_CF_RESTRICT expect) {
+  int undecided;
+  if (*expect) {
+    cnn_cff_double_first(n, d, in, f, info, expect);
+    return 0;
+  }
+  undecided = cnn_cff_block(n, d, in, f, info);
+  if (undecided * CNN_CFF_MANY_UNDECIDED < n) return undecided;
+  cnn_cff_redo(n, d, in, f, info);
+  *expect = 1;
+  return 0;
+}
+
 /* True when a float network's bilinear block can take the float pass: n <= CNN_CFF_MAX_LANES and no angle bounds. */
 CNN_CF_INLINE int cnn_cff_applies(int n, const struct cnn_domain* CNN_CF_RESTRICT d) {
   return n <= CNN_CFF_MAX_LANES && (d == 0 || !(d->check_lo || d->check_hi));
@@ -945,6 +1021,23 @@ CNN_CF_INLINE void cnn_canonicalise_domain_block_f(int n, const struct cnn_domai
     return;
   }
   if (cnn_cff_block(n, d, in, f, info) > 0) cnn_cff_redo(n, d, in, f, info);
+}
+
+/* cnn_canonicalise_domain_block_f for blocks in sequence, *expect kept between them (cnn_cff_block_expecting):
+ * the same result, faster on touching contact. expect null: cnn_canonicalise_domain_block_f. */
+CNN_CF_INLINE void cnn_canonicalise_domain_block_fe(int n, const struct cnn_domain* CNN_CF_RESTRICT d,
+                                                    const double* CNN_CF_RESTRICT in, double* CNN_CF_RESTRICT f,
+                                                    double* CNN_CF_RESTRICT info, int* CNN_CF_RESTRICT expect) {
+  if (expect == 0) {
+    cnn_canonicalise_domain_block_f(n, d, in, f, info);
+    return;
+  }
+  if (!cnn_cff_applies(n, d)) {
+    cnn_canonicalise_block(n, 0, in, f, 0, info);
+    if (d != 0) cnn_domain_block(n, 0, d, f, 0, info);
+    return;
+  }
+  if (cnn_cff_block_expecting(n, d, in, f, info, expect) > 0) cnn_cff_redo(n, d, in, f, info);
 }
 
 #endif /* CONTACTNN_CANONICAL_FRAME_H */

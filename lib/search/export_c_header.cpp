@@ -290,8 +290,13 @@ std::string export_c_header(const NetworkModel& m, const CHeaderOptions& options
     << " * scalar). Its results are those of the one-query function bit for bit where the compiler does not\n"
     << " * contract multiply-adds (ISO C modes such as -std=c99, or -ffp-contract=off); with contraction (GNU\n"
     << " * modes, C++) the vectorised and the one-query code contract differently: the same to the rounding of\n"
-    << " * the network's precision (" << real << ").\n"
-    << " * C99; two headers with different prefixes can share a translation unit. Link with -lm.\n"
+    << " * the network's precision (" << real << ").\n";
+  if (!gregory && m.is_float()) {
+    o << " * After a block whose lanes the float frame mostly cannot decide (touching contact: slaves on the\n"
+      << " * master's plane; square elements), the batch runs the frame in double first for the next (the same\n"
+      << " * results, faster on real decks); the one-query function cannot carry that from call to call.\n";
+  }
+  o << " * C99; two headers with different prefixes can share a translation unit. Link with -lm.\n"
     << " */\n"
     << "#ifndef " << guard << "\n#define " << guard << "\n\n#include <math.h>\n#include <stddef.h>\n\n";
 
@@ -381,7 +386,7 @@ std::string export_c_header(const NetworkModel& m, const CHeaderOptions& options
   o << "/* n <= " << block << " queries (rows of " << n_raw << "): canonical frame, domain test, forward pass for all lanes\n"
     << " * at once, then each lane mapped back to the caller's order (ties through " << p << "_tie). */\n"
     << "CNN_CF_INLINE void " << p << "_block(int n, const double* CNN_CF_RESTRICT raw, double* CNN_CF_RESTRICT out,\n"
-    << "                                  int* CNN_CF_RESTRICT status) {\n"
+    << "                                  int* CNN_CF_RESTRICT status, int* CNN_CF_RESTRICT expect) {\n"
     << "  double in[" << n_raw << " * " << block << "], f[16 * " << block << "], "
     << (float_frame ? std::string() : "nrm[12 * " + block + "], ") << "info[CNN_CF_INFO_ROWS * " << block << "];\n"
     << "  double est[2 * " << block << "];\n"
@@ -392,9 +397,12 @@ std::string export_c_header(const NetworkModel& m, const CHeaderOptions& options
   if (float_frame) {
     // As lib/search's network_estimate for a float network: the frame and domain test in float where float
     // decides them, the other lanes in double (canonical_frame.h), so that the header agrees bit for bit.
-    o << "  cnn_canonicalise_domain_block_f(n, " << (options.check_domain ? "&" + p + "_domain" : std::string("0"))
-      << ", in, f, info);\n";
+    // The batch keeps *expect from block to block (cnn_cff_block_expecting: the double pass first on touching
+    // contact; the same bits).
+    o << "  cnn_canonicalise_domain_block_fe(n, " << (options.check_domain ? "&" + p + "_domain" : std::string("0"))
+      << ", in, f, info, expect);\n";
   } else {
+    o << "  (void)expect;\n";
     o << "  cnn_canonicalise_block(n, " << g << ", in, f, nrm, info);\n";
     if (options.check_domain) o << "  cnn_domain_block(n, " << g << ", &" << p << "_domain, f, nrm, info);\n";
   }
@@ -421,14 +429,15 @@ std::string export_c_header(const NetworkModel& m, const CHeaderOptions& options
   // 7. The entry points.
   o << "static inline int " << p << "_local_coordinates(const double raw[" << n_raw << "], double out[2]) {\n"
     << "  int status;\n"
-    << "  " << p << "_block(1, raw, out, &status);\n"
+    << "  " << p << "_block(1, raw, out, &status, 0);\n"
     << "  return status;\n"
     << "}\n\n"
     << "/* Blocks of " << block << " queries; the last, partial block padded with copies of its last query. */\n"
     << "static inline void " << p << "_local_coordinates_batch(size_t n, const double* raw, double* out, int* status) {\n"
     << "  size_t i = 0;\n"
+    << "  int expect = 0;\n"
     << "  for (; i + " << block << " <= n; i += " << block << ") {\n"
-    << "    " << p << "_block(" << block << ", raw + i * " << n_raw << ", out + 2 * i, status + i);\n"
+    << "    " << p << "_block(" << block << ", raw + i * " << n_raw << ", out + 2 * i, status + i, &expect);\n"
     << "  }\n"
     << "  if (i < n) {\n"
     << "    double pad[" << block << " * " << n_raw << "], pad_out[2 * " << block << "];\n"
@@ -438,7 +447,7 @@ std::string export_c_header(const NetworkModel& m, const CHeaderOptions& options
     << "      const double* row = raw + (i + (size_t)(l < rest ? l : rest - 1)) * " << n_raw << ";\n"
     << "      for (k = 0; k < " << n_raw << "; ++k) pad[l * " << n_raw << " + k] = row[k];\n"
     << "    }\n"
-    << "    " << p << "_block(" << block << ", pad, pad_out, pad_status);\n"
+    << "    " << p << "_block(" << block << ", pad, pad_out, pad_status, &expect);\n"
     << "    for (l = 0; l < rest; ++l) {\n"
     << "      status[i + l] = pad_status[l];\n"
     << "      if (pad_status[l] == 1) continue;\n"

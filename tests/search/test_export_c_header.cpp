@@ -50,12 +50,26 @@ struct Case {
   std::vector<double> raw;  ///< SPEC 6 rows
 };
 
-/// Random queries of the paper's domain, the ties in every node order, then one each: a slave far above the
+/// Random queries of the paper's domain (bilinear: then touching contact and random ones again), the ties in
+/// every node order, then one each: a slave far above the
 /// segment (out of the domain), A = B (degenerate), a NaN coordinate (invalid). Not a multiple of the block
 /// width, so the batch's last block is partial.
 std::vector<double> queries(SurfaceKind kind, std::uint64_t seed) {
   std::vector<double> raw = testing::random_queries(kind, 203, seed);
   std::mt19937_64 rng(seed + 100);
+  if (kind == SurfaceKind::kBilinear) {
+    // Touching contact (flat segments, the slave on them), which the float frame leaves to the double pass:
+    // after such blocks the batch runs the double pass first (cnn_cff_block_expecting), then random queries
+    // again, whose blocks turn it back.
+    for (int i = 0; i < 48; ++i) {
+      geometry::Configuration c = testing::random_domain_configuration(kind, rng);
+      c.nodes[2].z() = 0.0;
+      c.slave.z() = 0.0;
+      testing::append_raw(testing::place(c, rng, testing::random_order(rng)), kind, raw);
+    }
+    const std::vector<double> more = testing::random_queries(kind, 40, seed + 7);
+    raw.insert(raw.end(), more.begin(), more.end());
+  }
   for (const geometry::Configuration& c : testing::tie_queries(rng)) testing::append_raw(c, kind, raw);
   const int stride = LocalSearch::raw_columns(kind);
   std::vector<double> far(raw.begin(), raw.begin() + stride), collapsed = far, nan = far;
