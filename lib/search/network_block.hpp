@@ -185,65 +185,94 @@ void tie_estimate(const NetworkModel& m, bool check_domain, const double* query,
 /// canonicalise may still have a label. Defined in kernels_single.cpp; scalar, for the rare lanes that need it.
 bool degenerate_as_labelled(const double* query, bool gregory);
 
-/// The lanes of a block on a tie, W > 1: tie_estimate's answers, computed W forms at a time. A lane's form 0 is
-/// the block's own (its features, domain status and prediction are already in the block); its other forms (one
-/// per symmetry of cnn_cf_symmetries and, Gregory on a z tie, each orientation of z, in cnn_cf_forms' order)
-/// go through cnn_cf_lane with that symmetry forced, the domain test and the forward pass in blocks of W forms,
-/// the forms of all the tie lanes one after another. Each lane's predictions are summed in the order of its
-/// forms, as tie_estimate sums them, and every step is the one the one-lane path takes, so the bits are the
-/// same (tested against a query alone).
+/// Forms 0 .. count - 1 of tie lanes (count <= CW): lane owner[i] of `raw` (a block of W lanes) with symmetry
+/// sym[i] and z orientation z[i] forced, through cnn_cf_lane, the domain test and the forward pass in a block of
+/// CW forms (the empty slots copies of the first). Writes each form's prediction in the caller's order (x, y),
+/// whether the form exists (valid) and whether it lies in the domain (inside).
+template <class Net, int CW, int W, bool kGregory>
+static void predict_forms(const NetworkModel& m, bool check_domain, const double* raw, const int* owner,
+                          const int* sym, const int* z, int count, double* x, double* y, bool* valid, bool* inside) {
+  constexpr int kStride = kGregory ? 27 : 15;
+  constexpr int kG = kGregory ? 1 : 0;
+  alignas(64) double in[27 * CW], features[16 * CW], normals[12 * CW], info[CNN_CF_INFO_ROWS * CW], out[2 * CW];
+  int form_sym[CW], form_z[CW];
+  for (int slot = 0; slot < CW; ++slot) {
+    const int from = slot < count ? slot : 0;
+    for (int k = 0; k < kStride; ++k) in[k * CW + slot] = raw[k * W + owner[from]];
+    form_sym[slot] = sym[from];
+    form_z[slot] = z[from];
+  }
+  CNN_CF_IVDEP
+  for (int slot = 0; slot < CW; ++slot) {
+    cnn_cf_lane(in + slot, CW, kG, 1, form_sym[slot], form_z[slot], features + slot, normals + slot, info + slot, CW);
+  }
+  for (int slot = 0; slot < count; ++slot) {
+    if (info[4 * CW + slot] != 0.0) {
+      cnn_cf_lane_scaled(in + slot, CW, kG, 1, form_sym[slot], form_z[slot], features + slot, normals + slot,
+                         info + slot, CW);
+    }
+    valid[slot] = info[slot] == kOk;  // cnn_cf_forms keeps the forms that exist
+  }
+  if (check_domain) cnn_domain_block(CW, kG, &m.domain_bounds(), features, normals, info);
+  forward_pass<Net, CW>(m, features, out);
+  for (int slot = 0; slot < count; ++slot) {
+    x[slot] = out[slot];
+    y[slot] = out[CW + slot];
+    cnn_cf_to_caller(info[CW + slot], kGregory ? 0.5 : 0.0, &x[slot], &y[slot]);
+    inside[slot] = info[slot] == kOk;
+  }
+}
+
+/// The lanes of a block on a tie, W > 1: tie_estimate's answers. A lane's form 0 is the block's own (its
+/// features, domain status and prediction are already in the block); its other forms (one per symmetry of
+/// cnn_cf_symmetries and, Gregory on a z tie, each orientation of z, in cnn_cf_forms' order) go through
+/// predict_forms, the forms of all the tie lanes one after another, W at a time and the rest 8 at a time (a block
+/// of real decks' pairs has a few tie lanes, two forms each: a block of W forms for them cost more than the rest
+/// of the block). Each lane's predictions are summed in the order of its forms, as tie_estimate sums them, and
+/// every step is the one the one-lane path takes, so the bits are the same (tested against a query alone).
 template <class Net, int W, bool kGregory>
 static void tie_estimates_block(const NetworkModel& m, bool check_domain, const double* raw, const double* info,
                                 const int* lanes, int n_lanes, LaneState<W>& s) {
   constexpr int kStride = kGregory ? 27 : 15;
-  constexpr int kG = kGregory ? 1 : 0;
-  constexpr double kCentreOf = kGregory ? 0.5 : 0.0;
-  alignas(64) double in[27 * W], features[16 * W], normals[12 * W], form_info[CNN_CF_INFO_ROWS * W], out[2 * W];
-  int form_sym[W], form_z[W], owner[W];
-  int filled = 0;
-  // Per tie lane, in the order of its forms: the sums over every form and over the forms in the domain.
-  double all_u[W], all_v[W], forms_of[W], in_u[W], in_v[W], inside[W];
-  const auto flush = [&] {
-    for (int slot = filled; slot < W; ++slot) {  // the empty slots: copies of the first (never read back)
-      for (int k = 0; k < kStride; ++k) in[k * W + slot] = in[k * W];
-      form_sym[slot] = form_sym[0];
-      form_z[slot] = form_z[0];
-    }
-    CNN_CF_IVDEP
-    for (int slot = 0; slot < W; ++slot) {
-      cnn_cf_lane(in + slot, W, kG, 1, form_sym[slot], form_z[slot], features + slot, normals + slot,
-                  form_info + slot, W);
-    }
-    bool valid[W];
-    for (int slot = 0; slot < filled; ++slot) {
-      if (form_info[4 * W + slot] != 0.0) {
-        cnn_cf_lane_scaled(in + slot, W, kG, 1, form_sym[slot], form_z[slot], features + slot, normals + slot,
-                           form_info + slot, W);
-      }
-      valid[slot] = form_info[slot] == kOk;  // cnn_cf_forms keeps the forms that exist
-    }
-    if (check_domain) cnn_domain_block(W, kG, &m.domain_bounds(), features, normals, form_info);
-    forward_pass<Net, W>(m, features, out);
-    for (int slot = 0; slot < filled; ++slot) {
-      if (!valid[slot]) continue;
-      double x = out[slot], y = out[W + slot];
-      cnn_cf_to_caller(form_info[W + slot], kCentreOf, &x, &y);
-      const int l = owner[slot];
-      all_u[l] += x;
-      all_v[l] += y;
-      forms_of[l] += 1.0;
-      const bool in_domain = form_info[slot] == kOk;
-      in_u[l] += in_domain ? x : 0.0;
-      in_v[l] += in_domain ? y : 0.0;
-      inside[l] += in_domain ? 1.0 : 0.0;
-    }
-    filled = 0;
-  };
+  constexpr int kMaxForms = 16 * W;  // 8 symmetries x 2 orientations of z per lane, at most
+  constexpr int kNarrow = W < 8 ? W : 8;
+  int owner[kMaxForms], form_sym[kMaxForms], form_z[kMaxForms];
+  double x[kMaxForms], y[kMaxForms];
+  bool valid[kMaxForms], inside_form[kMaxForms];
+  int count = 0;
   for (int t = 0; t < n_lanes; ++t) {
     const int l = lanes[t];
     double query[27];
     for (int k = 0; k < kStride; ++k) query[k] = raw[k * W + l];
-    // Form 0: the block's (0.0 + x: tie_estimate's sums start from 0.0, which turns a -0 into +0).
+    int sym[8];
+    const int tied = cnn_cf_symmetries(query, sym);
+    const int sym0 = static_cast<int>(info[W + l]);
+    const int z_ties = (kGregory ? 1 : 0) & (static_cast<int>(info[5 * W + l]) >> 1);
+    for (int k = 0; k < tied; ++k) {
+      for (int z = 0; z <= z_ties; ++z) {
+        if (sym[k] == sym0 && z == 0) continue;  // form 0
+        owner[count] = l;
+        form_sym[count] = sym[k];
+        form_z[count] = z;
+        ++count;
+      }
+    }
+  }
+  int done = 0;
+  for (; count - done >= W; done += W) {
+    predict_forms<Net, W, W, kGregory>(m, check_domain, raw, owner + done, form_sym + done, form_z + done, W, x + done,
+                                       y + done, valid + done, inside_form + done);
+  }
+  for (; done < count; done += kNarrow) {
+    const int n = count - done < kNarrow ? count - done : kNarrow;
+    predict_forms<Net, kNarrow, W, kGregory>(m, check_domain, raw, owner + done, form_sym + done, form_z + done, n,
+                                             x + done, y + done, valid + done, inside_form + done);
+  }
+  // Per tie lane, in the order of its forms: the sums over every form and over the forms in the domain. Form 0:
+  // the block's (0.0 + x: tie_estimate's sums start from 0.0, which turns a -0 into +0).
+  double all_u[W], all_v[W], forms_of[W], in_u[W], in_v[W], inside[W];
+  for (int t = 0; t < n_lanes; ++t) {
+    const int l = lanes[t];
     const bool in_domain = info[l] == kOk;
     all_u[l] = 0.0 + s.u[l];
     all_v[l] = 0.0 + s.v[l];
@@ -251,22 +280,17 @@ static void tie_estimates_block(const NetworkModel& m, bool check_domain, const 
     in_u[l] = 0.0 + (in_domain ? s.u[l] : 0.0);
     in_v[l] = 0.0 + (in_domain ? s.v[l] : 0.0);
     inside[l] = in_domain ? 1.0 : 0.0;
-    int sym[8];
-    const int tied = cnn_cf_symmetries(query, sym);
-    const int sym0 = static_cast<int>(info[W + l]);
-    const int z_ties = kG & (static_cast<int>(info[5 * W + l]) >> 1);
-    for (int k = 0; k < tied; ++k) {
-      for (int z = 0; z <= z_ties; ++z) {
-        if (sym[k] == sym0 && z == 0) continue;  // form 0
-        for (int c = 0; c < kStride; ++c) in[c * W + filled] = query[c];
-        form_sym[filled] = sym[k];
-        form_z[filled] = z;
-        owner[filled] = l;
-        if (++filled == W) flush();
-      }
-    }
   }
-  if (filled > 0) flush();
+  for (int i = 0; i < count; ++i) {
+    if (!valid[i]) continue;
+    const int l = owner[i];
+    all_u[l] += x[i];
+    all_v[l] += y[i];
+    forms_of[l] += 1.0;
+    in_u[l] += inside_form[i] ? x[i] : 0.0;
+    in_v[l] += inside_form[i] ? y[i] : 0.0;
+    inside[l] += inside_form[i] ? 1.0 : 0.0;
+  }
   for (int t = 0; t < n_lanes; ++t) {
     const int l = lanes[t];
     const bool any = inside[l] > 0.0;
