@@ -961,15 +961,8 @@ CNN_CF_INLINE int cnn_cff_leaves(int n, int l, const double* CNN_CF_RESTRICT f, 
 /* A block left at least 1 / CNN_CFF_MANY_UNDECIDED of its lanes undecided: the next is expected to as well. */
 #define CNN_CFF_MANY_UNDECIDED 4
 
-/* The float pass of a block (n <= CNN_CFF_MAX_LANES lanes, d as cnn_cff_block) for a caller that runs blocks in
- * sequence and keeps *expect between them (0 to start with): what cnn_cff_block gives, except that lanes it would
- * leave undecided may come back decided by the double pass (info row 4 = 0, as cnn_cff_redo leaves them); returns
- * how many lanes are still undecided. Real decks' contact pairs leave every lane to the double pass (slaves on
- * the master's plane, square elements), and a block of them paid the float pass for nothing. So: where a block
- * leaves many lanes undecided, they are redone here and *expect becomes 1; while *expect is 1 the double pass
- * runs first, the float pass only where cnn_cff_leaves does not name every lane (its lanes then replace the
- * double pass's), and *expect stays 1 while blocks leave many lanes undecided. Each lane gets the bits it gets
- * from cnn_cff_block and cnn_cff_redo: *expect changes the speed, never a result. */
+/* cnn_cff_block_expecting with *expect set: the double pass, then the float pass unless cnn_cff_leaves names
+ * every lane, its decided lanes replacing the double pass's. */
 CNN_CF_OUTLINE void cnn_cff_double_first(int n, const struct cnn_domain* CNN_CF_RESTRICT d,
                                          const double* CNN_CF_RESTRICT in, double* CNN_CF_RESTRICT f,
                                          double* CNN_CF_RESTRICT info, int* CNN_CF_RESTRICT expect) {
@@ -988,6 +981,15 @@ CNN_CF_OUTLINE void cnn_cff_double_first(int n, const struct cnn_domain* CNN_CF_
   *expect = undecided * CNN_CFF_MANY_UNDECIDED >= n;
 }
 
+/* The float pass of a block (n <= CNN_CFF_MAX_LANES lanes, d as cnn_cff_block) for a caller that runs blocks in
+ * sequence and keeps *expect between them (0 to start with): what cnn_cff_block gives, except that lanes it would
+ * leave undecided may come back decided by the double pass (info row 4 = 0, as cnn_cff_redo leaves them); returns
+ * how many lanes are still undecided. Real decks' contact pairs leave every lane to the double pass (slaves on
+ * the master's plane, square elements), and a block of them paid the float pass for nothing. So: where a block
+ * leaves many lanes undecided, they are redone here and *expect becomes 1; while *expect is 1 the double pass
+ * runs first, the float pass only where cnn_cff_leaves does not name every lane (its lanes then replace the
+ * double pass's), and *expect stays 1 while blocks leave many lanes undecided. Each lane gets the bits it gets
+ * from cnn_cff_block and cnn_cff_redo: *expect changes the speed, never a result. */
 CNN_CF_INLINE int cnn_cff_block_expecting(int n, const struct cnn_domain* CNN_CF_RESTRICT d,
                                           const double* CNN_CF_RESTRICT in, double* CNN_CF_RESTRICT f,
                                           double* CNN_CF_RESTRICT info, int* CNN_CF_RESTRICT expect) {
@@ -1011,33 +1013,26 @@ CNN_CF_INLINE int cnn_cff_applies(int n, const struct cnn_domain* CNN_CF_RESTRIC
 /* The block: what cnn_canonicalise_block and then (d not null) cnn_domain_block give for n bilinear lanes (f:
  * 8 rows; info: CNN_CF_INFO_ROWS rows, tie code 0 and row 4 = 0 on the lanes decided in float), the features of
  * the lanes decided in float in float precision, the others redone in double within the block. Where the float
- * pass does not apply (cnn_cff_applies), the double pass for every lane. */
-CNN_CF_INLINE void cnn_canonicalise_domain_block_f(int n, const struct cnn_domain* CNN_CF_RESTRICT d,
-                                                   const double* CNN_CF_RESTRICT in, double* CNN_CF_RESTRICT f,
-                                                   double* CNN_CF_RESTRICT info) {
-  if (!cnn_cff_applies(n, d)) {
-    cnn_canonicalise_block(n, 0, in, f, 0, info);
-    if (d != 0) cnn_domain_block(n, 0, d, f, 0, info);
-    return;
-  }
-  if (cnn_cff_block(n, d, in, f, info) > 0) cnn_cff_redo(n, d, in, f, info);
-}
-
-/* cnn_canonicalise_domain_block_f for blocks in sequence, *expect kept between them (cnn_cff_block_expecting):
- * the same result, faster on touching contact. expect null: cnn_canonicalise_domain_block_f. */
+ * pass does not apply (cnn_cff_applies), the double pass for every lane. `expect` not null: blocks in sequence,
+ * *expect kept between them (cnn_cff_block_expecting; the same result, faster on touching contact). */
 CNN_CF_INLINE void cnn_canonicalise_domain_block_fe(int n, const struct cnn_domain* CNN_CF_RESTRICT d,
                                                     const double* CNN_CF_RESTRICT in, double* CNN_CF_RESTRICT f,
                                                     double* CNN_CF_RESTRICT info, int* CNN_CF_RESTRICT expect) {
-  if (expect == 0) {
-    cnn_canonicalise_domain_block_f(n, d, in, f, info);
-    return;
-  }
   if (!cnn_cff_applies(n, d)) {
     cnn_canonicalise_block(n, 0, in, f, 0, info);
     if (d != 0) cnn_domain_block(n, 0, d, f, 0, info);
     return;
   }
-  if (cnn_cff_block_expecting(n, d, in, f, info, expect) > 0) cnn_cff_redo(n, d, in, f, info);
+  if ((expect == 0 ? cnn_cff_block(n, d, in, f, info) : cnn_cff_block_expecting(n, d, in, f, info, expect)) > 0) {
+    cnn_cff_redo(n, d, in, f, info);
+  }
+}
+
+/* cnn_canonicalise_domain_block_fe for a block on its own (no expectation carried from block to block). */
+CNN_CF_INLINE void cnn_canonicalise_domain_block_f(int n, const struct cnn_domain* CNN_CF_RESTRICT d,
+                                                   const double* CNN_CF_RESTRICT in, double* CNN_CF_RESTRICT f,
+                                                   double* CNN_CF_RESTRICT info) {
+  cnn_canonicalise_domain_block_fe(n, d, in, f, info, 0);
 }
 
 #endif /* CONTACTNN_CANONICAL_FRAME_H */
