@@ -958,51 +958,75 @@ CNN_CF_INLINE int cnn_cff_leaves(int n, int l, const double* CNN_CF_RESTRICT f, 
          (info[5 * n + l] != 0.0) | on_plane | (fabs(ad_sq - 1.0) <= 4.0 * u);
 }
 
-/* A block left at least 1 / CNN_CFF_MANY_UNDECIDED of its lanes undecided: the next is expected to as well. */
+/* A block that left at least 1 / CNN_CFF_MANY_UNDECIDED of its lanes undecided redoes them at once rather than
+ * gathering them from many blocks (lib/search's choice; measured there). */
 #define CNN_CFF_MANY_UNDECIDED 4
 
-/* cnn_cff_block_expecting with *expect set: the double pass, then the float pass unless cnn_cff_leaves names
- * every lane, its decided lanes replacing the double pass's. */
+/* cnn_cff_block_expecting with *expect set, a block of n > 1 lanes: the double pass, then the float pass unless
+ * cnn_cff_leaves names every lane, its decided lanes replacing the double pass's. */
 CNN_CF_OUTLINE void cnn_cff_double_first(int n, const struct cnn_domain* CNN_CF_RESTRICT d,
                                          const double* CNN_CF_RESTRICT in, double* CNN_CF_RESTRICT f,
                                          double* CNN_CF_RESTRICT info, int* CNN_CF_RESTRICT expect) {
   double f2[8 * CNN_CFF_MAX_LANES], info2[CNN_CF_INFO_ROWS * CNN_CFF_MAX_LANES];
-  int k, l, undecided, leaves = 0;
+  int k, l, leaves = 0;
   cnn_canonicalise_block(n, 0, in, f, 0, info);
   if (d != 0) cnn_domain_block(n, 0, d, f, 0, info);
   for (l = 0; l < n; ++l) leaves += cnn_cff_leaves(n, l, f, info);
   if (leaves == n) return;
-  undecided = cnn_cff_block(n, d, in, f2, info2);
+  (void)cnn_cff_block(n, d, in, f2, info2);
   for (l = 0; l < n; ++l) {
     if (info2[4 * n + l] != 0.0) continue;
     for (k = 0; k < 8; ++k) f[k * n + l] = f2[k * n + l];
     for (k = 0; k < CNN_CF_INFO_ROWS; ++k) info[k * n + l] = info2[k * n + l];
   }
-  *expect = undecided * CNN_CFF_MANY_UNDECIDED >= n;
+  *expect = 4 * leaves >= 3 * n;
 }
 
 /* The float pass of a block (n <= CNN_CFF_MAX_LANES lanes, d as cnn_cff_block) for a caller that runs blocks in
- * sequence and keeps *expect between them (0 to start with): what cnn_cff_block gives, except that lanes it would
- * leave undecided may come back decided by the double pass (info row 4 = 0, as cnn_cff_redo leaves them); returns
- * how many lanes are still undecided. Real decks' contact pairs leave every lane to the double pass (slaves on
- * the master's plane, square elements), and a block of them paid the float pass for nothing. So: where a block
- * leaves many lanes undecided, they are redone here and *expect becomes 1; while *expect is 1 the double pass
- * runs first, the float pass only where cnn_cff_leaves does not name every lane (its lanes then replace the
- * double pass's), and *expect stays 1 while blocks leave many lanes undecided. Each lane gets the bits it gets
- * from cnn_cff_block and cnn_cff_redo: *expect changes the speed, never a result. */
+ * sequence and keeps *expect between them (0 to start with): what cnn_cff_block gives (the caller redoes or
+ * defers the lanes left undecided), except that lanes it would leave undecided may come back decided by the
+ * double pass (info row 4 = 0, as cnn_cff_redo leaves them); returns how many lanes are still undecided. Real
+ * decks' contact pairs leave every lane to the double pass (slaves on the master's plane, square elements), and a
+ * block of them paid the float pass for nothing. So: after a block that leaves 3 lanes in 4 or more undecided
+ * *expect is 1; while it is 1 the double pass runs first, the float pass only where cnn_cff_leaves does not name
+ * every lane (its lanes then replace the double pass's), and *expect stays 1 while cnn_cff_leaves names 3 lanes
+ * in 4 or more (where fewer are, a block pays both passes: mixed data, such as the paper's grid with 4 lanes in 10
+ * undecided, goes back to the float pass first). Each lane gets the bits it gets from cnn_cff_block and
+ * cnn_cff_redo: *expect changes the speed, never a result. */
 CNN_CF_INLINE int cnn_cff_block_expecting(int n, const struct cnn_domain* CNN_CF_RESTRICT d,
                                           const double* CNN_CF_RESTRICT in, double* CNN_CF_RESTRICT f,
                                           double* CNN_CF_RESTRICT info, int* CNN_CF_RESTRICT expect) {
   int undecided;
   if (*expect) {
-    cnn_cff_double_first(n, d, in, f, info, expect);
-    return 0;
+    if (n > 1) {
+      cnn_cff_double_first(n, d, in, f, info, expect);
+      return 0;
+    }
+    /* One lane: the double pass, which stands where the float pass would not decide the lane; otherwise the
+     * float pass below, as without the expectation. */
+    cnn_canonicalise_block(1, 0, in, f, 0, info);
+    if (d != 0) cnn_domain_block(1, 0, d, f, 0, info);
+    if (cnn_cff_leaves(1, 0, f, info)) return 0;
   }
   undecided = cnn_cff_block(n, d, in, f, info);
-  if (undecided * CNN_CFF_MANY_UNDECIDED < n) return undecided;
-  cnn_cff_redo(n, d, in, f, info);
-  *expect = 1;
-  return 0;
+  *expect = 4 * undecided >= 3 * n;
+  return undecided;
+}
+
+/* A cheap guess that the float pass will leave one query (15 values at in[k * is], SPEC 6 order) undecided: the
+ * slave within 1e-5 of the plane of the caller's A, B, D, relative to its distance from A (touching contact; a
+ * slave on node A too), or |AB|^2 and |AD|^2 equal to 1e-6 (a square element). A caller that runs one query at
+ * a time and so carries no expectation from block to block can set *expect from it for
+ * cnn_cff_block_expecting: only the order of the two passes depends on it, never a result. */
+CNN_CF_INLINE int cnn_cff_looks_undecided(const double* CNN_CF_RESTRICT in, int is) {
+  const double abx = in[3 * is] - in[0], aby = in[4 * is] - in[is], abz = in[5 * is] - in[2 * is];
+  const double adx = in[9 * is] - in[0], ady = in[10 * is] - in[is], adz = in[11 * is] - in[2 * is];
+  const double asx = in[12 * is] - in[0], asy = in[13 * is] - in[is], asz = in[14 * is] - in[2 * is];
+  const double nx = aby * adz - abz * ady, ny = abz * adx - abx * adz, nz = abx * ady - aby * adx;
+  const double h = nx * asx + ny * asy + nz * asz;
+  const double ab2 = abx * abx + aby * aby + abz * abz, ad2 = adx * adx + ady * ady + adz * adz;
+  return (h * h <= 1e-10 * (nx * nx + ny * ny + nz * nz) * (asx * asx + asy * asy + asz * asz)) |
+         (fabs(ab2 - ad2) <= 1e-6 * ab2);
 }
 
 /* True when a float network's bilinear block can take the float pass: n <= CNN_CFF_MAX_LANES and no angle bounds. */

@@ -294,7 +294,8 @@ std::string export_c_header(const NetworkModel& m, const CHeaderOptions& options
   if (!gregory && m.is_float()) {
     o << " * After a block whose lanes the float frame mostly cannot decide (touching contact: slaves on the\n"
       << " * master's plane; square elements), the batch runs the frame in double first for the next (the same\n"
-      << " * results, faster on real decks); the one-query function cannot carry that from call to call.\n";
+      << " * results, faster on real decks); the one-query function guesses the order from the query itself\n"
+      << " * (cnn_cff_looks_undecided: a slave on the plane of A, B, D or a square corner at A).\n";
   }
   o << " * C99; two headers with different prefixes can share a translation unit. Link with -lm.\n"
     << " */\n"
@@ -427,9 +428,11 @@ std::string export_c_header(const NetworkModel& m, const CHeaderOptions& options
     << "}\n\n";
 
   // 7. The entry points.
+  // A float network's bilinear query that looks like touching contact or a square takes the double pass first
+  // (cnn_cff_looks_undecided; the same result).
   o << "static inline int " << p << "_local_coordinates(const double raw[" << n_raw << "], double out[2]) {\n"
-    << "  int status;\n"
-    << "  " << p << "_block(1, raw, out, &status, 0);\n"
+    << "  int status" << (float_frame ? ", expect = cnn_cff_looks_undecided(raw, 1)" : "") << ";\n"
+    << "  " << p << "_block(1, raw, out, &status, " << (float_frame ? "&expect" : "0") << ");\n"
     << "  return status;\n"
     << "}\n\n"
     << "/* Blocks of " << block << " queries; the last, partial block padded with copies of its last query. */\n"

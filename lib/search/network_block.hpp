@@ -330,8 +330,10 @@ static void network_estimate(const NetworkModel& m, bool check_domain, const dou
       thread_local int expect_undecided = 0;
       const int undecided = cnn_cff_block_expecting(W, domain, raw, features, info, &expect_undecided);
       // A few undecided lanes (random queries of the paper's domain: 2 in 100): pending with kFloatDeferred, as
-      // a double pass for one or two lanes of a block costs more than gathering them from many blocks.
-      if (undecided > 0 && pass == FramePass::kFloatDeferred) {
+      // a double pass for one or two lanes of a block costs more than gathering them from many blocks. Many
+      // (the decks above): redone here, as a lane left pending costs this block's forward pass, a second load
+      // and a second forward pass (127 ns per query on the decks).
+      if (undecided > 0 && pass == FramePass::kFloatDeferred && undecided * CNN_CFF_MANY_UNDECIDED < W) {
         deferred = true;
       } else if (undecided > 0) {
         cnn_cff_redo(W, domain, raw, features, info);

@@ -69,6 +69,17 @@ std::vector<double> queries(SurfaceKind kind, std::uint64_t seed) {
     }
     const std::vector<double> more = testing::random_queries(kind, 40, seed + 7);
     raw.insert(raw.end(), more.begin(), more.end());
+    // Kites (|AB| = |AD| at the caller's A) whose slave is nearest B: the one-query function guesses they
+    // need the double pass (cnn_cff_looks_undecided), but the float pass decides them, and its answer stands.
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    for (int i = 0; i < 24; ++i) {
+      using geometry::Vec3;
+      const geometry::Configuration kite{{Vec3(0.0, 0.0, 0.0), Vec3(1.0, 0.0, 0.0), Vec3(1.3, 1.3, 0.1 * u(rng)),
+                                          Vec3(0.0, 1.0, 0.0)},
+                                         Vec3(0.9 + 0.05 * u(rng), 0.15 + 0.05 * u(rng), 0.1 + 0.05 * u(rng)),
+                                         {Vec3::Zero(), Vec3::Zero(), Vec3::Zero(), Vec3::Zero()}};
+      testing::append_raw(testing::place(kite, rng, SquareSymmetry{}), kind, raw);
+    }
   }
   for (const geometry::Configuration& c : testing::tie_queries(rng)) testing::append_raw(c, kind, raw);
   const int stride = LocalSearch::raw_columns(kind);
