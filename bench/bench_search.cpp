@@ -15,7 +15,9 @@
 //   build/bench/bench_search --queries 8192 --benchmark_repetitions=5 --benchmark_enable_random_interleaving=true
 //   scripts/bench-search
 //
-// Flags of its own (before Google Benchmark's): --queries N (default 4096 per surface), --weights DIR
+// Flags of its own (before Google Benchmark's): --queries N (default 4096 per surface), --pairs FILE (a scene's
+// labelled pairs, gen-configs --scene: that surface's queries are its pairs with a reference point, cycled to N
+// in the file's order, instead of random ones), --weights DIR
 // (default the source tree's data/weights), --seed S (default 1), --threads LIST (the thread counts of the
 // batched rows and the matrix products, comma-separated; default 1,2; scripts/bench-search --threads
 // 1,2,4,8,16 prints the scaling beyond the 2 cores of CI's machines).
@@ -30,12 +32,14 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <fstream>
 #include <map>
 #include <memory>
 #include <string>
 #include <vector>
 
 #include "dataset/labeller.hpp"
+#include "eval/evaluation_set.hpp"
 #include "io/network_file.hpp"
 #include "search/flop_count.hpp"
 #include "search/local_search.hpp"
@@ -48,6 +52,7 @@ using namespace contactnn;
 
 struct Args {
   std::size_t queries = 4096;
+  std::string pairs;  ///< a scene's labelled pairs (gen-configs --scene): its surface's queries instead of random ones
   std::string weights = std::string(CONTACTNN_SOURCE_DIR) + "/data/weights";
   std::uint64_t seed = 1;
   std::vector<int> threads = {1, 2};
@@ -75,6 +80,41 @@ QuerySet make_queries(SurfaceKind kind, std::size_t count, std::uint64_t seed) {
                      raw.begin() + static_cast<std::ptrdiff_t>((i + 1) * stride));
       set.labels.push_back(label);
     }
+  }
+  return set;
+}
+
+/// The rows of a labelled RAW.csv (gen-configs --scene, label mode) whose reference has a point (ok, outside),
+/// cycled to `count` queries in the file's order: a real deck's pairs, placed as the deck has them. The surface
+/// is the file's: Gregory when it has node-normal columns.
+QuerySet queries_from_pairs(const std::string& path, std::size_t count) {
+  std::ifstream in(path);
+  std::string header;
+  if (!in || !std::getline(in, header)) {
+    std::fprintf(stderr, "bench_search: cannot read --pairs '%s'\n", path.c_str());
+    std::exit(2);
+  }
+  const SurfaceKind kind = header.find("nax") != std::string::npos ? SurfaceKind::kGregory : SurfaceKind::kBilinear;
+  const eval::EvaluationSet pairs = eval::set_from_labelled_csv(path, kind);
+  const auto stride = static_cast<std::size_t>(search::LocalSearch::raw_columns(kind));
+  std::vector<std::size_t> rows;
+  for (std::size_t r = 0; r < static_cast<std::size_t>(pairs.rows()); ++r) {
+    if (pairs.label_status[r] == Status::kOk || pairs.label_status[r] == Status::kOutside) rows.push_back(r);
+  }
+  if (rows.empty()) {
+    std::fprintf(stderr, "bench_search: --pairs '%s' has no pair with a reference point\n", path.c_str());
+    std::exit(2);
+  }
+  QuerySet set;
+  set.kind = kind;
+  for (std::size_t i = 0; i < count; ++i) {
+    const std::size_t r = rows[i % rows.size()];
+    set.raw.insert(set.raw.end(), pairs.raw.begin() + static_cast<std::ptrdiff_t>(r * stride),
+                   pairs.raw.begin() + static_cast<std::ptrdiff_t>((r + 1) * stride));
+    dataset::Label label;
+    label.param = {pairs.labels(static_cast<Eigen::Index>(r), 0), pairs.labels(static_cast<Eigen::Index>(r), 1)};
+    label.status = pairs.label_status[r];
+    set.labels.push_back(label);
   }
   return set;
 }
@@ -212,7 +252,7 @@ Args parse_own_flags(int& argc, char** argv) {
   int out = 1;
   for (int i = 1; i < argc; ++i) {
     const std::string k = argv[i];
-    if ((k == "--queries" || k == "--weights" || k == "--seed" || k == "--threads") && i + 1 < argc) {
+    if ((k == "--queries" || k == "--weights" || k == "--seed" || k == "--threads" || k == "--pairs") && i + 1 < argc) {
       const std::string v = argv[++i];
       if (k == "--threads") {
         a.threads.clear();
@@ -231,6 +271,7 @@ Args parse_own_flags(int& argc, char** argv) {
       if (k == "--queries") a.queries = static_cast<std::size_t>(std::atol(v.c_str()));
       if (k == "--weights") a.weights = v;
       if (k == "--seed") a.seed = static_cast<std::uint64_t>(std::atoll(v.c_str()));
+      if (k == "--pairs") a.pairs = v;
     } else {
       argv[out++] = argv[i];
     }
@@ -247,9 +288,15 @@ int main(int argc, char** argv) {
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 2;
 
   // 1. The queries and the networks, shared by every method.
-  static const std::map<SurfaceKind, QuerySet> sets = {
-      {SurfaceKind::kBilinear, make_queries(SurfaceKind::kBilinear, args.queries, args.seed)},
-      {SurfaceKind::kGregory, make_queries(SurfaceKind::kGregory, args.queries, args.seed)}};
+  static const std::map<SurfaceKind, QuerySet> sets = [&] {
+    std::map<SurfaceKind, QuerySet> m;
+    QuerySet scene;
+    if (!args.pairs.empty()) scene = queries_from_pairs(args.pairs, args.queries);
+    for (const SurfaceKind kind : {SurfaceKind::kBilinear, SurfaceKind::kGregory}) {
+      m[kind] = !args.pairs.empty() && scene.kind == kind ? scene : make_queries(kind, args.queries, args.seed);
+    }
+    return m;
+  }();
   static std::map<std::string, std::unique_ptr<search::NetworkModel>> networks;
   for (const char* file : {"bilinear-8.h5", "bilinear-32-32.h5", "gregory-48.h5", "gregory-32.h5"}) {
     const io::TrainedNetwork<float> trained = io::read_network<float>(args.weights + "/" + file);
@@ -368,8 +415,9 @@ int main(int argc, char** argv) {
     benchmark::RegisterBenchmark(("gemm/double/threads:" + std::to_string(threads)).c_str(), gemm<double>, threads)
         ->UseRealTime()->Unit(benchmark::kMillisecond);
   }
-  std::fprintf(stderr, "bench_search: %zu bilinear and %zu Gregory queries (labels ok), seed %llu\n",
-               sets.at(bl).count(), sets.at(gr).count(), static_cast<unsigned long long>(args.seed));
+  std::fprintf(stderr, "bench_search: %zu bilinear and %zu Gregory queries (labels ok), seed %llu%s%s\n",
+               sets.at(bl).count(), sets.at(gr).count(), static_cast<unsigned long long>(args.seed),
+               args.pairs.empty() ? "" : "; pairs of ", args.pairs.c_str());
   benchmark::RunSpecifiedBenchmarks();
   benchmark::Shutdown();
   return 0;
