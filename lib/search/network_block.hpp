@@ -302,10 +302,10 @@ static void tie_estimates_block(const NetworkModel& m, bool check_domain, const 
 
 /// How a float network's bilinear block gets its canonical frame and domain test (canonical_frame.h):
 /// kFloat, in float where float decides them and in double for the other lanes of the block; kFloatDeferred,
-/// the same, but where few lanes of the block are undecided (cnn_cff_block_expecting) those get status kPending (LocalSearch::run computes
-/// them again, gathered from many blocks, with kDouble); kDouble, in double. Every pass gives a lane the same bits: a lane
-/// float decides has its float features in each of the first two, and the others their double ones. Double
-/// networks and Gregory patches: always in double.
+/// the same, but where few lanes of the block are undecided those get status kPending (LocalSearch::run
+/// computes them again, gathered from many blocks, with kDouble); kDouble, in double. Every pass gives a lane
+/// the same bits: a lane float decides has its float features in each of the first two, and the others their
+/// double ones. Double networks and Gregory patches: always in double.
 enum class FramePass { kFloat, kFloatDeferred, kDouble };
 
 /// The network's estimate for every lane of a raw block (`raw`: 15 or 27 rows of W, world coordinates), in
