@@ -95,7 +95,13 @@ QuerySet queries_from_pairs(const std::string& path, std::size_t count) {
     std::exit(2);
   }
   const SurfaceKind kind = header.find("nax") != std::string::npos ? SurfaceKind::kGregory : SurfaceKind::kBilinear;
-  const eval::EvaluationSet pairs = eval::set_from_labelled_csv(path, kind);
+  eval::EvaluationSet pairs;
+  try {
+    pairs = eval::set_from_labelled_csv(path, kind);
+  } catch (const std::exception& e) {  // the reader's message names file, line and column
+    std::fprintf(stderr, "bench_search: %s\n", e.what());
+    std::exit(2);
+  }
   const auto stride = static_cast<std::size_t>(search::LocalSearch::raw_columns(kind));
   std::vector<std::size_t> rows;
   for (std::size_t r = 0; r < static_cast<std::size_t>(pairs.rows()); ++r) {
