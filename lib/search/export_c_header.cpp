@@ -384,10 +384,9 @@ std::string export_c_header(const NetworkModel& m, const CHeaderOptions& options
 
   // 5b. The tie lanes of a block: lib/search's tie_estimates_block (the forms of all tie lanes, a block at a time).
   const std::string domain_arg = options.check_domain ? "&" + p + "_domain" : std::string();
-  o << "/* The tie lanes of a block of n > 1 lanes (lanes[0 .. n_ties - 1]; raw: the block's rows; info: its info\n"
-    << " * rows): what " << p << "_tie gives each, with form 0 the block's own estimate (u, v, code of the lane) and\n"
-    << " * the other forms (cnn_cf_symmetries, and on a Gregory z tie each orientation of z, in cnn_cf_forms' order)\n"
-    << " * computed " << block << " at a time through the batch's forward pass, summed in the order " << p << "_tie sums them. */\n"
+  o << "/* count <= " << kBlockLanes << " forms (rows in `in`, " << kBlockLanes << " lanes, the empty slots copies of the first) with\n"
+    << " * symmetry sym and z orientation zo forced: each form's estimate in the caller's order, whether it exists,\n"
+    << " * whether it lies in the domain. */\n"
     << "static void " << p << "_forms(int count, const double* CNN_CF_RESTRICT in, const int* CNN_CF_RESTRICT sym,\n"
     << "                        const int* CNN_CF_RESTRICT zo, double* CNN_CF_RESTRICT x, double* CNN_CF_RESTRICT y,\n"
     << "                        int* CNN_CF_RESTRICT valid, int* CNN_CF_RESTRICT inside) {\n"
@@ -410,6 +409,11 @@ std::string export_c_header(const NetworkModel& m, const CHeaderOptions& options
     << "    inside[s] = info[s] == (double)CNN_CF_STATUS_OK;\n"
     << "  }\n"
     << "}\n\n"
+    << "/* The tie lanes of a block of n > 1 lanes (lanes[0 .. n_ties - 1]; raw: the block's rows; info: its info\n"
+    << " * rows): what " << p << "_tie gives each, with form 0 the block's own estimate (u, v, code of the lane) and\n"
+    << " * the other forms (cnn_cf_symmetries, and on a Gregory z tie each orientation of z, in cnn_cf_forms' order)\n"
+    << " * computed " << kBlockLanes << " at a time through the batch's forward pass, summed in the order " << p << "_tie sums\n"
+    << " * them. */\n"
     << "static void " << p << "_ties(int n, const double* CNN_CF_RESTRICT raw, const double* CNN_CF_RESTRICT info,\n"
     << "                       const int* CNN_CF_RESTRICT lanes, int n_ties, double* CNN_CF_RESTRICT u,\n"
     << "                       double* CNN_CF_RESTRICT v, double* CNN_CF_RESTRICT code) {\n"
