@@ -912,6 +912,15 @@ CNN_CF_INLINE int cnn_cff_block(int n, const struct cnn_domain* CNN_CF_RESTRICT 
   return undecided;
 }
 
+/* The double pass the float pass stands in for: cnn_canonicalise_block on n bilinear lanes, then (d not null)
+ * cnn_domain_block. */
+CNN_CF_INLINE void cnn_cff_double_pass(int n, const struct cnn_domain* CNN_CF_RESTRICT d,
+                                       const double* CNN_CF_RESTRICT in, double* CNN_CF_RESTRICT f,
+                                       double* CNN_CF_RESTRICT info) {
+  cnn_canonicalise_block(n, 0, in, f, 0, info);
+  if (d != 0) cnn_domain_block(n, 0, d, f, 0, info);
+}
+
 /* The lanes of a block that cnn_cff_block left undecided (info row 4 not 0): the double pass on them, gathered
  * into a block of their own, its f rows and info rows written back. */
 CNN_CF_INLINE void cnn_cff_redo(int n, const struct cnn_domain* CNN_CF_RESTRICT d, const double* CNN_CF_RESTRICT in,
@@ -926,8 +935,7 @@ CNN_CF_INLINE void cnn_cff_redo(int n, const struct cnn_domain* CNN_CF_RESTRICT 
   for (r = 0; r < nr; ++r) {
     for (k = 0; k < 15; ++k) in2[k * nr + r] = in[k * n + redo[r]];
   }
-  cnn_canonicalise_block(nr, 0, in2, f2, 0, info2);
-  if (d != 0) cnn_domain_block(nr, 0, d, f2, 0, info2);
+  cnn_cff_double_pass(nr, d, in2, f2, info2);
   for (r = 0; r < nr; ++r) {
     for (k = 0; k < 8; ++k) f[k * n + redo[r]] = f2[k * nr + r];
     for (k = 0; k < CNN_CF_INFO_ROWS; ++k) info[k * n + redo[r]] = info2[k * nr + r];
@@ -969,8 +977,7 @@ CNN_CF_OUTLINE void cnn_cff_double_first(int n, const struct cnn_domain* CNN_CF_
                                          double* CNN_CF_RESTRICT info, int* CNN_CF_RESTRICT expect) {
   double f2[8 * CNN_CFF_MAX_LANES], info2[CNN_CF_INFO_ROWS * CNN_CFF_MAX_LANES];
   int k, l, leaves = 0;
-  cnn_canonicalise_block(n, 0, in, f, 0, info);
-  if (d != 0) cnn_domain_block(n, 0, d, f, 0, info);
+  cnn_cff_double_pass(n, d, in, f, info);
   for (l = 0; l < n; ++l) leaves += cnn_cff_leaves(n, l, f, info);
   if (leaves == n) return;
   (void)cnn_cff_block(n, d, in, f2, info2);
@@ -1004,8 +1011,7 @@ CNN_CF_INLINE int cnn_cff_block_expecting(int n, const struct cnn_domain* CNN_CF
     }
     /* One lane: the double pass, which stands where the float pass would not decide the lane; otherwise the
      * float pass below, as without the expectation. */
-    cnn_canonicalise_block(1, 0, in, f, 0, info);
-    if (d != 0) cnn_domain_block(1, 0, d, f, 0, info);
+    cnn_cff_double_pass(1, d, in, f, info);
     if (cnn_cff_leaves(1, 0, f, info)) return 0;
   }
   undecided = cnn_cff_block(n, d, in, f, info);
@@ -1043,8 +1049,7 @@ CNN_CF_INLINE void cnn_canonicalise_domain_block_fe(int n, const struct cnn_doma
                                                     const double* CNN_CF_RESTRICT in, double* CNN_CF_RESTRICT f,
                                                     double* CNN_CF_RESTRICT info, int* CNN_CF_RESTRICT expect) {
   if (!cnn_cff_applies(n, d)) {
-    cnn_canonicalise_block(n, 0, in, f, 0, info);
-    if (d != 0) cnn_domain_block(n, 0, d, f, 0, info);
+    cnn_cff_double_pass(n, d, in, f, info);
     return;
   }
   if ((expect == 0 ? cnn_cff_block(n, d, in, f, info) : cnn_cff_block_expecting(n, d, in, f, info, expect)) > 0) {
