@@ -69,6 +69,8 @@ EvaluationSet set_from_labelled_csv(const std::filesystem::path& path, SurfaceKi
     CONTACTNN_REQUIRE_AS(FormatError, it != header.end(),
                          "'" << path.string() << "': no column '" << name
                              << "': a labelled RAW.csv (gen-configs --input or --scene output) is expected");
+    CONTACTNN_REQUIRE_AS(FormatError, std::find(it + 1, header.end(), name) == header.end(),
+                         "'" << path.string() << "':1: duplicate column '" << name << "' in the header");
     return static_cast<std::size_t>(it - header.begin());
   };
   const std::size_t c0 = column(names[0]), c1 = column(names[1]), c_status = column("status"), c_gap = column("gap");

@@ -1,11 +1,11 @@
 #include "io/csv.hpp"
 
+#include <algorithm>
 #include <cerrno>
 #include <charconv>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
-#include <unordered_set>
 
 #include "core/error.hpp"
 
@@ -128,16 +128,15 @@ void CsvReader::start(DataRows rows) {
   const bool got_header = read_record(record, line);
   CONTACTNN_REQUIRE_AS(FormatError, got_header, file_label(path_) << ": empty file: expected a header row and data rows");
   std::vector<std::string> fields = record.strings();
-  std::unordered_set<std::string> seen;
   for (auto& column : fields) {
     CONTACTNN_REQUIRE_AS(FormatError, column.find('\0') == std::string::npos,
                          file_label(path_) << ":1: the header holds NUL bytes: UTF-16 text without a byte-order mark, "
                                               "or not a text file; save it as UTF-8 or ASCII");
     column = std::string(trim(column));
-    CONTACTNN_REQUIRE_AS(FormatError, !column.empty(), file_label(path_) << ":1: empty column name in the header");
-    CONTACTNN_REQUIRE_AS(FormatError, seen.insert(column).second,
-                         file_label(path_) << ":1: duplicate column " << quote_text(column) << " in the header");
   }
+  // An empty or repeated name is a column like any other (pandas writes its index as a column named ""; SPEC 6
+  // copies columns it does not read): only looking one up by a name the header holds twice is an error
+  // (column_index).
   header_ = std::move(fields);
   have_lookahead_ = next(lookahead_, lookahead_line_);
   CONTACTNN_REQUIRE_AS(FormatError, have_lookahead_ || rows == DataRows::kMayBeNone,
@@ -239,22 +238,28 @@ std::vector<std::string> CsvRecord::strings() const {
   return out;
 }
 
-std::size_t CsvReader::column(std::string_view name) const {
-  for (std::size_t i = 0; i < header_.size(); ++i) {
-    if (header_[i] == name) return i;
-  }
-  throw FormatError(file_label(path_) + ":1: missing column '" + std::string(name) + "'");
+namespace {
+
+/// The index of the one column called `name`: FormatError when the header has none, or more than one.
+std::size_t column_index(const std::vector<std::string>& header, std::string_view name,
+                         const std::filesystem::path& path) {
+  const auto found = std::find(header.begin(), header.end(), name);
+  CONTACTNN_REQUIRE_AS(FormatError, found != header.end(),
+                       file_label(path) << ":1: missing column " << quote_text(std::string(name)));
+  CONTACTNN_REQUIRE_AS(FormatError, std::find(found + 1, header.end(), name) == header.end(),
+                       file_label(path) << ":1: duplicate column " << quote_text(std::string(name))
+                                        << " in the header");
+  return static_cast<std::size_t>(found - header.begin());
 }
+
+}  // namespace
+
+std::size_t CsvReader::column(std::string_view name) const { return column_index(header_, name, path_); }
 
 // ---------------------------------------------------------------------------------------------------------
 // CsvTable
 
-std::size_t CsvTable::column(std::string_view name) const {
-  for (std::size_t i = 0; i < header.size(); ++i) {
-    if (header[i] == name) return i;
-  }
-  throw FormatError(file_label(path) + ":1: missing column '" + std::string(name) + "'");
-}
+std::size_t CsvTable::column(std::string_view name) const { return column_index(header, name, path); }
 
 double CsvTable::number(std::size_t row, std::size_t col) const {
   double value = 0.0;

@@ -56,9 +56,9 @@ enum class DataRows { kRequired, kMayBeNone };
 /// Format: comma-separated, RFC 4180 double quotes (a quoted field may hold commas, quotes as "" and line
 /// breaks), LF or CRLF line ends, blank lines skipped, a leading UTF-8 byte-order mark ignored, blanks
 /// around column names ignored. FormatError naming the file and line for: an empty file, a header without
-/// data rows (unless DataRows::kMayBeNone), a duplicate or empty column name, a row whose field count differs
-/// from the header's, an unterminated quote (and the column it opens in), a carriage return not followed by a
-/// line feed (CR-only line ends), UTF-16 or UTF-32 text (by its byte-order mark, or NUL bytes in the header).
+/// data rows (unless DataRows::kMayBeNone), a row whose field count differs from the header's, an unterminated
+/// quote (and the column it opens in), a carriage return not followed by a line feed (CR-only line ends),
+/// UTF-16 or UTF-32 text (by its byte-order mark, or NUL bytes in the header).
 /// IoError if the file cannot be opened or read.
 class CsvReader {
  public:
@@ -70,7 +70,9 @@ class CsvReader {
 
   [[nodiscard]] const std::filesystem::path& path() const { return path_; }
   [[nodiscard]] const std::vector<std::string>& header() const { return header_; }
-  /// Index of column `name`. FormatError "'F':1: missing column 'name'" if there is none.
+  /// Index of column `name`. FormatError "'F':1: missing column 'name'" if there is none, "duplicate column"
+  /// if the header names two (empty and repeated names are allowed in a header: such columns are data a
+  /// reader may copy, but not look up).
   [[nodiscard]] std::size_t column(std::string_view name) const;
 
   /// The next data row: `record` gets header().size() fields (its storage is reused from call to call),
@@ -107,7 +109,7 @@ struct CsvTable {
   std::vector<std::vector<std::string>> rows;
   std::vector<std::size_t> line_numbers;  ///< 1-based line in the file of each row (header is line 1)
 
-  /// Index of column `name`. FormatError naming the file and the column if it is missing.
+  /// Index of column `name`. FormatError naming the file and the column if it is missing or named twice.
   [[nodiscard]] std::size_t column(std::string_view name) const;
   /// Field (row, col) as a number. "nan", "inf", "-inf" (any case) parse; anything else that is not a
   /// complete number is FormatError "<file>:<line>: column '<name>': '<text>' is not a number".
