@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cctype>
 #include <charconv>
 #include <cmath>
 #include <fstream>
@@ -292,7 +293,9 @@ class DeckReader {
         params.entries.emplace_back(keyword_form(fields[i].substr(0, eq)), unquote(fields[i].substr(eq + 1)));
       }
     }
-    const std::string shown = "*" + name;
+    // For messages: the keyword as the deck spells it, upper case ("*CONTACT PAIR", not the compared form).
+    std::string shown = "*" + std::string(fields[0]);
+    for (char& c : shown) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
     // The included lines take the place of the *INCLUDE line: the current block goes on.
     if (name == "INCLUDE") {
       const auto input = params.get("INPUT");
