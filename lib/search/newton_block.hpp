@@ -23,15 +23,6 @@ struct LaneState {
   double iterations[W];
 };
 
-/// 1 when any flag is non-zero, else 0: an integer OR over the lanes (vectorised, unlike a floating-point
-/// reduction, which GCC must do in order).
-template <int W>
-CONTACTNN_SEARCH_INLINE double any_of(const double* flags) {
-  int any = 0;
-  for (int l = 0; l < W; ++l) any |= flags[l] != 0.0 ? 1 : 0;
-  return any != 0 ? 1.0 : 0.0;
-}
-
 /// Residual r_i = P_i.(S - P) and the exact Jacobian H_ij = P_i.P_j - P_ij.(S - P) of Eqs 7-8 (Newton's update
 /// solves H dp = r), with S at the origin; G = P_i.P_j is the Gauss-Newton part.
 struct NewtonSystem {

@@ -24,6 +24,16 @@
 
 namespace contactnn::search::detail {
 
+/// A block with a node distance far from 1 (beyond 2^+-64, Surf::build says): its queries in units of each
+/// lane's size (rescale_queries) and the surface built again. Out of line and cold: the blocks of any real
+/// mesh never come here.
+template <class Surf, int W>
+[[gnu::noinline, gnu::cold]] static void rebuild_rescaled(Surf& surf, QueryBlock<W>& q, double* patch_status) {
+  rescale_queries<W>(q);
+  for (int l = 0; l < W; ++l) patch_status[l] = kOk;
+  (void)surf.build(q, patch_status);
+}
+
 /// One block of W queries: rows first .. first + W - 1 of raw_rows, or (rows not null) the rows rows[0 .. W - 1],
 /// in any order, repeats allowed. cap > 0 (Newton to convergence only): at most cap iterations, a lane still
 /// running then gets status kPending (LocalSearch::run computes it again, from the centre, in a block of such
@@ -73,7 +83,7 @@ static void search_rows(const Plan& plan, const In* raw_rows, const Results<In>&
     make_relative();
     if (built) return;
     for (int l = 0; l < W; ++l) patch_status[l] = kOk;
-    surf.build(q, patch_status);
+    if (surf.build(q, patch_status)) rebuild_rescaled<Surf, W>(surf, q, patch_status);
     built = true;
   };
   const auto build_for_method = [&] {
@@ -128,7 +138,7 @@ static void search_rows(const Plan& plan, const In* raw_rows, const Results<In>&
       BilinearBlock<W> facet;
       double facet_status[W];
       for (int l = 0; l < W; ++l) facet_status[l] = kOk;
-      facet.build(q, facet_status);
+      (void)facet.build(q, facet_status);  // q is in range: rescaled, if it had to be, by build_for_method
       for (int l = 0; l < W; ++l) s.status[l] = (s.status[l] == kOk) & (facet_status[l] != kOk) ? kDegenerate : s.status[l];
       closed_form<W>(facet, s);
       for (int l = 0; l < W; ++l) {
@@ -255,6 +265,9 @@ static void search_rows(const Plan& plan, const In* raw_rows, const Results<In>&
     for (int l = 0; l < W; ++l) {
       const bool none = (s.status[l] == kInvalid) | (s.status[l] == kDegenerate) | (patch_status[l] != kOk);
       gap[l] = none ? 0.0 : gap[l];
+    }
+    if (q.scaled) {
+      for (int l = 0; l < W; ++l) gap[l] *= q.unit[l];  // in world units (rescale_queries)
     }
   }
 
