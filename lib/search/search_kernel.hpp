@@ -133,13 +133,11 @@ static void search_rows(const Plan& plan, const In* raw_rows, const Results<In>&
     } else {
       // A Gregory patch: the closed form on the bilinear facet of its corner nodes, (u, v) = ((xi + 1) / 2,
       // (eta + 1) / 2), exact where the patch is that facet (a flat segment whose node normals are its normal,
-      // SPEC 1). A collapsed facet is degenerate, as the labels say (geometry::is_degenerate_segment).
+      // SPEC 1). A collapsed facet is degenerate, as the labels say: the patch's build tested it
+      // (collapsed_segment), and q's range (rescaled if it had to be).
       build_for_method();
       BilinearBlock<W> facet;
-      double facet_status[W];
-      for (int l = 0; l < W; ++l) facet_status[l] = kOk;
-      (void)facet.build(q, facet_status);  // q is in range: rescaled, if it had to be, by build_for_method
-      for (int l = 0; l < W; ++l) s.status[l] = (s.status[l] == kOk) & (facet_status[l] != kOk) ? kDegenerate : s.status[l];
+      (void)facet.template build<false>(q, nullptr);
       closed_form<W>(facet, s);
       for (int l = 0; l < W; ++l) {
         s.u[l] = 0.5 * (s.u[l] + 1.0);

@@ -175,6 +175,48 @@ void rescale_queries(QueryBlock<W>& q) {
   q.scaled = true;
 }
 
+/// Whether the segment of lane l is collapsed as the labels judge it, for either surface
+/// (geometry::is_degenerate_segment; SPEC 2: coincident nodes, zero area): two nodes within 1e-10 of the
+/// longest node distance L, half the cross product of the diagonals at most 1e-12 L^2, or a corner of zero
+/// angle; `longest` gets L^2. Compared squared (no square root), so a decision can differ from the
+/// reference's only within a few ulps of a threshold.
+template <int W>
+CONTACTNN_SEARCH_INLINE bool collapsed_segment(const QueryBlock<W>& q, int l, double& longest) {
+  // Edges e_i = P_{i+1} - P_i (A B C D), the diagonals C - A and D - B. Corner i has next = e_i and prev =
+  // -e_{i-1}: next . prev = -(e_i . e_{i-1}), |next x prev| = |e_i x e_{i-1}|, as the reference computes them.
+  double e[4][3], g[2][3];
+  CONTACTNN_UNROLL
+  for (int c = 0; c < 3; ++c) {
+    const double pa = q.node[c][l], pb = q.node[3 + c][l], pc = q.node[6 + c][l], pd = q.node[9 + c][l];
+    e[0][c] = pb - pa;
+    e[1][c] = pc - pb;
+    e[2][c] = pd - pc;
+    e[3][c] = pa - pd;
+    g[0][c] = pc - pa;
+    g[1][c] = pd - pb;
+  }
+  const auto sq = [](const double* v) { return v[0] * v[0] + v[1] * v[1] + v[2] * v[2]; };
+  const double d01 = sq(e[0]), d12 = sq(e[1]), d23 = sq(e[2]), d30 = sq(e[3]), d02 = sq(g[0]), d13 = sq(g[1]);
+  longest = max_of(max_of(max_of(d01, d12), max_of(d23, d30)), max_of(d02, d13));
+  const double shortest = min_of(min_of(min_of(d01, d12), min_of(d23, d30)), min_of(d02, d13));
+  const double flat = 1e-24 * longest * longest;
+  const auto cross_sq = [](const double* u, const double* v) {
+    const double x = u[1] * v[2] - u[2] * v[1], y = u[2] * v[0] - u[0] * v[2], z = u[0] * v[1] - u[1] * v[0];
+    return x * x + y * y + z * z;
+  };
+  // Twice the area: |(C - A) x (D - B)|.
+  bool collapsed = !(longest > 0.0) | !(shortest > 1e-20 * longest) | !(0.25 * cross_sq(g[0], g[1]) > flat);
+  CONTACTNN_UNROLL
+  for (int i = 0; i < 4; ++i) {
+    // A corner of zero angle: next . prev > 0 and next x prev ~ 0 (a straight angle is usable).
+    const double* next = e[i];
+    const double* back = e[(i + 3) % 4];
+    const double along = next[0] * back[0] + next[1] * back[1] + next[2] * back[2];
+    collapsed = collapsed | ((along < 0.0) & !(cross_sq(next, back) > flat));
+  }
+  return collapsed;
+}
+
 // ---------------------------------------------------------------------------------------------------------
 // Bilinear facet: P = a0 + s a1 + t a2 + s t a3 (geometry::BilinearPatch).
 
@@ -184,17 +226,14 @@ struct BilinearBlock {
   static constexpr bool kHasPureSecond = false;  // P_ss = P_tt = 0
   double a[12][W];  // a0 xyz, a1 xyz, a2 xyz, a3 xyz
 
-  /// Builds the facet of every lane and sets status[l] = kDegenerate where the segment is collapsed as the labels
-  /// judge it (geometry::is_degenerate_segment; SPEC 2: coincident nodes, zero area): two nodes within 1e-10 of
-  /// the longest node distance L, half the cross product of the diagonals at most 1e-12 L^2, or a corner of zero
-  /// angle. The facet exists for any four nodes, and Newton from the centre reported a point of such a segment ok
-  /// (A = B: ok at K = 1 and 3). Compared squared (no square root), so a decision can differ from the
-  /// reference's only within a few ulps of a threshold; the fourth powers stay in the double range: a block
-  /// with a node distance beyond 2^+-64 is built again in units of each lane's size (rescale_queries).
-  /// Returns whether a lane's longest node distance lies outside [1 / kSaneLength, kSaneLength] (a degenerate
-  /// lane's too): the caller then rescales the block (rescale_queries) and builds it again.
+  /// Builds the facet of every lane and sets status[l] = kDegenerate where the segment is collapsed
+  /// (collapsed_segment). The facet exists for any four nodes, and Newton from the centre reported a point of
+  /// such a segment ok (A = B: ok at K = 1 and 3). Returns whether a lane's longest node distance lies outside
+  /// [1 / kSaneLength, kSaneLength] (a degenerate lane's too): the caller then rescales the block
+  /// (rescale_queries) and builds it again, so that the fourth powers stay in the double range. kCheck false:
+  /// the facet alone (a Gregory patch's corner facet, whose patch has made both tests), status not read.
+  template <bool kCheck = true>
   [[nodiscard]] bool build(const QueryBlock<W>& q, double* status) {
-    double out_of_range[W];
     CONTACTNN_LANES
     for (int l = 0; l < W; ++l) {
       CONTACTNN_UNROLL
@@ -206,40 +245,12 @@ struct BilinearBlock {
         a[9 + c][l] = 0.25 * (pa - pb + pc - pd);
       }
     }
+    if constexpr (!kCheck) return false;
+    double out_of_range[W];
     CONTACTNN_LANES
     for (int l = 0; l < W; ++l) {
-      // Edges e_i = P_{i+1} - P_i (A B C D), the diagonals C - A and D - B. Corner i has next = e_i and prev =
-      // -e_{i-1}: next . prev = -(e_i . e_{i-1}), |next x prev| = |e_i x e_{i-1}|, as the reference computes them.
-      double e[4][3], g[2][3];
-      CONTACTNN_UNROLL
-      for (int c = 0; c < 3; ++c) {
-        const double pa = q.node[c][l], pb = q.node[3 + c][l], pc = q.node[6 + c][l], pd = q.node[9 + c][l];
-        e[0][c] = pb - pa;
-        e[1][c] = pc - pb;
-        e[2][c] = pd - pc;
-        e[3][c] = pa - pd;
-        g[0][c] = pc - pa;
-        g[1][c] = pd - pb;
-      }
-      const auto sq = [](const double* v) { return v[0] * v[0] + v[1] * v[1] + v[2] * v[2]; };
-      const double d01 = sq(e[0]), d12 = sq(e[1]), d23 = sq(e[2]), d30 = sq(e[3]), d02 = sq(g[0]), d13 = sq(g[1]);
-      const double longest = max_of(max_of(max_of(d01, d12), max_of(d23, d30)), max_of(d02, d13));
-      const double shortest = min_of(min_of(min_of(d01, d12), min_of(d23, d30)), min_of(d02, d13));
-      const double flat = 1e-24 * longest * longest;
-      const auto cross_sq = [](const double* u, const double* v) {
-        const double x = u[1] * v[2] - u[2] * v[1], y = u[2] * v[0] - u[0] * v[2], z = u[0] * v[1] - u[1] * v[0];
-        return x * x + y * y + z * z;
-      };
-      // Twice the area: |(C - A) x (D - B)|.
-      bool collapsed = !(longest > 0.0) | !(shortest > 1e-20 * longest) | !(0.25 * cross_sq(g[0], g[1]) > flat);
-      CONTACTNN_UNROLL
-      for (int i = 0; i < 4; ++i) {
-        // A corner of zero angle: next . prev > 0 and next x prev ~ 0 (a straight angle is usable).
-        const double* next = e[i];
-        const double* back = e[(i + 3) % 4];
-        const double along = next[0] * back[0] + next[1] * back[1] + next[2] * back[2];
-        collapsed = collapsed | ((along < 0.0) & !(cross_sq(next, back) > flat));
-      }
+      double longest;
+      const bool collapsed = collapsed_segment(q, l, longest);
       status[l] = collapsed ? kDegenerate : status[l];
       constexpr double kSaneSquare = kSaneLength * kSaneLength;
       out_of_range[l] = (longest >= 1.0 / kSaneSquare) & (longest <= kSaneSquare) ? 0.0 : 1.0;
@@ -284,11 +295,11 @@ struct GregoryBlock {
   double base[48][W];   // point i + 4 j, coordinate c at [3 (i + 4 j) + c]
   double delta[12][W];  // interior k, coordinate c at [3 k + c]
 
-  /// Builds the patch of every lane and sets status[l] = kDegenerate where GregoryPatch::diagnose would refuse
-  /// it: a node normal of zero length, or an edge whose projection on an end's tangent plane is not longer
-  /// than 1e-8 of the longest node distance (coincident nodes, a normal along an edge).
-  /// Returns whether a lane's longest node distance lies outside [1 / kSaneLength, kSaneLength], as
-  /// BilinearBlock::build.
+  /// Builds the patch of every lane and sets status[l] = kDegenerate where the labels refuse it: a collapsed
+  /// segment (collapsed_segment), or where GregoryPatch::diagnose would refuse it: a node normal of zero
+  /// length, or an edge whose projection on an end's tangent plane is not longer than 1e-8 of the longest node
+  /// distance (coincident nodes, a normal along an edge). Returns whether a lane's longest node distance lies
+  /// outside [1 / kSaneLength, kSaneLength], as BilinearBlock::build.
   [[nodiscard]] bool build(const QueryBlock<W>& q, double* status) {
     double out_of_range[W];
     CONTACTNN_LANES
@@ -323,17 +334,11 @@ struct GregoryBlock {
       u[i][1] = ty * inv_len;
       u[i][2] = tz * inv_len;
     }
-    // The longest node distance, for the relative edge test.
-    double longest_sq = 0.0;
-    CONTACTNN_UNROLL
-    for (int i = 0; i < 4; ++i) {
-      CONTACTNN_UNROLL
-      for (int j = i + 1; j < 4; ++j) {
-        const double dx = x[i][0] - x[j][0], dy = x[i][1] - x[j][1], dz = x[i][2] - x[j][2];
-        const double d2 = dx * dx + dy * dy + dz * dz;
-        longest_sq = longest_sq < d2 ? d2 : longest_sq;
-      }
-    }
+    // A collapsed segment (its corner nodes' facet) is degenerate, as the labels judge it for either surface:
+    // the patch's own tests below pass four nodes on a line with normals across it, and Newton then answered
+    // ok or outside on a segment of zero area. Also gives the longest node distance, for the edge test.
+    double longest_sq;
+    bad = bad | collapsed_segment(q, l, longest_sq);
     // Each node's edges projected onto its tangent plane: pn towards the next node, pp towards the previous.
     CONTACTNN_UNROLL
     for (int i = 0; i < 4; ++i) {
