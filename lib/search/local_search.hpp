@@ -29,7 +29,8 @@ struct Results {
   Real* param = nullptr;
   /// count (optional): g = n.(S - P) at the reported point, n the unit normal P_s x P_t of the caller's own
   /// parametrisation (SPEC 2), world units; < 0 is penetration. 0 where the status is invalid or degenerate
-  /// or the normal vanishes there. For a network, at its estimate (for Gregory this builds the patch).
+  /// or the normal vanishes there. For a network, at its estimate (for Gregory this builds the patch). Real =
+  /// float: a gap beyond the float range is the largest float of its sign.
   Real* gap = nullptr;
   /// count: ok, outside, no_convergence, degenerate, invalid, out_of_domain (see LocalSearch::run).
   Status* status = nullptr;

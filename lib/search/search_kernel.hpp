@@ -24,6 +24,18 @@
 
 namespace contactnn::search::detail {
 
+/// A gap as the caller's type: in float, one beyond the float range is the largest float of its sign (a
+/// finite segment and slave node near FLT_MAX can be farther apart than FLT_MAX; outputs are never infinite).
+template <class In>
+CONTACTNN_SEARCH_INLINE In gap_out(double gap) {
+  if constexpr (std::is_same_v<In, float>) {
+    constexpr double kLargest = std::numeric_limits<float>::max();
+    return static_cast<float>(gap > kLargest ? kLargest : (gap < -kLargest ? -kLargest : gap));
+  } else {
+    return gap;
+  }
+}
+
 /// A block with a node distance far from 1 (beyond 2^+-64, Surf::build says): its queries in units of each
 /// lane's size (rescale_queries) and the surface built again. Out of line and cold: the blocks of any real
 /// mesh never come here.
@@ -296,7 +308,7 @@ static void search_rows(const Plan& plan, const In* raw_rows, const Results<In>&
     if (out.gap != nullptr) {
       In* g = out.gap + first;
 #pragma omp simd
-      for (int l = 0; l < W; ++l) g[l] = static_cast<In>(gap[l]);
+      for (int l = 0; l < W; ++l) g[l] = gap_out<In>(gap[l]);
     }
   } else {
     for (int l = 0; l < W; ++l) {
@@ -305,7 +317,7 @@ static void search_rows(const Plan& plan, const In* raw_rows, const Results<In>&
       out.param[2 * i + 1] = pv[l];
       out.status[i] = static_cast<Status>(ps[l]);
       if (out.iterations != nullptr) out.iterations[i] = pi[l];
-      if (out.gap != nullptr) out.gap[i] = static_cast<In>(gap[l]);
+      if (out.gap != nullptr) out.gap[i] = gap_out<In>(gap[l]);
     }
   }
 }

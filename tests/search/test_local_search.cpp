@@ -1172,7 +1172,8 @@ TEST(StartMethod, ReadsEachStartBeforeWritingAndGivesTheSameBitsAloneAndInABlock
 
 TEST(LocalSearch, FloatResultsAreTheDoubleResultsRounded) {
   // The same (float-representable) inputs in float and in double: everything is computed in double (or in the
-  // network's own type) either way, so the float outputs are the double outputs rounded, bit for bit.
+  // network's own type) either way, so the float outputs are the double outputs rounded, bit for bit (a gap
+  // beyond the float range: the largest float, AFloatGapBeyondTheFloatRangeIsTheLargestFloat).
   for (const SurfaceKind kind : {kBilinear, kGregory}) {
     const auto& trained = shipped(kind == kBilinear ? "bilinear-8.h5" : "gregory-48.h5");
     const NetworkModel model(trained.network, trained.domain);
@@ -1189,6 +1190,26 @@ TEST(LocalSearch, FloatResultsAreTheDoubleResultsRounded) {
         ASSERT_EQ(f.param[2 * i + 1], static_cast<float>(d.param[2 * i + 1])) << name << " query " << i;
         ASSERT_EQ(f.gap[i], static_cast<float>(d.gap[i])) << name << " query " << i;
       }
+    }
+  }
+}
+
+TEST(LocalSearch, AFloatGapBeyondTheFloatRangeIsTheLargestFloat) {
+  // Finite float inputs whose gap exceeds FLT_MAX (a facet at z = -3e38, its slave node at +3e38): the gap in
+  // double is 6e38; in float it was +inf, status ok. Now the largest float of its sign; the sign too.
+  const float h = 3.0e38F, length = 1.0e38F;
+  for (const float side : {1.0F, -1.0F}) {
+    const std::vector<float> raw = {0, 0, -side * h, length, 0, -side * h, length, length, -side * h,
+                                    0, length, -side * h, 0.3F * length, 0.4F * length, side * h};
+    for (const char* method : {"newton:2", "closed_form", "closed_form+newton:2"}) {
+      const LocalSearch search(kBilinear, Method::parse(method));
+      const Output<float> f = run(search, raw);
+      const Output<double> d = run(search, std::vector<double>(raw.begin(), raw.end()));
+      ASSERT_EQ(d.status[0], Status::kOk) << method;
+      EXPECT_GT(std::abs(d.gap[0]), 5e38) << method;
+      EXPECT_EQ(f.status[0], Status::kOk) << method;
+      EXPECT_EQ(f.gap[0], side * std::numeric_limits<float>::max()) << method << ": " << f.gap[0];
+      EXPECT_EQ(f.param[0], static_cast<float>(d.param[0])) << method;
     }
   }
 }

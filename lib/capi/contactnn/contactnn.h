@@ -158,7 +158,8 @@ CONTACTNN_API void contactnn_search_destroy(contactnn_search* search);
  * that count x 27 values overflow), OUT_OF_MEMORY. A failed run may have written part of the outputs. */
 CONTACTNN_API int contactnn_search_run(const contactnn_search* search, size_t count, const double* raw,
                                        double* param, double* gap, int* status, int* iterations);
-/* The same in single precision (inputs and outputs float). */
+/* The same in single precision (inputs and outputs float; a gap beyond the float range, possible for inputs
+ * near FLT_MAX, is written as +-FLT_MAX). */
 CONTACTNN_API int contactnn_search_run_float(const contactnn_search* search, size_t count, const float* raw,
                                              float* param, float* gap, int* status, int* iterations);
 
