@@ -510,6 +510,7 @@ CNN_CF_INLINE void cnn_cf_to_caller(double sym, double centre, double* CNN_CF_RE
 /* ---- The training domain (geometry::TrainingDomain::contains) ---- */
 
 /* Precomputed from a TrainingDomain with relative tolerance tol = 1e-9 (cnn_domain_init fills it). */
+/* Exported headers initialise it positionally, in this order (export_c_header.cpp). */
 struct cnn_domain {
   double lo[16], hi[16];   /* feature_min - slack, feature_max + slack */
   double xy, z;            /* xy_limit (1 + tol), z_limit (1 + tol) */
@@ -853,7 +854,7 @@ CNN_CF_INLINE void cnn_cff_lane(const float* CNN_CF_RESTRICT rel, int s, const s
                                                  cnn_cff_max(vc + fold_c + mt, vd + fold_d + mt)));
       }
       fi[3 * s] = fail > 0.0f ? (float)CNN_CF_STATUS_OUT_OF_DOMAIN : 0.0f;
-      redo = (fail > 0.0f) | !(unsure >= 0.0f) ? redo : 1.0f;
+      redo = ((fail > 0.0f) | !(unsure >= 0.0f)) ? redo : 1.0f;
     }
     fi[4 * s] = redo;
   }
@@ -880,7 +881,7 @@ CNN_CF_INLINE int cnn_cff_block(int n, const struct cnn_domain* CNN_CF_RESTRICT 
     memcpy(&bits, &m, sizeof bits);
     bits = (2046ULL - ((bits >> 52) & 2047ULL)) << 52; /* 2^-(e+1) for m in [2^e, 2^(e+1)) */
     memcpy(&bits_as_double, &bits, sizeof bits);
-    power[l] = (m >= 1e-290) & (m <= 1e290) ? bits_as_double : (double)NAN;
+    power[l] = ((m >= 1e-290) & (m <= 1e290)) ? bits_as_double : (double)NAN;
   }
   for (k = 0; k < 12; ++k) {
     const double* x = in + k * n;

@@ -297,7 +297,9 @@ std::string export_c_header(const NetworkModel& m, const CHeaderOptions& options
       << " * results, faster on real decks); the one-query function guesses the order from the query itself\n"
       << " * (cnn_cff_looks_undecided: a slave on the plane of A, B, D or a square corner at A).\n";
   }
-  o << " * C99; two headers with different prefixes can share a translation unit. Link with -lm.\n"
+  o << " * C99, or C++11 and later; two headers with different prefixes can share a translation unit. Link with -lm.\n"
+    << " * Not for -ffast-math: it drops the NaN tests (a non-finite input is no longer status 1) and reorders the\n"
+    << " * sums that the bit-for-bit agreement of the batch with the one-query function rests on.\n"
     << " */\n"
     << "#ifndef " << guard << "\n#define " << guard << "\n\n#include <math.h>\n#include <stddef.h>\n\n";
 
@@ -323,8 +325,10 @@ std::string export_c_header(const NetworkModel& m, const CHeaderOptions& options
   if (options.check_domain) {
     o << "/* The training domain as cnn_domain_lane tests it (search::domain_bounds). */\n"
       << "static const struct cnn_domain " << p << "_domain = {\n";
+    // Positional, each field named in a comment (struct cnn_domain's order): designated initializers are C99
+    // but C++ only from C++20, and an FE code in C++17 includes this header too.
     auto row = [&](const char* name, const double* v, int n) {
-      o << "  ." << name << " = {";
+      o << "  /* " << name << " */ {";
       for (int i = 0; i < n; ++i) {
         CONTACTNN_REQUIRE(!std::isnan(v[i]), "domain bound " << name << "[" << i << "] is NaN");
         o << (i ? ", " : "") << literal(v[i]);
@@ -333,13 +337,13 @@ std::string export_c_header(const NetworkModel& m, const CHeaderOptions& options
     };
     row("lo", d.lo, 16);
     row("hi", d.hi, 16);
-    o << "  .xy = " << literal(d.xy) << ", .z = " << literal(d.z) << ", .ad_bound = " << literal(d.ad_bound)
-      << ", .inv_one_plus_tol = " << literal(d.inv_one_plus_tol) << ",\n"
-      << "  .tol = " << literal(d.tol) << ", .cos_lo = " << literal(d.cos_lo) << ", .cos_hi = " << literal(d.cos_hi)
-      << ", .tilt = " << literal(d.tilt) << ",\n"
-      << "  .features = " << d.features << ", .ad_not_longer = " << d.ad_not_longer << ", .nearest_a = " << d.nearest_a
-      << ", .segment_test = " << d.segment_test << ", .convex = " << d.convex << ",\n"
-      << "  .check_lo = " << d.check_lo << ", .check_hi = " << d.check_hi << "};\n";
+    o << "  /* xy */ " << literal(d.xy) << ", /* z */ " << literal(d.z) << ", /* ad_bound */ " << literal(d.ad_bound)
+      << ", /* inv_one_plus_tol */ " << literal(d.inv_one_plus_tol) << ",\n"
+      << "  /* tol */ " << literal(d.tol) << ", /* cos_lo */ " << literal(d.cos_lo) << ", /* cos_hi */ "
+      << literal(d.cos_hi) << ", /* tilt */ " << literal(d.tilt) << ",\n"
+      << "  /* features */ " << d.features << ", /* ad_not_longer */ " << d.ad_not_longer << ", /* nearest_a */ "
+      << d.nearest_a << ", /* segment_test */ " << d.segment_test << ", /* convex */ " << d.convex << ",\n"
+      << "  /* check_lo */ " << d.check_lo << ", /* check_hi */ " << d.check_hi << "};\n";
   }
   o << "\nenum { " << block << " = " << kBlockLanes << " };\n\n";
 

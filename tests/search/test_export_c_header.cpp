@@ -232,6 +232,27 @@ TEST(ExportCHeader, WithContractedMultiplyAddsTheBatchAgreesToRounding) {
   compile_and_compare(all_cases(), "-std=gnu99 -O2 -march=native -ffp-contract=fast", false);
 }
 
+TEST(ExportCHeader, HeadersCompileAsCxx11AndCxx17WithoutAWarning) {
+  // FE codes in C++ include the header too: no designated initializers (C++20), no C-only construct.
+  const auto dir = work_dir("cxx");
+  std::string unit;
+  for (const Case& k : all_cases()) {
+    CHeaderOptions options;
+    options.prefix = k.prefix;
+    std::ofstream(dir / (k.prefix + ".h")) << export_c_header(*k.model, options);
+    unit += "#include \"" + k.prefix + ".h\"\n";
+  }
+  unit += "int main() {\n  double raw[27] = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0, 0.3, 0.4, 0.2, 0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1};\n"
+          "  double out[2];\n  int status[1];\n  bilinear_8_local_coordinates_batch(1, raw, out, status);\n"
+          "  return gregory_48_local_coordinates(raw, out) + status[0];\n}\n";
+  std::ofstream(dir / "unit.cpp") << unit;
+  for (const char* standard : {"c++11", "c++17"}) {
+    const std::string compile = "cd \"" + dir.string() + "\" && \"" CONTACTNN_CXX_COMPILER "\" -std=" + standard +
+                                " -O1 -Wall -Wextra -pedantic -Werror -o unit unit.cpp -lm";
+    EXPECT_EQ(std::system(compile.c_str()), 0) << compile;
+  }
+}
+
 TEST(ExportCHeader, EmbedsTheLibrarysKernelsVerbatim) {
   const auto& trained = shipped("bilinear-8.h5");
   const std::string header = export_c_header(NetworkModel(trained.network, trained.domain), {});
