@@ -67,7 +67,9 @@ class NumericalError : public Error {
 }  // namespace contactnn
 
 /// Always-on check (also in Release). `msg` is a stream expression: REQUIRE(n > 0, "n = " << n).
-/// Throws contactnn::InvalidArgument naming the failed condition, the message and the source location.
+/// Throws contactnn::InvalidArgument naming the failed condition, the message and the source location: for
+/// an internal invariant. A caller's bad argument that users see (a method name, an option of the C
+/// interface) takes REQUIRE_AS(InvalidArgument, ...), whose message is the user's alone.
 #define CONTACTNN_REQUIRE(cond, msg)                                                          \
   do {                                                                                        \
     if (!(cond)) {                                                                            \

@@ -11,24 +11,32 @@
 namespace contactnn::search {
 
 LocalSearch::LocalSearch(SurfaceKind kind, Method method, SearchOptions options, const NetworkModel* network) {
-  CONTACTNN_REQUIRE(method.newton_steps >= 0, "method " << method.name() << ": newton_steps = " << method.newton_steps
-                                                        << ", expected >= 0");
-  CONTACTNN_REQUIRE(!method.to_convergence || method.start == Method::Start::kCentre,
-                    "Newton to convergence starts from the centre; got start " << method.name());
+  CONTACTNN_REQUIRE_AS(
+      InvalidArgument, method.newton_steps >= 0,
+      "method " << method.name() << ": newton_steps = " << method.newton_steps << ", expected >= 0");
+  CONTACTNN_REQUIRE_AS(InvalidArgument, !method.to_convergence || method.start == Method::Start::kCentre,
+                       "Newton to convergence starts from the centre; got start " << method.name());
   if (method.needs_network()) {
-    CONTACTNN_REQUIRE(network != nullptr, "method " << method.name() << " needs a network");
-    CONTACTNN_REQUIRE(network->surface() == kind, "method " << method.name() << " on " << to_string(kind)
-                                                            << " segments got a " << to_string(network->surface())
-                                                            << " network");
+    CONTACTNN_REQUIRE_AS(InvalidArgument, network != nullptr,
+                         "method " << method.name() << " needs a network");
+    CONTACTNN_REQUIRE_AS(InvalidArgument, network->surface() == kind,
+                         "method " << method.name() << " on " << to_string(kind) << " segments got a "
+                                   << to_string(network->surface()) << " network");
   }
-  CONTACTNN_REQUIRE(options.max_iterations >= 1, "max_iterations = " << options.max_iterations << ", expected >= 1");
-  CONTACTNN_REQUIRE(options.tol_param >= 0.0, "tol_param = " << options.tol_param << ", expected >= 0");
-  CONTACTNN_REQUIRE(options.domain_margin >= 0.0, "domain_margin = " << options.domain_margin << ", expected >= 0");
-  CONTACTNN_REQUIRE(options.gregory_box_margin >= 0.0 && options.bilinear_box_margin >= 0.0,
-                    "box margins must be >= 0, got gregory " << options.gregory_box_margin << ", bilinear "
-                                                             << options.bilinear_box_margin);
-  CONTACTNN_REQUIRE(options.max_step_widths > 0.0, "max_step_widths = " << options.max_step_widths << ", expected > 0");
-  CONTACTNN_REQUIRE(options.max_halvings >= 0, "max_halvings = " << options.max_halvings << ", expected >= 0");
+  CONTACTNN_REQUIRE_AS(InvalidArgument, options.max_iterations >= 1,
+                       "max_iterations = " << options.max_iterations << ", expected >= 1");
+  CONTACTNN_REQUIRE_AS(InvalidArgument, options.tol_param >= 0.0,
+                       "tol_param = " << options.tol_param << ", expected >= 0");
+  CONTACTNN_REQUIRE_AS(InvalidArgument, options.domain_margin >= 0.0,
+                       "domain_margin = " << options.domain_margin << ", expected >= 0");
+  CONTACTNN_REQUIRE_AS(InvalidArgument,
+                       options.gregory_box_margin >= 0.0 && options.bilinear_box_margin >= 0.0,
+                       "box margins must be >= 0, got gregory " << options.gregory_box_margin << ", bilinear "
+                                                                << options.bilinear_box_margin);
+  CONTACTNN_REQUIRE_AS(InvalidArgument, options.max_step_widths > 0.0,
+                       "max_step_widths = " << options.max_step_widths << ", expected > 0");
+  CONTACTNN_REQUIRE_AS(InvalidArgument, options.max_halvings >= 0,
+                       "max_halvings = " << options.max_halvings << ", expected >= 0");
 
   auto plan = std::make_shared<detail::Plan>();
   plan->kind = kind;
@@ -59,8 +67,9 @@ int LocalSearch::block_size() const { return plan_->block_size; }
 template <class Real>
 void LocalSearch::run(std::size_t count, const Real* raw, Results<Real> out, int threads) const {
   if (count == 0) return;
-  CONTACTNN_REQUIRE(raw != nullptr && out.param != nullptr && out.status != nullptr,
-                    "LocalSearch::run: raw, out.param and out.status must not be null for " << count << " queries");
+  CONTACTNN_REQUIRE_AS(
+      InvalidArgument, raw != nullptr && out.param != nullptr && out.status != nullptr,
+      "LocalSearch::run: raw, out.param and out.status must not be null for " << count << " queries");
   const detail::Plan& plan = *plan_;
   detail::BlockFn<Real> block, single;
   if constexpr (std::is_same_v<Real, float>) {

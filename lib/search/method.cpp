@@ -17,8 +17,9 @@ constexpr std::string_view kForms =
 int parse_steps(std::string_view text, std::string_view whole) {
   int k = -1;
   const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), k);
-  CONTACTNN_REQUIRE(error == std::errc() && end == text.data() + text.size() && k >= 0 && !text.empty(),
-                    "method '" << whole << "': '" << text << "' is not a step count >= 0; " << kForms);
+  CONTACTNN_REQUIRE_AS(InvalidArgument,
+                       error == std::errc() && end == text.data() + text.size() && k >= 0 && !text.empty(),
+                       "method '" << whole << "': '" << text << "' is not a step count >= 0; " << kForms);
   return k;
 }
 

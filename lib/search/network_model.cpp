@@ -11,9 +11,11 @@ namespace contactnn::search {
 
 cnn_domain domain_bounds(const geometry::TrainingDomain& domain) {
   const int n = feature_count(domain.surface);
-  CONTACTNN_REQUIRE(static_cast<int>(domain.feature_min.size()) == n && static_cast<int>(domain.feature_max.size()) == n,
-                    "a " << to_string(domain.surface) << " training domain needs " << n << " feature ranges, got "
-                         << domain.feature_min.size() << " minima and " << domain.feature_max.size() << " maxima");
+  CONTACTNN_REQUIRE_AS(
+      InvalidArgument,
+      static_cast<int>(domain.feature_min.size()) == n && static_cast<int>(domain.feature_max.size()) == n,
+      "a " << to_string(domain.surface) << " training domain needs " << n << " feature ranges, got "
+           << domain.feature_min.size() << " minima and " << domain.feature_max.size() << " maxima");
   const double tol = geometry::TrainingDomain::kRelativeTolerance;
   const geometry::DomainFilters& f = domain.filters;
   cnn_domain d{};
@@ -54,13 +56,14 @@ cnn_domain domain_bounds(const geometry::TrainingDomain& domain) {
 template <class Real>
 void NetworkModel::init(const mlp::Network<Real>& network) {
   const int n_features = feature_count(domain_.surface);
-  CONTACTNN_REQUIRE(network.input_count() == n_features,
-                    "a " << to_string(domain_.surface) << " network needs " << n_features << " inputs, got "
-                         << network.input_count());
-  CONTACTNN_REQUIRE(network.output_count() == 2,
-                    "a local-search network has 2 outputs, got " << network.output_count());
+  CONTACTNN_REQUIRE_AS(InvalidArgument, network.input_count() == n_features,
+                       "a " << to_string(domain_.surface) << " network needs " << n_features
+                            << " inputs, got " << network.input_count());
+  CONTACTNN_REQUIRE_AS(InvalidArgument, network.output_count() == 2,
+                       "a local-search network has 2 outputs, got " << network.output_count());
   for (const int width : network.layer_sizes()) {
-    CONTACTNN_REQUIRE(width <= kMaxWidth, "layer width " << width << " exceeds NetworkModel::kMaxWidth = " << kMaxWidth);
+    CONTACTNN_REQUIRE_AS(InvalidArgument, width <= kMaxWidth,
+                         "layer width " << width << " exceeds NetworkModel::kMaxWidth = " << kMaxWidth);
   }
   bounds_ = search::domain_bounds(domain_);
   is_float_ = std::is_same_v<Real, float>;

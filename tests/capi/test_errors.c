@@ -36,6 +36,11 @@ static void expect_create_fails(int surface, const char* method, const char* net
     printf("FAIL: %s: the message does not name '%s'\n", what, needle);
     ++failures;
   }
+  /* The user's message alone: no internal condition or source path (those are for broken invariants). */
+  if (strstr(contactnn_last_error(), "[requirement") != NULL || strstr(contactnn_last_error(), ".cpp:") != NULL) {
+    printf("FAIL: %s: the message shows the library's source\n", what);
+    ++failures;
+  }
 }
 
 int main(int argc, char** argv) {
