@@ -61,6 +61,7 @@ module contactnn
   end type contactnn_options
 
   !> A search (one method on one surface kind); create with contactnn_create, free with contactnn_destroy.
+  !> A copy (b = a) shares a's search: destroy one of them only, once (no reference count, no finaliser).
   type, public :: contactnn_search
     private
     type(c_ptr) :: handle = c_null_ptr
