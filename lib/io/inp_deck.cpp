@@ -293,9 +293,17 @@ class DeckReader {
         params.entries.emplace_back(keyword_form(fields[i].substr(0, eq)), unquote(fields[i].substr(eq + 1)));
       }
     }
-    // For messages: the keyword as the deck spells it, upper case ("*CONTACT PAIR", not the compared form).
-    std::string shown = "*" + std::string(fields[0]);
-    for (char& c : shown) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+    // For messages: the keyword as the deck spells it, upper case, blanks as one ("*CONTACT PAIR", not the
+    // compared form "*CONTACTPAIR").
+    std::string shown = "*";
+    for (const char c : upper(fields[0])) {
+      const bool blank = c == ' ' || c == '\t';
+      if (!blank) {
+        shown.push_back(c);
+      } else if (shown.back() != ' ') {
+        shown.push_back(' ');
+      }
+    }
     // The included lines take the place of the *INCLUDE line: the current block goes on.
     if (name == "INCLUDE") {
       const auto input = params.get("INPUT");

@@ -237,7 +237,8 @@ void parameter_tables(std::ostringstream& o, const NetworkModel& m, const std::s
 }  // namespace
 
 std::string export_c_header(const NetworkModel& m, const CHeaderOptions& options) {
-  CONTACTNN_REQUIRE(is_c_identifier(options.prefix), "the C header's prefix '" << options.prefix << "' is not a C identifier");
+  CONTACTNN_REQUIRE_AS(InvalidArgument, is_c_identifier(options.prefix),
+                       "the C header's prefix '" << options.prefix << "' is not a C identifier");
   const std::string& p = options.prefix;
   const bool gregory = m.surface() == SurfaceKind::kGregory;
   const int n_raw = gregory ? 27 : 15;

@@ -36,9 +36,9 @@ CONTACTNN_SEARCH_INLINE In gap_out(double gap) {
   }
 }
 
-/// A block with a node distance far from 1 (beyond 2^+-64, Surf::build says): its queries in units of each
-/// lane's size (rescale_queries) and the surface built again. Out of line and cold: the blocks of any real
-/// mesh never come here.
+/// A block with a node distance far from 1 (beyond 2^+-64, Surf::build says; or a lane whose nodes coincide):
+/// its queries in units of each lane's segment size (rescale_queries) and the surface built again. Out of
+/// line and cold: a real mesh's blocks come here only with a collapsed segment.
 template <class Surf, int W>
 [[gnu::noinline, gnu::cold]] static void rebuild_rescaled(Surf& surf, QueryBlock<W>& q, double* patch_status) {
   rescale_queries<W>(q);
@@ -277,7 +277,12 @@ static void search_rows(const Plan& plan, const In* raw_rows, const Results<In>&
       gap[l] = none ? 0.0 : gap[l];
     }
     if (q.scaled) {
-      for (int l = 0; l < W; ++l) gap[l] *= q.unit[l];  // in world units (rescale_queries)
+      // In world units (rescale_queries); beyond the double range (nodes near 1e308), the largest double of
+      // the gap's sign: outputs are never infinite.
+      for (int l = 0; l < W; ++l) {
+        const double world = gap[l] * q.unit[l];
+        gap[l] = is_finite(world) ? world : std::copysign(std::numeric_limits<double>::max(), gap[l]);
+      }
     }
   }
 

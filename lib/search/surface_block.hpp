@@ -73,8 +73,8 @@ CONTACTNN_SEARCH_INLINE double power_of_two_below(double x) {
 }
 
 /// W queries relative to their slave nodes: node[3 i + c][l] is coordinate c of node i (A, B, C, D) minus
-/// the same coordinate of S, in units of unit[l] (where `scaled`, a power of two near the lane's largest
-/// offset, set by rescale_queries; otherwise 1: a length computed from them times unit[l] is in world units);
+/// the same coordinate of S, in units of unit[l] (where `scaled`, a power of two near the segment's size, set
+/// by rescale_queries; otherwise 1: a length computed from them times unit[l] is in world units);
 /// normal[3 i + c][l] the raw node normal (Gregory only; unset for a bilinear block). finite[l] is 1 when every input of lane l is
 /// finite (otherwise the lane's values are replaced by a unit square, so that no NaN enters the arithmetic of
 /// the other lanes' vector operations).
@@ -149,21 +149,27 @@ CONTACTNN_SEARCH_INLINE double any_of(const double* flags) {
 /// distance is outside [1 / kSaneLength, kSaneLength] reports it from build (2^64, 1.8e19).
 inline constexpr double kSaneLength = 0x1p64;
 
-/// Divides each lane's offsets by unit[l], the power of two at or below its largest offset (1 where that is 0
-/// or subnormal), for a block whose surface reported a length out of range: the squares and fourth powers of
-/// lengths in the surfaces' degeneracy tests and Newton's systems left the double range beyond element sizes
-/// of about 1e+-77, and every method that builds the surface called a sound segment degenerate there (the
-/// labels hold from 1e-300 to 1e307). Division by a power of two is exact and every decision compares
+/// Divides each lane's offsets by unit[l], the power of two at or below the segment's own size (its largest
+/// node coordinate difference; 1 where that is 0, subnormal or not finite), for a block whose surface reported
+/// a length out of range: the squares and fourth powers of lengths in the surfaces' degeneracy tests and
+/// Newton's systems left the double range beyond element sizes of about 1e+-77, and every method that builds
+/// the surface called a sound segment degenerate there (the labels hold from 1e-300 to 1e307). In units of the
+/// segment (not of the slave's offset, which for a slave far from a small segment would make the segment tiny
+/// again) every node distance is near 1. Division by a power of two is exact and every decision compares
 /// quantities of the same dimension, so the results have the same bits as unscaled wherever nothing under- or
 /// overflowed: a lane's answer does not depend on whether its block was scaled. Gaps are multiplied back by
 /// unit[l]. Run only for such blocks (found by the surface's build, which computes the lengths anyway): taking
-/// every block's largest offset made lean newton:5 4% slower (18.6 -> 19.3 ns batched, bench_search A/B).
+/// every block's largest offset up front made lean newton:5 4% slower (18.6 -> 19.3 ns batched).
 template <int W>
 void rescale_queries(QueryBlock<W>& q) {
   double size[W], inverse[W];
   for (int l = 0; l < W; ++l) size[l] = 0.0;
-  for (int k = 0; k < 12; ++k) {
-    for (int l = 0; l < W; ++l) size[l] = max_of(size[l], std::fabs(q.node[k][l]));
+  for (int i = 0; i < 4; ++i) {
+    for (int j = i + 1; j < 4; ++j) {
+      for (int c = 0; c < 3; ++c) {
+        for (int l = 0; l < W; ++l) size[l] = max_of(size[l], std::fabs(q.node[3 * i + c][l] - q.node[3 * j + c][l]));
+      }
+    }
   }
   for (int l = 0; l < W; ++l) {
     q.unit[l] = power_of_two_below(size[l]);

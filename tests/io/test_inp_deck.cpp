@@ -239,7 +239,7 @@ TEST(InpDeck, EveryMalformedDeckNamesFileAndLine) {
        "has 7 node ids before the next keyword, expected 8"},
       {"long-element.inp", kNodes + "*ELEMENT, TYPE=C3D8\n1, 1, 2, 3, 4, 5, 6, 7, 8, 11\n", 19, "has 9 node ids, expected 8"},
       // The keyword named as the deck spells it, upper case (not its compared form, "*CONTACTPAIR").
-      {"pair-fields.inp", head + kSurfaces + "*Contact Pair\nSBOTTOM\n", 27, "*CONTACT PAIR: expected 'slave surface, master surface'"},
+      {"pair-fields.inp", head + kSurfaces + "*Contact   Pair\nSBOTTOM\n", 27, "*CONTACT PAIR: expected 'slave surface, master surface'"},
       {"generate-range.inp", "*NSET, NSET=A, GENERATE\n10, 1\n", 2, "GENERATE range 10..1"},
       {"generate-fields.inp", "*NSET, NSET=A, GENERATE\n1\n", 2, "GENERATE needs 'first, last[, increment]'"},
       {"cylindrical-nodes.inp", "*NODE, SYSTEM=C\n1, 1, 0, 0\n", 1, "SYSTEM=C is not supported"},

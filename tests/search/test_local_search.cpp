@@ -1323,6 +1323,65 @@ TEST(LocalSearch, EveryMethodGivesTheSameAnswerAtScalesFrom2ToThePowerMinus900To
   }
 }
 
+TEST(LocalSearch, ABlockRescaledForOneLaneGivesEveryOtherLaneItsOwnBits) {
+  // A block is rescaled when one lane's node distances are beyond 2^+-64 (here a segment 1e-100 wide). Each
+  // lane is then taken in units of its own segment, not of its slave's offset: a unit square with its slave
+  // 1e90 above it became, in units of that offset, a segment of 1e-90, whose fourth powers vanish (degenerate,
+  // gap 0) in a block and not alone. And a 1e-100 segment with its slave 1e-10 away, in units of the offset,
+  // stayed 1e-90 wide. Each is checked alone, in the block, and against its label.
+  const auto push = [](std::vector<double>& raw, double size, double height, bool gregory) {
+    for (const double x : {0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 1.0, 1.0, 0.0, 0.0, 1.0, 0.0}) raw.push_back(x * size);
+    raw.insert(raw.end(), {0.3 * size, 0.2 * size, height});
+    if (gregory) {
+      for (int node = 0; node < 4; ++node) raw.insert(raw.end(), {0.0, 0.0, 1.0});
+    }
+  };
+  for (const SurfaceKind kind : {kBilinear, kGregory}) {
+    const bool gregory = kind == kGregory;
+    // A Gregory patch's Newton loses a slave many sizes away to rounding (the patch's second derivatives, eps
+    // off its plane, times the distance), alone or not: 1e12 sizes is far too many there; 10 is not.
+    const double far = gregory ? 10.0 : 1e90;
+    std::vector<double> raw;
+    push(raw, 1e-100, 0.5e-100, gregory);  // the lane that rescales the block
+    push(raw, 1.0, far, gregory);
+    push(raw, 1e-100, gregory ? 1e-99 : 1e-10, gregory);
+    for (int i = 0; i < 13; ++i) push(raw, 1.0, 0.1 * (i + 1), gregory);
+    const std::vector<dataset::Label> labels = labels_of(raw, kind);
+    for (const char* method : {"newton:5", "newton", "closed_form", "closed_form+newton:2"}) {
+      const Output<double> block = run_method(kind, method, raw);
+      for (std::size_t i = 0; i < labels.size(); ++i) {
+        const Output<double> alone = run_method(kind, method, rows_of(raw, kind, i));
+        EXPECT_EQ(block.status[i], alone.status[0]) << method << " query " << i;
+        EXPECT_EQ(block.param[2 * i], alone.param[0]) << method << " query " << i;
+        EXPECT_EQ(block.param[2 * i + 1], alone.param[1]) << method << " query " << i;
+        EXPECT_EQ(block.gap[i], alone.gap[0]) << method << " query " << i;
+        ASSERT_EQ(labels[i].status, Status::kOk) << "query " << i;
+        EXPECT_EQ(block.status[i], Status::kOk) << method << " query " << i;
+        EXPECT_LT(param_error(block, i, labels[i]), 1e-9) << method << " query " << i;
+        EXPECT_NEAR(block.gap[i], labels[i].gap, 1e-9 * std::abs(labels[i].gap)) << method << " query " << i;
+      }
+    }
+  }
+}
+
+TEST(LocalSearch, AGapBeyondTheDoubleRangeIsTheLargestDouble) {
+  // A segment 1e300 wide at (1e308, 1e308, 1e308), normal to (1, 1, 1), and a slave node at -0.6e308 on each
+  // axis: the gap, sqrt(3) x 1.6e308, exceeds the double range. Computed in units of the segment, it came
+  // back as -inf after the scale was multiplied back.
+  const double r2 = 1.0 / std::sqrt(2.0), r6 = 1.0 / std::sqrt(6.0);
+  const double e1[3] = {r2, -r2, 0.0}, e2[3] = {r6, r6, -2.0 * r6};
+  std::vector<double> raw;
+  for (const auto& [a, b] : {std::pair{-1.0, -1.0}, std::pair{1.0, -1.0}, std::pair{1.0, 1.0}, std::pair{-1.0, 1.0}}) {
+    for (int c = 0; c < 3; ++c) raw.push_back(1e308 + 1e300 * (a * e1[c] + b * e2[c]));
+  }
+  raw.insert(raw.end(), {-0.6e308, -0.6e308, -0.6e308});
+  for (const char* method : {"newton:3", "closed_form", "closed_form+newton:2"}) {
+    const Output<double> out = run_method(kBilinear, method, raw);
+    EXPECT_TRUE(std::isfinite(out.gap[0])) << method << ": " << out.gap[0];
+    EXPECT_TRUE(out.gap[0] == 0.0 || std::abs(out.gap[0]) == std::numeric_limits<double>::max()) << method;
+  }
+}
+
 TEST(LocalSearch, EveryStatusIsReachableAndNoOutputIsEverNaN) {
   for (const SurfaceKind kind : {kBilinear, kGregory}) {
     const auto& trained = shipped(kind == kBilinear ? "bilinear-8.h5" : "gregory-48.h5");
