@@ -1338,8 +1338,9 @@ TEST(LocalSearch, ABlockRescaledForOneLaneGivesEveryOtherLaneItsOwnBits) {
   };
   for (const SurfaceKind kind : {kBilinear, kGregory}) {
     const bool gregory = kind == kGregory;
-    // A Gregory patch's Newton loses a slave many sizes away to rounding (the patch's second derivatives, eps
-    // off its plane, times the distance), alone or not: 1e12 sizes is far too many there; 10 is not.
+    // A Gregory patch evaluated relative to a slave many sizes away loses the residual to rounding (its
+    // Bernstein sums give the tangents eps x distance off the plane, alone or not): 1e12 sizes is far too
+    // many there; 10 is not.
     const double far = gregory ? 10.0 : 1e90;
     std::vector<double> raw;
     push(raw, 1e-100, 0.5e-100, gregory);  // the lane that rescales the block
