@@ -298,9 +298,10 @@ std::string export_c_header(const NetworkModel& m, const CHeaderOptions& options
       << " * results, faster on real decks); the one-query function guesses the order from the query itself\n"
       << " * (cnn_cff_looks_undecided: a slave on the plane of A, B, D or a square corner at A).\n";
   }
-  o << " * C99, or C++11 and later; two headers with different prefixes can share a translation unit. Link with -lm.\n"
-    << " * Not for -ffast-math: it drops the NaN tests (a non-finite input is no longer status 1) and reorders the\n"
-    << " * sums that the bit-for-bit agreement of the batch with the one-query function rests on.\n"
+  o << " * C99, or C++11 and later; two headers with different prefixes can share a translation unit.\n"
+    << " * Link with -lm. Not for -ffast-math: it drops the NaN tests (a non-finite input is no longer\n"
+    << " * status 1) and reorders the sums on which the batch's bit-for-bit agreement with the one-query\n"
+    << " * function rests.\n"
     << " */\n"
     << "#ifndef " << guard << "\n#define " << guard << "\n\n#include <math.h>\n#include <stddef.h>\n\n";
 

@@ -75,9 +75,9 @@ CONTACTNN_SEARCH_INLINE double power_of_two_below(double x) {
 /// W queries relative to their slave nodes: node[3 i + c][l] is coordinate c of node i (A, B, C, D) minus
 /// the same coordinate of S, in units of unit[l] (where `scaled`, a power of two near the segment's size, set
 /// by rescale_queries; otherwise 1: a length computed from them times unit[l] is in world units);
-/// normal[3 i + c][l] the raw node normal (Gregory only; unset for a bilinear block). finite[l] is 1 when every input of lane l is
-/// finite (otherwise the lane's values are replaced by a unit square, so that no NaN enters the arithmetic of
-/// the other lanes' vector operations).
+/// normal[3 i + c][l] the raw node normal (Gregory only; unset for a bilinear block). finite[l] is 1 when
+/// every input of lane l is finite (otherwise the lane's values are replaced by a unit square, so that no NaN
+/// enters the arithmetic of the other lanes' vector operations).
 template <int W>
 struct QueryBlock {
   double node[12][W];
@@ -167,7 +167,9 @@ void rescale_queries(QueryBlock<W>& q) {
   for (int i = 0; i < 4; ++i) {
     for (int j = i + 1; j < 4; ++j) {
       for (int c = 0; c < 3; ++c) {
-        for (int l = 0; l < W; ++l) size[l] = max_of(size[l], std::fabs(q.node[3 * i + c][l] - q.node[3 * j + c][l]));
+        const double* a = q.node[3 * i + c];
+        const double* b = q.node[3 * j + c];
+        for (int l = 0; l < W; ++l) size[l] = max_of(size[l], std::fabs(a[l] - b[l]));
       }
     }
   }

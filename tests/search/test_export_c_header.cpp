@@ -242,7 +242,9 @@ TEST(ExportCHeader, HeadersCompileAsCxx11AndCxx17WithoutAWarning) {
     std::ofstream(dir / (k.prefix + ".h")) << export_c_header(*k.model, options);
     unit += "#include \"" + k.prefix + ".h\"\n";
   }
-  unit += "int main() {\n  double raw[27] = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0, 0.3, 0.4, 0.2, 0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1};\n"
+  unit += "int main() {\n"
+          "  double raw[27] = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0, 0.3, 0.4, 0.2,\n"
+          "                    0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1};\n"
           "  double out[2];\n  int status[1];\n  bilinear_8_local_coordinates_batch(1, raw, out, status);\n"
           "  return gregory_48_local_coordinates(raw, out) + status[0];\n}\n";
   std::ofstream(dir / "unit.cpp") << unit;

@@ -1372,8 +1372,9 @@ TEST(LocalSearch, AGapBeyondTheDoubleRangeIsTheLargestDouble) {
   const double r2 = 1.0 / std::sqrt(2.0), r6 = 1.0 / std::sqrt(6.0);
   const double e1[3] = {r2, -r2, 0.0}, e2[3] = {r6, r6, -2.0 * r6};
   std::vector<double> raw;
-  for (const auto& [a, b] : {std::pair{-1.0, -1.0}, std::pair{1.0, -1.0}, std::pair{1.0, 1.0}, std::pair{-1.0, 1.0}}) {
-    for (int c = 0; c < 3; ++c) raw.push_back(1e308 + 1e300 * (a * e1[c] + b * e2[c]));
+  const double corners[4][2] = {{-1.0, -1.0}, {1.0, -1.0}, {1.0, 1.0}, {-1.0, 1.0}};
+  for (const auto& corner : corners) {
+    for (int c = 0; c < 3; ++c) raw.push_back(1e308 + 1e300 * (corner[0] * e1[c] + corner[1] * e2[c]));
   }
   raw.insert(raw.end(), {-0.6e308, -0.6e308, -0.6e308});
   for (const char* method : {"newton:3", "closed_form", "closed_form+newton:2"}) {
