@@ -43,14 +43,16 @@ constexpr double kRelativePerValue = 2, kRelative = 12;
 // update and checks 7. A plain step (lean_newton, converged_newton) on the polynomial system of
 // PlainSystem<BilinearBlock>: its nine dot products once per query 46; per step u v and the doubled
 // coefficients 3, g00 and g11 8, the residual 14, h01 7, then the solve 12 and update and checks 7.
-constexpr double kBilinearBuild = 48 + 142, kBilinearStep = 31 + 33 + 12 + 7;
+constexpr double kBilinearCoefficients = 48, kCollapsedTest = 142;
+constexpr double kBilinearBuild = kBilinearCoefficients + kCollapsedTest, kBilinearStep = 31 + 33 + 12 + 7;
 constexpr double kBilinearPlainSetup = 46, kBilinearPlainStep = 3 + 8 + 14 + 7 + 12 + 7;
 // Closed form: q, n, |n|^2 17; three triple products 43 and their division by |n|^2 3; discriminant, root and
 // the two roots 11; the plane projections 13; xi for each root 2 x 33; the degeneracy test 12.
 constexpr double kClosedForm = 17 + 43 + 3 + 11 + 13 + 66 + 12;
-// Gregory patch (GregoryBlock::build): unit normals 4 x 14; longest distance 48; per node the projected edges
-// and their tests 49 (x 4); edge points 48; per edge the interior points 131 (x 4); base and delta 12.
-constexpr double kGregoryBuild = 56 + 48 + 4 * 49 + 48 + 4 * 131 + 12;
+// Gregory patch (GregoryBlock::build): unit normals 4 x 14; the collapsed-segment test of its corner facet
+// (which gives the longest distance) 142; per node the projected edges and their tests 49 (x 4); edge points
+// 48; per edge the interior points 131 (x 4); base and delta 12.
+constexpr double kGregoryBuild = 56 + kCollapsedTest + 4 * 49 + 48 + 4 * 131 + 12;
 // One Gregory evaluation with second derivatives: Bernstein values 54, tensor part 396, rational part 4 x 85;
 // the Newton system 45 and its solve and checks 19.
 constexpr double kGregoryEval = 54 + 396 + 340, kGregoryStep = kGregoryEval + 45 + 19;
@@ -94,8 +96,9 @@ FlopCount flops_per_query(SurfaceKind kind, const Method& method, const NetworkM
     (network->is_float() ? count.in_float : d) += net;
   } else {
     d += relative + build;
-    // On a Gregory patch the closed form is that of the corner facet: its build and test too, and the map to (u, v).
-    if (method.start == Method::Start::kClosedForm) d += kClosedForm + (gregory ? kBilinearBuild + 4 : 0.0);
+    // On a Gregory patch the closed form is that of the corner facet: its coefficients too (the patch's build
+    // tested it), and the map to (u, v).
+    if (method.start == Method::Start::kClosedForm) d += kClosedForm + (gregory ? kBilinearCoefficients + 4 : 0.0);
   }
   if (method.is_hybrid()) {
     // The network's start needs the surface too; then one evaluation at the start and one per step (a bilinear
