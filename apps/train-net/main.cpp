@@ -140,6 +140,11 @@ int train(const CLI::App& app, const NetSettings& net_settings, mlp::TrainOption
                                         << data_path << "' has " << ok_rows.size());
   const mlp::PatternSelection selection = mlp::select_patterns(ok_rows, net_settings.train_count, validation_count,
                                                                mlp::Rng::derive_seed(options.seed, 1));
+  if (validation_count == 0 && options.patience > 0) {
+    std::fprintf(stderr, "warning: no validation patterns (--validation_fraction %g x --train_count %zu rounds to 0): "
+                         "--patience has nothing to act on\n",
+                 net_settings.validation_fraction, net_settings.train_count);
+  }
   const int n_features = feature_count(set.surface);
   // The network's inputs: the features through the chosen input map (core/input_features.hpp).
   const InputFeatures input_map = input_features_from_string(net_settings.input_features);
@@ -224,9 +229,13 @@ int train(const CLI::App& app, const NetSettings& net_settings, mlp::TrainOption
     const double epochs_done = r.epoch - first_epoch;
     const double rate = elapsed > 0 ? epochs_done / elapsed : 0.0;
     const double eta = rate > 0 ? (options.epochs - r.epoch) / rate : 0.0;
-    std::fprintf(stderr, "\repoch %d/%d  train %.4e  val %.4e (best %.4e @%d)  %.3g patterns/s  ETA %s   ", r.epoch,
-                 options.epochs, r.training_loss, r.validation_loss, trainer.state().best_validation_loss,
-                 trainer.state().best_epoch, rate * static_cast<double>(train_x.rows()), format_duration(eta).c_str());
+    char validation[96] = "no validation set";  // not 'val nan (best inf)'
+    if (val_x.rows() > 0) {
+      std::snprintf(validation, sizeof validation, "val %.4e (best %.4e @%d)", r.validation_loss,
+                    trainer.state().best_validation_loss, trainer.state().best_epoch);
+    }
+    std::fprintf(stderr, "\repoch %d/%d  train %.4e  %s  %.3g patterns/s  ETA %s   ", r.epoch, options.epochs,
+                 r.training_loss, validation, rate * static_cast<double>(train_x.rows()), format_duration(eta).c_str());
     std::fflush(stderr);
   };
   mlp::EpochReport last{};
@@ -280,7 +289,11 @@ int train(const CLI::App& app, const NetSettings& net_settings, mlp::TrainOption
               selection.validation.size(), ok_rows.size());
   std::printf("  epochs           %d (kept parameters of epoch %lld), %.2f s\n", state.epoch,
               static_cast<long long>(provenance.best_epoch ? provenance.best_epoch : state.epoch), seconds);
-  std::printf("  mean E_p         training %.4e, validation %.4e\n", provenance.training_loss, provenance.validation_loss);
+  if (selection.validation.empty()) {
+    std::printf("  mean E_p         training %.4e, no validation set\n", provenance.training_loss);
+  } else {
+    std::printf("  mean E_p         training %.4e, validation %.4e\n", provenance.training_loss, provenance.validation_loss);
+  }
   std::printf("  all ok rows      mean |%s error| %.5f, mean |%s error| %.5f  (%zu rows)\n",
               std::string(names[0]).c_str(), abs_error[0] / static_cast<double>(ok_rows.size()),
               std::string(names[1]).c_str(), abs_error[1] / static_cast<double>(ok_rows.size()), ok_rows.size());

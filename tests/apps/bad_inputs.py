@@ -598,6 +598,20 @@ def _(ctx):
 TINY = "[gen-configs]\nd_xy_points = 4\nc_xy_points = 4\nc_z_points = 3\ns_xy_points = 6\ns_z_points = 3\n"
 
 
+@case("train_net_without_a_validation_set_prints_no_nan", needs=("gen-configs", "train-net"))
+def _(ctx):
+    # --validation_fraction 0: no validation patterns. The progress line said "val nan (best inf @0)" and the
+    # summary "validation nan"; now "no validation set", and --patience, which has nothing to act on, is named.
+    data = make_dataset(ctx)
+    out, err = ctx.expect_success("train-net", ["--data", data, "--output", "net.h5", "--epochs", "3",
+                                                "--train_count", "20", "--validation_fraction", "0",
+                                                "--patience", "2"])
+    if re.search(r"\bnan\b|\binf\b", out + err, re.IGNORECASE):
+        raise Failure(f"a NaN or inf printed:\n{out}\n{err}")
+    if "no validation set" not in out or "--patience has nothing to act on" not in err:
+        raise Failure(f"the missing validation set is not said:\n{out}\n{err}")
+
+
 def make_dataset(ctx, name="data.h5"):
     ctx.write("tiny.toml", TINY)
     ctx.expect_success("gen-configs", ["--config", "tiny.toml", "--output", name, "--quiet"])
