@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <iterator>
+#include <string>
 
 #include "core/error.hpp"
 #include "io/hdf5_file.hpp"
@@ -101,6 +103,47 @@ TEST(DatasetFile, WrongSchemaVersionKindOrShapeIsRejectedWithBothSides) {
   }
   e = error_of(path);
   EXPECT_NE(e.find("attribute"), std::string::npos) << e;  // filters' attributes missing are named
+}
+
+TEST(DatasetFile, AnOkRowOutsideTheDomainOrBeyondTheFloatRangeIsAFormatError) {
+  // Finite but impossible values of an ok row: a label outside the domain (evaluate-net reported a mean error
+  // of 3e296 with exit 0) or a feature beyond the float range (train-net's float cast made it inf: an
+  // internal error, exit 2). Both are a corrupt file: FormatError naming the file and the row.
+  const auto path = temp_dir() / "impossible.h5";
+  const struct {
+    Eigen::Index row, column;
+    bool feature;
+    double value;
+    const char* says;
+  } cases[] = {{2, 0, false, 1e300, "row 2 has status ok but label 0 = 1e+300"},
+               {1, 1, false, -1.5, "row 1 has status ok but label 1 = -1.5"},
+               {3, 5, true, 1.7e308, "row 3 has a feature beyond the float range"}};
+  for (const auto& c : cases) {
+    // write_dataset refuses such a set: a valid file with a marker value, then its 8 bytes replaced in place.
+    dataset::LabelledSet set = small_set();
+    const double marker = 0.123456789012345;
+    (c.feature ? set.features : set.labels)(c.row, c.column) = marker;
+    write_dataset(path, set);
+    std::string bytes;
+    {
+      std::ifstream in(path, std::ios::binary);
+      bytes.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    }
+    const std::string from(reinterpret_cast<const char*>(&marker), sizeof marker);
+    const std::size_t at = bytes.find(from);
+    ASSERT_NE(at, std::string::npos) << "the marker value is stored as it is";
+    ASSERT_EQ(bytes.find(from, at + 1), std::string::npos) << "the marker value is stored once";
+    bytes.replace(at, sizeof marker, std::string(reinterpret_cast<const char*>(&c.value), sizeof c.value));
+    std::ofstream(path, std::ios::binary | std::ios::trunc) << bytes;
+    const std::string e = error_of(path);
+    EXPECT_NE(e.find(c.says), std::string::npos) << e;
+    EXPECT_THROW((void)read_dataset(path), FormatError);
+  }
+  // The same value in a row whose status is not ok is data, not a contradiction.
+  dataset::LabelledSet set = small_set();
+  set.labels(4, 0) = 1e300;
+  write_dataset(path, set);
+  EXPECT_NO_THROW((void)read_dataset(path));
 }
 
 TEST(DatasetFile, TruncatedOrForeignFilesAreFormatErrorsAndMissingFilesIoErrors) {
