@@ -343,6 +343,17 @@ int main(int argc, char** argv) {
       }
     }
     if (!paths.input.empty()) return input_mode(networks.front(), paths);
+    // The sets are named by their file stems in every table: they must differ too.
+    std::vector<std::string> sets = paths.data;
+    sets.insert(sets.end(), paths.pairs.begin(), paths.pairs.end());
+    for (std::size_t i = 0; i < sets.size(); ++i) {
+      for (std::size_t k = 0; k < i; ++k) {
+        CONTACTNN_REQUIRE_AS(InvalidArgument,
+                             std::filesystem::path(sets[k]).stem() != std::filesystem::path(sets[i]).stem(),
+                             "two sets named '" << std::filesystem::path(sets[i]).stem().string() << "' (" << sets[k]
+                                                << ", " << sets[i] << "): their rows in the report would share a name");
+      }
+    }
     return report_mode(networks, paths, options, effective, *report_directory);
   });
 }

@@ -696,6 +696,18 @@ def _(ctx):
                        r"^error: 'net\.h5' is a contactnn-network file, expected a contactnn-dataset file")
 
 
+@case("evaluate_net_two_sets_named_alike", needs=("gen-configs", "train-net", "evaluate-net"))
+def _(ctx):
+    # Sets are named by their file stems in every table: two files data.h5 in different folders gave two
+    # blocks named 'data' (networks named alike were already refused).
+    data = make_dataset(ctx)
+    net = make_network(ctx, data)
+    os.makedirs(ctx.path("other"))
+    shutil.copy(ctx.path(data), ctx.path("other/data.h5"))
+    ctx.expect_failure("evaluate-net", ["--weights", net, "--data", data, "--data", "other/data.h5", "--report",
+                                        "rep", "--quiet"], 2, r"^error: two sets named 'data' \(data\.h5, other/data\.h5\)")
+
+
 # ------------------------------------------------------------------------------------------------------
 # Issue 12. Messages: a malformed field is quoted short; other encodings and line ends are named.
 
