@@ -175,6 +175,13 @@ TEST_F(EvaluateNetApp, SeveralNetworksAndAPairsFileInOneReport) {
   EXPECT_EQ(errors.rows[0][errors.column("mean_abs")], errors.rows[2][errors.column("mean_abs")]);
   EXPECT_EQ(errors.rows[6][errors.column("set")], "some-labels");
   EXPECT_EQ(errors.number(6, errors.column("rows")), 20.0);
+  // report.md's Table 1 has every network on every set (it had the first network only).
+  const std::string md = read_file(report / "report.md");
+  for (const std::string net : {"network[net]", "network[twin]"}) {
+    for (const std::string set : {"tiny", "some-labels"}) {
+      EXPECT_NE(md.find("| `" + net + "` | " + set + " |"), std::string::npos) << net << " on " << set;
+    }
+  }
 }
 
 TEST_F(EvaluateNetApp, NewtonStepsAfterTheNetworkReachTheLabels) {
