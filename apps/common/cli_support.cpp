@@ -196,8 +196,17 @@ class SectionConfig : public CLI::Config {
       if (!opt->get_configurable() || opt->get_lnames().empty() || opt->get_lnames().front() == "config") continue;
       const std::vector<std::string> results = opt->reduced_results();
       std::string value;
-      if (!results.empty()) {
+      if (opt->get_expected_max() > 1) {
+        // A repeatable option (evaluate-net's --weights, --data, --pairs): every value, as a TOML array (the
+        // first alone read back as one network); none given, nothing (written as "[]", it read back as a file
+        // named "[]").
+        for (const std::string& r : results) value += (value.empty() ? "[" : ", ") + toml_value(*opt, r);
+        if (!value.empty()) value += "]";
+      } else if (!results.empty()) {
         value = toml_value(*opt, results.front());
+      } else if (!opt->get_needs().empty()) {
+        // Not given, and only valid with another option (evaluate-net's --newton-steps needs --input): its
+        // default, written, would read back as given without it.
       } else if (default_also) {
         if (!opt->get_default_str().empty()) {
           value = toml_value(*opt, opt->get_default_str());
@@ -245,10 +254,23 @@ class SectionConfig : public CLI::Config {
       fits = kind == ValueKind::kText;
       text = s->get();
     }
+    std::vector<std::string> inputs = {text};
+    if (const auto* array = value.as_array(); array != nullptr && option->get_expected_max() > 1) {
+      // A repeatable option: an array of its values (each checked as a single value is).
+      inputs.clear();
+      fits = true;
+      for (const toml::node& element : *array) {
+        const auto* s = element.as_string();
+        if (kind != ValueKind::kText || s == nullptr) {
+          key_error(line, key, "expected an array of strings, got an element that is " + node_text(element));
+        }
+        inputs.push_back(s->get());
+      }
+    }
     if (!fits) key_error(line, key, "expected " + kind_text(kind) + ", got " + node_text(value));
     CLI::ConfigItem item;
     item.name = key;
-    item.inputs = {text};
+    item.inputs = std::move(inputs);
     return item;
   }
 

@@ -182,6 +182,15 @@ TEST_F(EvaluateNetApp, SeveralNetworksAndAPairsFileInOneReport) {
       EXPECT_NE(md.find("| `" + net + "` | " + set + " |"), std::string::npos) << net << " on " << set;
     }
   }
+  // The effective config reproduces the run: both networks and both sets (it kept the first of each, and
+  // --newton-steps, which needs --input, so that reading it back failed).
+  const fs::path again = dir_ / "report3";
+  ASSERT_EQ(run(evaluate_net() + " --config " + (report / "evaluate-net.config.toml").string() + " --report " +
+                    again.string(),
+                dir_ / "report3.log"),
+            0)
+      << read_file(dir_ / "report3.log");
+  EXPECT_EQ(read_file(again / "errors.csv"), read_file(report / "errors.csv"));
 }
 
 TEST_F(EvaluateNetApp, NewtonStepsAfterTheNetworkReachTheLabels) {
