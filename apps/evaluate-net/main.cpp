@@ -351,7 +351,8 @@ int main(int argc, char** argv) {
         CONTACTNN_REQUIRE_AS(InvalidArgument,
                              std::filesystem::path(sets[k]).stem() != std::filesystem::path(sets[i]).stem(),
                              "two sets named '" << std::filesystem::path(sets[i]).stem().string() << "' (" << sets[k]
-                                                << ", " << sets[i] << "): their rows in the report would share a name");
+                                                << ", " << sets[i]
+                                                << "): their rows in the report would share a name");
       }
     }
     return report_mode(networks, paths, options, effective, *report_directory);

@@ -235,7 +235,8 @@ int train(const CLI::App& app, const NetSettings& net_settings, mlp::TrainOption
                     trainer.state().best_validation_loss, trainer.state().best_epoch);
     }
     std::fprintf(stderr, "\repoch %d/%d  train %.4e  %s  %.3g patterns/s  ETA %s   ", r.epoch, options.epochs,
-                 r.training_loss, validation, rate * static_cast<double>(train_x.rows()), format_duration(eta).c_str());
+                 r.training_loss, validation, rate * static_cast<double>(train_x.rows()),
+                 format_duration(eta).c_str());
     std::fflush(stderr);
   };
   mlp::EpochReport last{};
@@ -292,7 +293,8 @@ int train(const CLI::App& app, const NetSettings& net_settings, mlp::TrainOption
   if (selection.validation.empty()) {
     std::printf("  mean E_p         training %.4e, no validation set\n", provenance.training_loss);
   } else {
-    std::printf("  mean E_p         training %.4e, validation %.4e\n", provenance.training_loss, provenance.validation_loss);
+    std::printf("  mean E_p         training %.4e, validation %.4e\n", provenance.training_loss,
+                provenance.validation_loss);
   }
   std::printf("  all ok rows      mean |%s error| %.5f, mean |%s error| %.5f  (%zu rows)\n",
               std::string(names[0]).c_str(), abs_error[0] / static_cast<double>(ok_rows.size()),

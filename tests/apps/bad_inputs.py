@@ -705,7 +705,8 @@ def _(ctx):
     os.makedirs(ctx.path("other"))
     shutil.copy(ctx.path(data), ctx.path("other/data.h5"))
     ctx.expect_failure("evaluate-net", ["--weights", net, "--data", data, "--data", "other/data.h5", "--report",
-                                        "rep", "--quiet"], 2, r"^error: two sets named 'data' \(data\.h5, other/data\.h5\)")
+                                        "rep", "--quiet"], 2,
+                       r"^error: two sets named 'data' \(data\.h5, other/data\.h5\)")
 
 
 # ------------------------------------------------------------------------------------------------------
