@@ -290,11 +290,14 @@ int train(const CLI::App& app, const NetSettings& net_settings, mlp::TrainOption
               selection.validation.size(), ok_rows.size());
   std::printf("  epochs           %d (kept parameters of epoch %lld), %.2f s\n", state.epoch,
               static_cast<long long>(provenance.best_epoch ? provenance.best_epoch : state.epoch), seconds);
+  // The training error is the last epoch's; the validation error the kept parameters' (the best epoch's with
+  // restore_best), so each is labelled.
   if (selection.validation.empty()) {
-    std::printf("  mean E_p         training %.4e, no validation set\n", provenance.training_loss);
+    std::printf("  mean E_p         training %.4e (last epoch), no validation set\n", provenance.training_loss);
   } else {
-    std::printf("  mean E_p         training %.4e, validation %.4e\n", provenance.training_loss,
-                provenance.validation_loss);
+    std::printf("  mean E_p         training %.4e (last epoch), validation %.4e (epoch %lld)\n",
+                provenance.training_loss, provenance.validation_loss,
+                static_cast<long long>(provenance.best_epoch ? provenance.best_epoch : state.epoch));
   }
   std::printf("  all ok rows      mean |%s error| %.5f, mean |%s error| %.5f  (%zu rows)\n",
               std::string(names[0]).c_str(), abs_error[0] / static_cast<double>(ok_rows.size()),
