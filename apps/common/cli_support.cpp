@@ -352,6 +352,14 @@ int run(CLI::App& app, int argc, char** argv, const std::function<int()>& body) 
       return code == 0 ? 0 : static_cast<int>(ExitCode::kUsage);
     }
     return body();
+  } catch (const InvalidArgument& e) {
+    // An option's value refused after parsing (--hidden '8,0'), which came from the config file: say where.
+    if (const auto origin = config_origin(app, argc, argv, e.what())) {
+      std::cerr << "error: " << *origin << ": " << e.what() << "\n";
+    } else {
+      std::cerr << "error: " << e.what() << "\n";
+    }
+    return e.exit_code();
   } catch (const Error& e) {
     std::cerr << "error: " << e.what() << "\n";
     return e.exit_code();

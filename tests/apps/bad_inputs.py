@@ -403,6 +403,16 @@ def _(ctx):
            r"got '0'\n$")
 
 
+@case("config_value_refused_after_parsing_names_its_line", needs=("gen-configs", "train-net"))
+def _(ctx):
+    # A value the app checks itself after parsing (hidden = "8,0") came from the config file: its file, line
+    # and key are named, as for a value CLI11 refuses (it said "--hidden: ..." alone).
+    data = make_dataset(ctx)
+    ctx.write("c.toml", "[train-net]\nepochs = 2\nhidden = \"8,0\"\n")
+    ctx.expect_failure("train-net", ["--config", "c.toml", "--data", data, "--output", "net.h5"], 2,
+                       r"^error: config file 'c\.toml', line 3, key 'hidden': --hidden: expected comma-separated")
+
+
 @case("config_negative_limit")
 def _(ctx):
     config(ctx, "[gen-configs]\nz_limit = -0.3\n", 2,
