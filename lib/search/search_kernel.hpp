@@ -24,16 +24,13 @@
 
 namespace contactnn::search::detail {
 
-/// A gap as the caller's type: in float, one beyond the float range is the largest float of its sign (a
-/// finite segment and slave node near FLT_MAX can be farther apart than FLT_MAX; outputs are never infinite).
+/// A gap as the caller's type: one beyond the type's range is its largest value of the gap's sign (a finite
+/// segment and slave node near FLT_MAX can be farther apart than FLT_MAX; a gap of a rescaled block, multiplied
+/// back, can overflow near DBL_MAX; outputs are never infinite).
 template <class In>
 CONTACTNN_SEARCH_INLINE In gap_out(double gap) {
-  if constexpr (std::is_same_v<In, float>) {
-    constexpr double kLargest = std::numeric_limits<float>::max();
-    return static_cast<float>(gap > kLargest ? kLargest : (gap < -kLargest ? -kLargest : gap));
-  } else {
-    return gap;
-  }
+  constexpr double kLargest = std::numeric_limits<In>::max();
+  return static_cast<In>(gap > kLargest ? kLargest : (gap < -kLargest ? -kLargest : gap));
 }
 
 /// A block with a node distance far from 1 (beyond 2^+-64, Surf::build says; or a lane whose nodes coincide):
@@ -277,12 +274,8 @@ static void search_rows(const Plan& plan, const In* raw_rows, const Results<In>&
       gap[l] = none ? 0.0 : gap[l];
     }
     if (q.scaled) {
-      // In world units (rescale_queries); beyond the double range (nodes near 1e308), the largest double of
-      // the gap's sign: outputs are never infinite.
-      for (int l = 0; l < W; ++l) {
-        const double world = gap[l] * q.unit[l];
-        gap[l] = is_finite(world) ? world : std::copysign(std::numeric_limits<double>::max(), gap[l]);
-      }
+      // In world units (rescale_queries); beyond the double range (nodes near 1e308) gap_out caps it.
+      for (int l = 0; l < W; ++l) gap[l] *= q.unit[l];
     }
   }
 
