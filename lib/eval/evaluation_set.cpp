@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 #include "core/error.hpp"
 #include "eval/placement.hpp"
@@ -65,13 +66,11 @@ EvaluationSet set_from_labelled_csv(const std::filesystem::path& path, SurfaceKi
   const std::vector<std::string>& header = reader.header();
   const auto names = coordinate_names(kind);
   const auto column = [&](std::string_view name) {
-    const auto it = std::find(header.begin(), header.end(), name);
-    CONTACTNN_REQUIRE_AS(FormatError, it != header.end(),
+    const std::optional<std::size_t> found = io::find_column(header, name, path);
+    CONTACTNN_REQUIRE_AS(FormatError, found.has_value(),
                          "'" << path.string() << "': no column '" << name
                              << "': a labelled RAW.csv (gen-configs --input or --scene output) is expected");
-    CONTACTNN_REQUIRE_AS(FormatError, std::find(it + 1, header.end(), name) == header.end(),
-                         "'" << path.string() << "':1: duplicate column '" << name << "' in the header");
-    return static_cast<std::size_t>(it - header.begin());
+    return *found;
   };
   const std::size_t c0 = column(names[0]), c1 = column(names[1]), c_status = column("status"), c_gap = column("gap");
   std::vector<double> labels;

@@ -238,18 +238,25 @@ std::vector<std::string> CsvRecord::strings() const {
   return out;
 }
 
+std::optional<std::size_t> find_column(const std::vector<std::string>& header, std::string_view name,
+                                       const std::filesystem::path& path) {
+  const auto found = std::find(header.begin(), header.end(), name);
+  if (found == header.end()) return std::nullopt;
+  CONTACTNN_REQUIRE_AS(FormatError, std::find(found + 1, header.end(), name) == header.end(),
+                       file_label(path) << ":1: duplicate column " << quote_text(std::string(name))
+                                        << " in the header");
+  return static_cast<std::size_t>(found - header.begin());
+}
+
 namespace {
 
 /// The index of the one column called `name`: FormatError when the header has none, or more than one.
 std::size_t column_index(const std::vector<std::string>& header, std::string_view name,
                          const std::filesystem::path& path) {
-  const auto found = std::find(header.begin(), header.end(), name);
-  CONTACTNN_REQUIRE_AS(FormatError, found != header.end(),
+  const std::optional<std::size_t> found = find_column(header, name, path);
+  CONTACTNN_REQUIRE_AS(FormatError, found.has_value(),
                        file_label(path) << ":1: missing column " << quote_text(std::string(name)));
-  CONTACTNN_REQUIRE_AS(FormatError, std::find(found + 1, header.end(), name) == header.end(),
-                       file_label(path) << ":1: duplicate column " << quote_text(std::string(name))
-                                        << " in the header");
-  return static_cast<std::size_t>(found - header.begin());
+  return *found;
 }
 
 }  // namespace

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -18,6 +19,11 @@ namespace contactnn::io {
 /// kQuotedBytes bytes followed by "... (N bytes)", so a 10 MB field never ends up on stderr.
 inline constexpr std::size_t kQuotedBytes = 40;
 [[nodiscard]] std::string quote_text(std::string_view text);
+
+/// The index of the one column of `header` called `name`; std::nullopt when there is none; FormatError naming
+/// `path` when there are several (a header may hold repeated names: only looking one up is an error).
+[[nodiscard]] std::optional<std::size_t> find_column(const std::vector<std::string>& header, std::string_view name,
+                                                     const std::filesystem::path& path);
 
 /// One CSV record held compactly: the fields' text back to back and where each ends (a row of 17 numbers
 /// takes its text plus 68 bytes, not 17 separately allocated strings).
