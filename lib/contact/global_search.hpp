@@ -44,8 +44,22 @@ using geometry::Vec3;
 
 enum class NearestNodeMethod { kTree, kBruteForce };
 
+/// Which global search pairs a slave node with a master face: the surface search of SPEC 9 (every face
+/// within the capture distance, the closest point on each, the nearest wins: surface_search.hpp), or the
+/// paper's nearest-node search of SPEC 7 (this header).
+enum class GlobalSearchKind { kSurface, kNearestNode };
+
 struct SearchOptions {
   SurfaceKind surface = SurfaceKind::kBilinear;
+  GlobalSearchKind search = GlobalSearchKind::kSurface;  ///< search_scene's choice; global_search is nearest-node
+  /// Surface search: a face is a candidate when its closest point may lie within the capture distance of S.
+  /// capture_distance > 0 sets it in world units; otherwise it is capture_relative x the master surface's
+  /// largest face size (its longest node distance), so that every slave within about one element of the
+  /// surface gets a point (surface_search.hpp explains the choice).
+  double capture_distance = 0.0;
+  double capture_relative = 1.0;
+  /// Surface search: every face is a candidate (the oracle the tests compare the tree against).
+  bool brute_force_faces = false;
   double segment_test_tolerance = geometry::kSegmentTestTolerance;  ///< relative; see the header comment
   double distance_tie_tolerance = 1e-9;  ///< relative to the longest candidate edge
   NearestNodeMethod nearest = NearestNodeMethod::kTree;
@@ -64,6 +78,9 @@ struct NodeSegmentPair {
   int candidates = 0;                 ///< segments at the nearest node that passed the segment test
   geometry::Configuration config;     ///< world coordinates in the order A, B, C, D; unit node normals (Gregory)
   dataset::Label label;               ///< the reference projection of `config` (status ok..invalid)
+  // The surface search's closest point (SPEC 9); the nearest-node search leaves these at their defaults.
+  Location location = Location::kFace;  ///< where the point lies on its face
+  Vec3 point = Vec3::Zero();            ///< the closest point P, world coordinates
 };
 
 /// The pair of one slave node S, given the master node nearest it (steps 2-5 above).

@@ -1,5 +1,7 @@
 #include "contact/scene.hpp"
 
+#include "contact/surface_search.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -55,6 +57,7 @@ void add_neighbour_sectors(const mesh::CyclicSymmetry& c, mesh::SurfaceMesh& sur
       for (int& n : quad) n += copy * nodes;
       surface.segments.push_back(quad);
       surface.segment_faces.push_back(sector.segment_faces[static_cast<std::size_t>(s)]);
+      surface.segment_element_ids.push_back(sector.segment_element_ids[static_cast<std::size_t>(s)]);
     }
     // adjacency_offsets has nodes + 1 entries: the copy's last entry replaces the end of the one before.
     surface.adjacency_offsets.pop_back();
@@ -91,7 +94,9 @@ Scene make_scene(const mesh::ContactModel& model, int k) {
 
 SceneResult search_scene(const Scene& scene, const SearchOptions& options) {
   SceneResult result;
-  result.pairs = global_search(scene.master, scene.master_normals, scene.slave_ids, scene.slave_positions, options);
+  result.pairs = options.search == GlobalSearchKind::kSurface
+                     ? surface_search(scene.master, scene.master_normals, scene.slave_ids, scene.slave_positions, options)
+                     : global_search(scene.master, scene.master_normals, scene.slave_ids, scene.slave_positions, options);
   for (const NodeSegmentPair& p : result.pairs) {
     if (p.status == PairStatus::kFound) {
       ++result.found;

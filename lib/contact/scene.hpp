@@ -42,7 +42,8 @@ struct SceneResult {
   ShapeStatistics statistics;          ///< over the found pairs
 };
 
-/// Global search over every slave node of the scene, counts and statistics.
+/// The global search options.search chooses (surface or nearest node) over every slave node of the scene,
+/// counts and statistics.
 [[nodiscard]] SceneResult search_scene(const Scene& scene, const SearchOptions& options);
 
 /// The largest |gap| of the found pairs (statuses ok and outside) divided by the shortest edge of the pair's

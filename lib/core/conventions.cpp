@@ -20,6 +20,15 @@ std::optional<Status> status_from_string(std::string_view name) {
 
 std::string_view to_string(SurfaceKind kind) { return kind == SurfaceKind::kBilinear ? "bilinear" : "gregory"; }
 
+std::string_view to_string(Location location) {
+  switch (location) {
+    case Location::kFace: return "face";
+    case Location::kEdge: return "edge";
+    case Location::kVertex: return "vertex";
+  }
+  return "face";
+}
+
 SurfaceKind surface_from_string(std::string_view name) {
   if (name == "bilinear") return SurfaceKind::kBilinear;
   if (name == "gregory") return SurfaceKind::kGregory;

@@ -46,6 +46,12 @@ inline constexpr int kStatusCount = 7;
 /// Inverse of to_string; throws InvalidArgument naming the accepted values for anything else.
 [[nodiscard]] SurfaceKind surface_from_string(std::string_view name);
 
+/// Where on a master face its closest point to a slave node lies (SPEC 9): inside the face (the stationary
+/// point of SPEC 2), on one of its edges, or at one of its vertices.
+enum class Location : std::uint8_t { kFace = 0, kEdge = 1, kVertex = 2 };
+/// "face", "edge" or "vertex" (the `location` column of SPEC 9).
+[[nodiscard]] std::string_view to_string(Location location);
+
 /// Parameter domain of a surface: [lo, hi]^2.
 struct ParamDomain {
   double lo;

@@ -89,6 +89,7 @@ SurfaceMesh build_surface_mesh(const SolidMesh& mesh, std::span<const ElementFac
     if (quad == manual_order) ++surface.inside_out_faces;
     segments.push_back(quad);
     surface.segment_faces.push_back(face);
+    surface.segment_element_ids.push_back(mesh.element_id(face.element));
   }
 
   // Surface nodes in increasing deck id, so every later loop over them is in a reproducible order.

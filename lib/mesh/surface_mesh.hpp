@@ -35,6 +35,7 @@ struct SurfaceMesh {
   std::vector<Vec3> positions;             ///< position of each surface node
   std::vector<std::array<int, 4>> segments;  ///< surface node indices A, B, C, D; (B-A) x (D-A) outward
   std::vector<ElementFace> segment_faces;  ///< the element face of each segment
+  std::vector<long> segment_element_ids;   ///< the deck id of each segment's element (SPEC 9's tie rule)
   std::vector<int> adjacency_offsets;      ///< segments of node i: adjacency[offsets[i] .. offsets[i+1])
   std::vector<int> adjacency;              ///< segment indices, increasing, for each node in turn
   /// Faces that gave no segment, by kind: "C3D6 triangle", "C3D6 quadrilateral", "C3D4 triangle",

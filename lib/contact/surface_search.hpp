@@ -1,0 +1,53 @@
+// The surface search (SPEC 9): for each slave node, the closest point of the whole master surface, on a
+// face's interior, an edge or a vertex, with its signed gap.
+//
+// For a slave node S:
+//  1. Candidates: the faces whose bounding sphere (centre: the mean of the corner nodes; radius: the largest
+//     distance from it to a node, or to a Gregory control point, which bound the patch) comes within the
+//     capture distance of S. A k-d tree over the centres (nanoflann) finds them; brute_force_faces tries
+//     every face (the oracle).
+//  2. Candidates in increasing order of their sphere's distance; the closest point on each
+//     (projection::closest_point_on_face, the reference); a face whose sphere is farther than the best point
+//     so far cannot hold a nearer one and ends the scan.
+//  3. The nearest point wins; ties (equal distances to 1e-12 of the face size) go to the lower element id,
+//     then the lower face number (SPEC 9). No point within the capture distance: no_segment.
+//  4. The gap is the signed distance |S - P|: the sign of (S - P).n, n the face's unit normal at P for a
+//     point inside the face, and the angle-weighted pseudo-normal otherwise (Baerentzen & Aanaes 2005): at an
+//     edge, the sum of the unit normals at P of the faces sharing it; at a vertex, the sum over the faces
+//     at the node of the face's corner angle times its normal at the corner. So a node just outside a
+//     convex edge is separated and one just inside a concave corner penetrates, whichever face it reports.
+//     S on the surface (|S - P| = 0) has gap 0.
+//
+// The reported pair (NodeSegmentPair): `segment` the winning face; `nodes` and `config` its corners rotated
+// so that A is the corner nearest S (ties: the first in the face's own order), then counter-clockwise about
+// the outward normal (SPEC 7's node order); the label's parameters in that order, status ok, gap as above;
+// `location` and `point`.
+//
+// Capture distance. A contact search must never miss a contact, and a node far from the master surface has
+// none to report: by default a face is searched within one largest face size (SearchOptions), far beyond any
+// penetration or closing gap an increment of an FE run produces (the CalculiX comparisons' largest |COPEN| is
+// a small fraction of an element), yet small enough that a slave node is tested against a handful of faces.
+#pragma once
+
+#include <span>
+#include <vector>
+
+#include "contact/global_search.hpp"
+#include "mesh/surface_mesh.hpp"
+
+namespace contactnn::contact {
+
+/// The capture distance of `options` for `master` (world units): options.capture_distance when positive,
+/// else options.capture_relative x the largest face size (0 for a surface without faces).
+[[nodiscard]] double capture_distance(const mesh::SurfaceMesh& master, const SearchOptions& options);
+
+/// Steps 1-4 above for every slave node, in parallel (OpenMP); result i belongs to slave i; deterministic
+/// for any thread count. `master_normals`: unit node normals (mesh::node_normals) for Gregory, ignored for
+/// bilinear. InvalidArgument if the spans' sizes disagree or Gregory normals are missing.
+[[nodiscard]] std::vector<NodeSegmentPair> surface_search(const mesh::SurfaceMesh& master,
+                                                          std::span<const Vec3> master_normals,
+                                                          std::span<const long> slave_ids,
+                                                          std::span<const Vec3> slave_positions,
+                                                          const SearchOptions& options);
+
+}  // namespace contactnn::contact

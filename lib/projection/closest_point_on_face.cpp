@@ -1,0 +1,205 @@
+#include "projection/closest_point_on_face.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "geometry/bilinear_patch.hpp"
+#include "geometry/gregory_patch.hpp"
+#include "geometry/segment_checks.hpp"
+
+namespace contactnn::projection {
+
+namespace {
+
+/// Parameters of the point t in [lo, hi] of edge `edge` (t increases with the free parameter, whatever the
+/// edge's direction in the node order: the nearest point does not depend on it).
+std::array<double, 2> edge_param(int edge, double t, ParamDomain d) {
+  switch (edge) {
+    case 0: return {t, d.lo};
+    case 1: return {d.hi, t};
+    case 2: return {t, d.hi};
+    default: return {d.lo, t};
+  }
+}
+
+bool finite(const Vec3& x) { return std::isfinite(x[0]) && std::isfinite(x[1]) && std::isfinite(x[2]); }
+
+/// Half the squared distance along the edge and its first two derivatives in t:
+/// f = |C - S|^2 / 2, f' = C'.(C - S), f'' = C'.C' + C''.(C - S).
+template <class SurfaceT>
+struct EdgeFunction {
+  const SurfaceT& surface;
+  const Vec3& slave;
+  int edge;
+  ParamDomain d;
+
+  [[nodiscard]] double value(double t) const {
+    const auto p = edge_param(edge, t, d);
+    return 0.5 * (surface.position(p[0], p[1]) - slave).squaredNorm();
+  }
+  void derivatives(double t, double& f1, double& f2) const {
+    const auto p = edge_param(edge, t, d);
+    const geometry::SurfacePoint sp = surface.evaluate(p[0], p[1]);
+    const bool along_s = edge == 0 || edge == 2;
+    const Vec3& c1 = along_s ? sp.d_s : sp.d_t;
+    const Vec3& c2 = along_s ? sp.d_ss : sp.d_tt;
+    const Vec3 r = sp.position - slave;
+    f1 = c1.dot(r);
+    f2 = c1.dot(c1) + c2.dot(r);
+  }
+};
+
+/// Safeguarded 1-D Newton for a local minimum of f in [a, b] from t: the Newton step where f'' > 0, else a
+/// quarter of the bracket downhill; halved until f does not increase. Stops when the step is below rounding.
+template <class SurfaceT>
+double refine_on_edge(const EdgeFunction<SurfaceT>& fn, double t, double a, double b, double& f) {
+  const double width = b - a;
+  f = fn.value(t);
+  for (int iteration = 0; iteration < 60; ++iteration) {
+    double f1 = 0.0, f2 = 0.0;
+    fn.derivatives(t, f1, f2);
+    if (!(std::isfinite(f1) && std::isfinite(f2))) break;
+    double step = f2 > 0.0 ? -f1 / f2 : (f1 > 0.0 ? -0.25 * width : 0.25 * width);
+    if (f1 == 0.0) break;
+    bool moved = false;
+    for (int halving = 0; halving < 60; ++halving) {
+      const double next = std::clamp(t + step, a, b);
+      if (next == t) break;
+      const double f_next = fn.value(next);
+      if (f_next <= f) {
+        moved = std::abs(next - t) > 4.0 * std::numeric_limits<double>::epsilon() * std::max(1.0, std::abs(t));
+        t = next;
+        f = f_next;
+        break;
+      }
+      step *= 0.5;
+    }
+    if (!moved) break;
+  }
+  return t;
+}
+
+}  // namespace
+
+template <geometry::Surface SurfaceT>
+EdgePoint closest_point_on_edge(const SurfaceT& surface, int edge, const Vec3& slave) {
+  const ParamDomain d = param_domain(SurfaceT::kKind);
+  EdgePoint best;
+  if constexpr (SurfaceT::kKind == SurfaceKind::kBilinear) {
+    // A bilinear facet's edges are straight and linear in the parameter: the clamped projection is exact.
+    const auto p0 = edge_param(edge, d.lo, d);
+    const auto p1 = edge_param(edge, d.hi, d);
+    const Vec3 x0 = surface.position(p0[0], p0[1]);
+    const Vec3 chord = surface.position(p1[0], p1[1]) - x0;
+    const double length2 = chord.squaredNorm();
+    const double tau = length2 > 0.0 ? std::clamp((slave - x0).dot(chord) / length2, 0.0, 1.0) : 0.0;
+    // The ends exactly (vertices): lo + 1 x width may round away from hi.
+    const double t = tau == 1.0 ? d.hi : d.lo + tau * (d.hi - d.lo);
+    best.param = edge_param(edge, t, d);
+  } else {
+    // A curved edge: 33 samples, every sampled local minimum refined in its neighbours' bracket.
+    constexpr int kSamples = 33;
+    const EdgeFunction<SurfaceT> fn{surface, slave, edge, d};
+    std::array<double, kSamples> ts{}, fs{};
+    for (int i = 0; i < kSamples; ++i) {
+      ts[static_cast<std::size_t>(i)] =
+          i == kSamples - 1 ? d.hi : d.lo + (d.hi - d.lo) * static_cast<double>(i) / (kSamples - 1);
+      fs[static_cast<std::size_t>(i)] = fn.value(ts[static_cast<std::size_t>(i)]);
+    }
+    double best_f = std::numeric_limits<double>::infinity();
+    double best_t = d.lo;
+    for (int i = 0; i < kSamples; ++i) {
+      const auto u = static_cast<std::size_t>(i);
+      const bool left_ok = i == 0 || fs[u] <= fs[u - 1];
+      const bool right_ok = i == kSamples - 1 || fs[u] <= fs[u + 1];
+      if (!(left_ok && right_ok)) continue;
+      const double a = ts[static_cast<std::size_t>(std::max(i - 1, 0))];
+      const double b = ts[static_cast<std::size_t>(std::min(i + 1, kSamples - 1))];
+      double f = 0.0;
+      const double t = refine_on_edge(fn, ts[u], a, b, f);
+      if (f < best_f) {
+        best_f = f;
+        best_t = t;
+      }
+    }
+    best.param = edge_param(edge, best_t, d);
+  }
+  best.distance = (slave - surface.position(best.param[0], best.param[1])).norm();
+  return best;
+}
+
+template <geometry::Surface SurfaceT>
+FaceClosestPoint closest_point_on_face(const SurfaceT& surface, const Vec3& slave, const ProjectionOptions& options) {
+  FaceClosestPoint out;
+  if (!finite(slave)) return out;  // invalid
+  const ParamDomain d = param_domain(SurfaceT::kKind);
+  const double width = d.hi - d.lo;
+
+  if (!std::isfinite(surface.characteristic_length())) return out;  // invalid
+  if (geometry::is_degenerate_segment(surface.nodes())) {
+    out.status = Status::kDegenerate;
+    return out;
+  }
+  // 1. The interior stationary point (the reference projection). A sound face may still have none: the
+  //    stationary point of a slave beside a planar quad can lie beyond the fold of its bilinear map, where
+  //    the projection reports degenerate; the boundary then holds the answer.
+  const ProjectionResult interior = project_point(surface, slave, options);
+  if (interior.status == Status::kInvalid) return out;
+  out.iterations = interior.iterations;
+  double best = std::numeric_limits<double>::infinity();
+  if (interior.status == Status::kOk) {
+    out.param = {std::clamp(interior.param[0], d.lo, d.hi), std::clamp(interior.param[1], d.lo, d.hi)};
+    best = (slave - surface.position(out.param[0], out.param[1])).norm();
+  }
+  // 2. The edges, ends included; 3. the nearest wins (strictly nearer replaces: ties keep the earlier).
+  for (int edge = 0; edge < kQuadEdges; ++edge) {
+    const EdgePoint e = closest_point_on_edge(surface, edge, slave);
+    if (e.distance < best) {
+      best = e.distance;
+      out.param = e.param;
+    }
+  }
+  if (!std::isfinite(best)) return out;  // invalid: the surface has a non-finite value
+
+  // Where the point lies, from its parameters.
+  const double tol = kOnBoundaryTolerance * width;
+  int on_lo[2] = {0, 0}, on_hi[2] = {0, 0};
+  for (int k = 0; k < 2; ++k) {
+    const double x = out.param[static_cast<std::size_t>(k)];
+    if (x - d.lo <= tol) {
+      on_lo[k] = 1;
+    } else if (d.hi - x <= tol) {
+      on_hi[k] = 1;
+    }
+  }
+  const int bounds = on_lo[0] + on_hi[0] + on_lo[1] + on_hi[1];
+  if (bounds == 2) {
+    out.location = Location::kVertex;
+    out.feature = on_lo[1] ? (on_lo[0] ? 0 : 1) : (on_hi[0] ? 2 : 3);
+  } else if (bounds == 1) {
+    out.location = Location::kEdge;
+    out.feature = on_lo[1] ? 0 : on_hi[0] ? 1 : on_hi[1] ? 2 : 3;
+  } else {
+    out.location = Location::kFace;
+    out.feature = -1;
+  }
+  const geometry::SurfacePoint p = surface.evaluate(out.param[0], out.param[1]);
+  out.point = p.position;
+  out.distance = (slave - p.position).norm();
+  const Vec3 n = p.d_s.cross(p.d_t);
+  const double length = n.norm();
+  out.normal = length > 0.0 && std::isfinite(length) ? Vec3(n / length) : Vec3(Vec3::Zero());
+  out.status = std::isfinite(out.distance) ? Status::kOk : Status::kInvalid;
+  return out;
+}
+
+#define CONTACTNN_INSTANTIATE(SurfaceT)                                                                        \
+  template FaceClosestPoint closest_point_on_face<SurfaceT>(const SurfaceT&, const Vec3&,                      \
+                                                            const ProjectionOptions&);                         \
+  template EdgePoint closest_point_on_edge<SurfaceT>(const SurfaceT&, int, const Vec3&);
+CONTACTNN_INSTANTIATE(geometry::BilinearPatch)
+CONTACTNN_INSTANTIATE(geometry::GregoryPatch)
+#undef CONTACTNN_INSTANTIATE
+
+}  // namespace contactnn::projection

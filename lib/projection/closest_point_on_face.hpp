@@ -1,0 +1,60 @@
+// The closest point of a whole master face to a slave node: its interior, its edges and its vertices
+// (SPEC 9 "Closest point on a face"). The reference the surface search labels with.
+#pragma once
+
+#include <array>
+
+#include "core/conventions.hpp"
+#include "geometry/surface_point.hpp"
+#include "projection/newton_projection.hpp"
+
+namespace contactnn::projection {
+
+/// Edges of a quadrilateral face in its own node order: 0 = A->B, 1 = B->C, 2 = C->D, 3 = D->A; vertices
+/// 0..3 = A, B, C, D. In the parameters (s, t) of [lo, hi]^2 edge 0 is t = lo, edge 1 s = hi, edge 2 t = hi,
+/// edge 3 s = lo.
+inline constexpr int kQuadEdges = 4;
+
+/// The closest point P of a face to S.
+struct [[nodiscard]] FaceClosestPoint {
+  std::array<double, 2> param{0.0, 0.0};  ///< (xi, eta) or (u, v) of P, inside the closed domain
+  Vec3 point = Vec3::Zero();              ///< P, world coordinates
+  Vec3 normal = Vec3::Zero();             ///< unit P_s x P_t at P (zero where it vanishes)
+  double distance = 0.0;                  ///< |S - P|
+  Location location = Location::kFace;    ///< where P lies: face interior, an edge, a vertex
+  int feature = -1;                       ///< the edge (0..3) or vertex (0..3) for kEdge / kVertex; -1 for kFace
+  int iterations = 0;                     ///< Newton iterations of the interior projection
+  Status status = Status::kInvalid;       ///< ok (a point was found), degenerate or invalid (no point)
+};
+
+/// How far from the boundary, in parameter units, a point still counts as on it (relative to the domain's
+/// width): the reference projection's default domain margin, so an interior stationary point that the
+/// labels call inside by the margin and an edge point agree on where they are.
+inline constexpr double kOnBoundaryTolerance = 1e-10;
+
+/// The closest point of `surface` (the closed parameter domain [lo, hi]^2) to `slave`.
+///  1. Interior: the reference projection (project_point, with `options`); a result with status ok is a
+///     candidate.
+///  2. Each edge: the nearest point of the boundary curve (straight for the bilinear facet: exact; a cubic
+///     Bezier curve for the Gregory patch: the best of 33 samples, refined by safeguarded 1-D Newton on
+///     every sampled local minimum), its ends included (the vertices).
+///  3. The nearest candidate wins (ties: the interior, then the lower edge). Its location follows from its
+///     parameters (the interior's clamped to the closed domain): a coordinate within kOnBoundaryTolerance x
+///     width of a bound is on that bound; none: face, one: edge, two: vertex.
+/// Status: invalid for a non-finite slave or surface value; degenerate for a collapsed face
+/// (geometry::is_degenerate_segment of its nodes); ok otherwise. Limits: the interior search is the reference
+/// projection's (a local method from a grid of starts).
+template <geometry::Surface SurfaceT>
+[[nodiscard]] FaceClosestPoint closest_point_on_face(const SurfaceT& surface, const Vec3& slave,
+                                                     const ProjectionOptions& options = {});
+
+/// The nearest point of edge `edge` (0..3) of `surface` to `slave` (step 2 above): its parameters on the
+/// face and |S - P|. For tests and the surface search's own use.
+struct EdgePoint {
+  std::array<double, 2> param{0.0, 0.0};
+  double distance = 0.0;
+};
+template <geometry::Surface SurfaceT>
+[[nodiscard]] EdgePoint closest_point_on_edge(const SurfaceT& surface, int edge, const Vec3& slave);
+
+}  // namespace contactnn::projection

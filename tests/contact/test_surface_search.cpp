@@ -1,0 +1,261 @@
+// contact::surface_search (SPEC 9): the closest point on the whole master surface, against a brute force
+// over every face and against the exact triangle oracle, on generated surfaces with convex and concave
+// edges, boundaries, slave nodes exactly on edges and vertices, and far away.
+#include "contact/surface_search.hpp"
+
+#include <gtest/gtest.h>
+#include <omp.h>
+
+#include <cmath>
+#include <random>
+
+#include "geometry/bilinear_patch.hpp"
+#include "geometry/gregory_patch.hpp"
+#include "mesh/grid_surface.hpp"
+#include "mesh/surface_mesh.hpp"
+#include "projection/closest_point_oracle.hpp"
+
+namespace contactnn::contact {
+namespace {
+
+// Exact methods agree to rounding: 1e-12 of the face size (1 here).
+constexpr double kExact = 1e-12;
+
+/// grid_surface with the element ids and faces the surface search's tie rule reads (element q + 1, face S1).
+mesh::SurfaceMesh surface_of(int nx, int ny, const std::function<Vec3(double, double)>& point) {
+  mesh::SurfaceMesh s = testing::grid_surface(nx, ny, point);
+  for (std::size_t q = 0; q < s.segments.size(); ++q) {
+    s.segment_faces.push_back({static_cast<int>(q), 1});
+    s.segment_element_ids.push_back(static_cast<long>(q) + 1);
+  }
+  return s;
+}
+
+/// A roof: planar faces meeting at a convex ridge along x = 3 and a concave valley along x = 6.
+Vec3 roof(double i, double j) {
+  const double z = i <= 3 ? i : i <= 6 ? 6 - i : i - 6;
+  return Vec3(i, j, 0.5 * z);
+}
+
+std::vector<NodeSegmentPair> search(const mesh::SurfaceMesh& m, const std::vector<Vec3>& slaves,
+                                    SearchOptions options = {}) {
+  std::vector<long> ids(slaves.size());
+  for (std::size_t i = 0; i < ids.size(); ++i) ids[i] = static_cast<long>(i) + 1;
+  std::vector<Vec3> normals = mesh::node_normals(m);
+  return surface_search(m, normals, ids, slaves, options);
+}
+
+/// The nearest point of the roof by the triangle oracle over every face (its faces are planar).
+Vec3 oracle_point(const mesh::SurfaceMesh& m, const Vec3& slave) {
+  Vec3 best = Vec3::Zero();
+  double best_d = std::numeric_limits<double>::infinity();
+  for (const auto& q : m.segments) {
+    std::array<Vec3, 4> nodes;
+    for (std::size_t i = 0; i < 4; ++i) nodes[i] = m.positions[static_cast<std::size_t>(q[i])];
+    const Vec3 p = testing::closest_point_on_planar_quad(slave, nodes);
+    if ((slave - p).norm() < best_d) {
+      best_d = (slave - p).norm();
+      best = p;
+    }
+  }
+  return best;
+}
+
+std::vector<Vec3> random_slaves(int n, unsigned seed) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> x(-1.5, 10.5), y(-1.5, 5.5), z(-1.5, 4.0);
+  std::vector<Vec3> slaves;
+  for (int i = 0; i < n; ++i) slaves.emplace_back(x(rng), y(rng), z(rng));
+  return slaves;
+}
+
+TEST(SurfaceSearch, TreeEqualsBruteForceOverEveryFace) {
+  const mesh::SurfaceMesh m = surface_of(9, 4, roof);
+  const std::vector<Vec3> slaves = random_slaves(3000, 3);
+  SearchOptions brute;
+  brute.brute_force_faces = true;
+  const auto tree = search(m, slaves);
+  const auto all = search(m, slaves, brute);
+  for (std::size_t i = 0; i < slaves.size(); ++i) {
+    ASSERT_EQ(tree[i].status, all[i].status) << "slave " << slaves[i].transpose();
+    if (tree[i].status != PairStatus::kFound) continue;
+    EXPECT_EQ(tree[i].segment, all[i].segment);
+    EXPECT_LE((tree[i].point - all[i].point).norm(), kExact);
+    EXPECT_EQ(tree[i].label.gap, all[i].label.gap);
+    EXPECT_EQ(tree[i].location, all[i].location);
+  }
+}
+
+TEST(SurfaceSearch, PointsAndDistancesEqualTheTriangleOracleOverConvexAndConcaveEdges) {
+  const mesh::SurfaceMesh m = surface_of(9, 4, roof);
+  const std::vector<Vec3> slaves = random_slaves(3000, 5);
+  SearchOptions options;
+  options.capture_distance = 1e3;  // every slave of the box gets its point
+  const auto found = search(m, slaves, options);
+  int locations[3] = {0, 0, 0};
+  for (std::size_t i = 0; i < slaves.size(); ++i) {
+    ASSERT_EQ(found[i].status, PairStatus::kFound);
+    const Vec3 oracle = oracle_point(m, slaves[i]);
+    EXPECT_NEAR(std::abs(found[i].label.gap), (slaves[i] - oracle).norm(), kExact) << slaves[i].transpose();
+    // The nearest point is unique except where two faces are equally near (then both are right).
+    if ((found[i].point - oracle).norm() > kExact) {
+      EXPECT_NEAR((slaves[i] - found[i].point).norm(), (slaves[i] - oracle).norm(), kExact);
+    }
+    ++locations[static_cast<int>(found[i].location)];
+  }
+  EXPECT_GT(locations[0], 100);
+  EXPECT_GT(locations[1], 100);
+  EXPECT_GT(locations[2], 20);
+}
+
+TEST(SurfaceSearch, GapSignFollowsThePseudoNormalAtConvexAndConcaveEdgesAndVertices) {
+  const mesh::SurfaceMesh m = surface_of(9, 4, roof);
+  // Ridge at x = 3 (z = 1.5), valley at x = 6 (z = 0); the boundary at x = 0 and y = 0.
+  struct Case {
+    Vec3 slave;
+    Location location;
+    bool penetrates;
+  };
+  const Case cases[] = {
+      {Vec3(3.0, 2.5, 1.7), Location::kEdge, false},    // above the ridge
+      {Vec3(3.0, 2.5, 1.3), Location::kFace, true},     // under the ridge: inside the body
+      {Vec3(3.1, 2.3, 1.2), Location::kFace, true},
+      {Vec3(6.0, 2.5, 0.2), Location::kFace, false},    // over the valley, nearer a face than its line
+      {Vec3(6.0, 2.5, -0.2), Location::kEdge, true},    // below the valley line
+      {Vec3(3.0, -0.5, 1.7), Location::kVertex, false}, // beyond the ridge's end, above
+      {Vec3(3.0, 0.3, 1.2), Location::kFace, true},     // under the ridge's end
+      {Vec3(-0.5, 2.5, 0.3), Location::kEdge, false},   // beyond the boundary edge x = 0, above the plane
+      {Vec3(-0.5, -0.5, -0.3), Location::kVertex, true},// beyond the corner, below the plane
+  };
+  std::vector<Vec3> slaves;
+  for (const Case& c : cases) slaves.push_back(c.slave);
+  const auto found = search(m, slaves);
+  for (std::size_t i = 0; i < slaves.size(); ++i) {
+    SCOPED_TRACE(::testing::Message() << "slave " << slaves[i].transpose());
+    ASSERT_EQ(found[i].status, PairStatus::kFound);
+    EXPECT_EQ(found[i].location, cases[i].location);
+    EXPECT_EQ(found[i].label.gap < 0.0, cases[i].penetrates) << "gap " << found[i].label.gap;
+    EXPECT_NEAR(std::abs(found[i].label.gap), (slaves[i] - oracle_point(m, slaves[i])).norm(), kExact);
+  }
+}
+
+TEST(SurfaceSearch, SlaveExactlyOnAnEdgeOrAVertexIsFoundWithGapZero) {
+  const mesh::SurfaceMesh m = surface_of(9, 4, roof);
+  std::vector<Vec3> slaves;
+  std::vector<Location> expected;
+  for (int i = 0; i <= 9; ++i) {
+    for (int j = 0; j <= 4; ++j) {
+      slaves.push_back(roof(i, j));  // every node
+      expected.push_back(Location::kVertex);
+      if (i < 9) {
+        slaves.push_back(0.5 * (roof(i, j) + roof(i + 1, j)));  // the middle of every edge along x
+        expected.push_back(Location::kEdge);
+      }
+    }
+  }
+  const auto found = search(m, slaves);
+  for (std::size_t i = 0; i < slaves.size(); ++i) {
+    ASSERT_EQ(found[i].status, PairStatus::kFound) << slaves[i].transpose();
+    EXPECT_EQ(found[i].location, expected[i]) << slaves[i].transpose();
+    EXPECT_LE(std::abs(found[i].label.gap), kExact) << slaves[i].transpose();
+    EXPECT_LE((found[i].point - slaves[i]).norm(), kExact);
+  }
+  // SPEC 9's tie rule: on an edge shared by two faces, the lower element id.
+  const auto middle = search(m, {0.5 * (roof(4, 2) + roof(5, 2))});  // edge between faces (4,1) and (4,2)
+  EXPECT_EQ(m.segment_element_ids[static_cast<std::size_t>(middle[0].segment)], 4 + 9 * 1 + 1);
+}
+
+TEST(SurfaceSearch, FarSlavesHaveNoSegmentAndTheCaptureDistanceIsOneFaceSizeByDefault) {
+  const mesh::SurfaceMesh m = surface_of(9, 4, roof);
+  SearchOptions options;
+  const double capture = capture_distance(m, options);
+  EXPECT_NEAR(capture, std::sqrt(1.0 + 1.0 + 0.25), kExact);  // the diagonal of a sloped face
+  const auto found = search(m, {Vec3(1.0, 2.0, 0.5 + 0.9 * capture), Vec3(1.0, 2.0, 50.0), Vec3(100.0, 100.0, 100.0)});
+  EXPECT_EQ(found[0].status, PairStatus::kFound);
+  EXPECT_EQ(found[1].status, PairStatus::kNoSegment);
+  EXPECT_EQ(found[2].status, PairStatus::kNoSegment);
+  options.capture_distance = 100.0;
+  EXPECT_EQ(search(m, {Vec3(1.0, 2.0, 50.0)}, options)[0].status, PairStatus::kFound);
+}
+
+TEST(SurfaceSearch, PairIsInSpec7NodeOrderWithTheLabelInThatOrder) {
+  const mesh::SurfaceMesh m = surface_of(9, 4, roof);
+  const std::vector<Vec3> slaves = random_slaves(500, 9);
+  const auto found = search(m, slaves);
+  for (std::size_t i = 0; i < slaves.size(); ++i) {
+    if (found[i].status != PairStatus::kFound) continue;
+    const NodeSegmentPair& p = found[i];
+    // A is the corner nearest S; the configuration is the face's corners from A on, in the face's cycle.
+    for (int k = 1; k < 4; ++k) {
+      EXPECT_LE((p.config.nodes[0] - slaves[i]).squaredNorm(), (p.config.nodes[static_cast<std::size_t>(k)] - slaves[i]).squaredNorm());
+    }
+    const auto& quad = m.segments[static_cast<std::size_t>(p.segment)];
+    const auto a = std::find(quad.begin(), quad.end(), p.nodes[0]) - quad.begin();
+    for (int k = 0; k < 4; ++k) EXPECT_EQ(p.nodes[static_cast<std::size_t>(k)], quad[static_cast<std::size_t>((a + k) % 4)]);
+    // The label's (xi, eta) in that order is the reported point.
+    const geometry::BilinearPatch facet(p.config.nodes);
+    EXPECT_LE((facet.position(p.label.param[0], p.label.param[1]) - p.point).norm(), kExact);
+    EXPECT_EQ(p.label.status, Status::kOk);
+  }
+}
+
+TEST(SurfaceSearch, GregorySurfaceTreeEqualsBruteForceAndNoPatchSampleIsNearer) {
+  // A curved surface: a quarter cylinder of radius 4 (curved along i), 6 x 3 faces.
+  const auto cylinder = [](double i, double j) {
+    const double angle = 0.25 * i;
+    return Vec3(4.0 * std::sin(angle), j, 4.0 * std::cos(angle));
+  };
+  const mesh::SurfaceMesh m = surface_of(6, 3, cylinder);
+  const std::vector<Vec3> normals = mesh::node_normals(m);
+  std::mt19937_64 rng(21);
+  std::uniform_real_distribution<double> x(-0.5, 4.5), y(-0.5, 3.5), z(1.0, 5.0);
+  std::vector<Vec3> slaves;
+  for (int i = 0; i < 300; ++i) slaves.emplace_back(x(rng), y(rng), z(rng));
+  SearchOptions options;
+  options.surface = SurfaceKind::kGregory;
+  options.capture_distance = 10.0;
+  SearchOptions brute = options;
+  brute.brute_force_faces = true;
+  const auto tree = search(m, slaves, options);
+  const auto all = search(m, slaves, brute);
+  for (std::size_t i = 0; i < slaves.size(); ++i) {
+    ASSERT_EQ(tree[i].status, PairStatus::kFound);
+    ASSERT_EQ(all[i].status, PairStatus::kFound);
+    EXPECT_EQ(tree[i].segment, all[i].segment);
+    EXPECT_LE((tree[i].point - all[i].point).norm(), kExact);
+    double sampled = std::numeric_limits<double>::infinity();
+    for (const auto& q : m.segments) {
+      std::array<Vec3, 4> nodes, node_normals;
+      for (std::size_t k = 0; k < 4; ++k) {
+        nodes[k] = m.positions[static_cast<std::size_t>(q[k])];
+        node_normals[k] = normals[static_cast<std::size_t>(q[k])];
+      }
+      sampled = std::min(sampled, testing::sampled_distance(geometry::GregoryPatch(nodes, node_normals), slaves[i],
+                                                           0.0, 1.0, 41));
+    }
+    EXPECT_LE(std::abs(tree[i].label.gap), sampled + kExact) << slaves[i].transpose();
+    // Outside the cylinder (radius > 4) is separated, inside penetrates.
+    const double radius = std::hypot(slaves[i].x(), slaves[i].z());
+    if (std::abs(radius - 4.0) > 0.05 && slaves[i].y() > 0.0 && slaves[i].y() < 3.0 && slaves[i].x() > 0.0 &&
+        std::atan2(slaves[i].x(), slaves[i].z()) < 1.5) {
+      EXPECT_EQ(tree[i].label.gap < 0.0, radius < 4.0) << slaves[i].transpose();
+    }
+  }
+}
+
+TEST(SurfaceSearch, SameResultForAnyThreadCount) {
+  const mesh::SurfaceMesh m = surface_of(9, 4, roof);
+  const std::vector<Vec3> slaves = random_slaves(2000, 23);
+  omp_set_num_threads(1);
+  const auto one = search(m, slaves);
+  omp_set_num_threads(2);
+  const auto two = search(m, slaves);
+  for (std::size_t i = 0; i < slaves.size(); ++i) {
+    ASSERT_EQ(one[i].segment, two[i].segment);
+    ASSERT_EQ(one[i].label.gap, two[i].label.gap);
+    ASSERT_EQ(one[i].label.param, two[i].label.param);
+  }
+}
+
+}  // namespace
+}  // namespace contactnn::contact
