@@ -11,6 +11,8 @@
 //   gen-configs --config configs/tiny.toml --output /tmp/tiny.h5 --threads 1
 //   gen-configs --surface bilinear --input data/examples/raw-bilinear.csv --output /tmp/labels.csv
 //   gen-configs --scene build/scenes/hertz.inp --surface gregory --output /tmp/hertz-pairs.csv
+//   gen-configs --scene build/scenes/hertz.inp --search nearest_node --output /tmp/hertz-paper-pairs.csv
+//   gen-configs --scene run/hertz-slide.inp --results run/hertz-slide.frd --increment all --output /tmp/history.csv
 //   gen-configs --scene build/scenes/hertz.inp --surface gregory --sampling random --count 20000 --output /tmp/h.h5
 //   gen-configs --config configs/gregory-paper.toml --sampling random --count 100000 --seed 2 --output /tmp/g.h5
 //
@@ -21,19 +23,26 @@
 //                Rows are streamed in chunks (bounded memory for any number of rows).
 //   scene mode:  OUTPUT (.csv): one row per slave node of contact pair K of an .inp deck (SPEC 7), in
 //                increasing node id: slave,a,b,c,d, the raw columns ax..sz (nax..ndz for Gregory), then the
-//                label mode's columns; a summary with the scene's shape statistics on stdout. With
+//                label mode's columns; with the surface search (the default, SPEC 9) then
+//                location,px,py,pz,face_type,nodes. With --results RUN.frd the deck's nodes are moved to
+//                --increment N|last|all of a CalculiX run (SPEC 10; `all`: every increment's rows, an
+//                `increment` column first). A summary with the scene's shape statistics on stdout. With
 //                --sampling random --count N: a dataset (.h5) of the scene's domain (scene_sampling.hpp).
 //   The dataset and its config are committed together (one run's pair); outputs that are inputs are refused.
 #include <omp.h>
 
+#include <charconv>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <optional>
 #include <span>
 
 #include "cli_support.hpp"
 #include "contact/scene.hpp"
+#include "contact/surface_search.hpp"
+#include "core/quote_text.hpp"
 #include "core/error.hpp"
 #include "dataset/enumeration.hpp"
 #include "dataset/labeller.hpp"
@@ -42,6 +51,7 @@
 #include "io/csv.hpp"
 #include "io/dataset_file.hpp"
 #include "io/file_identity.hpp"
+#include "io/frd_results.hpp"
 #include "io/inp_deck.hpp"
 #include "io/raw_configurations.hpp"
 
@@ -172,10 +182,9 @@ void print_scene_summary(const std::string& deck, const contact::Scene& scene, c
   std::printf("  time                 %.3f s\n", seconds);
 }
 
-/// Pair `pair` of `deck` made ready for the global search. A deck without that pair is a usage error (exit 2)
-/// whose message names the deck.
-contact::Scene read_scene(const std::string& deck, int pair) {
-  const mesh::ContactModel model = io::read_inp_deck(deck);
+/// Pair `pair` of `model` (read from `deck`) made ready for the global search. A deck without that pair is a
+/// usage error (exit 2) whose message names the deck.
+contact::Scene scene_of(const mesh::ContactModel& model, const std::string& deck, int pair) {
   try {
     return contact::make_scene(model, pair);
   } catch (const InvalidArgument& e) {
@@ -183,60 +192,134 @@ contact::Scene read_scene(const std::string& deck, int pair) {
   }
 }
 
-/// Scene mode (SPEC 7): the pairs of one *CONTACT PAIR of a deck, labelled, as a RAW.csv with node ids.
-int scene_mode(const std::string& deck, int pair, const contact::SearchOptions& options, const std::string& output) {
-  const auto start = std::chrono::steady_clock::now();
-  // 1. Read the deck; 2. the pair's master segments, node normals and slave nodes; 3. search and label.
-  const contact::Scene scene = read_scene(deck, pair);
-  const contact::SceneResult result = contact::search_scene(scene, options);
+contact::Scene read_scene(const std::string& deck, int pair) { return scene_of(io::read_inp_deck(deck), deck, pair); }
 
-  // 4. One row per slave node: ids, world coordinates (round-trip exact), then the label columns.
+/// The increments --increment names (SPEC 10): N, "last" or "all"; indices into results.increments.
+std::vector<std::size_t> increments_named(const io::FrdResults& results, const std::string& increment) {
+  if (increment == "all") {
+    std::vector<std::size_t> all(results.increments.size());
+    for (std::size_t i = 0; i < all.size(); ++i) all[i] = i;
+    return all;
+  }
+  if (increment == "last") return {io::increment_index(results, io::kLastIncrement)};
+  int number = 0;
+  const auto [end, error] = std::from_chars(increment.data(), increment.data() + increment.size(), number);
+  CONTACTNN_REQUIRE_AS(InvalidArgument, error == std::errc() && end == increment.data() + increment.size() && number >= 1,
+                       "--increment: expected a number from 1, 'last' or 'all', got " << quote_text(increment));
+  return {io::increment_index(results, number)};
+}
+
+/// Where a scene's state comes from: the deck alone, or the deck moved to increments of a results file.
+struct SceneHistory {
+  std::string results;    ///< --results RUN.frd, empty for the deck's own state
+  std::string increment;  ///< --increment N|last|all
+};
+
+/// Scene mode (SPEC 7, 9, 10): the pairs of one *CONTACT PAIR of a deck, labelled, as a RAW.csv with node ids;
+/// with --results, at one or every increment of a CalculiX run.
+int scene_mode(const std::string& deck, int pair, const contact::SearchOptions& options, const std::string& output,
+               const SceneHistory& history) {
+  const auto start = std::chrono::steady_clock::now();
+  // 1. Read the deck (and the results file, whose node ids must be the deck's).
+  mesh::ContactModel model = io::read_inp_deck(deck);
+  std::optional<io::FrdResults> results;
+  std::vector<std::size_t> increments = {0};
+  if (!history.results.empty()) {
+    results = io::read_frd(history.results);
+    increments = increments_named(*results, history.increment);
+  }
+  const bool all = history.increment == "all";
+
+  // 2. The header: SPEC 7's columns (SPEC 10: `increment` first with --increment all), SPEC 9's after them.
   const bool gregory = options.surface == SurfaceKind::kGregory;
-  std::vector<std::string> header = {"slave", "a", "b", "c", "d"};
+  const bool surface_search = options.search == contact::GlobalSearchKind::kSurface;
+  std::vector<std::string> header;
+  if (all) header.emplace_back("increment");
+  for (const char* name : {"slave", "a", "b", "c", "d"}) header.emplace_back(name);
   for (auto name : kRawPointColumns) header.emplace_back(name);
   if (gregory) {
     for (auto name : kRawNormalColumns) header.emplace_back(name);
   }
   const auto names = coordinate_names(options.surface);
   for (const char* name : {names[0].data(), names[1].data(), "status", "gap", "iterations"}) header.emplace_back(name);
+  const std::size_t status_column = header.size() - 3;
+  if (surface_search) {
+    for (const char* name : {"location", "px", "py", "pz", "face_type", "nodes"}) header.emplace_back(name);
+  }
   std::string text;
   io::append_csv_row(text, header);
+
+  // 3. For each state: move the nodes, build the pair's master faces, node normals and slave nodes, search.
+  std::optional<contact::Scene> scene;
+  std::optional<contact::SceneResult> result;
+  std::array<long, 3> locations{};
   std::vector<std::string> row;
-  for (const contact::NodeSegmentPair& p : result.pairs) {
-    row.assign(header.size(), "");
-    row[0] = std::to_string(p.slave_id);
-    if (p.status == contact::PairStatus::kNoSegment) {
-      row[header.size() - 3] = "no_segment";
-      io::append_csv_row(text, row);
-      continue;
-    }
-    std::size_t c = 1;
-    for (int n : p.nodes) row[c++] = std::to_string(scene.master.node_ids[static_cast<std::size_t>(n)]);
-    for (const auto& x : p.config.nodes) {
-      for (int k = 0; k < 3; ++k) row[c++] = io::format_double(x[k]);
-    }
-    for (int k = 0; k < 3; ++k) row[c++] = io::format_double(p.config.slave[k]);
-    if (gregory) {
-      for (const auto& n : p.config.normals) {
-        for (int k = 0; k < 3; ++k) row[c++] = io::format_double(n[k]);
+  for (const std::size_t increment : increments) {
+    if (results) io::move_to_increment(model.mesh, *results, increment);
+    scene = scene_of(model, deck, pair);
+    result = contact::search_scene(*scene, options);
+    // 4. One row per slave node: ids, world coordinates (round-trip exact), the label, the closest point.
+    for (const contact::NodeSegmentPair& p : result->pairs) {
+      row.assign(header.size(), "");
+      std::size_t c = 0;
+      if (all) row[c++] = std::to_string(results->increments[increment].number);
+      row[c++] = std::to_string(p.slave_id);
+      if (p.status == contact::PairStatus::kNoSegment) {
+        row[status_column] = "no_segment";
+        io::append_csv_row(text, row);
+        continue;
       }
+      for (int n : p.nodes) row[c++] = std::to_string(scene->master.node_ids[static_cast<std::size_t>(n)]);
+      for (const auto& x : p.config.nodes) {
+        for (int k = 0; k < 3; ++k) row[c++] = io::format_double(x[k]);
+      }
+      for (int k = 0; k < 3; ++k) row[c++] = io::format_double(p.config.slave[k]);
+      if (gregory) {
+        for (const auto& n : p.config.normals) {
+          for (int k = 0; k < 3; ++k) row[c++] = io::format_double(n[k]);
+        }
+      }
+      for (std::string& field : label_fields(p.label)) row[c++] = std::move(field);
+      if (surface_search) {
+        ++locations[static_cast<std::size_t>(p.location)];
+        row[c++] = std::string(to_string(p.location));
+        for (int k = 0; k < 3; ++k) row[c++] = io::format_double(p.point[k] + 0.0);
+        row[c++] = "quad4";
+        std::string face_nodes;
+        for (int n : scene->master.segments[static_cast<std::size_t>(p.segment)]) {
+          face_nodes += (face_nodes.empty() ? "" : " ") + std::to_string(scene->master.node_ids[static_cast<std::size_t>(n)]);
+        }
+        row[c++] = std::move(face_nodes);
+      }
+      io::append_csv_row(text, row);
     }
-    for (std::string& field : label_fields(p.label)) row[c++] = std::move(field);
-    io::append_csv_row(text, row);
   }
   io::write_text_atomically(output, text);
 
-  // 5. Summary.
+  // 5. Summary (of the last state read).
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  print_scene_summary(deck, scene, result, options.surface, output, seconds);
+  print_scene_summary(deck, *scene, *result, options.surface, output, seconds);
+  if (surface_search) {
+    std::printf("  search               surface (capture distance %.6g)\n", contact::capture_distance(scene->master, options));
+    std::printf("  closest points       face %ld, edge %ld, vertex %ld%s\n", locations[0], locations[1], locations[2],
+                all ? " (every increment)" : "");
+  } else {
+    std::printf("  search               nearest_node\n");
+  }
+  if (results) {
+    const io::FrdIncrement& last = results->increments[increments.back()];
+    std::printf("  results              %s: %zu increment%s read (last: %d, step %d, time %.6g)\n",
+                history.results.c_str(), increments.size(), increments.size() == 1 ? "" : "s", last.number, last.step,
+                last.time);
+  }
   // A pair with nothing to search is valid input but almost certainly not what the user meant (a 2-D deck, shell
   // or tetrahedral surfaces, a set that names no element): say so where a script will see it.
-  if (scene.master.segments.empty() || scene.slave_ids.empty()) {
+  if (scene->master.segments.empty() || scene->slave_ids.empty()) {
     std::fprintf(stderr,
                  "gen-configs: warning: contact pair %d of %s has %zu master segments and %zu slave nodes (faces "
                  "skipped, master: %s; slave: %s); %s has no pair\n",
-                 scene.pair, deck.c_str(), scene.master.segments.size(), scene.slave_ids.size(),
-                 faces(scene.master.skipped_faces).c_str(), faces(scene.slaves.skipped_faces).c_str(), output.c_str());
+                 scene->pair, deck.c_str(), scene->master.segments.size(), scene->slave_ids.size(),
+                 faces(scene->master.skipped_faces).c_str(), faces(scene->slaves.skipped_faces).c_str(), output.c_str());
   }
   return 0;
 }
@@ -250,6 +333,8 @@ dataset::LabelledSet scene_domain(const std::string& deck, int pair, dataset::Sc
                                   dataset::EnumerationSummary& summary, const dataset::ProgressFn& progress) {
   const contact::Scene scene = read_scene(deck, pair);
   contact::SearchOptions search;
+  // The segments the paper's search pairs every slave node with: the offsets of all of them, far ones too.
+  search.search = contact::GlobalSearchKind::kNearestNode;
   search.surface = options.surface;
   search.projection = options.projection;
   const double offset = contact::largest_relative_offset(contact::search_scene(scene, search));
@@ -300,6 +385,26 @@ int main(int argc, char** argv) {
       ->transform(cli::integer_in(0, 1000000))
       ->needs(scene_option)
       ->default_str("");
+  std::string search_name = "surface";
+  app.add_option("--search", search_name,
+                 "scene mode: surface (the closest point of every master face within the capture distance, SPEC 9) "
+                 "or nearest_node (the paper's search, SPEC 7)")
+      ->check(CLI::IsMember({"surface", "nearest_node"}))
+      ->needs(scene_option)
+      ->default_str("");
+  contact::SearchOptions search;
+  app.add_option("--capture_distance", search.capture_distance,
+                 "surface search: faces within this distance of a slave node (world units; default: the largest "
+                 "master face size)")
+      ->check(cli::kPositive)
+      ->needs(scene_option);
+  SceneHistory history;
+  auto* results_option = app.add_option("--results", history.results,
+                                        "scene mode: a CalculiX .frd; the scene at --increment of it (SPEC 10)")
+                             ->check(CLI::ExistingFile)
+                             ->needs(scene_option);
+  app.add_option("--increment", history.increment, "with --results: N (from 1), last or all (default last)")
+      ->needs(results_option);
   app.add_option("--output", output, "dataset .h5 (enumeration), labels .csv (label mode) or pairs .csv (scene mode)")
       ->required();
   app.add_option("--threads", threads, "OpenMP threads (0: OpenMP's default)")->transform(cli::integer_in(0, cli::kMaxThreads));
@@ -365,19 +470,22 @@ int main(int argc, char** argv) {
                                               << f.max_angle_degrees << ": no segment could pass");
     const std::filesystem::path effective_config = input.empty() ? cli::effective_config_path(output) : "";
     io::require_distinct({{"--output", output}, {"the effective config", effective_config}},
-                         {{"--input", input}, {"--scene", scene}, {"--config", cli::config_path(app)}});
+                         {{"--input", input}, {"--scene", scene}, {"--config", cli::config_path(app)},
+                          {"--results", history.results}});
 
     // 3. Label mode: a user's CSV in, the same rows with labels out.
     if (!input.empty()) return label_mode(options.surface, input, output, options.projection);
 
     // 3b. Scene mode: a deck in, its contact pair's node-segment pairs with labels out (with --sampling
     //     random: the scene's domain as a dataset, below).
-    if (!scene.empty() && sampling != "random") {
-      contact::SearchOptions search;
-      search.surface = options.surface;
-      search.projection = options.projection;
-      return scene_mode(scene, pair, search, output);
-    }
+    search.surface = options.surface;
+    search.projection = options.projection;
+    search.search = search_name == "nearest_node" ? contact::GlobalSearchKind::kNearestNode
+                                                  : contact::GlobalSearchKind::kSurface;
+    if (!history.results.empty() && history.increment.empty()) history.increment = "last";
+    CONTACTNN_REQUIRE_AS(InvalidArgument, history.results.empty() || sampling != "random",
+                         "--results: a scene's domain (--sampling random) is sampled from the deck alone");
+    if (!scene.empty() && sampling != "random") return scene_mode(scene, pair, search, output, history);
 
     // 4. Enumeration or random sampling: label, write the dataset and the effective config, summarise.
     CONTACTNN_REQUIRE(sampling == "grid" || count > 0, "--sampling random needs --count N");

@@ -13,6 +13,14 @@ int SolidMesh::add_node(long id, const Vec3& position) {
   return index;
 }
 
+void SolidMesh::set_position(int node, const Vec3& position) {
+  CONTACTNN_REQUIRE(node >= 0 && node < node_count(),
+                    "node index " << node << " outside [0, " << node_count() << ")");
+  CONTACTNN_REQUIRE(position.allFinite(),
+                    "node " << node_id(node) << ": position (" << position.transpose() << ") is not finite");
+  positions_[static_cast<std::size_t>(node)] = position;
+}
+
 int SolidMesh::add_element(long id, const ElementType& type, std::span<const int> node_indices) {
   CONTACTNN_REQUIRE(type.node_count == 0 || static_cast<int>(node_indices.size()) == type.node_count,
                     "element " << id << " of type " << type.name << " has " << node_indices.size()

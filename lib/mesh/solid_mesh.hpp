@@ -33,6 +33,9 @@ class SolidMesh {
 
   [[nodiscard]] long node_id(int node) const { return node_ids_[static_cast<std::size_t>(node)]; }
   [[nodiscard]] const Vec3& position(int node) const { return positions_[static_cast<std::size_t>(node)]; }
+  /// Moves node `node` (an index) to `position` (e.g. a solver's deformed configuration). InvalidArgument if
+  /// `node` is out of range or `position` is not finite.
+  void set_position(int node, const Vec3& position);
   [[nodiscard]] long element_id(int element) const { return element_ids_[static_cast<std::size_t>(element)]; }
   [[nodiscard]] const ElementType& element_type(int element) const;
   /// Node indices of an element, in the deck's order.

@@ -1,14 +1,18 @@
 #!/usr/bin/env python3
 """gen-configs --scene end to end on the example scenes (scripts/make-scene; SPEC 7).
 
-A case is DECK:PAIR:SURFACE (e.g. hertz:0:gregory) or "errors". For a scene it checks:
+A case is DECK:PAIR:SURFACE (e.g. hertz:0:gregory) or "errors". For a scene it runs both global searches,
+the paper's (--search nearest_node, SPEC 7) and the surface search (the default, SPEC 9), and checks:
   - exit 0 and the summary's counts;
   - the columns exactly as SPEC 7 lists them, one row per slave node, the slave ids those of the deck's
     manifest (DECK.json, written by make-scene from what it put in the deck), in increasing order;
   - no_segment rows: status no_segment and every other field after `slave` empty; other rows: node ids,
     finite coordinates, unit node normals (Gregory), a SPEC 2 status;
   - the file is a RAW.csv for `gen-configs --input`, which reproduces every label column character for
-    character, and for `evaluate-net --input` with a shipped network (one prediction per row).
+    character, and for `evaluate-net --input` with a shipped network (one prediction per row);
+  - surface search: SPEC 9's columns after SPEC 7's; every found row has status ok, a location, the closest
+    point P with |gap| = |S - P|, P on the bilinear facet at the row's (xi, eta) in the a,b,c,d order, a face
+    whose nodes are a,b,c,d in its own cycle; a `face` row's (xi, eta) are label mode's (the stationary point).
 "errors" checks a malformed deck (exit 3, file and line named), a pair that does not exist (exit 2), a missing
 include (exit 4, the file named), and that no output is left behind by any of them.
 
@@ -54,6 +58,66 @@ def read_csv(path):
     return rows[0], rows[1:]
 
 
+def bilinear_point(r, column, xi, eta):
+    """P(xi, eta) of the row's bilinear facet A, B, C, D (SPEC 1)."""
+    shape = [(1 - xi) * (1 - eta) / 4, (1 + xi) * (1 - eta) / 4, (1 + xi) * (1 + eta) / 4, (1 - xi) * (1 + eta) / 4]
+    return [sum(shape[i] * float(r[column[n + c]]) for i, n in enumerate("abcd")) for c in "xyz"]
+
+
+def surface_case(opts, deck, pair, surface, work):
+    """The surface search's rows (SPEC 9)."""
+    out = os.path.join(work, "surface-pairs.csv")
+    run([opts.gen_configs, "--scene", os.path.join(opts.scenes, deck + ".inp"), "--pair", str(pair),
+         "--surface", surface, "--output", out], 0)
+    header, rows = read_csv(out)
+    names = ["xi", "eta"] if surface == "bilinear" else ["u", "v"]
+    expected_header = (["slave", "a", "b", "c", "d"] + POINTS + (NORMALS if surface == "gregory" else []) +
+                       names + ["status", "gap", "iterations", "location", "px", "py", "pz", "face_type", "nodes"])
+    check(header == expected_header, "surface search header %s, expected %s" % (header, expected_header))
+    column = {name: i for i, name in enumerate(header)}
+    face_rows = []
+    locations = {"face": 0, "edge": 0, "vertex": 0}
+    for r in rows:
+        if r[column["status"]] == "no_segment":
+            continue
+        check(r[column["status"]] == "ok", "surface search status %r" % r[column["status"]])
+        location = r[column["location"]]
+        check(location in locations, "location %r" % location)
+        locations[location] += 1
+        s = [float(r[column["s" + c]]) for c in "xyz"]
+        p = [float(r[column["p" + c]]) for c in "xyz"]
+        scale = max(1.0, max(abs(x) for x in s))
+        distance = math.dist(s, p)
+        check(abs(abs(float(r[column["gap"]])) - distance) <= 1e-12 * scale,
+              "slave %s: gap %s, |S - P| %r" % (r[0], r[column["gap"]], distance))
+        check(r[column["face_type"]] == "quad4", "face_type %r" % r[column["face_type"]])
+        nodes = r[column["nodes"]].split(" ")
+        abcd = [r[column[n]] for n in "abcd"]
+        k = nodes.index(abcd[0]) if abcd[0] in nodes else -1
+        check(k >= 0 and [nodes[(k + i) % 4] for i in range(4)] == abcd,
+              "slave %s: nodes %s are not a,b,c,d %s in the face's cycle" % (r[0], nodes, abcd))
+        if surface == "bilinear":
+            q = bilinear_point(r, column, float(r[column["xi"]]), float(r[column["eta"]]))
+            check(math.dist(p, q) <= 1e-12 * scale, "slave %s: P %s is not the facet's point %s" % (r[0], p, q))
+        if location == "face":
+            face_rows.append(r)
+    # A face point is the stationary point of SPEC 2: label mode finds it too.
+    relabelled = os.path.join(work, "surface-relabelled.csv")
+    run([opts.gen_configs, "--surface", surface, "--input", out, "--output", relabelled], 0)
+    header2, rows2 = read_csv(relabelled)
+    column2 = {name: i for i, name in enumerate(header2)}
+    by_slave = {r2[column2["slave"]]: r2 for r2 in rows2}
+    for r in face_rows:
+        r2 = by_slave[r[0]]
+        check(r2[column2["status"]] == "ok", "slave %s: label mode status %r for a face point" %
+              (r[0], r2[column2["status"]]))
+        for name in names:
+            check(abs(float(r[column[name]]) - float(r2[column2[name]])) <= 1e-9,
+                  "slave %s: %s %s by the surface search, %s by label mode" %
+                  (r[0], name, r[column[name]], r2[column2[name]]))
+    return locations
+
+
 def scene_case(opts, deck, pair, surface):
     work = os.path.join(opts.work, "%s-%d-%s" % (deck, pair, surface))
     shutil.rmtree(work, ignore_errors=True)
@@ -62,7 +126,7 @@ def scene_case(opts, deck, pair, surface):
     expected = manifest["pairs"][pair]
     out = os.path.join(work, "pairs.csv")
     result = run([opts.gen_configs, "--scene", os.path.join(opts.scenes, deck + ".inp"), "--pair", str(pair),
-                  "--surface", surface, "--output", out], 0)
+                  "--surface", surface, "--search", "nearest_node", "--output", out], 0)
 
     # Columns exactly as SPEC 7 lists them.
     header, rows = read_csv(out)
@@ -149,8 +213,9 @@ def scene_case(opts, deck, pair, surface):
         check((r3[column3["status"]] == "no_segment") == missing_pair, "slave %s: evaluate-net status %r for %r" %
               (r[0], r3[column3["status"]], r[column["status"]]))
         check((r3[column3[names[0]]] == "") == missing_pair, "slave %s: prediction %r" % (r[0], r3[column3[names[0]]]))
-    print("%s pair %d %s: %d rows, %d no_segment, labels reproduced, evaluate-net read it" %
-          (deck, pair, surface, len(rows), no_segment))
+    locations = surface_case(opts, deck, pair, surface, work)
+    print("%s pair %d %s: %d rows, %d no_segment, labels reproduced, evaluate-net read it; surface search: %s" %
+          (deck, pair, surface, len(rows), no_segment, locations))
 
 
 def errors_case(opts):

@@ -36,6 +36,7 @@ int main(int argc, char** argv) {
       for (SurfaceKind kind : {SurfaceKind::kBilinear, SurfaceKind::kGregory}) {
         contact::SearchOptions options;
         options.surface = kind;
+        options.search = contact::GlobalSearchKind::kNearestNode;
         const contact::SceneResult tree = contact::search_scene(scene, options);
         options.nearest = contact::NearestNodeMethod::kBruteForce;
         const contact::SceneResult brute = contact::search_scene(scene, options);

@@ -130,6 +130,7 @@ TEST_P(CyclicScene, SlavesFindTheNeighbourSectorsFaceAtTheGapOfTheGeometry) {
   EXPECT_EQ(scene.master.segments.size(), 3u * kNr * kNx);  // the sector's face and two rotated copies
   SearchOptions options;
   options.surface = GetParam();
+  options.search = GlobalSearchKind::kNearestNode;
   const SceneResult result = search_scene(scene, options);
   ASSERT_EQ(result.pairs.size(), static_cast<std::size_t>((kNr + 1) * (kNx + 1)));
   int inside = 0, outside = 0;
@@ -175,6 +176,7 @@ TEST_P(CyclicScene, WithoutTheCyclicModelTheSameSlavesOnlySeeTheirOwnSectorsFarF
   EXPECT_EQ(scene.master.segments.size(), static_cast<std::size_t>(kNr * kNx));
   SearchOptions options;
   options.surface = GetParam();
+  options.search = GlobalSearchKind::kNearestNode;
   for (const NodeSegmentPair& p : search_scene(scene, options).pairs) {
     // The sector's own master face is alpha - delta away: no pair is a contact at the small gap.
     if (p.status == PairStatus::kFound) {

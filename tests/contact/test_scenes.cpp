@@ -41,6 +41,7 @@ class ExampleScene : public ::testing::TestWithParam<std::tuple<ScenePair, Surfa
     model_ = io::read_inp_deck(scenes_dir() / scene_pair.deck);
     scene_ = make_scene(model_, scene_pair.pair);
     options_.surface = kind;
+    options_.search = GlobalSearchKind::kNearestNode;  // the paper's search; the surface search's test is below
   }
   [[nodiscard]] std::vector<NodeSegmentPair> search(const Scene& scene, NearestNodeMethod method) const {
     SearchOptions options = options_;
@@ -121,6 +122,27 @@ TEST_P(ExampleScene, SearchIsTheSameForAnyThreadCount) {
   const auto one = search(scene_, NearestNodeMethod::kTree);
   omp_set_num_threads(saved);
   EXPECT_EQ(testing::compare_searches(many, one).differences, 0);
+}
+
+TEST_P(ExampleScene, SurfaceSearchTreeEqualsEveryFaceAndNeverMissesTheNearestNodesSegment) {
+  SearchOptions options = options_;
+  options.search = GlobalSearchKind::kSurface;
+  const auto tree = search_scene(scene_, options).pairs;
+  options.brute_force_faces = true;
+  const auto every = search_scene(scene_, options).pairs;
+  const auto paper = search(scene_, NearestNodeMethod::kTree);
+  ASSERT_EQ(tree.size(), every.size());
+  for (std::size_t i = 0; i < tree.size(); ++i) {
+    ASSERT_EQ(tree[i].status, every[i].status) << "slave " << tree[i].slave_id;
+    if (tree[i].status != PairStatus::kFound) continue;
+    EXPECT_EQ(tree[i].segment, every[i].segment) << "slave " << tree[i].slave_id;
+    EXPECT_EQ(tree[i].label.gap, every[i].label.gap) << "slave " << tree[i].slave_id;
+    // The nearest point of the whole surface is never farther than the paper's pair's point inside its segment.
+    if (paper[i].status == PairStatus::kFound && paper[i].label.status == Status::kOk) {
+      EXPECT_LE(std::abs(tree[i].label.gap), std::abs(paper[i].label.gap) * (1.0 + 1e-9) + 1e-12)
+          << "slave " << tree[i].slave_id;
+    }
+  }
 }
 
 std::string name(const ::testing::TestParamInfo<std::tuple<ScenePair, SurfaceKind>>& info) {
