@@ -269,24 +269,30 @@ int scene_mode(const std::string& deck, int pair, const contact::SearchOptions& 
         io::append_csv_row(text, row);
         continue;
       }
-      for (int n : p.nodes) row[c++] = std::to_string(scene->master.node_ids[static_cast<std::size_t>(n)]);
-      for (const auto& x : p.config.nodes) {
-        for (int k = 0; k < 3; ++k) row[c++] = io::format_double(x[k]);
-      }
-      for (int k = 0; k < 3; ++k) row[c++] = io::format_double(p.config.slave[k]);
-      if (gregory) {
-        for (const auto& n : p.config.normals) {
-          for (int k = 0; k < 3; ++k) row[c++] = io::format_double(n[k]);
+      const std::span<const int> corners = scene->master.face_corners(p.segment);
+      if (corners.size() == 4) {
+        for (int n : p.nodes) row[c++] = std::to_string(scene->master.node_ids[static_cast<std::size_t>(n)]);
+        for (const auto& x : p.config.nodes) {
+          for (int k = 0; k < 3; ++k) row[c++] = io::format_double(x[k]);
         }
+        for (int k = 0; k < 3; ++k) row[c++] = io::format_double(p.config.slave[k]);
+        if (gregory) {
+          for (const auto& n : p.config.normals) {
+            for (int k = 0; k < 3; ++k) row[c++] = io::format_double(n[k]);
+          }
+        }
+      } else {
+        // SPEC 9: a face that is not a quad4 has no SPEC 7 configuration; (r, s) go in the coordinate columns.
+        c += 4 + kRawPointColumns.size() + (gregory ? kRawNormalColumns.size() : 0);
       }
       for (std::string& field : label_fields(p.label)) row[c++] = std::move(field);
       if (surface_search) {
         ++locations[static_cast<std::size_t>(p.location)];
         row[c++] = std::string(to_string(p.location));
         for (int k = 0; k < 3; ++k) row[c++] = io::format_double(p.point[k] + 0.0);
-        row[c++] = "quad4";
+        row[c++] = corners.size() == 4 ? "quad4" : "tri3";
         std::string face_nodes;
-        for (int n : scene->master.segments[static_cast<std::size_t>(p.segment)]) {
+        for (int n : corners) {
           face_nodes += (face_nodes.empty() ? "" : " ") + std::to_string(scene->master.node_ids[static_cast<std::size_t>(n)]);
         }
         row[c++] = std::move(face_nodes);

@@ -102,12 +102,21 @@ std::vector<NodeSegmentPair> global_search(const mesh::SurfaceMesh& master, std:
   const auto n = static_cast<long>(slave_ids.size());
   std::vector<NodeSegmentPair> pairs(static_cast<std::size_t>(n));
   const bool tree = options.nearest == NearestNodeMethod::kTree;
-  const NearestPointTree index(tree ? std::span<const Vec3>(master.positions) : std::span<const Vec3>());
+  // The paper's search pairs with segments: the nearest node among the nodes that have one (the surface's
+  // other faces, SPEC 9's triangles, are the surface search's).
+  std::vector<int> segment_nodes;
+  std::vector<Vec3> segment_positions;
+  for (int node = 0; node < master.node_count(); ++node) {
+    if (master.segments_of(node).empty()) continue;
+    segment_nodes.push_back(node);
+    segment_positions.push_back(master.positions[static_cast<std::size_t>(node)]);
+  }
+  const NearestPointTree index(tree ? std::span<const Vec3>(segment_positions) : std::span<const Vec3>());
 #pragma omp parallel for schedule(dynamic, 16)
   for (long i = 0; i < n; ++i) {
     const auto u = static_cast<std::size_t>(i);
-    const int nearest =
-        tree ? index.nearest(slave_positions[u]) : nearest_point_brute_force(master.positions, slave_positions[u]);
+    const int k = tree ? index.nearest(slave_positions[u]) : nearest_point_brute_force(segment_positions, slave_positions[u]);
+    const int nearest = k < 0 ? -1 : segment_nodes[static_cast<std::size_t>(k)];
     pairs[u] = pair_at_nearest_node(master, master_normals, slave_ids[u], slave_positions[u], nearest, options);
   }
   return pairs;

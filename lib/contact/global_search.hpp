@@ -2,7 +2,7 @@
 // with, and that pair's label.
 //
 // For a slave node S:
-//  1. M = the master node nearest S (nearest_node.hpp; ties: the lowest node id);
+//  1. M = the master node nearest S among the nodes of segments (nearest_node.hpp; ties: the lowest node id);
 //  2. the candidates are the master segments containing M at which S passes the segment test of paper
 //     Eqs 3-6 (c1 = next - M, c2 = prev - M, counter-clockwise about the outward normal);
 //  3. each candidate, rotated so that A = M (then B, C, D counter-clockwise: SPEC 7's node order), is

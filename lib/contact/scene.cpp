@@ -59,6 +59,13 @@ void add_neighbour_sectors(const mesh::CyclicSymmetry& c, mesh::SurfaceMesh& sur
       surface.segment_faces.push_back(sector.segment_faces[static_cast<std::size_t>(s)]);
       surface.segment_element_ids.push_back(sector.segment_element_ids[static_cast<std::size_t>(s)]);
     }
+    for (std::size_t f = 0; f < sector.extra_faces.size(); ++f) {
+      std::array<int, 4> face = sector.extra_faces[f];
+      for (int& n : face) n = n < 0 ? n : n + copy * nodes;
+      surface.extra_faces.push_back(face);
+      surface.extra_face_faces.push_back(sector.extra_face_faces[f]);
+      surface.extra_face_element_ids.push_back(sector.extra_face_element_ids[f]);
+    }
     // adjacency_offsets has nodes + 1 entries: the copy's last entry replaces the end of the one before.
     surface.adjacency_offsets.pop_back();
     for (int i = 0; i <= nodes; ++i) {

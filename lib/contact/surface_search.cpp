@@ -36,26 +36,39 @@ struct Centres {
 using CentreTree =
     nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, Centres>, Centres, 3, std::uint32_t>;
 
-/// The configuration of face `s` in its own node order (Gregory: with the master's unit node normals).
+/// The surface kind face f is searched on: the segments (C3D8, C3D20) on the search's own surface, the
+/// extra faces (wedge quadrilaterals) always as bilinear facets (their nodes need not have Eq 26 normals).
+SurfaceKind kind_of(const mesh::SurfaceMesh& master, const SearchOptions& options, int f) {
+  return static_cast<std::size_t>(f) < master.segments.size() ? options.surface : SurfaceKind::kBilinear;
+}
+
+/// The configuration of quadrilateral face f in its own node order (Gregory: with the master's node normals).
 geometry::Configuration face_configuration(const mesh::SurfaceMesh& master, std::span<const Vec3> normals,
-                                           bool gregory, int s) {
+                                           SurfaceKind kind, int f) {
   geometry::Configuration config;
-  const auto& quad = master.segments[static_cast<std::size_t>(s)];
+  const std::span<const int> corners = master.face_corners(f);
   for (std::size_t i = 0; i < 4; ++i) {
-    const auto n = static_cast<std::size_t>(quad[i]);
+    const auto n = static_cast<std::size_t>(corners[i]);
     config.nodes[i] = master.positions[n];
-    config.normals[i] = gregory ? normals[n] : Vec3::Zero();
+    config.normals[i] = kind == SurfaceKind::kGregory ? normals[n] : Vec3::Zero();
   }
   return config;
 }
 
-/// Everything the search needs of the faces, built once: centres, bounding radii, sizes, edge adjacency.
+std::array<Vec3, 3> triangle_nodes(const mesh::SurfaceMesh& master, int f) {
+  const std::span<const int> c = master.face_corners(f);
+  return {master.positions[static_cast<std::size_t>(c[0])], master.positions[static_cast<std::size_t>(c[1])],
+          master.positions[static_cast<std::size_t>(c[2])]};
+}
+
+/// Everything the search needs of the faces, built once: centres, bounding radii, sizes, adjacency.
 struct FaceIndex {
   std::vector<Vec3> centres;
   std::vector<double> radii;  ///< bounding-sphere radius about the centre
   std::vector<double> sizes;  ///< longest node distance
-  /// Faces sharing each edge, by its two surface nodes (smaller first): (face, edge 0..3) pairs.
+  /// Faces sharing each edge, by its two surface nodes (smaller first): (face, edge) pairs.
   std::unordered_map<std::uint64_t, std::vector<std::pair<int, int>>> edges;
+  std::vector<std::vector<int>> node_faces;  ///< the faces at each surface node, increasing
 
   static std::uint64_t edge_key(int a, int b) {
     const auto lo = static_cast<std::uint64_t>(std::min(a, b));
@@ -64,32 +77,60 @@ struct FaceIndex {
   }
 };
 
-FaceIndex index_faces(const mesh::SurfaceMesh& master, std::span<const Vec3> normals, bool gregory) {
+FaceIndex index_faces(const mesh::SurfaceMesh& master, std::span<const Vec3> normals, const SearchOptions& options) {
   FaceIndex index;
-  const std::size_t n = master.segments.size();
+  const auto n = static_cast<std::size_t>(master.face_count());
   index.centres.resize(n);
   index.radii.resize(n);
   index.sizes.resize(n);
-  for (std::size_t s = 0; s < n; ++s) {
-    const geometry::Configuration config = face_configuration(master, normals, gregory, static_cast<int>(s));
-    const Vec3 centre = 0.25 * ((config.nodes[0] + config.nodes[1]) + (config.nodes[2] + config.nodes[3]));
-    double radius = 0.0;
-    for (const Vec3& x : config.nodes) radius = std::max(radius, (x - centre).norm());
-    if (gregory && !geometry::surface_defect(config, SurfaceKind::kGregory)) {
-      // The patch lies in the convex hull of its control points (each interior point is a convex mix of two).
-      const geometry::GregoryPatch patch(config.nodes, config.normals);
-      for (const Vec3& x : patch.control_points()) radius = std::max(radius, (x - centre).norm());
+  index.node_faces.resize(master.positions.size());
+  for (std::size_t f = 0; f < n; ++f) {
+    const auto face = static_cast<int>(f);
+    const std::span<const int> corners = master.face_corners(face);
+    Vec3 centre = Vec3::Zero();
+    for (int c : corners) centre += master.positions[static_cast<std::size_t>(c)];
+    centre /= static_cast<double>(corners.size());
+    double radius = 0.0, size = 0.0;
+    for (int c : corners) {
+      const Vec3& x = master.positions[static_cast<std::size_t>(c)];
+      radius = std::max(radius, (x - centre).norm());
+      for (int d : corners) size = std::max(size, (x - master.positions[static_cast<std::size_t>(d)]).norm());
     }
-    index.centres[s] = centre;
-    index.radii[s] = radius;
-    index.sizes[s] = geometry::max_node_distance(config.nodes);
-    const auto& quad = master.segments[s];
-    for (int e = 0; e < 4; ++e) {
-      index.edges[FaceIndex::edge_key(quad[static_cast<std::size_t>(e)], quad[static_cast<std::size_t>((e + 1) % 4)])]
-          .emplace_back(static_cast<int>(s), e);
+    if (corners.size() == 4 && kind_of(master, options, face) == SurfaceKind::kGregory) {
+      const geometry::Configuration config = face_configuration(master, normals, SurfaceKind::kGregory, face);
+      if (!geometry::surface_defect(config, SurfaceKind::kGregory)) {
+        // The patch lies in the convex hull of its control points (each interior point mixes two of them).
+        const geometry::GregoryPatch patch(config.nodes, config.normals);
+        for (const Vec3& x : patch.control_points()) radius = std::max(radius, (x - centre).norm());
+      }
+    }
+    index.centres[f] = centre;
+    index.radii[f] = radius;
+    index.sizes[f] = size;
+    const auto k = static_cast<int>(corners.size());
+    for (int e = 0; e < k; ++e) {
+      index.edges[FaceIndex::edge_key(corners[static_cast<std::size_t>(e)], corners[static_cast<std::size_t>((e + 1) % k)])]
+          .emplace_back(face, e);
+      index.node_faces[static_cast<std::size_t>(corners[static_cast<std::size_t>(e)])].push_back(face);
     }
   }
   return index;
+}
+
+/// The closest point of face f to `slave` (projection::closest_point_on_face or closest_point_on_triangle).
+projection::FaceClosestPoint closest_on_face(const mesh::SurfaceMesh& master, std::span<const Vec3> normals,
+                                             const SearchOptions& options, int f, const Vec3& slave) {
+  if (master.face_corners(f).size() == 3) return projection::closest_point_on_triangle(triangle_nodes(master, f), slave);
+  const SurfaceKind kind = kind_of(master, options, f);
+  const geometry::Configuration config = face_configuration(master, normals, kind, f);
+  if (const auto defect = geometry::surface_defect(config, kind)) {
+    projection::FaceClosestPoint none;
+    none.status = *defect;
+    return none;
+  }
+  return geometry::with_surface(config, kind, [&](const auto& surface) {
+    return projection::closest_point_on_face(surface, slave, options.projection);
+  });
 }
 
 /// Parameters of corner k (A, B, C, D) of a quadrilateral face.
@@ -102,52 +143,72 @@ std::array<double, 2> corner_param(int k, ParamDomain d) {
   }
 }
 
-/// The pseudo-normal direction (not normalised) at the closest point `p` of face `s` (header, step 4).
+Vec3 unit_or_zero(const Vec3& n) {
+  const double length = n.norm();
+  return length > 0.0 && std::isfinite(length) ? Vec3(n / length) : Vec3(Vec3::Zero());
+}
+
+/// Face f's unit normal at the point of its edge `edge` nearest `p` (a point of that edge).
+Vec3 normal_on_edge(const mesh::SurfaceMesh& master, std::span<const Vec3> normals, const SearchOptions& options,
+                    int f, int edge, const Vec3& p) {
+  if (master.face_corners(f).size() == 3) {
+    const auto x = triangle_nodes(master, f);
+    return unit_or_zero((x[1] - x[0]).cross(x[2] - x[0]));
+  }
+  const SurfaceKind kind = kind_of(master, options, f);
+  const geometry::Configuration config = face_configuration(master, normals, kind, f);
+  if (geometry::surface_defect(config, kind)) return Vec3::Zero();
+  return geometry::with_surface(config, kind, [&](const auto& surface) -> Vec3 {
+    const auto q = projection::closest_point_on_edge(surface, edge, p);
+    const geometry::SurfacePoint sp = surface.evaluate(q.param[0], q.param[1]);
+    return unit_or_zero(sp.d_s.cross(sp.d_t));
+  });
+}
+
+/// Face f's corner angle at its corner k times its unit normal there (a vertex pseudo-normal's term).
+Vec3 weighted_corner_normal(const mesh::SurfaceMesh& master, std::span<const Vec3> normals,
+                            const SearchOptions& options, int f, int k) {
+  const std::span<const int> c = master.face_corners(f);
+  if (c.size() == 3) {
+    const auto x = triangle_nodes(master, f);
+    const Vec3 a = x[static_cast<std::size_t>((k + 1) % 3)] - x[static_cast<std::size_t>(k)];
+    const Vec3 b = x[static_cast<std::size_t>((k + 2) % 3)] - x[static_cast<std::size_t>(k)];
+    return std::atan2(a.cross(b).norm(), a.dot(b)) * unit_or_zero((x[1] - x[0]).cross(x[2] - x[0]));
+  }
+  const SurfaceKind kind = kind_of(master, options, f);
+  const geometry::Configuration config = face_configuration(master, normals, kind, f);
+  if (geometry::surface_defect(config, kind)) return Vec3::Zero();
+  const ParamDomain d = param_domain(kind);
+  return geometry::with_surface(config, kind, [&](const auto& surface) -> Vec3 {
+    const auto corner = corner_param(k, d);
+    const geometry::SurfacePoint sp = surface.evaluate(corner[0], corner[1]);
+    // Tangents pointing into the face from the corner.
+    const Vec3 ts = (corner[0] == d.lo ? 1.0 : -1.0) * sp.d_s;
+    const Vec3 tt = (corner[1] == d.lo ? 1.0 : -1.0) * sp.d_t;
+    return std::atan2(ts.cross(tt).norm(), ts.dot(tt)) * unit_or_zero(sp.d_s.cross(sp.d_t));
+  });
+}
+
+/// The pseudo-normal direction (not normalised) at the closest point `p` of face f (header, step 4).
 Vec3 pseudo_normal(const mesh::SurfaceMesh& master, std::span<const Vec3> normals, const SearchOptions& options,
-                   const FaceIndex& index, int s, const projection::FaceClosestPoint& p) {
-  const bool gregory = options.surface == SurfaceKind::kGregory;
+                   const FaceIndex& index, int f, const projection::FaceClosestPoint& p) {
   if (p.location == Location::kFace) return p.normal;
-  const ParamDomain d = param_domain(options.surface);
-  const auto& quad = master.segments[static_cast<std::size_t>(s)];
+  const std::span<const int> corners = master.face_corners(f);
+  const auto k = corners.size();
   Vec3 sum = Vec3::Zero();
   if (p.location == Location::kEdge) {
     const auto e = static_cast<std::size_t>(p.feature);
-    for (const auto& [face, edge] : index.edges.at(FaceIndex::edge_key(quad[e], quad[(e + 1) % 4]))) {
-      if (face == s) {
-        sum += p.normal;
-        continue;
-      }
-      const geometry::Configuration config = face_configuration(master, normals, gregory, face);
-      if (geometry::surface_defect(config, options.surface)) continue;
-      sum += geometry::with_surface(config, options.surface, [&](const auto& surface) -> Vec3 {
-        const auto q = projection::closest_point_on_edge(surface, edge, p.point);
-        const geometry::SurfacePoint sp = surface.evaluate(q.param[0], q.param[1]);
-        const Vec3 n = sp.d_s.cross(sp.d_t);
-        const double length = n.norm();
-        return length > 0.0 ? Vec3(n / length) : Vec3(Vec3::Zero());
-      });
+    for (const auto& [face, edge] : index.edges.at(FaceIndex::edge_key(corners[e], corners[(e + 1) % k]))) {
+      sum += face == f ? p.normal : normal_on_edge(master, normals, options, face, edge, p.point);
     }
     return sum;
   }
   // A vertex: every face at the node, weighted by its corner angle there.
-  const int node = quad[static_cast<std::size_t>(p.feature)];
-  for (int face : master.segments_of(node)) {
-    const auto& other = master.segments[static_cast<std::size_t>(face)];
-    const auto k = static_cast<int>(std::find(other.begin(), other.end(), node) - other.begin());
-    const geometry::Configuration config = face_configuration(master, normals, gregory, face);
-    if (geometry::surface_defect(config, options.surface)) continue;
-    sum += geometry::with_surface(config, options.surface, [&](const auto& surface) -> Vec3 {
-      const auto c = corner_param(k, d);
-      const geometry::SurfacePoint sp = surface.evaluate(c[0], c[1]);
-      // Tangents pointing into the face from the corner.
-      const Vec3 ts = (c[0] == d.lo ? 1.0 : -1.0) * sp.d_s;
-      const Vec3 tt = (c[1] == d.lo ? 1.0 : -1.0) * sp.d_t;
-      const Vec3 n = sp.d_s.cross(sp.d_t);
-      const double length = n.norm();
-      if (!(length > 0.0)) return Vec3::Zero();
-      const double angle = std::atan2(ts.cross(tt).norm(), ts.dot(tt));
-      return angle * (n / length);
-    });
+  const int node = corners[static_cast<std::size_t>(p.feature)];
+  for (int face : index.node_faces[static_cast<std::size_t>(node)]) {
+    const std::span<const int> other = master.face_corners(face);
+    const auto at = static_cast<int>(std::find(other.begin(), other.end(), node) - other.begin());
+    sum += weighted_corner_normal(master, normals, options, face, at);
   }
   return sum;
 }
@@ -164,35 +225,27 @@ std::array<double, 2> rotate_param(std::array<double, 2> p, int k, SurfaceKind k
 NodeSegmentPair search_one(const mesh::SurfaceMesh& master, std::span<const Vec3> normals,
                            const SearchOptions& options, const FaceIndex& index, double capture, long slave_id,
                            const Vec3& slave, std::vector<std::pair<double, int>>& candidates) {
-  const bool gregory = options.surface == SurfaceKind::kGregory;
   NodeSegmentPair best;
   best.slave_id = slave_id;
   // Nearest sphere first; equal bounds in face order, so the scan is the same whatever the tree returned.
   std::sort(candidates.begin(), candidates.end());
   double best_distance = std::numeric_limits<double>::infinity();
   projection::FaceClosestPoint best_point;
-  for (const auto& [bound, s] : candidates) {
+  for (const auto& [bound, f] : candidates) {
     if (bound > capture) break;
     // A face whose sphere is beyond the best point (and its tie band) cannot beat it.
-    if (bound > best_distance + kTieTolerance * index.sizes[static_cast<std::size_t>(s)]) break;
-    const geometry::Configuration config = face_configuration(master, normals, gregory, s);
-    if (geometry::surface_defect(config, options.surface)) continue;
-    const projection::FaceClosestPoint p = geometry::with_surface(config, options.surface, [&](const auto& surface) {
-      return projection::closest_point_on_face(surface, slave, options.projection);
-    });
+    if (bound > best_distance + kTieTolerance * index.sizes[static_cast<std::size_t>(f)]) break;
+    const projection::FaceClosestPoint p = closest_on_face(master, normals, options, f, slave);
     if (p.status != Status::kOk) continue;
     ++best.candidates;
-    const double tie = kTieTolerance * index.sizes[static_cast<std::size_t>(s)];
+    const double tie = kTieTolerance * index.sizes[static_cast<std::size_t>(f)];
     bool better = best.segment < 0 || p.distance < best_distance - tie;
     if (!better && p.distance <= best_distance + tie) {
-      const auto key = [&](int f) {
-        return std::pair(master.segment_element_ids[static_cast<std::size_t>(f)],
-                         master.segment_faces[static_cast<std::size_t>(f)].face);
-      };
-      better = key(s) < key(best.segment);
+      const auto key = [&](int g) { return std::pair(master.face_element_id(g), master.face_of(g).face); };
+      better = key(f) < key(best.segment);
     }
     if (better) {
-      best.segment = s;
+      best.segment = f;
       best_distance = p.distance;
       best_point = p;
     }
@@ -202,37 +255,40 @@ NodeSegmentPair search_one(const mesh::SurfaceMesh& master, std::span<const Vec3
     best.candidates = 0;
     return best;
   }
+  best.status = PairStatus::kFound;
+  best.location = best_point.location;
+  best.point = best_point.point;
+  best.config.slave = slave;
+  dataset::Label& label = best.label;
+  label.status = Status::kOk;
+  label.iterations = best_point.iterations;
+  label.param = best_point.param;
+  const Vec3 n = pseudo_normal(master, normals, options, index, best.segment, best_point);
+  const double side = (slave - best_point.point).dot(n);
+  label.gap = side < 0.0 ? -best_point.distance : best_point.distance;
 
-  // The pair in SPEC 7's node order: A the corner nearest S (ties: the first in the face's order).
-  const auto& quad = master.segments[static_cast<std::size_t>(best.segment)];
+  // A quadrilateral in SPEC 7's node order: A the corner nearest S (ties: the first in the face's order), the
+  // label's parameters in that order. A triangle keeps its (r, s) and has no SPEC 7 configuration.
+  const std::span<const int> corners = master.face_corners(best.segment);
+  if (corners.size() != 4) return best;
   int k = 0;
   double nearest = std::numeric_limits<double>::infinity();
   for (int i = 0; i < 4; ++i) {
-    const double d2 = (master.positions[static_cast<std::size_t>(quad[static_cast<std::size_t>(i)])] - slave).squaredNorm();
+    const double d2 = (master.positions[static_cast<std::size_t>(corners[static_cast<std::size_t>(i)])] - slave).squaredNorm();
     if (d2 < nearest) {
       nearest = d2;
       k = i;
     }
   }
-  best.status = PairStatus::kFound;
-  for (int i = 0; i < 4; ++i) best.nodes[static_cast<std::size_t>(i)] = quad[static_cast<std::size_t>((k + i) % 4)];
+  for (int i = 0; i < 4; ++i) best.nodes[static_cast<std::size_t>(i)] = corners[static_cast<std::size_t>((k + i) % 4)];
   best.nearest_node = best.nodes[0];
-  const geometry::Configuration own = face_configuration(master, normals, gregory, best.segment);
+  const SurfaceKind kind = kind_of(master, options, best.segment);
+  const geometry::Configuration own = face_configuration(master, normals, kind, best.segment);
   for (std::size_t i = 0; i < 4; ++i) {
     best.config.nodes[i] = own.nodes[(static_cast<std::size_t>(k) + i) % 4];
     best.config.normals[i] = own.normals[(static_cast<std::size_t>(k) + i) % 4];
   }
-  best.config.slave = slave;
-  best.location = best_point.location;
-  best.point = best_point.point;
-
-  dataset::Label& label = best.label;
-  label.status = Status::kOk;
-  label.iterations = best_point.iterations;
-  label.param = rotate_param(best_point.param, k, options.surface);
-  const Vec3 n = pseudo_normal(master, normals, options, index, best.segment, best_point);
-  const double side = (slave - best_point.point).dot(n);
-  label.gap = side < 0.0 ? -best_point.distance : best_point.distance;
+  label.param = rotate_param(best_point.param, k, kind);
   return best;
 }
 
@@ -241,10 +297,12 @@ NodeSegmentPair search_one(const mesh::SurfaceMesh& master, std::span<const Vec3
 double capture_distance(const mesh::SurfaceMesh& master, const SearchOptions& options) {
   if (options.capture_distance > 0.0) return options.capture_distance;
   double largest = 0.0;
-  for (const auto& quad : master.segments) {
-    std::array<Vec3, 4> nodes;
-    for (std::size_t i = 0; i < 4; ++i) nodes[i] = master.positions[static_cast<std::size_t>(quad[i])];
-    largest = std::max(largest, geometry::max_node_distance(nodes));
+  for (int f = 0; f < master.face_count(); ++f) {
+    for (int a : master.face_corners(f)) {
+      for (int b : master.face_corners(f)) {
+        largest = std::max(largest, (master.positions[static_cast<std::size_t>(a)] - master.positions[static_cast<std::size_t>(b)]).norm());
+      }
+    }
   }
   return options.capture_relative * largest;
 }
@@ -258,9 +316,10 @@ std::vector<NodeSegmentPair> surface_search(const mesh::SurfaceMesh& master, std
   CONTACTNN_REQUIRE(!gregory || master_normals.size() == master.positions.size(),
                     "Gregory search needs one node normal per master node: " << master_normals.size() << " for "
                                                                               << master.positions.size());
-  CONTACTNN_REQUIRE(master.segment_element_ids.size() == master.segments.size(),
+  CONTACTNN_REQUIRE(master.segment_element_ids.size() == master.segments.size() &&
+                        master.extra_face_element_ids.size() == master.extra_faces.size(),
                     master.segment_element_ids.size() << " element ids for " << master.segments.size() << " faces");
-  const FaceIndex index = index_faces(master, master_normals, gregory);
+  const FaceIndex index = index_faces(master, master_normals, options);
   const double capture = capture_distance(master, options);
   const double largest_radius = index.radii.empty() ? 0.0 : *std::max_element(index.radii.begin(), index.radii.end());
   const Centres cloud{&index.centres};

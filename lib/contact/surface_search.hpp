@@ -1,6 +1,10 @@
 // The surface search (SPEC 9): for each slave node, the closest point of the whole master surface, on a
 // face's interior, an edge or a vertex, with its signed gap.
 //
+// The faces are SurfaceMesh::face_count(): the segments (C3D8*, C3D20* quadrilaterals: bilinear facets or, with
+// --surface gregory, Gregory patches) and the extra faces (C3D4 and C3D6 triangles, exact flat tri3; C3D6
+// quadrilaterals, bilinear facets under either surface, as their nodes need not carry Eq 26 normals).
+//
 // For a slave node S:
 //  1. Candidates: the faces whose bounding sphere (centre: the mean of the corner nodes; radius: the largest
 //     distance from it to a node, or to a Gregory control point, which bound the patch) comes within the
@@ -18,10 +22,11 @@
 //     convex edge is separated and one just inside a concave corner penetrates, whichever face it reports.
 //     S on the surface (|S - P| = 0) has gap 0.
 //
-// The reported pair (NodeSegmentPair): `segment` the winning face; `nodes` and `config` its corners rotated
-// so that A is the corner nearest S (ties: the first in the face's own order), then counter-clockwise about
-// the outward normal (SPEC 7's node order); the label's parameters in that order, status ok, gap as above;
-// `location` and `point`.
+// The reported pair (NodeSegmentPair): `segment` the winning face (an index of SurfaceMesh::face_corners);
+// for a quadrilateral, `nodes` and `config` its corners rotated so that A is the corner nearest S (ties: the
+// first in the face's own order), then counter-clockwise about the outward normal (SPEC 7's node order), and
+// the label's parameters in that order; for a triangle, the label's (r, s) and no nodes or configuration;
+// status ok, gap as above; `location` and `point`.
 //
 // Capture distance. A contact search must never miss a contact, and a node far from the master surface has
 // none to report: by default a face is searched within one largest face size (SearchOptions), far beyond any

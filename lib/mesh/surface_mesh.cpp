@@ -52,9 +52,30 @@ std::array<int, 4> outward_quad_corners(const SolidMesh& mesh, ElementFace face)
   return normal.dot(face_centroid - element_centroid) < 0.0 ? manual : reversed;
 }
 
+/// The 3 corners of a triangular face, outward ((B - A) x (C - A) points out of the element: the manual's
+/// order reversed, unless the element's centroid says the element is numbered inside out), then -1.
+std::array<int, 4> outward_triangle_corners(const SolidMesh& mesh, ElementFace face) {
+  const ElementType& type = mesh.element_type(face.element);
+  const std::span<const int> corners = face_corner_indices(type.shape, face.face);
+  const std::span<const int> nodes = mesh.element_nodes(face.element);
+  const std::array<int, 3> manual = {nodes[static_cast<std::size_t>(corners[0])],
+                                     nodes[static_cast<std::size_t>(corners[1])],
+                                     nodes[static_cast<std::size_t>(corners[2])]};
+  const auto at = [&](int n) -> const Vec3& { return mesh.position(n); };
+  Vec3 element_centroid = Vec3::Zero();
+  const int n_corners = corner_count(type.shape);
+  for (int i = 0; i < n_corners; ++i) element_centroid += at(nodes[static_cast<std::size_t>(i)]);
+  element_centroid /= n_corners;
+  const Vec3 face_centroid = (at(manual[0]) + at(manual[1]) + at(manual[2])) / 3.0;
+  const Vec3 normal = (at(manual[2]) - at(manual[0])).cross(at(manual[1]) - at(manual[0]));  // reversed order's
+  return normal.dot(face_centroid - element_centroid) < 0.0 ? std::array<int, 4>{manual[0], manual[1], manual[2], -1}
+                                                            : std::array<int, 4>{manual[0], manual[2], manual[1], -1};
+}
+
 SurfaceMesh build_surface_mesh(const SolidMesh& mesh, std::span<const ElementFace> faces) {
   SurfaceMesh surface;
   std::vector<std::array<int, 4>> segments;  // SolidMesh node indices for now
+  std::vector<std::array<int, 4>> extra;     // likewise
   std::set<std::pair<int, int>> seen;
   for (const ElementFace& face : faces) {
     CONTACTNN_REQUIRE(face.element >= 0 && face.element < mesh.element_count(),
@@ -71,6 +92,18 @@ SurfaceMesh build_surface_mesh(const SolidMesh& mesh, std::span<const ElementFac
     if (!type.has_segment_faces) {
       const char* kind = corners == 3 ? " triangle" : corners == 4 ? " quadrilateral" : " face";
       ++surface.skipped_faces[type.name + kind];
+      // Linear wedges and tetrahedra: faces of the surface search (SPEC 9), not segments.
+      if (type.node_count == corner_count(type.shape) && (corners == 3 || corners == 4)) {
+        std::array<int, 4> outward = corners == 4 ? outward_quad_corners(mesh, face) : outward_triangle_corners(mesh, face);
+        std::array<int, 4> sorted = outward;
+        std::sort(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(corners));
+        if (std::adjacent_find(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(corners)) ==
+            sorted.begin() + static_cast<std::ptrdiff_t>(corners)) {
+          extra.push_back(outward);
+          surface.extra_face_faces.push_back(face);
+          surface.extra_face_element_ids.push_back(mesh.element_id(face.element));
+        }
+      }
       continue;
     }
     const std::array<int, 4> quad = outward_quad_corners(mesh, face);
@@ -94,6 +127,11 @@ SurfaceMesh build_surface_mesh(const SolidMesh& mesh, std::span<const ElementFac
 
   // Surface nodes in increasing deck id, so every later loop over them is in a reproducible order.
   for (const auto& quad : segments) surface.mesh_nodes.insert(surface.mesh_nodes.end(), quad.begin(), quad.end());
+  for (const auto& f : extra) {
+    for (int n : f) {
+      if (n >= 0) surface.mesh_nodes.push_back(n);
+    }
+  }
   std::sort(surface.mesh_nodes.begin(), surface.mesh_nodes.end(),
             [&](int a, int b) { return mesh.node_id(a) < mesh.node_id(b); });
   surface.mesh_nodes.erase(std::unique(surface.mesh_nodes.begin(), surface.mesh_nodes.end()),
@@ -109,6 +147,12 @@ SurfaceMesh build_surface_mesh(const SolidMesh& mesh, std::span<const ElementFac
   for (const auto& quad : segments) {
     surface.segments.push_back({local[static_cast<std::size_t>(quad[0])], local[static_cast<std::size_t>(quad[1])],
                                 local[static_cast<std::size_t>(quad[2])], local[static_cast<std::size_t>(quad[3])]});
+  }
+
+  for (const auto& f : extra) {
+    std::array<int, 4> local_face{-1, -1, -1, -1};
+    for (std::size_t k = 0; k < 4; ++k) local_face[k] = f[k] < 0 ? -1 : local[static_cast<std::size_t>(f[k])];
+    surface.extra_faces.push_back(local_face);
   }
 
   // Adjacency (compressed rows): count, prefix sum, fill in segment order so each row is increasing.

@@ -28,6 +28,10 @@ struct ElementFace {
 /// Precondition: the element's type has 4-corner face `face` (InvalidArgument otherwise).
 [[nodiscard]] std::array<int, 4> outward_quad_corners(const SolidMesh& mesh, ElementFace face);
 
+/// The corners of a triangular face (C3D4, C3D6, SPEC 9) ordered so that (B - A) x (C - A) points out of the
+/// element (the manual's order reversed unless the element is inside out), then -1.
+[[nodiscard]] std::array<int, 4> outward_triangle_corners(const SolidMesh& mesh, ElementFace face);
+
 /// Segments of a surface, indexed locally: node i of the surface is SolidMesh node mesh_nodes[i].
 struct SurfaceMesh {
   std::vector<int> mesh_nodes;             ///< SolidMesh node index of each surface node, in increasing id
@@ -36,6 +40,13 @@ struct SurfaceMesh {
   std::vector<std::array<int, 4>> segments;  ///< surface node indices A, B, C, D; (B-A) x (D-A) outward
   std::vector<ElementFace> segment_faces;  ///< the element face of each segment
   std::vector<long> segment_element_ids;   ///< the deck id of each segment's element (SPEC 9's tie rule)
+  /// The faces the paper's search does not pair with but SPEC 9's surface search counts: the triangles of
+  /// C3D4 and C3D6 elements and the quadrilaterals of C3D6, outward ((B-A) x (C-A), resp. (B-A) x (D-A), points
+  /// out of the element), surface node indices; a triangle's fourth entry is -1. They are still counted in
+  /// skipped_faces (they are not segments). Quadratic elements' faces other than C3D20's are not read yet.
+  std::vector<std::array<int, 4>> extra_faces;
+  std::vector<ElementFace> extra_face_faces;  ///< the element face of each extra face
+  std::vector<long> extra_face_element_ids;   ///< the deck id of its element
   std::vector<int> adjacency_offsets;      ///< segments of node i: adjacency[offsets[i] .. offsets[i+1])
   std::vector<int> adjacency;              ///< segment indices, increasing, for each node in turn
   /// Faces that gave no segment, by kind: "C3D6 triangle", "C3D6 quadrilateral", "C3D4 triangle",
@@ -50,6 +61,23 @@ struct SurfaceMesh {
             static_cast<std::size_t>(adjacency_offsets[n + 1] - adjacency_offsets[n])};
   }
   [[nodiscard]] int node_count() const { return static_cast<int>(node_ids.size()); }
+  /// Every face of the surface search: the segments, then the extra faces (index segments.size() + i).
+  [[nodiscard]] int face_count() const { return static_cast<int>(segments.size() + extra_faces.size()); }
+  /// Face f's corners (4 for a quadrilateral, 3 for a triangle) in surface node indices, outward order.
+  [[nodiscard]] std::span<const int> face_corners(int f) const {
+    const auto u = static_cast<std::size_t>(f);
+    if (u < segments.size()) return {segments[u].data(), 4};
+    const auto& e = extra_faces[u - segments.size()];
+    return {e.data(), e[3] < 0 ? 3u : 4u};
+  }
+  [[nodiscard]] long face_element_id(int f) const {
+    const auto u = static_cast<std::size_t>(f);
+    return u < segments.size() ? segment_element_ids[u] : extra_face_element_ids[u - segments.size()];
+  }
+  [[nodiscard]] const ElementFace& face_of(int f) const {
+    const auto u = static_cast<std::size_t>(f);
+    return u < segments.size() ? segment_faces[u] : extra_face_faces[u - segments.size()];
+  }
 };
 
 /// The surface made of `faces`: each face of an element type with segment faces (ElementType) and four

@@ -194,6 +194,58 @@ FaceClosestPoint closest_point_on_face(const SurfaceT& surface, const Vec3& slav
   return out;
 }
 
+FaceClosestPoint closest_point_on_triangle(const std::array<Vec3, 3>& nodes, const Vec3& slave) {
+  FaceClosestPoint out;
+  if (!finite(slave) || !finite(nodes[0]) || !finite(nodes[1]) || !finite(nodes[2])) return out;  // invalid
+  const Vec3 e1 = nodes[1] - nodes[0], e2 = nodes[2] - nodes[0];
+  const Vec3 n = e1.cross(e2);
+  const double longest2 = std::max({e1.squaredNorm(), e2.squaredNorm(), (nodes[2] - nodes[1]).squaredNorm()});
+  if (!(n.norm() > 1e-12 * longest2)) {
+    out.status = Status::kDegenerate;
+    return out;
+  }
+  // The plane's foot point in (r, s): the Gram system of the two edges.
+  const Vec3 d = slave - nodes[0];
+  const double g11 = e1.dot(e1), g12 = e1.dot(e2), g22 = e2.dot(e2), b1 = e1.dot(d), b2 = e2.dot(d);
+  const double det = g11 * g22 - g12 * g12;
+  double r = (g22 * b1 - g12 * b2) / det, s = (g11 * b2 - g12 * b1) / det;
+  if (!(r >= 0.0 && s >= 0.0 && r + s <= 1.0)) {
+    // Outside: the nearest of the clamped edge points (an edge's ends are the vertices).
+    double best = std::numeric_limits<double>::infinity();
+    for (int edge = 0; edge < 3; ++edge) {
+      const Vec3& x0 = nodes[static_cast<std::size_t>(edge)];
+      const Vec3 chord = nodes[static_cast<std::size_t>((edge + 1) % 3)] - x0;
+      const double t = std::clamp((slave - x0).dot(chord) / chord.squaredNorm(), 0.0, 1.0);
+      const double distance = (slave - (x0 + t * chord)).norm();
+      if (distance < best) {
+        best = distance;
+        // (r, s) of x0 + t chord: A->B (t, 0), B->C (1 - t, t), C->A (0, 1 - t).
+        r = edge == 0 ? t : edge == 1 ? 1.0 - t : 0.0;
+        s = edge == 0 ? 0.0 : edge == 1 ? t : 1.0 - t;
+      }
+    }
+  }
+  out.param = {r, s};
+  const double tol = kOnBoundaryTolerance;
+  const bool on[3] = {s <= tol, 1.0 - r - s <= tol, r <= tol};  // edges A->B, B->C, C->A
+  const int bounds = on[0] + on[1] + on[2];
+  if (bounds >= 2) {
+    out.location = Location::kVertex;
+    out.feature = on[2] && on[0] ? 0 : on[0] && on[1] ? 1 : 2;
+  } else if (bounds == 1) {
+    out.location = Location::kEdge;
+    out.feature = on[0] ? 0 : on[1] ? 1 : 2;
+  } else {
+    out.location = Location::kFace;
+    out.feature = -1;
+  }
+  out.point = nodes[0] + r * e1 + s * e2;
+  out.normal = n.normalized();
+  out.distance = (slave - out.point).norm();
+  out.status = std::isfinite(out.distance) ? Status::kOk : Status::kInvalid;
+  return out;
+}
+
 #define CONTACTNN_INSTANTIATE(SurfaceT)                                                                        \
   template FaceClosestPoint closest_point_on_face<SurfaceT>(const SurfaceT&, const Vec3&,                      \
                                                             const ProjectionOptions&);                         \

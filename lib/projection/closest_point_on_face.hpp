@@ -57,4 +57,11 @@ struct EdgePoint {
 template <geometry::Surface SurfaceT>
 [[nodiscard]] EdgePoint closest_point_on_edge(const SurfaceT& surface, int edge, const Vec3& slave);
 
+/// The closest point of the flat triangle A, B, C (tri3, SPEC 9) to `slave`, exact (no iteration): the
+/// projection onto the plane where it lies inside, else the nearest of the three clamped edge points.
+/// param = (r, s) with P = A + r (B - A) + s (C - A); edges 0 = A->B, 1 = B->C, 2 = C->A, vertices 0..2 = A, B, C;
+/// location as for quadrilaterals with kOnBoundaryTolerance on r, s and 1 - r - s. Status: invalid for a
+/// non-finite input; degenerate when |(B - A) x (C - A)| is at most 1e-12 of its longest edge squared.
+[[nodiscard]] FaceClosestPoint closest_point_on_triangle(const std::array<Vec3, 3>& nodes, const Vec3& slave);
+
 }  // namespace contactnn::projection

@@ -84,14 +84,22 @@ def surface_case(opts, deck, pair, surface, work):
         location = r[column["location"]]
         check(location in locations, "location %r" % location)
         locations[location] += 1
+        face_type = r[column["face_type"]]
+        check(face_type in ("quad4", "tri3"), "face_type %r" % face_type)
+        nodes = r[column["nodes"]].split(" ")
+        if face_type == "tri3":
+            # SPEC 9: no SPEC 7 configuration for other faces; (r, s) in the coordinate columns.
+            check(len(nodes) == 3 and all(r[column[n]] == "" for n in ["a", "b", "c", "d"] + POINTS),
+                  "slave %s: tri3 row %s" % (r[0], r))
+            rr, ss = float(r[column[names[0]]]), float(r[column[names[1]]])
+            check(rr >= 0 and ss >= 0 and rr + ss <= 1 + 1e-12, "slave %s: (r, s) = (%r, %r)" % (r[0], rr, ss))
+            continue
         s = [float(r[column["s" + c]]) for c in "xyz"]
         p = [float(r[column["p" + c]]) for c in "xyz"]
         scale = max(1.0, max(abs(x) for x in s))
         distance = math.dist(s, p)
         check(abs(abs(float(r[column["gap"]])) - distance) <= 1e-12 * scale,
               "slave %s: gap %s, |S - P| %r" % (r[0], r[column["gap"]], distance))
-        check(r[column["face_type"]] == "quad4", "face_type %r" % r[column["face_type"]])
-        nodes = r[column["nodes"]].split(" ")
         abcd = [r[column[n]] for n in "abcd"]
         k = nodes.index(abcd[0]) if abcd[0] in nodes else -1
         check(k >= 0 and [nodes[(k + i) % 4] for i in range(4)] == abcd,

@@ -243,6 +243,49 @@ TEST(SurfaceSearch, GregorySurfaceTreeEqualsBruteForceAndNoPatchSampleIsNearer) 
   }
 }
 
+TEST(SurfaceSearch, TrianglesCountAndMeetTheQuadsAtSharedEdges) {
+  // The roof, then a strip of triangles along its far side y = 4..5 (two per column), tilted down.
+  mesh::SurfaceMesh m = surface_of(9, 4, roof);
+  const int nx = 9;
+  for (int i = 0; i <= nx; ++i) {
+    m.node_ids.push_back(static_cast<long>(m.node_ids.size()) + 1);
+    m.positions.push_back(roof(i, 5) - Vec3(0, 0, 0.3));
+    m.adjacency_offsets.push_back(m.adjacency_offsets.back());  // no segment at the new nodes
+  }
+  const int base = (nx + 1) * 5;  // first node of the new row
+  for (int i = 0; i < nx; ++i) {
+    const int a = i + (nx + 1) * 4, b = a + 1, c = base + i + 1, d = base + i;
+    m.extra_faces.push_back({a, b, c, -1});
+    m.extra_faces.push_back({a, c, d, -1});
+    for (int k = 0; k < 2; ++k) {
+      m.extra_face_faces.push_back({static_cast<int>(m.segments.size() + m.extra_faces.size()) - 1, 1});
+      m.extra_face_element_ids.push_back(1000 + static_cast<long>(m.extra_faces.size()));
+    }
+  }
+  const std::vector<Vec3> slaves = random_slaves(2000, 31);
+  SearchOptions options;
+  options.capture_distance = 1e3;
+  const auto found = search(m, slaves, options);
+  int on_triangles = 0;
+  for (std::size_t i = 0; i < slaves.size(); ++i) {
+    ASSERT_EQ(found[i].status, PairStatus::kFound);
+    double best = (slaves[i] - oracle_point(m, slaves[i])).norm();
+    for (const auto& t : m.extra_faces) {
+      const Vec3 p = testing::closest_point_on_triangle(slaves[i], m.positions[static_cast<std::size_t>(t[0])],
+                                                        m.positions[static_cast<std::size_t>(t[1])],
+                                                        m.positions[static_cast<std::size_t>(t[2])]);
+      best = std::min(best, (slaves[i] - p).norm());
+    }
+    EXPECT_NEAR(std::abs(found[i].label.gap), best, kExact) << slaves[i].transpose();
+    on_triangles += m.face_corners(found[i].segment).size() == 3;
+  }
+  EXPECT_GT(on_triangles, 100);
+  // Just above and below the fold between the roof and the triangles (y = 4): separated, penetrating.
+  const auto fold = search(m, {Vec3(1.5, 4.0, 0.75 + 0.1), Vec3(1.5, 4.0, 0.75 - 0.1)});
+  EXPECT_GT(fold[0].label.gap, 0.0);
+  EXPECT_LT(fold[1].label.gap, 0.0);
+}
+
 TEST(SurfaceSearch, SameResultForAnyThreadCount) {
   const mesh::SurfaceMesh m = surface_of(9, 4, roof);
   const std::vector<Vec3> slaves = random_slaves(2000, 23);

@@ -166,8 +166,21 @@ TEST(SurfaceMesh, TopFacesOfTwoCubesShareAnEdgeAndPointUp) {
   EXPECT_EQ(s.skipped_faces.at("C3D4 triangle"), 1);
   EXPECT_EQ(s.skipped_faces.at("C3D8 collapsed face"), 1);
   EXPECT_EQ(s.inside_out_faces, 0);
-  // The six top nodes, in increasing id (ids 7..12 are the z = 1 layer).
-  EXPECT_EQ(s.node_ids, (std::vector<long>{7, 8, 9, 10, 11, 12}));
+  // The six top nodes (ids 7..12 are the z = 1 layer) and the bottom nodes of the wedge's side and the
+  // tetrahedron's base (ids 1, 2, 5), faces of the surface search (SPEC 9), in increasing id.
+  EXPECT_EQ(s.node_ids, (std::vector<long>{1, 2, 5, 7, 8, 9, 10, 11, 12}));
+  // The extra faces, outward: the wedge's top triangle (+z), its side y = 0 (-y), the tetrahedron's base (-z).
+  ASSERT_EQ(s.extra_faces.size(), 3u);
+  EXPECT_EQ(s.face_count(), 5);
+  const std::array<Vec3, 3> outward = {Vec3(0, 0, 1), Vec3(0, -1, 0), Vec3(0, 0, -1)};
+  for (int f = 2; f < 5; ++f) {
+    const auto c = s.face_corners(f);
+    EXPECT_EQ(c.size(), f == 3 ? 4u : 3u);
+    const auto at = [&](int k) { return s.positions[static_cast<std::size_t>(c[static_cast<std::size_t>(k)])]; };
+    const Vec3 normal = (at(1) - at(0)).cross(at(static_cast<int>(c.size()) - 1) - at(0)).normalized();
+    EXPECT_LT((normal - outward[static_cast<std::size_t>(f - 2)]).norm(), 1e-12) << "face " << f;
+    EXPECT_EQ(s.face_element_id(f), f == 4 ? 13 : 12);
+  }
   for (std::size_t i = 0; i < s.segments.size(); ++i) {
     const auto& q = s.segments[i];
     const Vec3 normal = (s.positions[static_cast<std::size_t>(q[1])] - s.positions[static_cast<std::size_t>(q[0])])
@@ -177,8 +190,9 @@ TEST(SurfaceMesh, TopFacesOfTwoCubesShareAnEdgeAndPointUp) {
   // Adjacency: the shared edge's nodes (x = 1: ids 8 and 11) touch both segments, the others one.
   for (int node = 0; node < s.node_count(); ++node) {
     const auto segs = s.segments_of(node);
-    const bool shared = s.node_ids[static_cast<std::size_t>(node)] == 8 || s.node_ids[static_cast<std::size_t>(node)] == 11;
-    EXPECT_EQ(segs.size(), shared ? 2u : 1u) << s.node_ids[static_cast<std::size_t>(node)];
+    const long id = s.node_ids[static_cast<std::size_t>(node)];
+    const bool shared = id == 8 || id == 11;
+    EXPECT_EQ(segs.size(), id < 7 ? 0u : shared ? 2u : 1u) << id;
     for (int seg : segs) {
       const auto& q = s.segments[static_cast<std::size_t>(seg)];
       EXPECT_NE(std::find(q.begin(), q.end(), node), q.end());

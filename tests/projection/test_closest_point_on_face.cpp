@@ -210,6 +210,42 @@ TEST(ClosestPointOnFace, FlatGregoryPatchGivesTheBilinearFacetsPoint) {
   }
 }
 
+TEST(ClosestPointOnTriangle, EqualsEricsonsRegionsInsideOnEdgesAndAtVertices) {
+  std::mt19937_64 rng(29);
+  std::uniform_real_distribution<double> x(-2.0, 2.0);
+  int counts[3] = {0, 0, 0};
+  for (int n = 0; n < 5000; ++n) {
+    const std::array<Vec3, 3> t = {Vec3(x(rng), x(rng), x(rng)), Vec3(x(rng), x(rng), x(rng)), Vec3(x(rng), x(rng), x(rng))};
+    const Vec3 slave(2 * x(rng), 2 * x(rng), 2 * x(rng));
+    const FaceClosestPoint p = closest_point_on_triangle(t, slave);
+    if (p.status == Status::kDegenerate) continue;
+    ASSERT_EQ(p.status, Status::kOk);
+    const Vec3 oracle = testing::closest_point_on_triangle(slave, t[0], t[1], t[2]);
+    const double size = std::max({(t[1] - t[0]).norm(), (t[2] - t[1]).norm(), (t[0] - t[2]).norm()});
+    ASSERT_LE((p.point - oracle).norm(), 1e-11 * size) << slave.transpose();
+    EXPECT_LE((t[0] + p.param[0] * (t[1] - t[0]) + p.param[1] * (t[2] - t[0]) - p.point).norm(), 1e-12 * size);
+    ++counts[static_cast<int>(p.location)];
+  }
+  EXPECT_GT(counts[0], 200);
+  EXPECT_GT(counts[1], 200);
+  EXPECT_GT(counts[2], 200);
+  // Written out: the triangle (0,0,0), (2,0,0), (0,2,0).
+  const std::array<Vec3, 3> t = {Vec3(0, 0, 0), Vec3(2, 0, 0), Vec3(0, 2, 0)};
+  const FaceClosestPoint face = closest_point_on_triangle(t, Vec3(0.5, 0.5, -1.0));
+  EXPECT_EQ(face.location, Location::kFace);
+  EXPECT_NEAR(face.param[0], 0.25, kExact);
+  EXPECT_NEAR(face.distance, 1.0, kExact);
+  const FaceClosestPoint hypotenuse = closest_point_on_triangle(t, Vec3(2.0, 2.0, 0.0));
+  EXPECT_EQ(hypotenuse.location, Location::kEdge);
+  EXPECT_EQ(hypotenuse.feature, 1);
+  EXPECT_NEAR(hypotenuse.distance, std::sqrt(2.0), kExact);
+  const FaceClosestPoint corner = closest_point_on_triangle(t, Vec3(-1.0, -1.0, 1.0));
+  EXPECT_EQ(corner.location, Location::kVertex);
+  EXPECT_EQ(corner.feature, 0);
+  EXPECT_EQ(closest_point_on_triangle({Vec3(0, 0, 0), Vec3(1, 1, 1), Vec3(2, 2, 2)}, Vec3(0, 1, 0)).status,
+            Status::kDegenerate);
+}
+
 TEST(ClosestPointOnFace, NonFiniteSlaveIsInvalidAndACollapsedFaceDegenerate) {
   const BilinearPatch square(unit_square());
   EXPECT_EQ(closest_point_on_face(square, Vec3(std::nan(""), 0, 0)).status, Status::kInvalid);
