@@ -1,5 +1,7 @@
 #include "cli_support.hpp"
 
+#include <omp.h>
+
 #include <algorithm>
 #include <cctype>
 #include <charconv>
@@ -334,8 +336,18 @@ const bool g_interrupt_cleanup_installed = [] {
 
 }  // namespace
 
+int cap_openmp_threads() {
+  const int asked = omp_get_max_threads();
+  if (asked <= kMaxThreads) return asked;
+  std::fprintf(stderr, "warning: OpenMP's default of %d threads (OMP_NUM_THREADS) is more than %lld; using %lld\n",
+               asked, static_cast<long long>(kMaxThreads), static_cast<long long>(kMaxThreads));
+  omp_set_num_threads(static_cast<int>(kMaxThreads));
+  return static_cast<int>(kMaxThreads);
+}
+
 int run(CLI::App& app, int argc, char** argv, const std::function<int()>& body) {
   (void)g_interrupt_cleanup_installed;
+  (void)cap_openmp_threads();
   try {
     try {
       app.parse(argc, argv);

@@ -26,7 +26,8 @@ namespace contactnn::cli {
 ///  - running out of memory (std::bad_alloc) prints "error: out of memory" and returns 4, like any other
 ///    resource the system refuses (a full disk);
 ///  - any other std::exception prints "error: internal: ..." and returns 1 (a bug).
-/// Nothing below main exits the process.
+/// Before parsing, OpenMP's default thread count is capped at kMaxThreads (cap_openmp_threads). Nothing below
+/// main exits the process.
 int run(CLI::App& app, int argc, char** argv, const std::function<int()>& body);
 
 /// Adds `--config FILE`: a TOML 1.0 file (read with toml++) of which this app reads section [section].
@@ -86,8 +87,14 @@ extern const CLI::Validator kNonNegative;
 /// add it with Option::transform (check() would discard the rewrite).
 [[nodiscard]] CLI::Validator integer_in(std::int64_t lo, std::int64_t hi);
 
-/// --threads: 0 (OpenMP's default) .. kMaxThreads.
+/// --threads: 0 (OpenMP's default) .. kMaxThreads (the C interface's CONTACTNN_MAX_THREADS).
 inline constexpr std::int64_t kMaxThreads = 1024;
+
+/// Caps OpenMP's default thread count at kMaxThreads, as --threads is capped, with a warning on stderr when it
+/// was more: libgomp takes any OMP_NUM_THREADS and then fails inside every parallel region whose team it cannot
+/// start (100000 threads), ending the process without the apps' cleanup. Returns the default in force.
+int cap_openmp_threads();
+
 /// --seed: 0 .. 2^63 - 1 (a TOML integer is 64-bit signed, and the effective config must read back).
 inline constexpr std::int64_t kMaxSeed = INT64_MAX;
 

@@ -2,7 +2,11 @@
 // point is a boundary: exceptions become return codes and a thread-local message, nothing else leaves.
 #include "contactnn/contactnn.h"
 
+#include <omp.h>
+
+#include <algorithm>
 #include <cstdint>
+#include <cstring>
 #include <limits>
 #include <memory>
 #include <mutex>
@@ -14,6 +18,7 @@
 
 #include "core/conventions.hpp"
 #include "core/error.hpp"
+#include "core/quote_text.hpp"
 #include "io/network_model_file.hpp"
 #include "search/local_search.hpp"
 #include "search/method.hpp"
@@ -40,9 +45,19 @@ static_assert(CONTACTNN_SURFACE_BILINEAR == static_cast<int>(SurfaceKind::kBilin
 static_assert(CONTACTNN_SURFACE_GREGORY == static_cast<int>(SurfaceKind::kGregory));
 // iterations are written straight into the caller's int array.
 static_assert(std::is_same_v<std::int32_t, int>);
+// A network_file longer than Linux's PATH_MAX names no file: refused before it is echoed or opened.
+constexpr std::size_t kMaxPathBytes = 4096;
 
-/// The handle: the network (if any) and the search that points to it, never changed after creation.
+namespace {
+/// The check value of a live handle ("cnnsrch" and a version byte). Written at creation, cleared at destroy.
+constexpr std::uint64_t kLiveHandle = 0x636e6e7372636801;
+}  // namespace
+
+/// The handle: a check value, the network (if any) and the search that points to it, never changed after
+/// creation. `check` comes first: a pointer to something else, or to a destroyed handle (the check cleared,
+/// and the allocator's own bookkeeping written over the first bytes of freed memory), shows another value.
 struct contactnn_search {
+  std::uint64_t check = kLiveHandle;
   std::unique_ptr<const search::NetworkModel> network;
   std::optional<search::LocalSearch> search;
   int threads = 0;
@@ -95,6 +110,43 @@ std::unique_ptr<const search::NetworkModel> load_network(const std::string& path
   return io::read_network_model(path);
 }
 
+/// Whether `handle` points to a live search: its check value, read as bytes (a pointer that is not a handle may
+/// point to anything readable, aligned or not).
+bool is_live(const contactnn_search* handle) noexcept {
+  if (handle == nullptr) return false;
+  std::uint64_t check = 0;
+  std::memcpy(&check, static_cast<const void*>(handle), sizeof check);
+  return check == kLiveHandle;
+}
+
+/// `handle` checked: INVALID_ARGUMENT for NULL and for a pointer whose check value is not a live handle's.
+const contactnn_search& live_handle(const char* function, const contactnn_search* handle) {
+  CONTACTNN_REQUIRE_AS(InvalidArgument, handle != nullptr, function << ": search is NULL");
+  CONTACTNN_REQUIRE_AS(InvalidArgument, is_live(handle),
+                       function << ": search is not a live handle (destroyed already, or not one that "
+                                   "contactnn_search_create wrote)");
+  return *handle;
+}
+
+/// The team of a run: the handle's thread count, or OpenMP's default (OMP_NUM_THREADS, which may say anything)
+/// capped at CONTACTNN_MAX_THREADS: libgomp fails inside the parallel region when it cannot start the team.
+int run_threads(const contactnn_search& handle) {
+  if (handle.threads > 0) return handle.threads;
+  return std::clamp(omp_get_max_threads(), 1, static_cast<int>(CONTACTNN_MAX_THREADS));
+}
+
+/// The method named by the caller. The message of a name that does not parse quotes it short (a 10 MB string
+/// would otherwise be echoed whole, once per place it is named).
+search::Method parse_method(std::string_view method) {
+  if (method.size() <= kQuotedBytes) return search::Method::parse(method);
+  try {
+    return search::Method::parse(method);
+  } catch (const InvalidArgument&) {
+    throw InvalidArgument("contactnn_search_create: method " + quote_text(method) +
+                          " is not a local-search method (contactnn.h lists them)");
+  }
+}
+
 search::SearchOptions to_search_options(const contactnn_options& o) {
   search::SearchOptions s;
   s.max_iterations = o.max_iterations;
@@ -113,7 +165,7 @@ template <class Real>
 int run(const char* function, const contactnn_search* handle, std::size_t count, const Real* raw, Real* param,
         Real* gap, int* status, int* iterations) noexcept {
   return guarded(function, [&] {
-    CONTACTNN_REQUIRE_AS(InvalidArgument, handle != nullptr, function << ": search is NULL");
+    const contactnn_search& live = live_handle(function, handle);
     if (count == 0) return;
     CONTACTNN_REQUIRE_AS(InvalidArgument, raw != nullptr && param != nullptr && status != nullptr,
                          function << ": raw, param and status must not be NULL for count = " << count
@@ -121,14 +173,14 @@ int run(const char* function, const contactnn_search* handle, std::size_t count,
                                   << (param ? "set" : "NULL") << ", status " << (status ? "set" : "NULL")
                                   << ")");
     const auto columns =
-        static_cast<std::size_t>(search::LocalSearch::raw_columns(handle->search->surface()));
+        static_cast<std::size_t>(search::LocalSearch::raw_columns(live.search->surface()));
     CONTACTNN_REQUIRE_AS(
         InvalidArgument, count <= std::numeric_limits<std::size_t>::max() / (columns * sizeof(Real)),
         function << ": count = " << count << " queries of " << columns << " values overflow size_t");
     // LocalSearch writes one byte per status; the C caller gets ints.
     std::vector<Status> statuses(count);
-    handle->search->run(count, raw, search::Results<Real>{param, gap, statuses.data(), iterations},
-                        handle->threads);
+    live.search->run(count, raw, search::Results<Real>{param, gap, statuses.data(), iterations},
+                     run_threads(live));
     for (std::size_t i = 0; i < count; ++i) status[i] = static_cast<int>(statuses[i]);
   });
 }
@@ -195,17 +247,25 @@ int contactnn_search_create(contactnn_search** out, int surface, const char* met
                                                  "CONTACTNN_SURFACE_GREGORY (1)");
     CONTACTNN_REQUIRE_AS(InvalidArgument, method != nullptr, "contactnn_search_create: method is NULL");
     const auto kind = static_cast<SurfaceKind>(surface);
-    const search::Method parsed = search::Method::parse(method);
+    const search::Method parsed = parse_method(method);
     const bool has_file = network_file != nullptr && network_file[0] != '\0';
     CONTACTNN_REQUIRE_AS(InvalidArgument, has_file || !parsed.needs_network(),
-                         "contactnn_search_create: method '" << method
-                                                             << "' needs a network file; network_file is "
-                                                             << (network_file == nullptr ? "NULL" : "empty"));
+                         "contactnn_search_create: method " << quote_text(method)
+                                                            << " needs a network file; network_file is "
+                                                            << (network_file == nullptr ? "NULL" : "empty"));
+    CONTACTNN_REQUIRE_AS(InvalidArgument, !has_file || std::strlen(network_file) <= kMaxPathBytes,
+                         "contactnn_search_create: network_file " << quote_text(network_file)
+                                                                  << " is longer than any path ("
+                                                                  << kMaxPathBytes << " bytes)");
     contactnn_options defaults{};
     if (options == nullptr) {
       contactnn_options_init(&defaults);
       options = &defaults;
     }
+    CONTACTNN_REQUIRE_AS(InvalidArgument, options->threads <= CONTACTNN_MAX_THREADS,
+                         "contactnn_search_create: options.threads = "
+                             << options->threads << ", expected at most CONTACTNN_MAX_THREADS ("
+                             << CONTACTNN_MAX_THREADS << "; 0 or less: OpenMP's default)");
 
     auto handle = std::make_unique<contactnn_search>();
     handle->threads = options->threads;
@@ -221,7 +281,19 @@ int contactnn_search_create(contactnn_search** out, int surface, const char* met
   });
 }
 
-void contactnn_search_destroy(contactnn_search* handle) { delete handle; }
+void contactnn_search_destroy(contactnn_search* handle) {
+  if (handle == nullptr) return;
+  if (!is_live(handle)) {
+    // Destroyed already (or not a handle): freeing it again would corrupt the heap.
+    record_error(CONTACTNN_ERROR_INVALID_ARGUMENT,
+                 "contactnn_search_destroy: search is not a live handle (destroyed already, or not one that "
+                 "contactnn_search_create wrote); nothing was freed");
+    return;
+  }
+  // A volatile store: one the compiler may not drop as dead before the memory is freed.
+  *static_cast<volatile std::uint64_t*>(&handle->check) = 0;
+  delete handle;
+}
 
 int contactnn_search_run(const contactnn_search* handle, size_t count, const double* raw, double* param,
                          double* gap, int* status, int* iterations) {
@@ -234,7 +306,7 @@ int contactnn_search_run_float(const contactnn_search* handle, size_t count, con
 }
 
 int contactnn_search_surface(const contactnn_search* handle) {
-  return handle == nullptr ? -1 : static_cast<int>(handle->search->surface());
+  return is_live(handle) ? static_cast<int>(handle->search->surface()) : -1;
 }
 
 }  // extern "C"

@@ -30,11 +30,6 @@ std::string file_label(const std::filesystem::path& path) { return "'" + path.st
 
 }  // namespace
 
-std::string quote_text(std::string_view text) {
-  if (text.size() <= kQuotedBytes) return "'" + std::string(text) + "'";
-  return "'" + std::string(text.substr(0, kQuotedBytes)) + "...' (" + std::to_string(text.size()) + " bytes)";
-}
-
 bool parse_double(std::string_view field, double& value) {
   field = trim(field);
   if (!field.empty() && field.front() == '+') {

@@ -11,14 +11,14 @@
 #include <string_view>
 #include <vector>
 
+#include "core/quote_text.hpp"
 #include "io/atomic_output.hpp"
 
 namespace contactnn::io {
 
-/// User text quoted in a message: 'text' when it is at most kQuotedBytes long, otherwise its first
-/// kQuotedBytes bytes followed by "... (N bytes)", so a 10 MB field never ends up on stderr.
-inline constexpr std::size_t kQuotedBytes = 40;
-[[nodiscard]] std::string quote_text(std::string_view text);
+/// User text quoted in a message, at most kQuotedBytes of it (core/quote_text.hpp: one helper for every module).
+using contactnn::kQuotedBytes;
+using contactnn::quote_text;
 
 /// The index of the one column of `header` called `name`; std::nullopt when there is none; FormatError naming
 /// `path` when there are several (a header may hold repeated names: only looking one up is an error).

@@ -1,17 +1,25 @@
 #include "io/inp_deck.hpp"
 
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <algorithm>
 #include <array>
 #include <cctype>
+#include <cerrno>
 #include <charconv>
 #include <cmath>
-#include <fstream>
+#include <cstdio>
+#include <cstring>
 #include <memory>
 #include <optional>
-#include <sstream>
+#include <system_error>
 #include <unordered_map>
+#include <utility>
 
 #include "core/error.hpp"
+#include "core/quote_text.hpp"
 
 namespace contactnn::io {
 
@@ -21,6 +29,86 @@ namespace fs = std::filesystem;
 
 // A GENERATE line expanding to more ids than this is taken for a typo, not for a mesh.
 constexpr long kMaxGeneratedIds = 100'000'000;
+// The longest line a deck may hold: Abaqus reads 256 characters a line, CalculiX 132. Anything longer is not a
+// deck (a binary file, CR-only line ends read as one line) and is refused before it fills memory.
+constexpr std::size_t kMaxLineBytes = std::size_t{64} << 10;
+// Files are read this many bytes at a time.
+constexpr std::size_t kChunkBytes = std::size_t{1} << 20;
+// Linux's PATH_MAX: an INPUT= longer than this names no file.
+constexpr std::size_t kMaxPathBytes = 4096;
+
+/// A file descriptor open for reading, closed when it goes.
+class InputFile {
+ public:
+  InputFile() = default;
+  explicit InputFile(int fd) : fd_(fd) {}
+  InputFile(InputFile&& other) noexcept : fd_(std::exchange(other.fd_, -1)) {}
+  InputFile& operator=(InputFile&& other) noexcept {
+    if (this != &other) {
+      close();
+      fd_ = std::exchange(other.fd_, -1);
+    }
+    return *this;
+  }
+  InputFile(const InputFile&) = delete;
+  InputFile& operator=(const InputFile&) = delete;
+  ~InputFile() { close(); }
+
+  [[nodiscard]] bool is_open() const { return fd_ >= 0; }
+  /// Up to `size` bytes into `data`: the count read (0 at the end), or -errno.
+  long read(char* data, std::size_t size) const {
+    for (;;) {
+      const ssize_t got = ::read(fd_, data, size);
+      if (got >= 0) return static_cast<long>(got);
+      if (errno != EINTR) return -static_cast<long>(errno);
+    }
+  }
+  void close() {
+    if (fd_ >= 0) ::close(fd_);
+    fd_ = -1;
+  }
+
+ private:
+  int fd_ = -1;
+};
+
+/// A file opened by open_regular_file: `file` when it opened, else `error` (an errno); `other_kind` says what
+/// the path is when it is not a regular file ("a directory"), and the file is then not to be read.
+struct OpenedFile {
+  InputFile file;
+  int error = 0;
+  std::string other_kind;
+};
+
+/// Opens `path` for reading and says what it is. A directory reads as an empty file and /dev/zero as an endless
+/// one; a FIFO is opened without waiting for a writer (O_NONBLOCK, cleared again for a regular file).
+OpenedFile open_regular_file(const fs::path& path) {
+  OpenedFile out;
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK);
+  if (fd < 0) {
+    out.error = errno;
+    return out;
+  }
+  out.file = InputFile(fd);
+  struct stat st {};
+  if (::fstat(fd, &st) != 0) {
+    out.error = errno;
+    return out;
+  }
+  if (S_ISREG(st.st_mode)) {
+    const int flags = ::fcntl(fd, F_GETFL);
+    if (flags >= 0) (void)::fcntl(fd, F_SETFL, flags & ~O_NONBLOCK);
+    return out;
+  }
+  out.other_kind = S_ISDIR(st.st_mode)    ? "a directory"
+                   : S_ISCHR(st.st_mode)  ? "a character device"
+                   : S_ISBLK(st.st_mode)  ? "a block device"
+                   : S_ISFIFO(st.st_mode) ? "a FIFO (named pipe)"
+                   : S_ISSOCK(st.st_mode) ? "a socket"
+                                          : "of an unknown kind";
+  out.file.close();
+  return out;
+}
 
 std::string_view trim(std::string_view s) {
   while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
@@ -176,8 +264,9 @@ enum class Block { kSkip, kNode, kElement, kNset, kElset, kSurface, kContactPair
 
 class DeckReader {
  public:
-  mesh::ContactModel read(std::string text, const fs::path& name) {
-    push_source(std::move(text), name, canonical_or_empty(name));
+  /// Reads the deck from `input` (open) or, when it is not open, from `text`; `name` names it in messages.
+  mesh::ContactModel read(InputFile input, std::string text, const fs::path& name) {
+    push_source(std::move(input), std::move(text), name, canonical_or_empty(name));
     std::string_view line;
     Location loc;
     while (next_line(line, loc)) {
@@ -194,12 +283,16 @@ class DeckReader {
   }
 
  private:
-  // ---- Sources: the deck and its includes, a stack of texts read line by line -------------------------
+  // ---- Sources: the deck and its includes, a stack of files read line by line ----------------------------
+  // A file is streamed in chunks of kChunkBytes (a deck given as text is one chunk): the reader holds one chunk
+  // and one line per open file, whatever the file's size.
   struct Source {
-    std::string text;
+    InputFile input;    // not open for a deck given as text
+    std::string chunk;  // bytes read; those from `pos` on are not consumed yet
     std::size_t pos = 0;
-    long line = 0;
-    int file = 0;
+    std::string text;   // the current line, without its line end
+    long line = 0;      // its number, from 1
+    int file = 0;       // index into file_names_
     fs::path canonical;
   };
   std::vector<std::unique_ptr<Source>> stack_;
@@ -211,18 +304,22 @@ class DeckReader {
     return ec ? fs::path() : c;
   }
 
-  void push_source(std::string text, const fs::path& name, fs::path canonical) {
+  void push_source(InputFile input, std::string text, const fs::path& name, fs::path canonical) {
     auto source = std::make_unique<Source>();
-    source->text = std::move(text);
-    if (source->text.substr(0, 3) == "\xEF\xBB\xBF") source->pos = 3;
+    source->input = std::move(input);
+    source->chunk = std::move(text);
     source->file = static_cast<int>(file_names_.size());
     source->canonical = std::move(canonical);
     file_names_.push_back(name.string());
     stack_.push_back(std::move(source));
   }
 
-  /// Reads the file `input` (INPUT= of the line at `loc`) and makes it the current source.
+  /// Opens the file `input` (INPUT= of the line at `loc`) and makes it the current source.
   void push_file(const std::string& input, Location loc, std::string_view keyword_name) {
+    if (input.size() > kMaxPathBytes) {
+      fail(loc, keyword_name, "INPUT=" + quote_text(input) + " is longer than any path (" +
+                                  std::to_string(kMaxPathBytes) + " bytes)");
+    }
     fs::path target(input);
     if (target.is_relative()) target = fs::path(file_names_[static_cast<std::size_t>(loc.file)]).parent_path() / target;
     target = target.lexically_normal();
@@ -235,29 +332,116 @@ class DeckReader {
                                     target.string() + ")");
       }
     }
-    std::ifstream in(target, std::ios::binary);
-    if (!in) {
+    OpenedFile opened = open_regular_file(target);
+    if (opened.error != 0) {
       throw IoError(where(loc) + ": " + std::string(keyword_name) + ": cannot open INPUT='" + input + "' (" +
-                    target.string() + ")");
+                    target.string() + "): " + std::generic_category().message(opened.error));
     }
-    std::ostringstream content;
-    content << in.rdbuf();
-    push_source(content.str(), target, canonical);
+    if (!opened.other_kind.empty()) {
+      fail(loc, keyword_name, "INPUT='" + input + "' (" + target.string() + ") is " + opened.other_kind +
+                                  ", not a regular file");
+    }
+    push_source(std::move(opened.file), std::string(), target, canonical);
+  }
+
+  /// Reads the next chunk of `s`'s file; false at its end (and for a deck given as text, whose one chunk is
+  /// its whole text).
+  bool refill(Source& s) const {
+    if (!s.input.is_open()) return false;
+    s.chunk.resize(kChunkBytes);
+    const long got = s.input.read(s.chunk.data(), kChunkBytes);
+    if (got < 0) {
+      throw IoError("cannot read '" + file_names_[static_cast<std::size_t>(s.file)] +
+                    "': " + std::generic_category().message(static_cast<int>(-got)));
+    }
+    s.chunk.resize(static_cast<std::size_t>(got));
+    s.pos = 0;
+    if (got == 0) s.input.close();
+    return got > 0;
+  }
+
+  /// The next line of `s` into s.text, without its line end; false when the file holds no more. A line
+  /// longer than kMaxLineBytes is an error (checked as it grows: a file of one endless line is not read whole).
+  bool read_line(Source& s) const {
+    s.text.clear();
+    bool any = false;
+    for (;;) {
+      if (s.pos >= s.chunk.size() && !refill(s)) return any;
+      const char* begin = s.chunk.data() + s.pos;
+      const std::size_t available = s.chunk.size() - s.pos;
+      const auto* newline = static_cast<const char*>(std::memchr(begin, '\n', available));
+      const std::size_t length = newline != nullptr ? static_cast<std::size_t>(newline - begin) : available;
+      any = true;
+      if (s.text.size() + length > kMaxLineBytes) {
+        // What the line holds names the file's encoding or line ends better than its length does.
+        s.text.append(begin, kMaxLineBytes - s.text.size());
+        const Location loc{s.file, s.line + 1};
+        check_text(s.text, loc);
+        throw FormatError(where(loc) + ": the line is longer than " + std::to_string(kMaxLineBytes) +
+                          " bytes (Abaqus reads 256 characters a line): not an input deck");
+      }
+      s.text.append(begin, length);
+      s.pos += length;
+      if (newline != nullptr) {
+        ++s.pos;
+        return true;
+      }
+    }
+  }
+
+  /// FormatError naming the encoding or the line ends of text that is not a deck: a UTF-16 or UTF-32
+  /// byte-order mark (line 1), NUL bytes (UTF-16 or UTF-32 without a mark, or a binary file), a carriage
+  /// return inside a line (CR-only line ends), another control character (a binary file).
+  void check_text(std::string_view text, Location loc) const {
+    const auto say = [&](const std::string& what) { throw FormatError(where(loc) + ": " + what); };
+    if (loc.line == 1) {
+      const auto starts = [&](std::string_view mark) { return text.substr(0, mark.size()) == mark; };
+      std::string_view encoding;
+      if (starts(std::string_view("\xFF\xFE\x00\x00", 4))) {
+        encoding = "UTF-32 (little-endian)";
+      } else if (starts(std::string_view("\x00\x00\xFE\xFF", 4))) {
+        encoding = "UTF-32 (big-endian)";
+      } else if (starts("\xFF\xFE")) {
+        encoding = "UTF-16 (little-endian)";
+      } else if (starts("\xFE\xFF")) {
+        encoding = "UTF-16 (big-endian)";
+      }
+      if (!encoding.empty()) {
+        say("the file is " + std::string(encoding) + " text (by its byte-order mark); save the deck as UTF-8 or ASCII");
+      }
+    }
+    for (std::size_t i = 0; i < text.size(); ++i) {
+      const auto c = static_cast<unsigned char>(text[i]);
+      if (c >= 0x20 || c == '\t') continue;
+      const std::string column = "column " + std::to_string(i + 1) + ": ";
+      if (c == 0) {
+        say(column + "a NUL byte: UTF-16 or UTF-32 text without a byte-order mark, or a binary file, not a deck "
+                     "(save the deck as UTF-8 or ASCII)");
+      }
+      if (c == '\r') {
+        say(column + "a carriage return without a line feed (a file with CR-only line ends?): save the deck with "
+                     "LF or CRLF line ends");
+      }
+      if (c != '\f' && c != '\v') {
+        char code[8];
+        std::snprintf(code, sizeof code, "0x%02X", static_cast<unsigned>(c));
+        say(column + "control character " + code + ": a binary file, not a deck");
+      }
+    }
   }
 
   bool next_line(std::string_view& line, Location& loc) {
     while (!stack_.empty()) {
       Source& s = *stack_.back();
-      if (s.pos >= s.text.size()) {
+      if (!read_line(s)) {
         stack_.pop_back();
         continue;
       }
-      std::size_t end = s.text.find('\n', s.pos);
-      if (end == std::string::npos) end = s.text.size();
-      line = std::string_view(s.text).substr(s.pos, end - s.pos);
-      if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
-      s.pos = end + 1;
       loc = {s.file, ++s.line};
+      line = s.text;
+      if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
+      if (loc.line == 1 && line.substr(0, 3) == "\xEF\xBB\xBF") line.remove_prefix(3);  // a UTF-8 byte-order mark
+      check_text(line, loc);
       return true;
     }
     return false;
@@ -324,7 +508,7 @@ class DeckReader {
     if (name == "NODE") {
       block_ = Block::kNode;
       if (const auto system = params.get("SYSTEM"); system && keyword_form(*system) != "R") {
-        fail(loc, shown, "SYSTEM=" + *system + " is not supported (only rectangular coordinates, SYSTEM=R)");
+        fail(loc, shown, "SYSTEM=" + quote_text(*system) + " is not supported (only rectangular coordinates, SYSTEM=R)");
       }
       if (const auto set = params.get("NSET")) target_set_ = define_set(nsets_, *set, loc);
     } else if (name == "ELEMENT") {
@@ -354,7 +538,7 @@ class DeckReader {
       const std::string n = required("N");
       long sectors = 0;
       if (!parse_id(n, sectors) || sectors < 1 || sectors > 1000000) {
-        fail(loc, shown, "N=" + n + " is not a number of sectors (a positive integer)");
+        fail(loc, shown, "N=" + quote_text(n) + " is not a number of sectors (a positive integer)");
       }
       c.sectors = static_cast<int>(sectors);
       c.tie = params.get("TIE").value_or("");
@@ -385,7 +569,7 @@ class DeckReader {
   long id_field(std::string_view field, std::size_t index, Location loc, std::string_view what) const {
     long id = 0;
     if (!parse_id(field, id) || id <= 0) {
-      fail(loc, keyword_, "field " + std::to_string(index + 1) + ": '" + std::string(field) + "' is not a " +
+      fail(loc, keyword_, "field " + std::to_string(index + 1) + ": " + quote_text(field) + " is not a " +
                               std::string(what) + " (a positive integer)");
     }
     return id;
@@ -404,8 +588,8 @@ class DeckReader {
       if (f[k].empty()) continue;  // a blank coordinate is 0, as in Abaqus
       double value = 0.0;
       if (!parse_coordinate(f[k], value)) {
-        fail(loc, keyword_, "node " + std::to_string(id) + ": field " + std::to_string(k + 1) + ": '" +
-                                std::string(f[k]) + "' is not a finite number");
+        fail(loc, keyword_, "node " + std::to_string(id) + ": field " + std::to_string(k + 1) + ": " +
+                                quote_text(f[k]) + " is not a finite number");
       }
       x[static_cast<Eigen::Index>(k - 1)] = value;
     }
@@ -537,8 +721,8 @@ class DeckReader {
       }
       const auto it = sets.find(upper(f[i]));
       if (it == sets.end()) {
-        fail(loc, keyword_, "field " + std::to_string(i + 1) + ": unknown " + std::string(kind) + " set '" +
-                                std::string(f[i]) + "'");
+        fail(loc, keyword_, "field " + std::to_string(i + 1) + ": unknown " + std::string(kind) + " set " +
+                                quote_text(f[i]));
       }
       const std::vector<long> copy = it->second.ids;  // the set may be the one being extended
       ids.insert(ids.end(), copy.begin(), copy.end());
@@ -547,12 +731,13 @@ class DeckReader {
 
   void nodes_of_element_set(const std::string& elset, Location loc) {
     const auto it = elsets_.find(upper(trim(elset)));
-    if (it == elsets_.end()) fail(loc, keyword_, "ELSET=" + elset + ": unknown element set");
+    if (it == elsets_.end()) fail(loc, keyword_, "ELSET=" + quote_text(elset) + ": unknown element set");
     std::vector<long>& ids = nsets_[target_set_].ids;
     for (long e : it->second.ids) {
       const auto el = element_by_id_.find(e);
       if (el == element_by_id_.end()) {
-        fail(loc, keyword_, "ELSET=" + elset + " holds element " + std::to_string(e) + ", which is not defined");
+        fail(loc, keyword_, "ELSET=" + quote_text(elset) + " holds element " + std::to_string(e) +
+                                ", which is not defined");
       }
       const PendingElement& p = elements_[el->second];
       ids.insert(ids.end(), element_node_ids_.begin() + static_cast<long>(p.begin),
@@ -585,13 +770,13 @@ class DeckReader {
     SurfaceEntry entry{std::string(f[0]), 0, loc};
     if (s.type == mesh::SurfaceType::kElement) {
       if (f.size() < 2) {
-        fail(loc, keyword_, "surface '" + s.name + "': '" + std::string(f[0]) +
-                                "' needs a face label (S1..S6) in field 2");
+        fail(loc, keyword_, "surface " + quote_text(s.name) + ": " + quote_text(f[0]) +
+                                " needs a face label (S1..S6) in field 2");
       }
       entry.face = parse_face_label(f[1]);
       if (entry.face == 0) {
-        fail(loc, keyword_, "surface '" + s.name + "': field 2: '" + std::string(f[1]) +
-                                "' is not a face label (S1..S6)");
+        fail(loc, keyword_, "surface " + quote_text(s.name) + ": field 2: " + quote_text(f[1]) +
+                                " is not a face label (S1..S6)");
       }
     }
     s.entries.push_back(std::move(entry));
@@ -611,7 +796,7 @@ class DeckReader {
 
   void tie_line(std::string_view line, Location loc) {
     PendingTie& tie = ties_.back();
-    if (!tie.dependent.empty()) fail(loc, keyword_, "tie '" + tie.name + "' has a second data line");
+    if (!tie.dependent.empty()) fail(loc, keyword_, "tie " + quote_text(tie.name) + " has a second data line");
     const std::vector<std::string_view> f = non_empty(split_fields(line));
     if (f.size() != 2) {
       fail(loc, keyword_, "expected 'dependent surface, independent surface', got " + std::to_string(f.size()) +
@@ -630,7 +815,7 @@ class DeckReader {
     }
     for (std::size_t k = 0; k < 6; ++k) {
       if (!parse_coordinate(f[k], c.axis[k])) {
-        fail(loc, keyword_, "field " + std::to_string(k + 1) + ": '" + std::string(f[k]) + "' is not a finite number");
+        fail(loc, keyword_, "field " + std::to_string(k + 1) + ": " + quote_text(f[k]) + " is not a finite number");
       }
     }
     const mesh::Vec3 a(c.axis[0], c.axis[1], c.axis[2]), b(c.axis[3], c.axis[4], c.axis[5]);
@@ -641,7 +826,7 @@ class DeckReader {
   void resolve_cyclic() {
     std::vector<const PendingTie*> cyclic_ties;
     for (const PendingTie& t : ties_) {
-      if (t.dependent.empty()) fail(t.where, "*TIE", "tie '" + t.name + "' has no 'dependent, independent' line");
+      if (t.dependent.empty()) fail(t.where, "*TIE", "tie " + quote_text(t.name) + " has no 'dependent, independent' line");
       cyclic_ties.push_back(&t);
     }
     for (const PendingCyclic& c : cyclic_) {
@@ -657,7 +842,9 @@ class DeckReader {
         for (const PendingTie* t : cyclic_ties) {
           if (upper(trim(t->name)) == upper(trim(c.tie))) tie = t;
         }
-        if (tie == nullptr) fail(c.where, "*CYCLIC SYMMETRY MODEL", "TIE=" + c.tie + ": no *TIE, CYCLIC SYMMETRY of that name");
+        if (tie == nullptr) {
+          fail(c.where, "*CYCLIC SYMMETRY MODEL", "TIE=" + quote_text(c.tie) + ": no *TIE, CYCLIC SYMMETRY of that name");
+        }
       }
       mesh::CyclicSymmetry s;
       s.sectors = c.sectors;
@@ -705,8 +892,8 @@ class DeckReader {
                    : slave_node >= 0                     ? slave_node
                                                          : find_surface(p.slave, "OTHER");
       pair.master = master_element >= 0 ? master_element : master_node >= 0 ? master_node : find_surface(p.master, "OTHER");
-      if (pair.slave < 0) fail(p.where, "*CONTACT PAIR", "unknown slave surface '" + p.slave + "' (field 1)");
-      if (pair.master < 0) fail(p.where, "*CONTACT PAIR", "unknown master surface '" + p.master + "' (field 2)");
+      if (pair.slave < 0) fail(p.where, "*CONTACT PAIR", "unknown slave surface " + quote_text(p.slave) + " (field 1)");
+      if (pair.master < 0) fail(p.where, "*CONTACT PAIR", "unknown master surface " + quote_text(p.master) + " (field 2)");
       model_.pairs.push_back(std::move(pair));
     }
     return std::move(model_);
@@ -725,7 +912,7 @@ class DeckReader {
     out.where = where(s.where);
     const mesh::SolidMesh& mesh = model_.mesh;
     for (const SurfaceEntry& entry : s.entries) {
-      const std::string context = "surface '" + s.name + "'";
+      const std::string context = "surface " + quote_text(s.name);
       std::vector<long> ids;
       std::string from_set;
       long id = 0;
@@ -736,11 +923,11 @@ class DeckReader {
         const auto it = sets.find(upper(entry.reference));
         if (it == sets.end()) {
           fail(entry.where, "*SURFACE", context + ": field 1: unknown " +
-                                            (s.type == mesh::SurfaceType::kNode ? "node" : "element") + " set '" +
-                                            entry.reference + "'");
+                                            (s.type == mesh::SurfaceType::kNode ? "node" : "element") + " set " +
+                                            quote_text(entry.reference));
         }
         ids = it->second.ids;
-        from_set = " (in set '" + it->second.name + "', " + where(it->second.where) + ")";
+        from_set = " (in set " + quote_text(it->second.name) + ", " + where(it->second.where) + ")";
       }
       for (long i : ids) {
         if (s.type == mesh::SurfaceType::kNode) {
@@ -767,23 +954,22 @@ class DeckReader {
   }
 };
 
-std::string read_whole_file(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw IoError("cannot open deck '" + path.string() + "'");
-  std::ostringstream content;
-  content << in.rdbuf();
-  if (in.bad()) throw IoError("cannot read deck '" + path.string() + "'");
-  return content.str();
-}
-
 }  // namespace
 
 mesh::ContactModel read_inp_deck(const std::filesystem::path& path) {
-  return DeckReader().read(read_whole_file(path), path);
+  OpenedFile opened = open_regular_file(path);
+  if (opened.error != 0) {
+    throw IoError("cannot open deck '" + path.string() + "': " + std::generic_category().message(opened.error));
+  }
+  if (!opened.other_kind.empty()) {
+    throw FormatError("'" + path.string() + "' is " + opened.other_kind +
+                      ", not a regular file (a deck is read from a regular file)");
+  }
+  return DeckReader().read(std::move(opened.file), std::string(), path);
 }
 
 mesh::ContactModel parse_inp_deck(std::string_view text, const std::filesystem::path& name) {
-  return DeckReader().read(std::string(text), name);
+  return DeckReader().read(InputFile(), std::string(text), name);
 }
 
 }  // namespace contactnn::io

@@ -14,7 +14,8 @@
 // Lexical rules: keywords, parameter names and values, and set / surface names are case-insensitive
 // (blanks inside keywords are ignored: "*Contact Pair" = "*CONTACTPAIR"); a line starting "**" is a comment;
 // fields are comma-separated, blanks and tabs around them ignored, empty fields ignored (trailing commas);
-// CRLF line ends and a UTF-8 byte-order mark are accepted; numbers may use a Fortran D exponent. An element
+// CRLF line ends and a UTF-8 byte-order mark are accepted; numbers may use a Fortran D exponent. Files are
+// streamed (one line of each open file in memory). An element
 // whose type has a known node count (mesh::element_type) takes data lines until it has that many nodes
 // (C3D20 spans two lines); an element of another type continues while its line ends with a comma.
 // Repeated *NSET / *ELSET / *SURFACE of one name (and type) add to it.
@@ -30,8 +31,12 @@
 // few nodes or an undefined node, a missing TYPE= or NAME=, an unknown set, surface or element name, a
 // face label that is not S1..S<faces of the element>, a bad GENERATE range, a *CONTACT PAIR line that is
 // not two names, an *INCLUDE that includes itself (the chain named), a cyclic symmetry model without N=,
-// axis line or tie (or naming an unknown one).  IoError (exit 4) naming the file for
-// a deck or included file that cannot be read.
+// axis line or tie (or naming an unknown one); text that is not a deck, named by what gives it away: a
+// UTF-16 or UTF-32 byte-order mark, a NUL byte (UTF-16 without a mark, or a binary file), a carriage return
+// inside a line (CR-only line ends), another control character, a line longer than 64 KiB (Abaqus reads 256
+// characters a line); a deck or *INCLUDE that is not a regular file (a directory, a device such as /dev/zero,
+// a FIFO). User text in messages (fields, names) is quoted with quote_text (at most 40 bytes). IoError (exit
+// 4) naming the file for a deck or included file that cannot be opened or read.
 #pragma once
 
 #include <filesystem>

@@ -28,6 +28,7 @@ ROW = "0,0,0,1,0,0,1,1,0,0,1,0,0.3,0.4,0.1"
 NORMALS = "nax,nay,naz,nbx,nby,nbz,ncx,ncy,ncz,ndx,ndy,ndz"
 
 CASES = {}
+SOURCE_DIR = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
 
 def case(name, needs=("gen-configs",)):
@@ -360,6 +361,72 @@ def _(ctx):
     ctx.write("nopair.inp", body)
     ctx.expect_failure("gen-configs", ["--scene", "nopair.inp", "--surface", "bilinear", "--output", "p.csv"], 2,
                        r"'[^']*nopair\.inp': the deck has no \*CONTACT PAIR")
+
+
+@case("scene_deck_or_include_not_a_regular_file")
+def _(ctx):
+    # An *INCLUDE of a directory read as an empty file (exit 0, nothing said); --scene /dev/zero read 4 GB
+    # into memory for 16 s and went on. Both are refused at once (exit 3), naming the file and the line.
+    os.makedirs(ctx.path("meshes"))
+    ctx.write("dir.inp", "*NODE\n1, 0., 0., 0.\n*INCLUDE, INPUT=meshes\n")
+    ctx.expect_failure("gen-configs", ["--scene", "dir.inp", "--surface", "bilinear", "--output", "p.csv"], 3,
+                       r"^error: 'dir\.inp':3: \*INCLUDE: INPUT='meshes' \(meshes\) is a directory, not a regular "
+                       r"file\n$", outputs=["p.csv"])
+    ctx.write("zero.inp", "*NODE\n1, 0., 0., 0.\n*INCLUDE, INPUT=/dev/zero\n")
+    ctx.expect_failure("gen-configs", ["--scene", "zero.inp", "--surface", "bilinear", "--output", "p.csv"], 3,
+                       r"^error: 'zero\.inp':3: \*INCLUDE: INPUT='/dev/zero' .*is a character device, not a regular "
+                       r"file\n$", outputs=["p.csv"])
+    ctx.expect_failure("gen-configs", ["--scene", "/dev/zero", "--surface", "bilinear", "--output", "p.csv"], 3,
+                       r"^error: '/dev/zero' is a character device, not a regular file", outputs=["p.csv"])
+
+
+@case("scene_deck_long_line_and_huge_field")
+def _(ctx):
+    # A 10 MB field was copied whole into the message; a line longer than any deck needs is an error naming file
+    # and line, and a long field within a line is quoted short.
+    ctx.write("long.inp", "*NODE\n1, 0., " + "7" * 10_000_000 + ", 0.\n")
+    ctx.expect_failure("gen-configs", ["--scene", "long.inp", "--surface", "bilinear", "--output", "p.csv"], 3,
+                       r"^error: 'long\.inp':2: the line is longer than 65536 bytes[^\n]*\n$", outputs=["p.csv"])
+    ctx.write("field.inp", "*NODE\n1, 0., 0., 0.\n2, 0., " + "x" * 60_000 + ", 0.\n")
+    ctx.expect_failure("gen-configs", ["--scene", "field.inp", "--surface", "bilinear", "--output", "p.csv"], 3,
+                       r"^error: 'field\.inp':3: \*NODE: node 2: field 3: 'x{40}\.\.\.' \(60000 bytes\) is not a "
+                       r"finite number\n$", outputs=["p.csv"])
+
+
+@case("scene_deck_encoding_and_line_ends")
+def _(ctx):
+    # Binary, UTF-16 and CR-only decks were reported as "the deck has no *CONTACT PAIR" (exit 2): the encoding
+    # or the line ends is named instead (exit 3).
+    deck = "*NODE\r\n1, 0., 0., 0.\r\n*CONTACT PAIR\r\nA, B\r\n"
+    cases = [("utf16.inp", deck.encode("utf-16"), r"'utf16\.inp':1: the file is UTF-16 \(little-endian\) text"),
+             ("utf16-bare.inp", deck.encode("utf-16-le"), r"'utf16-bare\.inp':1: column 2: a NUL byte: UTF-16"),
+             ("cr.inp", deck.replace("\r\n", "\r").encode(), r"'cr\.inp':1: column 6: a carriage return without a "
+                                                              r"line feed \(a file with CR-only line ends\?\)"),
+             ("binary.inp", bytes(range(1, 256)) * 4, r"'binary\.inp':1: column 1: control character 0x01: a binary "
+                                                      r"file")]
+    for name, content, pattern in cases:
+        ctx.write(name, content)
+        ctx.expect_failure("gen-configs", ["--scene", name, "--surface", "bilinear", "--output", "p.csv"], 3,
+                           "^error: " + pattern, outputs=["p.csv"])
+
+
+@case("omp_num_threads_beyond_the_cap")
+def _(ctx):
+    # OMP_NUM_THREADS=100000 crashed every parallel region inside libgomp (--threads is capped at 1024, OpenMP's
+    # default was not), and label mode left its temporary file: the default is capped too, with a warning.
+    env = {"OMP_NUM_THREADS": "100000"}
+    _, err = ctx.expect_success("gen-configs", ["--surface", "bilinear", "--input", ctx.write("in.csv", f"{HEADER}\n" +
+                                                                                              f"{ROW}\n" * 3000),
+                                                "--output", "labels.csv"], env=env)
+    if "warning: OpenMP's default of 100000 threads (OMP_NUM_THREADS) is more than 1024; using 1024" not in err:
+        raise Failure(f"no warning about the capped thread count:\n{err}")
+    rows = no_non_finite_results(ctx.path("labels.csv"), ["xi", "eta", "gap"])
+    if len(rows) != 3001 or any(r[rows[0].index("status")] != "ok" for r in rows[1:]):
+        raise Failure(f"expected 3000 rows labelled ok, got {len(rows) - 1}")
+    ctx.expect_success("gen-configs", ["--config", os.path.join(SOURCE_DIR, "configs", "tiny.toml"), "--output",
+                                       "tiny.h5", "--quiet"], env=env)
+    if sorted(os.listdir(ctx.dir)) != ["in.csv", "labels.csv", "tiny.h5", "tiny.h5.config.toml"]:
+        raise Failure(f"unexpected files (a temporary left?): {sorted(os.listdir(ctx.dir))}")
 
 
 # ------------------------------------------------------------------------------------------------------

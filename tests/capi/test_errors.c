@@ -6,6 +6,7 @@
 #include <contactnn/contactnn.h>
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 static int failures = 0;
@@ -157,7 +158,70 @@ int main(int argc, char** argv) {
   contactnn_search_destroy(search);
   contactnn_search_destroy(NULL);
 
-  /* 5. Bindings record their own errors the same way. */
+  /* 5. The handle's check value (contactnn.h, "Handles"): a destroyed search, or a pointer that is not a search,
+   *    answers INVALID_ARGUMENT instead of crashing, and a second destroy frees nothing. */
+  expect(contactnn_search_run(search, 1, raw, param, &gap, &status, NULL) == CONTACTNN_ERROR_INVALID_ARGUMENT &&
+             strstr(contactnn_last_error(), "not a live handle") != NULL,
+         "a run on a destroyed search");
+  expect(contactnn_search_run_float(search, 0, NULL, NULL, NULL, NULL, NULL) == CONTACTNN_ERROR_INVALID_ARGUMENT,
+         "a float run on a destroyed search, even of 0 queries");
+  expect(contactnn_search_surface(search) == -1, "the surface of a destroyed search is -1");
+  contactnn_search_destroy(search);
+  expect(strstr(contactnn_last_error(), "nothing was freed") != NULL, "a second destroy frees nothing");
+  {
+    double not_a_search[8] = {1, 2, 3, 4, 5, 6, 7, 8};
+    expect(contactnn_search_run((const contactnn_search*)not_a_search, 1, raw, param, &gap, &status, NULL) ==
+                   CONTACTNN_ERROR_INVALID_ARGUMENT &&
+               strstr(contactnn_last_error(), "not a live handle") != NULL,
+           "a run on a pointer that is not a search");
+    expect(contactnn_search_run((const contactnn_search*)&options, 1, raw, param, &gap, &status, NULL) ==
+               CONTACTNN_ERROR_INVALID_ARGUMENT,
+           "a run on the options struct given as a search");
+    expect(contactnn_search_surface((const contactnn_search*)not_a_search) == -1,
+           "the surface of a pointer that is not a search is -1");
+  }
+
+  /* 6. Limits: a method name of 10 MB is quoted short (not echoed whole, once per mention); a thread count
+   *    above CONTACTNN_MAX_THREADS is refused (libgomp fails inside the run when it cannot start the team). */
+  {
+    const size_t digits = 10000000;
+    char* huge = (char*)malloc(digits + 32);
+    expect(huge != NULL, "memory for a 10 MB method name");
+    if (huge != NULL) {
+      strcpy(huge, "newton:");
+      memset(huge + 7, '1', digits);
+      huge[7 + digits] = '\0';
+      expect_create_fails(CONTACTNN_SURFACE_BILINEAR, huge, NULL, NULL, CONTACTNN_ERROR_INVALID_ARGUMENT,
+                          "'newton:1111", "newton: and 10 MB of digits");
+      expect(strlen(contactnn_last_error()) < 400 && strstr(contactnn_last_error(), "(10000007 bytes)") != NULL,
+             "newton: and 10 MB of digits: the message quotes the method short");
+      memset(huge, 'x', digits);
+      huge[digits] = '\0';
+      expect_create_fails(CONTACTNN_SURFACE_BILINEAR, huge, NULL, NULL, CONTACTNN_ERROR_INVALID_ARGUMENT,
+                          "'xxxx", "a 10 MB method name");
+      expect(strlen(contactnn_last_error()) < 400 && strstr(contactnn_last_error(), "(10000000 bytes)") != NULL,
+             "a 10 MB method name: the message quotes it short");
+      memset(huge, 'n', 5000);
+      huge[5000] = '\0';
+      expect_create_fails(CONTACTNN_SURFACE_BILINEAR, "network", huge, NULL, CONTACTNN_ERROR_INVALID_ARGUMENT,
+                          "longer than any path", "a network file name of 5000 bytes");
+      free(huge);
+    }
+    expect(contactnn_options_init(&options) == CONTACTNN_SUCCESS, "options_init");
+    options.threads = CONTACTNN_MAX_THREADS + 1;
+    expect_create_fails(CONTACTNN_SURFACE_BILINEAR, "newton:2", NULL, &options, CONTACTNN_ERROR_INVALID_ARGUMENT,
+                        "options.threads = 1025", "threads above CONTACTNN_MAX_THREADS");
+    options.threads = 100000;
+    expect_create_fails(CONTACTNN_SURFACE_BILINEAR, "newton:2", NULL, &options, CONTACTNN_ERROR_INVALID_ARGUMENT,
+                        "options.threads = 100000", "threads 100000");
+    options.threads = CONTACTNN_MAX_THREADS;
+    expect(contactnn_search_create(&search, CONTACTNN_SURFACE_BILINEAR, "newton:2", NULL, &options) ==
+               CONTACTNN_SUCCESS,
+           "threads = CONTACTNN_MAX_THREADS is accepted");
+    contactnn_search_destroy(search);
+  }
+
+  /* 7. Bindings record their own errors the same way. */
   expect(contactnn_set_last_error(CONTACTNN_ERROR_INVALID_ARGUMENT, "from a binding") ==
                  CONTACTNN_ERROR_INVALID_ARGUMENT &&
              strcmp(contactnn_last_error(), "from a binding") == 0,

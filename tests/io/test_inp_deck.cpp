@@ -1,5 +1,6 @@
 // Tests for lib/io/inp_deck.* (SPEC 7): the traps of real decks, and every error naming its file and line.
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 
 #include <algorithm>
 #include <filesystem>
@@ -7,6 +8,7 @@
 #include <string>
 
 #include "core/error.hpp"
+#include "core/quote_text.hpp"
 #include "io/inp_deck.hpp"
 #include "mesh/contact_model.hpp"
 #include "test_support.hpp"
@@ -242,12 +244,12 @@ TEST(InpDeck, EveryMalformedDeckNamesFileAndLine) {
       {"pair-fields.inp", head + kSurfaces + "*Contact   Pair\nSBOTTOM\n", 27, "*CONTACT PAIR: expected 'slave surface, master surface'"},
       {"generate-range.inp", "*NSET, NSET=A, GENERATE\n10, 1\n", 2, "GENERATE range 10..1"},
       {"generate-fields.inp", "*NSET, NSET=A, GENERATE\n1\n", 2, "GENERATE needs 'first, last[, increment]'"},
-      {"cylindrical-nodes.inp", "*NODE, SYSTEM=C\n1, 1, 0, 0\n", 1, "SYSTEM=C is not supported"},
+      {"cylindrical-nodes.inp", "*NODE, SYSTEM=C\n1, 1, 0, 0\n", 1, "SYSTEM='C' is not supported"},
       {"cyclic-no-axis.inp", head + "*TIE, NAME=T, CYCLIC SYMMETRY\nSTOP, SBOTTOM\n" + "*CYCLIC SYMMETRY MODEL, N=4, TIE=T\n", 24, "no axis line"},
       {"cyclic-bad-n.inp", head + "*TIE, NAME=T, CYCLIC SYMMETRY\nSTOP, SBOTTOM\n" + "*CYCLIC SYMMETRY MODEL, N=4x, TIE=T\n0, 0, 0, 1, 0, 0\n", 24,
-       "N=4x is not a number of sectors"},
+       "N='4x' is not a number of sectors"},
       {"cyclic-unknown-tie.inp", head + "*TIE, NAME=T, CYCLIC SYMMETRY\nSTOP, SBOTTOM\n" + "*CYCLIC SYMMETRY MODEL, N=4, TIE=NOSUCH\n0, 0, 0, 1, 0, 0\n", 24,
-       "TIE=NOSUCH: no *TIE, CYCLIC SYMMETRY of that name"},
+       "TIE='NOSUCH': no *TIE, CYCLIC SYMMETRY of that name"},
       {"cyclic-axis-fields.inp", head + "*TIE, NAME=T, CYCLIC SYMMETRY\nSTOP, SBOTTOM\n" + "*CYCLIC SYMMETRY MODEL, N=4, TIE=T\n0, 0, 0, 1, 0\n", 25,
        "expected the axis 'ax, ay, az, bx, by, bz', got 5 fields"},
       {"cyclic-axis-point.inp", head + "*TIE, NAME=T, CYCLIC SYMMETRY\nSTOP, SBOTTOM\n" + "*CYCLIC SYMMETRY MODEL, N=4, TIE=T\n1, 2, 3, 1, 2, 3\n", 25,
@@ -287,6 +289,121 @@ TEST(InpDeck, MissingIncludeIsAnIoErrorNamingTheFile) {
     EXPECT_NE(m.find("not-there.inp"), std::string::npos) << m;
   }
   EXPECT_THROW((void)read_inp_deck(dir() / "no-such-deck.inp"), IoError);
+}
+
+/// The message of the FormatError that reading the deck at `path` throws; "" if it throws nothing.
+std::string format_error_of(const fs::path& path) {
+  try {
+    (void)read_inp_deck(path);
+  } catch (const FormatError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(InpDeck, ADeckOrIncludeThatIsNotARegularFileIsRefused) {
+  // A directory read as an empty file (exit 0, nothing said), /dev/zero read 4 GB into memory, a FIFO waited
+  // for a writer: each is refused as what it is, naming the including line.
+  fs::create_directories(dir() / "kinds" / "sub");
+  const auto include = [&](const std::string& name, const std::string& input) {
+    return format_error_of(write(dir() / "kinds" / name, "*NODE\n1, 0, 0, 0\n*INCLUDE, INPUT=" + input + "\n"));
+  };
+  std::string m = include("directory.inp", "sub");
+  EXPECT_NE(m.find("'" + (dir() / "kinds" / "directory.inp").string() + "':3: *INCLUDE"), std::string::npos) << m;
+  EXPECT_NE(m.find("is a directory, not a regular file"), std::string::npos) << m;
+  m = include("zero.inp", "/dev/zero");
+  EXPECT_NE(m.find("zero.inp':3: *INCLUDE: INPUT='/dev/zero' (/dev/zero) is a character device"), std::string::npos) << m;
+  m = include("null.inp", "/dev/null");
+  EXPECT_NE(m.find("is a character device, not a regular file"), std::string::npos) << m;
+  m = format_error_of("/dev/zero");
+  EXPECT_EQ(m, "'/dev/zero' is a character device, not a regular file (a deck is read from a regular file)");
+  m = format_error_of(dir() / "kinds" / "sub");
+  EXPECT_NE(m.find("is a directory, not a regular file"), std::string::npos) << m;
+  const fs::path fifo = dir() / "kinds" / "deck.fifo";
+  fs::remove(fifo);
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  m = format_error_of(fifo);  // without a writer: refused, not waited for
+  EXPECT_NE(m.find("is a FIFO (named pipe), not a regular file"), std::string::npos) << m;
+  m = include("fifo.inp", "deck.fifo");
+  EXPECT_NE(m.find("fifo.inp':3: *INCLUDE: INPUT='deck.fifo'"), std::string::npos) << m;
+  EXPECT_NE(m.find("is a FIFO (named pipe), not a regular file"), std::string::npos) << m;
+}
+
+TEST(InpDeck, ALineLongerThanAnyDeckNeedsIsAnErrorNamingFileAndLine) {
+  // 10 MB on one line (no line end at all): refused at 64 KiB, with the file and the line, not read whole.
+  const std::string head = "*NODE\n1, 0, 0, 0\n";
+  EXPECT_EQ(error_of<FormatError>("long-line.inp", head + "2, 0, " + std::string(10'000'000, '7') + "\n"),
+            location("long-line.inp", 3) + " the line is longer than 65536 bytes (Abaqus reads 256 characters a "
+                                           "line): not an input deck");
+  EXPECT_NE(error_of<FormatError>("no-line-end.inp", head + std::string(100'000, 'x')).find(location("no-line-end.inp", 3)),
+            std::string::npos);
+  // A line just within the limit is read (and its field quoted short in the message).
+  const std::string field(65'536 - 9, '5');
+  const std::string m = error_of<FormatError>("within.inp", head + "2, 0, 0, " + field + "\n");
+  EXPECT_EQ(m, location("within.inp", 3) + " *NODE: node 2: field 4: '" + std::string(kQuotedBytes, '5') + "...' (" +
+                   std::to_string(field.size()) + " bytes) is not a finite number");
+}
+
+TEST(InpDeck, TextThatIsNotADeckIsNamedByItsEncodingOrLineEnds) {
+  // They read as a deck without *CONTACT PAIR (exit 2); the encoding or the line ends is what to fix.
+  const std::string deck = "*NODE\r\n1, 0, 0, 0\r\n*CONTACT PAIR\r\nA, B\r\n";
+  std::string utf16le = "\xFF\xFE", utf16be = "\xFE\xFF", bare16, utf32le("\xFF\xFE\x00\x00", 4);
+  for (const char c : deck) {
+    utf16le += std::string{c, '\0'};
+    utf16be += std::string{'\0', c};
+    bare16 += std::string{c, '\0'};
+    utf32le += std::string{c, '\0', '\0', '\0'};
+  }
+  struct Case {
+    const char* name;
+    std::string text;
+    int line;
+    const char* says;
+  };
+  std::string cr_only = "*NODE\r1, 0, 0, 0\r*CONTACT PAIR\rA, B\r";
+  std::string long_cr_only;
+  while (long_cr_only.size() < 200'000) long_cr_only += "1, 0, 0, 0\r";
+  // An HDF5 file's signature: "\x89HDF", CRLF, then 0x1A on the second line.
+  const std::string binary("\x89HDF\r\n\x1a\n\x00\x00\x00\x00\x00\x08\x08\x00", 16);
+  const std::vector<Case> cases = {
+      {"utf16le.inp", utf16le, 1, "the file is UTF-16 (little-endian) text (by its byte-order mark)"},
+      {"utf16be.inp", utf16be, 1, "the file is UTF-16 (big-endian) text (by its byte-order mark)"},
+      {"utf32le.inp", utf32le, 1, "the file is UTF-32 (little-endian) text (by its byte-order mark)"},
+      {"bare-utf16.inp", bare16, 1, "column 2: a NUL byte: UTF-16 or UTF-32 text without a byte-order mark, or a binary file"},
+      {"cr-only.inp", cr_only, 1, "column 6: a carriage return without a line feed (a file with CR-only line ends?)"},
+      {"long-cr-only.inp", "*NODE\n" + long_cr_only, 2, "column 11: a carriage return without a line feed"},
+      {"binary.inp", binary, 2, "column 1: control character 0x1A: a binary file, not a deck"},
+      {"nul-later.inp", "*NODE\n1, 0, 0, 0\n2, 0," + std::string(1, '\0') + " 0, 0\n", 3, "column 6: a NUL byte"},
+  };
+  for (const Case& c : cases) {
+    const std::string m = error_of<FormatError>(c.name, c.text);
+    EXPECT_NE(m.find(location(c.name, c.line)), std::string::npos) << c.name << ": " << m;
+    EXPECT_NE(m.find(c.says), std::string::npos) << c.name << ": " << m;
+  }
+  // CRLF, tabs and a UTF-8 byte-order mark on an included file are still text.
+  write(dir() / "text-inc" / "nodes.inp", "\xEF\xBB\xBF" "2,\t1, 0, 0\r\n** comment\r\n");
+  const auto model = read_inp_deck(write(dir() / "text-inc" / "main.inp", "*NODE\r\n1, 0, 0, 0\r\n*INCLUDE, INPUT=nodes.inp\r\n"));
+  EXPECT_EQ(model.mesh.node_count(), 2);
+}
+
+TEST(InpDeck, UserTextIsQuotedShortInMessages) {
+  // Issue: a 10 MB field was copied whole into the message (the CSV reader quoted short, the deck reader not).
+  const std::string big(60'000, 'q');
+  const std::string head = kNodes + kElements;  // 21 lines
+  const std::string shown = "'" + std::string(kQuotedBytes, 'q') + "...' (60000 bytes)";
+  const std::vector<BadDeck> cases = {
+      {"big-id.inp", "*NODE\n" + big + ", 0, 0, 0\n", 2, "field 1: "},
+      {"big-set.inp", head + "*NSET, NSET=A\n1, " + big + "\n", 23, "unknown node set "},
+      {"big-face.inp", head + "*SURFACE, NAME=M\nLOWER, " + big + "\n", 23, "field 2: "},
+      {"big-surface.inp", head + kSurfaces + "*CONTACT PAIR\nSBOTTOM, " + big + "\n", 27, "unknown master surface "},
+      {"big-system.inp", "*NODE, SYSTEM=" + big + "\n", 1, "SYSTEM="},
+  };
+  for (const BadDeck& c : cases) {
+    const std::string m = error_of<FormatError>(c.name, c.text);
+    EXPECT_NE(m.find(location(c.name, c.line)), std::string::npos) << c.name << ": " << m.substr(0, 300);
+    EXPECT_NE(m.find(std::string(c.says) + shown), std::string::npos) << c.name << ": " << m.substr(0, 300);
+    EXPECT_LT(m.size(), 400u) << c.name << ": " << m.substr(0, 300);
+  }
 }
 
 }  // namespace

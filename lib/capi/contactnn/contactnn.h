@@ -18,7 +18,13 @@
  *  - Units: coordinates in any consistent length unit (the gap is in the same unit); local coordinates
  *    (xi, eta) in [-1, 1]^2 for the bilinear facet, (u, v) in [0, 1]^2 for the Gregory patch (SPEC 1).
  *  - Thread safety: any number of threads may run one search at the same time (a run only reads it);
- *    destroy it only when no run is under way. Creating searches is serialised inside the library (the
+ *    destroy it only when no run is under way.
+ *  - Handles carry a check value, written by contactnn_search_create and cleared by contactnn_search_destroy:
+ *    a call given a handle that was destroyed, or a pointer to something that is not a handle, answers
+ *    CONTACTNN_ERROR_INVALID_ARGUMENT ("not a live handle") instead of crashing, and destroying a handle
+ *    twice frees nothing the second time. This catches the common mistakes, not every one: using freed
+ *    memory is undefined behaviour, the memory of a destroyed handle may already hold a new handle (the call
+ *    then uses that one), and a pointer into unmapped memory still crashes. Creating searches is serialised inside the library (the
  *    network file is read with HDF5, which Debian builds without thread safety); a program that uses HDF5
  *    itself must not do so while a search is being created.
  *
@@ -75,10 +81,14 @@ enum contactnn_surface {
   CONTACTNN_SURFACE_GREGORY = 1   /* Gregory patch from nodes and node normals: raw rows of 27 values */
 };
 
+/* The most OpenMP threads a run uses (the contactnn tools' --threads limit too). */
+#define CONTACTNN_MAX_THREADS 1024
+
 /* The tolerances and limits of a search: contactnn::search::SearchOptions plus the thread count. Fill it
  * with contactnn_options_init (the library's defaults) and change the fields you need. */
 typedef struct contactnn_options {
-  int threads;        /* OpenMP threads per run; <= 0: OpenMP's default (OMP_NUM_THREADS). Default 0 */
+  int threads;        /* OpenMP threads per run, at most CONTACTNN_MAX_THREADS; <= 0: OpenMP's default
+                         (OMP_NUM_THREADS), capped at CONTACTNN_MAX_THREADS. Default 0 */
   int check_domain;   /* network methods: nonzero tests each query against the network's training domain
                          (status out_of_domain); a query on a tie then averages the network over its
                          canonical forms in the domain, else over all of them. Default 1 */
@@ -125,18 +135,24 @@ CONTACTNN_API int contactnn_options_init(contactnn_options* options);
  *   search        where the handle is written (NULL on failure)
  *   surface       CONTACTNN_SURFACE_BILINEAR or CONTACTNN_SURFACE_GREGORY
  *   method        "network", "newton:K", "newton", "closed_form", "network+newton:K",
- *                 "closed_form+newton:K" or "start+newton:K" (K >= 0; search/method.hpp describes each)
+ *                 "closed_form+newton:K", "start+newton:K" (K from 0 to 1000; search/method.hpp describes
+ *                 each) or, bilinear only, "four_triangles" (after OpenRadioss's type 7 contact: the nearest
+ *                 point of the four triangles about the segment's centroid, no iteration; another surface
+ *                 than the bilinear facet)
  *   network_file  a network file of train-net (HDF5), or NULL / "" for the methods without a network. It is
  *                 read once, here; a network file given to a method without a network is still read and
  *                 must be of the search's surface.
  *   options       NULL for the defaults
  * Errors: INVALID_ARGUMENT (NULL search or method, an unknown surface or method, a network method without
  * network_file, a network of the other surface, an option out of range), IO (network_file cannot be
- * opened or read), FORMAT (it is not a contactnn network, or is damaged). */
+ * opened or read), FORMAT (it is not a contactnn network, or is damaged). Messages quote a method or file
+ * name of more than 40 bytes by its first 40 and its length; a network_file longer than 4096 bytes (PATH_MAX)
+ * is INVALID_ARGUMENT. */
 CONTACTNN_API int contactnn_search_create(contactnn_search** search, int surface, const char* method,
                                           const char* network_file, const contactnn_options* options);
 
-/* Frees a search (NULL is allowed and does nothing). */
+/* Frees a search (NULL is allowed and does nothing). A search destroyed already, or a pointer that is not a
+ * search, is left alone and recorded as this thread's last error (see "Handles" above for the limits). */
 CONTACTNN_API void contactnn_search_destroy(contactnn_search* search);
 
 /* Runs the search on `count` queries (count = 0 does nothing and succeeds).
@@ -150,12 +166,14 @@ CONTACTNN_API void contactnn_search_destroy(contactnn_search* search);
  *               the pair's local coordinates at the previous time step; not finite: status invalid)
  *   gap         count, out, optional (NULL: not computed): g = n.(S - P) at the reported point, n the unit
  *               normal of the caller's parametrisation, g < 0 penetration; 0 for invalid and degenerate
+ *               (four_triangles: +-|S - P| with the sign of (S - P).(C - A)x(D - B))
  *   status      count, out: CONTACTNN_STATUS_* per query (search/local_search.hpp lists them by method)
- *   iterations  count, out, optional (NULL: not written): Newton steps taken (0 for network, closed_form)
+ *   iterations  count, out, optional (NULL: not written): Newton steps taken (0 for network, closed_form,
+ *               four_triangles)
  * The geometry is computed in double whatever the call's precision, a network in its own precision.
  * Allocates count bytes of scratch per call (the statuses before their widening to int).
- * Errors: INVALID_ARGUMENT (NULL search, or NULL raw, param or status with count > 0, or count so large
- * that count x 27 values overflow), OUT_OF_MEMORY. A failed run may have written part of the outputs. */
+ * Errors: INVALID_ARGUMENT (NULL search, a search destroyed already or not a search, NULL raw, param or
+ * status with count > 0, or count so large that count x 27 values overflow), OUT_OF_MEMORY. A failed run may have written part of the outputs. */
 CONTACTNN_API int contactnn_search_run(const contactnn_search* search, size_t count, const double* raw,
                                        double* param, double* gap, int* status, int* iterations);
 /* The same in single precision (inputs and outputs float; a gap beyond the float range, possible for inputs
@@ -163,7 +181,8 @@ CONTACTNN_API int contactnn_search_run(const contactnn_search* search, size_t co
 CONTACTNN_API int contactnn_search_run_float(const contactnn_search* search, size_t count, const float* raw,
                                              float* param, float* gap, int* status, int* iterations);
 
-/* The surface (CONTACTNN_SURFACE_*) a search was created for, or -1 for NULL. Never fails. */
+/* The surface (CONTACTNN_SURFACE_*) a search was created for, or -1 for NULL, a search destroyed already or
+ * a pointer that is not a search. Never fails. */
 CONTACTNN_API int contactnn_search_surface(const contactnn_search* search);
 
 #ifdef __cplusplus
