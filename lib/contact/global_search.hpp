@@ -81,6 +81,7 @@ struct NodeSegmentPair {
   // The surface search's closest point (SPEC 9); the nearest-node search leaves these at their defaults.
   Location location = Location::kFace;  ///< where the point lies on its face
   Vec3 point = Vec3::Zero();            ///< the closest point P, world coordinates
+  std::array<double, 2> face_param{0.0, 0.0};  ///< P's local coordinates in the face's own node order
 };
 
 /// The pair of one slave node S, given the master node nearest it (steps 2-5 above).

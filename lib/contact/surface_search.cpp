@@ -119,7 +119,8 @@ FaceIndex index_faces(const mesh::SurfaceMesh& master, std::span<const Vec3> nor
 
 /// The closest point of face f to `slave` (projection::closest_point_on_face or closest_point_on_triangle).
 projection::FaceClosestPoint closest_on_face(const mesh::SurfaceMesh& master, std::span<const Vec3> normals,
-                                             const SearchOptions& options, int f, const Vec3& slave) {
+                                             const SearchOptions& options, int f, const Vec3& slave,
+                                             const std::array<double, 2>* start = nullptr) {
   if (master.face_corners(f).size() == 3) return projection::closest_point_on_triangle(triangle_nodes(master, f), slave);
   const SurfaceKind kind = kind_of(master, options, f);
   const geometry::Configuration config = face_configuration(master, normals, kind, f);
@@ -128,8 +129,13 @@ projection::FaceClosestPoint closest_on_face(const mesh::SurfaceMesh& master, st
     none.status = *defect;
     return none;
   }
+  projection::ProjectionOptions projection = options.projection;
+  if (start != nullptr) {
+    projection.warm_start = true;
+    projection.start = *start;
+  }
   return geometry::with_surface(config, kind, [&](const auto& surface) {
-    return projection::closest_point_on_face(surface, slave, options.projection);
+    return projection::closest_point_on_face(surface, slave, projection);
   });
 }
 
@@ -224,18 +230,33 @@ std::array<double, 2> rotate_param(std::array<double, 2> p, int k, SurfaceKind k
 /// Steps 2-4 of the header for one slave node, given its candidate faces (unordered).
 NodeSegmentPair search_one(const mesh::SurfaceMesh& master, std::span<const Vec3> normals,
                            const SearchOptions& options, const FaceIndex& index, double capture, long slave_id,
-                           const Vec3& slave, std::vector<std::pair<double, int>>& candidates) {
+                           const Vec3& slave, std::vector<std::pair<double, int>>& candidates,
+                           const FaceHint* hint) {
   NodeSegmentPair best;
   best.slave_id = slave_id;
-  // Nearest sphere first; equal bounds in face order, so the scan is the same whatever the tree returned.
+  // Nearest sphere first; equal bounds in face order, so the scan is the same whatever the tree returned. A
+  // hint's face goes first (its point, warm-started, is usually the answer and prunes the others).
   std::sort(candidates.begin(), candidates.end());
+  if (hint != nullptr) {
+    const auto at = std::find_if(candidates.begin(), candidates.end(),
+                                 [&](const std::pair<double, int>& c) { return c.second == hint->face; });
+    if (at != candidates.end()) std::rotate(candidates.begin(), at, at + 1);
+  }
   double best_distance = std::numeric_limits<double>::infinity();
   projection::FaceClosestPoint best_point;
   for (const auto& [bound, f] : candidates) {
-    if (bound > capture) break;
+    const bool hinted = hint != nullptr && f == hint->face;
+    if (bound > capture) {
+      if (hinted) continue;
+      break;
+    }
     // A face whose sphere is beyond the best point (and its tie band) cannot beat it.
-    if (bound > best_distance + kTieTolerance * index.sizes[static_cast<std::size_t>(f)]) break;
-    const projection::FaceClosestPoint p = closest_on_face(master, normals, options, f, slave);
+    if (bound > best_distance + kTieTolerance * index.sizes[static_cast<std::size_t>(f)]) {
+      if (hinted) continue;
+      break;
+    }
+    const projection::FaceClosestPoint p =
+        closest_on_face(master, normals, options, f, slave, hinted ? &hint->param : nullptr);
     if (p.status != Status::kOk) continue;
     ++best.candidates;
     const double tie = kTieTolerance * index.sizes[static_cast<std::size_t>(f)];
@@ -263,6 +284,7 @@ NodeSegmentPair search_one(const mesh::SurfaceMesh& master, std::span<const Vec3
   label.status = Status::kOk;
   label.iterations = best_point.iterations;
   label.param = best_point.param;
+  best.face_param = best_point.param;
   const Vec3 n = pseudo_normal(master, normals, options, index, best.segment, best_point);
   const double side = (slave - best_point.point).dot(n);
   label.gap = side < 0.0 ? -best_point.distance : best_point.distance;
@@ -307,11 +329,29 @@ double capture_distance(const mesh::SurfaceMesh& master, const SearchOptions& op
   return options.capture_relative * largest;
 }
 
-std::vector<NodeSegmentPair> surface_search(const mesh::SurfaceMesh& master, std::span<const Vec3> master_normals,
-                                            std::span<const long> slave_ids, std::span<const Vec3> slave_positions,
-                                            const SearchOptions& options) {
-  CONTACTNN_REQUIRE(slave_ids.size() == slave_positions.size(),
-                    slave_ids.size() << " slave ids for " << slave_positions.size() << " positions");
+struct SurfaceSearcher::Impl {
+  const mesh::SurfaceMesh& master;
+  std::span<const Vec3> normals;
+  SearchOptions options;
+  FaceIndex index;
+  double capture = 0.0;
+  double largest_radius = 0.0;
+  Centres cloud;
+  CentreTree tree;
+
+  Impl(const mesh::SurfaceMesh& m, std::span<const Vec3> n, const SearchOptions& o)
+      : master(m),
+        normals(n),
+        options(o),
+        index(index_faces(m, n, o)),
+        capture(capture_distance(m, o)),
+        largest_radius(index.radii.empty() ? 0.0 : *std::max_element(index.radii.begin(), index.radii.end())),
+        cloud{&index.centres},
+        tree(3, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(10)) {}
+};
+
+SurfaceSearcher::SurfaceSearcher(const mesh::SurfaceMesh& master, std::span<const Vec3> master_normals,
+                                 const SearchOptions& options) {
   const bool gregory = options.surface == SurfaceKind::kGregory;
   CONTACTNN_REQUIRE(!gregory || master_normals.size() == master.positions.size(),
                     "Gregory search needs one node normal per master node: " << master_normals.size() << " for "
@@ -319,37 +359,67 @@ std::vector<NodeSegmentPair> surface_search(const mesh::SurfaceMesh& master, std
   CONTACTNN_REQUIRE(master.segment_element_ids.size() == master.segments.size() &&
                         master.extra_face_element_ids.size() == master.extra_faces.size(),
                     master.segment_element_ids.size() << " element ids for " << master.segments.size() << " faces");
-  const FaceIndex index = index_faces(master, master_normals, options);
-  const double capture = capture_distance(master, options);
-  const double largest_radius = index.radii.empty() ? 0.0 : *std::max_element(index.radii.begin(), index.radii.end());
-  const Centres cloud{&index.centres};
-  const CentreTree tree(3, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(10));
+  impl_ = std::make_unique<Impl>(master, master_normals, options);
+}
 
+SurfaceSearcher::~SurfaceSearcher() = default;
+
+double SurfaceSearcher::capture() const { return impl_->capture; }
+
+double SurfaceSearcher::lower_bound(const Vec3& slave, int face) const {
+  const auto f = static_cast<std::size_t>(face);
+  return (slave - impl_->index.centres[f]).norm() - impl_->index.radii[f];
+}
+
+const std::vector<Vec3>& SurfaceSearcher::centres() const { return impl_->index.centres; }
+const std::vector<double>& SurfaceSearcher::radii() const { return impl_->index.radii; }
+
+void SurfaceSearcher::faces_within(const Vec3& slave, double reach, std::vector<std::pair<double, int>>& out,
+                                   std::vector<std::pair<std::uint32_t, double>>& scratch) const {
+  const FaceIndex& index = impl_->index;
+  if (!slave.allFinite() || index.centres.empty()) return;
+  if (impl_->options.brute_force_faces) {
+    for (std::size_t s = 0; s < index.centres.size(); ++s) {
+      const double bound = lower_bound(slave, static_cast<int>(s));
+      if (bound <= reach) out.emplace_back(bound, static_cast<int>(s));
+    }
+    return;
+  }
+  // Every centre within reach + the largest radius, then each face by its own sphere.
+  const double radius = reach + impl_->largest_radius;
+  const double q[3] = {slave.x(), slave.y(), slave.z()};
+  scratch.clear();
+  impl_->tree.radiusSearch(q, radius * radius * (1.0 + 1e-12), scratch, nanoflann::SearchParams(32, 0.0F, false));
+  for (const auto& item : scratch) {
+    const double bound = lower_bound(slave, static_cast<int>(item.first));
+    if (bound <= reach) out.emplace_back(bound, static_cast<int>(item.first));
+  }
+}
+
+NodeSegmentPair SurfaceSearcher::nearest(long slave_id, const Vec3& slave,
+                                         std::vector<std::pair<double, int>>& candidates, const FaceHint* hint) const {
+  return search_one(impl_->master, impl_->normals, impl_->options, impl_->index, impl_->capture, slave_id, slave,
+                    candidates, hint);
+}
+
+std::vector<NodeSegmentPair> surface_search(const mesh::SurfaceMesh& master, std::span<const Vec3> master_normals,
+                                            std::span<const long> slave_ids, std::span<const Vec3> slave_positions,
+                                            const SearchOptions& options) {
+  CONTACTNN_REQUIRE(slave_ids.size() == slave_positions.size(),
+                    slave_ids.size() << " slave ids for " << slave_positions.size() << " positions");
+  const SurfaceSearcher searcher(master, master_normals, options);
   const auto n = static_cast<long>(slave_ids.size());
   std::vector<NodeSegmentPair> pairs(static_cast<std::size_t>(n));
 #pragma omp parallel
   {
     std::vector<std::pair<double, int>> candidates;
-    std::vector<std::pair<std::uint32_t, double>> found;
+    std::vector<std::pair<std::uint32_t, double>> scratch;
 #pragma omp for schedule(dynamic, 16)
     for (long i = 0; i < n; ++i) {
       const auto u = static_cast<std::size_t>(i);
-      const Vec3& slave = slave_positions[u];
       candidates.clear();
-      if (slave.allFinite() && !index.centres.empty()) {
-        const auto bound = [&](std::size_t s) { return (slave - index.centres[s]).norm() - index.radii[s]; };
-        if (options.brute_force_faces) {
-          for (std::size_t s = 0; s < index.centres.size(); ++s) candidates.emplace_back(bound(s), static_cast<int>(s));
-        } else {
-          // Every centre within capture + the largest radius, then each face by its own sphere.
-          const double reach = capture + largest_radius;
-          const double q[3] = {slave.x(), slave.y(), slave.z()};
-          found.clear();
-          tree.radiusSearch(q, reach * reach * (1.0 + 1e-12), found, nanoflann::SearchParams(32, 0.0F, false));
-          for (const auto& item : found) candidates.emplace_back(bound(item.first), static_cast<int>(item.first));
-        }
-      }
-      pairs[u] = search_one(master, master_normals, options, index, capture, slave_ids[u], slave, candidates);
+      searcher.faces_within(slave_positions[u], searcher.capture(), candidates, scratch);
+      pairs[u] = searcher.nearest(slave_ids[u], slave_positions[u], candidates);
     }
   }
   return pairs;

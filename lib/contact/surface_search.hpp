@@ -34,7 +34,11 @@
 // a small fraction of an element), yet small enough that a slave node is tested against a handful of faces.
 #pragma once
 
+#include <array>
+#include <cstdint>
+#include <memory>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include "contact/global_search.hpp"
@@ -45,6 +49,45 @@ namespace contactnn::contact {
 /// The capture distance of `options` for `master` (world units): options.capture_distance when positive,
 /// else options.capture_relative x the largest face size (0 for a surface without faces).
 [[nodiscard]] double capture_distance(const mesh::SurfaceMesh& master, const SearchOptions& options);
+
+/// A face to try first and the start of its projection (an FE code's previous point: tracking.hpp).
+struct FaceHint {
+  int face = -1;                         ///< index of SurfaceMesh::face_corners
+  std::array<double, 2> param{0.0, 0.0};  ///< local coordinates in the face's own node order
+};
+
+/// The surface search's pieces for one state of a master surface: the faces' bounding spheres, their k-d
+/// tree and adjacency, built once; queries are const and may run concurrently. `master` and
+/// `master_normals` must outlive it.
+class SurfaceSearcher {
+ public:
+  /// InvalidArgument if Gregory normals are missing or the surface's element ids do not match its faces.
+  SurfaceSearcher(const mesh::SurfaceMesh& master, std::span<const Vec3> master_normals, const SearchOptions& options);
+  ~SurfaceSearcher();
+  SurfaceSearcher(const SurfaceSearcher&) = delete;
+  SurfaceSearcher& operator=(const SurfaceSearcher&) = delete;
+
+  [[nodiscard]] double capture() const;
+  /// |S - c_f| - r_f: no point of face f is nearer S than this.
+  [[nodiscard]] double lower_bound(const Vec3& slave, int face) const;
+  /// Step 1 with any reach: appends (lower_bound, face) for every face whose sphere comes within `reach` of
+  /// S (every face when options.brute_force_faces). `scratch` is the tree's work space (reused by a caller's
+  /// loop). Nothing for a non-finite S.
+  void faces_within(const Vec3& slave, double reach, std::vector<std::pair<double, int>>& out,
+                    std::vector<std::pair<std::uint32_t, double>>& scratch) const;
+  /// Steps 2-4 over `candidates` (reordered). With a hint, its face is projected first from the hint's
+  /// start (one warm Newton run instead of the grid of starts, the edges as always); the other faces as
+  /// without it.
+  [[nodiscard]] NodeSegmentPair nearest(long slave_id, const Vec3& slave,
+                                        std::vector<std::pair<double, int>>& candidates,
+                                        const FaceHint* hint = nullptr) const;
+  [[nodiscard]] const std::vector<Vec3>& centres() const;  ///< face centres (mean of the corners)
+  [[nodiscard]] const std::vector<double>& radii() const;  ///< bounding-sphere radii
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
 
 /// Steps 1-4 above for every slave node, in parallel (OpenMP); result i belongs to slave i; deterministic
 /// for any thread count. `master_normals`: unit node normals (mesh::node_normals) for Gregory, ignored for

@@ -152,7 +152,7 @@ ProjectionResult project_point(const SurfaceT& surface, const Vec3& slave, const
     return best;
   }
 
-  const int n = std::max(options.starts_per_axis, 1);
+  const int n = options.warm_start ? 1 : std::max(options.starts_per_axis, 1);
   bool have_inside = false;
   bool have_outside = false;
   bool any_degenerate = false;
@@ -162,7 +162,9 @@ ProjectionResult project_point(const SurfaceT& surface, const Vec3& slave, const
     for (int j = 0; j < n; ++j) {
       // Starts at the centres of an n x n grid of cells: n = 1 is the domain centre.
       const double width = domain.hi - domain.lo;
-      const std::array<double, 2> start = {domain.lo + width * (i + 0.5) / n, domain.lo + width * (j + 0.5) / n};
+      const std::array<double, 2> start =
+          options.warm_start ? options.start
+                             : std::array<double, 2>{domain.lo + width * (i + 0.5) / n, domain.lo + width * (j + 0.5) / n};
       const RunResult run = damped_newton(surface, slave, start, options, length);
       max_iterations_seen = std::max(max_iterations_seen, run.iterations);
       any_invalid = any_invalid || run.invalid;

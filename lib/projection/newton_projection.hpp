@@ -29,6 +29,12 @@ struct ProjectionOptions {
   /// Starts per parameter direction: a starts_per_axis x starts_per_axis grid inside the domain.
   /// 1 means the segment centre only; 3 or more finds the nearer root on warped quads (SPEC 2).
   int starts_per_axis = 3;
+  /// Warm start (an FE code's previous point on the same face): when set, the one start `start` replaces the
+  /// grid. It finds the stationary point whose basin holds the start; the grid's nearest one only where the
+  /// surface has a single stationary point near S (the tracking of lib/contact checks this against fresh
+  /// searches on real histories).
+  bool warm_start = false;
+  std::array<double, 2> start{0.0, 0.0};
 };
 
 /// Result of a projection. `param` and `gap` are finite whenever status is ok or outside; for the
