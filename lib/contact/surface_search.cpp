@@ -129,13 +129,17 @@ projection::FaceClosestPoint closest_on_face(const mesh::SurfaceMesh& master, st
     none.status = *defect;
     return none;
   }
-  projection::ProjectionOptions projection = options.projection;
-  if (start != nullptr) {
-    projection.warm_start = true;
-    projection.start = *start;
-  }
   return geometry::with_surface(config, kind, [&](const auto& surface) {
-    return projection::closest_point_on_face(surface, slave, projection);
+    if (start != nullptr) {
+      // Warm: one run from the previous point. An answer on the boundary may hide an interior point the
+      // warm run missed: then the grid of starts, as a fresh search.
+      projection::ProjectionOptions warm = options.projection;
+      warm.warm_start = true;
+      warm.start = *start;
+      const projection::FaceClosestPoint p = projection::closest_point_on_face(surface, slave, warm);
+      if (p.status != Status::kOk || p.location == Location::kFace) return p;
+    }
+    return projection::closest_point_on_face(surface, slave, options.projection);
   });
 }
 

@@ -1,0 +1,144 @@
+// contact::SurfaceTracker: over a moving history the tracked surface search gives the fresh search's faces,
+// points and gaps at every increment, and answers most nodes from their lists.
+#include "contact/tracking.hpp"
+
+#include <gtest/gtest.h>
+#include <omp.h>
+
+#include <cmath>
+#include <random>
+
+#include "mesh/grid_surface.hpp"
+
+namespace contactnn::contact {
+namespace {
+
+// Points of the two searches agree to rounding: 1e-12 of the face size (about 1).
+constexpr double kSame = 1e-12;
+
+/// A wavy sheet whose waves travel with time t; element q + 1, face S1.
+mesh::SurfaceMesh sheet(double t) {
+  mesh::SurfaceMesh s = testing::grid_surface(12, 8, [&](double i, double j) {
+    return Vec3(i, j, 0.4 * std::sin(0.5 * i + t) * std::cos(0.4 * j - 0.5 * t));
+  });
+  for (std::size_t q = 0; q < s.segments.size(); ++q) {
+    s.segment_faces.push_back({static_cast<int>(q), 1});
+    s.segment_element_ids.push_back(static_cast<long>(q) + 1);
+  }
+  return s;
+}
+
+struct History {
+  std::vector<long> ids;
+  std::vector<Vec3> start, velocity;
+};
+
+History slaves(int n) {
+  History h;
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> x(0.0, 12.0), y(0.0, 8.0), z(-0.6, 0.6), v(-0.05, 0.05);
+  for (int i = 0; i < n; ++i) {
+    h.ids.push_back(i + 1);
+    h.start.emplace_back(x(rng), y(rng), z(rng));
+    h.velocity.emplace_back(v(rng), v(rng), 0.3 * v(rng));
+  }
+  return h;
+}
+
+void expect_same(const std::vector<NodeSegmentPair>& a, const std::vector<NodeSegmentPair>& b, int increment) {
+  ASSERT_EQ(a.size(), b.size());
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    ASSERT_EQ(a[i].status, b[i].status) << "increment " << increment << " slave " << a[i].slave_id;
+    if (a[i].status != PairStatus::kFound) continue;
+    ASSERT_EQ(a[i].segment, b[i].segment) << "increment " << increment << " slave " << a[i].slave_id;
+    ASSERT_LE((a[i].point - b[i].point).norm(), kSame) << "increment " << increment << " slave " << a[i].slave_id;
+    ASSERT_NEAR(a[i].label.gap, b[i].label.gap, kSame);
+    ASSERT_EQ(a[i].location, b[i].location);
+  }
+}
+
+class Tracking : public ::testing::TestWithParam<SurfaceKind> {};
+
+TEST_P(Tracking, GivesTheFreshSearchsFacesPointsAndGapsAtEveryIncrement) {
+  // Fewer nodes on Gregory patches, whose closest points cost ten times more.
+  const int n = GetParam() == SurfaceKind::kGregory ? 300 : 1500;
+  const History h = slaves(n);
+  SearchOptions options;
+  options.surface = GetParam();
+  SurfaceTracker tracker(options);
+  long tracked = 0, warm = 0;
+  for (int increment = 0; increment < 12; ++increment) {
+    const mesh::SurfaceMesh m = sheet(0.05 * increment);
+    const std::vector<Vec3> normals = mesh::node_normals(m);
+    std::vector<Vec3> positions;
+    for (std::size_t i = 0; i < h.ids.size(); ++i) positions.push_back(h.start[i] + increment * h.velocity[i]);
+    TrackingCounts counts;
+    const auto by_tracking = tracker.step(m, normals, h.ids, positions, &counts);
+    const auto fresh = surface_search(m, normals, h.ids, positions, options);
+    expect_same(by_tracking, fresh, increment);
+    EXPECT_EQ(counts.fresh + counts.tracked, static_cast<long>(h.ids.size()));
+    if (increment == 0) {
+      EXPECT_EQ(counts.fresh, static_cast<long>(h.ids.size()));
+    }
+    tracked += counts.tracked;
+    warm += counts.warm;
+  }
+  // Most nodes are answered from their lists, from their previous point.
+  EXPECT_GT(tracked, 8 * n);
+  EXPECT_GT(warm, 8 * n);
+}
+
+TEST_P(Tracking, ANodeThatJumpsFarGetsAFreshListAndItsNewFace) {
+  SearchOptions options;
+  options.surface = GetParam();
+  SurfaceTracker tracker(options);
+  const mesh::SurfaceMesh m = sheet(0.0);
+  const std::vector<Vec3> normals = mesh::node_normals(m);
+  const std::vector<long> ids = {7};
+  TrackingCounts counts;
+  (void)tracker.step(m, normals, ids, std::vector<Vec3>{Vec3(1.5, 1.5, 0.3)}, &counts);
+  const std::vector<Vec3> far = {Vec3(10.5, 6.5, 0.3)};
+  const auto jumped = tracker.step(m, normals, ids, far, &counts);
+  EXPECT_EQ(counts.fresh, 1);
+  expect_same(jumped, surface_search(m, normals, ids, far, options), 1);
+  // A surface with other faces starts over.
+  const mesh::SurfaceMesh smaller = testing::grid_surface(3, 3, [](double i, double j) { return Vec3(i, j, 0.0); });
+  mesh::SurfaceMesh with_ids = smaller;
+  for (std::size_t q = 0; q < with_ids.segments.size(); ++q) {
+    with_ids.segment_faces.push_back({static_cast<int>(q), 1});
+    with_ids.segment_element_ids.push_back(static_cast<long>(q) + 1);
+  }
+  const std::vector<Vec3> on = {Vec3(1.5, 1.5, 0.2)};
+  const auto other = tracker.step(with_ids, mesh::node_normals(with_ids), ids, on, &counts);
+  EXPECT_EQ(counts.fresh, 1);
+  expect_same(other, surface_search(with_ids, mesh::node_normals(with_ids), ids, on, options), 2);
+}
+
+TEST(Tracking, SameResultsForAnyThreadCount) {
+  const History h = slaves(800);
+  std::vector<std::vector<NodeSegmentPair>> runs;
+  for (int threads : {1, 2}) {
+    omp_set_num_threads(threads);
+    SurfaceTracker tracker(SearchOptions{});
+    std::vector<NodeSegmentPair> last;
+    for (int increment = 0; increment < 5; ++increment) {
+      const mesh::SurfaceMesh m = sheet(0.05 * increment);
+      std::vector<Vec3> positions;
+      for (std::size_t i = 0; i < h.ids.size(); ++i) positions.push_back(h.start[i] + increment * h.velocity[i]);
+      last = tracker.step(m, mesh::node_normals(m), h.ids, positions);
+    }
+    runs.push_back(last);
+  }
+  for (std::size_t i = 0; i < runs[0].size(); ++i) {
+    ASSERT_EQ(runs[0][i].segment, runs[1][i].segment);
+    ASSERT_EQ(runs[0][i].label.gap, runs[1][i].label.gap);
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Surfaces, Tracking, ::testing::Values(SurfaceKind::kBilinear, SurfaceKind::kGregory),
+                         [](const ::testing::TestParamInfo<SurfaceKind>& param_info) {
+                           return std::string(to_string(param_info.param));
+                         });
+
+}  // namespace
+}  // namespace contactnn::contact
