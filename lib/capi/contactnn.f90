@@ -11,7 +11,8 @@
 !   param(2, n)   (xi, eta) in [-1, 1]^2 (bilinear) or (u, v) in [0, 1]^2 (Gregory) of the closest point;
 !                 intent(inout): the method start+newton:K reads each query's start from it first
 !   status(n)     CONTACTNN_STATUS_* per query
-!   gap(n)        optional: signed distance along the unit normal at the reported point (< 0: penetration)
+!   gap(n)        optional: signed distance along the unit normal at the reported point (< 0: penetration;
+!                 four_triangles: +-|S - P|, the sign of (S - P).(C - A)x(D - B))
 !   iterations(n) optional: Newton steps taken
 ! which is the C interface's row-major n x 15 / n x 2: nothing is copied for contiguous arrays. Every array
 ! of a call must have the extent n = size(raw, 2) (param: 2 x n); real(c_double) or real(c_float) arrays,
@@ -199,8 +200,10 @@ contains
   end function contactnn_default_options
 
   !> Creates a search: surface CONTACTNN_SURFACE_BILINEAR or _GREGORY; method 'network', 'newton:K',
-  !> 'newton', 'closed_form', 'network+newton:K', 'closed_form+newton:K' or 'start+newton:K' (param holds
-  !> the starts when contactnn_run is called); network: a train-net network file (required by the network
+  !> 'newton', 'closed_form', 'network+newton:K', 'closed_form+newton:K', 'start+newton:K' (K from 0 to
+  !> 1000; param holds the starts when contactnn_run is called) or, bilinear only, 'four_triangles' (after
+  !> OpenRadioss's type 7 contact: the nearest point of the four triangles about the segment's centroid, no
+  !> iteration; its gap is +-|S - P|); network: a train-net network file (required by the network
   !> methods); options: contactnn_default_options() when absent. On failure search holds no handle and
   !> ierr /= CONTACTNN_SUCCESS. A search that already holds one is destroyed first.
   subroutine contactnn_create(search, surface, method, ierr, network, options)

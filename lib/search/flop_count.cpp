@@ -49,6 +49,12 @@ constexpr double kBilinearPlainSetup = 46, kBilinearPlainStep = 3 + 8 + 14 + 7 +
 // Closed form: q, n, |n|^2 17; three triple products 43 and their division by |n|^2 3; discriminant, root and
 // the two roots 11; the plane projections 13; xi for each root 2 x 33; the degeneracy test 12.
 constexpr double kClosedForm = 17 + 43 + 3 + 11 + 13 + 66 + 12;
+// four_triangles (four_triangles_block.hpp): the nodes relative to O 12; 2 (S - O) 3 and the five points' keys
+// 5 x 8; S - O crossed with each node 4 x 9; per edge (4 outer, 4 spokes) the direction and S - X 6, |e|^2 and
+// the projection 10 and t 1, the point 6, its key 8, (xi, eta) 4: 8 x 35; per triangle n 9, |n|^2 5, the two
+// edge lengths 13, 1 / |n|^2 1, the barycentric coordinates 14, the planarity test 2, (xi, eta) 6, the point 9
+// and its key 8: 4 x 67; then N 15, S - P 3, its length 6, its side of N 5, the status test 2.
+constexpr double kFourTriangles = 12 + 3 + 5 * 8 + 4 * 9 + 8 * 35 + 4 * 67 + 15 + 3 + 6 + 5 + 2;
 // Gregory patch (GregoryBlock::build): unit normals 4 x 14; the collapsed-segment test of its corner facet
 // (which gives the longest distance) 142; per node the projected edges and their tests 49 (x 4); edge points
 // 48; per edge the interior points 131 (x 4); base and delta 12.
@@ -99,6 +105,10 @@ FlopCount flops_per_query(SurfaceKind kind, const Method& method, const NetworkM
     // On a Gregory patch the closed form is that of the corner facet: its coefficients too (the patch's build
     // tested it), and the map to (u, v).
     if (method.start == Method::Start::kClosedForm) d += kClosedForm + (gregory ? kBilinearCoefficients + 4 : 0.0);
+    if (method.start == Method::Start::kFourTriangles) {
+      CONTACTNN_REQUIRE_AS(InvalidArgument, !gregory, "four_triangles has no Gregory form");
+      d += kFourTriangles;
+    }
   }
   if (method.is_hybrid()) {
     // The network's start needs the surface too; then one evaluation at the start and one per step (a bilinear

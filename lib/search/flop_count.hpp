@@ -22,7 +22,8 @@ struct FlopCount {
 
 /// `newton_steps`: Newton steps per query for "newton" (to convergence), whose count depends on the data
 /// (the benchmark passes the measured mean); ignored otherwise. The gap is not included (its cost: one
-/// surface evaluation per query). InvalidArgument for a network method without `network`.
+/// surface evaluation per query). InvalidArgument for a network method without `network` and for four_triangles
+/// on Gregory segments.
 [[nodiscard]] FlopCount flops_per_query(SurfaceKind kind, const Method& method, const NetworkModel* network,
                                         double newton_steps = 0.0);
 

@@ -11,9 +11,16 @@
 namespace contactnn::search {
 
 LocalSearch::LocalSearch(SurfaceKind kind, Method method, SearchOptions options, const NetworkModel* network) {
-  CONTACTNN_REQUIRE_AS(
-      InvalidArgument, method.newton_steps >= 0,
-      "method " << method.name() << ": newton_steps = " << method.newton_steps << ", expected >= 0");
+  CONTACTNN_REQUIRE_AS(InvalidArgument, method.newton_steps >= 0 && method.newton_steps <= Method::kMaxSteps,
+                       "method " << method.name() << ": newton_steps = " << method.newton_steps
+                                 << ", expected 0 to " << Method::kMaxSteps);
+  if (method.start == Method::Start::kFourTriangles) {
+    CONTACTNN_REQUIRE_AS(InvalidArgument, kind == SurfaceKind::kBilinear,
+                         "method four_triangles splits a bilinear segment; it has no form for " << to_string(kind)
+                                                                                                 << " segments");
+    CONTACTNN_REQUIRE_AS(InvalidArgument, method.newton_steps == 0 && !method.to_convergence,
+                         "method four_triangles takes no Newton steps; got " << method.name());
+  }
   CONTACTNN_REQUIRE_AS(InvalidArgument, !method.to_convergence || method.start == Method::Start::kCentre,
                        "Newton to convergence starts from the centre; got start " << method.name());
   if (method.needs_network()) {

@@ -30,11 +30,12 @@ struct Results {
   /// count (optional): g = n.(S - P) at the reported point, n the unit normal P_s x P_t of the caller's own
   /// parametrisation (SPEC 2), world units; < 0 is penetration. 0 where the status is invalid or degenerate
   /// or the normal vanishes there. For a network, at its estimate (for Gregory this builds the patch). Real =
-  /// float: a gap beyond the float range is the largest float of its sign.
+  /// float: a gap beyond the float range is the largest float of its sign. four_triangles: +-|S - P| for its
+  /// own point P on the four triangles, the sign of (S - P) . (C - A) x (D - B) (see LocalSearch::run).
   Real* gap = nullptr;
   /// count: ok, outside, no_convergence, degenerate, invalid, out_of_domain (see LocalSearch::run).
   Status* status = nullptr;
-  /// count (optional): Newton steps taken (0 for network and closed_form).
+  /// count (optional): Newton steps taken (0 for network, closed_form and four_triangles).
   std::int32_t* iterations = nullptr;
 };
 
@@ -46,7 +47,9 @@ struct Plan;
 /// run() is const and may be called from several threads at once.
 class LocalSearch {
  public:
-  /// Throws InvalidArgument for a network method without `network` or with a network of another surface kind, a negative step count, or options out of range (max_iterations < 1,
+  /// Throws InvalidArgument for a network method without `network` or with a network of another surface kind, a
+  /// step count below 0 or above Method::kMaxSteps, four_triangles on Gregory segments or with Newton steps, or
+  /// options out of range (max_iterations < 1,
   /// tol_param or domain_margin < 0, box margins < 0, max_step_widths <= 0, max_halvings < 0). `network` must
   /// outlive this object.
   LocalSearch(SurfaceKind kind, Method method, SearchOptions options = {}, const NetworkModel* network = nullptr);
@@ -81,6 +84,19 @@ class LocalSearch {
   ///    network start without a canonical frame (e.g. a straight angle at the canonical corner) is refined from
   ///    the centre; an out_of_domain estimate is refined from itself, and where that refinement fails, again
   ///    from the centre (its steps add up).
+  ///  - four_triangles (bilinear only; Method lists its construction, after OpenRadioss's i7dst3.F): the nearest
+  ///    point P of the four triangles ABO, BCO, CDO, DAO about the centroid O, exact, no iteration, reported in
+  ///    the triangles' piecewise-linear parametrisation, so always in [-1, 1]^2. ok where P is inside the quad
+  ///    or S projects onto its boundary point; outside where P lies on the quad's outer boundary (an edge AB,
+  ///    BC, CD, DA or a corner) and S does not project onto it: the projection of S on the plane of P's
+  ///    triangle, in that triangle's parametrisation extended over its plane, lies more than domain_margin
+  ///    (max norm) from P's (xi, eta). (A triangle of no area, |n|^2 <= 1e-24 |e1|^2 |e2|^2, has no interior
+  ///    and no plane: a point it gives is ok.) degenerate for a collapsed segment as for newton:K; invalid for
+  ///    a non-finite input. The gap is +-|S - P|, negative where (S - P) . (C - A) x (D - B) < 0: that vector,
+  ///    the sum of the four triangles' area vectors, orients the segment as P_xi x P_eta does (OpenRadioss's
+  ///    type 7 is two-sided and its penetration unsigned). On a flat parallelogram P and (xi, eta) are the
+  ///    bilinear facet's closest point for S inside, and the gap is the facet's; elsewhere it is another
+  ///    surface (through the same four nodes and the same centre, flat between them).
   ///  - start+newton:K: as the hybrids, from the caller's start, which run() reads from out.param (each
   ///    query's row before it writes it): an FE code's local coordinates of the pair at the previous time
   ///    step. invalid also for a start that is not finite. On a Gregory patch a failed refinement (or one

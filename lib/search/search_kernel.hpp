@@ -17,6 +17,7 @@
 #include <type_traits>
 
 #include "search/closed_form_block.hpp"
+#include "search/four_triangles_block.hpp"
 #include "search/network_block.hpp"
 #include "search/newton_block.hpp"
 #include "search/search_plan.hpp"
@@ -106,6 +107,7 @@ static void search_rows(const Plan& plan, const In* raw_rows, const Results<In>&
   // often as not: on 100000 held-out configurations retrying every failure turned 62 failures of
   // closed_form+newton:1 into answers, some of them wrong and reported ok).
   double retry_from_centre[W] = {};
+  double triangles_gap[W] = {};  // four_triangles: its gap, in q's units
 
   // 1. The start.
   if (method.start == Method::Start::kNetwork) {
@@ -155,6 +157,13 @@ static void search_rows(const Plan& plan, const In* raw_rows, const Results<In>&
     }
     if (hybrid) {
       for (int l = 0; l < W; ++l) s.status[l] = s.status[l] == kNoConvergence ? kOk : s.status[l];
+    }
+  } else if (method.start == Method::Start::kFourTriangles) {
+    // The four triangles about the centroid (bilinear only: LocalSearch refuses a Gregory kind). The status
+    // (ok or outside) and the gap are the method's own.
+    if constexpr (!kGregory) {
+      build_for_method();
+      four_triangles<W>(q, surf, plan.options.domain_margin, s, triangles_gap);
     }
   } else if (method.start == Method::Start::kGiven) {
     // The caller's start: its row of the param array the results go to (each lane's row is read here, before
@@ -241,8 +250,8 @@ static void search_rows(const Plan& plan, const In* raw_rows, const Results<In>&
     }
   }
 
-  // 3. ok or outside by the domain (a network alone reports its own statuses).
-  if (method.start != Method::Start::kNetwork || hybrid) {
+  // 3. ok or outside by the domain (a network alone and four_triangles report their own statuses).
+  if ((method.start != Method::Start::kNetwork && method.start != Method::Start::kFourTriangles) || hybrid) {
     const double lo = plan.inside_lo, hi = plan.inside_hi;
     CONTACTNN_LANES
     for (int l = 0; l < W; ++l) {
@@ -260,6 +269,8 @@ static void search_rows(const Plan& plan, const In* raw_rows, const Results<In>&
         store.load(l, e);
         gap[l] = gap_at(e);
       }
+    } else if (method.start == Method::Start::kFourTriangles) {
+      for (int l = 0; l < W; ++l) gap[l] = triangles_gap[l];
     } else {
       build();
       CONTACTNN_LANES
@@ -329,8 +340,9 @@ static void search_block(const Plan& plan, const In* raw_rows, const Results<In>
 /// The block kernels of one surface kind. Widths measured on AVX-512 (scripts/bench-search): wider blocks
 /// give each vector operation several independent vectors to overlap, up to the register file: a float network
 /// 32 lanes (its 8 accumulators of 32 floats fill 16 of the 32 vector registers), a double network 16; lean and
-/// safeguarded Newton and the closed form 32 (12.3 ns for newton:5 against 15.5 at 16 and 24.7 at 8); Newton to
-/// convergence 16, since a block iterates until its slowest lane has converged.
+/// safeguarded Newton and the closed form 32 (12.3 ns for newton:5 against 15.5 at 16 and 24.7 at 8); four_triangles
+/// 32 (its time over newton:5's 1.9 at 32 and at 16, within the noise); Newton to convergence 16, since a block iterates until
+/// its slowest lane has converged.
 template <bool kGregory>
 static void select_block_kernels(Plan& plan) {
   const bool network = plan.method.needs_network();

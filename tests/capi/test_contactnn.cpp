@@ -287,6 +287,26 @@ TEST(CApi, LastErrorIsPerThreadAndKeptBySuccesses) {
   EXPECT_EQ(contactnn_last_error(), mine);
 }
 
+TEST(CApi, RefusesFourTrianglesOnGregoryAndStepCountsAboveTheLimit) {
+  // four_triangles exists for bilinear segments only; K of any "...newton:K" is at most 1000.
+  const struct {
+    int surface;
+    const char* method;
+    const char* says;
+  } refused[] = {{CONTACTNN_SURFACE_GREGORY, "four_triangles", "four_triangles"},
+                 {CONTACTNN_SURFACE_BILINEAR, "newton:1001", "limit of 1000"},
+                 {CONTACTNN_SURFACE_GREGORY, "closed_form+newton:100000000", "limit of 1000"}};
+  for (const auto& r : refused) {
+    contactnn_search* s = nullptr;
+    EXPECT_EQ(contactnn_search_create(&s, r.surface, r.method, nullptr, nullptr), CONTACTNN_ERROR_INVALID_ARGUMENT)
+        << r.method;
+    EXPECT_EQ(s, nullptr) << r.method;
+    EXPECT_NE(std::string(contactnn_last_error()).find(r.says), std::string::npos) << contactnn_last_error();
+  }
+  const Handle ok(kBilinear, "four_triangles", nullptr);
+  EXPECT_EQ(contactnn_search_surface(ok.search), CONTACTNN_SURFACE_BILINEAR);
+}
+
 TEST(CApi, StatusNamesAndNumbersAreContactnnsOwn) {
   for (int s = 0; s < kStatusCount; ++s) {
     EXPECT_EQ(std::string(contactnn_status_name(s)), std::string(to_string(static_cast<Status>(s))));

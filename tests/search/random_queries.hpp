@@ -221,13 +221,15 @@ inline std::vector<double> mixed_queries(SurfaceKind kind, std::size_t count, st
 }
 
 /// Methods that together take every path of lib/search's block kernel (network, lean and converged Newton,
-/// the closed form, the hybrids), for tests that compare runs of the same queries. The same on both surfaces
-/// (on a Gregory patch the closed form is its corner facet's). start+newton:2 starts from what the output's
-/// param holds when run() is called: (0, 0) in tests whose outputs start zeroed (the centre of a bilinear
-/// facet, a corner of a Gregory patch).
-inline std::vector<std::string> methods_of([[maybe_unused]] SurfaceKind kind) {
-  return {"network", "newton:0", "newton:3", "newton", "network+newton:2", "closed_form", "closed_form+newton:2",
-          "start+newton:2"};
+/// the closed form, the hybrids, four_triangles), for tests that compare runs of the same queries. The same on
+/// both surfaces (on a Gregory patch the closed form is its corner facet's), but four_triangles, which has no
+/// Gregory form. start+newton:2 starts from what the output's param holds when run() is called: (0, 0) in tests
+/// whose outputs start zeroed (the centre of a bilinear facet, a corner of a Gregory patch).
+inline std::vector<std::string> methods_of(SurfaceKind kind) {
+  std::vector<std::string> methods = {"network", "newton:0", "newton:3", "newton", "network+newton:2", "closed_form",
+                                      "closed_form+newton:2", "start+newton:2"};
+  if (kind == SurfaceKind::kBilinear) methods.emplace_back("four_triangles");
+  return methods;
 }
 
 /// Queries on a tie (tests/search/test_canonical_frame.cpp has the same shapes), each in all 8 node orders and

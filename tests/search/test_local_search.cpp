@@ -4,7 +4,9 @@
 // closed_form against the labels (exact on flat segments); the hybrids against the labels (issue 11's
 // acceptance numbers on held-out random Gregory configurations with the shipped network). Also: float against
 // double, results independent of count, block position and threads, every status reachable, never a NaN;
-// start+newton:K from starts near the labels.
+// start+newton:K from starts near the labels; four_triangles against a reference of its own (Ericson's closest
+// point on each triangle, in long double), a dense sampling of the triangles, the labels on flat
+// parallelograms, point-in-polygon statuses on flat quads and the 8 node orders.
 #include "search/local_search.hpp"
 
 #include <gtest/gtest.h>
@@ -26,6 +28,7 @@
 #include "geometry/affine_frame.hpp"
 #include "geometry/bilinear_patch.hpp"
 #include "geometry/gregory_patch.hpp"
+#include "geometry/segment_checks.hpp"
 #include "geometry/surface_of.hpp"
 #include "io/network_file.hpp"
 #include "projection/newton_projection.hpp"
@@ -551,7 +554,7 @@ TEST(NewtonMethod, ACollapsedBilinearSegmentIsDegenerateAsItsLabelAtAnyScaleAlon
   for (std::size_t i = 0; i < labels.size(); ++i) {
     ASSERT_EQ(labels[i].status == Status::kDegenerate, collapsed[i]) << "query " << i;
   }
-  for (const char* method : {"newton:1", "newton:5", "newton", "closed_form", "closed_form+newton:2"}) {
+  for (const char* method : {"newton:1", "newton:5", "newton", "closed_form", "closed_form+newton:2", "four_triangles"}) {
     const Output<double> block = run_method(kBilinear, method, raw);
     for (std::size_t i = 0; i < labels.size(); ++i) {
       const Status alone = run_method(kBilinear, method, rows_of(raw, kBilinear, i)).status[0];
@@ -707,6 +710,445 @@ TEST(ClosedForm, HandlesParallelogramsAndIsBoundedOnWarpedSegments) {
   }
   EXPECT_LT(sum / n, 0.03);
   EXPECT_LT(failed, n / 100);
+}
+
+// ---- four_triangles ----
+
+/// The reference for four_triangles, written apart from the kernel and in long double: per triangle X Y O the
+/// closest point by Ericson's walk over its Voronoi regions (Real-Time Collision Detection, 5.1.5), where the
+/// kernel projects on the plane and clamps to the edges; the nearest triangle kept (ties: the first).
+struct TrianglesReference {
+  std::array<double, 2> param{};  ///< (xi, eta) in the piecewise-linear parametrisation
+  double distance = 0.0;          ///< |S - P|
+  double normal_side = 0.0;       ///< (S - P) . (C - A) x (D - B), over |S - P| |(C - A) x (D - B)| (a cosine)
+  bool on_boundary = false;       ///< P on an outer edge or a corner (the O weight is 0)
+  double beyond = 0.0;            ///< max-norm distance, in parameters, from P to S's projection on P's plane
+  double runner_up = 0.0;         ///< the distance of the nearest other triangle whose point is not P
+};
+
+using Real3 = std::array<long double, 3>;
+Real3 minus(const Real3& a, const Real3& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
+long double dot(const Real3& a, const Real3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+Real3 cross(const Real3& a, const Real3& b) {
+  return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+}
+Real3 point_of(const Vec3& v) { return {v.x(), v.y(), v.z()}; }
+
+/// Barycentric weights (a, b, c) of the point of triangle a b c nearest p (Ericson).
+std::array<long double, 3> closest_weights(const Real3& p, const Real3& a, const Real3& b, const Real3& c) {
+  const Real3 ab = minus(b, a), ac = minus(c, a), ap = minus(p, a);
+  const long double d1 = dot(ab, ap), d2 = dot(ac, ap);
+  if (d1 <= 0 && d2 <= 0) return {1, 0, 0};
+  const Real3 bp = minus(p, b);
+  const long double d3 = dot(ab, bp), d4 = dot(ac, bp);
+  if (d3 >= 0 && d4 <= d3) return {0, 1, 0};
+  const long double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0 && d1 >= 0 && d3 <= 0) {
+    const long double v = d1 / (d1 - d3);
+    return {1 - v, v, 0};
+  }
+  const Real3 cp = minus(p, c);
+  const long double d5 = dot(ab, cp), d6 = dot(ac, cp);
+  if (d6 >= 0 && d5 <= d6) return {0, 0, 1};
+  const long double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0 && d2 >= 0 && d6 <= 0) {
+    const long double w = d2 / (d2 - d6);
+    return {1 - w, 0, w};
+  }
+  const long double va = d3 * d6 - d5 * d4;
+  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) {
+    const long double w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+    return {0, 1 - w, w};
+  }
+  const long double denom = 1 / (va + vb + vc);
+  return {1 - (vb + vc) * denom, vb * denom, vc * denom};
+}
+
+TrianglesReference triangles_reference(const Configuration& c) {
+  constexpr long double kU[4] = {-1, 1, 1, -1}, kV[4] = {-1, -1, 1, 1};
+  std::array<Real3, 4> node;
+  for (std::size_t i = 0; i < 4; ++i) node[i] = point_of(c.nodes[i]);
+  const Real3 s = point_of(c.slave);
+  Real3 o{};
+  for (const Real3& x : node) {
+    for (int k = 0; k < 3; ++k) o[static_cast<std::size_t>(k)] += x[static_cast<std::size_t>(k)] / 4;
+  }
+  struct Hit {
+    Real3 p;
+    long double distance, u, v, weight_o;
+    std::size_t triangle;
+  };
+  std::vector<Hit> hits;
+  for (std::size_t t = 0; t < 4; ++t) {
+    const Real3 &x = node[t], &y = node[(t + 1) % 4];
+    const std::array<long double, 3> w = closest_weights(s, x, y, o);
+    Real3 p{};
+    for (std::size_t k = 0; k < 3; ++k) p[k] = w[0] * x[k] + w[1] * y[k] + w[2] * o[k];
+    hits.push_back({p, std::sqrt(dot(minus(s, p), minus(s, p))), w[0] * kU[t] + w[1] * kU[(t + 1) % 4],
+                    w[0] * kV[t] + w[1] * kV[(t + 1) % 4], w[2], t});
+  }
+  std::size_t best = 0;
+  for (std::size_t t = 1; t < 4; ++t) best = hits[t].distance < hits[best].distance ? t : best;
+  const Hit& h = hits[best];
+  TrianglesReference r;
+  r.param = {static_cast<double>(h.u), static_cast<double>(h.v)};
+  r.distance = static_cast<double>(h.distance);
+  const Real3 n = cross(minus(node[2], node[0]), minus(node[3], node[1]));
+  const long double side = dot(minus(s, h.p), n);
+  r.normal_side = h.distance > 0 ? static_cast<double>(side / (h.distance * std::sqrt(dot(n, n)))) : 0.0;
+  r.on_boundary = h.weight_o == 0;
+  // S's projection on the plane of P's triangle, in that triangle's parametrisation extended over the plane:
+  // the least-squares weights of S - X on (Y - X, O - X).
+  const Real3 &x = node[best], &y = node[(best + 1) % 4];
+  const Real3 e1 = minus(y, x), e2 = minus(o, x), w = minus(s, x);
+  const long double g11 = dot(e1, e1), g12 = dot(e1, e2), g22 = dot(e2, e2), b1 = dot(e1, w), b2 = dot(e2, w);
+  const long double det = g11 * g22 - g12 * g12;
+  const long double wy = (g22 * b1 - g12 * b2) / det, wo = (g11 * b2 - g12 * b1) / det, wx = 1 - wy - wo;
+  const long double eu = wx * kU[best] + wy * kU[(best + 1) % 4], ev = wx * kV[best] + wy * kV[(best + 1) % 4];
+  r.beyond = static_cast<double>(std::max(std::fabs(eu - h.u), std::fabs(ev - h.v)));
+  r.runner_up = std::numeric_limits<double>::infinity();
+  for (const Hit& other : hits) {
+    if (other.triangle == best || std::sqrt(dot(minus(other.p, h.p), minus(other.p, h.p))) < 1e-9L * h.distance + 1e-12L) continue;
+    r.runner_up = std::min(r.runner_up, static_cast<double>(other.distance));
+  }
+  return r;
+}
+
+/// A point of the four-triangle surface of `nodes`: at random in a triangle's interior, on one of its edges,
+/// or at one of its vertices (O included), by `where` (0, 1, 2).
+Vec3 point_on_triangles(const std::array<Vec3, 4>& nodes, int where, std::mt19937_64& rng) {
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  const Vec3 o = 0.25 * (nodes[0] + nodes[1] + nodes[2] + nodes[3]);
+  const auto t = std::uniform_int_distribution<std::size_t>(0, 3)(rng);
+  const std::array<Vec3, 3> corner = {nodes[t], nodes[(t + 1) % 4], o};
+  if (where == 2) return corner[std::uniform_int_distribution<std::size_t>(0, 2)(rng)];
+  if (where == 1) {
+    const auto e = std::uniform_int_distribution<std::size_t>(0, 2)(rng);
+    const double a = unit(rng);
+    return (1 - a) * corner[e] + a * corner[(e + 1) % 3];
+  }
+  double a = unit(rng), b = unit(rng);
+  if (a + b > 1) {
+    a = 1 - a;
+    b = 1 - b;
+  }
+  return corner[0] + a * (corner[1] - corner[0]) + b * (corner[2] - corner[0]);
+}
+
+/// Random segments of three kinds, each with slaves placed off points of its four triangles (interior, edge,
+/// vertex) by up to 0.5 of the element in a random direction, or far (10 to 1000 elements), then placed at
+/// random in a random node order: kind 0 the paper's domain (warped up to z_C = 0.3), 1 a unit square with each
+/// node moved up to 0.35 in-plane and 0.6 out of it (warped and distorted), 2 four nodes anywhere in a box
+/// (non-convex and folded quads among them; collapsed ones are rejected).
+std::vector<double> triangle_queries(std::size_t count, std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(-1.0, 1.0), unit(0.0, 1.0);
+  std::vector<double> raw;
+  while (raw.size() < 15 * count) {
+    const std::size_t i = raw.size() / 15;
+    Configuration local = testing::random_domain_configuration(kBilinear, rng);
+    if (i % 3 == 1) {
+      const Vec3 square[4] = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0), Vec3(0, 1, 0)};
+      for (std::size_t k = 0; k < 4; ++k) local.nodes[k] = square[k] + Vec3(0.35 * u(rng), 0.35 * u(rng), 0.6 * u(rng));
+    } else if (i % 3 == 2) {
+      for (Vec3& x : local.nodes) x = Vec3(u(rng), u(rng), 0.5 * u(rng));
+      const Vec3 diagonals = (local.nodes[2] - local.nodes[0]).cross(local.nodes[3] - local.nodes[1]);
+      if (diagonals.norm() < 0.05) continue;
+    }
+    const double size = (local.nodes[2] - local.nodes[0]).norm() + (local.nodes[3] - local.nodes[1]).norm();
+    Vec3 direction(u(rng), u(rng), u(rng));
+    direction.normalize();
+    const int where = static_cast<int>(i / 3 % 4);
+    const double reach = where == 3 ? size * std::pow(10.0, 1.0 + 2.0 * unit(rng)) : 0.5 * size * unit(rng);
+    local.slave = point_on_triangles(local.nodes, where % 3, rng) + reach * direction;
+    testing::append_raw(testing::place(local, rng, testing::random_order(rng)), kBilinear, raw);
+  }
+  return raw;
+}
+
+/// Parameters of the kernel agree with the reference's to this: both round near eps times the slave's distance
+/// over the element size (up to 1e3 here), times the conditioning of a thin triangle.
+constexpr double kTrianglesParamTol = 1e-9;
+
+TEST(FourTriangles, IsTheNearestClampedPointOfTheFourTrianglesByAnIndependentReference) {
+  const std::vector<double> raw = triangle_queries(6000, 41);
+  const Output<double> out = run_method(kBilinear, "four_triangles", raw);
+  int compared = 0, ambiguous = 0, outside = 0, degenerate = 0, signs = 0, near_statuses = 0;
+  for (std::size_t i = 0; i < out.status.size(); ++i) {
+    const Configuration c = configuration_of(raw.data(), kBilinear, i);
+    EXPECT_EQ(out.iterations[i], 0);
+    if (geometry::is_degenerate_segment(c.nodes)) {
+      ++degenerate;
+      EXPECT_EQ(out.status[i], Status::kDegenerate) << "query " << i;
+      continue;
+    }
+    const TrianglesReference r = triangles_reference(c);
+    const double size = (c.nodes[2] - c.nodes[0]).norm() + (c.nodes[3] - c.nodes[1]).norm();
+    // The distance is the reference's whatever the winner (two triangles as near S give the same |gap|).
+    EXPECT_NEAR(std::abs(out.gap[i]), r.distance, 1e-11 * (size + r.distance)) << "query " << i;
+    if (r.runner_up - r.distance < 1e-8 * (size + r.distance)) {
+      ++ambiguous;  // another triangle's point as near S: either answer is the nearest point
+      continue;
+    }
+    ++compared;
+    EXPECT_NEAR(out.param[2 * i], r.param[0], kTrianglesParamTol) << "query " << i;
+    EXPECT_NEAR(out.param[2 * i + 1], r.param[1], kTrianglesParamTol) << "query " << i;
+    EXPECT_LE(std::max(std::abs(out.param[2 * i]), std::abs(out.param[2 * i + 1])), 1.0) << "query " << i;
+    if (std::abs(r.normal_side) > 1e-9) {
+      ++signs;
+      EXPECT_EQ(out.gap[i] < 0.0, r.normal_side < 0.0) << "query " << i << ": " << out.gap[i];
+    }
+    // outside: P on the outer boundary and S beyond it by more than domain_margin (1e-10); the statuses are
+    // compared away from that margin.
+    const bool beyond = r.on_boundary && r.beyond > 1e-10;
+    if (r.on_boundary && std::abs(r.beyond - 1e-10) < 1e-8) {
+      ++near_statuses;
+      continue;
+    }
+    EXPECT_EQ(out.status[i], beyond ? Status::kOutside : Status::kOk) << "query " << i << " beyond " << r.beyond;
+    outside += beyond ? 1 : 0;
+  }
+  RecordProperty("compared", compared);
+  RecordProperty("ambiguous", ambiguous);
+  EXPECT_GT(compared, 5500);
+  EXPECT_GT(outside, 1000);
+  EXPECT_GT(signs, 5000);
+  EXPECT_LT(near_statuses, 60);
+  EXPECT_LT(degenerate, 10);
+}
+
+TEST(FourTriangles, NoPointOfADenseSamplingOfTheTrianglesIsNearer) {
+  // Brute force, apart from any closed form: each triangle sampled on a barycentric grid of step 1/120.
+  // Nothing sampled may be nearer S than the reported |gap|; the nearest sample is within the grid's
+  // reach (half a step of the longest edge, squared, added to |gap|^2 bounds it).
+  const std::vector<double> raw = triangle_queries(300, 43);
+  const Output<double> out = run_method(kBilinear, "four_triangles", raw);
+  constexpr int kSteps = 120;
+  for (std::size_t i = 0; i < out.status.size(); ++i) {
+    const Configuration c = configuration_of(raw.data(), kBilinear, i);
+    if (out.status[i] == Status::kDegenerate) continue;
+    const Vec3 o = 0.25 * (c.nodes[0] + c.nodes[1] + c.nodes[2] + c.nodes[3]);
+    double nearest = std::numeric_limits<double>::infinity(), longest = 0.0;
+    for (std::size_t t = 0; t < 4; ++t) {
+      const Vec3 &x = c.nodes[t], &y = c.nodes[(t + 1) % 4];
+      longest = std::max({longest, (y - x).norm(), (o - x).norm(), (o - y).norm()});
+      for (int a = 0; a <= kSteps; ++a) {
+        for (int b = 0; a + b <= kSteps; ++b) {
+          const Vec3 p = x + (static_cast<double>(a) / kSteps) * (y - x) + (static_cast<double>(b) / kSteps) * (o - x);
+          nearest = std::min(nearest, (c.slave - p).norm());
+        }
+      }
+    }
+    const double gap = std::abs(out.gap[i]);
+    EXPECT_GE(nearest, gap * (1.0 - 1e-12) - 1e-12 * longest) << "query " << i;
+    const double reach = longest / kSteps;
+    EXPECT_LE(nearest * nearest, gap * gap + reach * reach + 1e-12 * longest * longest) << "query " << i;
+  }
+}
+
+TEST(FourTriangles, WrittenOutOnTheUnitSquareAndAWarpedQuad) {
+  // The unit square at z = 0 (O = (0.5, 0.5, 0), N = (C - A) x (D - B) = (0, 0, 2)).
+  const std::vector<double> square = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0};
+  const auto query = [](const std::vector<double>& nodes, std::array<double, 3> s) {
+    std::vector<double> raw = nodes;
+    raw.insert(raw.end(), s.begin(), s.end());
+    return run_method(kBilinear, "four_triangles", raw);
+  };
+  struct Known {
+    std::array<double, 3> s;
+    double xi, eta, gap;
+    Status status;
+  };
+  const double r2 = std::sqrt(2.0);
+  for (const Known& k : {Known{{0.25, 0.5, 0.3}, -0.5, 0.0, 0.3, Status::kOk},       // over triangle DAO
+                         Known{{0.5, 0.5, -0.2}, 0.0, 0.0, -0.2, Status::kOk},       // under O
+                         Known{{0.75, 0.2, 0.1}, 0.5, -0.6, 0.1, Status::kOk},       // over ABO
+                         Known{{2.0, 0.5, 1.0}, 1.0, 0.0, r2, Status::kOutside},     // beyond BC, above
+                         Known{{0.5, -1.0, -1.0}, 0.0, -1.0, -r2, Status::kOutside}, // beyond AB, below
+                         Known{{-1.0, 2.0, 0.0}, -1.0, 1.0, r2, Status::kOutside},   // beyond corner D, in the plane
+                         Known{{1.0, 0.0, 0.5}, 1.0, -1.0, 0.5, Status::kOk}}) {     // over corner B
+    const Output<double> out = query(square, k.s);
+    EXPECT_EQ(out.status[0], k.status) << k.s[0] << " " << k.s[1] << " " << k.s[2];
+    EXPECT_NEAR(out.param[0], k.xi, 1e-15) << k.s[0] << " " << k.s[1] << " " << k.s[2];
+    EXPECT_NEAR(out.param[1], k.eta, 1e-15) << k.s[0] << " " << k.s[1] << " " << k.s[2];
+    EXPECT_NEAR(out.gap[0], k.gap, 1e-15) << k.s[0] << " " << k.s[1] << " " << k.s[2];
+  }
+  // Far above the square (S 1e6 and 1e12 element sizes away), over triangle CDO: the same point. Compared by
+  // squared distances from S, the candidates' differences (~size^2) drowned in the common ~height^2, and the
+  // first candidate (an edge of ABO) won the tie of rounding.
+  for (const double height : {1e6, 1e12, -1e12}) {
+    const Output<double> out = query(square, {0.7, 0.8, height});
+    EXPECT_EQ(out.status[0], Status::kOk) << height;
+    EXPECT_NEAR(out.param[0], 0.4, 1e-12) << height;
+    EXPECT_NEAR(out.param[1], 0.6, 1e-12) << height;
+    EXPECT_EQ(out.gap[0], height);
+  }
+  // A warped quad, C lifted to z = 1: O = (0.5, 0.5, 0.25). Triangle BCO has the normal n = (C - B) x (O - B)
+  // = (0, 1, 1) x (-0.5, 0.5, 0.25) = (-0.25, -0.5, 0.5); S = P + 0.3 n / |n| above P = (2 B + 3 C + 5 O) / 10
+  // = (0.75, 0.55, 0.425), whose (xi, eta) = 0.2 (1, -1) + 0.3 (1, 1) = (0.5, 0.1). The other triangles are
+  // farther (by hand: ABO's plane is 0.40 from S; S projects outside CDO and DAO, whose edges are 0.34 and 0.43
+  // away).
+  const std::vector<double> warped = {0, 0, 0, 1, 0, 0, 1, 1, 1, 0, 1, 0};
+  const double n_len = std::sqrt(0.0625 + 0.25 + 0.25);
+  const std::array<double, 3> p = {0.75, 0.55, 0.425};
+  const std::array<double, 3> s = {p[0] - 0.3 * 0.25 / n_len, p[1] - 0.3 * 0.5 / n_len, p[2] + 0.3 * 0.5 / n_len};
+  const Output<double> out = query(warped, s);
+  EXPECT_EQ(out.status[0], Status::kOk);
+  EXPECT_NEAR(out.param[0], 0.5, 1e-14);
+  EXPECT_NEAR(out.param[1], 0.1, 1e-14);
+  // N = (C - A) x (D - B) = (1, 1, 1) x (-1, 1, 0) = (-1, -1, 2); (S - P) . N > 0.
+  EXPECT_NEAR(out.gap[0], 0.3, 1e-14);
+}
+
+TEST(FourTriangles, OnAFlatParallelogramIsTheBilinearFacetsPointWhereSProjectsInside) {
+  // A flat parallelogram is affine in (xi, eta), and O = P(0, 0): the four triangles are the facet and their
+  // piecewise-linear parametrisation its own. Against the labels: the same point, coordinates and gap where
+  // S projects inside; outside where it projects beyond, at the same |S - P| only if P is the nearest point.
+  std::mt19937_64 rng(47);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  std::vector<double> raw;
+  for (int i = 0; i < 600; ++i) {
+    Configuration local = testing::random_domain_configuration(kBilinear, rng);
+    local.nodes[2] = local.nodes[1] + local.nodes[3];  // C = B + D - A with A at the origin
+    if (geometry::is_degenerate_segment(local.nodes)) continue;
+    local.slave = geometry::BilinearPatch(local.nodes).position(1.3 * u(rng), 1.3 * u(rng)) + Vec3(0, 0, u(rng));
+    testing::append_raw(testing::place(local, rng, testing::random_order(rng)), kBilinear, raw);
+  }
+  const Output<double> out = run_method(kBilinear, "four_triangles", raw);
+  const std::vector<dataset::Label> labels = labels_of(raw, kBilinear);
+  int inside = 0, outside = 0;
+  for (std::size_t i = 0; i < labels.size(); ++i) {
+    const Configuration c = configuration_of(raw.data(), kBilinear, i);
+    const double size = (c.nodes[1] - c.nodes[0]).norm() + (c.nodes[3] - c.nodes[0]).norm();
+    if (labels[i].status == Status::kOk) {
+      ++inside;
+      EXPECT_EQ(out.status[i], Status::kOk) << "query " << i;
+      EXPECT_LT(param_error(out, i, labels[i]), 1e-10) << "query " << i;
+      EXPECT_NEAR(out.gap[i], labels[i].gap, 1e-10 * size) << "query " << i;
+    } else if (labels[i].status == Status::kOutside) {
+      ++outside;
+      const double beyond = std::max(std::abs(labels[i].param[0]), std::abs(labels[i].param[1])) - 1.0;
+      if (beyond > 1e-8) {
+        EXPECT_EQ(out.status[i], Status::kOutside) << "query " << i;
+      }
+      EXPECT_GE(std::abs(out.gap[i]), std::abs(labels[i].gap) - 1e-10 * size) << "query " << i;
+    }
+  }
+  EXPECT_GT(inside, 250);
+  EXPECT_GT(outside, 150);
+}
+
+TEST(FourTriangles, OnAFlatSegmentIsOkExactlyWhereSProjectsIntoTheQuad) {
+  // Flat convex quads (C in the plane of A, B, D): S is over the segment, status ok, exactly where its
+  // projection on the plane is inside the quadrilateral (the four edge functions of the polygon, an
+  // independent test); elsewhere outside. Away from the edges by 1e-9 of the element.
+  std::mt19937_64 rng(53);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  std::vector<double> raw;
+  std::vector<int> expected;  // 1 inside, 0 outside, -1 too near an edge to call
+  while (expected.size() < 1500) {
+    Configuration local = testing::random_domain_configuration(kBilinear, rng);
+    local.nodes[2].z() = 0.0;
+    const auto& x = local.nodes;
+    bool convex = true;
+    for (std::size_t k = 0; k < 4; ++k) {
+      const Vec3 e = x[(k + 1) % 4] - x[k], f = x[(k + 2) % 4] - x[(k + 1) % 4];
+      convex = convex && e.cross(f).z() > 1e-3;
+    }
+    if (!convex) continue;
+    local.slave = geometry::BilinearPatch(local.nodes).position(1.5 * u(rng), 1.5 * u(rng)) + Vec3(0, 0, u(rng));
+    int verdict = 1;
+    for (std::size_t k = 0; k < 4; ++k) {
+      const Vec3 e = x[(k + 1) % 4] - x[k], w = local.slave - x[k];
+      const double side = (e.x() * w.y() - e.y() * w.x()) / e.norm();
+      if (std::abs(side) < 1e-9) verdict = -1;
+      if (side < 0.0 && verdict == 1) verdict = 0;
+    }
+    expected.push_back(verdict);
+    testing::append_raw(testing::place(local, rng, testing::random_order(rng)), kBilinear, raw);
+  }
+  const Output<double> out = run_method(kBilinear, "four_triangles", raw);
+  int counts[2] = {0, 0};
+  for (std::size_t i = 0; i < expected.size(); ++i) {
+    if (expected[i] < 0) continue;
+    ++counts[expected[i]];
+    EXPECT_EQ(out.status[i], expected[i] == 1 ? Status::kOk : Status::kOutside) << "query " << i;
+  }
+  EXPECT_GT(counts[0], 300);
+  EXPECT_GT(counts[1], 300);
+}
+
+TEST(FourTriangles, GivesTheSamePointInEachOfTheEightNodeOrders) {
+  // SPEC 4: the four triangles are the same for any of the 8 node orders (O is the centroid of all four), so
+  // the answer moves with the order: caller (xi, eta) = to_caller of the answer in the first order, the gap's
+  // sign follows the orientation (the mirror order reverses (C - A) x (D - B)), the status is the same. Queries
+  // whose nearest point is not unique (two triangles as near) are left out.
+  const std::vector<double> base = triangle_queries(1500, 59);
+  const std::size_t n = base.size() / 15;
+  const std::array<SquareSymmetry, 8> orders = all_square_symmetries();
+  std::vector<double> raw;
+  for (std::size_t i = 0; i < n; ++i) {
+    const Configuration c = configuration_of(base.data(), kBilinear, i);
+    for (const SquareSymmetry& order : orders) {
+      Configuration relabelled = c;
+      for (int k = 0; k < 4; ++k) relabelled.nodes[static_cast<std::size_t>(order.caller_node(k))] = c.nodes[static_cast<std::size_t>(k)];
+      testing::append_raw(relabelled, kBilinear, raw);
+    }
+  }
+  const Output<double> out = run_method(kBilinear, "four_triangles", raw);
+  int compared = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const Configuration c = configuration_of(base.data(), kBilinear, i);
+    if (out.status[8 * i] == Status::kDegenerate) continue;
+    const TrianglesReference r = triangles_reference(c);
+    const double size = (c.nodes[2] - c.nodes[0]).norm() + (c.nodes[3] - c.nodes[1]).norm();
+    if (r.runner_up - r.distance < 1e-8 * (size + r.distance) || (r.on_boundary && std::abs(r.beyond - 1e-10) < 1e-8)) {
+      continue;
+    }
+    ++compared;
+    const std::array<double, 2> first = {out.param[16 * i], out.param[16 * i + 1]};
+    for (std::size_t k = 1; k < 8; ++k) {
+      const SquareSymmetry& order = orders[k];
+      const std::size_t j = 8 * i + k;
+      const std::array<double, 2> expected = order.to_caller(first, kBilinear);
+      EXPECT_EQ(out.status[j], out.status[8 * i]) << "query " << i << " order " << k;
+      EXPECT_NEAR(out.param[2 * j], expected[0], kTrianglesParamTol) << "query " << i << " order " << k;
+      EXPECT_NEAR(out.param[2 * j + 1], expected[1], kTrianglesParamTol) << "query " << i << " order " << k;
+      EXPECT_NEAR(out.gap[j], order.orientation() * out.gap[8 * i], 1e-11 * (size + r.distance))
+          << "query " << i << " order " << k;
+    }
+  }
+  EXPECT_GT(compared, 1300);
+}
+
+TEST(FourTriangles, OfTwoTrianglesAsNearTheFirstInTheOrderABOBCOCDODAOWins) {
+  // A quad symmetric under the half turn about the z axis (A <-> C, B <-> D; dyadic coordinates), S on that
+  // axis: ABO and CDO (and BCO and DAO) are as near S at two points (xi, eta) and (-xi, -eta), with the same bits
+  // (the half turn only negates x and y, which rounding commutes with). Not symmetric under x <-> y, so one
+  // pair is nearer than the other. The answer is the first triangle's of the nearer pair (the reference, whose
+  // long double distances tie the same way, keeps the first too).
+  const std::vector<double> nodes = {-1.5, -1, 1, 1, -0.5, 0, 1.5, 1, 1, -1, 0.5, 0};
+  for (const double height : {2.0, 0.75, -1.0}) {
+    std::vector<double> raw = nodes;
+    raw.insert(raw.end(), {0.0, 0.0, height});
+    const Output<double> out = run_method(kBilinear, "four_triangles", raw);
+    const TrianglesReference r = triangles_reference(configuration_of(raw.data(), kBilinear, 0));
+    SCOPED_TRACE(height);
+    ASSERT_GT(std::max(std::abs(r.param[0]), std::abs(r.param[1])), 0.01);  // two points, not O
+    EXPECT_EQ(out.status[0], Status::kOk);
+    EXPECT_NEAR(out.param[0], r.param[0], 1e-12);
+    EXPECT_NEAR(out.param[1], r.param[1], 1e-12);
+    // In the first triangle of its pair: ABO (eta <= -|xi|) or BCO (xi >= |eta|).
+    EXPECT_TRUE(out.param[1] <= -std::abs(out.param[0]) || out.param[0] >= std::abs(out.param[1]))
+        << out.param[0] << ", " << out.param[1];
+  }
+}
+
+TEST(FourTriangles, IsRefusedOnGregorySegmentsAndWithNewtonSteps) {
+  EXPECT_THROW(LocalSearch(kGregory, Method::parse("four_triangles")), InvalidArgument);
+  EXPECT_THROW(LocalSearch(kBilinear, Method{Method::Start::kFourTriangles, 2, false}), InvalidArgument);
+  EXPECT_THROW(LocalSearch(kBilinear, Method{Method::Start::kFourTriangles, 0, true}), InvalidArgument);
+  EXPECT_NO_THROW(LocalSearch(kBilinear, Method::parse("four_triangles")));
 }
 
 // ---- hybrids ----
@@ -1201,7 +1643,7 @@ TEST(LocalSearch, AFloatGapBeyondTheFloatRangeIsTheLargestFloat) {
   for (const float side : {1.0F, -1.0F}) {
     const std::vector<float> raw = {0, 0, -side * h, length, 0, -side * h, length, length, -side * h,
                                     0, length, -side * h, 0.3F * length, 0.4F * length, side * h};
-    for (const char* method : {"newton:2", "closed_form", "closed_form+newton:2"}) {
+    for (const char* method : {"newton:2", "closed_form", "closed_form+newton:2", "four_triangles"}) {
       const LocalSearch search(kBilinear, Method::parse(method));
       const Output<float> f = run(search, raw);
       const Output<double> d = run(search, std::vector<double>(raw.begin(), raw.end()));
@@ -1348,7 +1790,10 @@ TEST(LocalSearch, ABlockRescaledForOneLaneGivesEveryOtherLaneItsOwnBits) {
     push(raw, 1e-100, gregory ? 1e-99 : 1e-10, gregory);
     for (int i = 0; i < 13; ++i) push(raw, 1.0, 0.1 * (i + 1), gregory);
     const std::vector<dataset::Label> labels = labels_of(raw, kind);
-    for (const char* method : {"newton:5", "newton", "closed_form", "closed_form+newton:2"}) {
+    std::vector<std::string> methods = {"newton:5", "newton", "closed_form", "closed_form+newton:2"};
+    // On these flat squares (S over the inside) the four triangles are the facet: the labels hold for it too.
+    if (!gregory) methods.emplace_back("four_triangles");
+    for (const std::string& method : methods) {
       const Output<double> block = run_method(kind, method, raw);
       for (std::size_t i = 0; i < labels.size(); ++i) {
         const Output<double> alone = run_method(kind, method, rows_of(raw, kind, i));
@@ -1377,7 +1822,7 @@ TEST(LocalSearch, AGapBeyondTheDoubleRangeIsTheLargestDouble) {
     for (int c = 0; c < 3; ++c) raw.push_back(1e308 + 1e300 * (corner[0] * e1[c] + corner[1] * e2[c]));
   }
   raw.insert(raw.end(), {-0.6e308, -0.6e308, -0.6e308});
-  for (const char* method : {"newton:3", "closed_form", "closed_form+newton:2"}) {
+  for (const char* method : {"newton:3", "closed_form", "closed_form+newton:2", "four_triangles"}) {
     const Output<double> out = run_method(kBilinear, method, raw);
     EXPECT_TRUE(std::isfinite(out.gap[0])) << method << ": " << out.gap[0];
     EXPECT_TRUE(out.gap[0] == 0.0 || std::abs(out.gap[0]) == std::numeric_limits<double>::max()) << method;
@@ -1389,8 +1834,8 @@ TEST(LocalSearch, EveryStatusIsReachableAndNoOutputIsEverNaN) {
     const auto& trained = shipped(kind == kBilinear ? "bilinear-8.h5" : "gregory-48.h5");
     const NetworkModel model(trained.network, trained.domain);
     const std::vector<double> raw = mixed_queries(kind, 3000, 19);
-    std::array<std::array<int, kStatusCount>, 8> seen{};
     const std::vector<std::string> names = methods_of(kind);
+    std::vector<std::array<int, kStatusCount>> seen(names.size());
     for (std::size_t m = 0; m < names.size(); ++m) {
       const Output<double> out = run_method(kind, names[m], raw, &model);
       for (std::size_t i = 0; i < out.status.size(); ++i) {
@@ -1423,6 +1868,10 @@ TEST(LocalSearch, RefusesMethodsThatCannotRun) {
   EXPECT_THROW(LocalSearch(kBilinear, Method::parse("network")), InvalidArgument);
   EXPECT_THROW(LocalSearch(kGregory, Method::parse("network"), {}, &model), InvalidArgument);
   EXPECT_THROW(LocalSearch(kBilinear, Method{Method::Start::kCentre, -1, false}), InvalidArgument);
+  // Method::parse bounds K at Method::kMaxSteps; a Method made by hand is held to it too.
+  EXPECT_NO_THROW(LocalSearch(kBilinear, Method{Method::Start::kCentre, Method::kMaxSteps, false}));
+  EXPECT_THROW(LocalSearch(kBilinear, Method{Method::Start::kCentre, Method::kMaxSteps + 1, false}), InvalidArgument);
+  EXPECT_THROW(LocalSearch(kBilinear, Method{Method::Start::kClosedForm, 100000000, false}), InvalidArgument);
   SearchOptions bad;
   bad.max_step_widths = 0.0;
   EXPECT_THROW(LocalSearch(kBilinear, Method::parse("newton:3"), bad), InvalidArgument);
