@@ -153,4 +153,112 @@ std::string histogram_svg(const Histogram& h, const PlotLabels& labels) {
   return s;
 }
 
+std::string line_plot_svg(const std::vector<double>& x, const std::vector<LineSeries>& series,
+                          const PlotLabels& labels, bool log_y) {
+  for (const LineSeries& l : series) {
+    CONTACTNN_REQUIRE(l.y.size() == x.size(), "line_plot_svg: series '" << l.name << "' has " << l.y.size()
+                                                                         << " values for " << x.size() << " x values");
+  }
+  const auto usable = [&](double y) { return std::isfinite(y) && (!log_y || y > 0.0); };
+  const auto transform = [&](double y) { return log_y ? std::log10(y) : y; };
+  double x_lo = 0.0, x_hi = 1.0, y_lo = 0.0, y_hi = 1.0;
+  if (!x.empty()) {
+    x_lo = *std::min_element(x.begin(), x.end());
+    x_hi = *std::max_element(x.begin(), x.end());
+  }
+  if (!(x_hi > x_lo)) x_hi = x_lo + 1.0;
+  bool any = false;
+  for (const LineSeries& l : series) {
+    for (double y : l.y) {
+      if (!usable(y)) continue;
+      const double t = transform(y);
+      y_lo = any ? std::min(y_lo, t) : t;
+      y_hi = any ? std::max(y_hi, t) : t;
+      any = true;
+    }
+  }
+  if (log_y) {
+    y_lo = std::floor(y_lo);
+    y_hi = std::ceil(y_hi);
+  } else {
+    y_lo = std::min(y_lo, 0.0);
+  }
+  if (!(y_hi > y_lo)) y_hi = y_lo + 1.0;
+  const double plot_w = kWidth - kLeft - kRight - 150.0;  // the legend on the right
+  const double plot_h = kHeight - kTop - kBottom;
+  const auto x_of = [&](double v) { return kLeft + (v - x_lo) / (x_hi - x_lo) * plot_w; };
+  const auto y_of = [&](double v) { return kTop + plot_h - (v - y_lo) / (y_hi - y_lo) * plot_h; };
+  static const char* const kColours[] = {"#4a74b0", "#d9742b", "#3a9a4a", "#b03a3a", "#7a5ab0", "#7a6a4a",
+                                         "#c05aa0", "#5a5a5a", "#a0a030", "#30a0a0"};
+
+  std::string s;
+  s += "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n";
+  s += "<svg xmlns=\"http://www.w3.org/2000/svg\" version=\"1.1\" width=\"" + number(kWidth) + "\" height=\"" +
+       number(kHeight) + "\" viewBox=\"0 0 " + number(kWidth) + " " + number(kHeight) + "\">\n";
+  s += "  <title>" + xml_escape(labels.title) + "</title>\n";
+  s += "  <rect x=\"0\" y=\"0\" width=\"" + number(kWidth) + "\" height=\"" + number(kHeight) + "\" fill=\"white\"/>\n";
+  s += "  <text x=\"" + number(kWidth / 2) + "\" y=\"28\" text-anchor=\"middle\" font-family=\"sans-serif\" "
+       "font-size=\"15\">" + xml_escape(labels.title) + "</text>\n";
+  // Axes and ticks.
+  s += "  <g stroke=\"black\" stroke-width=\"1\" fill=\"none\">\n";
+  s += "    <line x1=\"" + number(kLeft) + "\" y1=\"" + number(kTop + plot_h) + "\" x2=\"" + number(kLeft + plot_w) +
+       "\" y2=\"" + number(kTop + plot_h) + "\"/>\n";
+  s += "    <line x1=\"" + number(kLeft) + "\" y1=\"" + number(kTop) + "\" x2=\"" + number(kLeft) + "\" y2=\"" +
+       number(kTop + plot_h) + "\"/>\n";
+  s += "  </g>\n";
+  const std::vector<double> x_ticks = nice_ticks(x_lo, x_hi, 8);
+  std::vector<double> y_ticks;
+  if (log_y) {
+    for (double d = y_lo; d <= y_hi + 1e-9; d += std::max(1.0, std::ceil((y_hi - y_lo) / 8.0))) y_ticks.push_back(d);
+  } else {
+    y_ticks = nice_ticks(y_lo, y_hi, 6);
+  }
+  const double x_step = x_ticks.size() >= 2 ? x_ticks[1] - x_ticks[0] : x_hi - x_lo;
+  const double y_step = y_ticks.size() >= 2 ? y_ticks[1] - y_ticks[0] : y_hi - y_lo;
+  s += "  <g font-family=\"sans-serif\" font-size=\"11\" fill=\"black\">\n";
+  for (const double t : x_ticks) {
+    s += "    <text x=\"" + number(x_of(t)) + "\" y=\"" + number(kTop + plot_h + 18) + "\" text-anchor=\"middle\">" +
+         xml_escape(tick_label(t, x_step)) + "</text>\n";
+  }
+  for (const double t : y_ticks) {
+    const std::string label = log_y ? "1e" + std::to_string(static_cast<int>(std::lround(t))) : tick_label(t, y_step);
+    s += "    <text x=\"" + number(kLeft - 8) + "\" y=\"" + number(y_of(t) + 4) + "\" text-anchor=\"end\">" +
+         xml_escape(label) + "</text>\n";
+  }
+  s += "    <text x=\"" + number(kLeft + plot_w / 2) + "\" y=\"" + number(kHeight - 40) +
+       "\" text-anchor=\"middle\" font-size=\"13\">" + xml_escape(labels.x_label) + "</text>\n";
+  s += "    <text x=\"20\" y=\"" + number(kTop + plot_h / 2) + "\" text-anchor=\"middle\" font-size=\"13\" "
+       "transform=\"rotate(-90 20 " + number(kTop + plot_h / 2) + ")\">" +
+       xml_escape(labels.y_label + (log_y ? " (log scale)" : "")) + "</text>\n";
+  s += "  </g>\n";
+  // Lines (a gap where a value cannot be drawn) and the legend.
+  for (std::size_t k = 0; k < series.size(); ++k) {
+    const char* colour = kColours[k % (sizeof kColours / sizeof kColours[0])];
+    std::string points;
+    const auto flush = [&]() {
+      if (!points.empty()) {
+        s += "  <polyline fill=\"none\" stroke=\"" + std::string(colour) + "\" stroke-width=\"1.5\" points=\"" +
+             points + "\"/>\n";
+      }
+      points.clear();
+    };
+    for (std::size_t i = 0; i < x.size(); ++i) {
+      const double y = series[k].y[i];
+      if (!usable(y) || !std::isfinite(x[i])) {
+        flush();
+        continue;
+      }
+      points += (points.empty() ? "" : " ") + number(x_of(x[i])) + "," + number(y_of(transform(y)));
+    }
+    flush();
+    const double ly = kTop + 12.0 + 18.0 * static_cast<double>(k);
+    s += "  <line x1=\"" + number(kLeft + plot_w + 15) + "\" y1=\"" + number(ly - 4) + "\" x2=\"" +
+         number(kLeft + plot_w + 35) + "\" y2=\"" + number(ly - 4) + "\" stroke=\"" + colour + "\" stroke-width=\"2\"/>\n";
+    s += "  <text x=\"" + number(kLeft + plot_w + 40) + "\" y=\"" + number(ly) +
+         "\" font-family=\"sans-serif\" font-size=\"11\">" + xml_escape(series[k].name) + "</text>\n";
+  }
+  s += "</svg>\n";
+  return s;
+}
+
 }  // namespace contactnn::eval

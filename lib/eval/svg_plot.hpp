@@ -22,6 +22,19 @@ struct PlotLabels {
 /// plotted range are counted there, never dropped). Text is XML-escaped.
 [[nodiscard]] std::string histogram_svg(const Histogram& histogram, const PlotLabels& labels);
 
+/// One named line of a line plot: y[i] at the plot's x[i].
+struct LineSeries {
+  std::string name;
+  std::vector<double> y;
+};
+
+/// SVG 1.1 document (760 x 460 user units) of lines over a common x (e.g. a history's increments): one
+/// polyline and legend entry per series, axes with nice ticks, axis labels and the title. With `log_y` the
+/// y axis is log10 (decades as ticks) and values <= 0 or not finite leave a gap in their line; otherwise
+/// such non-finite values leave a gap. InvalidArgument if a series' length differs from x's.
+[[nodiscard]] std::string line_plot_svg(const std::vector<double>& x, const std::vector<LineSeries>& series,
+                                        const PlotLabels& labels, bool log_y);
+
 /// `text` with &, <, >, " and ' replaced by their XML entities.
 [[nodiscard]] std::string xml_escape(std::string_view text);
 

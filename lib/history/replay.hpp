@@ -1,0 +1,76 @@
+// A simulation replayed increment by increment (SPEC 10 histories): at every increment of a CalculiX result
+// file, the contact pair's surface search done fresh and by tracking (contact/tracking.hpp), the local search
+// of each method on the pairs inside faces, warm starts from the previous increment, and agreement with
+// CalculiX's own contact output. What `replay` runs and reports.
+#pragma once
+
+#include <array>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "contact/global_search.hpp"
+#include "contact/tracking.hpp"
+#include "io/frd_results.hpp"
+#include "mesh/contact_model.hpp"
+#include "search/network_model.hpp"
+
+namespace contactnn::history {
+
+struct ReplayOptions {
+  int pair = 0;                                   ///< SPEC 7's K
+  contact::SearchOptions search;                  ///< surface, capture distance (the surface search's)
+  contact::TrackingOptions tracking;
+  /// Cold local-search methods timed and judged on the pairs inside a segment face (lib/search names).
+  std::vector<std::string> methods = {"newton:3", "newton:5", "closed_form", "closed_form+newton:2"};
+  /// Warm starts: start+newton:K from the previous increment's point, for each K here, on the nodes that
+  /// keep their face.
+  std::vector<int> warm_steps = {0, 1, 2, 3};
+  const search::NetworkModel* network = nullptr;  ///< for network methods (must outlive the replay)
+  int repeats = 3;                                ///< timings: the fastest of this many runs of each call
+  int threads = 1;                                ///< OpenMP threads of every timed phase
+};
+
+/// One method's local search on one increment's pairs inside faces.
+struct MethodRow {
+  std::string method;
+  long queries = 0;
+  double ns_per_query = 0.0;     ///< batched, the fastest of `repeats`
+  double mean_error = 0.0;       ///< mean of max(|d xi|, |d eta|) against the surface search's point (local units)
+  double max_error = 0.0;
+  long failures = 0;             ///< status not ok / outside
+};
+
+/// Everything measured at one increment.
+struct IncrementRow {
+  int increment = 0;                ///< SPEC 10's N
+  int step = 0;
+  double time = 0.0;
+  long slaves = 0;
+  long found = 0;                   ///< slave nodes with a point
+  std::array<long, 3> locations{};  ///< face, edge, vertex
+  long faces_changed = 0;           ///< found nodes whose face differs from the previous increment's
+  long tracking_differences = 0;    ///< nodes whose tracked face, point (1e-12 of its face) or gap differs
+  contact::TrackingCounts tracking;
+  double ns_scene = 0.0;            ///< per slave node: nodes moved, faces, node normals, slave positions
+  double ns_fresh = 0.0;            ///< per slave node: the fresh surface search
+  double ns_tracked = 0.0;          ///< per slave node: the tracked search
+  std::vector<MethodRow> methods;   ///< cold methods, then start+newton:K (warm, the kept faces only)
+  long calculix_contacts = 0;       ///< the pair's slave nodes with COPEN < 0 in the file (-1: no CONTACT block)
+  long calculix_found = 0;          ///< of those, with a point
+  double calculix_largest_difference = 0.0;  ///< max |gap - COPEN| over those found
+};
+
+/// Replays every increment of `results` on pair options.pair of `model` (whose nodes it moves).
+/// `progress` (may be empty) is called after each increment with (done, total).
+[[nodiscard]] std::vector<IncrementRow> replay(mesh::ContactModel& model, const io::FrdResults& results,
+                                               const ReplayOptions& options,
+                                               const std::function<void(int, int)>& progress = {});
+
+/// report.md (summary and per-increment tables), increments.csv, and the SVG plots time.svg (ns per slave node
+/// of each phase), error.svg (mean |error| of each method, log scale) and locations.svg (contacts by location)
+/// in `directory` (created), each written atomically. `title` names the run (deck, pair, results file).
+void write_replay_report(const std::string& directory, const std::string& title, const ReplayOptions& options,
+                         const std::vector<IncrementRow>& rows);
+
+}  // namespace contactnn::history
