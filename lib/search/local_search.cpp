@@ -1,7 +1,10 @@
 #include "search/local_search.hpp"
 
+#include "search/face_boundary.hpp"
+
 #include <omp.h>
 
+#include <algorithm>
 #include <iterator>
 #include <type_traits>
 
@@ -161,6 +164,22 @@ void LocalSearch::run(std::size_t count, const Real* raw, Results<Real> out, int
     for (std::size_t b = 0; b < blocks; ++b) block(plan, raw, out, b * width);
   }
   for (std::size_t i = blocks * width; i < count; ++i) single(plan, raw, out, i);
+
+  // The whole face (SearchOptions::closest_point_on_face): answers outside go to the boundary; the others pay a
+  // byte compare in a tight loop (the branch is rarely taken). Each query's own arithmetic: the same bits in any
+  // batch.
+  if (out.location != nullptr) std::fill(out.location, out.location + count, Location::kFace);
+  if (plan.options.closest_point_on_face) {
+    const auto columns = static_cast<std::size_t>(raw_columns(plan.kind));
+    const auto move = [&](std::size_t i) {
+      detail::move_to_face_boundary(plan.kind, raw + i * columns, out.param + 2 * i,
+                                    out.gap != nullptr ? out.gap + i : nullptr, out.status + i,
+                                    out.location != nullptr ? out.location + i : nullptr);
+    };
+    for (std::size_t i = 0; i < count; ++i) {
+      if (out.status[i] == Status::kOutside) [[unlikely]] move(i);
+    }
+  }
 }
 
 namespace detail {

@@ -37,6 +37,10 @@ struct Results {
   Status* status = nullptr;
   /// count (optional): Newton steps taken (0 for network, closed_form and four_triangles).
   std::int32_t* iterations = nullptr;
+  /// count (optional): where the reported point lies on the segment: face for status ok, edge or vertex for a
+  /// point SearchOptions::closest_point_on_face moved to the boundary; face also for the other statuses
+  /// (whose point is not on the segment: read the status).
+  Location* location = nullptr;
 };
 
 namespace detail {

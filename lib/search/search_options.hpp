@@ -41,6 +41,11 @@ struct SearchOptions {
   /// Network methods: test each query against the network's training domain (status out_of_domain). A query on a
   /// tie averages the network over its canonical forms in the domain; without the test, over all of them.
   bool check_domain = true;
+  /// The closest point of the whole face (SPEC 9): a query whose method answers `outside` is moved to the
+  /// nearest point of its segment's boundary (edges and vertices), with status ok, its gap +-|S - P| and
+  /// Results::location edge or vertex. Off: SPEC 2's stationary point outside the segment, as the labels of
+  /// RAW.csv report it. A query answered inside pays one status test.
+  bool closest_point_on_face = false;
   /// Below this many queries run() stays on the calling thread: an OpenMP region costs microseconds.
   std::size_t min_parallel_count = 512;
 };
