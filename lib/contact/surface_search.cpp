@@ -65,6 +65,7 @@ std::array<Vec3, 3> triangle_nodes(const mesh::SurfaceMesh& master, int f) {
 struct FaceIndex {
   std::vector<Vec3> centres;
   std::vector<double> radii;  ///< bounding-sphere radius about the centre
+  std::vector<Vec3> box_lo, box_hi;  ///< bounding box of the same points
   std::vector<double> sizes;  ///< longest node distance
   /// Faces sharing each edge, by its two surface nodes (smaller first): (face, edge) pairs.
   std::unordered_map<std::uint64_t, std::vector<std::pair<int, int>>> edges;
@@ -82,6 +83,8 @@ FaceIndex index_faces(const mesh::SurfaceMesh& master, std::span<const Vec3> nor
   const auto n = static_cast<std::size_t>(master.face_count());
   index.centres.resize(n);
   index.radii.resize(n);
+  index.box_lo.resize(n);
+  index.box_hi.resize(n);
   index.sizes.resize(n);
   index.node_faces.resize(master.positions.size());
   for (std::size_t f = 0; f < n; ++f) {
@@ -91,9 +94,17 @@ FaceIndex index_faces(const mesh::SurfaceMesh& master, std::span<const Vec3> nor
     for (int c : corners) centre += master.positions[static_cast<std::size_t>(c)];
     centre /= static_cast<double>(corners.size());
     double radius = 0.0, size = 0.0;
+    // The bounding sphere and box of the points whose convex hull holds the face (nodes, control points).
+    Vec3 box_lo = Vec3::Constant(std::numeric_limits<double>::infinity());
+    Vec3 box_hi = -box_lo;
+    const auto include = [&](const Vec3& x) {
+      radius = std::max(radius, (x - centre).norm());
+      box_lo = box_lo.cwiseMin(x);
+      box_hi = box_hi.cwiseMax(x);
+    };
     for (int c : corners) {
       const Vec3& x = master.positions[static_cast<std::size_t>(c)];
-      radius = std::max(radius, (x - centre).norm());
+      include(x);
       for (int d : corners) size = std::max(size, (x - master.positions[static_cast<std::size_t>(d)]).norm());
     }
     if (corners.size() == 4 && kind_of(master, options, face) == SurfaceKind::kGregory) {
@@ -101,11 +112,13 @@ FaceIndex index_faces(const mesh::SurfaceMesh& master, std::span<const Vec3> nor
       if (!geometry::surface_defect(config, SurfaceKind::kGregory)) {
         // The patch lies in the convex hull of its control points (each interior point mixes two of them).
         const geometry::GregoryPatch patch(config.nodes, config.normals);
-        for (const Vec3& x : patch.control_points()) radius = std::max(radius, (x - centre).norm());
+        for (const Vec3& x : patch.control_points()) include(x);
       }
     }
     index.centres[f] = centre;
     index.radii[f] = radius;
+    index.box_lo[f] = box_lo;
+    index.box_hi[f] = box_hi;
     index.sizes[f] = size;
     const auto k = static_cast<int>(corners.size());
     for (int e = 0; e < k; ++e) {
@@ -372,7 +385,10 @@ double SurfaceSearcher::capture() const { return impl_->capture; }
 
 double SurfaceSearcher::lower_bound(const Vec3& slave, int face) const {
   const auto f = static_cast<std::size_t>(face);
-  return (slave - impl_->index.centres[f]).norm() - impl_->index.radii[f];
+  const FaceIndex& index = impl_->index;
+  // The larger of two bounds: the sphere's (loose beside a flat face) and the box's (tight beside one).
+  const Vec3 outside = (index.box_lo[f] - slave).cwiseMax(slave - index.box_hi[f]).cwiseMax(Vec3::Zero());
+  return std::max((slave - index.centres[f]).norm() - index.radii[f], outside.norm());
 }
 
 const std::vector<Vec3>& SurfaceSearcher::centres() const { return impl_->index.centres; }

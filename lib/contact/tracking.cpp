@@ -58,7 +58,8 @@ std::vector<NodeSegmentPair> SurfaceTracker::step(const mesh::SurfaceMesh& maste
   const double margin = tracking_.margin_relative * capture;
   std::vector<NodeSegmentPair> pairs(n);
   long fresh = 0, tracked = 0, warm = 0, list_faces = 0;
-#pragma omp parallel reduction(+ : fresh, tracked, warm, list_faces)
+  // A parallel region costs microseconds: only for enough nodes (the answers do not depend on it).
+#pragma omp parallel reduction(+ : fresh, tracked, warm, list_faces) if (n >= 512)
   {
     std::vector<std::pair<double, int>> candidates;
     std::vector<std::pair<std::uint32_t, double>> scratch;

@@ -145,10 +145,18 @@ std::vector<IncrementRow> replay(mesh::ContactModel& model, const io::FrdResults
       fresh_seconds = std::min(fresh_seconds, seconds_since(start));
     }
     row.ns_fresh = fresh_seconds * per_node;
-    start = Clock::now();
-    const std::vector<contact::NodeSegmentPair> tracked =
-        tracker.step(scene.master, scene.master_normals, scene.slave_ids, scene.slave_positions, &row.tracking);
-    row.ns_tracked = seconds_since(start) * per_node;
+    // Tracking keeps state: each timed run steps a copy of the tracker (the copy outside the time), the last
+    // one goes on.
+    std::vector<contact::NodeSegmentPair> tracked;
+    double tracked_seconds = std::numeric_limits<double>::infinity();
+    for (int r = 0; r < std::max(options.repeats, 1); ++r) {
+      contact::SurfaceTracker trial = tracker;
+      start = Clock::now();
+      tracked = trial.step(scene.master, scene.master_normals, scene.slave_ids, scene.slave_positions, &row.tracking);
+      tracked_seconds = std::min(tracked_seconds, seconds_since(start));
+      if (r + 1 == std::max(options.repeats, 1)) tracker = std::move(trial);
+    }
+    row.ns_tracked = tracked_seconds * per_node;
     std::vector<char> kept(fresh.size(), 0);
     for (std::size_t i = 0; i < fresh.size(); ++i) {
       row.tracking_differences += !same_answer(fresh[i], tracked[i]);
@@ -296,7 +304,7 @@ void write_replay_report(const std::string& directory, const std::string& title,
   std::string md = "# Replay: " + eval::xml_escape(title) + "\n\n";
   md += std::to_string(rows.size()) + " increments, " + std::string(to_string(options.search.surface)) +
         " surface, " + std::to_string(options.threads) + " thread(s); timings are the fastest of " +
-        std::to_string(options.repeats) + " runs of each call (tracking: once, it keeps state).\n\n";
+        std::to_string(options.repeats) + " runs of each call (tracking: each run steps a copy of the tracker).\n\n";
   md += "## Surface search per increment (ns per slave node, over all increments)\n\n";
   md += "| phase | ns per slave node | ratio to fresh |\n|---|---|---|\n";
   md += "| scene (nodes moved, faces, normals) | " + fmt("%.0f", per(scene_ns, slaves)) + " | |\n";
