@@ -24,7 +24,13 @@
 //   scene mode:  OUTPUT (.csv): one row per slave node of contact pair K of an .inp deck (SPEC 7), in
 //                increasing node id: slave,a,b,c,d, the raw columns ax..sz (nax..ndz for Gregory), then the
 //                label mode's columns; with the surface search (the default, SPEC 9) then
-//                location,px,py,pz,face_type,nodes. With --results RUN.frd the deck's nodes are moved to
+//                location,px,py,pz,face_type,nodes: face_type quad4, quad8, tri3 or tri6, nodes the face's
+//                nodes in its own order (corners, then a quadratic face's mid-side nodes); a face that is not
+//                a quad4 leaves a,b,c,d and the raw columns empty and puts its own local coordinates ((xi, eta)
+//                of a quad8, (r, s) of a triangle) in the coordinate columns, under either --surface (a
+//                quadratic face is its own surface under gregory too). The surface search's slave nodes are
+//                every node of the slave faces, mid-side nodes included (SPEC 9); --search nearest_node keeps
+//                SPEC 7's corner nodes. With --results RUN.frd the deck's nodes are moved to
 //                --increment N|last|all of a CalculiX run (SPEC 10; `all`: every increment's rows, an
 //                `increment` column first). A summary with the scene's shape statistics on stdout. With
 //                --sampling random --count N: a dataset (.h5) of the scene's domain (scene_sampling.hpp).
@@ -194,6 +200,21 @@ contact::Scene scene_of(const mesh::ContactModel& model, const std::string& deck
 
 contact::Scene read_scene(const std::string& deck, int pair) { return scene_of(io::read_inp_deck(deck), deck, pair); }
 
+/// The paper's nearest-node search keeps SPEC 7's slave nodes: an element surface's face corners, without the
+/// mid-side nodes of quadratic faces that the surface search adds (SPEC 9; mesh::SlaveNodes).
+void keep_corner_slaves(contact::Scene& scene) {
+  std::size_t kept = 0;
+  for (std::size_t i = 0; i < scene.slave_ids.size(); ++i) {
+    if (i < scene.slaves.midside.size() && scene.slaves.midside[i] != 0) continue;
+    scene.slave_ids[kept] = scene.slave_ids[i];
+    scene.slave_positions[kept] = scene.slave_positions[i];
+    ++kept;
+  }
+  scene.slave_ids.resize(kept);
+  scene.slave_positions.resize(kept);
+  scene.slaves = mesh::corner_slaves(scene.slaves);
+}
+
 /// The increments --increment names (SPEC 10): N, "last" or "all"; indices into results.increments.
 std::vector<std::size_t> increments_named(const io::FrdResults& results, const std::string& increment) {
   if (increment == "all") {
@@ -257,6 +278,7 @@ int scene_mode(const std::string& deck, int pair, const contact::SearchOptions& 
   for (const std::size_t increment : increments) {
     if (results) io::move_to_increment(model.mesh, *results, increment);
     scene = scene_of(model, deck, pair);
+    if (!surface_search) keep_corner_slaves(*scene);
     result = contact::search_scene(*scene, options);
     // 4. One row per slave node: ids, world coordinates (round-trip exact), the label, the closest point.
     for (const contact::NodeSegmentPair& p : result->pairs) {
@@ -269,8 +291,9 @@ int scene_mode(const std::string& deck, int pair, const contact::SearchOptions& 
         io::append_csv_row(text, row);
         continue;
       }
-      const std::span<const int> corners = scene->master.face_corners(p.segment);
-      if (corners.size() == 4) {
+      // The nearest-node search pairs every slave with a segment by its 4 corners (SPEC 7), whatever its type.
+      const mesh::FaceNodes face = scene->master.face_nodes(p.segment);
+      if (!surface_search || face.type == mesh::FaceType::kQuad4) {
         for (int n : p.nodes) row[c++] = std::to_string(scene->master.node_ids[static_cast<std::size_t>(n)]);
         for (const auto& x : p.config.nodes) {
           for (int k = 0; k < 3; ++k) row[c++] = io::format_double(x[k]);
@@ -282,7 +305,8 @@ int scene_mode(const std::string& deck, int pair, const contact::SearchOptions& 
           }
         }
       } else {
-        // SPEC 9: a face that is not a quad4 has no SPEC 7 configuration; (r, s) go in the coordinate columns.
+        // SPEC 9: a face that is not a quad4 has no SPEC 7 configuration; its own local coordinates ((xi, eta)
+        // of a quad8, (r, s) of a triangle, in the face's own node order) go in the coordinate columns.
         c += 4 + kRawPointColumns.size() + (gregory ? kRawNormalColumns.size() : 0);
       }
       for (std::string& field : label_fields(p.label)) row[c++] = std::move(field);
@@ -290,9 +314,9 @@ int scene_mode(const std::string& deck, int pair, const contact::SearchOptions& 
         ++locations[static_cast<std::size_t>(p.location)];
         row[c++] = std::string(to_string(p.location));
         for (int k = 0; k < 3; ++k) row[c++] = io::format_double(p.point[k] + 0.0);
-        row[c++] = corners.size() == 4 ? "quad4" : "tri3";
-        std::string face_nodes;
-        for (int n : corners) {
+        row[c++] = std::string(mesh::to_string(face.type));
+        std::string face_nodes;  // corners, then a quadratic face's mid-side nodes (SPEC 9)
+        for (int n : face) {
           face_nodes += (face_nodes.empty() ? "" : " ") + std::to_string(scene->master.node_ids[static_cast<std::size_t>(n)]);
         }
         row[c++] = std::move(face_nodes);
@@ -320,7 +344,10 @@ int scene_mode(const std::string& deck, int pair, const contact::SearchOptions& 
   }
   // A pair with nothing to search is valid input but almost certainly not what the user meant (a 2-D deck, shell
   // or tetrahedral surfaces, a set that names no element): say so where a script will see it.
-  if (scene->master.segments.empty() || scene->slave_ids.empty()) {
+  // (The surface search also has the master's other faces: triangles, wedge and quadratic faces.)
+  const std::size_t searched = surface_search ? static_cast<std::size_t>(scene->master.face_count())
+                                              : scene->master.segments.size();
+  if (searched == 0 || scene->slave_ids.empty()) {
     std::fprintf(stderr,
                  "gen-configs: warning: contact pair %d of %s has %zu master segments and %zu slave nodes (faces "
                  "skipped, master: %s; slave: %s); %s has no pair\n",
@@ -337,7 +364,8 @@ int scene_mode(const std::string& deck, int pair, const contact::SearchOptions& 
 dataset::LabelledSet scene_domain(const std::string& deck, int pair, dataset::SceneDomainOptions domain,
                                   const dataset::EnumerationOptions& options, std::int64_t count,
                                   dataset::EnumerationSummary& summary, const dataset::ProgressFn& progress) {
-  const contact::Scene scene = read_scene(deck, pair);
+  contact::Scene scene = read_scene(deck, pair);
+  keep_corner_slaves(scene);
   contact::SearchOptions search;
   // The segments the paper's search pairs every slave node with: the offsets of all of them, far ones too.
   search.search = contact::GlobalSearchKind::kNearestNode;

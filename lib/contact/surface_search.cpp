@@ -11,8 +11,11 @@
 #include "core/error.hpp"
 #include "geometry/bilinear_patch.hpp"
 #include "geometry/gregory_patch.hpp"
+#include "geometry/quadratic_triangle.hpp"
+#include "geometry/serendipity_quad.hpp"
 #include "geometry/surface_of.hpp"
 #include "projection/closest_point_on_face.hpp"
+#include "projection/closest_point_on_quadratic_face.hpp"
 
 namespace contactnn::contact {
 
@@ -36,13 +39,14 @@ struct Centres {
 using CentreTree =
     nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, Centres>, Centres, 3, std::uint32_t>;
 
-/// The surface kind face f is searched on: the segments (C3D8, C3D20) on the search's own surface, the
-/// extra faces (wedge quadrilaterals) always as bilinear facets (their nodes need not have Eq 26 normals).
+/// The surface kind a quad4 face f is searched on: the segments (C3D8) on the search's own surface, the extra
+/// faces (wedge quadrilaterals) always as bilinear facets (their nodes need not have Eq 26 normals).
 SurfaceKind kind_of(const mesh::SurfaceMesh& master, const SearchOptions& options, int f) {
   return static_cast<std::size_t>(f) < master.segments.size() ? options.surface : SurfaceKind::kBilinear;
 }
 
-/// The configuration of quadrilateral face f in its own node order (Gregory: with the master's node normals).
+/// The configuration of quadrilateral face f's corners in its own node order (Gregory: with the master's node
+/// normals).
 geometry::Configuration face_configuration(const mesh::SurfaceMesh& master, std::span<const Vec3> normals,
                                            SurfaceKind kind, int f) {
   geometry::Configuration config;
@@ -61,15 +65,38 @@ std::array<Vec3, 3> triangle_nodes(const mesh::SurfaceMesh& master, int f) {
           master.positions[static_cast<std::size_t>(c[2])]};
 }
 
+template <std::size_t N>
+std::array<Vec3, N> face_positions(const mesh::SurfaceMesh& master, const mesh::FaceNodes& nodes) {
+  std::array<Vec3, N> x;
+  for (std::size_t i = 0; i < N; ++i) x[i] = master.positions[static_cast<std::size_t>(nodes.nodes[i])];
+  return x;
+}
+
+/// Returns fn(surface) for face f's surface, a face that is not a flat triangle: a BilinearPatch or a
+/// GregoryPatch (quad4, kind_of), a SerendipityQuad (quad8) or a QuadraticTriangle (tri6; under either
+/// --surface, a quadratic face is its own surface). `fallback` where a Gregory patch does not exist (its
+/// defect, e.g. a zero node normal).
+template <class R, class Fn>
+R with_face_surface(const mesh::SurfaceMesh& master, std::span<const Vec3> normals, const SearchOptions& options,
+                    int f, const R& fallback, Fn&& fn) {
+  const mesh::FaceNodes nodes = master.face_nodes(f);
+  if (nodes.type == mesh::FaceType::kQuad8) return fn(geometry::SerendipityQuad(face_positions<8>(master, nodes)));
+  if (nodes.type == mesh::FaceType::kTri6) return fn(geometry::QuadraticTriangle(face_positions<6>(master, nodes)));
+  const SurfaceKind kind = kind_of(master, options, f);
+  const geometry::Configuration config = face_configuration(master, normals, kind, f);
+  if (geometry::surface_defect(config, kind)) return fallback;
+  return geometry::with_surface(config, kind, [&](const auto& surface) -> R { return fn(surface); });
+}
+
 /// Everything the search needs of the faces, built once: centres, bounding radii, sizes, adjacency.
 struct FaceIndex {
   std::vector<Vec3> centres;
   std::vector<double> radii;  ///< bounding-sphere radius about the centre
   std::vector<Vec3> box_lo, box_hi;  ///< bounding box of the same points
-  std::vector<double> sizes;  ///< longest node distance
-  /// Faces sharing each edge, by its two surface nodes (smaller first): (face, edge) pairs.
+  std::vector<double> sizes;  ///< longest corner distance
+  /// Faces sharing each edge, by its two corner nodes (smaller first): (face, edge) pairs.
   std::unordered_map<std::uint64_t, std::vector<std::pair<int, int>>> edges;
-  std::vector<std::vector<int>> node_faces;  ///< the faces at each surface node, increasing
+  std::vector<std::vector<int>> node_faces;  ///< the faces at each surface node (as a corner), increasing
 
   static std::uint64_t edge_key(int a, int b) {
     const auto lo = static_cast<std::uint64_t>(std::min(a, b));
@@ -90,6 +117,7 @@ FaceIndex index_faces(const mesh::SurfaceMesh& master, std::span<const Vec3> nor
   for (std::size_t f = 0; f < n; ++f) {
     const auto face = static_cast<int>(f);
     const std::span<const int> corners = master.face_corners(face);
+    const mesh::FaceNodes nodes = master.face_nodes(face);
     Vec3 centre = Vec3::Zero();
     for (int c : corners) centre += master.positions[static_cast<std::size_t>(c)];
     centre /= static_cast<double>(corners.size());
@@ -102,12 +130,21 @@ FaceIndex index_faces(const mesh::SurfaceMesh& master, std::span<const Vec3> nor
       box_lo = box_lo.cwiseMin(x);
       box_hi = box_hi.cwiseMax(x);
     };
+    for (int c : nodes) include(master.positions[static_cast<std::size_t>(c)]);
     for (int c : corners) {
       const Vec3& x = master.positions[static_cast<std::size_t>(c)];
-      include(x);
       for (int d : corners) size = std::max(size, (x - master.positions[static_cast<std::size_t>(d)]).norm());
     }
-    if (corners.size() == 4 && kind_of(master, options, face) == SurfaceKind::kGregory) {
+    // A curved face lies in the convex hull of its control points, not of its nodes: the sphere holds those.
+    if (nodes.type == mesh::FaceType::kQuad8) {
+      for (const Vec3& x : geometry::SerendipityQuad(face_positions<8>(master, nodes)).bezier_control_points()) {
+        include(x);
+      }
+    } else if (nodes.type == mesh::FaceType::kTri6) {
+      for (const Vec3& x : geometry::QuadraticTriangle(face_positions<6>(master, nodes)).bezier_control_points()) {
+        include(x);
+      }
+    } else if (corners.size() == 4 && kind_of(master, options, face) == SurfaceKind::kGregory) {
       const geometry::Configuration config = face_configuration(master, normals, SurfaceKind::kGregory, face);
       if (!geometry::surface_defect(config, SurfaceKind::kGregory)) {
         // The patch lies in the convex hull of its control points (each interior point mixes two of them).
@@ -130,29 +167,55 @@ FaceIndex index_faces(const mesh::SurfaceMesh& master, std::span<const Vec3> nor
   return index;
 }
 
-/// The closest point of face f to `slave` (projection::closest_point_on_face or closest_point_on_triangle).
+/// The closest point of a face's surface (the overloads pick the projection of each face type).
+template <geometry::Surface SurfaceT>
+projection::FaceClosestPoint closest_on(const SurfaceT& surface, const Vec3& slave, const SearchOptions& options) {
+  return projection::closest_point_on_face(surface, slave, options.projection);
+}
+projection::FaceClosestPoint closest_on(const geometry::SerendipityQuad& face, const Vec3& slave,
+                                        const SearchOptions& options) {
+  return projection::closest_point_on_serendipity_quad(face, slave, options.projection);
+}
+projection::FaceClosestPoint closest_on(const geometry::QuadraticTriangle& face, const Vec3& slave,
+                                        const SearchOptions& options) {
+  return projection::closest_point_on_quadratic_triangle(face, slave, options.projection);
+}
+
+/// The nearest point of a face's edge (the overloads: straight or cubic edges of quad4 faces, quadratic ones).
+template <geometry::Surface SurfaceT>
+projection::EdgePoint edge_point_on(const SurfaceT& surface, int edge, const Vec3& p) {
+  return projection::closest_point_on_edge(surface, edge, p);
+}
+projection::EdgePoint edge_point_on(const geometry::SerendipityQuad& face, int edge, const Vec3& p) {
+  return projection::closest_point_on_quadratic_edge(face, edge, p);
+}
+projection::EdgePoint edge_point_on(const geometry::QuadraticTriangle& face, int edge, const Vec3& p) {
+  return projection::closest_point_on_quadratic_edge(face, edge, p);
+}
+
+/// The closest point of face f to `slave` (closest_point_on_triangle for a flat triangle, else closest_on). With
+/// `start` (a warm start: the face's previous point, in its own order): one run from there; an answer on the
+/// boundary may hide an interior point the warm run missed, and then the grid of starts decides, as fresh.
 projection::FaceClosestPoint closest_on_face(const mesh::SurfaceMesh& master, std::span<const Vec3> normals,
                                              const SearchOptions& options, int f, const Vec3& slave,
                                              const std::array<double, 2>* start = nullptr) {
-  if (master.face_corners(f).size() == 3) return projection::closest_point_on_triangle(triangle_nodes(master, f), slave);
-  const SurfaceKind kind = kind_of(master, options, f);
-  const geometry::Configuration config = face_configuration(master, normals, kind, f);
-  if (const auto defect = geometry::surface_defect(config, kind)) {
-    projection::FaceClosestPoint none;
-    none.status = *defect;
-    return none;
+  if (master.face_type(f) == mesh::FaceType::kTri3) {
+    return projection::closest_point_on_triangle(triangle_nodes(master, f), slave);
   }
-  return geometry::with_surface(config, kind, [&](const auto& surface) {
+  projection::FaceClosestPoint none;
+  if (master.face_type(f) == mesh::FaceType::kQuad4) {
+    const SurfaceKind kind = kind_of(master, options, f);
+    if (const auto defect = geometry::surface_defect(face_configuration(master, normals, kind, f), kind)) none.status = *defect;
+  }
+  return with_face_surface(master, normals, options, f, none, [&](const auto& surface) {
     if (start != nullptr) {
-      // Warm: one run from the previous point. An answer on the boundary may hide an interior point the
-      // warm run missed: then the grid of starts, as a fresh search.
-      projection::ProjectionOptions warm = options.projection;
-      warm.warm_start = true;
-      warm.start = *start;
-      const projection::FaceClosestPoint p = projection::closest_point_on_face(surface, slave, warm);
+      SearchOptions warm = options;
+      warm.projection.warm_start = true;
+      warm.projection.start = *start;
+      const projection::FaceClosestPoint p = closest_on(surface, slave, warm);
       if (p.status != Status::kOk || p.location == Location::kFace) return p;
     }
-    return projection::closest_point_on_face(surface, slave, options.projection);
+    return closest_on(surface, slave, options);
   });
 }
 
@@ -174,41 +237,51 @@ Vec3 unit_or_zero(const Vec3& n) {
 /// Face f's unit normal at the point of its edge `edge` nearest `p` (a point of that edge).
 Vec3 normal_on_edge(const mesh::SurfaceMesh& master, std::span<const Vec3> normals, const SearchOptions& options,
                     int f, int edge, const Vec3& p) {
-  if (master.face_corners(f).size() == 3) {
+  if (master.face_type(f) == mesh::FaceType::kTri3) {
     const auto x = triangle_nodes(master, f);
     return unit_or_zero((x[1] - x[0]).cross(x[2] - x[0]));
   }
-  const SurfaceKind kind = kind_of(master, options, f);
-  const geometry::Configuration config = face_configuration(master, normals, kind, f);
-  if (geometry::surface_defect(config, kind)) return Vec3::Zero();
-  return geometry::with_surface(config, kind, [&](const auto& surface) -> Vec3 {
-    const auto q = projection::closest_point_on_edge(surface, edge, p);
+  return with_face_surface(master, normals, options, f, Vec3(Vec3::Zero()), [&](const auto& surface) -> Vec3 {
+    const auto q = edge_point_on(surface, edge, p);
     const geometry::SurfacePoint sp = surface.evaluate(q.param[0], q.param[1]);
     return unit_or_zero(sp.d_s.cross(sp.d_t));
   });
 }
 
-/// Face f's corner angle at its corner k times its unit normal there (a vertex pseudo-normal's term).
+/// The angle between two tangents at a corner times the unit normal there (a vertex pseudo-normal's term).
+Vec3 angle_weighted(const Vec3& t1, const Vec3& t2, const Vec3& normal) {
+  return std::atan2(t1.cross(t2).norm(), t1.dot(t2)) * unit_or_zero(normal);
+}
+
+/// Face f's corner angle at its corner k times its unit normal there (a vertex pseudo-normal's term). The angle
+/// is between the tangents of the face's two edges at the corner (curved edges: their tangents there).
 Vec3 weighted_corner_normal(const mesh::SurfaceMesh& master, std::span<const Vec3> normals,
                             const SearchOptions& options, int f, int k) {
-  const std::span<const int> c = master.face_corners(f);
-  if (c.size() == 3) {
+  const mesh::FaceType type = master.face_type(f);
+  if (type == mesh::FaceType::kTri3) {
     const auto x = triangle_nodes(master, f);
     const Vec3 a = x[static_cast<std::size_t>((k + 1) % 3)] - x[static_cast<std::size_t>(k)];
     const Vec3 b = x[static_cast<std::size_t>((k + 2) % 3)] - x[static_cast<std::size_t>(k)];
-    return std::atan2(a.cross(b).norm(), a.dot(b)) * unit_or_zero((x[1] - x[0]).cross(x[2] - x[0]));
+    return angle_weighted(a, b, (x[1] - x[0]).cross(x[2] - x[0]));
   }
-  const SurfaceKind kind = kind_of(master, options, f);
-  const geometry::Configuration config = face_configuration(master, normals, kind, f);
-  if (geometry::surface_defect(config, kind)) return Vec3::Zero();
-  const ParamDomain d = param_domain(kind);
-  return geometry::with_surface(config, kind, [&](const auto& surface) -> Vec3 {
+  if (type == mesh::FaceType::kTri6) {
+    const geometry::QuadraticTriangle face(face_positions<6>(master, master.face_nodes(f)));
+    // Corners (0,0), (1,0), (0,1); the directions in (r, s) of the two edges leaving each.
+    static constexpr std::array<std::array<double, 2>, 3> kCorner = {{{0, 0}, {1, 0}, {0, 1}}};
+    static constexpr std::array<std::array<double, 4>, 3> kDirections = {{{1, 0, 0, 1}, {-1, 1, -1, 0}, {0, -1, 1, -1}}};
+    const auto& c = kCorner[static_cast<std::size_t>(k)];
+    const auto& d = kDirections[static_cast<std::size_t>(k)];
+    const geometry::SurfacePoint sp = face.evaluate(c[0], c[1]);
+    return angle_weighted(d[0] * sp.d_s + d[1] * sp.d_t, d[2] * sp.d_s + d[3] * sp.d_t, sp.d_s.cross(sp.d_t));
+  }
+  const ParamDomain d = param_domain(type == mesh::FaceType::kQuad8 ? SurfaceKind::kBilinear : kind_of(master, options, f));
+  return with_face_surface(master, normals, options, f, Vec3(Vec3::Zero()), [&](const auto& surface) -> Vec3 {
     const auto corner = corner_param(k, d);
     const geometry::SurfacePoint sp = surface.evaluate(corner[0], corner[1]);
     // Tangents pointing into the face from the corner.
     const Vec3 ts = (corner[0] == d.lo ? 1.0 : -1.0) * sp.d_s;
     const Vec3 tt = (corner[1] == d.lo ? 1.0 : -1.0) * sp.d_t;
-    return std::atan2(ts.cross(tt).norm(), ts.dot(tt)) * unit_or_zero(sp.d_s.cross(sp.d_t));
+    return angle_weighted(ts, tt, sp.d_s.cross(sp.d_t));
   });
 }
 
@@ -306,10 +379,15 @@ NodeSegmentPair search_one(const mesh::SurfaceMesh& master, std::span<const Vec3
   const double side = (slave - best_point.point).dot(n);
   label.gap = side < 0.0 ? -best_point.distance : best_point.distance;
 
-  // A quadrilateral in SPEC 7's node order: A the corner nearest S (ties: the first in the face's order), the
-  // label's parameters in that order. A triangle keeps its (r, s) and has no SPEC 7 configuration.
+  // A quad4 in SPEC 7's node order: A the corner nearest S (ties: the first in the face's order), the label's
+  // parameters in that order. Other faces keep their own order and parameters and have no SPEC 7
+  // configuration; a quad8's corners (its own order) fill `config` for the shape statistics.
   const std::span<const int> corners = master.face_corners(best.segment);
-  if (corners.size() != 4) return best;
+  const mesh::FaceType type = master.face_type(best.segment);
+  if (type == mesh::FaceType::kQuad8) {
+    for (std::size_t i = 0; i < 4; ++i) best.config.nodes[i] = master.positions[static_cast<std::size_t>(corners[i])];
+  }
+  if (type != mesh::FaceType::kQuad4) return best;
   int k = 0;
   double nearest = std::numeric_limits<double>::infinity();
   for (int i = 0; i < 4; ++i) {
@@ -376,6 +454,10 @@ SurfaceSearcher::SurfaceSearcher(const mesh::SurfaceMesh& master, std::span<cons
   CONTACTNN_REQUIRE(master.segment_element_ids.size() == master.segments.size() &&
                         master.extra_face_element_ids.size() == master.extra_faces.size(),
                     master.segment_element_ids.size() << " element ids for " << master.segments.size() << " faces");
+  CONTACTNN_REQUIRE(master.midsides_consistent(),
+                    "mid-side nodes for " << master.segment_midsides.size() << " of " << master.segments.size()
+                                          << " segments and " << master.extra_face_midsides.size() << " of "
+                                          << master.extra_faces.size() << " extra faces (each list: none or all)");
   impl_ = std::make_unique<Impl>(master, master_normals, options);
 }
 

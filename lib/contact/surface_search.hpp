@@ -1,32 +1,43 @@
 // The surface search (SPEC 9): for each slave node, the closest point of the whole master surface, on a
 // face's interior, an edge or a vertex, with its signed gap.
 //
-// The faces are SurfaceMesh::face_count(): the segments (C3D8*, C3D20* quadrilaterals: bilinear facets or, with
-// --surface gregory, Gregory patches) and the extra faces (C3D4 and C3D6 triangles, exact flat tri3; C3D6
-// quadrilaterals, bilinear facets under either surface, as their nodes need not carry Eq 26 normals).
+// The faces are SurfaceMesh::face_count(), each by its type (SurfaceMesh::face_nodes):
+//  - quad4: C3D8* segments, bilinear facets or, with --surface gregory, Gregory patches; C3D6 quadrilaterals,
+//    bilinear facets under either surface (their nodes need not carry Eq 26 normals);
+//  - quad8: C3D20/C3D20R segments and C3D15 quadrilaterals, the 8-node serendipity surface through all 8 nodes
+//    (geometry::SerendipityQuad; projection::closest_point_on_serendipity_quad), not the facet of the corners;
+//  - tri3: C3D4 and C3D6 triangles, exact flat triangles (projection::closest_point_on_triangle);
+//  - tri6: C3D10 and C3D15 triangles, the 6-node quadratic surface (geometry::QuadraticTriangle;
+//    projection::closest_point_on_quadratic_triangle).
+// --surface gregory smooths quad4 segments only: a quadratic face already has its curved shape from its
+// mid-side nodes, and stays its own quadratic surface under either --surface.
 //
 // For a slave node S:
 //  1. Candidates: the faces whose bounding sphere (centre: the mean of the corner nodes; radius: the largest
-//     distance from it to a node, or to a Gregory control point, which bound the patch) comes within the
-//     capture distance of S. A k-d tree over the centres (nanoflann) finds them; brute_force_faces tries
-//     every face (the oracle).
-//  2. Candidates in increasing order of their sphere's distance; the closest point on each
-//     (projection::closest_point_on_face, the reference); a face whose sphere is farther than the best point
+//     distance from it to a node, to a Gregory control point, or to a Bezier control point of a quadratic face,
+//     which bound the patch: a quadratic face may bulge beyond its nodes) comes within the capture distance of
+//     S. A k-d tree over the centres (nanoflann) finds them; brute_force_faces tries every face (the oracle).
+//  2. Candidates in increasing order of their sphere's distance; the closest point on each (by its type, as
+//     above: the references of lib/projection); a face whose sphere is farther than the best point
 //     so far cannot hold a nearer one and ends the scan.
 //  3. The nearest point wins; ties (equal distances to 1e-12 of the face size) go to the lower element id,
 //     then the lower face number (SPEC 9). No point within the capture distance: no_segment.
 //  4. The gap is the signed distance |S - P|: the sign of (S - P).n, n the face's unit normal at P for a
 //     point inside the face, and the angle-weighted pseudo-normal otherwise (Baerentzen & Aanaes 2005): at an
-//     edge, the sum of the unit normals at P of the faces sharing it; at a vertex, the sum over the faces
-//     at the node of the face's corner angle times its normal at the corner. So a node just outside a
-//     convex edge is separated and one just inside a concave corner penetrates, whichever face it reports.
+//     edge, the sum of the unit normals at P of the faces sharing it (edges are matched by their two corner
+//     nodes, whatever the faces' types; each face's normal at its own point of the edge nearest P); at a
+//     vertex, the sum over the faces at the node of the face's corner angle (between its edges' tangents
+//     there) times its normal at the corner. So a node just outside a convex edge is separated and one just
+//     inside a concave corner penetrates, whichever face it reports.
 //     S on the surface (|S - P| = 0) has gap 0.
 //
 // The reported pair (NodeSegmentPair): `segment` the winning face (an index of SurfaceMesh::face_corners);
-// for a quadrilateral, `nodes` and `config` its corners rotated so that A is the corner nearest S (ties: the
-// first in the face's own order), then counter-clockwise about the outward normal (SPEC 7's node order), and
-// the label's parameters in that order; for a triangle, the label's (r, s) and no nodes or configuration;
-// status ok, gap as above; `location` and `point`.
+// for a quad4, `nodes` and `config` its corners rotated so that A is the corner nearest S (ties: the first in
+// the face's own order), then counter-clockwise about the outward normal (SPEC 7's node order), and the
+// label's parameters in that order; for every other face the label's parameters in the face's own order
+// ((xi, eta) of the quad8, (r, s) of a triangle; SurfaceMesh::face_nodes gives that order), `nodes` -1 and
+// no SPEC 7 configuration (a quad8 puts its 4 corners, in its own order, in config.nodes for the shape
+// statistics: they are not its surface); status ok, gap as above; `location` and `point`.
 //
 // Capture distance. A contact search must never miss a contact, and a node far from the master surface has
 // none to report: by default a face is searched within one largest face size (SearchOptions), far beyond any
@@ -91,7 +102,8 @@ class SurfaceSearcher {
 
 /// Steps 1-4 above for every slave node, in parallel (OpenMP); result i belongs to slave i; deterministic
 /// for any thread count. `master_normals`: unit node normals (mesh::node_normals) for Gregory, ignored for
-/// bilinear. InvalidArgument if the spans' sizes disagree or Gregory normals are missing.
+/// bilinear. InvalidArgument if the spans' sizes disagree, Gregory normals are missing, or master's mid-side
+/// lists are inconsistent with its faces (SurfaceMesh::midsides_consistent).
 [[nodiscard]] std::vector<NodeSegmentPair> surface_search(const mesh::SurfaceMesh& master,
                                                           std::span<const Vec3> master_normals,
                                                           std::span<const long> slave_ids,

@@ -46,13 +46,18 @@ SlaveNodes slave_nodes(const ContactModel& model, int k, const SurfaceMesh& mast
   const SurfaceDefinition& surface = surface_of(model, pair, false);
   SlaveNodes slaves;
   std::vector<int> nodes;
+  std::vector<int> corners;  // SolidMesh indices of the element surface's face corners, sorted by index
   if (surface.type == SurfaceType::kNode) {
     nodes = surface.nodes;
   } else {
-    // The element surface's own segments: the same rules as for a master (skipped faces give no node).
+    // The element surface's own faces: the same rules as for a master (a dropped face gives no node).
     const SurfaceMesh slave_surface = build_surface_mesh(model.mesh, surface.faces);
     nodes = slave_surface.mesh_nodes;
     slaves.skipped_faces = slave_surface.skipped_faces;
+    for (int f = 0; f < slave_surface.face_count(); ++f) {
+      for (int n : slave_surface.face_corners(f)) corners.push_back(slave_surface.mesh_nodes[static_cast<std::size_t>(n)]);
+    }
+    std::sort(corners.begin(), corners.end());
   }
   const SolidMesh& mesh = model.mesh;
   std::sort(nodes.begin(), nodes.end(), [&](int a, int b) { return mesh.node_id(a) < mesh.node_id(b); });
@@ -63,9 +68,23 @@ SlaveNodes slave_nodes(const ContactModel& model, int k, const SurfaceMesh& mast
       ++slaves.shared_with_master;
     } else {
       slaves.nodes.push_back(n);
+      const bool corner = surface.type == SurfaceType::kNode || std::binary_search(corners.begin(), corners.end(), n);
+      slaves.midside.push_back(corner ? 0 : 1);
     }
   }
   return slaves;
+}
+
+SlaveNodes corner_slaves(const SlaveNodes& slaves) {
+  SlaveNodes out;
+  out.skipped_faces = slaves.skipped_faces;
+  out.shared_with_master = slaves.shared_with_master;
+  for (std::size_t i = 0; i < slaves.nodes.size(); ++i) {
+    if (i < slaves.midside.size() && slaves.midside[i] != 0) continue;
+    out.nodes.push_back(slaves.nodes[i]);
+    out.midside.push_back(0);
+  }
+  return out;
 }
 
 }  // namespace contactnn::mesh

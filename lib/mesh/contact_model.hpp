@@ -2,6 +2,7 @@
 // io::read_inp_deck, and the two sides of one pair: the master surface's faces and the slave nodes.
 #pragma once
 
+#include <cstdint>
 #include <map>
 #include <string>
 #include <vector>
@@ -58,14 +59,27 @@ struct ContactModel {
 /// the pair's line if the master is not an element surface.
 [[nodiscard]] SurfaceMesh master_surface(const ContactModel& model, int k);
 
-/// The slave nodes of a pair (SPEC 7): a node surface's nodes, or the corner nodes of an element surface's
-/// faces (faces skipped by build_surface_mesh contribute no node), minus the nodes of `master`.
+/// The slave nodes of a pair: a node surface's nodes, or every node of an element surface's faces (the faces of
+/// build_surface_mesh: segments and extra faces; a face it drops contributes no node), mid-side nodes of
+/// quadratic faces included (SPEC 9, as CalculiX has them), minus the nodes of `master` (its mid-side nodes
+/// included).
+///
+/// Two searches, two slave sets. The surface search (SPEC 9) takes every node. The paper's nearest-node search
+/// keeps SPEC 7's: the corner nodes of an element surface's faces, i.e. the nodes whose `midside` flag is 0
+/// (corner_slaves). A node that is a corner of one slave face and a mid-side node of another counts as a corner.
 struct SlaveNodes {
   std::vector<int> nodes;                  ///< SolidMesh node indices, in increasing node id, each once
+  /// One per node: 1 for a mid-side node of the element surface's quadratic faces that is a corner of none of
+  /// them (SPEC 9 only), 0 otherwise (always 0 for a node surface).
+  std::vector<std::uint8_t> midside;
   std::map<std::string, int> skipped_faces;  ///< an element surface's faces that have no segment, by kind
   int shared_with_master = 0;              ///< nodes left out because they are also master nodes
 };
 /// FormatError naming the pair's line if the slave surface's TYPE is unsupported.
 [[nodiscard]] SlaveNodes slave_nodes(const ContactModel& model, int k, const SurfaceMesh& master);
+
+/// SPEC 7's slave nodes of the nearest-node search: `slaves` without its mid-side nodes (midside == 1), in the
+/// same order; skipped_faces and shared_with_master as in `slaves`.
+[[nodiscard]] SlaveNodes corner_slaves(const SlaveNodes& slaves);
 
 }  // namespace contactnn::mesh

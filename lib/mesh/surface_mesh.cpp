@@ -14,16 +14,6 @@ namespace {
 constexpr double kMinCornerSine = 1e-12;
 constexpr double kMinSumPerCorner = 1e-12;
 
-int corner_count(ElementShape shape) {
-  switch (shape) {
-    case ElementShape::kHexahedron: return 8;
-    case ElementShape::kWedge: return 6;
-    case ElementShape::kTetrahedron: return 4;
-    case ElementShape::kOther: break;
-  }
-  return 0;
-}
-
 }  // namespace
 
 std::array<int, 4> outward_quad_corners(const SolidMesh& mesh, ElementFace face) {
@@ -44,7 +34,7 @@ std::array<int, 4> outward_quad_corners(const SolidMesh& mesh, ElementFace face)
   const std::array<int, 4> reversed = {manual[0], manual[3], manual[2], manual[1]};
   const auto at = [&](int n) -> const Vec3& { return mesh.position(n); };
   Vec3 element_centroid = Vec3::Zero();
-  const int n_corners = corner_count(type.shape);
+  const int n_corners = corner_node_count(type.shape);
   for (int i = 0; i < n_corners; ++i) element_centroid += at(nodes[static_cast<std::size_t>(i)]);
   element_centroid /= n_corners;
   const Vec3 face_centroid = 0.25 * (at(manual[0]) + at(manual[1]) + at(manual[2]) + at(manual[3]));
@@ -63,7 +53,7 @@ std::array<int, 4> outward_triangle_corners(const SolidMesh& mesh, ElementFace f
                                      nodes[static_cast<std::size_t>(corners[2])]};
   const auto at = [&](int n) -> const Vec3& { return mesh.position(n); };
   Vec3 element_centroid = Vec3::Zero();
-  const int n_corners = corner_count(type.shape);
+  const int n_corners = corner_node_count(type.shape);
   for (int i = 0; i < n_corners; ++i) element_centroid += at(nodes[static_cast<std::size_t>(i)]);
   element_centroid /= n_corners;
   const Vec3 face_centroid = (at(manual[0]) + at(manual[1]) + at(manual[2])) / 3.0;
@@ -72,10 +62,71 @@ std::array<int, 4> outward_triangle_corners(const SolidMesh& mesh, ElementFace f
                                                             : std::array<int, 4>{manual[0], manual[2], manual[1], -1};
 }
 
+std::string_view to_string(FaceType type) {
+  switch (type) {
+    case FaceType::kQuad4: return "quad4";
+    case FaceType::kQuad8: return "quad8";
+    case FaceType::kTri3: return "tri3";
+    case FaceType::kTri6: return "tri6";
+  }
+  return "quad4";
+}
+
+FaceNodes SurfaceMesh::face_nodes(int f) const {
+  FaceNodes out;
+  const std::span<const int> corners = face_corners(f);
+  out.count = static_cast<int>(corners.size());
+  std::copy(corners.begin(), corners.end(), out.nodes.begin());
+  const auto u = static_cast<std::size_t>(f);
+  const std::array<int, 4>* mids = nullptr;
+  if (u < segments.size()) {
+    if (!segment_midsides.empty()) mids = &segment_midsides[u];
+  } else if (!extra_face_midsides.empty()) {
+    mids = &extra_face_midsides[u - segments.size()];
+  }
+  const bool quad = corners.size() == 4;
+  if (mids != nullptr && (*mids)[0] >= 0) {
+    for (std::size_t k = 0; k < corners.size(); ++k) out.nodes[corners.size() + k] = (*mids)[k];
+    out.count = 2 * out.count;
+    out.type = quad ? FaceType::kQuad8 : FaceType::kTri6;
+  } else {
+    out.type = quad ? FaceType::kQuad4 : FaceType::kTri3;
+  }
+  return out;
+}
+
+namespace {
+
+/// The mid-side nodes (SolidMesh indices) of the edges of a face whose corners, in outward order, are
+/// `corners` (SolidMesh indices, `count` of them), for a quadratic element; four -1 otherwise.
+std::array<int, 4> face_midsides(const SolidMesh& mesh, int element, const std::array<int, 4>& corners,
+                                 std::size_t count) {
+  std::array<int, 4> mids{-1, -1, -1, -1};
+  const ElementType& type = mesh.element_type(element);
+  if (type.node_count != quadratic_node_count(type.shape)) return mids;
+  const std::span<const int> nodes = mesh.element_nodes(element);
+  const int n_corners = corner_node_count(type.shape);
+  const auto local = [&](int node) {
+    for (int i = 0; i < n_corners; ++i) {
+      if (nodes[static_cast<std::size_t>(i)] == node) return i;
+    }
+    return -1;
+  };
+  for (std::size_t k = 0; k < count; ++k) {
+    const int m = midside_node_index(type.shape, local(corners[k]), local(corners[(k + 1) % count]));
+    CONTACTNN_REQUIRE(m >= 0, "element " << mesh.element_id(element) << " (" << type.name
+                                          << "): no mid-side node between face corners");
+    mids[k] = nodes[static_cast<std::size_t>(m)];
+  }
+  return mids;
+}
+
+}  // namespace
+
 SurfaceMesh build_surface_mesh(const SolidMesh& mesh, std::span<const ElementFace> faces) {
   SurfaceMesh surface;
-  std::vector<std::array<int, 4>> segments;  // SolidMesh node indices for now
-  std::vector<std::array<int, 4>> extra;     // likewise
+  std::vector<std::array<int, 4>> segments, segment_mids;  // SolidMesh node indices for now
+  std::vector<std::array<int, 4>> extra, extra_mids;       // likewise
   std::set<std::pair<int, int>> seen;
   for (const ElementFace& face : faces) {
     CONTACTNN_REQUIRE(face.element >= 0 && face.element < mesh.element_count(),
@@ -92,14 +143,17 @@ SurfaceMesh build_surface_mesh(const SolidMesh& mesh, std::span<const ElementFac
     if (!type.has_segment_faces) {
       const char* kind = corners == 3 ? " triangle" : corners == 4 ? " quadrilateral" : " face";
       ++surface.skipped_faces[type.name + kind];
-      // Linear wedges and tetrahedra: faces of the surface search (SPEC 9), not segments.
-      if (type.node_count == corner_count(type.shape) && (corners == 3 || corners == 4)) {
+      // Linear and quadratic wedges, tetrahedra (and hexahedra of other types): faces of the surface search
+      // (SPEC 9), not segments.
+      const bool known = type.node_count == corner_node_count(type.shape) || type.node_count == quadratic_node_count(type.shape);
+      if (known && (corners == 3 || corners == 4)) {
         std::array<int, 4> outward = corners == 4 ? outward_quad_corners(mesh, face) : outward_triangle_corners(mesh, face);
         std::array<int, 4> sorted = outward;
         std::sort(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(corners));
         if (std::adjacent_find(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(corners)) ==
             sorted.begin() + static_cast<std::ptrdiff_t>(corners)) {
           extra.push_back(outward);
+          extra_mids.push_back(face_midsides(mesh, face.element, outward, corners));
           surface.extra_face_faces.push_back(face);
           surface.extra_face_element_ids.push_back(mesh.element_id(face.element));
         }
@@ -121,15 +175,18 @@ SurfaceMesh build_surface_mesh(const SolidMesh& mesh, std::span<const ElementFac
     }
     if (quad == manual_order) ++surface.inside_out_faces;
     segments.push_back(quad);
+    segment_mids.push_back(face_midsides(mesh, face.element, quad, 4));
     surface.segment_faces.push_back(face);
     surface.segment_element_ids.push_back(mesh.element_id(face.element));
   }
 
-  // Surface nodes in increasing deck id, so every later loop over them is in a reproducible order.
-  for (const auto& quad : segments) surface.mesh_nodes.insert(surface.mesh_nodes.end(), quad.begin(), quad.end());
-  for (const auto& f : extra) {
-    for (int n : f) {
-      if (n >= 0) surface.mesh_nodes.push_back(n);
+  // Surface nodes (corners and mid-side nodes) in increasing deck id, so every later loop over them is in a
+  // reproducible order.
+  for (const auto* list : {&segments, &segment_mids, &extra, &extra_mids}) {
+    for (const auto& f : *list) {
+      for (int n : f) {
+        if (n >= 0) surface.mesh_nodes.push_back(n);
+      }
     }
   }
   std::sort(surface.mesh_nodes.begin(), surface.mesh_nodes.end(),
@@ -143,16 +200,23 @@ SurfaceMesh build_surface_mesh(const SolidMesh& mesh, std::span<const ElementFac
     surface.node_ids.push_back(mesh.node_id(n));
     surface.positions.push_back(mesh.position(n));
   }
+  const auto to_local = [&](const std::array<int, 4>& f) {
+    std::array<int, 4> out{-1, -1, -1, -1};
+    for (std::size_t k = 0; k < 4; ++k) out[k] = f[k] < 0 ? -1 : local[static_cast<std::size_t>(f[k])];
+    return out;
+  };
+  const auto quadratic = [](const std::vector<std::array<int, 4>>& mids) {
+    return std::any_of(mids.begin(), mids.end(), [](const std::array<int, 4>& m) { return m[0] >= 0; });
+  };
   surface.segments.reserve(segments.size());
-  for (const auto& quad : segments) {
-    surface.segments.push_back({local[static_cast<std::size_t>(quad[0])], local[static_cast<std::size_t>(quad[1])],
-                                local[static_cast<std::size_t>(quad[2])], local[static_cast<std::size_t>(quad[3])]});
+  for (const auto& quad : segments) surface.segments.push_back(to_local(quad));
+  for (const auto& f : extra) surface.extra_faces.push_back(to_local(f));
+  // Empty unless some face is quadratic: a linear surface looks as it always did.
+  if (quadratic(segment_mids)) {
+    for (const auto& m : segment_mids) surface.segment_midsides.push_back(to_local(m));
   }
-
-  for (const auto& f : extra) {
-    std::array<int, 4> local_face{-1, -1, -1, -1};
-    for (std::size_t k = 0; k < 4; ++k) local_face[k] = f[k] < 0 ? -1 : local[static_cast<std::size_t>(f[k])];
-    surface.extra_faces.push_back(local_face);
+  if (quadratic(extra_mids)) {
+    for (const auto& m : extra_mids) surface.extra_face_midsides.push_back(to_local(m));
   }
 
   // Adjacency (compressed rows): count, prefix sum, fill in segment order so each row is increasing.

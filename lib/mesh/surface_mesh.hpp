@@ -1,11 +1,14 @@
 // A surface of a solid mesh as quadrilateral segments oriented outward, with node adjacency and the node
-// normals of paper Eq 26 (SPEC 3, last bullet; SPEC 7 "Master segments").
+// normals of paper Eq 26 (SPEC 3, last bullet; SPEC 7 "Master segments"), and the other faces of SPEC 9
+// (triangles, quadratic faces with their mid-side nodes).
 #pragma once
 
 #include <array>
+#include <cstdint>
 #include <map>
 #include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "geometry/surface_point.hpp"
@@ -32,7 +35,36 @@ struct ElementFace {
 /// element (the manual's order reversed unless the element is inside out), then -1.
 [[nodiscard]] std::array<int, 4> outward_triangle_corners(const SolidMesh& mesh, ElementFace face);
 
+/// The face types of SPEC 9, by their nodes: 4-node quadrilateral (bilinear), 8-node serendipity
+/// quadrilateral, 3-node (flat) triangle, 6-node quadratic triangle.
+enum class FaceType : std::uint8_t { kQuad4, kQuad8, kTri3, kTri6 };
+/// "quad4", "quad8", "tri3" or "tri6" (the `face_type` column of SPEC 9).
+[[nodiscard]] std::string_view to_string(FaceType type);
+
+/// A face's nodes in its own outward order (SPEC 9): the corners, then for a quadratic face the mid-side nodes
+/// of the edges corner 1-2, 2-3, ... (quad8: A-B, B-C, C-D, D-A; tri6: A-B, B-C, C-A). Surface node indices.
+struct FaceNodes {
+  FaceType type = FaceType::kQuad4;
+  std::array<int, 8> nodes{-1, -1, -1, -1, -1, -1, -1, -1};
+  int count = 0;  ///< 4, 8, 3 or 6
+  [[nodiscard]] const int* begin() const { return nodes.data(); }
+  [[nodiscard]] const int* end() const { return nodes.data() + count; }
+  [[nodiscard]] int operator[](int i) const { return nodes[static_cast<std::size_t>(i)]; }
+  [[nodiscard]] int corner_count() const { return type == FaceType::kQuad4 || type == FaceType::kQuad8 ? 4 : 3; }
+  [[nodiscard]] bool quadratic() const { return type == FaceType::kQuad8 || type == FaceType::kTri6; }
+};
+
 /// Segments of a surface, indexed locally: node i of the surface is SolidMesh node mesh_nodes[i].
+///
+/// Faces (SPEC 9). The paper's nearest-node search pairs with `segments`, the quadrilaterals of C3D8* and
+/// C3D20/C3D20R elements by their 4 corners (SPEC 7); the surface search counts every face: the segments, then
+/// `extra_faces`. A quadratic face (C3D20/C3D20R and C3D15 quadrilaterals: quad8; C3D10 and C3D15 triangles:
+/// tri6) keeps its corners in `segments` / `extra_faces` and its mid-side nodes beside them, in
+/// `segment_midsides` / `extra_face_midsides`: face_corners stays corners-only (what the paper's search, the
+/// node normals of Eq 26, the adjacency and the edge keys of the surface search use), face_nodes gives all of
+/// a face's nodes in SPEC 9's order. The surface's nodes are every node of its faces, mid-side nodes included
+/// (in increasing id like the rest); a mid-side node belongs to no segment (segments_of is empty), so the
+/// nearest-node search, which takes its nearest node among the nodes of segments, never sees one.
 struct SurfaceMesh {
   std::vector<int> mesh_nodes;             ///< SolidMesh node index of each surface node, in increasing id
   std::vector<long> node_ids;              ///< deck id of each surface node (increasing)
@@ -40,13 +72,21 @@ struct SurfaceMesh {
   std::vector<std::array<int, 4>> segments;  ///< surface node indices A, B, C, D; (B-A) x (D-A) outward
   std::vector<ElementFace> segment_faces;  ///< the element face of each segment
   std::vector<long> segment_element_ids;   ///< the deck id of each segment's element (SPEC 9's tie rule)
+  /// Mid-side nodes of the segments: empty when no segment is quadratic, else one entry per segment: the surface
+  /// node indices of the mid-side nodes of its edges A-B, B-C, C-D, D-A (C3D20/C3D20R faces), or four -1 (a
+  /// linear segment). Code that copies segments must copy these alongside (or leave both lists consistent).
+  std::vector<std::array<int, 4>> segment_midsides;
   /// The faces the paper's search does not pair with but SPEC 9's surface search counts: the triangles of
-  /// C3D4 and C3D6 elements and the quadrilaterals of C3D6, outward ((B-A) x (C-A), resp. (B-A) x (D-A), points
-  /// out of the element), surface node indices; a triangle's fourth entry is -1. They are still counted in
-  /// skipped_faces (they are not segments). Quadratic elements' faces other than C3D20's are not read yet.
+  /// C3D4, C3D10, C3D6 and C3D15 elements and the quadrilaterals of C3D6 and C3D15 (and of hexahedra of types
+  /// that are not SPEC 7's: C3D8H, C3D20RH, ...), by their corners, outward ((B-A) x (C-A), resp. (B-A) x (D-A),
+  /// points out of the element), surface node indices; a triangle's fourth entry is -1. They are still counted
+  /// in skipped_faces (they are not segments).
   std::vector<std::array<int, 4>> extra_faces;
   std::vector<ElementFace> extra_face_faces;  ///< the element face of each extra face
   std::vector<long> extra_face_element_ids;   ///< the deck id of its element
+  /// Mid-side nodes of the extra faces, as segment_midsides: empty when none is quadratic, else one entry per
+  /// extra face (edges corner 1-2, 2-3, 3-4 or 3-1, 4-1; -1 where there is none).
+  std::vector<std::array<int, 4>> extra_face_midsides;
   std::vector<int> adjacency_offsets;      ///< segments of node i: adjacency[offsets[i] .. offsets[i+1])
   std::vector<int> adjacency;              ///< segment indices, increasing, for each node in turn
   /// Faces that gave no segment, by kind: "C3D6 triangle", "C3D6 quadrilateral", "C3D4 triangle",
@@ -70,6 +110,14 @@ struct SurfaceMesh {
     const auto& e = extra_faces[u - segments.size()];
     return {e.data(), e[3] < 0 ? 3u : 4u};
   }
+  /// Face f's type and all its nodes, corners then mid-side nodes (SPEC 9's order).
+  [[nodiscard]] FaceNodes face_nodes(int f) const;
+  [[nodiscard]] FaceType face_type(int f) const { return face_nodes(f).type; }
+  /// True when the mid-side lists are consistent with the faces (each empty or one entry per face).
+  [[nodiscard]] bool midsides_consistent() const {
+    return (segment_midsides.empty() || segment_midsides.size() == segments.size()) &&
+           (extra_face_midsides.empty() || extra_face_midsides.size() == extra_faces.size());
+  }
   [[nodiscard]] long face_element_id(int f) const {
     const auto u = static_cast<std::size_t>(f);
     return u < segments.size() ? segment_element_ids[u] : extra_face_element_ids[u - segments.size()];
@@ -82,15 +130,19 @@ struct SurfaceMesh {
 
 /// The surface made of `faces`: each face of an element type with segment faces (ElementType) and four
 /// distinct corner nodes becomes one segment (outward_quad_corners), in the order of `faces`, repeats
-/// dropped; every other face is counted in skipped_faces. The surface's nodes are the segments' corners.
-/// InvalidArgument for an element index or face number out of range.
+/// dropped; every other face is counted in skipped_faces, and, when its element is a linear or a quadratic
+/// C3D8/C3D20, C3D6/C3D15 or C3D4/C3D10 of 3 or 4 distinct corners, becomes an extra face. A face of a quadratic
+/// element (20, 15 or 10 nodes) has its mid-side nodes (element_type.hpp's tables) in segment_midsides /
+/// extra_face_midsides. The surface's nodes are every node of its faces. InvalidArgument for an element index
+/// or face number out of range.
 [[nodiscard]] SurfaceMesh build_surface_mesh(const SolidMesh& mesh, std::span<const ElementFace> faces);
 
 /// Unit node normal at every surface node (paper Eq 26, SPEC 3): the normalised sum of the unit corner
 /// normals (next - X) x (prev - X) of the segments sharing the node. A corner whose cross product is at
 /// most 1e-12 |next - X| |prev - X| (collapsed) adds nothing; a node left without a direction (every corner
 /// collapsed, or the corner normals cancel: |sum| <= 1e-12 per corner) gets the zero vector, which the
-/// Gregory projection reports as degenerate.
+/// Gregory projection reports as degenerate. A node of no segment (a mid-side node, a node of extra faces
+/// only) gets the zero vector too: no Gregory patch uses it.
 [[nodiscard]] std::vector<Vec3> node_normals(const SurfaceMesh& surface);
 
 }  // namespace contactnn::mesh

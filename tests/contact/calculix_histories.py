@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
-"""CalculiX histories (scripts/make-scene hertz-slide, forming-stroke) against contactnn (SPEC 10), and the
-pieces of scripts/calculix-compare that need no solver.
+"""CalculiX histories (scripts/make-scene hertz-slide, forming-stroke, and the quadratic tet-press and tubes-press)
+against contactnn (SPEC 10), and the pieces of scripts/calculix-compare that need no solver.
 
 Cases:
   frd-reader        calculix-compare's .frd reader on small hand-written files: the long and the short format,
@@ -14,8 +14,13 @@ Cases:
                     contacts in every increment and slave nodes that move to another master face across an
                     edge; a reference that drops a contact or moves every gap by 1e-3 fails (exit 1); without
                     the `nodes` column the bound is taken over all nodes and it still passes.
+                    For the quadratic histories (tet-press: a C3D10 master, tri6 faces; tubes-press: C3D20 on
+                    C3D20, quad8 faces and mid-side slave nodes) the plain comparison only: the perturbed ones test
+                    calculix-compare itself, which the linear histories do.
   gen-configs:KIND  the history KIND run by ccx, compared by calculix-compare with contactnn's gen-configs
-                    (--gen-configs PATH): every contact found, |gap - COPEN| within the .frd's precision.
+                    (--gen-configs PATH): every contact found, |gap - COPEN| within the .frd's precision; for the
+                    quadratic histories also every contact's face of the expected type (tri6, quad8) and, for
+                    tubes-press, contacts at mid-side slave nodes.
 The cases that run ccx exit 77 (ctest: skipped) with a message when ccx is not installed.
 
 Usage: calculix_histories.py --case CASE --work DIR [--gen-configs PATH]
@@ -37,7 +42,10 @@ REFERENCE = os.path.join(HERE, "surface_search_reference.py")
 SKIP = 77
 # What each history must show with its defaults (scripts/make-scene): contacts in every increment, and at
 # least this many moves of a slave node to a face sharing an edge with its previous one.
-EDGE_CROSSINGS = {"hertz-slide": 5, "forming-stroke": 1}
+EDGE_CROSSINGS = {"hertz-slide": 5, "forming-stroke": 1, "tet-press": 5, "tubes-press": 5}
+# The quadratic histories: the face type of every contact's point, and whether mid-side slave nodes must be in
+# contact (the manifest's corner_slave_nodes are the others).
+QUADRATIC = {"tet-press": ("tri6", False), "tubes-press": ("quad8", True)}
 
 
 class Failure(Exception):
@@ -290,6 +298,11 @@ def reference_case(work, kind):
           (edges, EDGE_CROSSINGS[kind]))
     check(set(k[1] for k in points) == set(manifest["pairs"][0]["slave_nodes"]),
           "the reference's slave nodes are not the manifest's")
+    if kind in QUADRATIC:
+        check_quadratic(kind, manifest, frd, points)
+        print("reference:%s: %d increments, contacts per increment %s, %d edge crossings" %
+              (kind, len(frd.increments), per_increment, edges))
+        return
     # 3. A contact dropped, or every gap moved by 1e-3: exit 1 naming the contact.
     result, _ = compare(os.path.join(work, "drop"), deck, wrapper(work, "drop"), 1)
     check("found no point" in result.stderr, "drop: message '%s'" % result.stderr.strip()[:300])
@@ -301,12 +314,31 @@ def reference_case(work, kind):
           "points fail" % (kind, len(frd.increments), per_increment, edges))
 
 
+def check_quadratic(kind, manifest, frd, points):
+    """Every contact's point on a face of the history's quadratic type; mid-side slave nodes among the contacts
+    where the slave surface is quadratic."""
+    face_type, midside = QUADRATIC[kind]
+    corners = set(manifest["pairs"][0].get("corner_slave_nodes", manifest["pairs"][0]["slave_nodes"]))
+    contacts = [(index, nid) for index, inc in enumerate(frd.increments, start=1)
+                for nid, (copen, _) in (inc["contact"] or {}).items() if copen < 0]
+    types = {points[key]["face_type"] for key in contacts if key in points}
+    check(types == {face_type}, "%s: contacts on faces %s, expected %s only" % (kind, sorted(types), face_type))
+    at_midside = sum(1 for _, nid in contacts if nid not in corners)
+    check(at_midside > 0 or not midside, "%s: no contact at a mid-side slave node" % kind)
+    print("%s: every contact on a %s face; %d of %d contacts at mid-side slave nodes" %
+          (kind, face_type, at_midside, len(contacts)))
+
+
 def gen_configs_case(work, kind, gen_configs):
-    deck, _ = history(work, kind)
-    result, _ = compare(os.path.join(work, "compare"), deck, gen_configs, None)
+    deck, manifest = history(work, kind)
+    result, out = compare(os.path.join(work, "compare"), deck, gen_configs, None)
     print(result.stdout.strip())
     if result.returncode != 0:
         raise Failure("calculix-compare: exit %d\n%s" % (result.returncode, result.stderr))
+    if kind in QUADRATIC:
+        cc = load_compare()
+        points, _ = cc.read_points(os.path.join(out, "points.csv"))
+        check_quadratic(kind, manifest, cc.Frd(os.path.join(out, kind + ".frd")), points)
 
 
 def main():

@@ -10,9 +10,11 @@ the paper's (--search nearest_node, SPEC 7) and the surface search (the default,
     finite coordinates, unit node normals (Gregory), a SPEC 2 status;
   - the file is a RAW.csv for `gen-configs --input`, which reproduces every label column character for
     character, and for `evaluate-net --input` with a shipped network (one prediction per row);
-  - surface search: SPEC 9's columns after SPEC 7's; every found row has status ok, a location, the closest
-    point P with |gap| = |S - P|, P on the bilinear facet at the row's (xi, eta) in the a,b,c,d order, a face
-    whose nodes are a,b,c,d in its own cycle; a `face` row's (xi, eta) are label mode's (the stationary point).
+  - surface search: SPEC 9's columns after SPEC 7's; every found row has status ok, a location, a face type
+    with its number of distinct nodes; a quad4 row the closest point P with |gap| = |S - P|, P on the bilinear
+    facet at the row's (xi, eta) in the a,b,c,d order, a face whose nodes are a,b,c,d in its own cycle, and a
+    `face` row's (xi, eta) are label mode's (the stationary point); any other face's row has the SPEC 7 columns
+    empty and its own local coordinates inside its domain.
 "errors" checks a malformed deck (exit 3, file and line named), a pair that does not exist (exit 2), a missing
 include (exit 4, the file named), and that no output is left behind by any of them.
 
@@ -33,6 +35,8 @@ NORMALS = ["nax", "nay", "naz", "nbx", "nby", "nbz", "ncx", "ncy", "ncz", "ndx",
 STATUSES = {"ok", "outside", "no_convergence", "degenerate", "invalid"}
 # Unit normals written with round-trip precision: |n| = 1 up to a few roundings.
 UNIT_TOL = 1e-12
+# SPEC 9's face types and their node counts (the `nodes` column: corners, then mid-side nodes).
+FACE_NODES = {"quad4": 4, "quad8": 8, "tri3": 3, "tri6": 6}
 
 
 class Failure(Exception):
@@ -85,14 +89,19 @@ def surface_case(opts, deck, pair, surface, work):
         check(location in locations, "location %r" % location)
         locations[location] += 1
         face_type = r[column["face_type"]]
-        check(face_type in ("quad4", "tri3"), "face_type %r" % face_type)
+        check(face_type in FACE_NODES, "face_type %r" % face_type)
         nodes = r[column["nodes"]].split(" ")
-        if face_type == "tri3":
-            # SPEC 9: no SPEC 7 configuration for other faces; (r, s) in the coordinate columns.
-            check(len(nodes) == 3 and all(r[column[n]] == "" for n in ["a", "b", "c", "d"] + POINTS),
-                  "slave %s: tri3 row %s" % (r[0], r))
-            rr, ss = float(r[column[names[0]]]), float(r[column[names[1]]])
-            check(rr >= 0 and ss >= 0 and rr + ss <= 1 + 1e-12, "slave %s: (r, s) = (%r, %r)" % (r[0], rr, ss))
+        check(len(nodes) == FACE_NODES[face_type] and len(set(nodes)) == len(nodes),
+              "slave %s: %s face with nodes %s" % (r[0], face_type, nodes))
+        if face_type != "quad4":
+            # SPEC 9: no SPEC 7 configuration for other faces; their own local coordinates ((r, s) of a triangle,
+            # (xi, eta) of a quad8, under either --surface) in the coordinate columns.
+            spec7 = ["a", "b", "c", "d"] + POINTS + (NORMALS if surface == "gregory" else [])
+            check(all(r[column[n]] == "" for n in spec7), "slave %s: %s row %s" % (r[0], face_type, r))
+            a, b = float(r[column[names[0]]]), float(r[column[names[1]]])
+            inside = (a >= 0 and b >= 0 and a + b <= 1 + 1e-12) if face_type.startswith("tri") else \
+                (abs(a) <= 1 + 1e-12 and abs(b) <= 1 + 1e-12)
+            check(inside, "slave %s: %s coordinates (%r, %r)" % (r[0], face_type, a, b))
             continue
         s = [float(r[column["s" + c]]) for c in "xyz"]
         p = [float(r[column["p" + c]]) for c in "xyz"]

@@ -3,13 +3,19 @@
 `gen-configs --scene DECK --pair K --results RUN.frd --increment all` in the tests of scripts/calculix-compare.
 
 It is slow and small on purpose: the deck subset of the project's example decks and CalculiX's own
-metalforming deck (*NODE, *ELEMENT C3D8/C3D8R/C3D8I/C3D6, *NSET/*ELSET with GENERATE and set names,
-*SURFACE TYPE=NODE/ELEMENT, *CONTACT PAIR), flat faces (quad4 as bilinear patches, tri3), and only the
-columns calculix-compare reads: increment, slave, status, gap, location, px, py, pz, face_type, nodes.
+metalforming deck (*NODE, *ELEMENT C3D8/C3D8R/C3D8I/C3D6 and the quadratic C3D20/C3D20R/C3D10/C3D15,
+*NSET/*ELSET with GENERATE and set names, *SURFACE TYPE=NODE/ELEMENT, *CONTACT PAIR), flat faces (quad4 as
+bilinear patches, tri3) and quadratic ones (quad8, tri6: their textbook shape functions, CalculiX's own face
+tables), and only the columns calculix-compare reads: increment, slave, status, gap, location, px, py, pz,
+face_type, nodes.
 For each slave node, every master face whose box, grown by the capture distance, holds the node is a candidate;
-on each, the closest point of the face (interior by Newton on the bilinear patch, else its edges and vertices);
+on each, the closest point of the face (interior by Newton on the bilinear patch, else its edges and vertices;
+a quadratic face: Newton from the minima of a sampled 9 x 9 grid, kept on the face, and each curved edge
+sampled at 21 points and refined by 1-D Newton; a quadratic face's box holds its Bezier control points, which bound it);
 the nearest wins (ties: lower element, then lower face). The gap is signed by the face normal, or by the
-angle-weighted pseudo-normal at an edge or vertex. The capture distance is the longest master edge.
+angle-weighted pseudo-normal at an edge or vertex (a curved face: its normal at its own nearest point of the
+edge, its corner angle between its edges' tangents). The capture distance is the longest master edge (between
+corners).
 
 --perturb makes it wrong on purpose, for the tests that calculix-compare fails when it should:
   drop     the deepest slave node of every increment (the smallest gap) gets status no_segment;
@@ -46,7 +52,19 @@ FACES = {
              "S6": (4, 8, 5, 1)},
     "C3D6": {"S1": (1, 2, 3), "S2": (4, 6, 5), "S3": (1, 4, 5, 2), "S4": (2, 5, 6, 3), "S5": (3, 6, 4, 1)},
 }
-ALIASES = {"C3D8R": "C3D8", "C3D8I": "C3D8"}
+# Quadratic faces as CalculiX lists them (ifaceq, ifacet, ifacew2 in its gencontelem_n2f.f): outward, corners
+# then the mid-side nodes of the edges corner 1-2, 2-3, ...
+FACES["C3D20"] = {"S1": (4, 3, 2, 1, 11, 10, 9, 12), "S2": (5, 6, 7, 8, 13, 14, 15, 16),
+                  "S3": (1, 2, 6, 5, 9, 18, 13, 17), "S4": (2, 3, 7, 6, 10, 19, 14, 18),
+                  "S5": (3, 4, 8, 7, 11, 20, 15, 19), "S6": (4, 1, 5, 8, 12, 17, 16, 20)}
+FACES["C3D10"] = {"S1": (1, 3, 2, 7, 6, 5), "S2": (1, 2, 4, 5, 9, 8), "S3": (2, 3, 4, 6, 10, 9),
+                  "S4": (1, 4, 3, 8, 10, 7)}
+FACES["C3D15"] = {"S1": (1, 3, 2, 9, 8, 7), "S2": (4, 5, 6, 10, 11, 12), "S3": (1, 2, 5, 4, 7, 14, 10, 13),
+                  "S4": (2, 3, 6, 5, 8, 15, 11, 14), "S5": (3, 1, 4, 6, 9, 13, 12, 15)}
+ALIASES = {"C3D8R": "C3D8", "C3D8I": "C3D8", "C3D20R": "C3D20"}
+CORNERS = {"C3D8": 8, "C3D6": 6, "C3D20": 8, "C3D10": 4, "C3D15": 6}
+NODE_COUNT = {"C3D8": 8, "C3D6": 6, "C3D20": 20, "C3D10": 10, "C3D15": 15}
+FACE_TYPE = {4: "quad4", 3: "tri3", 8: "quad8", 6: "tri6"}
 
 
 # ---------------------------------------------------------------------------------------------------------
@@ -118,7 +136,7 @@ def read_deck(path):
         elif keyword == "*ELEMENT":
             pending += [t for t in fields if t]
             etype = ALIASES.get(params["TYPE"].upper(), params["TYPE"].upper())
-            count = {"C3D8": 8, "C3D6": 6}.get(etype)
+            count = NODE_COUNT.get(etype)
             if count is None:
                 raise SystemExit("%s: element type %s is not supported by this reference" % (path, etype))
             if len(pending) >= count + 1:
@@ -163,6 +181,7 @@ def pair_geometry(deck_path, pair):
         etype, enodes = elements[eid]
         order = FACES[etype][label]
         faces.append((eid, label, [enodes[k - 1] for k in order], enodes))
+    faces = [(eid, label, f, enodes[:CORNERS[elements[eid][0]]]) for eid, label, f, enodes in faces]
     master_nodes = {n for _, _, f, _ in faces for n in f}
     if (slave_name, "NODE") in surfaces and (pair_type == "NODE TO SURFACE" or (slave_name, "ELEMENT")
                                                not in surfaces):
@@ -251,6 +270,191 @@ def closest_on_face(s, x):
     return best
 
 
+# ---------------------------------------------------------------------------------------------------------
+# Quadratic faces (quad8: (xi, eta) in [-1, 1]^2; tri6: (r, s), r, s >= 0, r + s <= 1), by the textbook shape
+# functions (Zienkiewicz & Taylor, vol. 1, 6.4 and 6.6) and their derivatives.
+def shape_quadratic(n, a, b):
+    """Shape functions and their a- and b-derivatives of the 8- or 6-node face at (a, b)."""
+    if n == 8:
+        s_, t_ = (-1, 1, 1, -1), (-1, -1, 1, 1)
+        w, wa, wb = [], [], []
+        for i in range(4):
+            s, t = s_[i], t_[i]
+            w.append(0.25 * (1 + s * a) * (1 + t * b) * (s * a + t * b - 1))
+            wa.append(0.25 * s * (1 + t * b) * (2 * s * a + t * b))
+            wb.append(0.25 * t * (1 + s * a) * (s * a + 2 * t * b))
+        w += [0.5 * (1 - a * a) * (1 - b), 0.5 * (1 + a) * (1 - b * b), 0.5 * (1 - a * a) * (1 + b),
+              0.5 * (1 - a) * (1 - b * b)]
+        wa += [-a * (1 - b), 0.5 * (1 - b * b), -a * (1 + b), -0.5 * (1 - b * b)]
+        wb += [-0.5 * (1 - a * a), -b * (1 + a), 0.5 * (1 - a * a), -b * (1 - a)]
+        return w, wa, wb
+    l0 = 1 - a - b
+    w = [l0 * (2 * l0 - 1), a * (2 * a - 1), b * (2 * b - 1), 4 * l0 * a, 4 * a * b, 4 * b * l0]
+    wa = [-(4 * l0 - 1), 4 * a - 1, 0.0, 4 * (l0 - a), 4 * b, -4 * b]
+    wb = [-(4 * l0 - 1), 0.0, 4 * b - 1, -4 * a, 4 * a, 4 * (l0 - b)]
+    return w, wa, wb
+
+
+def quadratic_point(x, a, b):
+    """P, P_a, P_b of the quadratic face with nodes x at (a, b)."""
+    w, wa, wb = shape_quadratic(len(x), a, b)
+    p, pa, pb = [0.0, 0.0, 0.0], [0.0, 0.0, 0.0], [0.0, 0.0, 0.0]
+    for k, node in enumerate(x):
+        for i in range(3):
+            p[i] += w[k] * node[i]
+            pa[i] += wa[k] * node[i]
+            pb[i] += wb[k] * node[i]
+    return tuple(p), tuple(pa), tuple(pb)
+
+
+def inside_quadratic(n, a, b, margin=0.0):
+    if n == 8:
+        return -1 - margin <= a <= 1 + margin and -1 - margin <= b <= 1 + margin
+    return a >= -margin and b >= -margin and a + b <= 1 + margin
+
+
+def onto_quadratic(n, a, b):
+    """(a, b) moved onto the closed face in the parameter plane."""
+    if n == 8:
+        return min(1.0, max(-1.0, a)), min(1.0, max(-1.0, b))
+    if a + b > 1:
+        shift = 0.5 * (a + b - 1)
+        a, b = a - shift, b - shift
+    a, b = min(1.0, max(0.0, a)), min(1.0, max(0.0, b))
+    if a + b > 1:
+        a, b = (a, 1 - a) if a >= b else (1 - b, b)
+    return a, b
+
+
+def quadratic_edge(n, e, t):
+    """Face parameters of the point t in [0, 1] of edge e (t = 0 its first corner, 1 its second)."""
+    if n == 8:
+        return ((-1 + 2 * t, -1.0), (1.0, -1 + 2 * t), (1 - 2 * t, 1.0), (-1.0, 1 - 2 * t))[e]
+    return ((t, 0.0), (1 - t, t), (0.0, 1 - t))[e]
+
+
+def closest_on_quadratic(s, x):
+    """(distance, point, location, key, normal at the point, (a, b)) of the quad8 / tri6 with nodes x."""
+    n = len(x)
+    k = n // 2
+    def f(a, b):
+        r = sub(s, quadratic_point(x, a, b)[0])
+        return dot(r, r)
+    candidates = []
+    # Interior: Newton on the gradient of |S - P|^2 / 2 from every minimum of a sampled grid, kept on the face.
+    m = 8
+    lo, width = (-1.0, 2.0) if n == 8 else (0.0, 1.0)
+    grid = {}
+    for i in range(m + 1):
+        for j in range(m + 1):
+            a, b = lo + width * i / m, lo + width * j / m
+            if inside_quadratic(n, a, b, 1e-12):
+                grid[(i, j)] = f(a, b)
+    h = 1e-5
+    for (i, j), value in grid.items():
+        if any(grid.get((i + di, j + dj), float("inf")) < value for di in (-1, 0, 1) for dj in (-1, 0, 1)):
+            continue
+        a, b = lo + width * i / m, lo + width * j / m
+        converged = False
+        for _ in range(60):
+            p, pa, pb = quadratic_point(x, a, b)
+            r = sub(p, s)
+            g = (dot(pa, r), dot(pb, r))
+            # Hessian of |S - P|^2 / 2 by central differences of the gradient.
+            def grad(u, v):
+                q, qa, qb = quadratic_point(x, u, v)
+                rr = sub(q, s)
+                return dot(qa, rr), dot(qb, rr)
+            ga, gA, gb, gB = grad(a + h, b), grad(a - h, b), grad(a, b + h), grad(a, b - h)
+            h00, h11 = (ga[0] - gA[0]) / (2 * h), (gb[1] - gB[1]) / (2 * h)
+            h01 = 0.25 * ((ga[1] - gA[1]) + (gb[0] - gB[0])) / h
+            det = h00 * h11 - h01 * h01
+            if not (h00 > 0 and det > 0):
+                break
+            da, db = (h11 * g[0] - h01 * g[1]) / det, (h00 * g[1] - h01 * g[0]) / det
+            na, nb = onto_quadratic(n, a - da, b - db)
+            moved = max(abs(na - a), abs(nb - b))
+            a, b = na, nb
+            if max(abs(da), abs(db)) < 1e-12:  # at rounding level (the Hessian's differences carry ~1e-10)
+                converged = True
+                break
+            if moved < 1e-15:
+                break
+        if converged:
+            p, pa, pb = quadratic_point(x, a, b)
+            candidates.append((norm(sub(s, p)), p, "face", None, unit(cross(pa, pb)), (a, b)))
+    # Edges: 21 samples, each sampled minimum refined by 1-D Newton (the second derivative by differences).
+    for e in range(k):
+        end0, end1 = quadratic_edge(n, e, 0.0), quadratic_edge(n, e, 1.0)
+        da, db = end1[0] - end0[0], end1[1] - end0[1]
+
+        def curve(t):
+            a, b = quadratic_edge(n, e, t)
+            p, pa, pb = quadratic_point(x, a, b)
+            return p, tuple(pa[i] * da + pb[i] * db for i in range(3))
+
+        ts = [i / 20 for i in range(21)]
+        fs = []
+        for t in ts:
+            r = sub(s, curve(t)[0])
+            fs.append(dot(r, r))
+        for i, t in enumerate(ts):
+            if (i > 0 and fs[i - 1] < fs[i]) or (i < 20 and fs[i + 1] < fs[i]):
+                continue
+            for _ in range(60):
+                p, pt = curve(t)
+                g = dot(pt, sub(p, s))
+                p1, pt1 = curve(t + h)
+                p0, pt0 = curve(t - h)
+                slope = (dot(pt1, sub(p1, s)) - dot(pt0, sub(p0, s))) / (2 * h)
+                if not slope > 0:
+                    break
+                nt = min(1.0, max(0.0, t - g / slope))
+                done = abs(nt - t) < 1e-14
+                t = nt
+                if done:
+                    break
+            a, b = quadratic_edge(n, e, t)
+            p = quadratic_point(x, a, b)[0]
+            if t <= 0.0 or t >= 1.0:
+                key = ("vertex", e if t <= 0.0 else (e + 1) % k)
+            else:
+                key = ("edge", e)
+            candidates.append((norm(sub(s, p)), p, key[0], key, None, (a, b)))
+    return min(candidates, key=lambda c: c[0])
+
+
+def quadratic_normal_on_edge(x, e, point):
+    """The unit normal of quadratic face x at its point of edge e nearest `point`."""
+    n = len(x)
+    best = None
+    for i in range(201):
+        a, b = quadratic_edge(n, e, i / 200)
+        d = norm(sub(point, quadratic_point(x, a, b)[0]))
+        if best is None or d < best[0]:
+            best = (d, a, b)
+    _, pa, pb = quadratic_point(x, best[1], best[2])
+    return unit(cross(pa, pb))
+
+
+def quadratic_corner_term(x, c):
+    """Corner angle times unit normal of quadratic face x at its corner c (a vertex pseudo-normal's term)."""
+    n = len(x)
+    k = n // 2
+    a, b = quadratic_edge(n, c, 0.0)
+    _, pa, pb = quadratic_point(x, a, b)
+
+    def tangent(e, forward):  # d/dt of edge e at its end, pointing into the edge
+        a0, b0 = quadratic_edge(n, e, 0.0)
+        a1, b1 = quadratic_edge(n, e, 1.0)
+        d = (a1 - a0, b1 - b0) if forward else (a0 - a1, b0 - b1)
+        return tuple(pa[i] * d[0] + pb[i] * d[1] for i in range(3))
+
+    t1, t2 = tangent(c, True), tangent((c - 1) % k, False)
+    angle = math.acos(max(-1.0, min(1.0, dot(unit(t1), unit(t2)))))
+    return scale(angle, unit(cross(pa, pb)))
+
+
 def search(slaves, faces, position):
     """SPEC 9 on the geometry position(node id): one result per slave node, None where no face is near."""
     xs = [[position(n) for n in f] for _, _, f, _ in faces]
@@ -258,20 +462,49 @@ def search(slaves, faces, position):
                  for _, _, _, enodes in faces]
     # Orient each face outward (its normal away from its element's centroid).
     for k, x in enumerate(xs):
-        c = scale(1.0 / len(x), [sum(p[i] for p in x) for i in range(3)])
-        n = cross(sub(x[1], x[0]), sub(x[-1], x[0]))
+        corners = x[:len(x) // 2] if len(x) in (6, 8) else x
+        c = scale(1.0 / len(corners), [sum(p[i] for p in corners) for i in range(3)])
+        n = cross(sub(corners[1], corners[0]), sub(corners[-1], corners[0]))
         if dot(n, sub(c, centroids[k])) < 0:
-            xs[k] = x[::-1]
-            faces[k] = (faces[k][0], faces[k][1], faces[k][2][::-1], faces[k][3])
-    capture = max(norm(sub(x[k], x[(k + 1) % len(x)])) for x in xs for k in range(len(x)))
-    boxes = [([min(p[i] for p in x) - capture for i in range(3)], [max(p[i] for p in x) + capture for i in range(3)])
-             for x in xs]
+            if len(x) in (6, 8):  # corners reversed from the first; each mid-side node stays with its edge
+                h = len(x) // 2
+                order = [0] + list(range(h - 1, 0, -1)) + [h + (h - 1)] + [h + i for i in range(h - 2, -1, -1)]
+            else:
+                order = list(range(len(x)))[::-1]
+            xs[k] = [x[i] for i in order]
+            faces[k] = (faces[k][0], faces[k][1], [faces[k][2][i] for i in order], faces[k][3])
+    corner_lists = [x[:len(x) // 2] if len(x) in (6, 8) else x for x in xs]
+    capture = max(norm(sub(x[k], x[(k + 1) % len(x)])) for x in corner_lists for k in range(len(x)))
+
+    def hull(x):
+        """Points whose box holds the face: its nodes, and a quadratic face's Bezier control points."""
+        if len(x) == 6:
+            return x + [sub(scale(2, x[3 + e]), scale(0.5, add(x[e], x[(e + 1) % 3]))) for e in range(3)]
+        if len(x) == 8:
+            mid = lambda f0, fm, f1: sub(scale(2, fm), scale(0.5, add(f0, f1)))
+            centre = quadratic_point(x, 0.0, 0.0)[0]
+            rows = [(x[0], mid(x[0], x[4], x[1]), x[1]), (x[7], mid(x[7], centre, x[5]), x[5]),
+                    (x[3], mid(x[3], x[6], x[2]), x[2])]
+            return [rows[j][i] if j != 1 else mid(rows[0][i], rows[1][i], rows[2][i]) for i in range(3)
+                    for j in range(3)] + list(rows[0]) + list(rows[2])
+        return x
+
+    boxes = [([min(p[i] for p in hull(x)) - capture for i in range(3)],
+              [max(p[i] for p in hull(x)) + capture for i in range(3)]) for x in xs]
     normals = [unit(cross(sub(x[2], x[0]), sub(x[3] if len(x) == 4 else x[1], x[1])) if len(x) == 4
-                    else cross(sub(x[1], x[0]), sub(x[2], x[0]))) for x in xs]
-    # Pseudo-normals: edges by the sum of their faces' normals, vertices angle-weighted.
+                    else cross(sub(x[1], x[0]), sub(x[2], x[0]))) for x in corner_lists]
+    # Pseudo-normals of flat faces: edges by the sum of their faces' normals, vertices angle-weighted (a curved
+    # face's terms are computed where a point needs them).
     edge_normal, vertex_normal = {}, {}
+    edge_faces, vertex_faces = {}, {}
     for k, (_, _, f, _) in enumerate(faces):
-        x = xs[k]
+        x = corner_lists[k]
+        f = f[:len(x)]
+        for i in range(len(f)):
+            edge_faces.setdefault(tuple(sorted((f[i], f[(i + 1) % len(f)]))), []).append((k, i))
+            vertex_faces.setdefault(f[i], []).append((k, i))
+        if len(xs[k]) in (6, 8):
+            continue
         for i in range(len(f)):
             e = tuple(sorted((f[i], f[(i + 1) % len(f)])))
             edge_normal[e] = add(edge_normal.get(e, (0, 0, 0)), normals[k])
@@ -282,10 +515,21 @@ def search(slaves, faces, position):
     for sid in slaves:
         s = position(sid)
         best = None
+        # Nearest box first; a face whose box (without the capture margin) is farther than the best point so far
+        # cannot hold a nearer one.
+        near = []
         for k, (lo, hi) in enumerate(boxes):
             if not all(lo[i] <= s[i] <= hi[i] for i in range(3)):
                 continue
-            d, p, location, key, n = closest_on_face(s, xs[k])
+            gap = [max(lo[i] + capture - s[i], 0.0, s[i] - hi[i] + capture) for i in range(3)]
+            near.append((norm(gap), k))
+        for bound, k in sorted(near):
+            if best is not None and bound > best[0]:
+                break
+            if len(xs[k]) in (6, 8):
+                d, p, location, key, n, _ = closest_on_quadratic(s, xs[k])
+            else:
+                d, p, location, key, n = closest_on_face(s, xs[k])
             if d > capture:
                 continue
             candidate = (d, faces[k][0], faces[k][1], k, p, location, key, n)
@@ -296,14 +540,32 @@ def search(slaves, faces, position):
             continue
         d, _, _, k, p, location, key, n = best
         f = faces[k][2]
+        corners = f[:len(corner_lists[k])]
+        curved = any(len(xs[j]) in (6, 8) for j in range(len(xs)))
         if location == "face":
             direction = n
-        elif location == "edge":
+        elif location == "edge" and not curved:
             direction = edge_normal[tuple(sorted((f[key[1]], f[(key[1] + 1) % len(f)])))]
-        else:
+        elif location == "edge":
+            direction = (0.0, 0.0, 0.0)
+            for j, e in edge_faces[tuple(sorted((corners[key[1]], corners[(key[1] + 1) % len(corners)])))]:
+                term = quadratic_normal_on_edge(xs[j], e, p) if len(xs[j]) in (6, 8) else normals[j]
+                direction = add(direction, term)
+        elif not curved:
             direction = vertex_normal[f[key[1]]]
+        else:
+            direction = (0.0, 0.0, 0.0)
+            for j, c in vertex_faces[corners[key[1]]]:
+                if len(xs[j]) in (6, 8):
+                    term = quadratic_corner_term(xs[j], c)
+                else:
+                    x = corner_lists[j]
+                    prev, nxt = x[c - 1], x[(c + 1) % len(x)]
+                    angle = math.acos(max(-1.0, min(1.0, dot(unit(sub(prev, x[c])), unit(sub(nxt, x[c]))))))
+                    term = scale(angle, normals[j])
+                direction = add(direction, term)
         sign = -1.0 if dot(sub(s, p), direction) < 0 else 1.0
-        results[sid] = (sign * d, p, location, "quad4" if len(f) == 4 else "tri3", f)
+        results[sid] = (sign * d, p, location, FACE_TYPE[len(f)], f)
     return results
 
 
