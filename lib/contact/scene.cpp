@@ -58,8 +58,18 @@ void add_neighbour_sectors(const mesh::CyclicSymmetry& c, mesh::SurfaceMesh& sur
       surface.segments.push_back(quad);
       surface.segment_faces.push_back(sector.segment_faces[static_cast<std::size_t>(s)]);
       surface.segment_element_ids.push_back(sector.segment_element_ids[static_cast<std::size_t>(s)]);
+      if (!sector.segment_midsides.empty()) {
+        std::array<int, 4> mid = sector.segment_midsides[static_cast<std::size_t>(s)];
+        for (int& n : mid) n = n < 0 ? n : n + copy * nodes;
+        surface.segment_midsides.push_back(mid);
+      }
     }
     for (std::size_t f = 0; f < sector.extra_faces.size(); ++f) {
+      if (!sector.extra_face_midsides.empty()) {
+        std::array<int, 4> mid = sector.extra_face_midsides[f];
+        for (int& n : mid) n = n < 0 ? n : n + copy * nodes;
+        surface.extra_face_midsides.push_back(mid);
+      }
       std::array<int, 4> face = sector.extra_faces[f];
       for (int& n : face) n = n < 0 ? n : n + copy * nodes;
       surface.extra_faces.push_back(face);
@@ -119,7 +129,7 @@ SceneResult search_scene(const Scene& scene, const SearchOptions& options) {
 double largest_relative_offset(const SceneResult& result) {
   double largest = 0.0;
   for (const NodeSegmentPair& p : result.pairs) {
-    if (p.status != PairStatus::kFound) continue;
+    if (p.status != PairStatus::kFound || p.nodes[0] < 0) continue;  // no quad4 configuration
     if (p.label.status != Status::kOk && p.label.status != Status::kOutside) continue;
     double shortest = std::numeric_limits<double>::infinity();
     for (int i = 0; i < 4; ++i) shortest = std::min(shortest, (p.config.nodes[(i + 1) % 4] - p.config.nodes[i]).norm());

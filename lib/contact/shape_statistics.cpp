@@ -59,7 +59,8 @@ double normal_tilt_tangent(const Vec3& node, const Vec3& next, const Vec3& prev,
 ShapeStatistics shape_statistics(std::span<const NodeSegmentPair> pairs, SurfaceKind surface) {
   std::vector<double> angles, aspects, warps, offsets, tilts;
   for (const NodeSegmentPair& p : pairs) {
-    if (p.status != PairStatus::kFound) continue;
+    // Faces other than quad4 (the surface search's triangles and quadratic faces) have no SPEC 7 configuration.
+    if (p.status != PairStatus::kFound || p.nodes[0] < 0) continue;
     const auto& nodes = p.config.nodes;
     for (double a : geometry::interior_angles_degrees(nodes)) angles.push_back(a);
     aspects.push_back(aspect_ratio(nodes));

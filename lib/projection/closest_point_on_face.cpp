@@ -62,6 +62,18 @@ double refine_on_edge(const EdgeFunction<SurfaceT>& fn, double t, double a, doub
     if (!(std::isfinite(f1) && std::isfinite(f2))) break;
     double step = f2 > 0.0 ? -f1 / f2 : (f1 > 0.0 ? -0.25 * width : 0.25 * width);
     if (f1 == 0.0) break;
+    if (f2 > 0.0 && std::abs(step) < 1e-6 * width) {
+      // Near the minimum f is flat to rounding (a descent test stalls about sqrt(eps) off): Newton on f' = 0,
+      // kept while |f'| decreases, converges to full precision.
+      const double next = std::clamp(t + step, a, b);
+      if (next == t) break;
+      double g1 = 0.0, g2 = 0.0;
+      fn.derivatives(next, g1, g2);
+      if (!(std::abs(g1) < std::abs(f1))) break;
+      t = next;
+      f = fn.value(t);
+      continue;
+    }
     bool moved = false;
     for (int halving = 0; halving < 60; ++halving) {
       const double next = std::clamp(t + step, a, b);
@@ -133,6 +145,22 @@ template <geometry::Surface SurfaceT>
 FaceClosestPoint closest_point_on_face(const SurfaceT& surface, const Vec3& slave, const ProjectionOptions& options) {
   FaceClosestPoint out;
   if (!finite(slave)) return out;  // invalid
+  // Relative to the face's first node: the projection's residual tolerance is relative to the face's size,
+  // and world coordinates far from the origin round the residual above it (a face of size 0.03 at |x| = 70
+  // missed most of its interior points).
+  const Vec3& origin = surface.nodes()[0];
+  if (finite(origin) && !origin.isZero()) {
+    std::array<Vec3, 4> nodes = surface.nodes();
+    for (Vec3& x : nodes) x -= origin;
+    FaceClosestPoint shifted;
+    if constexpr (SurfaceT::kKind == SurfaceKind::kGregory) {
+      shifted = closest_point_on_face(geometry::GregoryPatch(nodes, surface.normals()), slave - origin, options);
+    } else {
+      shifted = closest_point_on_face(geometry::BilinearPatch(nodes), slave - origin, options);
+    }
+    if (shifted.status == Status::kOk) shifted.point += origin;
+    return shifted;
+  }
   const ParamDomain d = param_domain(SurfaceT::kKind);
   const double width = d.hi - d.lo;
 

@@ -41,6 +41,7 @@ inline constexpr double kOnBoundaryTolerance = 1e-10;
 ///  3. The nearest candidate wins (ties: the interior, then the lower edge). Its location follows from its
 ///     parameters (the interior's clamped to the closed domain): a coordinate within kOnBoundaryTolerance x
 ///     width of a bound is on that bound; none: face, one: edge, two: vertex.
+/// Computed relative to the face's first node (the point is reported in the caller's coordinates).
 /// Status: invalid for a non-finite slave or surface value; degenerate for a collapsed face
 /// (geometry::is_degenerate_segment of its nodes); ok otherwise. Limits: the interior search is the reference
 /// projection's (a local method from a grid of starts).

@@ -24,6 +24,10 @@ void move_to_face_boundary(SurfaceKind kind, const Real* raw, Real* param, Real*
   }
   for (int k = 0; k < 3; ++k) config.slave[k] = static_cast<double>(raw[12 + k]);
   if (geometry::surface_defect(config, kind)) return;
+  // Relative to the first node, as projection::closest_point_on_face computes (the same arithmetic).
+  const geometry::Vec3 origin = config.nodes[0];
+  for (geometry::Vec3& x : config.nodes) x -= origin;
+  config.slave -= origin;
   geometry::with_surface(config, kind, [&](const auto& surface) {
     const ParamDomain d = param_domain(kind);
     projection::EdgePoint best;

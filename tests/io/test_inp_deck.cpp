@@ -110,7 +110,14 @@ TEST(InpDeck, Calculix20NodeElementsSpanTwoLinesAndUseTheirCorners) {
   ASSERT_EQ(model.mesh.element_count(), 1);
   EXPECT_EQ(model.mesh.element_nodes(0).size(), 20u);
   const auto master = mesh::master_surface(model, 0);
-  EXPECT_EQ(master.node_ids, (std::vector<long>{5, 6, 7, 8}));
+  // The face's corners are its segment; its mid-side nodes (edges 5-6, 6-7, 7-8, 8-5: nodes 13-16) are nodes of
+  // the surface too, for the surface search's 8-node face (SPEC 9).
+  ASSERT_EQ(master.segments.size(), 1u);
+  std::vector<long> corners;
+  for (int n : master.segments[0]) corners.push_back(master.node_ids[static_cast<std::size_t>(n)]);
+  std::sort(corners.begin(), corners.end());
+  EXPECT_EQ(corners, (std::vector<long>{5, 6, 7, 8}));
+  EXPECT_EQ(master.node_ids, (std::vector<long>{5, 6, 7, 8, 13, 14, 15, 16}));
 }
 
 TEST(InpDeck, GenerateAndSetsNamedInsideSets) {
