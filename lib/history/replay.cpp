@@ -33,8 +33,8 @@ bool same_answer(const contact::NodeSegmentPair& a, const contact::NodeSegmentPa
   return a.segment == b.segment && (a.point - b.point).norm() <= tol && std::abs(a.label.gap - b.label.gap) <= tol;
 }
 
-/// The local-search queries of one increment: the found nodes whose point lies inside a segment face, in the
-/// face's own node order (raw rows of SPEC 6), with the surface search's point as the reference.
+/// The local-search queries of one increment: the found nodes whose point lies inside a quad4 segment face, in
+/// the face's own node order (raw rows of SPEC 6), with the surface search's point as the reference.
 struct Queries {
   std::vector<double> raw;                     ///< count x 15 or 27
   std::vector<std::array<double, 2>> reference;
@@ -48,7 +48,9 @@ Queries face_queries(const contact::Scene& scene, const std::vector<contact::Nod
   for (std::size_t i = 0; i < pairs.size(); ++i) {
     const contact::NodeSegmentPair& p = pairs[i];
     if (p.status != contact::PairStatus::kFound || p.location != Location::kFace) continue;
-    if (static_cast<std::size_t>(p.segment) >= scene.master.segments.size()) continue;  // not a segment
+    // lib/search's methods are for the segments' quad4 surfaces (a C3D20 face is a quad8 for the search).
+    if (static_cast<std::size_t>(p.segment) >= scene.master.segments.size()) continue;
+    if (scene.master.face_type(p.segment) != mesh::FaceType::kQuad4) continue;
     if (only != nullptr && (*only)[i] == 0) continue;
     const auto& quad = scene.master.segments[static_cast<std::size_t>(p.segment)];
     for (int n : quad) {
