@@ -4,7 +4,8 @@
 #   target_link_libraries(fe PRIVATE contactnn::search)   # C++: the local search (static)
 #   target_link_libraries(fe PRIVATE contactnn::io)       # C++: network files (static, HDF5)
 # Components: contactnn_runtime (libcontactnn_c.so), contactnn_development (headers, static libraries, the
-# CMake package, the Fortran module's source), contactnn_apps (gen-configs, train-net, evaluate-net).
+# CMake package, the Fortran module's source), contactnn_apps (gen-configs, train-net, evaluate-net,
+# scene-study).
 include(CMakePackageConfigHelpers)
 
 set(CONTACTNN_INSTALL_CMAKEDIR ${CMAKE_INSTALL_LIBDIR}/cmake/contactnn CACHE STRING
@@ -47,5 +48,5 @@ write_basic_package_version_file(${PROJECT_BINARY_DIR}/contactnnConfigVersion.cm
 install(FILES ${PROJECT_BINARY_DIR}/contactnnConfig.cmake ${PROJECT_BINARY_DIR}/contactnnConfigVersion.cmake
         DESTINATION ${CONTACTNN_INSTALL_CMAKEDIR} COMPONENT contactnn_development)
 
-install(TARGETS gen-configs train-net evaluate-net RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR}
+install(TARGETS gen-configs train-net evaluate-net scene-study RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR}
         COMPONENT contactnn_apps)

@@ -25,7 +25,7 @@ namespace contactnn::cli {
 namespace {
 
 /// The sections a contactnn study config may hold: one per app.
-const std::set<std::string> kKnownSections = {"gen-configs", "train-net", "evaluate-net"};
+const std::set<std::string> kKnownSections = {"gen-configs", "train-net", "evaluate-net", "scene-study", "replay"};
 
 /// How an option's value is typed in TOML, from CLI11's type name ("INT:INT in [1 - 400]" -> integer).
 enum class ValueKind { kBoolean, kInteger, kReal, kText };
@@ -182,7 +182,7 @@ class SectionConfig : public CLI::Config {
       }
       if (kKnownSections.count(name) == 0) {
         line_error(line, "unknown section [" + name +
-                             "] (expected one of [gen-configs], [train-net], [evaluate-net])");
+                             "] (expected one of [gen-configs], [train-net], [evaluate-net], [scene-study], [replay])");
       }
       if (name != section_) continue;
       for (const auto& [key, value] : by_line(*node->as_table())) {

@@ -7,7 +7,8 @@
 //   reference labels: errors, gap errors, inside/outside agreement, failures, and the time per query one at a
 //   time and batched at 1 and several threads, all in one run (paper Sections 5.3 and 6.3.3: Table 1, Figs 4,
 //   10 and 11). Input mode applies one network (SPEC 6), optionally followed by K Newton steps (SPEC 8), to a
-//   user's configurations in world coordinates.
+//   user's configurations in world coordinates; with --plan, the method (and network) a scene plan names
+//   (scene-study's DIR/plan.toml, SPEC 7).
 //
 // Sample runs:
 //   evaluate-net --config configs/bilinear-paper.toml --weights data/weights/bilinear-8.h5
@@ -17,6 +18,7 @@
 //   evaluate-net --weights data/weights/bilinear-8.h5 --input data/examples/raw-bilinear.csv --output /tmp/pred.csv
 //   evaluate-net --weights data/weights/gregory-48.h5 --input data/examples/raw-gregory.csv --output /tmp/p.csv
 //                --newton-steps 2
+//   evaluate-net --plan /tmp/hertz-study/plan.toml --input /tmp/hertz-pairs.csv --output /tmp/p.csv
 //
 // Writes:
 //   report mode: DIR/errors.csv, DIR/speed.csv, DIR/hist_<xi|eta|u|v>.csv and .svg, DIR/report.md,
@@ -28,10 +30,13 @@
 //                prediction is still written); with --newton-steps K > 0 the steps' outcome (ok, outside,
 //                no_convergence); invalid (non-finite input), degenerate (no canonical frame), no_segment (a
 //                pairs row without coordinates): values empty. Rows are streamed in chunks (bounded memory).
+//                With --plan: the same columns for the plan's method (search/local_search.hpp lists the statuses
+//                of each); the plan's surface decides the columns read (SPEC 6).
 #include <omp.h>
 
 #include <cstdio>
 #include <memory>
+#include <optional>
 #include <span>
 #include <thread>
 
@@ -47,6 +52,7 @@
 #include "io/network_file.hpp"
 #include "io/raw_configurations.hpp"
 #include "search/local_search.hpp"
+#include "study/plan.hpp"
 
 namespace {
 
@@ -61,7 +67,7 @@ const std::initializer_list<std::string> kReportFiles = {
 /// The files and switches of one run (every numeric setting lives in eval::StudyOptions).
 struct Paths {
   std::vector<std::string> weights, data, pairs;
-  std::string report, input, output;
+  std::string report, input, output, plan;
   int newton_steps = 0;
   bool quiet = false;
   std::string command_line;
@@ -109,13 +115,11 @@ LoadedNetwork load_network(const std::string& path) {
   return io::read_network_real_type(path) == "float64" ? load_as<double>(path) : load_as<float>(path);
 }
 
-/// Input mode (SPEC 6, SPEC 8): RAW.csv streamed in chunks of io::kRawChunkRows rows through one batched call of
-/// lib/search per chunk (network, or network+newton:K); the output appears only when every row is done.
-int input_mode(const LoadedNetwork& network, const Paths& paths) {
-  const SurfaceKind kind = network.model->surface();
-  search::Method method = search::Method::parse("network");
-  method.newton_steps = paths.newton_steps;
-  const search::LocalSearch search(kind, method, {}, network.model.get());
+/// Input mode (SPEC 6, SPEC 7, SPEC 8): RAW.csv streamed in chunks of io::kRawChunkRows rows through one batched
+/// call of lib/search per chunk (network, network+newton:K, or a plan's method); the output appears only when
+/// every row is done. `network` may be null for a method without one.
+int input_mode(SurfaceKind kind, const search::Method& method, const search::NetworkModel* network, const Paths& paths) {
+  const search::LocalSearch search(kind, method, {}, network);
   const auto names = coordinate_names(kind);
   const std::vector<std::string> header = {std::string(names[0]), std::string(names[1]), "status"};
   const std::size_t columns = static_cast<std::size_t>(search::LocalSearch::raw_columns(kind));
@@ -249,6 +253,10 @@ int main(int argc, char** argv) {
   auto* input = app.add_option("--input", paths.input, "input mode: RAW.csv of world configurations (SPEC 6)")
                     ->check(CLI::ExistingFile);
   auto* output = app.add_option("--output", paths.output, "input mode: predictions .csv");
+  auto* plan = app.add_option("--plan", paths.plan,
+                              "input mode: a scene plan (scene-study's plan.toml, SPEC 7) in place of --weights: its "
+                              "method, with its network if it names one")
+                   ->check(CLI::ExistingFile);
   auto* steps = app.add_option("--newton-steps", paths.newton_steps,
                                "input mode: safeguarded Newton steps after the network's estimate (SPEC 8; 0: the "
                                "network alone)")
@@ -256,6 +264,7 @@ int main(int argc, char** argv) {
   input->needs(output);
   output->needs(input);
   steps->needs(input);
+  plan->needs(input)->excludes(steps)->excludes(app.get_option("--weights"));
   input->excludes(data)->excludes(pairs)->excludes(report);
   app.add_option("--methods", options.methods,
                  "report mode: comma-separated search methods (network, newton:K, newton, closed_form, "
@@ -307,8 +316,9 @@ int main(int argc, char** argv) {
                          "--input RAW.csv --output PRED.csv (input mode)");
     CONTACTNN_REQUIRE_AS(InvalidArgument, paths.report.empty() || report_mode_asked,
                          "--report needs --data or --pairs");
-    CONTACTNN_REQUIRE_AS(InvalidArgument, paths.input.empty() || paths.weights.size() == 1,
-                         "input mode applies one network: give exactly one --weights (got " << paths.weights.size() << ")");
+    CONTACTNN_REQUIRE_AS(InvalidArgument, paths.input.empty() || paths.weights.size() == 1 || !paths.plan.empty(),
+                         "input mode applies one network or a plan: give exactly one --weights (got "
+                             << paths.weights.size() << ") or --plan");
     if (threads > 0) omp_set_num_threads(threads);
     paths.command_line = join_command_line(argc, argv);
     const std::string effective = cli::effective_config(app, "evaluate-net");
@@ -318,7 +328,8 @@ int main(int argc, char** argv) {
         outputs.push_back({"--report file '" + name + "'", std::filesystem::path(paths.report) / name});
       }
     }
-    std::vector<io::NamedPath> inputs = {{"--input", paths.input}, {"--config", cli::config_path(app)}};
+    std::vector<io::NamedPath> inputs = {{"--input", paths.input}, {"--config", cli::config_path(app)},
+                                         {"--plan", paths.plan}};
     for (const auto& w : paths.weights) inputs.push_back({"--weights", w});
     for (const auto& d : paths.data) inputs.push_back({"--data", d});
     for (const auto& p : paths.pairs) inputs.push_back({"--pairs", p});
@@ -329,7 +340,24 @@ int main(int argc, char** argv) {
     }
     if (!paths.output.empty()) io::require_writable(paths.output);
 
-    // 3. The networks, each in the precision it was trained in; names (file stems) must differ.
+    // 3. A plan: its method, and its network (a path relative to the plan) read in the precision it was trained
+    //    in; input mode.
+    if (!paths.plan.empty()) {
+      const study::ScenePlan scene_plan = study::read_plan(paths.plan);
+      const std::filesystem::path network_path = study::plan_network_path(scene_plan, paths.plan);
+      std::optional<LoadedNetwork> network;
+      if (!network_path.empty()) {
+        network = load_network(network_path.string());
+        CONTACTNN_REQUIRE_AS(FormatError, network->model->surface() == scene_plan.surface,
+                             "'" << network_path.string() << "' is a " << to_string(network->model->surface())
+                                 << " network, the plan '" << paths.plan << "' is for " << to_string(scene_plan.surface)
+                                 << " surfaces");
+      }
+      return input_mode(scene_plan.surface, search::Method::parse(scene_plan.method),
+                        network ? network->model.get() : nullptr, paths);
+    }
+
+    // 4. The networks, each in the precision it was trained in; names (file stems) must differ.
     std::vector<LoadedNetwork> networks;
     for (const std::string& w : paths.weights) {
       networks.push_back(load_network(w));
@@ -342,7 +370,11 @@ int main(int argc, char** argv) {
                                  << networks[k].path << "' a " << to_string(networks[k].model->surface()) << " one");
       }
     }
-    if (!paths.input.empty()) return input_mode(networks.front(), paths);
+    if (!paths.input.empty()) {
+      search::Method method = search::Method::parse("network");
+      method.newton_steps = paths.newton_steps;
+      return input_mode(networks.front().model->surface(), method, networks.front().model.get(), paths);
+    }
     // The sets are named by their file stems in every table: they must differ too.
     std::vector<std::string> sets = paths.data;
     sets.insert(sets.end(), paths.pairs.begin(), paths.pairs.end());

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <cstring>
+#include <filesystem>
 #include <limits>
 #include <memory>
 #include <mutex>
@@ -24,6 +25,7 @@
 #include "search/method.hpp"
 #include "search/network_model.hpp"
 #include "search/search_options.hpp"
+#include "study/plan.hpp"
 
 using namespace contactnn;
 
@@ -307,6 +309,56 @@ int contactnn_search_run_float(const contactnn_search* handle, size_t count, con
 
 int contactnn_search_surface(const contactnn_search* handle) {
   return is_live(handle) ? static_cast<int>(handle->search->surface()) : -1;
+}
+
+int contactnn_search_create_from_plan(contactnn_search** out, const char* plan_file, const contactnn_options* options) {
+  return guarded("contactnn_search_create_from_plan", [&] {
+    CONTACTNN_REQUIRE_AS(InvalidArgument, out != nullptr,
+                         "contactnn_search_create_from_plan: search (where the handle goes) is NULL");
+    *out = nullptr;
+    CONTACTNN_REQUIRE_AS(InvalidArgument, plan_file != nullptr && plan_file[0] != '\0',
+                         "contactnn_search_create_from_plan: plan_file is " << (plan_file == nullptr ? "NULL" : "empty"));
+    CONTACTNN_REQUIRE_AS(InvalidArgument, std::strlen(plan_file) <= kMaxPathBytes,
+                         "contactnn_search_create_from_plan: plan_file " << quote_text(plan_file)
+                                                                         << " is longer than any path (" << kMaxPathBytes
+                                                                         << " bytes)");
+    contactnn_options defaults{};
+    if (options == nullptr) {
+      contactnn_options_init(&defaults);
+      options = &defaults;
+    }
+    CONTACTNN_REQUIRE_AS(InvalidArgument, options->threads <= CONTACTNN_MAX_THREADS,
+                         "contactnn_search_create_from_plan: options.threads = "
+                             << options->threads << ", expected at most CONTACTNN_MAX_THREADS ("
+                             << CONTACTNN_MAX_THREADS << "; 0 or less: OpenMP's default)");
+    // The plan names its surface, method and network file; read_plan checks the method and that a network is
+    // given exactly when the method needs one (FormatError naming the file, the line and the key).
+    const study::ScenePlan plan = study::read_plan(plan_file);
+    auto handle = std::make_unique<contactnn_search>();
+    handle->threads = options->threads;
+    const std::filesystem::path network_file = study::plan_network_path(plan, plan_file);
+    if (!network_file.empty()) {
+      handle->network = load_network(network_file.string());
+      CONTACTNN_REQUIRE_AS(FormatError, handle->network->surface() == plan.surface,
+                           "contactnn_search_create_from_plan: '" << network_file.string() << "' is a "
+                                                                  << to_string(handle->network->surface())
+                                                                  << " network, the plan '" << plan_file << "' is for "
+                                                                  << to_string(plan.surface) << " surfaces");
+    }
+    handle->search.emplace(plan.surface, search::Method::parse(plan.method), to_search_options(*options),
+                           handle->network.get());
+    *out = handle.release();
+  });
+}
+
+const char* contactnn_search_method(const contactnn_search* handle) {
+  thread_local std::string name;
+  try {
+    name = is_live(handle) ? handle->search->method().name() : std::string();
+  } catch (...) {
+    name.clear();
+  }
+  return name.c_str();
 }
 
 }  // extern "C"

@@ -28,6 +28,9 @@
 !   if (ierr /= CONTACTNN_SUCCESS) print *, contactnn_last_error()
 !   call contactnn_run(search, raw, param, status, ierr, gap=gap)
 !   call contactnn_destroy(search)
+! A scene plan (scene-study's DIR/plan.toml, SPEC 7) gives the surface, the method and the network in one file:
+!   call contactnn_create_from_plan(search, 'study/plan.toml', ierr)
+!   if (contactnn_surface(search) == CONTACTNN_SURFACE_GREGORY) ...   ! raw(27, n) rather than raw(15, n)
 module contactnn
   use, intrinsic :: iso_c_binding, only: c_int, c_double, c_float, c_size_t, c_char, c_ptr, c_null_ptr, &
                                          c_null_char, c_associated, c_f_pointer, c_loc
@@ -71,6 +74,7 @@ module contactnn
 
   public :: contactnn_create, contactnn_run, contactnn_destroy, contactnn_default_options, &
             contactnn_last_error, contactnn_version, contactnn_status_name
+  public :: contactnn_create_from_plan, contactnn_surface, contactnn_method
 
   !> call contactnn_run(search, raw, param, status, ierr [, gap] [, iterations]): double or single precision.
   interface contactnn_run
@@ -144,6 +148,26 @@ module contactnn
       type(c_ptr), value :: raw, param, gap, status, iterations
       integer(c_int) :: c_search_run_float
     end function c_search_run_float
+
+    function c_search_create_from_plan(search, plan_file, options) bind(C, name='contactnn_search_create_from_plan')
+      import :: c_int, c_char, c_ptr, contactnn_options
+      type(c_ptr), intent(out) :: search
+      character(kind=c_char), intent(in) :: plan_file(*)
+      type(contactnn_options), intent(in) :: options
+      integer(c_int) :: c_search_create_from_plan
+    end function c_search_create_from_plan
+
+    function c_search_surface(search) bind(C, name='contactnn_search_surface')
+      import :: c_int, c_ptr
+      type(c_ptr), value :: search
+      integer(c_int) :: c_search_surface
+    end function c_search_surface
+
+    function c_search_method(search) bind(C, name='contactnn_search_method')
+      import :: c_ptr
+      type(c_ptr), value :: search
+      type(c_ptr) :: c_search_method
+    end function c_search_method
 
     function c_strlen(s) bind(C, name='strlen')
       import :: c_ptr, c_size_t
@@ -321,5 +345,46 @@ contains
     ierr = c_search_run_float(search%handle, int(size(raw, 2), c_size_t), c_loc(raw), c_loc(param), gap_ptr, &
                               c_loc(status), iterations_ptr)
   end subroutine run_float
+
+  !> Creates a search from a scene plan (scene-study's DIR/plan.toml, SPEC 7): the plan's surface, its method and,
+  !> where the method uses one, its network file (relative to the plan's directory). options:
+  !> contactnn_default_options() when absent. contactnn_surface(search) then tells raw(15, n) from raw(27, n). On
+  !> failure search holds no handle and ierr /= CONTACTNN_SUCCESS (a malformed plan: CONTACTNN_ERROR_FORMAT, the
+  !> message naming the file, the line and the key). A search that already holds one is destroyed first.
+  subroutine contactnn_create_from_plan(search, plan, ierr, options)
+    type(contactnn_search), intent(inout) :: search
+    character(len=*), intent(in) :: plan
+    integer, intent(out) :: ierr
+    type(contactnn_options), intent(in), optional :: options
+    type(contactnn_options) :: effective
+    type(c_ptr) :: handle
+
+    call contactnn_destroy(search)
+    if (present(options)) then
+      effective = options
+    else
+      effective = contactnn_default_options()
+    end if
+    ierr = c_search_create_from_plan(handle, trim(plan)//c_null_char, effective)
+    if (ierr /= CONTACTNN_SUCCESS) return
+    search%handle = handle
+    search%columns = c_raw_columns(c_search_surface(handle))
+  end subroutine contactnn_create_from_plan
+
+  !> The surface of a search (CONTACTNN_SURFACE_BILINEAR or _GREGORY), or -1 when it holds no handle.
+  function contactnn_surface(search) result(surface)
+    type(contactnn_search), intent(in) :: search
+    integer :: surface
+    surface = -1
+    if (c_associated(search%handle)) surface = int(c_search_surface(search%handle))
+  end function contactnn_surface
+
+  !> The method of a search ('network+newton:1', 'closed_form', ...), or '' when it holds no handle.
+  function contactnn_method(search) result(method)
+    type(contactnn_search), intent(in) :: search
+    character(len=:), allocatable :: method
+    method = ''
+    if (c_associated(search%handle)) method = from_c_string(c_search_method(search%handle))
+  end function contactnn_method
 
 end module contactnn

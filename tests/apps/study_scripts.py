@@ -9,14 +9,21 @@ evaluate-net and their outputs hold together.
                     table whose fastest row was tampered with (so the check can fail).
   --case run_study  scripts/run-study with a config written here (tiny grid, a short training, short timing):
                     the dataset, the network and the report with every method exist.
+  --case scene_study  scripts/scene-study (the entry point of the compiled study, SPEC 7) on two example scenes
+                    (--scenes: scripts/make-scene's) with small settings: its outputs (plan.toml, pairs.csv,
+                    report.md, report.json; network.h5 exactly when the plan names it), a plan that reads as TOML
+                    with the method and network the settings force, and scripts/scene-table over the studies.
 Exit 0 on success; 1 with the reason otherwise.
 """
 import argparse
+import csv
+import json
 import os
 import re
 import shutil
 import subprocess
 import sys
+import tomllib
 import xml.etree.ElementTree as ET
 
 LEVELS = ["0.1", "0.03", "0.01", "0.003", "0.001", "0.0001", "1e-08"]
@@ -180,16 +187,71 @@ def check_run_study(a):
     print("run-study: dataset, network and report written")
 
 
+SMALL = ["--count", "2000", "--epochs", "20", "--long-epochs", "0", "--timing-queries", "2000",
+         "--timing-repetitions", "3", "--threads", "2", "--quiet"]
+
+
+def check_scene_study(a):
+    work = os.path.abspath(a.work)
+    shutil.rmtree(work, ignore_errors=True)
+    os.makedirs(work)
+    script = os.path.join(a.source_dir, "scripts", "scene-study")
+    flat, hertz = os.path.join(a.scenes, "flat.inp"), os.path.join(a.scenes, "hertz.inp")
+    studies = {
+        # (deck, pair, surface, extra options) -> what the plan must be
+        "flat-0-bilinear": ((flat, "0", "bilinear", []), None),
+        "hertz-0-gregory": ((hertz, "0", "gregory", ["--sizes", "16", "--train-networks", "always", "--methods",
+                                                     "closed_form", "--network-methods", "network+newton:2"]),
+                            "network+newton:2"),
+    }
+    for name, ((deck, pair, surface, extra), method) in studies.items():
+        out = os.path.join(work, "table", name)
+        log = run([sys.executable, script, "--scene", deck, "--pair", pair, "--surface", surface, "--output", out,
+                   "--build-dir", a.build] + SMALL + extra, work)
+        for f in ("plan.toml", "pairs.csv", "report.md", "report.json"):
+            if not os.path.isfile(os.path.join(out, f)):
+                raise Failure(f"{name}: scene-study left no {f}\n{log[-3000:]}")
+        with open(os.path.join(out, "plan.toml"), "rb") as f:
+            plan = tomllib.load(f)["plan"]
+        with open(os.path.join(out, "report.json")) as f:
+            report = json.load(f)
+        with open(os.path.join(out, "pairs.csv"), newline="") as f:
+            rows = list(csv.DictReader(f))
+        faces = sum(1 for r in rows if r["location"] == "face")
+        if report["locations"]["face"] != faces:
+            raise Failure(f"{name}: report.json counts {report['locations']['face']} face pairs, pairs.csv {faces}")
+        if plan["method"] != report["plan"]["method"] or plan["surface"] != surface:
+            raise Failure(f"{name}: plan.toml {plan} and report.json {report['plan']} disagree")
+        network = os.path.join(out, "network.h5")
+        if method is None:
+            if plan["network"] or os.path.exists(network) or "network" in plan["method"]:
+                raise Failure(f"{name}: a network in the plan of a flat scene: {plan}")
+        else:
+            if plan["method"] != method or plan["network"] != "network.h5" or not os.path.isfile(network):
+                raise Failure(f"{name}: expected {method} with network.h5, got {plan}")
+            run([os.path.join(a.build, "apps", "evaluate-net", "evaluate-net"), "--weights", network, "--input",
+                 os.path.join(out, "pairs.csv"), "--output", os.path.join(work, "predicted.csv")], work)
+    # scene-table over the same studies (reused: report.json is there).
+    table = run([sys.executable, os.path.join(a.source_dir, "scripts", "scene-table"), "--output",
+                 os.path.join(work, "table"), "--build-dir", a.build, "--surfaces", "bilinear", "--max-pairs", "1",
+                 flat], work)
+    row = next((l for l in table.splitlines() if l.startswith("| flat | 0 | bilinear |")), None)
+    if row is None or "met" not in row:
+        raise Failure(f"scene-table: no row for flat pair 0, or no verdict on the plan:\n{table}")
+    print("scene-study: plans, pairs, reports and network as set; scene-table row: " + row)
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--case", choices=["frontier", "run_study"], required=True)
+    ap.add_argument("--case", choices=["frontier", "run_study", "scene_study"], required=True)
+    ap.add_argument("--scenes", help="scene_study: the example scenes of scripts/make-scene")
     ap.add_argument("--source-dir", required=True)
     ap.add_argument("--build", required=True)
     ap.add_argument("--work", required=True)
     a = ap.parse_args()
     a.build = os.path.abspath(a.build)
     try:
-        check_frontier(a) if a.case == "frontier" else check_run_study(a)
+        {"frontier": check_frontier, "run_study": check_run_study, "scene_study": check_scene_study}[a.case](a)
     except Failure as e:
         print(f"FAIL: {e}", file=sys.stderr)
         return 1

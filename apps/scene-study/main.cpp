@@ -1,0 +1,320 @@
+// scene-study: the local-search method one contact pair of a deck requires, in one process (SPEC 7).
+//
+// Description:
+//   Reads the deck once and searches its pair once (the surface search of SPEC 9), samples the scene's domain
+//   (its master segments deformed, the slave anywhere a contact can occur), measures every candidate method
+//   on a held-out sample of that domain (closed forms, newton:K, hybrids), trains in memory the scene
+//   networks that could pay (the smallest size that reaches the target; a network whose cost alone exceeds a
+//   method that already reaches the target is not trained), measures them too, and writes the plan: the
+//   fastest method whose held-out error reaches margin x target, a network only where one is the fastest. The
+//   report shows the choice beside every alternative on the deck's own pairs (those inside a face: an edge or
+//   vertex answer needs no local search) and checks the 8 node orders of every pair.
+//   lib/study/scene_study.hpp holds the policy and its defaults (SceneStudyOptions); this file maps flags
+//   onto it.
+//
+// Sample runs:
+//   scene-study --scene build/tests/contact/scenes/hertz.inp --surface gregory --output /tmp/hertz-study
+//   scene-study --scene build/tests/contact/scenes/flat.inp --pair 1 --surface bilinear --output
+//   /tmp/flat-study
+//               --count 4000 --epochs 50 --train-networks always        (one line)
+//   scene-study --config my-study.toml --scene deck.inp --surface gregory --output reports/deck
+//   scripts/scene-study takes the same options (and --build-dir) and runs this program.
+//
+// Writes (under --output DIR, created if missing):
+//   plan.toml               the scene plan (lib/study/plan.hpp): evaluate-net --plan, the C and Fortran
+//   interfaces network.h5              the plan's network, when its method uses one (evaluate-net --weights
+//   reads it too);
+//                           a network.h5 of an earlier run is removed when the plan has none
+//   pairs.csv               the pair's slave nodes as gen-configs --scene writes them (never training data)
+//   report.md, report.json  every method on the held-out sample and on the deck's pairs; the node orders
+//   scene-study.config.toml the effective [scene-study] configuration
+//   progress on stdout (--quiet: the last line only).
+// Exit status: 0 (also when no method reaches the target: the plan and the report say so); 1 when the pair
+// has nothing to study (no slave node, or none with a face); 2 a bad option or config key; 3 a malformed
+// deck; 4 an I/O failure; 5 a numerical failure.
+#include <omp.h>
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <sstream>
+
+#include "cli_support.hpp"
+#include "core/error.hpp"
+#include "io/atomic_output.hpp"
+#include "io/csv.hpp"
+#include "io/inp_deck.hpp"
+#include "io/network_file.hpp"
+#include "search/local_search.hpp"
+#include "study/plan.hpp"
+#include "study/scene_study.hpp"
+
+namespace {
+
+using namespace contactnn;
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+std::string join_command_line(int argc, char** argv) {
+  std::string out;
+  for (int i = 0; i < argc; ++i) {
+    std::string arg = argv[i];
+    if (arg.find_first_of(" \t\"'$\\") != std::string::npos) {
+      std::string quoted = "'";
+      for (const char c : arg) quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
+      arg = quoted + "'";
+    }
+    out += (i > 0 ? " " : "") + arg;
+  }
+  return out;
+}
+
+/// "16,32,48" -> {16, 32, 48}; InvalidArgument naming --sizes otherwise.
+std::vector<int> parse_sizes(const std::string& text) {
+  std::vector<int> sizes;
+  std::stringstream in(text);
+  std::string item;
+  while (std::getline(in, item, ',')) {
+    std::size_t used = 0;
+    int n = 0;
+    try {
+      n = std::stoi(item, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    CONTACTNN_REQUIRE_AS(
+        InvalidArgument, !item.empty() && used == item.size() && n >= 1,
+        "--sizes: expected comma-separated hidden sizes >= 1, smallest first, got " << quote_text(text));
+    sizes.push_back(n);
+  }
+  return sizes;
+}
+
+double seconds_since(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+/// The network of the plan as a network file: the trained network, its domain, and how it was made.
+void write_plan_network(const fs::path& path, const study::SceneNetwork& n, const study::SceneStudyOptions& o,
+                        const std::string& deck, int pair, const std::string& config) {
+  io::NetworkProvenance p;
+  p.config_toml = config;
+  p.seed = o.seed;
+  p.dataset_path = "scene-study: the domain of pair " + std::to_string(pair) + " of " + deck + " (in memory)";
+  p.training_mode = "online";
+  p.training_patterns = static_cast<std::int64_t>(static_cast<double>(o.count) * o.train_fraction);
+  p.validation_patterns = std::llround(o.validation_fraction * static_cast<double>(p.training_patterns));
+  p.epochs_run = n.epochs;
+  p.best_epoch = n.best_epoch;
+  p.validation_loss = n.validation_loss;
+  io::write_network(path, *n.network, n.domain, p);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  using namespace contactnn;
+  CLI::App app{
+      "scene-study: the fastest local-search method that reaches a scene's target, a network only where "
+      "one pays (SPEC 7)"};
+  cli::add_exit_code_footer(app);
+  cli::add_config_option(app, "scene-study");
+
+  // 1. Options. Every default lives in study::SceneStudyOptions; flags only map onto it.
+  study::SceneStudyOptions o;
+  std::string scene_path, output, surface_name, sizes,
+      train_networks = std::string(study::to_string(o.train_networks));
+  int pair = 0;
+  bool check_only = false, quiet = false;
+  app.add_option("--scene", scene_path, "the deck (.inp, SPEC 7)")->required()->check(CLI::ExistingFile);
+  app.add_option("--pair", pair, "the *CONTACT PAIR data line, counted from 0")
+      ->transform(cli::integer_in(0, 1000000));
+  app.add_option("--surface", surface_name, "bilinear or gregory")
+      ->required()
+      ->check(CLI::IsMember({"bilinear", "gregory"}));
+  app.add_option("--output", output, "directory of the plan, the network, the pairs and the report")
+      ->required();
+  app.add_option("--count", o.count,
+                 "configurations of the scene's domain to train from (held out: count / 4)")
+      ->transform(cli::integer_in(100, 1'000'000'000));
+  app.add_option("--seed", o.seed, "seed of the domain's samples, the pattern draw and the weights")
+      ->transform(cli::integer_in(0, cli::kMaxSeed - 1000));
+  app.add_option("--sizes", sizes,
+                 "hidden sizes to try, smallest first (default bilinear 8,16,32; gregory 16,32,48)");
+  app.add_option("--epochs", o.epochs, "training epochs of each size")
+      ->transform(cli::integer_in(1, 100000000));
+  app.add_option("--long-epochs", o.long_epochs,
+                 "when no size reaches the target, the best is trained on to this many epochs (0 or at most "
+                 "--epochs: "
+                 "no second round)")
+      ->transform(cli::integer_in(0, 100000000));
+  app.add_option("--target", o.target, "mean |error| to reach (0: bilinear 0.005, gregory 0.0025)")
+      ->check(cli::kNonNegative);
+  app.add_option("--margin", o.margin,
+                 "a method reaches the target when its held-out error is below margin x target")
+      ->check(cli::kPositive);
+  app.add_option(
+         "--train-networks", train_networks,
+         "auto: train the sizes whose network could be the fastest method at the target; always; never")
+      ->check(CLI::IsMember({"auto", "always", "never"}));
+  app.add_option("--methods", o.methods,
+                 "candidate methods without a network, comma-separated (empty: the default list)");
+  app.add_option("--network-methods", o.network_methods, "the methods of every scene network");
+  app.add_option("--timing-queries", o.timing_queries, "queries per timed pass on the held-out sample")
+      ->transform(cli::integer_in(1, 100000000));
+  app.add_option("--timing-repetitions", o.timing.repetitions, "timed passes per method (the median is kept)")
+      ->transform(cli::integer_in(1, 1000));
+  app.add_option("--threads", o.threads,
+                 "threads of the sampling, the accuracy runs and the training (0: all)")
+      ->transform(cli::integer_in(0, cli::kMaxThreads));
+  app.add_option("--deformation", o.domain.deformation,
+                 "scene domain: node displacement, fraction of the shortest edge")
+      ->check(cli::real_in(0.0, 0.49));
+  app.add_option("--capture", o.domain.capture,
+                 "scene domain: slave offset along the normal, fraction of the shortest edge (at least 1.25 "
+                 "x the deck's)")
+      ->check(cli::kPositive);
+  app.add_option("--normal-tilt-tangent", o.domain.normal_tilt_tangent,
+                 "scene domain, Gregory: node normals tilted by up to this")
+      ->check(cli::kNonNegative);
+  app.add_option("--boundary-fraction", o.domain.boundary_fraction,
+                 "scene domain: fraction of foot points on nodes and edges")
+      ->check(cli::real_in(0.0, 1.0));
+  app.add_option("--input-features", o.input_features, "what the networks see: paper or affine")
+      ->check(CLI::IsMember({"paper", "affine"}));
+  app.add_option("--input-quantile", o.input_quantile, "inputs' q and 1-q quantiles map to -1 and 1")
+      ->check(cli::real_in(0.0, 0.49));
+  app.add_flag("--check", check_only, "check the options, the deck's path and --output, then stop");
+  app.add_flag("--quiet", quiet, "no progress lines");
+
+  return cli::run(app, argc, argv, [&]() -> int {
+    const auto start = Clock::now();
+    // 2. The options resolved for the surface, and the output directory made and checked before any work.
+    if (o.threads > 0) omp_set_num_threads(o.threads);
+    const SurfaceKind surface = surface_from_string(surface_name);
+    if (!sizes.empty()) o.sizes = parse_sizes(sizes);
+    o.train_networks = study::train_networks_from_string(train_networks);
+    o = study::resolved(o, surface);
+    const fs::path dir(output);
+    CONTACTNN_REQUIRE_AS(InvalidArgument, !fs::exists(dir) || fs::is_directory(dir),
+                         "--output '" << output << "' is a file, not a directory");
+    fs::create_directories(dir);
+    for (const char* name : {"plan.toml", "network.h5", "pairs.csv", "report.md", "report.json"}) {
+      io::require_writable(dir / name);
+    }
+    if (check_only) return 0;
+    const std::string config =
+        cli::effective_config(app, "scene-study", {"output", "threads", "quiet", "check"});
+    const auto say = [&](const std::string& line) {
+      if (!quiet) std::printf("  %s\n", line.c_str()), std::fflush(stdout);
+    };
+    if (!quiet) std::printf("scene-study: %s pair %d, %s\n", scene_path.c_str(), pair, surface_name.c_str());
+
+    // 3. The deck, read once: the pair's master faces, node normals and slave nodes.
+    const contact::Scene scene = contact::make_scene(io::read_inp_deck(scene_path), pair);
+    if (scene.slave_ids.empty()) {
+      std::fprintf(stderr, "scene-study: pair %d of %s has no slave nodes: nothing to study\n", pair,
+                   scene_path.c_str());
+      return 1;
+    }
+
+    // 4. The search, once: every slave node's closest point (SPEC 9); pairs.csv.
+    const study::ScenePairs pairs = study::search_pairs(scene, surface);
+    if (pairs.result.found == 0) {
+      std::fprintf(
+          stderr,
+          "scene-study: none of the %zu slave nodes of pair %d of %s has a master face (all no_segment): "
+          "nothing to study\n",
+          scene.slave_ids.size(), pair, scene_path.c_str());
+      return 1;
+    }
+    io::write_text_atomically(dir / "pairs.csv", study::pairs_csv(scene, pairs, surface));
+    say("pairs: face " + std::to_string(pairs.locations[0]) + ", edge " + std::to_string(pairs.locations[1]) +
+        ", vertex " + std::to_string(pairs.locations[2]) + ", no_segment " +
+        std::to_string(pairs.result.no_segment));
+
+    // 5. The scene's domain: a training sample and a held-out one.
+    const study::SceneDomain domain = study::sample_domain(scene, surface, o, say);
+    say("domain: " + std::to_string(domain.train.size()) + " configurations to train from, " +
+        std::to_string(domain.heldout.size()) + " held out");
+
+    // 6. The methods without a network on the held-out sample, beside untrained networks of every size (a
+    //    network's cost does not depend on its weights): the sizes that could pay.
+    const std::vector<study::SceneNetwork> untrained = study::untrained_networks(domain, surface, o);
+    std::vector<const study::SceneNetwork*> untrained_pointers;
+    for (const study::SceneNetwork& n : untrained) untrained_pointers.push_back(&n);
+    const std::vector<study::MethodMeasurement> first =
+        study::measure_methods(domain.heldout_set, surface, o.methods, "network", untrained_pointers, o);
+    study::SceneStudyResult result;
+    const std::vector<int> to_train = study::sizes_that_may_pay(first, untrained, o, &result.not_trained);
+    for (const std::string& why : result.not_trained) say(why);
+
+    // 7. The scene networks that could pay, trained in memory.
+    result.training = study::train_networks(domain, surface, o, to_train, say);
+
+    // 8. Every method measured on the held-out sample; the plan: the fastest that reaches the target.
+    std::vector<const study::SceneNetwork*> networks;
+    for (const study::SceneNetwork& n : result.training.tried) networks.push_back(&n);
+    result.measured =
+        study::measure_methods(domain.heldout_set, surface, o.methods, o.network_methods, networks, o);
+    result.chosen = study::choose_plan(result.measured);
+    result.seconds_to_plan = seconds_since(start);
+    const study::MethodMeasurement& chosen = result.measured[result.chosen];
+    say("plan: " + chosen.name +
+        (chosen.reaches ? "" : " (no method reaches the target: the most accurate)"));
+
+    // 9. The deck's pairs judged; the node orders of every pair.
+    result.deck = scene_path;
+    result.pair = pair;
+    result.surface = surface;
+    result.options = o;
+    result.command_line = join_command_line(argc, argv);
+    result.slave_nodes = scene.slave_ids.size();
+    result.no_segment = pairs.result.no_segment;
+    result.locations = pairs.locations;
+    result.quad4 = pairs.quad4;
+    result.deck_offset = domain.deck_offset;
+    result.domain = domain.domain;
+    result.heldout_rows = domain.heldout.size();
+    result.heldout_seed = domain.heldout_seed;
+    study::judge_on_pairs(pairs, surface, networks, result);
+    const auto network_of = [&](int index) {
+      return index >= 0 ? networks[static_cast<std::size_t>(index)]->model.get() : nullptr;
+    };
+    const search::LocalSearch plan_search(surface, search::Method::parse(chosen.method), {},
+                                          network_of(chosen.network));
+    std::optional<search::LocalSearch> scene_search;
+    if (result.training.scene >= 0) {
+      scene_search.emplace(surface, search::Method::parse("network"), search::SearchOptions{},
+                           network_of(result.training.scene));
+    }
+    result.node_orders =
+        study::check_node_orders(pairs, surface, plan_search, scene_search ? &*scene_search : nullptr);
+    say(result.node_orders.summary());
+    result.seconds = seconds_since(start);
+
+    // 10. The plan (and its network), the report.
+    const fs::path network_file = dir / "network.h5";
+    if (chosen.network >= 0) {
+      write_plan_network(network_file, *networks[static_cast<std::size_t>(chosen.network)], o, scene_path,
+                         pair, config);
+    } else {
+      fs::remove(network_file);  // an earlier run's: the plan names none
+    }
+    io::write_text_atomically(dir / "plan.toml", study::plan_to_toml(study::make_plan(
+                                                     result, chosen.network >= 0 ? "network.h5" : "")));
+    io::write_text_atomically(dir / "report.md", study::report_markdown(result));
+    io::write_text_atomically(dir / "report.json", study::report_json(result));
+    io::write_text_atomically(dir / "scene-study.config.toml",
+                              "# effective configuration written by scene-study\n" + config);
+    std::printf(
+        "scene-study: plan %s%s -> %s; held-out effective mean |error| %.4g (target %g: %s), %.1f ns/query; "
+        "%.1f s\n",
+        chosen.method.c_str(),
+        chosen.network >= 0 ? (" with " + networks[static_cast<std::size_t>(chosen.network)]->name).c_str()
+                            : "",
+        (dir / "plan.toml").string().c_str(), chosen.effective_mean, o.target,
+        chosen.reaches ? "reached" : "NOT reached", chosen.batched_ns, result.seconds);
+    return 0;
+  });
+}

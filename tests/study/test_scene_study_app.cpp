@@ -1,0 +1,286 @@
+// The compiled scene-study on the example scenes (scripts/make-scene, the example_scenes fixture) with small
+// settings: the plan file parses; evaluate-net --plan gives, row by row, what the plan's method gives through
+// lib/search here; the plan's method reaches the target on the deck's pairs inside a face and no method the
+// study measured reaches it faster; the flat scene gets a plan without a network; a malformed plan (unknown
+// key, missing field) is refused naming the file, the line and the key.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+#include "io/csv.hpp"
+#include "io/network_model_file.hpp"
+#include "io/raw_configurations.hpp"
+#include "search/local_search.hpp"
+#include "study/plan.hpp"
+
+namespace contactnn::study {
+namespace {
+
+namespace fs = std::filesystem;
+
+const fs::path kBin = CONTACTNN_BINARY_DIR;
+const fs::path kScenes = CONTACTNN_EXAMPLE_SCENES_DIR;
+const std::string kSmall =
+    " --count 2000 --epochs 20 --long-epochs 0 --timing-queries 2000 --timing-repetitions 3 --threads 2 "
+    "--quiet";
+
+std::string read_file(const fs::path& p) {
+  std::ifstream in(p);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+int run(const std::string& command, const fs::path& log) {
+  const int status = std::system((command + " > '" + log.string() + "' 2>&1").c_str());
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+fs::path work_dir(const std::string& name) {
+  const fs::path d =
+      fs::path(::testing::TempDir()) / ("contactnn_scene_study_" + name + "." + std::to_string(::getpid()));
+  fs::remove_all(d);
+  fs::create_directories(d);
+  return d;
+}
+
+/// A CSV file as rows of name -> field.
+std::vector<std::map<std::string, std::string>> read_csv(const fs::path& path) {
+  std::ifstream in(path);
+  std::string line;
+  std::vector<std::string> header;
+  std::vector<std::map<std::string, std::string>> rows;
+  const auto split = [](const std::string& text) {
+    std::vector<std::string> fields;
+    std::stringstream s(text);
+    std::string f;
+    while (std::getline(s, f, ',')) fields.push_back(f);
+    if (!text.empty() && text.back() == ',') fields.emplace_back();
+    return fields;
+  };
+  std::getline(in, line);
+  header = split(line);
+  while (std::getline(in, line)) {
+    const std::vector<std::string> fields = split(line);
+    std::map<std::string, std::string> row;
+    for (std::size_t i = 0; i < header.size() && i < fields.size(); ++i) row[header[i]] = fields[i];
+    rows.push_back(std::move(row));
+  }
+  return rows;
+}
+
+/// Runs the study into `dir`; the plan it wrote.
+ScenePlan study(const std::string& arguments, const fs::path& dir) {
+  const std::string command = (kBin / "apps/scene-study/scene-study").string() + " " + arguments +
+                              " --output '" + dir.string() + "'" + kSmall;
+  const int code = run(command, dir.parent_path() / (dir.filename().string() + ".log"));
+  EXPECT_EQ(code, 0) << command << "\n" << read_file(dir.parent_path() / (dir.filename().string() + ".log"));
+  return read_plan(dir / "plan.toml");
+}
+
+/// evaluate-net --plan on the study's pairs; the output rows.
+std::vector<std::map<std::string, std::string>> apply_plan(const fs::path& dir) {
+  const fs::path out = dir / "plan-predictions.csv";
+  const std::string command = (kBin / "apps/evaluate-net/evaluate-net").string() + " --plan '" +
+                              (dir / "plan.toml").string() + "' --input '" + (dir / "pairs.csv").string() +
+                              "' --output '" + out.string() + "'";
+  EXPECT_EQ(run(command, dir / "evaluate-net.log"), 0) << read_file(dir / "evaluate-net.log");
+  return read_csv(out);
+}
+
+/// Checks shared by every study: the pairs' locations as the report counts them; evaluate-net --plan gives
+/// what the plan's method gives through lib/search; the plan's method meets the target on the face pairs; no
+/// measured method reaches the target faster.
+void check_study(const fs::path& dir, const ScenePlan& plan) {
+  const auto pairs = read_csv(dir / "pairs.csv");
+  ASSERT_FALSE(pairs.empty());
+  std::map<std::string, long> locations;
+  for (const auto& r : pairs) ++locations[r.at("location")];
+  const std::string report = read_file(dir / "report.md");
+  EXPECT_NE(report.find("inside a face for " + std::to_string(locations["face"]) + ", on an edge for " +
+                        std::to_string(locations["edge"]) + ", at a vertex for " +
+                        std::to_string(locations["vertex"])),
+            std::string::npos)
+      << report.substr(0, 2000);
+
+  // evaluate-net --plan against the plan's method run here, in one batch, on the same rows (their raw columns
+  // as read; a pairs row without a segment is not a query).
+  const auto predicted = apply_plan(dir);
+  ASSERT_EQ(predicted.size(), pairs.size());
+  std::unique_ptr<search::NetworkModel> network;
+  const fs::path network_file = plan_network_path(plan, dir / "plan.toml");
+  if (!network_file.empty()) network = io::read_network_model(network_file);
+  const search::LocalSearch search(plan.surface, search::Method::parse(plan.method), {}, network.get());
+  io::RawConfigurationReader reader(dir / "pairs.csv", plan.surface);
+  io::RawChunk chunk;
+  std::vector<double> raw;
+  std::vector<std::uint8_t> no_segment;
+  while (reader.next_chunk(chunk, 1000)) {
+    for (std::size_t i = 0; i < chunk.size(); ++i) {
+      no_segment.push_back(chunk.no_segment[i]);
+      for (const auto& n : chunk.configs[i].nodes) raw.insert(raw.end(), {n.x(), n.y(), n.z()});
+      raw.insert(raw.end(),
+                 {chunk.configs[i].slave.x(), chunk.configs[i].slave.y(), chunk.configs[i].slave.z()});
+      if (plan.surface == SurfaceKind::kGregory) {
+        for (const auto& n : chunk.configs[i].normals) raw.insert(raw.end(), {n.x(), n.y(), n.z()});
+      }
+    }
+  }
+  ASSERT_EQ(no_segment.size(), pairs.size());
+  std::vector<double> param(2 * pairs.size());
+  std::vector<Status> status(pairs.size());
+  search.run(pairs.size(), raw.data(),
+             search::Results<double>{param.data(), nullptr, status.data(), nullptr});
+  const auto names = coordinate_names(plan.surface);
+  double sum[2] = {0.0, 0.0};
+  long face_rows = 0, face_failures = 0;
+  for (std::size_t row = 0; row < pairs.size(); ++row) {
+    const auto& out = predicted[row];
+    if (no_segment[row] != 0) {
+      EXPECT_EQ(out.at("status"), "no_segment") << "row " << row;
+      continue;
+    }
+    const Status s = status[row];
+    const double* p = &param[2 * row];
+    EXPECT_EQ(out.at("status"), std::string(to_string(s))) << "row " << row;
+    const bool has_value = s == Status::kOk || s == Status::kOutside || s == Status::kOutOfDomain;
+    if (has_value) {
+      EXPECT_EQ(out.at(std::string(names[0])), io::format_double(p[0])) << "row " << row;
+      EXPECT_EQ(out.at(std::string(names[1])), io::format_double(p[1])) << "row " << row;
+    }
+    if (pairs[row].at("location") != "face") continue;
+    ++face_rows;
+    if (!has_value) {
+      ++face_failures;
+      continue;
+    }
+    sum[0] += std::abs(p[0] - std::stod(pairs[row].at(std::string(names[0]))));
+    sum[1] += std::abs(p[1] - std::stod(pairs[row].at(std::string(names[1]))));
+  }
+  if (face_rows > 0) {
+    EXPECT_EQ(face_failures, 0);
+    EXPECT_LE(std::max(sum[0], sum[1]) / static_cast<double>(face_rows), plan.target)
+        << plan.method << " on the " << face_rows << " face pairs";
+  }
+
+  // The plan's own measurement reaches margin x target, and no method reaching it was faster.
+  const auto chosen =
+      std::find_if(plan.measurements.begin(), plan.measurements.end(), [&](const PlanMeasurement& m) {
+        return m.method == plan.method || m.method.rfind(plan.method + "[", 0) == 0;
+      });
+  ASSERT_NE(chosen, plan.measurements.end());
+  EXPECT_TRUE(plan.reached);
+  EXPECT_LE(chosen->effective_mean, plan.margin * plan.target);
+  for (const PlanMeasurement& m : plan.measurements) {
+    EXPECT_EQ(m.reaches_target, m.effective_mean <= plan.margin * plan.target) << m.method;
+    if (m.reaches_target) {
+      EXPECT_GE(m.batched_ns, chosen->batched_ns) << m.method << " is faster than " << chosen->method;
+    }
+  }
+}
+
+TEST(SceneStudyApp, FlatSceneGetsAPlanWithoutNetwork) {
+  const fs::path dir = work_dir("flat") / "study";
+  const ScenePlan plan =
+      study("--scene '" + (kScenes / "flat.inp").string() + "' --pair 0 --surface bilinear", dir);
+  EXPECT_EQ(plan.surface, SurfaceKind::kBilinear);
+  EXPECT_TRUE(plan.network.empty());
+  EXPECT_FALSE(search::Method::parse(plan.method).needs_network()) << plan.method;
+  EXPECT_FALSE(fs::exists(dir / "network.h5"));
+  EXPECT_GE(plan.measurements.size(), 5u);
+  check_study(dir, plan);
+}
+
+TEST(SceneStudyApp, NetworkPlanIsWhatEvaluateNetApplies) {
+  // Only the closed form beside the scene network's hybrid: the network's method wins (the closed form of the
+  // corner facet is far from the Gregory patch on the curved cap).
+  const fs::path dir = work_dir("hertz") / "study";
+  const ScenePlan plan = study("--scene '" + (kScenes / "hertz.inp").string() +
+                                   "' --pair 0 --surface gregory --methods closed_form --network-methods "
+                                   "network+newton:2 --sizes 16 --train-networks always",
+                               dir);
+  EXPECT_EQ(plan.surface, SurfaceKind::kGregory);
+  EXPECT_EQ(plan.method, "network+newton:2");
+  EXPECT_EQ(plan.network, "network.h5");
+  EXPECT_TRUE(fs::exists(dir / "network.h5"));
+  check_study(dir, plan);
+  // A rerun whose plan has no network removes the old network file.
+  const ScenePlan again = study("--scene '" + (kScenes / "hertz.inp").string() +
+                                    "' --pair 0 --surface gregory "
+                                    "--train-networks never",
+                                dir);
+  EXPECT_TRUE(again.network.empty());
+  EXPECT_FALSE(fs::exists(dir / "network.h5"));
+}
+
+TEST(SceneStudyApp, MalformedPlanIsRefusedNamingFileLineAndKey) {
+  const fs::path dir = work_dir("malformed") / "study";
+  (void)study(
+      "--scene '" + (kScenes / "flat.inp").string() + "' --pair 1 --surface gregory --train-networks never",
+      dir);
+  const std::string text = read_file(dir / "plan.toml");
+  const auto line_of = [&](const std::string& key) {
+    const std::size_t at = text.find("\n" + key + " = ");
+    return 2 + std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(at), '\n');
+  };
+  const auto refused = [&](const std::string& name, const std::string& content, const std::string& says) {
+    const fs::path plan = dir / name;
+    std::ofstream(plan) << content;
+    const fs::path out = dir / (name + ".csv");
+    const std::string command = (kBin / "apps/evaluate-net/evaluate-net").string() + " --plan '" +
+                                plan.string() + "' --input '" + (dir / "pairs.csv").string() +
+                                "' --output '" + out.string() + "'";
+    EXPECT_EQ(run(command, dir / (name + ".log")), 3) << name;
+    const std::string log = read_file(dir / (name + ".log"));
+    EXPECT_NE(log.find("error: '" + plan.string() + says), std::string::npos) << log;
+    EXPECT_FALSE(fs::exists(out)) << "an output was left by a refused run";
+  };
+  // An unknown key, right after the method.
+  std::string unknown = text;
+  unknown.insert(text.find("\nmethod = ") + 1, "colour = \"blue\"\n");
+  refused("unknown-key.toml", unknown,
+          "':" + std::to_string(line_of("method")) + ": unknown key 'colour' in [plan]");
+  // A missing field: no method.
+  std::string missing = text;
+  const std::size_t at = text.find("\nmethod = ") + 1;
+  missing.erase(at, text.find('\n', at) - at + 1);
+  refused("missing-field.toml", missing, "':5: [plan] has no key 'method' (required)");
+}
+
+TEST(SceneStudyApp, ConfigSectionIsStrict) {
+  // [scene-study] sets the study's options as its flags do; an unknown key names the file, the line and the
+  // key.
+  const fs::path dir = work_dir("config");
+  std::ofstream(dir / "good.toml") << "[scene-study]\ncount = 2000\nepochs = 20\nlong-epochs = 0\n"
+                                      "train-networks = \"never\"\ntiming-queries = 2000\n";
+  const std::string study_app = (kBin / "apps/scene-study/scene-study").string();
+  const std::string scene =
+      " --scene '" + (kScenes / "flat.inp").string() + "' --pair 1 --surface bilinear --quiet";
+  ASSERT_EQ(run(study_app + " --config '" + (dir / "good.toml").string() + "'" + scene + " --output '" +
+                    (dir / "good").string() + "'",
+                dir / "good.log"),
+            0)
+      << read_file(dir / "good.log");
+  const std::string effective = read_file(dir / "good" / "scene-study.config.toml");
+  EXPECT_NE(effective.find("count=2000"), std::string::npos) << effective;
+  EXPECT_NE(effective.find("train-networks=\"never\""), std::string::npos) << effective;
+  std::ofstream(dir / "bad.toml") << "[scene-study]\ncount = 2000\nepoch = 20\n";
+  EXPECT_EQ(run(study_app + " --config '" + (dir / "bad.toml").string() + "'" + scene + " --output '" +
+                    (dir / "bad").string() + "'",
+                dir / "bad.log"),
+            2);
+  const std::string log = read_file(dir / "bad.log");
+  EXPECT_NE(log.find("line 3"), std::string::npos) << log;
+  EXPECT_NE(log.find("unknown key 'epoch' in [scene-study]"), std::string::npos) << log;
+  EXPECT_FALSE(fs::exists(dir / "bad" / "plan.toml"));
+}
+
+}  // namespace
+}  // namespace contactnn::study
