@@ -1,7 +1,16 @@
-// The Gregory instantiations of the block kernels (a file of their own: they take a while to compile).
+// The Gregory instantiations of the block kernels (a file of their own: they take a while to compile). Compiled
+// once per instruction-set variant (lib/search/CMakeLists.txt), which names the namespace of its entry points
+// (CONTACTNN_KERNEL_ISA, e.g. isa_avx2; isa_dispatch.hpp).
+#include "search/isa_dispatch.hpp"
 #include "search/search_kernel.hpp"
 
-namespace contactnn::search::detail {
+#ifndef CONTACTNN_KERNEL_ISA
+#error "kernels_gregory.cpp is compiled once per variant by lib/search/CMakeLists.txt, which defines CONTACTNN_KERNEL_ISA"
+#endif
+
+CONTACTNN_DECLARE_KERNEL_ISA(CONTACTNN_KERNEL_ISA)
+
+namespace contactnn::search::detail::CONTACTNN_KERNEL_ISA {
 
 void select_gregory_kernels(Plan& plan) {
   select_block_kernels<true>(plan);
@@ -12,4 +21,4 @@ double network_stages_gregory(const NetworkModel& model, const double* raw, std:
   return network_stages_for<true>(model, raw, count, stage, done);
 }
 
-}  // namespace contactnn::search::detail
+}  // namespace contactnn::search::detail::CONTACTNN_KERNEL_ISA

@@ -1,6 +1,9 @@
 // The one-lane instantiations of the block kernels, for queries outside whole blocks, and the scalar path of
 // queries on a tie. This file is compiled without auto-vectorisation (see CMakeLists.txt and
-// select_single_kernels in search_kernel.hpp).
+// select_single_kernels in search_kernel.hpp), once per instruction-set variant like the block kernels
+// (isa_dispatch.hpp): each variant's select_bilinear_kernels and select_gregory_kernels call this file's
+// select_single_kernels of the same variant (its symbols are the variant's own, with the variant's suffix), so a
+// query alone rounds as in a block of that variant.
 #include "geometry/affine_frame.hpp"
 #include "geometry/segment_checks.hpp"
 #include "search/search_kernel.hpp"

@@ -60,10 +60,13 @@ LocalSearch::LocalSearch(SurfaceKind kind, Method method, SearchOptions options,
   plan->inside_hi = d.hi + options.domain_margin;
   plan->guards = detail::Safeguards{d.lo - box * width, d.hi + box * width, options.max_step_widths * width,
                                     options.tol_param, options.max_halvings, plan->inside_lo, plan->inside_hi};
+  // Every kernel of the plan from one variant (isa_dispatch.hpp): the block and the one-lane kernels round alike.
+  const detail::IsaKernels& kernels = detail::isa_kernels(kernel_isa());
+  plan->isa = kernels.isa;
   if (kind == SurfaceKind::kGregory) {
-    detail::select_gregory_kernels(*plan);
+    kernels.select_gregory(*plan);
   } else {
-    detail::select_bilinear_kernels(*plan);
+    kernels.select_bilinear(*plan);
   }
   plan_ = std::move(plan);
 }
@@ -185,8 +188,9 @@ void LocalSearch::run(std::size_t count, const Real* raw, Results<Real> out, int
 namespace detail {
 
 double network_stages(const NetworkModel& model, const double* raw, std::size_t count, int stage, std::size_t& done) {
-  return model.surface() == SurfaceKind::kGregory ? network_stages_gregory(model, raw, count, stage, done)
-                                                  : network_stages_bilinear(model, raw, count, stage, done);
+  const IsaKernels& kernels = isa_kernels(kernel_isa());
+  return model.surface() == SurfaceKind::kGregory ? kernels.network_stages_gregory(model, raw, count, stage, done)
+                                                  : kernels.network_stages_bilinear(model, raw, count, stage, done);
 }
 
 }  // namespace detail

@@ -3,6 +3,7 @@
 
 #include <cstddef>
 
+#include "search/isa_dispatch.hpp"
 #include "search/local_search.hpp"
 #include "search/newton_block.hpp"
 
@@ -27,6 +28,7 @@ using RowsFn = void (*)(const Plan& plan, const Real* raw, const Results<Real>& 
                         const std::size_t* rows, int cap);
 
 struct Plan {
+  KernelIsa isa = KernelIsa::kBaseline;  ///< the variant every kernel below comes from (isa_dispatch.hpp)
   SurfaceKind kind = SurfaceKind::kBilinear;
   Method method;
   SearchOptions options;
@@ -47,17 +49,16 @@ struct Plan {
   bool defer_frame = false;
 };
 
-/// Fills plan.block_size and the kernels for plan.kind (defined in kernels_bilinear.cpp, kernels_gregory.cpp).
-void select_bilinear_kernels(Plan& plan);
-void select_gregory_kernels(Plan& plan);
+/// The kernels of a plan come from one variant (isa_dispatch.hpp): detail::isa_<name>::select_bilinear_kernels
+/// and select_gregory_kernels (kernels_bilinear.cpp, kernels_gregory.cpp) fill plan.block_size and the kernels
+/// for plan.kind.
 
 /// For bench_search's breakdown of the network method's time: the first `stage` stages of the network method
 /// (1 the rows loaded into a block, 2 + the canonical frame, 3 + the domain test, 4 + the input map, scaling,
 /// forward pass and map back) over the whole blocks among `count` queries of `raw` (SPEC 6 rows), with the
 /// block width and the code of LocalSearch::run: they run in the kernels' own translation unit (a template
-/// instantiated elsewhere could replace them at link time). `done`: the queries processed. Returns a checksum.
+/// instantiated elsewhere could replace them at link time), of the variant a LocalSearch constructed now would
+/// take (kernel_isa). `done`: the queries processed. Returns a checksum.
 double network_stages(const NetworkModel& model, const double* raw, std::size_t count, int stage, std::size_t& done);
-double network_stages_bilinear(const NetworkModel& model, const double* raw, std::size_t count, int stage, std::size_t& done);
-double network_stages_gregory(const NetworkModel& model, const double* raw, std::size_t count, int stage, std::size_t& done);
 
 }  // namespace contactnn::search::detail
