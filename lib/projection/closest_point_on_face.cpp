@@ -162,7 +162,6 @@ FaceClosestPoint closest_point_on_face(const SurfaceT& surface, const Vec3& slav
     return shifted;
   }
   const ParamDomain d = param_domain(SurfaceT::kKind);
-  const double width = d.hi - d.lo;
 
   if (!std::isfinite(surface.characteristic_length())) return out;  // invalid
   if (geometry::is_degenerate_segment(surface.nodes())) {
@@ -190,8 +189,19 @@ FaceClosestPoint closest_point_on_face(const SurfaceT& surface, const Vec3& slav
   }
   if (!std::isfinite(best)) return out;  // invalid: the surface has a non-finite value
 
-  // Where the point lies, from its parameters.
-  const double tol = kOnBoundaryTolerance * width;
+  locate_on_quad(d, out);
+  const geometry::SurfacePoint p = surface.evaluate(out.param[0], out.param[1]);
+  out.point = p.position;
+  out.distance = (slave - p.position).norm();
+  const Vec3 n = p.d_s.cross(p.d_t);
+  const double length = n.norm();
+  out.normal = length > 0.0 && std::isfinite(length) ? Vec3(n / length) : Vec3(Vec3::Zero());
+  out.status = std::isfinite(out.distance) ? Status::kOk : Status::kInvalid;
+  return out;
+}
+
+void locate_on_quad(ParamDomain d, FaceClosestPoint& out) {
+  const double tol = kOnBoundaryTolerance * (d.hi - d.lo);
   int on_lo[2] = {0, 0}, on_hi[2] = {0, 0};
   for (int k = 0; k < 2; ++k) {
     const double x = out.param[static_cast<std::size_t>(k)];
@@ -212,14 +222,23 @@ FaceClosestPoint closest_point_on_face(const SurfaceT& surface, const Vec3& slav
     out.location = Location::kFace;
     out.feature = -1;
   }
-  const geometry::SurfacePoint p = surface.evaluate(out.param[0], out.param[1]);
-  out.point = p.position;
-  out.distance = (slave - p.position).norm();
-  const Vec3 n = p.d_s.cross(p.d_t);
-  const double length = n.norm();
-  out.normal = length > 0.0 && std::isfinite(length) ? Vec3(n / length) : Vec3(Vec3::Zero());
-  out.status = std::isfinite(out.distance) ? Status::kOk : Status::kInvalid;
-  return out;
+}
+
+void locate_on_triangle(FaceClosestPoint& out) {
+  const double r = out.param[0], s = out.param[1];
+  const double tol = kOnBoundaryTolerance;
+  const bool on[3] = {s <= tol, 1.0 - r - s <= tol, r <= tol};  // edges A->B, B->C, C->A
+  const int bounds = on[0] + on[1] + on[2];
+  if (bounds >= 2) {
+    out.location = Location::kVertex;
+    out.feature = on[2] && on[0] ? 0 : on[0] && on[1] ? 1 : 2;
+  } else if (bounds == 1) {
+    out.location = Location::kEdge;
+    out.feature = on[0] ? 0 : on[1] ? 1 : 2;
+  } else {
+    out.location = Location::kFace;
+    out.feature = -1;
+  }
 }
 
 FaceClosestPoint closest_point_on_triangle(const std::array<Vec3, 3>& nodes, const Vec3& slave) {
@@ -254,19 +273,7 @@ FaceClosestPoint closest_point_on_triangle(const std::array<Vec3, 3>& nodes, con
     }
   }
   out.param = {r, s};
-  const double tol = kOnBoundaryTolerance;
-  const bool on[3] = {s <= tol, 1.0 - r - s <= tol, r <= tol};  // edges A->B, B->C, C->A
-  const int bounds = on[0] + on[1] + on[2];
-  if (bounds >= 2) {
-    out.location = Location::kVertex;
-    out.feature = on[2] && on[0] ? 0 : on[0] && on[1] ? 1 : 2;
-  } else if (bounds == 1) {
-    out.location = Location::kEdge;
-    out.feature = on[0] ? 0 : on[1] ? 1 : 2;
-  } else {
-    out.location = Location::kFace;
-    out.feature = -1;
-  }
+  locate_on_triangle(out);
   out.point = nodes[0] + r * e1 + s * e2;
   out.normal = n.normalized();
   out.distance = (slave - out.point).norm();

@@ -32,6 +32,13 @@ struct [[nodiscard]] FaceClosestPoint {
 /// labels call inside by the margin and an edge point agree on where they are.
 inline constexpr double kOnBoundaryTolerance = 1e-10;
 
+/// Sets out.location and out.feature from out.param, a point of the quadrilateral domain [d.lo, d.hi]^2: a
+/// coordinate within kOnBoundaryTolerance x the width of a bound is on it; none: face, one: edge, two: vertex.
+void locate_on_quad(ParamDomain d, FaceClosestPoint& out);
+/// Sets out.location and out.feature from out.param = (r, s) of a triangle (edges A->B, B->C, C->A; vertices
+/// A, B, C): on an edge where s, 1 - r - s or r is within kOnBoundaryTolerance of 0.
+void locate_on_triangle(FaceClosestPoint& out);
+
 /// The closest point of `surface` (the closed parameter domain [lo, hi]^2) to `slave`.
 ///  1. Interior: the reference projection (project_point, with `options`); a result with status ok is a
 ///     candidate.

@@ -346,27 +346,7 @@ FaceClosestPoint closest_point_on_serendipity_quad_local(const SerendipityQuad& 
   }
   if (!std::isfinite(best)) return out;  // invalid
 
-  const double tol = kOnBoundaryTolerance * 2.0;
-  int on_lo[2] = {0, 0}, on_hi[2] = {0, 0};
-  for (int k = 0; k < 2; ++k) {
-    const double x = out.param[static_cast<std::size_t>(k)];
-    if (x + 1.0 <= tol) {
-      on_lo[k] = 1;
-    } else if (1.0 - x <= tol) {
-      on_hi[k] = 1;
-    }
-  }
-  const int bounds = on_lo[0] + on_hi[0] + on_lo[1] + on_hi[1];
-  if (bounds == 2) {
-    out.location = Location::kVertex;
-    out.feature = on_lo[1] ? (on_lo[0] ? 0 : 1) : (on_hi[0] ? 2 : 3);
-  } else if (bounds == 1) {
-    out.location = Location::kEdge;
-    out.feature = on_lo[1] ? 0 : on_hi[0] ? 1 : on_hi[1] ? 2 : 3;
-  } else {
-    out.location = Location::kFace;
-    out.feature = -1;
-  }
+  locate_on_quad({-1.0, 1.0}, out);
   finish(face, slave, out);
   return out;
 }
@@ -409,20 +389,7 @@ FaceClosestPoint closest_point_on_quadratic_triangle_local(const QuadraticTriang
   }
   if (!std::isfinite(best)) return out;  // invalid
 
-  const double r = out.param[0], s = out.param[1];
-  const double tol = kOnBoundaryTolerance;
-  const bool on[3] = {s <= tol, 1.0 - r - s <= tol, r <= tol};  // edges A->B, B->C, C->A
-  const int bounds = on[0] + on[1] + on[2];
-  if (bounds >= 2) {
-    out.location = Location::kVertex;
-    out.feature = on[2] && on[0] ? 0 : on[0] && on[1] ? 1 : 2;
-  } else if (bounds == 1) {
-    out.location = Location::kEdge;
-    out.feature = on[0] ? 0 : on[1] ? 1 : 2;
-  } else {
-    out.location = Location::kFace;
-    out.feature = -1;
-  }
+  locate_on_triangle(out);
   finish(face, slave, out);
   return out;
 }
