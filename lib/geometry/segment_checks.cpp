@@ -7,14 +7,35 @@
 
 namespace contactnn::geometry {
 
+namespace {
+
+/// The largest power of two at most x for a positive normal x (its exponent bits alone); 1 for 0, subnormals,
+/// infinities and NaN.
+double power_of_two_below(double x) {
+  int exponent = 0;
+  (void)std::frexp(x, &exponent);
+  return x > 0.0 && x <= std::numeric_limits<double>::max() && x >= std::numeric_limits<double>::min()
+             ? std::ldexp(1.0, exponent - 1)
+             : 1.0;
+}
+
+}  // namespace
+
 bool passes_segment_test(const Vec3& m, const Vec3& next, const Vec3& prev, const Vec3& s,
                          double relative_tolerance) {
-  const Vec3 c1 = next - m;
-  const Vec3 c2 = prev - m;
+  // In units of the corner's size, a power of two (exact: the same decisions wherever nothing under- or
+  // overflowed): |c1 x c2|^2 is a fourth power of the size and left the double range beyond sizes of 1e+-77,
+  // so that a deck scaled by 1e-100 or 1e100 had no segment for any slave node (the local search holds to
+  // 1e+-300). A slave node more than about 1e300 corner sizes away fails the test.
+  const Vec3 e1 = next - m;
+  const Vec3 e2 = prev - m;
+  const double unit = power_of_two_below(std::max(e1.cwiseAbs().maxCoeff(), e2.cwiseAbs().maxCoeff()));
+  const Vec3 c1 = e1 / unit;
+  const Vec3 c2 = e2 / unit;
   const Vec3 c1xc2 = c1.cross(c2);
   const double area_squared = c1xc2.squaredNorm();
   if (!(area_squared > 0.0)) return false;
-  const Vec3 t = s - m;
+  const Vec3 t = (s - m) / unit;
   const Vec3 r = t - (t.dot(c1xc2) / area_squared) * c1xc2;  // Eqs 5-6
   // r = alpha c1 + beta c2 in the corner's plane: c1 x r = beta (c1 x c2) and r x c2 = alpha (c1 x c2), so
   // Eq 3 says beta > 0 and Eq 4 says alpha beta > 0.

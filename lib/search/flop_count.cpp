@@ -37,14 +37,17 @@ constexpr double kFloatFrameDouble = 24, kFloatFrame = 258, kFloatDomain = 115, 
 constexpr double kInputScaling = 3, kOutputScaling = 3, kMapBack = 4, kSigmoid = 27;
 // surface_block.hpp: the queries relative to S (finite test 2 per value, 12 differences).
 constexpr double kRelativePerValue = 2, kRelative = 12;
-// Bilinear: coefficients a0..a3 48; the collapsed-segment test (edges and diagonals 18, their squared lengths
+// Bilinear: coefficients a0..a3 from the diagonals' sums and differences 36; the lane's canonical order
+// (LaneSymmetry::choose: two keys 8, the signs 1, the signed coefficients 9) 18; the squared distance to the
+// nearest node (gap_at's cap) 23; the collapsed-segment test (edges and diagonals 18, their squared lengths
 // 30, thresholds 3, area 15, four corner folds 4 x 19) 142. One hybrid (safeguarded) Newton step on the
 // surface's values: evaluation 31, residual and Jacobian 33, solve (determinant 3, reciprocal 1, step 8) 12,
 // update and checks 7. A plain step (lean_newton, converged_newton) on the polynomial system of
 // PlainSystem<BilinearBlock>: its nine dot products once per query 46; per step u v and the doubled
 // coefficients 3, g00 and g11 8, the residual 14, h01 7, then the solve 12 and update and checks 7.
-constexpr double kBilinearCoefficients = 48, kCollapsedTest = 142;
-constexpr double kBilinearBuild = kBilinearCoefficients + kCollapsedTest, kBilinearStep = 31 + 33 + 12 + 7;
+constexpr double kBilinearCoefficients = 36, kCanonicalOrder = 18, kNearestNode = 23, kCollapsedTest = 142;
+constexpr double kBilinearBuild = kBilinearCoefficients + kCanonicalOrder + kNearestNode + kCollapsedTest;
+constexpr double kBilinearStep = 31 + 33 + 12 + 7;
 constexpr double kBilinearPlainSetup = 46, kBilinearPlainStep = 3 + 8 + 14 + 7 + 12 + 7;
 // Closed form: q, n, |n|^2 17; three triple products 43 and their division by |n|^2 3; discriminant, root and
 // the two roots 11; the plane projections 13; xi for each root 2 x 33; the degeneracy test 12.
@@ -55,16 +58,24 @@ constexpr double kClosedForm = 17 + 43 + 3 + 11 + 13 + 66 + 12;
 // edge lengths 13, 1 / |n|^2 1, the barycentric coordinates 14, the planarity test 2, (xi, eta) 6, the point 9
 // and its key 8: 4 x 67; then N 15, S - P 3, its length 6, its side of N 5, the status test 2.
 constexpr double kFourTriangles = 12 + 3 + 5 * 8 + 4 * 9 + 8 * 35 + 4 * 67 + 15 + 3 + 6 + 5 + 2;
-// Gregory patch (GregoryBlock::build): unit normals 4 x 14; the collapsed-segment test of its corner facet
-// (which gives the longest distance) 142; per node the projected edges and their tests 49 (x 4); edge points
-// 48; per edge the interior points 131 (x 4); base and delta 12.
-constexpr double kGregoryBuild = 56 + kCollapsedTest + 4 * 49 + 48 + 4 * 131 + 12;
+// Gregory patch (GregoryBlock::build): the canonical order of its corner facet (a1 and a2 24, the choice 9;
+// the nodes and normals then only selected) and the nearest node 23; unit normals 4 x 14; the collapsed-segment
+// test of its corner facet (which gives the longest distance) 142; per node the projected edges and their
+// tests 49 (x 4); edge points 48; per edge the interior points 131 (x 4); base and delta 12.
+constexpr double kGregoryBuild = 24 + 9 + kNearestNode + 56 + kCollapsedTest + 4 * 49 + 48 + 4 * 131 + 12;
 // One Gregory evaluation with second derivatives: Bernstein values 54, tensor part 396, rational part 4 x 85;
 // the Newton system 45 and its solve and checks 19.
 constexpr double kGregoryEval = 54 + 396 + 340, kGregoryStep = kGregoryEval + 45 + 19;
 // The safeguarded step on top of the evaluation: both determinants, the step cap, the acceptance test 16; the
 // steps along a face of the box (two divisions) 2.
 constexpr double kSafeguard = 16 + 2;
+// The end of the safeguarded steps: the fold test (the normal 14, |P_s|^2 |P_t|^2 11, thresholds 3) 28 (the
+// cold path of the lanes near a fold not counted); the start into the canonical parametrisation and the
+// iterate back 4.
+constexpr double kSafeguardEnd = 28 + 4;
+// Newton to convergence, at its end: the fold test at the iterate (a first-derivative evaluation: bilinear 31,
+// Gregory about two thirds of a full one; the normal 14, threshold 2).
+constexpr double kFoldTest = 14 + 2;
 // Gregory only: the shift of an indefinite Jacobian (both smaller eigenvalues, 2 x 8 with a square root each;
 // the shift 2; the shifted diagonal and determinant 5), computed in every lane of the vectorised step.
 constexpr double kGregoryShift = 23;
@@ -104,7 +115,9 @@ FlopCount flops_per_query(SurfaceKind kind, const Method& method, const NetworkM
     d += relative + build;
     // On a Gregory patch the closed form is that of the corner facet: its coefficients too (the patch's build
     // tested it), and the map to (u, v).
-    if (method.start == Method::Start::kClosedForm) d += kClosedForm + (gregory ? kBilinearCoefficients + 4 : 0.0);
+    if (method.start == Method::Start::kClosedForm) {
+      d += kClosedForm + 2.0 + (gregory ? kBilinearCoefficients + kCanonicalOrder + 4 : 0.0);  // 2: the map back
+    }
     if (method.start == Method::Start::kFourTriangles) {
       CONTACTNN_REQUIRE_AS(InvalidArgument, !gregory, "four_triangles has no Gregory form");
       d += kFourTriangles;
@@ -114,11 +127,13 @@ FlopCount flops_per_query(SurfaceKind kind, const Method& method, const NetworkM
     // The network's start needs the surface too; then one evaluation at the start and one per step (a bilinear
     // facet is evaluated again at each iterate and once at the end instead of kept: safeguarded_newton).
     if (method.start == Method::Start::kNetwork) d += relative + build;
-    d += eval + method.newton_steps * (step + kSafeguard + (gregory ? kGregoryShift : 0.0));
+    d += eval + kSafeguardEnd + method.newton_steps * (step + kSafeguard + (gregory ? kGregoryShift : 0.0));
     if (!gregory) d += (method.newton_steps + 1) * eval;
   } else if (method.start == Method::Start::kCentre) {
     const double steps = method.to_convergence ? newton_steps : method.newton_steps;
     d += gregory ? steps * step : kBilinearPlainSetup + steps * kBilinearPlainStep;
+    d += 2.0;  // the iterate back to the caller's parametrisation
+    if (method.to_convergence) d += (gregory ? 2.0 * kGregoryEval / 3.0 : 31.0) + kFoldTest;
   }
   return count;
 }

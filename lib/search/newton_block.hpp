@@ -4,7 +4,11 @@
 //  - converged_newton: undamped steps until the step is below a tolerance (an FE code's "to convergence");
 //  - safeguarded_newton: the hybrids' refinement of an estimate, kept in a box, with step control.
 // Each lane runs independently: a lane that stops keeps its iterate and status while the others go on, so a
-// lane's result is the same in any block, at any position, with any neighbours.
+// lane's result is the same in any block, at any position, with any neighbours. Each runs in its surface's
+// canonical parametrisation (LaneSymmetry, surface_block.hpp): the lanes' coordinates go in and come out in the
+// caller's, and in between the arithmetic is the same for each of the caller's 8 node orders of a segment, so
+// that no status, coordinate or gap depends on the node order (far slave nodes and folded segments made them
+// depend on it: there the rounding of the caller's own order decided).
 #pragma once
 
 #include <cmath>
@@ -57,7 +61,7 @@ struct PlainSystem {
   explicit PlainSystem(const Surf& s) : surf(s) {}
   CONTACTNN_SEARCH_INLINE NewtonSystem at(int l, double u, double v) const {
     Eval e;
-    surf.template eval<true>(l, u, v, e);
+    surf.template eval_canonical<true>(l, u, v, e);
     return newton_system<Surf::kHasPureSecond>(e);
   }
   const Surf& surf;
@@ -148,24 +152,68 @@ CONTACTNN_SEARCH_INLINE void lean_steps(const Surf& surf, int steps, LaneState<W
   }
 }
 
+/// The lanes' coordinates from the caller's parametrisation to the surface's canonical one (LaneSymmetry).
 template <class Surf, int W>
-static void lean_newton(const Surf& surf, int steps, LaneState<W>& s) {
+CONTACTNN_SEARCH_INLINE void to_canonical(const Surf& surf, LaneState<W>& s) {
+  CONTACTNN_LANES
+  for (int l = 0; l < W; ++l) surf.sym.template to_canonical<Surf::kReflect>(l, s.u[l], s.v[l]);
+}
+
+/// The lanes' canonical coordinates back to the caller's (Surf::report).
+template <class Surf, int W>
+CONTACTNN_SEARCH_INLINE void to_caller(Surf& surf, LaneState<W>& s) {
+  CONTACTNN_LANES
+  for (int l = 0; l < W; ++l) surf.report(l, s.u[l], s.v[l]);
+}
+
+/// Lean Newton from the domain centre (search_rows starts every lane there; no symmetry moves it, so the lanes
+/// need no map into the canonical parametrisation), reported in the caller's. No fold test (converged_newton's,
+/// safeguarded_newton's): the K steps stop wherever they are, and their status says only whether a step could
+/// be taken; the test at the last iterate cost newton:5 5% (its gap's sign at a fold is the side the iterate
+/// is on, the same in every node order).
+template <class Surf, int W>
+static void lean_newton(Surf& surf, int steps, LaneState<W>& s) {
   if constexpr (W == 1) {
     // One lane: its state in a local, which the compiler keeps in registers. Through `s` (which might alias
     // `surf` as far as it knows) every step stored its iterate and loaded it again, a store-to-load delay in
     // each step's chain of dependent operations.
     LaneState<1> local = s;
     lean_steps<Surf, 1>(surf, steps, local);
+    to_caller<Surf, 1>(surf, local);
     s = local;
   } else {
     lean_steps<Surf, W>(surf, steps, s);
+    to_caller<Surf, W>(surf, s);
   }
 }
 
-/// Undamped Newton until the step (max norm) is at most `tol` or `max_iterations` steps: statuses as
-/// lean_newton, and for a lane still moving after the last step no_convergence, or kPending when `pause`.
+/// |P_s x P_t|^2 of e.
+CONTACTNN_SEARCH_INLINE double normal_sq(const Eval& e) {
+  const double nx = e.ps[1] * e.pt[2] - e.ps[2] * e.pt[1];
+  const double ny = e.ps[2] * e.pt[0] - e.ps[0] * e.pt[2];
+  const double nz = e.ps[0] * e.pt[1] - e.ps[1] * e.pt[0];
+  return nx * nx + ny * ny + nz * nz;
+}
+
+/// The normal of e vanishes to the labels' precision: |P_s x P_t| <= 1e-12 L^2 with longest_sq = L^2, the
+/// reference's test at its solution (fill_solution: such a solution is no label, and a segment with no other
+/// is degenerate). At the fold of a folded segment's map (C inside the triangle ABD, or a reflex corner) the
+/// nearest point of the surface is such a point for every slave node beyond the fold's image, and there the
+/// normal's direction, and the gap's sign, was the rounding's: ok with a gap of 0, +0.2 or -0.2 by the
+/// caller's node order.
+CONTACTNN_SEARCH_INLINE bool normal_vanishes(const Eval& e, double longest_sq) {
+  return !(normal_sq(e) > 1e-24 * longest_sq * longest_sq);
+}
+
+/// The iterate (canonical) lies in the parameter domain enlarged by `margin`.
+template <class Surf>
+CONTACTNN_SEARCH_INLINE bool in_domain(double u, double v, double margin) {
+  constexpr double lo = Surf::kKind == SurfaceKind::kGregory ? 0.0 : -1.0, hi = 1.0;
+  return (u >= lo - margin) & (u <= hi + margin) & (v >= lo - margin) & (v <= hi + margin);
+}
+
 template <class Surf, int W>
-static void converged_newton(const Surf& surf, int max_iterations, double tol, bool pause, LaneState<W>& s) {
+static void converged_steps(const Surf& surf, int max_iterations, double tol, bool pause, LaneState<W>& s) {
   const PlainSystem<Surf, W> system(surf);
   double running[W];
   for (int l = 0; l < W; ++l) running[l] = s.status[l] == kOk ? 1.0 : 0.0;
@@ -192,6 +240,53 @@ static void converged_newton(const Surf& surf, int max_iterations, double tol, b
   for (int l = 0; l < W; ++l) s.status[l] = running[l] != 0.0 ? stopped : s.status[l];
 }
 
+/// Undamped Newton until the step (max norm) is at most `tol` or `max_iterations` steps: statuses as
+/// lean_newton, and for a lane still moving after the last step no_convergence, or kPending when `pause`. A lane
+/// converged inside the domain (enlarged by tol) where the normal vanishes (normal_vanishes: the fold of a
+/// folded segment) is degenerate, as its label. (Beyond the domain such a point is left outside: the extended
+/// facet of a nearly collapsed segment, C and D 1e-9 apart, has one along the line through them, and the
+/// labels project there.)
+template <class Surf, int W>
+static void converged_newton(Surf& surf, int max_iterations, double tol, bool pause, LaneState<W>& s) {
+  // From the centre, as lean_newton: no map in.
+  converged_steps<Surf, W>(surf, max_iterations, tol, pause, s);
+  CONTACTNN_LANES
+  for (int l = 0; l < W; ++l) {
+    Eval e;
+    surf.template eval_canonical<false>(l, s.u[l], s.v[l], e);
+    const bool fold = (s.status[l] == kOk) & in_domain<Surf>(s.u[l], s.v[l], tol) & normal_vanishes(e, surf.longest[l]);
+    s.status[l] = fold ? kDegenerate : s.status[l];
+  }
+  to_caller<Surf, W>(surf, s);
+}
+
+/// Whether the iterates of the lanes marked in `candidate` (canonical: an answer inside the domain where the
+/// tangents are nearly parallel but the normal does not vanish yet) head for a fold: plain Newton from each to
+/// convergence (the labels' tolerance and iteration limit), which ends inside the domain where the normal
+/// vanishes. Out of line and cold: a hybrid whose few steps stop short of a fold's point (where S lies over the
+/// fold's image the distance is quartic there and Newton converges linearly: closed_form+newton:3 and
+/// network+newton:3 stopped 0.007 to 0.014 from it, ok with a gap of +-0.2 where the label is degenerate);
+/// other lanes come here only where the tangents meet at less than 3 degrees, which a usable segment's do not.
+template <class Surf, int W>
+[[gnu::noinline, gnu::cold]] static void mark_folds(const Surf& surf, const double* candidate, LaneState<W>& s) {
+  LaneState<W> t;
+  for (int l = 0; l < W; ++l) {
+    t.u[l] = s.u[l];
+    t.v[l] = s.v[l];
+    t.status[l] = candidate[l] != 0.0 ? kOk : kInvalid;
+    t.iterations[l] = 0.0;
+  }
+  constexpr double kTol = 1e-13;  // ProjectionOptions' tol_param and max_iterations
+  converged_steps<Surf, W>(surf, 50, kTol, false, t);
+  for (int l = 0; l < W; ++l) {
+    Eval e;
+    surf.template eval_canonical<false>(l, t.u[l], t.v[l], e);
+    const bool fold = (candidate[l] != 0.0) & (t.status[l] == kOk) & in_domain<Surf>(t.u[l], t.v[l], kTol) &
+                      normal_vanishes(e, surf.longest[l]);
+    s.status[l] = fold ? kDegenerate : s.status[l];
+  }
+}
+
 /// The box and step control of the hybrids (SearchOptions).
 struct Safeguards {
   double lo, hi;       ///< iterates stay in [lo, hi]^2
@@ -209,8 +304,10 @@ struct EvalStore {
   double pss[kPureSecond ? 3 : 1][W], ptt[kPureSecond ? 3 : 1][W];
   double f[W];     ///< |S - P|^2
   double dist[W];  ///< |S - P|
+  double orient[W];  ///< Eval::orient, for gap_at (set by safeguarded_newton)
 
   CONTACTNN_SEARCH_INLINE void load(int l, Eval& e) const {
+    e.orient = orient[l];
     CONTACTNN_UNROLL
     for (int c = 0; c < 3; ++c) {
       e.p[c] = p[c][l];
@@ -221,6 +318,14 @@ struct EvalStore {
         e.pss[c] = pss[c][l];
         e.ptt[c] = ptt[c][l];
       }
+    }
+  }
+  /// P_s and P_t alone (normal_vanishes).
+  CONTACTNN_SEARCH_INLINE void load_derivatives(int l, Eval& e) const {
+    CONTACTNN_UNROLL
+    for (int c = 0; c < 3; ++c) {
+      e.ps[c] = ps[c][l];
+      e.pt[c] = pt[c][l];
     }
   }
   /// Stores e for lane l where `take`, leaves the lane as it is otherwise.
@@ -286,20 +391,10 @@ template <int W, bool kPureSecond>
   }
 }
 
-/// The hybrids' refinement: from each lane's estimate (clamped into the box), `steps` Newton steps with the
-/// exact Jacobian where it is positive definite; where it is not, on a Gregory patch the Jacobian shifted to
-/// positive definite (below), on a bilinear facet (and where the shift fails) the Gauss-Newton step
-/// (downhill on |S - P|^2); a step is shortened to max_step, clamped into the box, and accepted when |S - P|
-/// does not grow by more than the rounding of the positions (noise[l], a length); otherwise halved up to
-/// max_halvings times, after which the lane stops with status no_convergence and keeps its previous iterate. On
-/// a Gregory patch a lane on the box's edge whose step points out of the box steps along the edge instead. A
-/// step shorter than `tol` ends the lane (converged). Both systems singular: degenerate. A lane ending on the
-/// box's edge: no_convergence where that edge lies beyond the domain; on an edge of the domain, outside when
-/// |S - P| still falls outward across it, else ok (see the last loop). `store` holds the surface at each lane's
-/// final iterate.
+/// safeguarded_newton's steps, in the canonical parametrisation.
 template <class Surf, int W>
-static void safeguarded_newton(const Surf& surf, int steps, const Safeguards& g, const double* noise, LaneState<W>& s,
-                        EvalStore<W, Surf::kHasPureSecond>& store) {
+static void safeguarded_steps(const Surf& surf, int steps, const Safeguards& g, const double* noise, LaneState<W>& s,
+                              EvalStore<W, Surf::kHasPureSecond>& store) {
   // The settings as locals: a field read under a lane-dependent condition becomes a masked load of an invariant,
   // which GCC 12 does not vectorise.
   const double lo = g.lo, hi = g.hi, max_step = g.max_step, tol = g.tol;
@@ -308,13 +403,13 @@ static void safeguarded_newton(const Surf& surf, int steps, const Safeguards& g,
   // closed_form+newton:3 41.0 -> 39.5 ns, network+newton:3[bilinear-8] 65.4 -> 63.9). A Gregory evaluation is
   // 790 flops: kept.
   constexpr bool kEvaluateAgain = !Surf::kHasPureSecond;
-  double running[W], pending[W], tu[W], tv[W], tiny[W];
+  double running[W], pending[W], tu[W], tv[W], tiny[W], stalled[W];
   CONTACTNN_LANES
   for (int l = 0; l < W; ++l) {
     s.u[l] = clamp_to(s.u[l], lo, hi);
     s.v[l] = clamp_to(s.v[l], lo, hi);
     Eval e;
-    surf.template eval<true>(l, s.u[l], s.v[l], e);
+    surf.template eval_canonical<true>(l, s.u[l], s.v[l], e);
     const double f = e.p[0] * e.p[0] + e.p[1] * e.p[1] + e.p[2] * e.p[2];
     if constexpr (kEvaluateAgain) {
       store.store_distance_if(l, true, f);
@@ -329,7 +424,7 @@ static void safeguarded_newton(const Surf& surf, int steps, const Safeguards& g,
     for (int l = 0; l < W; ++l) {
       Eval e;
       if constexpr (kEvaluateAgain) {
-        surf.template eval<true>(l, s.u[l], s.v[l], e);
+        surf.template eval_canonical<true>(l, s.u[l], s.v[l], e);
       } else {
         store.load(l, e);
       }
@@ -388,6 +483,7 @@ static void safeguarded_newton(const Surf& surf, int steps, const Safeguards& g,
       tu[l] = go ? clamp_to(s.u[l] + du, lo, hi) : s.u[l];
       tv[l] = go ? clamp_to(s.v[l] + dv, lo, hi) : s.v[l];
       tiny[l] = size <= tol ? 1.0 : 0.0;
+      stalled[l] = 0.0;
       s.status[l] = (active & !singular & !go) ? kNoConvergence : s.status[l];
       running[l] = go ? 1.0 : 0.0;
       pending[l] = running[l];
@@ -399,7 +495,7 @@ static void safeguarded_newton(const Surf& surf, int steps, const Safeguards& g,
       CONTACTNN_LANES
       for (int l = 0; l < W; ++l) {
         Eval e;
-        surf.template eval<true>(l, tu[l], tv[l], e);
+        surf.template eval_canonical<true>(l, tu[l], tv[l], e);
         const double f = e.p[0] * e.p[0] + e.p[1] * e.p[1] + e.p[2] * e.p[2];
         const double reach = noise[l] * (2.0 * store.dist[l] + noise[l]);
         const bool wait = pending[l] != 0.0;
@@ -409,6 +505,7 @@ static void safeguarded_newton(const Surf& surf, int steps, const Safeguards& g,
         } else {
           store.store_if(l, accept, e, f);
         }
+        stalled[l] = accept & (tu[l] == s.u[l]) & (tv[l] == s.v[l]) ? 1.0 : stalled[l];
         s.u[l] = accept ? tu[l] : s.u[l];
         s.v[l] = accept ? tv[l] : s.v[l];
         s.iterations[l] += accept ? 1.0 : 0.0;
@@ -423,7 +520,7 @@ static void safeguarded_newton(const Surf& surf, int steps, const Safeguards& g,
     for (int l = 0; l < W; ++l) {
       const bool rejected = pending[l] != 0.0;
       s.status[l] = rejected ? kNoConvergence : s.status[l];
-      running[l] = ((running[l] != 0.0) & !rejected & (tiny[l] == 0.0)) ? 1.0 : 0.0;
+      running[l] = ((running[l] != 0.0) & !rejected & (tiny[l] == 0.0) & (stalled[l] == 0.0)) ? 1.0 : 0.0;
     }
     if (any_of<W>(running) == 0.0) break;
   }
@@ -431,20 +528,80 @@ static void safeguarded_newton(const Surf& surf, int steps, const Safeguards& g,
     CONTACTNN_LANES
     for (int l = 0; l < W; ++l) {
       Eval e;
-      surf.template eval<true>(l, s.u[l], s.v[l], e);
+      surf.template eval_canonical<true>(l, s.u[l], s.v[l], e);
       store.store_if(l, true, e, store.f[l]);
     }
   }
   classify_held_lanes<W, Surf::kHasPureSecond>(g, s, store);
 }
 
-/// gap = n.(S - P) with n the unit normal P_s x P_t; 0 where the normal vanishes or a value is not finite.
+/// The hybrids' refinement: from each lane's estimate (clamped into the box), `steps` Newton steps with the
+/// exact Jacobian where it is positive definite; where it is not, on a Gregory patch the Jacobian shifted to
+/// positive definite (below), on a bilinear facet (and where the shift fails) the Gauss-Newton step
+/// (downhill on |S - P|^2); a step is shortened to max_step, clamped into the box, and accepted when |S - P|
+/// does not grow by more than the rounding of the positions (noise[l], a length); otherwise halved up to
+/// max_halvings times, after which the lane stops with status no_convergence and keeps its previous iterate. On
+/// a Gregory patch a lane on the box's edge whose step points out of the box steps along the edge instead. A
+/// step shorter than `tol` ends the lane (converged), and so does an accepted step that does not move the
+/// iterate (held in a corner of the box, every later step would be the same). Both systems singular:
+/// degenerate. A lane ending on the box's edge: no_convergence where that edge lies beyond the domain; on an
+/// edge of the domain, outside when |S - P| still falls outward across it, else ok (see the last loop). A lane
+/// ending inside the domain where the normal vanishes (normal_vanishes: the fold of a folded segment), or
+/// where it nearly does and plain Newton from there converges to such a point (mark_folds): degenerate, as its
+/// label. `store` holds the surface at each lane's final iterate (in the canonical parametrisation, with
+/// the orientation gap_at needs); the iterates come back in the caller's coordinates, a lane that
+/// never moved with its start's own bits.
+template <class Surf, int W>
+static void safeguarded_newton(Surf& surf, int steps, const Safeguards& g, const double* noise, LaneState<W>& s,
+                               EvalStore<W, Surf::kHasPureSecond>& store) {
+  double start_u[W], start_v[W], canonical_u[W], canonical_v[W];
+  CONTACTNN_LANES
+  for (int l = 0; l < W; ++l) {
+    start_u[l] = s.u[l];
+    start_v[l] = s.v[l];
+    surf.sym.template to_canonical<Surf::kReflect>(l, s.u[l], s.v[l]);
+    canonical_u[l] = s.u[l];
+    canonical_v[l] = s.v[l];
+  }
+  safeguarded_steps<Surf, W>(surf, steps, g, noise, s, store);
+  // A fold inside the domain (normal_vanishes, mark_folds): degenerate, as the labels.
+  double candidate[W];
+  const double in_lo = g.inside_lo, in_hi = g.inside_hi;
+  CONTACTNN_LANES
+  for (int l = 0; l < W; ++l) {
+    Eval e;
+    store.load_derivatives(l, e);
+    const double n_sq = normal_sq(e), l4 = surf.longest[l] * surf.longest[l];
+    const double ps_sq = e.ps[0] * e.ps[0] + e.ps[1] * e.ps[1] + e.ps[2] * e.ps[2];
+    const double pt_sq = e.pt[0] * e.pt[0] + e.pt[1] * e.pt[1] + e.pt[2] * e.pt[2];
+    const bool inside = (s.status[l] == kOk) & (s.u[l] >= in_lo) & (s.u[l] <= in_hi) & (s.v[l] >= in_lo) & (s.v[l] <= in_hi);
+    const bool vanishes = !(n_sq > 1e-24 * l4);  // normal_vanishes
+    s.status[l] = inside & vanishes ? kDegenerate : s.status[l];
+    // Near a fold the tangents turn parallel: the angle between them below 3 degrees (sin 0.05).
+    candidate[l] = inside & !vanishes & !(n_sq > 0.0025 * ps_sq * pt_sq) ? 1.0 : 0.0;
+  }
+  if (any_of<W>(candidate) != 0.0) mark_folds<Surf, W>(surf, candidate, s);
+  CONTACTNN_LANES
+  for (int l = 0; l < W; ++l) {
+    store.orient[l] = surf.sym.orient[l];
+    const bool still = (s.u[l] == canonical_u[l]) & (s.v[l] == canonical_v[l]);
+    surf.report(l, s.u[l], s.v[l]);
+    s.u[l] = still ? start_u[l] : s.u[l];
+    s.v[l] = still ? start_v[l] : s.v[l];
+  }
+}
+
+/// gap = n.(S - P) with n the caller's unit normal P_s x P_t (e.orient times the canonical one, whose
+/// arithmetic is the same in every node order); 0 where the normal vanishes or a value is not finite. SPEC 2's
+/// gap at the reported point, also where that point is no solution (a closed form's estimate beyond the
+/// segment, an unconverged iterate): it is not bounded by the slave node's distance there (the Gregory closed
+/// form's estimate for a slave node 1e15 away is the patch's cubic extrapolation), and the status says so.
 CONTACTNN_SEARCH_INLINE double gap_at(const Eval& e) {
   const double nx = e.ps[1] * e.pt[2] - e.ps[2] * e.pt[1];
   const double ny = e.ps[2] * e.pt[0] - e.ps[0] * e.pt[2];
   const double nz = e.ps[0] * e.pt[1] - e.ps[1] * e.pt[0];
   const double n_sq = nx * nx + ny * ny + nz * nz;
-  const double gap = -(nx * e.p[0] + ny * e.p[1] + nz * e.p[2]) / std::sqrt(n_sq);
+  const double gap = -e.orient * (nx * e.p[0] + ny * e.p[1] + nz * e.p[2]) / std::sqrt(n_sq);
   return (n_sq > 0.0) & is_finite(gap) ? gap : 0.0;
 }
 

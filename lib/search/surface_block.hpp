@@ -6,11 +6,17 @@
 // compare both to rounding. What differs is only the arrangement: one array per coordinate and lane, the
 // degeneracy checks of GregoryPatch::diagnose done once while building (not twice), lengths compared squared,
 // and divisions by a length replaced by products with its reciprocal.
+//
+// Each lane's surface is built in a canonical node order of its own (LaneSymmetry), the same for each of the
+// caller's 8 node orders of a segment (SPEC 4): the methods compute in its parametrisation, so that a
+// query's arithmetic, and with it its status and gap, do not depend on the node order it came in. The public
+// eval takes the caller's coordinates.
 #pragma once
 
 #include <bit>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 
 #include "core/conventions.hpp"
 
@@ -54,6 +60,9 @@ inline constexpr Status kPendingStatus = static_cast<Status>(255);
 /// derivatives are not computed.
 struct Eval {
   double p[3], ps[3], pt[3], pss[3], pst[3], ptt[3];
+  /// Set by a surface's public eval and EvalStore::load only (for gap_at): +1 or -1, the caller's normal
+  /// P_s x P_t over the block's canonical one (the derivatives above are the canonical ones).
+  double orient;
 };
 
 /// max and min as x86's vector instructions take them (b where either is NaN): one instruction in a vectorised
@@ -225,6 +234,113 @@ CONTACTNN_SEARCH_INLINE bool collapsed_segment(const QueryBlock<W>& q, int l, do
   return collapsed;
 }
 
+/// The facet coefficients of lane l in the caller's node order, a_k[c] (a0: centre - S, a1, a2, a3; SPEC 1:
+/// P = a0 + s a1 + t a2 + s t a3), from sums and differences of the diagonals' nodes: pa + pc, pb + pd, pc - pa,
+/// pb - pd. A symmetry of the square only permutes these and changes their signs, and addition is commutative,
+/// so for any node order of the segment the coefficients are the same bits, permuted, with signs changed
+/// (a1 and a2 swapped and negated, a3 negated): what LaneSymmetry::choose relies on.
+template <int W>
+CONTACTNN_SEARCH_INLINE void caller_facet(const QueryBlock<W>& q, int l, double (*coef)[3]) {
+  CONTACTNN_UNROLL
+  for (int c = 0; c < 3; ++c) {
+    const double pa = q.node[c][l], pb = q.node[3 + c][l], pc = q.node[6 + c][l], pd = q.node[9 + c][l];
+    const double sum_ac = pa + pc, sum_bd = pb + pd, diff_ac = pc - pa, diff_bd = pb - pd;
+    coef[0][c] = 0.25 * (sum_ac + sum_bd);
+    coef[1][c] = 0.25 * (diff_ac + diff_bd);
+    coef[2][c] = 0.25 * (diff_ac - diff_bd);
+    coef[3][c] = 0.25 * (sum_ac - sum_bd);
+  }
+}
+
+/// The key by which LaneSymmetry orders and orients vectors: a fixed linear form with coefficients of no
+/// special ratio, so that no vector of a real mesh (axis-aligned edges included) has the key 0 or shares the
+/// key of another unless they are equal. For -v it is exactly -key(v) (each rounding is symmetric), so the
+/// choices below are the same for a vector and its negation.
+CONTACTNN_SEARCH_INLINE double symmetry_key(const double* v) {
+  return v[0] + 0.7390851332151607 * v[1] + 0.5671432904097838 * v[2];
+}
+
+/// For each lane, the symmetry of the square (SPEC 4's 8 node orders) from the caller's parametrisation to the
+/// block's canonical one: with F_s(x) = x, or R - x where sign_s = -1 (the reflection about the domain centre,
+/// R = 0 for (xi, eta), 1 for (u, v); likewise F_t),
+///   canonical (s', t') = (F_s(swap ? t : s), F_t(swap ? s : t)),
+/// and the caller's normal P_s x P_t is orient times the canonical one. The canonical facet's coefficients are
+/// a1' and a2', the caller's a1 and a2 each with the sign that makes its symmetry_key positive, the one of
+/// larger key first; a3' = +-a3. Every node order of one segment gives the same a1', a2', a3' (caller_facet's
+/// coefficients are permuted and negated exactly), so the canonical facet, and the node order built from it
+/// (GregoryBlock), are the same bits for all 8. The choice is unique unless a key is 0 or two keys are equal
+/// in magnitude: a1 = 0 or a2 = 0 or a1 = +-a2 (two nodes coincide or the diagonals are parallel: a collapsed
+/// segment, degenerate for every method that builds the surface), or (never for a real mesh) a vector on the
+/// key's plane; then the node orders can differ in the rounding, not more.
+template <int W>
+struct LaneSymmetry {
+  double swap[W];                ///< 1 or 0
+  double sign_s[W], sign_t[W];   ///< +1 or -1
+  double orient[W];              ///< +1 or -1
+
+  /// Chooses lane l's symmetry from the caller's facet coefficients (caller_facet) and writes the canonical
+  /// a1', a2', a3' to out[0..2]. (Signs and flags as doubles, compared where used: with bool values selected
+  /// and compared, GCC 12 no longer vectorised the surfaces' builds.)
+  CONTACTNN_SEARCH_INLINE void choose(int l, const double (*coef)[3], double (*out)[3]) {
+    const double k1 = symmetry_key(coef[1]), k2 = symmetry_key(coef[2]);
+    const double w = std::fabs(k1) < std::fabs(k2) ? 1.0 : 0.0;
+    const double sign_1 = k1 < 0.0 ? -1.0 : 1.0, sign_2 = k2 < 0.0 ? -1.0 : 1.0;
+    const double first = w != 0.0 ? sign_2 : sign_1, second = w != 0.0 ? sign_1 : sign_2;
+    const double sign_st = first * second;
+    CONTACTNN_UNROLL
+    for (int c = 0; c < 3; ++c) {
+      out[0][c] = first * (w != 0.0 ? coef[2][c] : coef[1][c]);
+      out[1][c] = second * (w != 0.0 ? coef[1][c] : coef[2][c]);
+      out[2][c] = sign_st * coef[3][c];
+    }
+    swap[l] = w;
+    sign_s[l] = first;
+    sign_t[l] = second;
+    orient[l] = w != 0.0 ? -sign_st : sign_st;
+  }
+
+  /// The caller's (s, t) -> the canonical (s', t'), in place; kReflect is R. (xi, eta): by sign_s and sign_t
+  /// (a reflection of 0 gives -0 here, which only the methods' arithmetic sees).
+  template <int kReflect>
+  CONTACTNN_SEARCH_INLINE void to_canonical(int l, double& s, double& t) const {
+    const bool w = swap[l] != 0.0;
+    const double x = w ? t : s, y = w ? s : t;
+    if constexpr (kReflect == 0) {
+      s = sign_s[l] * x;
+      t = sign_t[l] * y;
+    } else {
+      constexpr double r = kReflect;
+      s = sign_s[l] < 0.0 ? r - x : x;
+      t = sign_t[l] < 0.0 ? r - y : y;
+    }
+  }
+  /// The canonical (s', t') -> the caller's (s, t), in place: exact for (xi, eta); for (u, v) a reflection
+  /// 1 - u rounds (as SquareSymmetry::to_caller's).
+  template <int kReflect>
+  CONTACTNN_SEARCH_INLINE void to_caller(int l, double& s, double& t) const {
+    constexpr double r = kReflect;
+    const double x = sign_s[l] < 0.0 ? r - s : s, y = sign_t[l] < 0.0 ? r - t : t;  // r - x: never -0
+    const bool w = swap[l] != 0.0;
+    s = w ? y : x;
+    t = w ? x : y;
+  }
+  /// For canonical node i (A, B, C, D), where the caller's node in its place lies on the caller's square: s_pos
+  /// > 0 at s = +1, t_pos > 0 at t = +1 (the caller's node A at (-1, -1), B (1, -1), C (1, 1), D (-1, 1)).
+  CONTACTNN_SEARCH_INLINE void caller_corner(int l, int i, double& s_pos, double& t_pos) const {
+    const double x = (i == 1 || i == 2) ? 1.0 : -1.0, y = i >= 2 ? 1.0 : -1.0;  // canonical node i's corner
+    const double fx = sign_s[l] * x, fy = sign_t[l] * y;
+    const bool w = swap[l] != 0.0;
+    s_pos = w ? fy : fx;
+    t_pos = w ? fx : fy;
+  }
+};
+
+/// The value of the caller's node at (s_pos, t_pos) of its square (caller_corner), among its nodes' values a,
+/// b, c, d.
+CONTACTNN_SEARCH_INLINE double caller_node_value(double s_pos, double t_pos, double a, double b, double c, double d) {
+  return s_pos > 0.0 ? (t_pos > 0.0 ? c : b) : (t_pos > 0.0 ? d : a);
+}
+
 // ---------------------------------------------------------------------------------------------------------
 // Bilinear facet: P = a0 + s a1 + t a2 + s t a3 (geometry::BilinearPatch).
 
@@ -232,42 +348,50 @@ template <int W>
 struct BilinearBlock {
   static constexpr SurfaceKind kKind = SurfaceKind::kBilinear;
   static constexpr bool kHasPureSecond = false;  // P_ss = P_tt = 0
-  double a[12][W];  // a0 xyz, a1 xyz, a2 xyz, a3 xyz
+  static constexpr int kReflect = 0;             // the reflections of (xi, eta): x -> -x
+  double a[12][W];  // a0 xyz, a1 xyz, a2 xyz, a3 xyz, of the canonical facet (LaneSymmetry)
+  LaneSymmetry<W> sym;
+  double longest[W];  ///< the longest node distance, squared (build with kCheck)
 
-  /// Builds the facet of every lane and sets status[l] = kDegenerate where the segment is collapsed
-  /// (collapsed_segment). The facet exists for any four nodes, and Newton from the centre reported a point of
-  /// such a segment ok (A = B: ok at K = 1 and 3). Returns whether a lane's longest node distance lies outside
-  /// [1 / kSaneLength, kSaneLength] (a degenerate lane's too): the caller then rescales the block
-  /// (rescale_queries) and builds it again, so that the fourth powers stay in the double range. kCheck false:
-  /// the facet alone (a Gregory patch's corner facet, whose patch has made both tests), status not read.
+  /// Builds the facet of every lane in its canonical parametrisation (LaneSymmetry) and sets status[l] =
+  /// kDegenerate where the segment is collapsed (collapsed_segment). The facet exists for any four nodes, and
+  /// Newton from the centre reported a point of such a segment ok (A = B: ok at K = 1 and 3). Returns whether a
+  /// lane's longest node distance lies outside [1 / kSaneLength, kSaneLength] (a degenerate lane's too): the
+  /// caller then rescales the block (rescale_queries) and builds it again, so that the fourth powers stay in
+  /// the double range. kCheck false: the facet alone (a Gregory patch's corner facet, whose patch has made both
+  /// tests), status not read.
   template <bool kCheck = true>
   [[nodiscard]] bool build(const QueryBlock<W>& q, double* status) {
     CONTACTNN_LANES
     for (int l = 0; l < W; ++l) {
+      double coef[4][3], canonical[3][3];
+      caller_facet(q, l, coef);
+      sym.choose(l, coef, canonical);
       CONTACTNN_UNROLL
       for (int c = 0; c < 3; ++c) {
-        const double pa = q.node[c][l], pb = q.node[3 + c][l], pc = q.node[6 + c][l], pd = q.node[9 + c][l];
-        a[c][l] = 0.25 * (pa + pb + pc + pd);
-        a[3 + c][l] = 0.25 * (-pa + pb + pc - pd);
-        a[6 + c][l] = 0.25 * (-pa - pb + pc + pd);
-        a[9 + c][l] = 0.25 * (pa - pb + pc - pd);
+        a[c][l] = coef[0][c];
+        a[3 + c][l] = canonical[0][c];
+        a[6 + c][l] = canonical[1][c];
+        a[9 + c][l] = canonical[2][c];
       }
     }
     if constexpr (!kCheck) return false;
     double out_of_range[W];
     CONTACTNN_LANES
     for (int l = 0; l < W; ++l) {
-      double longest;
-      const bool collapsed = collapsed_segment(q, l, longest);
+      double longest_sq;
+      const bool collapsed = collapsed_segment(q, l, longest_sq);
       status[l] = collapsed ? kDegenerate : status[l];
+      longest[l] = longest_sq;
       constexpr double kSaneSquare = kSaneLength * kSaneLength;
-      out_of_range[l] = (longest >= 1.0 / kSaneSquare) & (longest <= kSaneSquare) ? 0.0 : 1.0;
+      out_of_range[l] = (longest_sq >= 1.0 / kSaneSquare) & (longest_sq <= kSaneSquare) ? 0.0 : 1.0;
     }
     return any_of<W>(out_of_range) != 0.0;  // a loop of its own: in the lane loop it stops vectorisation
   }
 
+  /// The point and its derivatives at the canonical (s', t') (the methods' own iterates).
   template <bool kSecond = true>
-  CONTACTNN_SEARCH_INLINE void eval(int l, double s, double t, Eval& e) const {
+  CONTACTNN_SEARCH_INLINE void eval_canonical(int l, double s, double t, Eval& e) const {
     const double st = s * t;
     CONTACTNN_UNROLL
     for (int c = 0; c < 3; ++c) {
@@ -278,6 +402,16 @@ struct BilinearBlock {
       e.pst[c] = a3;
     }
   }
+
+  /// At the caller's (s, t): the canonical point and derivatives there, with e.orient for gap_at. The map is exact for (xi, eta).
+  template <bool kSecond = true>
+  CONTACTNN_SEARCH_INLINE void eval(int l, double s, double t, Eval& e) const {
+    sym.template to_canonical<kReflect>(l, s, t);
+    eval_canonical<kSecond>(l, s, t, e);
+    e.orient = sym.orient[l];
+  }
+  /// The methods report their canonical iterates through here (to_caller): exact for (xi, eta), nothing kept.
+  CONTACTNN_SEARCH_INLINE void report(int l, double& s, double& t) { sym.template to_caller<kReflect>(l, s, t); }
 };
 
 // ---------------------------------------------------------------------------------------------------------
@@ -298,10 +432,18 @@ template <int W>
 struct GregoryBlock {
   static constexpr SurfaceKind kKind = SurfaceKind::kGregory;
   static constexpr bool kHasPureSecond = true;
+  static constexpr int kReflect = 1;  // the reflections of (u, v): x -> 1 - x
   /// P = sum B_i(u) B_j(v) base_ij + sum_interior B_i B_j w_ij delta_ij: base holds P_ij with P_ij1 in the four
-  /// interior slots, delta = P_ij0 - P_ij1 in the order 11, 21, 12, 22, w_ij = s / (s + t) (Eqs 28-31).
+  /// interior slots, delta = P_ij0 - P_ij1 in the order 11, 21, 12, 22, w_ij = s / (s + t) (Eqs 28-31). Of the
+  /// patch in the lane's canonical node order (LaneSymmetry: that of its corner facet).
   double base[48][W];   // point i + 4 j, coordinate c at [3 (i + 4 j) + c]
   double delta[12][W];  // interior k, coordinate c at [3 k + c]
+  LaneSymmetry<W> sym;
+  double longest[W];  ///< the longest node distance, squared
+  /// The last canonical iterate each lane reported (report) and the caller's coordinates it became: eval at
+  /// those coordinates evaluates at that iterate, not at its reflection 1 - (1 - u), which may differ in the
+  /// last bit (and a gap with it, by up to eps times the slave's distance). NaN: none.
+  double reported[4][W];
 
   /// Builds the patch of every lane and sets status[l] = kDegenerate where the labels refuse it: a collapsed
   /// segment (collapsed_segment), or where GregoryPatch::diagnose would refuse it: a node normal of zero
@@ -309,26 +451,54 @@ struct GregoryBlock {
   /// distance (coincident nodes, a normal along an edge). Returns whether a lane's longest node distance lies
   /// outside [1 / kSaneLength, kSaneLength], as BilinearBlock::build.
   [[nodiscard]] bool build(const QueryBlock<W>& q, double* status) {
+    // The nodes and their normals in each lane's canonical order: that of its corner facet (LaneSymmetry), the
+    // same bits for every node order of the segment (the selections cost about 2.5 ns a query, 3.5% of
+    // newton:5).
+    alignas(64) double node[12][W], normal[12][W];
+    CONTACTNN_LANES
+    for (int l = 0; l < W; ++l) {
+      double coef[4][3], canonical[3][3];
+      caller_facet(q, l, coef);
+      sym.choose(l, coef, canonical);
+      CONTACTNN_UNROLL
+      for (int i = 0; i < 4; ++i) {
+        double s_pos, t_pos;
+        sym.caller_corner(l, i, s_pos, t_pos);
+        CONTACTNN_UNROLL
+        for (int c = 0; c < 3; ++c) {
+          node[3 * i + c][l] =
+              caller_node_value(s_pos, t_pos, q.node[c][l], q.node[3 + c][l], q.node[6 + c][l], q.node[9 + c][l]);
+          normal[3 * i + c][l] = caller_node_value(s_pos, t_pos, q.normal[c][l], q.normal[3 + c][l],
+                                                   q.normal[6 + c][l], q.normal[9 + c][l]);
+        }
+      }
+    }
     double out_of_range[W];
     CONTACTNN_LANES
-    for (int l = 0; l < W; ++l) out_of_range[l] = build_lane(q, l, status);
+    for (int l = 0; l < W; ++l) out_of_range[l] = build_lane(q, node, normal, l, status);
+    for (int k = 0; k < 4; ++k) {
+      for (int l = 0; l < W; ++l) reported[k][l] = std::numeric_limits<double>::quiet_NaN();
+    }
     return any_of<W>(out_of_range) != 0.0;  // a loop of its own: in the lane loop it stops vectorisation
   }
 
-  CONTACTNN_SEARCH_INLINE double build_lane(const QueryBlock<W>& q, int l, double* status) {
+  /// One lane's patch from its canonical nodes and normals (node, normal: as QueryBlock's; q for the collapsed
+  /// test, which is the same for any node order).
+  CONTACTNN_SEARCH_INLINE double build_lane(const QueryBlock<W>& q, const double (*node)[W], const double (*normal)[W],
+                                            int l, double* status) {
     double x[4][3], u[4][3], pn[4][3], pp[4][3], inv_pn[4], inv_pp[4], dot_np[4];
     bool bad = false;
     CONTACTNN_UNROLL
     for (int i = 0; i < 4; ++i) {
       CONTACTNN_UNROLL
-      for (int c = 0; c < 3; ++c) x[i][c] = q.node[3 * i + c][l];
+      for (int c = 0; c < 3; ++c) x[i][c] = node[3 * i + c][l];
     }
     // Unit normals: scaled by their largest component first, so that any positive length works; a normal
     // whose components are all below 2^-900 (subnormal lengths included, whose reciprocal overflows) is first
     // multiplied by 2^600, exactly.
     CONTACTNN_UNROLL
     for (int i = 0; i < 4; ++i) {
-      const double n0x = q.normal[3 * i][l], n0y = q.normal[3 * i + 1][l], n0z = q.normal[3 * i + 2][l];
+      const double n0x = normal[3 * i][l], n0y = normal[3 * i + 1][l], n0z = normal[3 * i + 2][l];
       const double m0 = max_of(max_of(std::fabs(n0x), std::fabs(n0y)), std::fabs(n0z));
       const double up = m0 < 0x1p-900 ? 0x1p600 : 1.0;
       const double nx = n0x * up, ny = n0y * up, nz = n0z * up;
@@ -347,6 +517,7 @@ struct GregoryBlock {
     // ok or outside on a segment of zero area. Also gives the longest node distance, for the edge test.
     double longest_sq;
     bad = bad | collapsed_segment(q, l, longest_sq);
+    longest[l] = longest_sq;
     // Each node's edges projected onto its tangent plane: pn towards the next node, pp towards the previous.
     CONTACTNN_UNROLL
     for (int i = 0; i < 4; ++i) {
@@ -449,10 +620,31 @@ struct GregoryBlock {
     return (longest_sq >= 1.0 / kSaneSquare) & (longest_sq <= kSaneSquare) ? 0.0 : 1.0;
   }
 
-  /// Position and derivatives at (u, v) for lane l: GregoryPatch::evaluate, quotient rule included; a rational
-  /// weight whose denominator is below 1e-14 in magnitude is 1/2 with zero derivatives (SPEC 3).
+  /// At the caller's (u, v): the canonical point and derivatives there (the reported iterate itself where
+  /// (u, v) is what it became), with e.orient for gap_at.
   template <bool kSecond = true>
   CONTACTNN_SEARCH_INLINE void eval(int l, double uu, double vv, Eval& e) const {
+    const bool known = (uu == reported[2][l]) & (vv == reported[3][l]);
+    double cu = uu, cv = vv;
+    sym.template to_canonical<kReflect>(l, cu, cv);
+    eval_canonical<kSecond>(l, known ? reported[0][l] : cu, known ? reported[1][l] : cv, e);
+    e.orient = sym.orient[l];
+  }
+  /// The methods report their canonical iterates through here: (u, v) becomes the caller's, and both are kept
+  /// for eval.
+  CONTACTNN_SEARCH_INLINE void report(int l, double& uu, double& vv) {
+    reported[0][l] = uu;
+    reported[1][l] = vv;
+    sym.template to_caller<kReflect>(l, uu, vv);
+    reported[2][l] = uu;
+    reported[3][l] = vv;
+  }
+
+  /// Position and derivatives at the canonical (u, v) for lane l: GregoryPatch::evaluate, quotient rule
+  /// included; a rational weight whose denominator is below 1e-14 in magnitude is 1/2 with zero derivatives
+  /// (SPEC 3).
+  template <bool kSecond = true>
+  CONTACTNN_SEARCH_INLINE void eval_canonical(int l, double uu, double vv, Eval& e) const {
     const Bernstein bu = bernstein(uu), bv = bernstein(vv);
     CONTACTNN_UNROLL
     for (int c = 0; c < 3; ++c) {

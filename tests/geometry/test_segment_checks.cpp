@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <random>
+#include <vector>
 
 #include <cmath>
 
@@ -85,6 +86,33 @@ TEST(SegmentTest, ToleranceAdmitsTheEdgePlaneAndTheCornerButNotTheBackwardExtens
   EXPECT_FALSE(passes_segment_test(m, next, prev, Vec3(0, -0.5, 0.1), tol));
   // A collapsed corner passes nothing.
   EXPECT_FALSE(passes_segment_test(m, next, 2.0 * next, Vec3(0.5, 0.5, 0.1), tol));
+}
+
+TEST(SegmentTest, GivesTheSameAnswerAtScalesFrom1eMinus300To1e300) {
+  // The test is scale-free: the same random corners and slave nodes (strict and with the global search's
+  // tolerance), and a slave node on an edge's plane and over the corner, give the answer of scale 1 at every
+  // scale. Its products are fourth powers of the corner's size: they left the double range near 1e+-77, where
+  // every slave node of a scaled deck failed the test (gen-configs --scene --search nearest_node: no_segment).
+  std::mt19937_64 rng(67);
+  std::uniform_real_distribution<double> x(-2, 2);
+  std::vector<std::array<Vec3, 4>> cases;
+  for (int k = 0; k < 2000; ++k) cases.push_back({Vec3(x(rng), x(rng), x(rng)), Vec3(x(rng), x(rng), x(rng)),
+                                                  Vec3(x(rng), x(rng), x(rng)), Vec3(x(rng), x(rng), x(rng))});
+  cases.push_back({Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0.5, 0, 0.3)});    // on the edge's plane
+  cases.push_back({Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, -0.2)});     // over the corner
+  cases.push_back({Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0.3, 0.2, 0.5)});  // inside
+  for (const double tol : {0.0, kSegmentTestTolerance}) {
+    int passed = 0;
+    for (const auto& c : cases) {
+      const bool reference = passes_segment_test(c[0], c[1], c[2], c[3], tol);
+      passed += reference ? 1 : 0;
+      for (const double scale : {1e-300, 1e-200, 1e-100, 1e-77, 1e-40, 1e40, 1e77, 1e100, 1e200, 1e300}) {
+        ASSERT_EQ(passes_segment_test(scale * c[0], scale * c[1], scale * c[2], scale * c[3], tol), reference)
+            << "scale " << scale << " tolerance " << tol;
+      }
+    }
+    EXPECT_GT(passed, 200) << tol;
+  }
 }
 
 }  // namespace
