@@ -22,7 +22,7 @@ namespace contactnn::cli {
 ///    process's first moments;
 ///  - CLI11 parse errors print CLI11's message and return 2 (0 for --help); an error in the --config file
 ///    (TOML syntax, unknown section or key, wrong type, bad value) names the file, the line and the key;
-///  - contactnn::Error prints "error: <message>" and returns its exit code (README "Exit codes");
+///  - contactnn::Error prints "error: <message>" and returns its exit code (docs/tools.md, exit codes);
 ///  - running out of memory (std::bad_alloc) prints "error: out of memory" and returns 4, like any other
 ///    resource the system refuses (a full disk);
 ///  - any other std::exception prints "error: internal: ..." and returns 1 (a bug).

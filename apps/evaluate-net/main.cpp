@@ -58,7 +58,7 @@ namespace {
 
 using namespace contactnn;
 
-/// What a report directory may hold: the files report mode writes (README "evaluate-net"). Only a directory
+/// What a report directory may hold: the files report mode writes (docs/tools.md, "evaluate-net"). Only a directory
 /// holding nothing else is replaced.
 const std::initializer_list<std::string> kReportFiles = {
     "errors.csv",  "speed.csv",   "hist_xi.csv", "hist_eta.csv", "hist_u.csv", "hist_v.csv",

@@ -3,7 +3,7 @@
 // Description:
 //   Enumeration mode enumerates the configurations of the paper's Section 5.1 (bilinear) on the grid and
 //   with the filters of a config file, labels each by the reference Newton projection and writes an HDF5
-//   dataset (schema: README "Dataset schema"). Label mode labels a user's own configurations given in
+//   dataset (schema: docs/files.md, "Dataset"). Label mode labels a user's own configurations given in
 //   world coordinates (SPEC section 6).
 //
 // Sample runs:

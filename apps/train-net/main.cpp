@@ -14,7 +14,7 @@
 //             --checkpoint-every 500 --resume --export-header /tmp/bilinear_8.h   (one line)
 //
 // Writes:
-//   OUTPUT                   the network file (README "Network file"), atomically
+//   OUTPUT                   the network file (docs/files.md, "Network file"), atomically
 //   OUTPUT.config.toml       the effective [train-net] configuration
 //   OUTPUT.checkpoint.h5     with --checkpoint-every N: network plus trainer state, every N epochs
 //   FILE.h                   with --export-header: a self-contained C99 header of the network
@@ -48,7 +48,7 @@ using namespace contactnn;
 using Clock = std::chrono::steady_clock;
 using mlp::MatrixRM;
 
-/// What the app decides beyond mlp::TrainOptions (every default here is documented in --help and README).
+/// What the app decides beyond mlp::TrainOptions (every default here is documented in --help and docs/tools.md).
 struct NetSettings {
   std::string hidden = "8";          ///< hidden layer sizes, comma-separated
   double u0 = 2.0;                   ///< U0 of Eq 12

@@ -1,4 +1,4 @@
-// The conventions of shared/SPEC.md, written once. Every other module takes them from here.
+// The conventions of docs/spec.md (the specification), written once. Every other module takes them from here.
 //
 //  - Segment nodes A, B, C, D counter-clockwise seen from the side the normal points to;
 //    normal direction = (B - A) x (D - A) at A (SPEC 1).
@@ -80,7 +80,7 @@ inline constexpr std::array<std::string_view, 16> kFeatureNames = {
     "pa", "qa", "pb", "qb", "pc", "qc", "pd", "qd"};
 [[nodiscard]] constexpr int feature_count(SurfaceKind kind) { return kind == SurfaceKind::kBilinear ? 8 : 16; }
 
-/// Version of the HDF5 dataset and network schemas (README "Dataset schema"). Bumped on any
+/// Version of the HDF5 dataset and network schemas (docs/files.md). Bumped on any
 /// incompatible change; readers reject other versions with a message naming both.
 inline constexpr int kDatasetSchemaVersion = 1;
 inline constexpr int kNetworkSchemaVersion = 1;

@@ -2,7 +2,7 @@
 //
 // Everything below `main` reports failure by throwing one of these; only the apps catch, print
 // `error: <what()>` and return the exit code the exception carries. The exit codes are part of the
-// documented interface (README, `--help`):
+// documented interface (docs/tools.md, `--help`):
 //   0  success
 //   1  unexpected internal error (a bug: please report)
 //   2  bad command line or config file (unknown option or key, value out of range, missing file given

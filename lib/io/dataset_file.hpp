@@ -1,4 +1,4 @@
-// The HDF5 dataset file of gen-configs (schema in README "Dataset schema").
+// The HDF5 dataset file of gen-configs (schema: docs/files.md, "Dataset").
 #pragma once
 
 #include <filesystem>

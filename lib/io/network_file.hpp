@@ -1,4 +1,4 @@
-// The frozen network file of train-net (README "Network file"): architecture, U0, weights, scaling, the
+// The frozen network file of train-net (docs/files.md, "Network file"): architecture, U0, weights, scaling, the
 // training domain and provenance; a checkpoint is the same file plus the trainer's state.
 #pragma once
 

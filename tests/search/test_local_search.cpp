@@ -509,7 +509,7 @@ TEST(NewtonMethod, ToConvergenceMatchesThePlainSolverAndTheLabelsWhereTheyAgree)
         EXPECT_GE(std::abs(out.gap[i]), std::abs(labels[i].gap) - 1e-9 * size) << "query " << i;
       }
     }
-    // On the paper's domains plain Newton reaches the label on most configurations (README: 8-13% fail).
+    // On the paper's domains plain Newton reaches the label on most configurations (results/studies.md: 6-13% fail).
     EXPECT_GT(same_point, ok * 8 / 10) << to_string(kind);
   }
 }
@@ -1230,7 +1230,7 @@ TEST(Hybrids, NetworkPlusNewtonOnRandomGregoryConfigurations) {
 }
 
 TEST(Hybrids, ClosedFormPlusNewtonOnRandomGregoryConfigurations) {
-  // On warped Gregory patches the corner facet's closed form is only a start (README frontier, held-out set:
+  // On warped Gregory patches the corner facet's closed form is only a start (results/frontier.md, held-out set:
   // mean |error| 0.0075 / 0.013 alone); safeguarded steps from it converge as from the network's estimate,
   // except where the start lies in the basin of a stationary point beyond an edge: the descent then ends on
   // that edge (outside) while the label is inside (held-out set, K = 5: 1 row of 100000; here 1 of 2000, at
@@ -1484,7 +1484,7 @@ TEST(Hybrids, ClosedFormPlusNewtonConvergesOnTheBilinearDomain) {
 TEST(Hybrids, ClosedFormPlusNewtonReachesRoundingWithNoFailureOnWellShapedBilinearSegments) {
   // The paper's bilinear domain bounds no angle; its convex slivers are where the hybrids fail or converge
   // slowly. On segments a mesher accepts (every interior angle in [30, 150] degrees: configs/bilinear-30-150.toml)
-  // the README's frontier measures closed_form+newton:5 at mean |error| 9.1e-15 / 1.5e-14 and max 5.3e-10 on
+  // results/frontier.md measures closed_form+newton:5 at mean |error| 9.1e-15 / 1.5e-14 and max 5.3e-10 on
   // 100000 held-out configurations, and no failure; here on 3000, placed at random.
   geometry::DomainFilters well_shaped;
   well_shaped.min_angle_degrees = 30.0;
@@ -1541,7 +1541,7 @@ TEST(Hybrids, AStepThatDoesNotReduceTheDistanceKeepsThePreviousIterate) {
 TEST(StartMethod, RefinesTheCallersStartsToTheReference) {
   // From the reference point itself one step stays there; from starts a little off, three safeguarded steps
   // reach the reference. Gregory, on the 100000 held-out configurations of data/gregory-heldout.h5
-  // (reports/gregory-starts-*, README): max |error| after three steps 3.3e-10 from starts 0.003 off, 2.1e-7
+  // (results/studies.md, Gregory starts): max |error| after three steps 3.3e-10 from starts 0.003 off, 2.1e-7
   // from 0.01, 9.5e-5 from 0.03; the tail of network+newton:3 is its start's. (Plain undamped Newton,
   // projection::newton_fixed_iterations, from the same kind of 0.03 starts left 132 rows above 1e-8 where these
   // steps left 51: a one-off comparison.) Bilinear (domain twice as wide): starts 0.01 off, mean 7.8e-9 after
