@@ -317,16 +317,26 @@ std::array<double, 2> rotate_param(std::array<double, 2> p, int k, SurfaceKind k
   return p;
 }
 
-/// Steps 2-4 of the header for one slave node, given its candidate faces (unordered).
+/// |S - c_f| - r_f and the distance to face f's box, the larger (SurfaceSearcher::lower_bound).
+double face_lower_bound(const FaceIndex& index, const Vec3& slave, int face) {
+  const auto f = static_cast<std::size_t>(face);
+  // The larger of two bounds: the sphere's (loose beside a flat face) and the box's (tight beside one).
+  const Vec3 outside = (index.box_lo[f] - slave).cwiseMax(slave - index.box_hi[f]).cwiseMax(Vec3::Zero());
+  return std::max((slave - index.centres[f]).norm() - index.radii[f], outside.norm());
+}
+
+/// Steps 2-4 of the header for one slave node, given its candidate faces (unordered; with `loose`, sorted by
+/// bounds that are at most each face's own: SurfaceSearcher::nearest).
 NodeSegmentPair search_one(const mesh::SurfaceMesh& master, std::span<const Vec3> normals,
                            const SearchOptions& options, const FaceIndex& index, double capture, long slave_id,
                            const Vec3& slave, std::vector<std::pair<double, int>>& candidates,
-                           const FaceHint* hint) {
+                           const FaceHint* hint, bool loose) {
   NodeSegmentPair best;
   best.slave_id = slave_id;
   // Nearest sphere first; equal bounds in face order, so the scan is the same whatever the tree returned. A
-  // hint's face goes first (its point, warm-started, is usually the answer and prunes the others).
-  std::sort(candidates.begin(), candidates.end());
+  // hint's face goes first (its point, warm-started, is usually the answer and prunes the others). Loose
+  // bounds come sorted.
+  if (!loose) std::sort(candidates.begin(), candidates.end());
   if (hint != nullptr) {
     const auto at = std::find_if(candidates.begin(), candidates.end(),
                                  [&](const std::pair<double, int>& c) { return c.second == hint->face; });
@@ -344,6 +354,12 @@ NodeSegmentPair search_one(const mesh::SurfaceMesh& master, std::span<const Vec3
     if (bound > best_distance + kTieTolerance * index.sizes[static_cast<std::size_t>(f)]) {
       if (hinted) continue;
       break;
+    }
+    if (loose) {
+      // The face's own bound, now that it may matter (a loose bound is at most it: no face the exact
+      // bounds would project is skipped, and none they skip is projected).
+      const double exact = face_lower_bound(index, slave, f);
+      if (exact > capture || exact > best_distance + kTieTolerance * index.sizes[static_cast<std::size_t>(f)]) continue;
     }
     const projection::FaceClosestPoint p =
         closest_on_face(master, normals, options, f, slave, hinted ? &hint->param : nullptr);
@@ -466,23 +482,25 @@ SurfaceSearcher::~SurfaceSearcher() = default;
 double SurfaceSearcher::capture() const { return impl_->capture; }
 
 double SurfaceSearcher::lower_bound(const Vec3& slave, int face) const {
+  return face_lower_bound(impl_->index, slave, face);
+}
+
+double SurfaceSearcher::sphere_bound(const Vec3& slave, int face) const {
   const auto f = static_cast<std::size_t>(face);
-  const FaceIndex& index = impl_->index;
-  // The larger of two bounds: the sphere's (loose beside a flat face) and the box's (tight beside one).
-  const Vec3 outside = (index.box_lo[f] - slave).cwiseMax(slave - index.box_hi[f]).cwiseMax(Vec3::Zero());
-  return std::max((slave - index.centres[f]).norm() - index.radii[f], outside.norm());
+  return (slave - impl_->index.centres[f]).norm() - impl_->index.radii[f];
 }
 
 const std::vector<Vec3>& SurfaceSearcher::centres() const { return impl_->index.centres; }
 const std::vector<double>& SurfaceSearcher::radii() const { return impl_->index.radii; }
 
 void SurfaceSearcher::faces_within(const Vec3& slave, double reach, std::vector<std::pair<double, int>>& out,
-                                   std::vector<std::pair<std::uint32_t, double>>& scratch) const {
+                                   std::vector<std::pair<std::uint32_t, double>>& scratch, bool spheres_only) const {
   const FaceIndex& index = impl_->index;
   if (!slave.allFinite() || index.centres.empty()) return;
+  const auto bound_of = [&](int f) { return spheres_only ? sphere_bound(slave, f) : lower_bound(slave, f); };
   if (impl_->options.brute_force_faces) {
     for (std::size_t s = 0; s < index.centres.size(); ++s) {
-      const double bound = lower_bound(slave, static_cast<int>(s));
+      const double bound = bound_of(static_cast<int>(s));
       if (bound <= reach) out.emplace_back(bound, static_cast<int>(s));
     }
     return;
@@ -493,25 +511,34 @@ void SurfaceSearcher::faces_within(const Vec3& slave, double reach, std::vector<
   scratch.clear();
   impl_->tree.radiusSearch(q, radius * radius * (1.0 + 1e-12), scratch, nanoflann::SearchParams(32, 0.0F, false));
   for (const auto& item : scratch) {
-    const double bound = lower_bound(slave, static_cast<int>(item.first));
+    const double bound = bound_of(static_cast<int>(item.first));
     if (bound <= reach) out.emplace_back(bound, static_cast<int>(item.first));
   }
 }
 
 NodeSegmentPair SurfaceSearcher::nearest(long slave_id, const Vec3& slave,
-                                         std::vector<std::pair<double, int>>& candidates, const FaceHint* hint) const {
+                                         std::vector<std::pair<double, int>>& candidates, const FaceHint* hint,
+                                         Bounds bounds) const {
   return search_one(impl_->master, impl_->normals, impl_->options, impl_->index, impl_->capture, slave_id, slave,
-                    candidates, hint);
+                    candidates, hint, bounds == Bounds::kLooseSorted);
 }
 
 std::vector<NodeSegmentPair> surface_search(const mesh::SurfaceMesh& master, std::span<const Vec3> master_normals,
                                             std::span<const long> slave_ids, std::span<const Vec3> slave_positions,
                                             const SearchOptions& options) {
+  std::vector<NodeSegmentPair> pairs;
+  surface_search(master, master_normals, slave_ids, slave_positions, options, pairs);
+  return pairs;
+}
+
+void surface_search(const mesh::SurfaceMesh& master, std::span<const Vec3> master_normals,
+                    std::span<const long> slave_ids, std::span<const Vec3> slave_positions,
+                    const SearchOptions& options, std::vector<NodeSegmentPair>& pairs) {
   CONTACTNN_REQUIRE(slave_ids.size() == slave_positions.size(),
                     slave_ids.size() << " slave ids for " << slave_positions.size() << " positions");
   const SurfaceSearcher searcher(master, master_normals, options);
   const auto n = static_cast<long>(slave_ids.size());
-  std::vector<NodeSegmentPair> pairs(static_cast<std::size_t>(n));
+  pairs.resize(static_cast<std::size_t>(n));
 #pragma omp parallel
   {
     std::vector<std::pair<double, int>> candidates;
@@ -524,7 +551,6 @@ std::vector<NodeSegmentPair> surface_search(const mesh::SurfaceMesh& master, std
       pairs[u] = searcher.nearest(slave_ids[u], slave_positions[u], candidates);
     }
   }
-  return pairs;
 }
 
 }  // namespace contactnn::contact

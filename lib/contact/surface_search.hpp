@@ -81,17 +81,24 @@ class SurfaceSearcher {
   [[nodiscard]] double capture() const;
   /// |S - c_f| - r_f: no point of face f is nearer S than this.
   [[nodiscard]] double lower_bound(const Vec3& slave, int face) const;
-  /// Step 1 with any reach: appends (lower_bound, face) for every face whose sphere comes within `reach` of
-  /// S (every face when options.brute_force_faces). `scratch` is the tree's work space (reused by a caller's
-  /// loop). Nothing for a non-finite S.
+  /// |S - c_f| - r_f alone: at most lower_bound, and it moves by at most the movement of S, c_f and r_f.
+  [[nodiscard]] double sphere_bound(const Vec3& slave, int face) const;
+  /// Step 1 with any reach: appends (lower_bound, face) for every face whose bound comes within `reach` of
+  /// S (every face when options.brute_force_faces); with `spheres_only`, (sphere_bound, face) for every face
+  /// whose sphere does (a tracker's lists: only the spheres' movement is tracked). `scratch` is the tree's
+  /// work space (reused by a caller's loop). Nothing for a non-finite S.
   void faces_within(const Vec3& slave, double reach, std::vector<std::pair<double, int>>& out,
-                    std::vector<std::pair<std::uint32_t, double>>& scratch) const;
+                    std::vector<std::pair<std::uint32_t, double>>& scratch, bool spheres_only = false) const;
+  /// What the candidates' bounds are: lower_bound itself, in any order; or bounds at most lower_bound, sorted
+  /// by (bound, face) (a tracker's bounds from an earlier state less the movement since: each face's own
+  /// bound is then computed only where the loose one does not already rule the face out).
+  enum class Bounds { kExact, kLooseSorted };
   /// Steps 2-4 over `candidates` (reordered). With a hint, its face is projected first from the hint's
   /// start (one warm Newton run instead of the grid of starts, the edges as always); the other faces as
-  /// without it.
+  /// without it. The answer is the same for either kind of bounds.
   [[nodiscard]] NodeSegmentPair nearest(long slave_id, const Vec3& slave,
                                         std::vector<std::pair<double, int>>& candidates,
-                                        const FaceHint* hint = nullptr) const;
+                                        const FaceHint* hint = nullptr, Bounds bounds = Bounds::kExact) const;
   [[nodiscard]] const std::vector<Vec3>& centres() const;  ///< face centres (mean of the corners)
   [[nodiscard]] const std::vector<double>& radii() const;  ///< bounding-sphere radii
 
@@ -109,5 +116,10 @@ class SurfaceSearcher {
                                                           std::span<const long> slave_ids,
                                                           std::span<const Vec3> slave_positions,
                                                           const SearchOptions& options);
+/// The same into `pairs` (resized to the slave nodes; its storage reused: an FE code's search at every
+/// increment allocates nothing once the buffer has its size).
+void surface_search(const mesh::SurfaceMesh& master, std::span<const Vec3> master_normals,
+                    std::span<const long> slave_ids, std::span<const Vec3> slave_positions,
+                    const SearchOptions& options, std::vector<NodeSegmentPair>& pairs);
 
 }  // namespace contactnn::contact

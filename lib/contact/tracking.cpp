@@ -28,6 +28,14 @@ void SurfaceTracker::reset() {
 std::vector<NodeSegmentPair> SurfaceTracker::step(const mesh::SurfaceMesh& master, std::span<const Vec3> master_normals,
                                                   std::span<const long> slave_ids,
                                                   std::span<const Vec3> slave_positions, TrackingCounts* counts) {
+  std::vector<NodeSegmentPair> pairs;
+  step(master, master_normals, slave_ids, slave_positions, pairs, counts);
+  return pairs;
+}
+
+void SurfaceTracker::step(const mesh::SurfaceMesh& master, std::span<const Vec3> master_normals,
+                          std::span<const long> slave_ids, std::span<const Vec3> slave_positions,
+                          std::vector<NodeSegmentPair>& pairs, TrackingCounts* counts) {
   CONTACTNN_REQUIRE(slave_ids.size() == slave_positions.size(),
                     slave_ids.size() << " slave ids for " << slave_positions.size() << " positions");
   const SurfaceSearcher searcher(master, master_normals, options_);
@@ -56,44 +64,54 @@ std::vector<NodeSegmentPair> SurfaceTracker::step(const mesh::SurfaceMesh& maste
 
   const double capture = searcher.capture();
   const double margin = tracking_.margin_relative * capture;
-  std::vector<NodeSegmentPair> pairs(n);
+  pairs.resize(n);
   long fresh = 0, tracked = 0, warm = 0, list_faces = 0;
   // A parallel region costs microseconds: only for enough nodes (the answers do not depend on it).
 #pragma omp parallel reduction(+ : fresh, tracked, warm, list_faces) if (n >= 512)
   {
-    std::vector<std::pair<double, int>> candidates;
+    std::vector<std::pair<double, int>> candidates, list_build;
     std::vector<std::pair<std::uint32_t, double>> scratch;
 #pragma omp for schedule(dynamic, 64)
     for (std::size_t i = 0; i < n; ++i) {
       const Vec3& slave = slave_positions[i];
-      std::vector<int>& list = lists_[i];
-      const bool valid = same && slave.allFinite() && anchors_[i].allFinite() &&
-                         (slave - anchors_[i]).norm() + (drift_ - drift_at_build_[i]) <= margin;
+      std::vector<std::pair<double, int>>& list = lists_[i];
+      const double moved = (slave - anchors_[i]).norm() + (drift_ - drift_at_build_[i]);
+      const bool valid = same && slave.allFinite() && anchors_[i].allFinite() && moved <= margin;
       candidates.clear();
+      SurfaceSearcher::Bounds bounds = SurfaceSearcher::Bounds::kLooseSorted;
       if (!valid) {
         // Step 1: a fresh list.
-        searcher.faces_within(slave, capture + margin, candidates, scratch);
-        list.clear();
-        for (const auto& c : candidates) list.push_back(c.second);
-        std::sort(list.begin(), list.end());
+        searcher.faces_within(slave, capture + margin, list_build, scratch, true);
+        std::sort(list_build.begin(), list_build.end());
+        list.assign(list_build.begin(), list_build.end());
+        list_build.clear();
         anchors_[i] = slave;
         drift_at_build_[i] = drift_;
+        // This increment's candidates: the fresh search's (each face's own bound).
+        for (const auto& c : list) {
+          const double bound = searcher.lower_bound(slave, c.second);
+          if (bound <= capture) candidates.emplace_back(bound, c.second);
+        }
+        bounds = SurfaceSearcher::Bounds::kExact;
         ++fresh;
       } else {
-        for (int f : list) candidates.emplace_back(searcher.lower_bound(slave, f), f);
+        // Step 3's bounds, sorted as the list: those beyond the capture distance end it.
+        for (const auto& c : list) {
+          const double bound = c.first - moved;
+          if (bound > capture) break;
+          candidates.emplace_back(bound, c.second);
+        }
         ++tracked;
       }
       list_faces += static_cast<long>(list.size());
-      // Step 3: the faces within the capture distance now, the previous face first from its previous point.
-      std::erase_if(candidates, [&](const std::pair<double, int>& c) { return c.first > capture; });
+      // Step 3: the previous face first from its previous point.
       const FaceHint* hint = hints_[i].face >= 0 ? &hints_[i] : nullptr;
       warm += hint != nullptr;
-      pairs[i] = searcher.nearest(slave_ids[i], slave, candidates, hint);
+      pairs[i] = searcher.nearest(slave_ids[i], slave, candidates, hint, bounds);
       hints_[i] = pairs[i].status == PairStatus::kFound ? FaceHint{pairs[i].segment, pairs[i].face_param} : FaceHint{};
     }
   }
   if (counts != nullptr) *counts = {fresh, tracked, warm, list_faces};
-  return pairs;
 }
 
 }  // namespace contactnn::contact

@@ -5,15 +5,18 @@
 // re-sorts a node's candidates once it has used up a distance budget, MOOSE and FrontISTR start from the
 // previous point and face):
 //  1. A node's candidate list is built by a fresh query: every face whose bounding sphere comes within
-//     capture + m of the node (m = TrackingOptions::margin_relative x the capture distance), with the node's
-//     position S0 and the surface's drift D0 at that moment.
+//     capture + m of the node (m = TrackingOptions::margin_relative x the capture distance), with the sphere's
+//     bound b_f = |S0 - c_f| - r_f, sorted by it, the node's position S0 and the surface's drift D0 at that
+//     moment.
 //  2. The surface's drift D adds, at every increment, the largest movement of a face's sphere (|c_f - c_f'| +
 //     |r_f - r_f'| over the faces). The list is valid while |S - S0| + (D - D0) <= m: a face outside it was
 //     beyond capture + m at the build, and its sphere can have come nearer by at most that much, so it is
 //     still beyond the capture distance. Otherwise the node gets a fresh list (step 1).
 //  3. The node's answer is the nearest point over its list's faces (SurfaceSearcher::nearest), the face it
 //     had at the previous increment first, projected from its previous point (one warm Newton run instead
-//     of the grid of starts); the other faces are pruned by their spheres as in the fresh search.
+//     of the grid of starts); the other faces are pruned as in the fresh search, by b_f - |S - S0| - (D - D0),
+//     which no face's sphere (and so no point of it) can be nearer than: a face's own bound is computed only
+//     once that one no longer rules it out (after the warm point, for most nodes, none is).
 // The faces and points equal a fresh search's except where a face holds several stationary points near the
 // node and the warm start finds another than the grid's nearest (the tests and `replay` compare every
 // increment with a fresh search and count the differences).
@@ -51,6 +54,10 @@ class SurfaceTracker {
                                                    std::span<const long> slave_ids,
                                                    std::span<const Vec3> slave_positions,
                                                    TrackingCounts* counts = nullptr);
+  /// The same into `pairs` (resized; its storage reused).
+  void step(const mesh::SurfaceMesh& master, std::span<const Vec3> master_normals, std::span<const long> slave_ids,
+            std::span<const Vec3> slave_positions, std::vector<NodeSegmentPair>& pairs,
+            TrackingCounts* counts = nullptr);
   /// Forgets everything: the next step is searched fresh.
   void reset();
 
@@ -60,7 +67,7 @@ class SurfaceTracker {
   std::vector<long> ids_;
   std::vector<Vec3> anchors_;              ///< S0 of each node's list
   std::vector<double> drift_at_build_;     ///< D0 of each node's list
-  std::vector<std::vector<int>> lists_;    ///< each node's candidate faces
+  std::vector<std::vector<std::pair<double, int>>> lists_;  ///< each node's candidate faces (b_f, f), sorted
   std::vector<FaceHint> hints_;            ///< each node's previous face and point (face -1: none)
   std::vector<Vec3> centres_;              ///< the previous state's face spheres
   std::vector<double> radii_;

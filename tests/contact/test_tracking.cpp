@@ -6,6 +6,7 @@
 #include <omp.h>
 
 #include <cmath>
+#include <numbers>
 #include <random>
 
 #include "mesh/grid_surface.hpp"
@@ -112,6 +113,40 @@ TEST_P(Tracking, ANodeThatJumpsFarGetsAFreshListAndItsNewFace) {
   const auto other = tracker.step(with_ids, mesh::node_normals(with_ids), ids, on, &counts);
   EXPECT_EQ(counts.fresh, 1);
   expect_same(other, surface_search(with_ids, mesh::node_normals(with_ids), ids, on, options), 2);
+}
+
+TEST(Tracking, AFaceTurningInPlaceIntoACandidateIsFound) {
+  // A long thin face (2 x 0.2) turns by 90 degrees about its centre: its bounding sphere stays where it was
+  // (no drift), its box does not. The slave node, 0.9 off its long axis, was 0.8 from the box at the first
+  // increment (beyond capture 0.5 + margin 0.25) and lies 0.05 above the face at the second. A list built by
+  // the boxes left the face out (no_segment where the fresh search finds it); lists are built by the spheres.
+  SearchOptions options;
+  options.capture_distance = 0.5;
+  SurfaceTracker tracker(options, TrackingOptions{0.5});
+  const auto face_at = [](double angle) {
+    mesh::SurfaceMesh m = testing::grid_surface(1, 1, [&](double i, double j) {
+      const double x = 2.0 * i - 1.0, y = 0.2 * j - 0.1;
+      return Vec3(std::cos(angle) * x - std::sin(angle) * y, std::sin(angle) * x + std::cos(angle) * y, 0.0);
+    });
+    m.segment_faces.push_back({0, 1});
+    m.segment_element_ids.push_back(1);
+    return m;
+  };
+  const std::vector<long> ids = {1};
+  const std::vector<Vec3> slave = {Vec3(0.0, 0.9, 0.05)};
+  std::vector<NodeSegmentPair> pairs;  // one buffer for both increments, as an FE code's
+  const mesh::SurfaceMesh before = face_at(0.0);
+  tracker.step(before, mesh::node_normals(before), ids, slave, pairs);
+  ASSERT_EQ(pairs.size(), 1u);
+  EXPECT_EQ(pairs[0].status, PairStatus::kNoSegment);
+  const mesh::SurfaceMesh after = face_at(0.5 * std::numbers::pi);
+  TrackingCounts counts;
+  tracker.step(after, mesh::node_normals(after), ids, slave, pairs, &counts);
+  EXPECT_EQ(counts.tracked, 1);  // the list is still valid: nothing moved by the rule
+  const auto fresh = surface_search(after, mesh::node_normals(after), ids, slave, options);
+  ASSERT_EQ(fresh[0].status, PairStatus::kFound);
+  EXPECT_NEAR(fresh[0].label.gap, 0.05, 1e-12);
+  expect_same(pairs, fresh, 1);
 }
 
 TEST(Tracking, SameResultsForAnyThreadCount) {
