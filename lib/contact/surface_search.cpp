@@ -1,6 +1,7 @@
 #include "contact/surface_search.hpp"
 
 #include <algorithm>
+#include <type_traits>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -196,9 +197,15 @@ projection::EdgePoint edge_point_on(const geometry::QuadraticTriangle& face, int
 /// The closest point of face f to `slave` (closest_point_on_triangle for a flat triangle, else closest_on). With
 /// `start` (a warm start: the face's previous point, in its own order): one run from there; an answer on the
 /// boundary may hide an interior point the warm run missed, and then the grid of starts decides, as fresh.
+/// With `from_edges` (a tracked node's other faces, which have no previous point: mostly the neighbours of
+/// the face it is leaving), the same from the face's nearest edge point. With `unverified`, a warm answer on
+/// the boundary is returned as it is and *unverified set: the caller runs the grid (closest_on_face without a
+/// start) only if that answer would win.
 projection::FaceClosestPoint closest_on_face(const mesh::SurfaceMesh& master, std::span<const Vec3> normals,
                                              const SearchOptions& options, int f, const Vec3& slave,
-                                             const std::array<double, 2>* start = nullptr) {
+                                             const std::array<double, 2>* start = nullptr, bool from_edges = false,
+                                             bool* unverified = nullptr) {
+  if (unverified != nullptr) *unverified = false;
   if (master.face_type(f) == mesh::FaceType::kTri3) {
     return projection::closest_point_on_triangle(triangle_nodes(master, f), slave);
   }
@@ -208,12 +215,29 @@ projection::FaceClosestPoint closest_on_face(const mesh::SurfaceMesh& master, st
     if (const auto defect = geometry::surface_defect(face_configuration(master, normals, kind, f), kind)) none.status = *defect;
   }
   return with_face_surface(master, normals, options, f, none, [&](const auto& surface) {
+    std::array<double, 2> edge_start{};
+    if (start == nullptr && from_edges) {
+      double nearest = std::numeric_limits<double>::infinity();
+      constexpr int kEdges = std::is_same_v<std::decay_t<decltype(surface)>, geometry::QuadraticTriangle> ? 3 : 4;
+      for (int e = 0; e < kEdges; ++e) {
+        const auto q = edge_point_on(surface, e, slave);
+        if (q.distance < nearest) {
+          nearest = q.distance;
+          edge_start = q.param;
+        }
+      }
+      if (std::isfinite(nearest)) start = &edge_start;
+    }
     if (start != nullptr) {
       SearchOptions warm = options;
       warm.projection.warm_start = true;
       warm.projection.start = *start;
       const projection::FaceClosestPoint p = closest_on(surface, slave, warm);
       if (p.status != Status::kOk || p.location == Location::kFace) return p;
+      if (unverified != nullptr) {
+        *unverified = true;
+        return p;
+      }
     }
     return closest_on(surface, slave, options);
   });
@@ -344,6 +368,29 @@ NodeSegmentPair search_one(const mesh::SurfaceMesh& master, std::span<const Vec3
   }
   double best_distance = std::numeric_limits<double>::infinity();
   projection::FaceClosestPoint best_point;
+  bool best_unverified = false;
+  // A tracked node's answers, each face's in scan order (see the end of the scan).
+  struct Answer {
+    int face;
+    projection::FaceClosestPoint point;
+    bool unverified;
+  };
+  thread_local std::vector<Answer> answers;
+  answers.clear();
+  const auto consider = [&](int f, const projection::FaceClosestPoint& p, bool unverified) {
+    const double tie = kTieTolerance * index.sizes[static_cast<std::size_t>(f)];
+    bool better = best.segment < 0 || p.distance < best_distance - tie;
+    if (!better && p.distance <= best_distance + tie) {
+      const auto key = [&](int g) { return std::pair(master.face_element_id(g), master.face_of(g).face); };
+      better = key(f) < key(best.segment);
+    }
+    if (better) {
+      best.segment = f;
+      best_distance = p.distance;
+      best_point = p;
+      best_unverified = unverified;
+    }
+  };
   for (const auto& [bound, f] : candidates) {
     const bool hinted = hint != nullptr && f == hint->face;
     if (bound > capture) {
@@ -361,20 +408,30 @@ NodeSegmentPair search_one(const mesh::SurfaceMesh& master, std::span<const Vec3
       const double exact = face_lower_bound(index, slave, f);
       if (exact > capture || exact > best_distance + kTieTolerance * index.sizes[static_cast<std::size_t>(f)]) continue;
     }
-    const projection::FaceClosestPoint p =
-        closest_on_face(master, normals, options, f, slave, hinted ? &hint->param : nullptr);
+    bool unverified = false;
+    const projection::FaceClosestPoint p = closest_on_face(master, normals, options, f, slave,
+                                                           hinted ? &hint->param : nullptr, hint != nullptr,
+                                                           hint != nullptr ? &unverified : nullptr);
     if (p.status != Status::kOk) continue;
     ++best.candidates;
-    const double tie = kTieTolerance * index.sizes[static_cast<std::size_t>(f)];
-    bool better = best.segment < 0 || p.distance < best_distance - tie;
-    if (!better && p.distance <= best_distance + tie) {
-      const auto key = [&](int g) { return std::pair(master.face_element_id(g), master.face_of(g).face); };
-      better = key(f) < key(best.segment);
+    if (hint != nullptr) answers.push_back({f, p, unverified});
+    consider(f, p, unverified);
+  }
+  // A tracked node: a warm answer on a face's boundary may hide an interior point the warm run missed, which
+  // the fresh search's grid of starts finds. The grid runs on such a face only while its answer is the best:
+  // a face's grid answer is no farther than its warm one (the same edges, and the interior), so the faces
+  // already ruled out stay out; a node leaving its face for a neighbour runs none.
+  while (best.segment >= 0 && best_unverified) {
+    for (Answer& a : answers) {
+      if (a.face != best.segment || !a.unverified) continue;
+      a.point = closest_on_face(master, normals, options, a.face, slave);
+      a.unverified = false;
     }
-    if (better) {
-      best.segment = f;
-      best_distance = p.distance;
-      best_point = p;
+    best.segment = -1;
+    best_distance = std::numeric_limits<double>::infinity();
+    best_unverified = false;
+    for (const Answer& a : answers) {
+      if (a.point.status == Status::kOk) consider(a.face, a.point, a.unverified);
     }
   }
   if (best.segment < 0 || best_distance > capture) {

@@ -93,9 +93,10 @@ class SurfaceSearcher {
   /// by (bound, face) (a tracker's bounds from an earlier state less the movement since: each face's own
   /// bound is then computed only where the loose one does not already rule the face out).
   enum class Bounds { kExact, kLooseSorted };
-  /// Steps 2-4 over `candidates` (reordered). With a hint, its face is projected first from the hint's
-  /// start (one warm Newton run instead of the grid of starts, the edges as always); the other faces as
-  /// without it. The answer is the same for either kind of bounds.
+  /// Steps 2-4 over `candidates` (reordered). With a hint (a tracked node), its face is projected first from
+  /// the hint's start (one warm Newton run instead of the grid of starts, the edges as always), the other
+  /// faces from their nearest edge point; a warm answer on a face's boundary gets the grid of starts only
+  /// while it is the best. The answer is the same for either kind of bounds.
   [[nodiscard]] NodeSegmentPair nearest(long slave_id, const Vec3& slave,
                                         std::vector<std::pair<double, int>>& candidates,
                                         const FaceHint* hint = nullptr, Bounds bounds = Bounds::kExact) const;

@@ -16,7 +16,9 @@
 //     had at the previous increment first, projected from its previous point (one warm Newton run instead
 //     of the grid of starts); the other faces are pruned as in the fresh search, by b_f - |S - S0| - (D - D0),
 //     which no face's sphere (and so no point of it) can be nearer than: a face's own bound is computed only
-//     once that one no longer rules it out (after the warm point, for most nodes, none is).
+//     once that one no longer rules it out (after the warm point, for most nodes, none is). The other faces
+//     projected start from their nearest edge point; a warm answer on a face's boundary is checked by the
+//     grid of starts only while it is the best (SurfaceSearcher::nearest with a hint).
 // The faces and points equal a fresh search's except where a face holds several stationary points near the
 // node and the warm start finds another than the grid's nearest (the tests and `replay` compare every
 // increment with a fresh search and count the differences).
