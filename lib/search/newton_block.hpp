@@ -304,10 +304,11 @@ struct EvalStore {
   double pss[kPureSecond ? 3 : 1][W], ptt[kPureSecond ? 3 : 1][W];
   double f[W];     ///< |S - P|^2
   double dist[W];  ///< |S - P|
-  double orient[W];  ///< Eval::orient, for gap_at (set by safeguarded_newton)
+  double orient[W], reach_sq[W];  ///< Eval::orient and Eval::reach_sq, for gap_at (set by safeguarded_newton)
 
   CONTACTNN_SEARCH_INLINE void load(int l, Eval& e) const {
     e.orient = orient[l];
+    e.reach_sq = reach_sq[l];
     CONTACTNN_UNROLL
     for (int c = 0; c < 3; ++c) {
       e.p[c] = p[c][l];
@@ -549,7 +550,7 @@ static void safeguarded_steps(const Surf& surf, int steps, const Safeguards& g, 
 /// ending inside the domain where the normal vanishes (normal_vanishes: the fold of a folded segment), or
 /// where it nearly does and plain Newton from there converges to such a point (mark_folds): degenerate, as its
 /// label. `store` holds the surface at each lane's final iterate (in the canonical parametrisation, with
-/// the orientation gap_at needs); the iterates come back in the caller's coordinates, a lane that
+/// the orientation and the reach gap_at needs); the iterates come back in the caller's coordinates, a lane that
 /// never moved with its start's own bits.
 template <class Surf, int W>
 static void safeguarded_newton(Surf& surf, int steps, const Safeguards& g, const double* noise, LaneState<W>& s,
@@ -584,6 +585,7 @@ static void safeguarded_newton(Surf& surf, int steps, const Safeguards& g, const
   CONTACTNN_LANES
   for (int l = 0; l < W; ++l) {
     store.orient[l] = surf.sym.orient[l];
+    store.reach_sq[l] = surf.reach_sq[l];
     const bool still = (s.u[l] == canonical_u[l]) & (s.v[l] == canonical_v[l]);
     surf.report(l, s.u[l], s.v[l]);
     s.u[l] = still ? start_u[l] : s.u[l];
@@ -592,17 +594,24 @@ static void safeguarded_newton(Surf& surf, int steps, const Safeguards& g, const
 }
 
 /// gap = n.(S - P) with n the caller's unit normal P_s x P_t (e.orient times the canonical one, whose
-/// arithmetic is the same in every node order); 0 where the normal vanishes or a value is not finite. SPEC 2's
-/// gap at the reported point, also where that point is no solution (a closed form's estimate beyond the
-/// segment, an unconverged iterate): it is not bounded by the slave node's distance there (the Gregory closed
-/// form's estimate for a slave node 1e15 away is the patch's cubic extrapolation), and the status says so.
+/// arithmetic is the same in every node order), at most the distance to the segment's nearest node
+/// (sqrt(e.reach_sq)) in magnitude (issue 31; docs/conventions.md): no point of the segment is farther, so the
+/// cap changes no converged answer inside the domain, while beyond the domain a method's point can be far
+/// off (the Gregory closed form's estimate for a slave node 1e15 away is the patch's cubic extrapolation, 2e44
+/// away). 0 where the normal vanishes or a value is NaN. e is a surface's public eval or EvalStore::load. One
+/// square root, of the smaller of gap^2 = (n.p / |n|^2) (n.p) and the reach's square (n.p / |n|^2 overflows only
+/// where the gap exceeds the double range, or n.p itself for a slave node 1e154 element sizes away: then the
+/// cap is the gap).
 CONTACTNN_SEARCH_INLINE double gap_at(const Eval& e) {
   const double nx = e.ps[1] * e.pt[2] - e.ps[2] * e.pt[1];
   const double ny = e.ps[2] * e.pt[0] - e.ps[0] * e.pt[2];
   const double nz = e.ps[0] * e.pt[1] - e.ps[1] * e.pt[0];
   const double n_sq = nx * nx + ny * ny + nz * nz;
-  const double gap = -e.orient * (nx * e.p[0] + ny * e.p[1] + nz * e.p[2]) / std::sqrt(n_sq);
-  return (n_sq > 0.0) & is_finite(gap) ? gap : 0.0;
+  const double along = nx * e.p[0] + ny * e.p[1] + nz * e.p[2];  // n.(P - S) = -|n| gap
+  const double gap_sq = along / n_sq * along;
+  const double size = std::sqrt(min_of(gap_sq, e.reach_sq));
+  const double gap = e.orient * along > 0.0 ? -size : size;
+  return (n_sq > 0.0) & (gap_sq == gap_sq) ? gap : 0.0;  // not NaN (an infinite gap_sq is capped)
 }
 
 }  // namespace contactnn::search::detail

@@ -61,8 +61,9 @@ inline constexpr Status kPendingStatus = static_cast<Status>(255);
 struct Eval {
   double p[3], ps[3], pt[3], pss[3], pst[3], ptt[3];
   /// Set by a surface's public eval and EvalStore::load only (for gap_at): +1 or -1, the caller's normal
-  /// P_s x P_t over the block's canonical one (the derivatives above are the canonical ones).
-  double orient;
+  /// P_s x P_t over the block's canonical one (the derivatives above are the canonical ones), and the squared
+  /// distance from S to the segment's nearest node.
+  double orient, reach_sq;
 };
 
 /// max and min as x86's vector instructions take them (b where either is NaN): one instruction in a vectorised
@@ -234,6 +235,19 @@ CONTACTNN_SEARCH_INLINE bool collapsed_segment(const QueryBlock<W>& q, int l, do
   return collapsed;
 }
 
+/// |S - X|^2 for the segment's node X nearest S (lane l): no point of the segment is farther from S, so no gap
+/// is larger (gap_at caps it). From the squares of the same four offsets in any node order: the same bits.
+template <int W>
+CONTACTNN_SEARCH_INLINE double nearest_node_distance_sq(const QueryBlock<W>& q, int l) {
+  double d[4];
+  CONTACTNN_UNROLL
+  for (int i = 0; i < 4; ++i) {
+    const double x = q.node[3 * i][l], y = q.node[3 * i + 1][l], z = q.node[3 * i + 2][l];
+    d[i] = x * x + y * y + z * z;
+  }
+  return min_of(min_of(d[0], d[1]), min_of(d[2], d[3]));
+}
+
 /// The facet coefficients of lane l in the caller's node order, a_k[c] (a0: centre - S, a1, a2, a3; SPEC 1:
 /// P = a0 + s a1 + t a2 + s t a3), from sums and differences of the diagonals' nodes: pa + pc, pb + pd, pc - pa,
 /// pb - pd. A symmetry of the square only permutes these and changes their signs, and addition is commutative,
@@ -352,6 +366,7 @@ struct BilinearBlock {
   double a[12][W];  // a0 xyz, a1 xyz, a2 xyz, a3 xyz, of the canonical facet (LaneSymmetry)
   LaneSymmetry<W> sym;
   double longest[W];  ///< the longest node distance, squared (build with kCheck)
+  double reach_sq[W];  ///< nearest_node_distance_sq (build with kCheck)
 
   /// Builds the facet of every lane in its canonical parametrisation (LaneSymmetry) and sets status[l] =
   /// kDegenerate where the segment is collapsed (collapsed_segment). The facet exists for any four nodes, and
@@ -383,6 +398,7 @@ struct BilinearBlock {
       const bool collapsed = collapsed_segment(q, l, longest_sq);
       status[l] = collapsed ? kDegenerate : status[l];
       longest[l] = longest_sq;
+      reach_sq[l] = nearest_node_distance_sq(q, l);
       constexpr double kSaneSquare = kSaneLength * kSaneLength;
       out_of_range[l] = (longest_sq >= 1.0 / kSaneSquare) & (longest_sq <= kSaneSquare) ? 0.0 : 1.0;
     }
@@ -403,12 +419,14 @@ struct BilinearBlock {
     }
   }
 
-  /// At the caller's (s, t): the canonical point and derivatives there, with e.orient for gap_at. The map is exact for (xi, eta).
+  /// At the caller's (s, t): the canonical point and derivatives there, with e.orient and e.reach_sq (build with
+  /// kCheck) for gap_at. The map is exact for (xi, eta).
   template <bool kSecond = true>
   CONTACTNN_SEARCH_INLINE void eval(int l, double s, double t, Eval& e) const {
     sym.template to_canonical<kReflect>(l, s, t);
     eval_canonical<kSecond>(l, s, t, e);
     e.orient = sym.orient[l];
+    e.reach_sq = reach_sq[l];
   }
   /// The methods report their canonical iterates through here (to_caller): exact for (xi, eta), nothing kept.
   CONTACTNN_SEARCH_INLINE void report(int l, double& s, double& t) { sym.template to_caller<kReflect>(l, s, t); }
@@ -440,6 +458,7 @@ struct GregoryBlock {
   double delta[12][W];  // interior k, coordinate c at [3 k + c]
   LaneSymmetry<W> sym;
   double longest[W];  ///< the longest node distance, squared
+  double reach_sq[W];  ///< nearest_node_distance_sq
   /// The last canonical iterate each lane reported (report) and the caller's coordinates it became: eval at
   /// those coordinates evaluates at that iterate, not at its reflection 1 - (1 - u), which may differ in the
   /// last bit (and a gap with it, by up to eps times the slave's distance). NaN: none.
@@ -472,6 +491,7 @@ struct GregoryBlock {
                                                    q.normal[6 + c][l], q.normal[9 + c][l]);
         }
       }
+      reach_sq[l] = nearest_node_distance_sq(q, l);
     }
     double out_of_range[W];
     CONTACTNN_LANES
@@ -621,7 +641,7 @@ struct GregoryBlock {
   }
 
   /// At the caller's (u, v): the canonical point and derivatives there (the reported iterate itself where
-  /// (u, v) is what it became), with e.orient for gap_at.
+  /// (u, v) is what it became), with e.orient and e.reach_sq for gap_at.
   template <bool kSecond = true>
   CONTACTNN_SEARCH_INLINE void eval(int l, double uu, double vv, Eval& e) const {
     const bool known = (uu == reported[2][l]) & (vv == reported[3][l]);
@@ -629,6 +649,7 @@ struct GregoryBlock {
     sym.template to_canonical<kReflect>(l, cu, cv);
     eval_canonical<kSecond>(l, known ? reported[0][l] : cu, known ? reported[1][l] : cv, e);
     e.orient = sym.orient[l];
+    e.reach_sq = reach_sq[l];
   }
   /// The methods report their canonical iterates through here: (u, v) becomes the caller's, and both are kept
   /// for eval.

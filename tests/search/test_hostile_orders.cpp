@@ -155,6 +155,12 @@ double size_of(const Configuration& c) {
   return size;
 }
 
+double nearest_node_distance(const Configuration& c) {
+  double d = std::numeric_limits<double>::infinity();
+  for (const Vec3& x : c.nodes) d = std::min(d, (x - c.slave).stableNorm());
+  return d;
+}
+
 /// Every method of lib/search that depends on the node order through its arithmetic (network alone and
 /// four_triangles compute in orders of their own, the canonical frame's and the triangles').
 std::vector<std::string> methods() {
@@ -195,6 +201,7 @@ void expect_the_same_in_every_node_order(SurfaceKind kind) {
     for (std::size_t h = 0; h < set.size(); ++h) {
       const Configuration& c = set[h].config;
       const double size = size_of(c);
+      const double reach = nearest_node_distance(c);
       for (std::size_t k = 0; k < 8; ++k) {
         const std::size_t i = 8 * h + k;
         const std::string where = set[h].name + ", order " + std::to_string(k);
@@ -204,6 +211,9 @@ void expect_the_same_in_every_node_order(SurfaceKind kind) {
         ASSERT_EQ(alone.gap[i], block.gap[i]) << where;
         ASSERT_TRUE(std::isfinite(block.param[2 * i]) && std::isfinite(block.param[2 * i + 1]) &&
                     std::isfinite(block.gap[i]))
+            << where;
+        // No gap beyond the nearest node (in the input's own rounding for float).
+        EXPECT_LE(std::abs(static_cast<double>(block.gap[i])), reach * (1.0 + (sizeof(Real) == 4 ? 1e-6 : 1e-12)))
             << where;
         const std::size_t first = 8 * h;
         EXPECT_EQ(block.status[i], block.status[first]) << where;
@@ -273,6 +283,23 @@ TEST(HostileOrders, ABilinearFoldIsDegenerateAsItsLabelInEveryNodeOrder) {
 TEST(HostileOrders, AGregoryFoldIsDegenerateAsItsLabelInEveryNodeOrder) {
   expect_folds_degenerate<double>(kGregory);
   expect_folds_degenerate<float>(kGregory);
+}
+
+TEST(HostileOrders, TheGregoryClosedFormsGapOfAFarSlaveIsNoLargerThanItsDistance) {
+  // The estimate of a slave node 1.7e6 or 1e15 element sizes away lies far beyond the segment, where the
+  // patch is its cubic extrapolation: the gap there was 130 times the distance, and 2.1e44 for 1e15.
+  const std::array<Vec3, 4> normals = {Vec3(0.05, -0.03, 1), Vec3(-0.02, 0.06, 1), Vec3(-0.1, 0.02, 1), Vec3(0.04, 0.05, 1)};
+  const std::array<Vec3, 4> nodes = {Vec3(0, 0, 0), Vec3(1, 0, 0.05), Vec3(1.1, 0.9, -0.05), Vec3(0.1, 1, 0.1)};
+  for (const double d : {1.7e6, 1e15}) {
+    const Configuration c{nodes, Vec3(0.5, 0.5, 0) + d * Vec3(1, 0.4, 0.2).normalized(), normals};
+    std::vector<double> raw;
+    testing::append_raw(c, kGregory, raw);
+    const LocalSearch search(kGregory, Method::parse("closed_form"));
+    const Outputs<double> out = run(search, raw, {0.5, 0.5}, false);
+    EXPECT_EQ(out.status[0], Status::kOutside) << d;
+    EXPECT_LE(std::abs(out.gap[0]), nearest_node_distance(c) * (1.0 + 1e-12)) << d;
+    EXPECT_GT(std::abs(out.gap[0]), 0.5 * d) << d;
+  }
 }
 
 TEST(HostileOrders, AStalledRefinementStopsWhereItStands) {
