@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <memory>
 #include <nanoflann.hpp>
 #include <unordered_map>
 #include <utility>
@@ -484,6 +485,18 @@ NodeSegmentPair search_one(const mesh::SurfaceMesh& master, std::span<const Vec3
 
 }  // namespace
 
+double working_unit(const mesh::SurfaceMesh& m) {
+  double largest = 0.0;
+  for (const Vec3& x : m.positions) {
+    const double a = x.cwiseAbs().maxCoeff();
+    if (std::isfinite(a)) largest = std::max(largest, a);
+  }
+  if (!(largest >= std::numeric_limits<double>::min())) return 1.0;
+  int exponent = 0;
+  (void)std::frexp(largest, &exponent);
+  return exponent >= -40 && exponent <= 40 ? 1.0 : std::ldexp(1.0, exponent - 1);
+}
+
 double capture_distance(const mesh::SurfaceMesh& master, const SearchOptions& options) {
   if (options.capture_distance > 0.0) return options.capture_distance;
   double largest = 0.0;
@@ -497,25 +510,52 @@ double capture_distance(const mesh::SurfaceMesh& master, const SearchOptions& op
   return options.capture_relative * largest;
 }
 
+namespace {
+
+/// The master in the working unit (a copy only where it is not 1).
+std::unique_ptr<mesh::SurfaceMesh> scaled_copy(const mesh::SurfaceMesh& m, double unit) {
+  if (unit == 1.0) return nullptr;
+  auto copy = std::make_unique<mesh::SurfaceMesh>(m);
+  for (Vec3& x : copy->positions) x /= unit;
+  return copy;
+}
+
+SearchOptions scaled_options(SearchOptions o, double unit) {
+  o.capture_distance /= unit;
+  return o;
+}
+
+}  // namespace
+
 struct SurfaceSearcher::Impl {
-  const mesh::SurfaceMesh& master;
-  std::span<const Vec3> normals;
+  double unit;                                ///< world length = unit x working length
+  std::unique_ptr<mesh::SurfaceMesh> scaled;  ///< the master in working units, where unit != 1
+  const mesh::SurfaceMesh& master;            ///< the master in working units
+  std::span<const Vec3> normals;              ///< unit vectors: the same in any unit
   SearchOptions options;
   FaceIndex index;
   double capture = 0.0;
   double largest_radius = 0.0;
   Centres cloud;
   CentreTree tree;
+  std::vector<Vec3> world_centres;  ///< index's, in world units (where unit != 1)
+  std::vector<double> world_radii;
 
   Impl(const mesh::SurfaceMesh& m, std::span<const Vec3> n, const SearchOptions& o)
-      : master(m),
+      : unit(working_unit(m)),
+        scaled(scaled_copy(m, unit)),
+        master(scaled ? *scaled : m),
         normals(n),
-        options(o),
-        index(index_faces(m, n, o)),
-        capture(capture_distance(m, o)),
+        options(scaled_options(o, unit)),
+        index(index_faces(master, n, options)),
+        capture(capture_distance(master, options)),
         largest_radius(index.radii.empty() ? 0.0 : *std::max_element(index.radii.begin(), index.radii.end())),
         cloud{&index.centres},
-        tree(3, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(10)) {}
+        tree(3, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(10)) {
+    if (unit == 1.0) return;
+    for (const Vec3& c : index.centres) world_centres.push_back(c * unit);
+    for (double r : index.radii) world_radii.push_back(r * unit);
+  }
 };
 
 SurfaceSearcher::SurfaceSearcher(const mesh::SurfaceMesh& master, std::span<const Vec3> master_normals,
@@ -536,29 +576,41 @@ SurfaceSearcher::SurfaceSearcher(const mesh::SurfaceMesh& master, std::span<cons
 
 SurfaceSearcher::~SurfaceSearcher() = default;
 
-double SurfaceSearcher::capture() const { return impl_->capture; }
+// The public members take and give world units; inside, lengths are in the working unit (Impl::unit, a power
+// of two: every conversion is exact).
+double SurfaceSearcher::capture() const { return impl_->capture * impl_->unit; }
 
 double SurfaceSearcher::lower_bound(const Vec3& slave, int face) const {
-  return face_lower_bound(impl_->index, slave, face);
+  return face_lower_bound(impl_->index, slave / impl_->unit, face) * impl_->unit;
 }
 
 double SurfaceSearcher::sphere_bound(const Vec3& slave, int face) const {
   const auto f = static_cast<std::size_t>(face);
-  return (slave - impl_->index.centres[f]).norm() - impl_->index.radii[f];
+  return ((slave / impl_->unit - impl_->index.centres[f]).norm() - impl_->index.radii[f]) * impl_->unit;
 }
 
-const std::vector<Vec3>& SurfaceSearcher::centres() const { return impl_->index.centres; }
-const std::vector<double>& SurfaceSearcher::radii() const { return impl_->index.radii; }
+const std::vector<Vec3>& SurfaceSearcher::centres() const {
+  return impl_->unit == 1.0 ? impl_->index.centres : impl_->world_centres;
+}
+const std::vector<double>& SurfaceSearcher::radii() const {
+  return impl_->unit == 1.0 ? impl_->index.radii : impl_->world_radii;
+}
 
-void SurfaceSearcher::faces_within(const Vec3& slave, double reach, std::vector<std::pair<double, int>>& out,
+void SurfaceSearcher::faces_within(const Vec3& world_slave, double world_reach, std::vector<std::pair<double, int>>& out,
                                    std::vector<std::pair<std::uint32_t, double>>& scratch, bool spheres_only) const {
   const FaceIndex& index = impl_->index;
+  const double unit = impl_->unit;
+  const Vec3 slave = world_slave / unit;
+  const double reach = world_reach / unit;
   if (!slave.allFinite() || index.centres.empty()) return;
-  const auto bound_of = [&](int f) { return spheres_only ? sphere_bound(slave, f) : lower_bound(slave, f); };
+  const auto bound_of = [&](int face) {
+    const auto f = static_cast<std::size_t>(face);
+    return spheres_only ? (slave - index.centres[f]).norm() - index.radii[f] : face_lower_bound(index, slave, face);
+  };
   if (impl_->options.brute_force_faces) {
     for (std::size_t s = 0; s < index.centres.size(); ++s) {
       const double bound = bound_of(static_cast<int>(s));
-      if (bound <= reach) out.emplace_back(bound, static_cast<int>(s));
+      if (bound <= reach) out.emplace_back(bound * unit, static_cast<int>(s));
     }
     return;
   }
@@ -569,15 +621,27 @@ void SurfaceSearcher::faces_within(const Vec3& slave, double reach, std::vector<
   impl_->tree.radiusSearch(q, radius * radius * (1.0 + 1e-12), scratch, nanoflann::SearchParams(32, 0.0F, false));
   for (const auto& item : scratch) {
     const double bound = bound_of(static_cast<int>(item.first));
-    if (bound <= reach) out.emplace_back(bound, static_cast<int>(item.first));
+    if (bound <= reach) out.emplace_back(bound * unit, static_cast<int>(item.first));
   }
 }
 
 NodeSegmentPair SurfaceSearcher::nearest(long slave_id, const Vec3& slave,
                                          std::vector<std::pair<double, int>>& candidates, const FaceHint* hint,
                                          Bounds bounds) const {
-  return search_one(impl_->master, impl_->normals, impl_->options, impl_->index, impl_->capture, slave_id, slave,
-                    candidates, hint, bounds == Bounds::kLooseSorted);
+  const double unit = impl_->unit;
+  if (unit == 1.0) {
+    return search_one(impl_->master, impl_->normals, impl_->options, impl_->index, impl_->capture, slave_id, slave,
+                      candidates, hint, bounds == Bounds::kLooseSorted);
+  }
+  for (auto& c : candidates) c.first /= unit;
+  NodeSegmentPair pair = search_one(impl_->master, impl_->normals, impl_->options, impl_->index, impl_->capture,
+                                    slave_id, slave / unit, candidates, hint, bounds == Bounds::kLooseSorted);
+  for (auto& c : candidates) c.first *= unit;
+  pair.point *= unit;
+  pair.label.gap *= unit;
+  for (Vec3& x : pair.config.nodes) x *= unit;
+  pair.config.slave = slave;
+  return pair;
 }
 
 std::vector<NodeSegmentPair> surface_search(const mesh::SurfaceMesh& master, std::span<const Vec3> master_normals,

@@ -57,6 +57,13 @@
 
 namespace contactnn::contact {
 
+/// The unit of length the searches work in: 1, or where the master's largest coordinate lies beyond 2^+-40,
+/// the power of two at most it (every conversion exact). The closest points, the segment test's products and
+/// the trees' squared radii need lengths whose fourth powers stay in the double range: a deck scaled by 1e-100
+/// found no point for any slave node, one scaled by 1e100 put every point on an edge. Both searches answer in
+/// world units.
+[[nodiscard]] double working_unit(const mesh::SurfaceMesh& master);
+
 /// The capture distance of `options` for `master` (world units): options.capture_distance when positive,
 /// else options.capture_relative x the largest face size (0 for a surface without faces).
 [[nodiscard]] double capture_distance(const mesh::SurfaceMesh& master, const SearchOptions& options);

@@ -1,6 +1,7 @@
 #include "mesh/surface_mesh.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <set>
 
 #include "core/error.hpp"
@@ -246,8 +247,18 @@ std::vector<Vec3> node_normals(const SurfaceMesh& surface) {
       for (int k = 0; k < 4; ++k) {
         if (quad[static_cast<std::size_t>(k)] != node) continue;
         const Vec3& x = surface.positions[static_cast<std::size_t>(node)];
-        const Vec3 to_next = surface.positions[static_cast<std::size_t>(quad[static_cast<std::size_t>((k + 1) % 4)])] - x;
-        const Vec3 to_prev = surface.positions[static_cast<std::size_t>(quad[static_cast<std::size_t>((k + 3) % 4)])] - x;
+        Vec3 to_next = surface.positions[static_cast<std::size_t>(quad[static_cast<std::size_t>((k + 1) % 4)])] - x;
+        Vec3 to_prev = surface.positions[static_cast<std::size_t>(quad[static_cast<std::size_t>((k + 3) % 4)])] - x;
+        // In units of the corner's size, a power of two (exact: the same bits wherever nothing under- or
+        // overflowed): the cross product is a square of the size and vanished below 1e-154 (a deck scaled by
+        // 1e-200 had no normals, and its Gregory patches none either).
+        int exponent = 0;
+        (void)std::frexp(std::max(to_next.cwiseAbs().maxCoeff(), to_prev.cwiseAbs().maxCoeff()), &exponent);
+        const double unit = std::ldexp(1.0, exponent);
+        if (std::isfinite(unit) && unit > 0.0) {
+          to_next /= unit;
+          to_prev /= unit;
+        }
         const Vec3 cross = to_next.cross(to_prev);
         const double length = cross.norm();
         if (!(length > kMinCornerSine * to_next.norm() * to_prev.norm())) continue;

@@ -8,7 +8,9 @@
 
 #include <cmath>
 #include <random>
+#include <string>
 
+#include "contact/tracking.hpp"
 #include "geometry/bilinear_patch.hpp"
 #include "geometry/gregory_patch.hpp"
 #include "mesh/grid_surface.hpp"
@@ -284,6 +286,72 @@ TEST(SurfaceSearch, TrianglesCountAndMeetTheQuadsAtSharedEdges) {
   const auto fold = search(m, {Vec3(1.5, 4.0, 0.75 + 0.1), Vec3(1.5, 4.0, 0.75 - 0.1)});
   EXPECT_GT(fold[0].label.gap, 0.0);
   EXPECT_LT(fold[1].label.gap, 0.0);
+}
+
+TEST(SurfaceSearch, EverySearchGivesTheUnitScalesAnswerAtScalesFrom1eMinus200To1e200) {
+  // The closest points and the trees' squared radii need lengths whose fourth powers stay in the double range:
+  // scaled by 1e-100 the surface search found no point for any slave node, by 1e100 it put every point on an
+  // edge, and the nearest-node search lost its labels at 1e+-200. Both now work in a unit of their own
+  // (working_unit) and answer in world units: the same faces, locations and statuses, the points and gaps
+  // scaled (to the rounding of the scaled inputs).
+  const mesh::SurfaceMesh unit_mesh = surface_of(9, 4, [](double i, double j) -> Vec3 {
+    return roof(i, j) + Vec3(0, 0, 0.2 * std::sin(0.9 * i) * std::cos(0.7 * j));
+  });
+  const std::vector<Vec3> unit_slaves = random_slaves(400, 17);
+  std::vector<long> ids(unit_slaves.size());
+  for (std::size_t i = 0; i < ids.size(); ++i) ids[i] = static_cast<long>(i) + 1;
+  struct Kind {
+    GlobalSearchKind search;
+    SurfaceKind surface;
+  };
+  for (const Kind kind : {Kind{GlobalSearchKind::kSurface, SurfaceKind::kBilinear},
+                          Kind{GlobalSearchKind::kSurface, SurfaceKind::kGregory},
+                          Kind{GlobalSearchKind::kNearestNode, SurfaceKind::kBilinear}}) {
+    SearchOptions options;
+    options.search = kind.search;
+    options.surface = kind.surface;
+    const auto run = [&](const mesh::SurfaceMesh& m, const std::vector<Vec3>& slaves) {
+      const std::vector<Vec3> normals = mesh::node_normals(m);
+      return kind.search == GlobalSearchKind::kSurface ? surface_search(m, normals, ids, slaves, options)
+                                                       : global_search(m, normals, ids, slaves, options);
+    };
+    const auto reference = run(unit_mesh, unit_slaves);
+    int found = 0;
+    for (const NodeSegmentPair& p : reference) found += p.status == PairStatus::kFound;
+    ASSERT_GT(found, 100);
+    for (const double scale : {1e-200, 1e-100, 1e100, 1e200}) {
+      mesh::SurfaceMesh m = unit_mesh;
+      for (Vec3& x : m.positions) x *= scale;
+      std::vector<Vec3> slaves = unit_slaves;
+      for (Vec3& x : slaves) x *= scale;
+      const auto scaled = run(m, slaves);
+      // And the tracker, over two states (the second the same: every node tracked).
+      SurfaceTracker tracker(options);
+      std::vector<NodeSegmentPair> tracked;
+      if (kind.search == GlobalSearchKind::kSurface) {
+        for (int step = 0; step < 2; ++step) tracker.step(m, mesh::node_normals(m), ids, slaves, tracked);
+      }
+      for (std::size_t i = 0; i < reference.size(); ++i) {
+        const std::string where = std::string(to_string(kind.surface)) + (kind.search == GlobalSearchKind::kSurface ? " surface" : " nearest-node") +
+                                  " search, scale " + std::to_string(std::log10(scale)) + " (log10), slave " + std::to_string(i);
+        for (const std::vector<NodeSegmentPair>* answers : {&scaled, static_cast<const std::vector<NodeSegmentPair>*>(&tracked)}) {
+          if (answers->empty()) continue;
+          const NodeSegmentPair& p = (*answers)[i];
+          ASSERT_EQ(p.status, reference[i].status) << where << (answers == &scaled ? " search" : " tracker");
+          if (p.status != PairStatus::kFound) continue;
+          EXPECT_EQ(p.segment, reference[i].segment) << where;
+          EXPECT_EQ(p.location, reference[i].location) << where;
+          EXPECT_EQ(p.label.status, reference[i].label.status) << where;
+          EXPECT_NEAR(p.label.gap / scale, reference[i].label.gap, 1e-12) << where;
+          EXPECT_LE((p.config.slave / scale - unit_slaves[i]).norm(), 1e-12) << where;
+          EXPECT_LE((p.config.nodes[0] / scale - reference[i].config.nodes[0]).norm(), 1e-12) << where;
+          if (kind.search == GlobalSearchKind::kSurface) {
+            EXPECT_LE((p.point / scale - reference[i].point).norm(), 1e-12) << where;
+          }
+        }
+      }
+    }
+  }
 }
 
 TEST(SurfaceSearch, SameResultForAnyThreadCount) {
