@@ -1,8 +1,9 @@
 # Install rules and the package config: after `cmake --install`, a finite-element code writes
 #   find_package(contactnn REQUIRED)
 #   target_link_libraries(fe PRIVATE contactnn::c)        # C, Fortran (shared library, no dependencies)
-#   target_link_libraries(fe PRIVATE contactnn::search)   # C++: the local search (static)
-#   target_link_libraries(fe PRIVATE contactnn::io)       # C++: network files (static, HDF5)
+#   target_link_libraries(fe PRIVATE contactnn::runtime)  # C++: the local search and the network file reader
+#                                                         # (static libraries, HDF5), nothing of the trainer
+# and includes <contactnn/contactnn.h> (C) or <contactnn/search/local_search.hpp>, <contactnn/io/...> (C++).
 # Components: contactnn_runtime (libcontactnn_c.so), contactnn_development (headers, static libraries, the
 # CMake package, the Fortran module's source), contactnn_apps (gen-configs, train-net, evaluate-net,
 # scene-study).
@@ -14,14 +15,23 @@ mark_as_advanced(CONTACTNN_INSTALL_CMAKEDIR)
 
 # The C++ modules an FE code may use, and everything they link: the run-time search and network files.
 # Not installed: contact, eval (the tools' own libraries) and the command-line layer.
+# Headers go to include/contactnn/<module>/; the targets' include path holds both include/ (a consumer's
+# <contactnn/<module>/<file>.hpp>) and include/contactnn (the headers' own "<module>/<file>.hpp").
 set(contactnn_installed_modules core geometry projection dataset mlp mesh io search)
 foreach(module IN LISTS contactnn_installed_modules)
-  set_target_properties(contactnn_${module} PROPERTIES EXPORT_NAME ${module})
   install(DIRECTORY ${PROJECT_SOURCE_DIR}/lib/${module}/
           DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/contactnn/${module}
           COMPONENT contactnn_development
           FILES_MATCHING PATTERN "*.hpp" PATTERN "*.h")
-  list(APPEND contactnn_installed_targets contactnn_${module})
+endforeach()
+# One target per module, and three more: lib/mlp's network without the trainer (network), lib/io's network
+# files without the other formats (network_file), and the C++ run-time target over search and network_file
+# (runtime, an INTERFACE target). contactnn::runtime's link set is checked by tests/capi (consumer_check.py).
+set(contactnn_installed_targets ${contactnn_installed_modules} network network_file runtime)
+list(TRANSFORM contactnn_installed_targets PREPEND contactnn_)
+foreach(target IN LISTS contactnn_installed_targets)
+  string(REGEX REPLACE "^contactnn_" "" name ${target})
+  set_target_properties(${target} PROPERTIES EXPORT_NAME ${name})
 endforeach()
 # Both are named by the libraries above and are installed empty (see the top CMakeLists.txt).
 set_target_properties(contactnn_flags PROPERTIES EXPORT_NAME flags)

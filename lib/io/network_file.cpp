@@ -9,8 +9,8 @@
 
 #include "core/conventions.hpp"
 #include "core/error.hpp"
+#include "core/quote_text.hpp"
 #include "io/atomic_output.hpp"
-#include "io/csv.hpp"
 #include "io/domain_io.hpp"
 #include "io/hdf5_file.hpp"
 

@@ -11,7 +11,7 @@
 #include "geometry/domain.hpp"
 #include "io/atomic_output.hpp"
 #include "mlp/network.hpp"
-#include "mlp/trainer.hpp"
+#include "mlp/training_state.hpp"
 
 namespace contactnn::io {
 

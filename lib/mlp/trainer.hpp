@@ -13,6 +13,7 @@
 #include "mlp/network.hpp"
 #include "mlp/online_backprop.hpp"
 #include "mlp/random.hpp"
+#include "mlp/training_state.hpp"
 
 namespace contactnn::mlp {
 
@@ -40,20 +41,6 @@ struct TrainOptions {
   bool restore_best = true;    ///< with a validation set, end on the parameters of the best validation error
   std::uint64_t seed = 1;      ///< seeds the per-epoch shuffles
   int threads = 0;             ///< OpenMP threads for batch mode and validation; 0 = OpenMP's default
-};
-
-/// Everything that determines the rest of a run besides the network's parameters and the data: a run
-/// restored from it continues bit-identically to one that was never interrupted.
-template <class Real>
-struct TrainingState {
-  int epoch = 0;                             ///< completed epochs
-  Rng::State rng{};                          ///< shuffle generator
-  AlignedVector<Real> velocity;              ///< last update dw per parameter (the momentum term)
-  double best_validation_loss = std::numeric_limits<double>::infinity();
-  int best_epoch = 0;                        ///< epoch of best_validation_loss (0: none yet)
-  AlignedVector<Real> best_parameters;       ///< parameters after best_epoch
-  double training_loss = std::numeric_limits<double>::quiet_NaN();    ///< last epoch's mean E_p
-  double validation_loss = std::numeric_limits<double>::quiet_NaN();  ///< after the last epoch
 };
 
 /// One epoch's outcome. Losses are mean E_p (Eq 14) per pattern in the scaled (sigmoid) units: the training

@@ -3,11 +3,17 @@
 
 install:  `cmake --install BUILD` (components contactnn_runtime and contactnn_development) into an empty PREFIX,
           then checks what a consumer relies on: the C header and the Fortran module's source, the package
-          config and version files, and a libcontactnn_c that exports the contactnn_* functions and nothing else.
+          config and version files, a libcontactnn_c that exports the contactnn_* functions and nothing else,
+          and the exported C++ run-time target: contactnn::runtime's link closure in contactnnTargets.cmake
+          holds none of the targets in NOT_RUNTIME_TARGETS (the trainer, lib/dataset, lib/mesh, the rest of
+          lib/io, the tools' libraries, CLI11, toml++).
 consumer: configures and builds a consumer project (tests/capi/consumer: C and Fortran; consumer_cxx: C++)
           against PREFIX in a fresh build directory (CMAKE_PREFIX_PATH=PREFIX only), checks that its programs
           load the installed libcontactnn_c and that none of contactnn's own build flags (-march=native, -O3)
-          reached its compile commands, then runs each program on each case below and compares it with
+          reached its compile commands; with --runtime-program P (the C++ consumer, linked to contactnn::runtime
+          alone), that P's link command names none of the NOT_RUNTIME_LIBRARIES and that P defines none of the
+          contactnn symbols that only those installed archives define (nm), nor a trainer, CLI11 or toml++
+          symbol, while it does define LocalSearch's and read_network_model's; then runs each program on each case below and compares it with
           `evaluate-net --input` on the same RAW.csv:
             - statuses equal, row by row;
             - where evaluate-net writes a prediction (ok, out_of_domain), both coordinates within 1e-6 (the
@@ -22,12 +28,14 @@ consumer: configures and builds a consumer project (tests/capi/consumer: C and F
 Usage: consumer_check.py install --cmake CMAKE --build BUILD --prefix PREFIX
        consumer_check.py consumer --cmake CMAKE --generator G --prefix PREFIX --project DIR --work DIR
                          --programs NAME... --source-dir SRC --evaluate-net P --make-queries P [--set VAR=VALUE]...
+                         [--runtime-program NAME]
 """
 import argparse
 import csv
 import json
 import math
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -39,6 +47,23 @@ STATUS = {"ok": 0, "outside": 1, "no_convergence": 2, "degenerate": 3, "invalid"
 TOLERANCE = 1e-6           # predictions against evaluate-net (issue 11's acceptance line)
 GAP_TOLERANCE_DOUBLE = 1e-9  # relative to segment size + |gap|: rounding of a few dozen operations
 GAP_TOLERANCE_FLOAT = 1e-5   # a float gap and a float point: 7 digits, a few roundings
+
+# What contactnn::runtime (the C++ local search and network file reader) must not link: the trainer
+# (contactnn::mlp; the network itself is contactnn::network), lib/dataset, lib/mesh, the rest of lib/io, the
+# tools' own libraries and the command-line layer. Targets as contactnnTargets.cmake names them, and the
+# libraries' file stems.
+NOT_RUNTIME_MODULES = ("mlp", "dataset", "mesh", "io", "contact", "eval", "plan", "study", "history", "cli")
+NOT_RUNTIME_TARGETS = tuple("contactnn::" + m for m in NOT_RUNTIME_MODULES) + (
+    "CLI11::CLI11", "tomlplusplus::tomlplusplus")
+NOT_RUNTIME_LIBRARIES = tuple("libcontactnn_" + m for m in NOT_RUNTIME_MODULES)
+# Demangled names that no part of the run-time target defines (the trainer's classes, the CLI's, toml++'s).
+NOT_RUNTIME_SYMBOLS = re.compile(r"contactnn::mlp::(Trainer|OnlineBackprop|PatternBackprop|BatchGradient)\b|"
+                                 r"contactnn::(dataset|mesh|contact|eval|study|history|cli)::|\bCLI::|\btoml::")
+# ... and names it must define, so that the symbol check is not vacuous (a stripped or empty program).
+RUNTIME_SYMBOLS = (r"contactnn::search::LocalSearch::run<double>\(", r"^contactnn::io::read_network_model\(")
+# The archives contactnn::runtime does link (search, network_file and what they link).
+RUNTIME_LIBRARIES = tuple("libcontactnn_" + m for m in ("search", "network_file", "network", "projection", "geometry",
+                                                         "core"))
 
 failures = []
 
@@ -80,6 +105,89 @@ def install(args):
         others = [s for s in symbols if not s.startswith("contactnn_")]
         check(len(symbols) > 0 and not others, f"libcontactnn_c exports more than the C interface: {others[:5]}")
         print(f"installed: {len(files)} files; libcontactnn_c exports {len(symbols)} symbols, all contactnn_*")
+    targets = [f for f in files if f.endswith("cmake/contactnn/contactnnTargets.cmake")]
+    if targets:
+        check_runtime_closure(os.path.join(args.prefix, targets[0]))
+
+
+def exported_links(targets_file):
+    """contactnnTargets.cmake: each exported target's INTERFACE_LINK_LIBRARIES, as a list of names."""
+    with open(targets_file) as f:
+        text = f.read()
+    links = {}
+    for target, body in re.findall(r"set_target_properties\((\S+) PROPERTIES(.*?)\n\)", text, re.S):
+        m = re.search(r'INTERFACE_LINK_LIBRARIES "([^"]*)"', body)
+        if m:
+            links[target] = [item for item in m.group(1).split(";") if item]
+    return links
+
+
+def check_runtime_closure(targets_file):
+    """contactnn::runtime and everything it links (transitively, LINK_ONLY included) as the package exports
+    them: none of NOT_RUNTIME_TARGETS."""
+    links = exported_links(targets_file)
+    check("contactnn::runtime" in links, f"{targets_file} exports no contactnn::runtime with link libraries")
+    closure, stack = set(), ["contactnn::runtime"]
+    while stack:
+        target = stack.pop()
+        for item in links.get(target, []):
+            name = re.sub(r"^\\?\$<LINK_ONLY:(.*)>$", r"\1", item)  # written \$<LINK_ONLY:...> in the file
+            if name not in closure:
+                closure.add(name)
+                stack.append(name)
+    bad = sorted(closure.intersection(NOT_RUNTIME_TARGETS))
+    check(not bad, f"contactnn::runtime links {bad} (its exported closure: {sorted(closure)})")
+    print(f"contactnn::runtime links {sorted(closure)}")
+
+
+def check_runtime_program(args, build, program, build_log):
+    """A program linked to contactnn::runtime alone: its link command names none of NOT_RUNTIME_LIBRARIES, and
+    it defines none of the contactnn symbols that only the installed archives of those modules define, none
+    matching NOT_RUNTIME_SYMBOLS, and every one of RUNTIME_SYMBOLS."""
+    link = [line for line in build_log.split("\n") if re.search(r"-o \S*\b" + re.escape(program) + r"(\s|$)", line)]
+    check(len(link) == 1, f"{program}: one link command expected in the build log, found {len(link)}")
+    for line in link:
+        named = sorted({m for m in re.findall(r"libcontactnn_\w+", line) if m in NOT_RUNTIME_LIBRARIES})
+        check(not named, f"{program} links {named}: {line}")
+        check("libcontactnn_search" in line and "libcontactnn_network_file" in line,
+              f"{program}'s link command lacks contactnn::runtime's libraries: {line}")
+
+    def defined_names(path):
+        names = set()
+        for line in run(["nm", "-C", "--defined-only", path]).stdout.split("\n"):
+            parts = line.split(maxsplit=2)
+            if len(parts) == 3:
+                names.add(parts[2])
+        return names
+
+    # Linked with hidden visibility, contactnn's functions are local symbols of the program: every defined one counts.
+    names = defined_names(os.path.join(build, program))
+    for wanted in RUNTIME_SYMBOLS:
+        check(any(re.search(wanted, n) for n in names), f"{program} does not define {wanted}")
+    bad = sorted(n for n in names if NOT_RUNTIME_SYMBOLS.search(n))
+    check(not bad, f"{program} defines {len(bad)} symbols of the trainer, dataset, mesh or CLI: {bad[:5]}")
+    # contactnn's symbols that the installed archives contactnn::runtime must not link define, and that none of
+    # the archives it does link defines (inline functions of a header both use): a program that defines one has
+    # linked an object of a forbidden archive.
+    libdirs = [os.path.join(args.prefix, d) for d in ("lib", "lib64", "lib/x86_64-linux-gnu")]
+
+    def archives(stems):
+        return [os.path.join(d, stem + ".a") for d in libdirs for stem in stems
+                if os.path.exists(os.path.join(d, stem + ".a"))]
+    forbidden_archives = archives(NOT_RUNTIME_LIBRARIES)
+    runtime_archives = archives(RUNTIME_LIBRARIES)
+    check(any(a.endswith("libcontactnn_mlp.a") for a in forbidden_archives), f"no libcontactnn_mlp.a under {libdirs}")
+    check(len(runtime_archives) == len(RUNTIME_LIBRARIES), f"the run-time archives: {runtime_archives}")
+    theirs = set()
+    for archive in forbidden_archives:
+        theirs |= {n for n in defined_names(archive) if "contactnn::" in n}
+    for archive in runtime_archives:
+        theirs -= defined_names(archive)
+    linked = sorted(names & theirs)
+    check(not linked, f"{program} defines {len(linked)} symbols of "
+                      f"{[os.path.basename(a) for a in forbidden_archives]}: {linked[:5]}")
+    print(f"{program}: link command free of {', '.join(NOT_RUNTIME_LIBRARIES)}; "
+          f"{len(names)} symbols defined, none of the {len(theirs)} contactnn symbols only their archives define")
 
 
 def raw_text(csv_path, surface, out_path):
@@ -165,7 +273,7 @@ def consumer(args):
                  "-DCMAKE_FIND_USE_PACKAGE_REGISTRY=OFF"]
     configure += [f"-D{s}" for s in args.set]
     run(configure)
-    run([args.cmake, "--build", build])
+    build_log = run([args.cmake, "--build", build, "--verbose"]).stdout
     with open(os.path.join(build, "compile_commands.json")) as f:
         commands = [entry["command"] for entry in json.load(f)]
     for command in commands:
@@ -180,6 +288,8 @@ def consumer(args):
             if "libcontactnn_c" in line:
                 check(prefix in os.path.realpath(line.split("=>")[1].split()[0]),
                       f"{program} loads {line.strip()}, not the installed library under {prefix}")
+    if args.runtime_program:
+        check_runtime_program(args, build, args.runtime_program, build_log)
 
     # 2. The cases: shipped examples, and random queries exact in float.
     source = args.source_dir
@@ -231,6 +341,7 @@ def main():
     parser.add_argument("--evaluate-net")
     parser.add_argument("--make-queries")
     parser.add_argument("--set", action="append", default=[])
+    parser.add_argument("--runtime-program")
     args = parser.parse_args()
     if args.mode == "install":
         install(args)

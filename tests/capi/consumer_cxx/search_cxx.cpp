@@ -1,5 +1,5 @@
-// search_cxx: contactnn's C++ library (contactnn::search, contactnn::io) as a C++ finite-element code calls
-// it, on a file of queries.
+// search_cxx: contactnn's C++ library (contactnn::runtime: the local search and the network file reader) as a
+// C++ finite-element code calls it, on a file of queries, with the headers as the installed package names them.
 //
 // Usage: search_cxx bilinear|gregory METHOD NETWORK RAW.txt OUT.txt
 //   RAW.txt  the query count n on the first line, then n rows of 15 (bilinear) or 27 (Gregory) numbers
@@ -13,9 +13,9 @@
 #include <string>
 #include <vector>
 
-#include "core/error.hpp"
-#include "io/network_model_file.hpp"
-#include "search/local_search.hpp"
+#include <contactnn/core/error.hpp>
+#include <contactnn/io/network_model_file.hpp>
+#include <contactnn/search/local_search.hpp>
 
 using namespace contactnn;
 
