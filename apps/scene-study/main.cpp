@@ -18,6 +18,8 @@
 //   /tmp/flat-study
 //               --count 4000 --epochs 50 --train-networks always        (one line)
 //   scene-study --config my-study.toml --scene deck.inp --surface gregory --output reports/deck
+//   scene-study --scene run/hertz-slide.inp --results run/hertz-slide.frd --surface bilinear --output /tmp/hs
+//               (the networks trained on the whole history's domain and judged on every increment)
 //   scripts/scene-study takes the same options (and --build-dir) and runs this program.
 //
 // Writes (under --output DIR, created if missing):
@@ -26,12 +28,16 @@
 //   reads it too);
 //                           a network.h5 of an earlier run is removed when the plan has none
 //   pairs.csv               the pair's slave nodes as gen-configs --scene writes them (never training data)
+//   history.csv             with --results: every scene network and the plan's method on each increment's
+//                           pairs inside a face (lib/study/scene_history.hpp); an earlier run's is removed
+//                           without --results
 //   report.md, report.json  every method on the held-out sample and on the deck's pairs; the node orders
 //   scene-study.config.toml the effective [scene-study] configuration
 //   progress on stdout (--quiet: the last line only).
 // Exit status: 0 (also when no method reaches the target: the plan and the report say so); 1 when the pair
-// has nothing to study (no slave node, or none with a face); 2 a bad option or config key; 3 a malformed
-// deck; 4 an I/O failure; 5 a numerical failure.
+// has nothing to study (no slave node, or none with a face); 2 a bad option or config key (a missing
+// --results file, --domain history without --results); 3 a malformed deck, or a results file that is
+// malformed or not the deck's (node ids), naming file and line; 4 an I/O failure; 5 a numerical failure.
 #include <omp.h>
 
 #include <chrono>
@@ -43,10 +49,12 @@
 #include "core/error.hpp"
 #include "io/atomic_output.hpp"
 #include "io/csv.hpp"
+#include "io/frd_results.hpp"
 #include "io/inp_deck.hpp"
 #include "io/network_file.hpp"
 #include "search/local_search.hpp"
 #include "study/plan.hpp"
+#include "study/scene_history.hpp"
 #include "study/scene_study.hpp"
 
 namespace {
@@ -122,8 +130,9 @@ int main(int argc, char** argv) {
 
   // 1. Options. Every default lives in study::SceneStudyOptions; flags only map onto it.
   study::SceneStudyOptions o;
-  std::string scene_path, output, surface_name, sizes,
-      train_networks = std::string(study::to_string(o.train_networks));
+  std::string scene_path, output, surface_name, sizes, results_path,
+      train_networks = std::string(study::to_string(o.train_networks)),
+      domain_states = std::string(study::to_string(o.domain_states));
   int pair = 0;
   bool check_only = false, quiet = false;
   app.add_option("--scene", scene_path, "the deck (.inp, SPEC 7)")->required()->check(CLI::ExistingFile);
@@ -134,6 +143,13 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"bilinear", "gregory"}));
   app.add_option("--output", output, "directory of the plan, the network, the pairs and the report")
       ->required();
+  app.add_option("--results", results_path,
+                 "a CalculiX .frd of the deck (SPEC 10): the networks and the plan judged on every increment")
+      ->check(CLI::ExistingFile);
+  app.add_option("--domain", domain_states,
+                 "the states the scene's domain is drawn from: rest (the deck), history (the deck and every "
+                 "increment of --results) or auto (history with --results, rest without)")
+      ->check(CLI::IsMember({"auto", "rest", "history"}));
   app.add_option("--count", o.count,
                  "configurations of the scene's domain to train from (held out: count / 4)")
       ->transform(cli::integer_in(100, 1'000'000'000));
@@ -174,6 +190,11 @@ int main(int argc, char** argv) {
                  "scene domain: slave offset along the normal, fraction of the shortest edge (at least 1.25 "
                  "x the deck's)")
       ->check(cli::kPositive);
+  app.add_option(
+         "--capture-pairs", o.capture_pairs,
+         "scene domain: whose offsets the capture covers: nearest_node (every slave node's nearest-node "
+         "pair, far ones too) or surface (the surface search's pairs on quadrilaterals)")
+      ->check(CLI::IsMember({"nearest_node", "surface"}));
   app.add_option("--normal-tilt-tangent", o.domain.normal_tilt_tangent,
                  "scene domain, Gregory: node normals tilted by up to this")
       ->check(cli::kNonNegative);
@@ -194,12 +215,20 @@ int main(int argc, char** argv) {
     const SurfaceKind surface = surface_from_string(surface_name);
     if (!sizes.empty()) o.sizes = parse_sizes(sizes);
     o.train_networks = study::train_networks_from_string(train_networks);
+    o.domain_states = study::domain_states_from_string(domain_states);
+    if (o.domain_states == study::DomainStates::kAuto) {
+      o.domain_states = results_path.empty() ? study::DomainStates::kRest : study::DomainStates::kHistory;
+    }
+    CONTACTNN_REQUIRE_AS(InvalidArgument,
+                         o.domain_states != study::DomainStates::kHistory || !results_path.empty(),
+                         "--domain history: the whole history's domain needs --results RUN.frd");
     o = study::resolved(o, surface);
     const fs::path dir(output);
     CONTACTNN_REQUIRE_AS(InvalidArgument, !fs::exists(dir) || fs::is_directory(dir),
                          "--output '" << output << "' is a file, not a directory");
     fs::create_directories(dir);
-    for (const char* name : {"plan.toml", "network.h5", "pairs.csv", "report.md", "report.json"}) {
+    for (const char* name :
+         {"plan.toml", "network.h5", "pairs.csv", "report.md", "report.json", "history.csv"}) {
       io::require_writable(dir / name);
     }
     if (check_only) return 0;
@@ -211,7 +240,8 @@ int main(int argc, char** argv) {
     if (!quiet) std::printf("scene-study: %s pair %d, %s\n", scene_path.c_str(), pair, surface_name.c_str());
 
     // 3. The deck, read once: the pair's master faces, node normals and slave nodes.
-    const contact::Scene scene = contact::make_scene(io::read_inp_deck(scene_path), pair);
+    mesh::ContactModel model = io::read_inp_deck(scene_path);
+    const contact::Scene scene = contact::make_scene(model, pair);
     if (scene.slave_ids.empty()) {
       std::fprintf(stderr, "scene-study: pair %d of %s has no slave nodes: nothing to study\n", pair,
                    scene_path.c_str());
@@ -233,8 +263,21 @@ int main(int argc, char** argv) {
         ", vertex " + std::to_string(pairs.locations[2]) + ", no_segment " +
         std::to_string(pairs.result.no_segment));
 
-    // 5. The scene's domain: a training sample and a held-out one.
-    const study::SceneDomain domain = study::sample_domain(scene, surface, o, say);
+    // 4b. With --results: the pair at every increment of the run (SPEC 10), the nodes moved as gen-configs
+    //     --results moves them.
+    std::vector<study::HistoryState> history;
+    if (!results_path.empty()) {
+      const io::FrdResults results = io::read_frd(results_path);
+      history = study::history_states(std::move(model), results, pair, say);
+    }
+
+    // 5. The scene's domain: a training sample and a held-out one, from the deck's state or from every state
+    //    of its history.
+    std::vector<const contact::Scene*> states = {&scene};
+    if (o.domain_states == study::DomainStates::kHistory) {
+      for (const study::HistoryState& h : history) states.push_back(&h.scene);
+    }
+    const study::SceneDomain domain = study::sample_domain(states, surface, o, say);
     say("domain: " + std::to_string(domain.train.size()) + " configurations to train from, " +
         std::to_string(domain.heldout.size()) + " held out");
 
@@ -291,6 +334,20 @@ int main(int argc, char** argv) {
     result.node_orders =
         study::check_node_orders(pairs, surface, plan_search, scene_search ? &*scene_search : nullptr);
     say(result.node_orders.summary());
+
+    // 9b. With --results: the scene networks and the plan's method on every increment's pairs.
+    std::optional<study::HistoryJudgement> judged;
+    if (!history.empty()) {
+      judged = study::judge_history(
+          history, surface, networks,
+          study::history_methods(networks, result.training.scene, result.measured, result.chosen), o, say);
+      judged->results = results_path;
+      judged->domain = std::string(study::to_string(o.domain_states));
+      result.history_increments = static_cast<int>(history.size());
+      result.history_markdown = study::history_markdown(*judged);
+      result.history_json = study::history_json(*judged);
+    }
+    result.results = results_path;
     result.seconds = seconds_since(start);
 
     // 10. The plan (and its network), the report.
@@ -303,6 +360,11 @@ int main(int argc, char** argv) {
     }
     io::write_text_atomically(dir / "plan.toml", study::plan_to_toml(study::make_plan(
                                                      result, chosen.network >= 0 ? "network.h5" : "")));
+    if (judged) {
+      io::write_text_atomically(dir / "history.csv", study::history_csv(*judged));
+    } else {
+      fs::remove(dir / "history.csv");  // an earlier run's: this one has no history
+    }
     io::write_text_atomically(dir / "report.md", study::report_markdown(result));
     io::write_text_atomically(dir / "report.json", study::report_json(result));
     io::write_text_atomically(dir / "scene-study.config.toml",
@@ -315,6 +377,28 @@ int main(int argc, char** argv) {
                             : "",
         (dir / "plan.toml").string().c_str(), chosen.effective_mean, o.target,
         chosen.reaches ? "reached" : "NOT reached", chosen.batched_ns, result.seconds);
+    if (judged) {
+      for (std::size_t m = 0; m < judged->methods.size(); ++m) {
+        const std::size_t w = judged->worst(m);
+        double worst_out = 0.0;
+        long missed = 0;
+        for (std::size_t i = 0; i < judged->increments.size(); ++i) {
+          worst_out = std::max(worst_out, judged->cells[m][i].out_of_domain_fraction());
+          missed += judged->meets(m, i) ? 0 : 1;
+        }
+        char out_of_domain[64] = "";
+        if (judged->methods[m].network >= 0) {
+          std::snprintf(out_of_domain, sizeof out_of_domain, "; at most %.2f%% out of domain",
+                        100.0 * worst_out);
+        }
+        std::printf(
+            "scene-study: history %s%s: worst increment %d, mean |error| %.4g%s; target %s on %ld of %zu "
+            "increments\n",
+            judged->methods[m].name.c_str(), judged->methods[m].role().c_str(), judged->increments[w],
+            judged->cells[m][w].worse_mean(), out_of_domain, missed == 0 ? "met" : "missed",
+            missed == 0 ? static_cast<long>(judged->increments.size()) : missed, judged->increments.size());
+      }
+    }
     return 0;
   });
 }

@@ -209,6 +209,25 @@ std::string_view to_string(TrainNetworks mode) {
   return "unknown";
 }
 
+std::string_view to_string(DomainStates states) {
+  switch (states) {
+    case DomainStates::kAuto:
+      return "auto";
+    case DomainStates::kRest:
+      return "rest";
+    case DomainStates::kHistory:
+      return "history";
+  }
+  return "unknown";
+}
+
+DomainStates domain_states_from_string(std::string_view name) {
+  if (name == "auto") return DomainStates::kAuto;
+  if (name == "rest") return DomainStates::kRest;
+  if (name == "history") return DomainStates::kHistory;
+  throw InvalidArgument("domain: expected auto, rest or history, got '" + std::string(name) + "'");
+}
+
 TrainNetworks train_networks_from_string(std::string_view name) {
   if (name == "auto") return TrainNetworks::kAuto;
   if (name == "always") return TrainNetworks::kAlways;
@@ -260,6 +279,8 @@ SceneStudyOptions resolved(SceneStudyOptions o, SurfaceKind surface) {
                                          << o.validation_fraction << " >= 0");
   CONTACTNN_REQUIRE_AS(InvalidArgument, o.timing_queries >= 1, "timing_queries = " << o.timing_queries);
   (void)input_features_from_string(o.input_features);
+  CONTACTNN_REQUIRE_AS(InvalidArgument, o.capture_pairs == "nearest_node" || o.capture_pairs == "surface",
+                       "capture_pairs: expected nearest_node or surface, got '" << o.capture_pairs << "'");
   for (const std::string& m : split_methods(o.methods)) {
     const search::Method method = search::Method::parse(m);
     CONTACTNN_REQUIRE_AS(InvalidArgument, !method.needs_network() && !method.needs_start(),
@@ -364,29 +385,55 @@ std::string pairs_csv(const contact::Scene& scene, const ScenePairs& pairs, Surf
 
 SceneDomain sample_domain(const contact::Scene& scene, SurfaceKind surface, const SceneStudyOptions& options,
                           const StudyLog& log) {
-  CONTACTNN_REQUIRE_AS(
-      InvalidArgument, !scene.master.segments.empty(),
-      "pair " << scene.pair << ": the master surface has no quadrilateral segment: no domain to sample");
+  return sample_domain(std::vector<const contact::Scene*>{&scene}, surface, options, log);
+}
+
+SceneDomain sample_domain(const std::vector<const contact::Scene*>& states, SurfaceKind surface,
+                          const SceneStudyOptions& options, const StudyLog& log) {
+  CONTACTNN_REQUIRE_AS(InvalidArgument, !states.empty(), "sample_domain: no state of the scene");
   dataset::EnumerationOptions generator;
   generator.surface = surface;
   generator.seed = options.seed;
-  // The capture covers the deck's own slave nodes: the offsets of the paper's nearest-node pairs (SPEC 7's
-  // slave nodes, corners only), far ones too.
-  contact::Scene corners = scene;
-  corners.slaves = mesh::corner_slaves(scene.slaves);
-  corners.slave_ids.clear();
-  corners.slave_positions.clear();
-  for (std::size_t i = 0; i < scene.slave_ids.size(); ++i) {
-    if (i < scene.slaves.midside.size() && scene.slaves.midside[i] != 0) continue;
-    corners.slave_ids.push_back(scene.slave_ids[i]);
-    corners.slave_positions.push_back(scene.slave_positions[i]);
-  }
-  contact::SearchOptions nearest;
-  nearest.search = contact::GlobalSearchKind::kNearestNode;
-  nearest.surface = surface;
-  nearest.projection = generator.projection;
   SceneDomain out;
-  out.deck_offset = contact::largest_relative_offset(contact::search_scene(corners, nearest));
+  std::vector<dataset::SceneSegment> segments;
+  for (const contact::Scene* state : states) {
+    const contact::Scene& scene = *state;
+    CONTACTNN_REQUIRE_AS(
+        InvalidArgument, !scene.master.segments.empty(),
+        "pair " << scene.pair << ": the master surface has no quadrilateral segment: no domain to sample");
+    if (options.capture_pairs == "surface") {
+      // The capture covers the pairs the local search serves: the surface search's on quad4 faces.
+      out.deck_offset =
+          std::max(out.deck_offset, contact::largest_relative_offset(search_pairs(scene, surface).result));
+    } else {
+      // The capture covers the deck's own slave nodes: the offsets of the paper's nearest-node pairs (SPEC
+      // 7's slave nodes, corners only), far ones too.
+      contact::Scene corners = scene;
+      corners.slaves = mesh::corner_slaves(scene.slaves);
+      corners.slave_ids.clear();
+      corners.slave_positions.clear();
+      for (std::size_t i = 0; i < scene.slave_ids.size(); ++i) {
+        if (i < scene.slaves.midside.size() && scene.slaves.midside[i] != 0) continue;
+        corners.slave_ids.push_back(scene.slave_ids[i]);
+        corners.slave_positions.push_back(scene.slave_positions[i]);
+      }
+      contact::SearchOptions nearest;
+      nearest.search = contact::GlobalSearchKind::kNearestNode;
+      nearest.surface = surface;
+      nearest.projection = generator.projection;
+      out.deck_offset = std::max(out.deck_offset,
+                                 contact::largest_relative_offset(contact::search_scene(corners, nearest)));
+    }
+    for (const auto& s : scene.master.segments) {
+      dataset::SceneSegment segment;
+      for (std::size_t i = 0; i < 4; ++i) {
+        const auto node = static_cast<std::size_t>(s[i]);
+        segment.nodes[i] = scene.master.positions[node];
+        segment.normals[i] = scene.master_normals[node];
+      }
+      segments.push_back(segment);
+    }
+  }
   out.domain = options.domain;
   if (1.25 * out.deck_offset > out.domain.capture) {
     if (log) {
@@ -397,17 +444,6 @@ SceneDomain sample_domain(const contact::Scene& scene, SurfaceKind surface, cons
       log(line);
     }
     out.domain.capture = 1.25 * out.deck_offset;
-  }
-  std::vector<dataset::SceneSegment> segments;
-  segments.reserve(scene.master.segments.size());
-  for (const auto& s : scene.master.segments) {
-    dataset::SceneSegment segment;
-    for (std::size_t i = 0; i < 4; ++i) {
-      const auto node = static_cast<std::size_t>(s[i]);
-      segment.nodes[i] = scene.master.positions[node];
-      segment.normals[i] = scene.master_normals[node];
-    }
-    segments.push_back(segment);
   }
   dataset::EnumerationSummary summary;
   out.train = dataset::sample_scene(segments, out.domain, generator, options.count, summary);
@@ -1166,7 +1202,15 @@ std::string report_markdown(const SceneStudyResult& r) {
   md << "- the scene's domain: its "
      << "master segments deformed by " << g4(r.domain.deformation)
      << " of the shortest edge, the slave within " << g4(r.domain.capture)
-     << " of it along the normal (the deck's own offsets reach " << g4(r.deck_offset) << ")";
+     << " of it along the normal (the deck's own offsets reach " << g4(r.deck_offset)
+     << (o.capture_pairs == "surface" ? ", on its surface-search pairs on quadrilaterals"
+                                      : ", on its nearest-node pairs")
+     << ")";
+  md << "; drawn from "
+     << (o.domain_states == DomainStates::kHistory
+             ? "the whole history: the deck and its " + std::to_string(r.history_increments) +
+                   " increments of `" + r.results + "`"
+             : std::string("the deck's own state"));
   if (r.surface == SurfaceKind::kGregory)
     md << ", node normals tilted by up to " << g4(r.domain.normal_tilt_tangent);
   md << ", " << g4(r.domain.boundary_fraction) << " of the foot points on the boundary; " << o.count
@@ -1217,6 +1261,7 @@ std::string report_markdown(const SceneStudyResult& r) {
                                                                  : g4(worse_mean(r.quad4_errors[i])))
        << " |\n";
   }
+  if (!r.history_markdown.empty()) md << "\n" << r.history_markdown;
   return md.str();
 }
 
@@ -1245,7 +1290,8 @@ std::string report_json(const SceneStudyResult& r) {
     << ",\n  \"long_epochs\": " << o.long_epochs
     << ",\n  \"input_features\": " << json_string(o.input_features)
     << ",\n  \"train_networks\": " << json_string(std::string(to_string(o.train_networks)))
-    << ",\n  \"sizes_tried\": [";
+    << ",\n  \"domain\": " << json_string(std::string(to_string(o.domain_states)))
+    << ",\n  \"capture_pairs\": " << json_string(o.capture_pairs) << ",\n  \"sizes_tried\": [";
   for (std::size_t i = 0; i < r.training.tried.size(); ++i) {
     const SceneNetwork& n = r.training.tried[i];
     j << (i ? ", " : "") << "{\"hidden\": " << n.hidden << ", \"epochs\": " << n.epochs
@@ -1290,7 +1336,9 @@ std::string report_json(const SceneStudyResult& r) {
                     json_number(r.quad4_errors[i].stats[1].mean_abs) + "]")
       << "}";
   }
-  j << "\n  ]\n}\n";
+  j << "\n  ]";
+  if (!r.history_json.empty()) j << ",\n  \"history\": " << r.history_json;
+  j << "\n}\n";
   return j.str();
 }
 

@@ -32,6 +32,9 @@
 //     the same reference label (1e-12) and the same answer of the plan's method and of the scene network
 //     (1e-6).
 //  7. The report (report_markdown, report_json) and the plan (plan.hpp).
+//  With --results RUN.frd (scene_history.hpp, issue 29): step 2 draws the domain from the deck and every
+//  increment of the run (DomainStates::kHistory, the default then), and after step 6 every scene network and
+//  the plan's method are judged on each increment's pairs inside a face (history.csv, a report section).
 #pragma once
 
 #include <array>
@@ -63,12 +66,30 @@ enum class TrainNetworks { kAuto, kAlways, kNever };
 /// "auto", "always" or "never"; InvalidArgument otherwise.
 [[nodiscard]] TrainNetworks train_networks_from_string(std::string_view name);
 
+/// Which states of the scene its domain (step 2) is drawn from: kRest the deck as read; kHistory the rest
+/// state and every increment of a solver's results (scene-study --results, issue 29: the union of the
+/// increments' segments, so that the network serves every state the simulation reaches); kAuto kHistory when
+/// the study has results, kRest otherwise.
+enum class DomainStates { kAuto, kRest, kHistory };
+[[nodiscard]] std::string_view to_string(DomainStates states);
+/// "auto", "rest" or "history"; InvalidArgument otherwise.
+[[nodiscard]] DomainStates domain_states_from_string(std::string_view name);
+
 /// Every policy default of the study, in one place. Each field is a key of the [scene-study] config section
 /// (scene-study --help names them). A 0 or an empty value marked "surface default" takes the surface's value
 /// (resolved()).
 struct SceneStudyOptions {
   // The scene's domain: gen-configs' own defaults (dataset::SceneDomainOptions explains each).
   dataset::SceneDomainOptions domain;
+  /// The states the domain covers (scene-study --domain); kAuto: the whole history with --results.
+  DomainStates domain_states = DomainStates::kAuto;
+  /// Whose offsets the capture covers (1.25 x the largest |gap| / shortest edge, of every state drawn):
+  /// "nearest_node" the paper's nearest-node pairs of every corner slave node, far ones too (as gen-configs
+  /// --scene --sampling random); "surface" the surface search's pairs on 4-node quadrilaterals, the pairs the
+  /// local search serves (a deck whose slave surface reaches far beyond the master, as forming-stroke's
+  /// sheet, gets a capture of several element sizes from nearest-node pairs that the surface search leaves
+  /// without a face).
+  std::string capture_pairs = "nearest_node";
   /// Configurations of the scene's domain to train from. 60000: thin, curved tool radii need samples across
   /// their width; 20000 left two CalculiX decks above the target.
   std::int64_t count = 60000;
@@ -166,6 +187,11 @@ struct SceneDomain {
 
 /// Step 2. InvalidArgument for a scene without master segments.
 [[nodiscard]] SceneDomain sample_domain(const contact::Scene& scene, SurfaceKind surface,
+                                        const SceneStudyOptions& options, const StudyLog& log = {});
+/// Step 2 over several states of one pair (DomainStates::kHistory): the segments of every state are drawn
+/// from (by area, as one scene's), and the capture covers the largest deck offset of any state. `states`
+/// non-empty, each with master segments; with one state this is the overload above.
+[[nodiscard]] SceneDomain sample_domain(const std::vector<const contact::Scene*>& states, SurfaceKind surface,
                                         const SceneStudyOptions& options, const StudyLog& log = {});
 
 // ------------------------------------------------------------------------------------------- 3. networks
@@ -281,6 +307,11 @@ struct SceneStudyResult {
   NodeOrderCheck node_orders;
   double seconds_to_plan = 0.0;
   double seconds = 0.0;
+  /// With --results (scene_history.hpp): the results file, its increments, and the history's report section
+  /// (Markdown) and summary (a JSON object), appended to report.md and report.json; empty without.
+  std::string results;
+  int history_increments = 0;
+  std::string history_markdown, history_json;
   [[nodiscard]] const MethodMeasurement& plan() const { return measured[chosen]; }
   /// The method's errors on the face pairs meet the target (max mean |error| <= target, no failure); true
   /// when there is no face pair.

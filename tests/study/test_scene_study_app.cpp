@@ -2,7 +2,10 @@
 // settings: the plan file parses; evaluate-net --plan gives, row by row, what the plan's method gives through
 // lib/search here; the plan's method reaches the target on the deck's pairs inside a face and no method the
 // study measured reaches it faster; the flat scene gets a plan without a network; a malformed plan (unknown
-// key, missing field) is refused naming the file, the line and the key.
+// key, missing field) is refused naming the file, the line and the key. With --results (issue 29): a row per
+// increment and method in history.csv, the same for the same seed, a stretched increment out of a
+// rest-trained network's domain; bad --results and --domain refused; a ccx run of make-scene's hertz-slide
+// (skipped without ccx).
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -18,6 +21,7 @@
 #include "io/network_model_file.hpp"
 #include "io/raw_configurations.hpp"
 #include "search/local_search.hpp"
+#include "study/history_fixture.hpp"
 #include "study/plan.hpp"
 
 namespace contactnn::study {
@@ -280,6 +284,128 @@ TEST(SceneStudyApp, ConfigSectionIsStrict) {
   EXPECT_NE(log.find("line 3"), std::string::npos) << log;
   EXPECT_NE(log.find("unknown key 'epoch' in [scene-study]"), std::string::npos) << log;
   EXPECT_FALSE(fs::exists(dir / "bad" / "plan.toml"));
+}
+
+// --------------------------------------------------------------------------------- --results (issue 29)
+
+/// The two blocks of study/history_fixture.hpp in `dir`: the deck and its 2-increment .frd.
+void write_two_blocks(const fs::path& dir) {
+  std::ofstream(dir / "two-blocks.inp") << fixture::kTwoBlocksDeck;
+  std::ofstream(dir / "two-blocks.frd") << fixture::two_blocks_frd();
+}
+
+std::string study_command(const fs::path& deck, const std::string& arguments, const fs::path& out) {
+  return (kBin / "apps/scene-study/scene-study").string() + " --scene '" + deck.string() +
+         "' --surface bilinear --output '" + out.string() + "' " + arguments + kSmall;
+}
+
+TEST(SceneStudyApp, ResultsAndDomainOptionsAreChecked) {
+  const fs::path dir = work_dir("history-options");
+  write_two_blocks(dir);
+  const fs::path deck = dir / "two-blocks.inp";
+  const auto refused = [&](const std::string& name, const std::string& arguments, int code,
+                           const std::string& expected) {
+    const fs::path log = dir / (name + ".log");
+    EXPECT_EQ(run(study_command(deck, arguments, dir / name), log), code) << arguments << "\n"
+                                                                          << read_file(log);
+    EXPECT_NE(read_file(log).find(expected), std::string::npos) << arguments << "\n" << read_file(log);
+    EXPECT_FALSE(fs::exists(dir / name / "plan.toml")) << arguments;
+  };
+  // A results file that does not exist: exit 2 naming it.
+  refused("missing", "--results '" + (dir / "no-such-run.frd").string() + "'", 2,
+          (dir / "no-such-run.frd").string());
+  // --domain: rest, history or auto.
+  refused("bad-domain", "--domain union --results '" + (dir / "two-blocks.frd").string() + "'", 2,
+          "--domain");
+  refused("history-alone", "--domain history", 2, "--domain history");
+  refused("bad-capture-pairs", "--capture-pairs nearest", 2, "--capture-pairs");
+  // The [scene-study] key too.
+  std::ofstream(dir / "bad.toml") << "[scene-study]\ndomain = \"everything\"\n";
+  refused("bad-config", "--config '" + (dir / "bad.toml").string() + "'", 2, "domain");
+  // A results file of another deck (its node block lacks the slave block's nodes): exit 3 naming it.
+  const std::vector<long> nodes(fixture::kTwoBlocksNodes.begin(), fixture::kTwoBlocksNodes.begin() + 8);
+  const auto all = fixture::two_blocks_coordinates();
+  std::ofstream(dir / "other.frd") << fixture::frd_text(nodes, {all.begin(), all.begin() + 8},
+                                                        {fixture::Displacements(8, {0.0, 0.0, 0.0})});
+  refused("other", "--results '" + (dir / "other.frd").string() + "'", 3, (dir / "other.frd").string());
+}
+
+TEST(SceneStudyApp, JudgesEveryIncrementOfAHistory) {
+  const fs::path dir = work_dir("history");
+  write_two_blocks(dir);
+  const fs::path out = dir / "study";
+  const std::string command = study_command(
+      dir / "two-blocks.inp",
+      "--results '" + (dir / "two-blocks.frd").string() + "' --train-networks always --sizes 4,8", out);
+  ASSERT_EQ(run(command, dir / "study.log"), 0) << command << "\n" << read_file(dir / "study.log");
+  // history.csv: each scene network tried alone and the plan's method, one row per increment.
+  const std::string csv_text = read_file(out / "history.csv");
+  const auto rows = read_csv(out / "history.csv");
+  std::map<std::string, std::vector<std::string>> increments;
+  for (const auto& r : rows) {
+    increments[r.at("method")].push_back(r.at("increment"));
+    EXPECT_EQ(r.at("domain"), "history");  // the default with --results
+    EXPECT_EQ(r.at("pairs"), "4");
+    EXPECT_TRUE(std::isfinite(std::stod(r.at("mean_abs_xi"))) &&
+                std::isfinite(std::stod(r.at("mean_abs_eta"))));
+  }
+  EXPECT_GE(increments.size(), 2u);
+  EXPECT_EQ(increments.count("network[8-4-2]"), 1u);
+  for (const auto& [method, list] : increments)
+    EXPECT_EQ(list, (std::vector<std::string>{"1", "2"})) << method;
+  const std::string report = read_file(out / "report.md");
+  EXPECT_NE(report.find("## The history: 2 increments"), std::string::npos) << report;
+  EXPECT_NE(report.find("drawn from the whole history: the deck and its 2 increments"), std::string::npos);
+  EXPECT_NE(read_file(out / "report.json").find("\"history\": {"), std::string::npos);
+  // The same study on the rest state alone: the stretched increment lies outside the networks' domain.
+  const std::string rest = study_command(dir / "two-blocks.inp",
+                                         "--results '" + (dir / "two-blocks.frd").string() +
+                                             "' --domain rest --train-networks always --sizes 4,8",
+                                         dir / "rest");
+  ASSERT_EQ(run(rest, dir / "rest.log"), 0) << rest << "\n" << read_file(dir / "rest.log");
+  int stretched = 0;
+  for (const auto& r : read_csv(dir / "rest" / "history.csv")) {
+    EXPECT_EQ(r.at("domain"), "rest");
+    if (r.at("method") == "network[8-4-2]" && r.at("increment") == "2") {
+      ++stretched;
+      EXPECT_EQ(r.at("out_of_domain"), "4");
+      EXPECT_EQ(r.at("out_of_domain_fraction"), "1");
+      EXPECT_EQ(r.at("meets_target"), "false");
+    }
+  }
+  EXPECT_EQ(stretched, 1);
+  // Deterministic for a seed: the same history.csv again.
+  ASSERT_EQ(run(command, dir / "again.log"), 0) << read_file(dir / "again.log");
+  EXPECT_EQ(read_file(out / "history.csv"), csv_text);
+  // Without --results an earlier run's history.csv is removed.
+  ASSERT_EQ(run(study_command(dir / "two-blocks.inp", "--train-networks never", out), dir / "again.log"), 0)
+      << read_file(dir / "again.log");
+  EXPECT_FALSE(fs::exists(out / "history.csv"));
+}
+
+TEST(SceneStudyApp, HistoryOfACalculixRun) {
+  // scripts/make-scene hertz-slide, small, run by ccx: a row per increment of the .frd for every method.
+  if (std::system("command -v ccx > /dev/null 2>&1") != 0) GTEST_SKIP() << "ccx (CalculiX) is not installed";
+  const fs::path dir = work_dir("calculix");
+  const std::string make = "python3 '" + (fs::path(CONTACTNN_SOURCE_DIR) / "scripts/make-scene").string() +
+                           "' hertz-slide --elements 4 --increments 2 --output '" + dir.string() + "'";
+  ASSERT_EQ(run(make, dir / "make-scene.log"), 0) << read_file(dir / "make-scene.log");
+  ASSERT_EQ(run("cd '" + dir.string() + "' && ccx -i hertz-slide", dir / "ccx.log"), 0)
+      << read_file(dir / "ccx.log");
+  const std::string command = study_command(
+      dir / "hertz-slide.inp",
+      "--results '" + (dir / "hertz-slide.frd").string() + "' --train-networks always --sizes 4",
+      dir / "study");
+  ASSERT_EQ(run(command, dir / "study.log"), 0) << command << "\n" << read_file(dir / "study.log");
+  const auto rows = read_csv(dir / "study" / "history.csv");
+  std::map<std::string, int> per_method;
+  for (const auto& r : rows) {
+    ++per_method[r.at("method")];
+    EXPECT_GT(std::stol(r.at("pairs")), 0) << r.at("method") << " increment " << r.at("increment");
+  }
+  ASSERT_FALSE(per_method.empty());
+  for (const auto& [method, n] : per_method)
+    EXPECT_EQ(n, 7) << method;  // 5 increments of the press, 2 of the slide
 }
 
 }  // namespace

@@ -1,0 +1,336 @@
+#include "study/scene_history.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+
+#include "core/error.hpp"
+#include "io/csv.hpp"
+#include "search/local_search.hpp"
+#include "search/method.hpp"
+
+namespace contactnn::study {
+
+namespace {
+
+std::string g4(double v) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%.4g", v);
+  return b;
+}
+
+std::string percent(double fraction) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%.2f%%", 100.0 * fraction);
+  return b;
+}
+
+std::string json_number(double v) {
+  if (!std::isfinite(v)) return "null";
+  char b[40];
+  std::snprintf(b, sizeof b, "%.17g", v);
+  return b;
+}
+
+std::string json_string(const std::string& s) {
+  std::string out = "\"";
+  for (const char ch : s) {
+    const auto c = static_cast<unsigned char>(ch);
+    if (ch == '"' || ch == '\\') {
+      out += '\\';
+      out += ch;
+    } else if (c < 0x20) {
+      char b[8];
+      std::snprintf(b, sizeof b, "\\u%04x", c);
+      out += b;
+    } else {
+      out += ch;
+    }
+  }
+  return out + "\"";
+}
+
+const search::NetworkModel* model_of(const std::vector<const SceneNetwork*>& networks, int index) {
+  return index >= 0 ? networks.at(static_cast<std::size_t>(index))->model.get() : nullptr;
+}
+
+}  // namespace
+
+std::vector<HistoryState> history_states(mesh::ContactModel model, const io::FrdResults& results, int pair,
+                                         const StudyLog& log) {
+  std::vector<HistoryState> states;
+  states.reserve(results.increments.size());
+  for (std::size_t i = 0; i < results.increments.size(); ++i) {
+    io::move_to_increment(model.mesh, results, i);
+    HistoryState s;
+    s.increment = results.increments[i].number;
+    s.step = results.increments[i].step;
+    s.time = results.increments[i].time;
+    s.scene = contact::make_scene(model, pair);
+    states.push_back(std::move(s));
+    if (log && ((i + 1) % 10 == 0 || i + 1 == results.increments.size())) {
+      log("history: " + std::to_string(i + 1) + " of " + std::to_string(results.increments.size()) +
+          " increments of " + results.file + " read");
+    }
+  }
+  return states;
+}
+
+bool HistoryJudgement::meets(std::size_t m, std::size_t increment) const {
+  const HistoryCell& c = cells.at(m).at(increment);
+  if (c.errors.rows == 0) return true;
+  return c.errors.failures_method == 0 && c.worse_mean() <= target &&
+         c.out_of_domain_fraction() <= kMaxOutOfDomain;
+}
+
+std::size_t HistoryJudgement::worst(std::size_t m) const {
+  std::size_t worst = 0;
+  const auto key = [&](std::size_t i) {
+    const HistoryCell& c = cells[m][i];
+    return std::pair<double, double>{static_cast<double>(c.errors.failures_method), c.worse_mean()};
+  };
+  for (std::size_t i = 1; i < cells.at(m).size(); ++i) {
+    if (key(i) > key(worst)) worst = i;
+  }
+  return worst;
+}
+
+std::string HistoryMethod::role() const {
+  if (scene && plan) return " (the scene network, the plan's method)";
+  if (scene) return " (the scene network)";
+  if (plan) return " (the plan's method)";
+  return "";
+}
+
+std::vector<HistoryMethod> history_methods(const std::vector<const SceneNetwork*>& networks, int scene,
+                                           const std::vector<MethodMeasurement>& measured,
+                                           std::size_t chosen) {
+  std::vector<HistoryMethod> out;
+  for (std::size_t k = 0; k < networks.size(); ++k) {
+    out.push_back({"network[" + networks[k]->name + "]", "network", static_cast<int>(k), false,
+                   static_cast<int>(k) == scene});
+  }
+  if (chosen < measured.size()) {
+    const MethodMeasurement& p = measured[chosen];
+    const auto same =
+        std::find_if(out.begin(), out.end(), [&](const HistoryMethod& h) { return h.name == p.name; });
+    if (same != out.end()) {
+      same->plan = true;
+    } else {
+      out.push_back({p.name, p.method, p.network, true, false});
+    }
+  }
+  return out;
+}
+
+HistoryJudgement judge_history(const std::vector<HistoryState>& states, SurfaceKind surface,
+                               const std::vector<const SceneNetwork*>& networks,
+                               const std::vector<HistoryMethod>& methods, const SceneStudyOptions& options,
+                               const StudyLog& log) {
+  HistoryJudgement j;
+  j.surface = surface;
+  j.target = options.target;
+  j.methods = methods;
+  j.cells.assign(methods.size(), {});
+  std::vector<search::LocalSearch> searches;
+  for (const HistoryMethod& m : methods) {
+    searches.emplace_back(surface, search::Method::parse(m.method), search::SearchOptions{},
+                          model_of(networks, m.network));
+  }
+  // The networks alone: which pairs lie outside their training domains.
+  std::vector<search::LocalSearch> alone;
+  for (std::size_t k = 0; k < networks.size(); ++k) {
+    alone.emplace_back(surface, search::Method::parse("network"), search::SearchOptions{},
+                       model_of(networks, static_cast<int>(k)));
+  }
+  for (const HistoryState& state : states) {
+    const ScenePairs pairs = search_pairs(state.scene, surface);
+    j.increments.push_back(state.increment);
+    j.steps.push_back(state.step);
+    j.times.push_back(state.time);
+    j.slave_nodes.push_back(static_cast<long>(state.scene.slave_ids.size()));
+    j.no_segment.push_back(pairs.result.no_segment);
+    j.locations.push_back(pairs.locations);
+    j.quad4.push_back(pairs.quad4);
+    const eval::EvaluationSet& set = pairs.face;
+    std::vector<long> out_of_domain(networks.size(), 0);
+    if (set.rows() > 0) {
+      for (std::size_t k = 0; k < networks.size(); ++k) {
+        const eval::Estimates e = eval::run_on_set(alone[k], set, options.threads);
+        out_of_domain[k] =
+            static_cast<long>(std::count(e.status.begin(), e.status.end(), Status::kOutOfDomain));
+      }
+    }
+    for (std::size_t m = 0; m < methods.size(); ++m) {
+      HistoryCell cell;
+      cell.errors.method = methods[m].name;
+      if (set.rows() > 0) {
+        cell.errors =
+            eval::compare_with_labels(methods[m].name, eval::run_on_set(searches[m], set, options.threads),
+                                      set, options.failure_box_margin, false);
+        std::vector<std::int32_t>().swap(cell.errors.converged_iterations);
+        if (methods[m].network >= 0)
+          cell.out_of_domain = out_of_domain[static_cast<std::size_t>(methods[m].network)];
+      }
+      j.cells[m].push_back(std::move(cell));
+    }
+    if (log) {
+      std::string line = "history: increment " + std::to_string(state.increment) + " (step " +
+                         std::to_string(state.step) + ", time " + g4(state.time) +
+                         "): " + std::to_string(set.rows()) + " pairs inside a face";
+      for (std::size_t m = 0; m < methods.size(); ++m) {
+        const HistoryCell& c = j.cells[m].back();
+        line += "; " + methods[m].name + " " + g4(c.worse_mean());
+        if (methods[m].network >= 0) line += " (" + percent(c.out_of_domain_fraction()) + " out of domain)";
+      }
+      log(line);
+    }
+  }
+  return j;
+}
+
+std::string history_csv(const HistoryJudgement& j) {
+  const auto names = coordinate_names(j.surface);
+  std::string text;
+  io::append_csv_row(text, {"increment",
+                            "step",
+                            "time",
+                            "method",
+                            "plan",
+                            "scene_network",
+                            "domain",
+                            "slave_nodes",
+                            "face",
+                            "edge",
+                            "vertex",
+                            "no_segment",
+                            "pairs",
+                            std::string("mean_abs_") + names[0].data(),
+                            std::string("mean_abs_") + names[1].data(),
+                            "max_abs",
+                            "failures",
+                            "out_of_domain",
+                            "out_of_domain_fraction",
+                            "meets_target"});
+  for (std::size_t m = 0; m < j.methods.size(); ++m) {
+    for (std::size_t i = 0; i < j.increments.size(); ++i) {
+      const HistoryCell& c = j.cells[m][i];
+      const bool network = j.methods[m].network >= 0;
+      io::append_csv_row(text, {std::to_string(j.increments[i]),
+                                std::to_string(j.steps[i]),
+                                io::format_double(j.times[i]),
+                                j.methods[m].name,
+                                j.methods[m].plan ? "true" : "false",
+                                j.methods[m].scene ? "true" : "false",
+                                j.domain,
+                                std::to_string(j.slave_nodes[i]),
+                                std::to_string(j.locations[i][0]),
+                                std::to_string(j.locations[i][1]),
+                                std::to_string(j.locations[i][2]),
+                                std::to_string(j.no_segment[i]),
+                                std::to_string(c.errors.rows),
+                                c.errors.rows > 0 ? io::format_double(c.errors.stats[0].mean_abs) : "",
+                                c.errors.rows > 0 ? io::format_double(c.errors.stats[1].mean_abs) : "",
+                                c.errors.rows > 0 ? io::format_double(std::max(c.errors.stats[0].max_abs,
+                                                                               c.errors.stats[1].max_abs))
+                                                  : "",
+                                std::to_string(c.errors.failures_method),
+                                network ? std::to_string(c.out_of_domain) : "",
+                                network ? io::format_double(c.out_of_domain_fraction()) : "",
+                                j.meets(m, i) ? "true" : "false"});
+    }
+  }
+  return text;
+}
+
+std::string history_markdown(const HistoryJudgement& j) {
+  const auto names = coordinate_names(j.surface);
+  std::ostringstream md;
+  if (j.increments.empty()) return "## The history: no increment\n";
+  md << "## The history: " << j.increments.size() << " increments of `" << j.results << "`\n\n";
+  md << "The deck moved to each increment (SPEC 10: the .frd's node coordinates plus its DISP), the surface "
+        "search run, and every scene network alone and the plan's method judged on the increment's pairs "
+        "inside "
+        "a 4-node quadrilateral face, against the reference: mean |error| in "
+     << names[0]
+     << " units and the fraction of those pairs outside the network's training domain. The "
+        "networks were trained on the domain of "
+     << (j.domain == "history" ? "the whole history (the segments of the rest state and of every increment)"
+                               : "the rest state (the deck as read)")
+     << ". An increment meets the target when the worse coordinate's mean |error| is at most " << g4(j.target)
+     << ", no estimate fails, and at most " << percent(kMaxOutOfDomain)
+     << " of the pairs are out of the domain. Every row is in `history.csv`.\n\n";
+  for (std::size_t m = 0; m < j.methods.size(); ++m) {
+    const HistoryMethod& method = j.methods[m];
+    long missed = 0;
+    double worst_ood = 0.0;
+    for (std::size_t i = 0; i < j.increments.size(); ++i) {
+      missed += j.meets(m, i) ? 0 : 1;
+      worst_ood = std::max(worst_ood, j.cells[m][i].out_of_domain_fraction());
+    }
+    const std::size_t w = j.worst(m);
+    const HistoryCell& c = j.cells[m][w];
+    md << "- `" << method.name << "`" << method.role() << ": worst increment " << j.increments[w]
+       << " with mean |error| " << g4(c.errors.stats[0].mean_abs) << " / " << g4(c.errors.stats[1].mean_abs)
+       << " on " << c.errors.rows << " pairs";
+    if (method.network >= 0) md << "; at most " << percent(worst_ood) << " out of domain";
+    md << "; "
+       << (missed == 0 ? std::string("target met on every increment")
+                       : "**target missed on " + std::to_string(missed) + " of " +
+                             std::to_string(j.increments.size()) + " increments**")
+       << "\n";
+  }
+  for (std::size_t m = 0; m < j.methods.size(); ++m) {
+    const HistoryMethod& method = j.methods[m];
+    md << "\n### `" << method.name << "`" << method.role() << "\n\n";
+    md << "| increment | step | time | slave nodes | face / edge / vertex | pairs inside a face | mean abs "
+       << names[0] << " | mean abs " << names[1] << " | max abs | failures | out of domain | target |\n"
+       << "|---:|---:|---:|---:|---|---:|---:|---:|---:|---:|---:|:---:|\n";
+    for (std::size_t i = 0; i < j.increments.size(); ++i) {
+      const HistoryCell& c = j.cells[m][i];
+      const bool any = c.errors.rows > 0;
+      md << "| " << j.increments[i] << " | " << j.steps[i] << " | " << g4(j.times[i]) << " | "
+         << j.slave_nodes[i] << " | " << j.locations[i][0] << " / " << j.locations[i][1] << " / "
+         << j.locations[i][2] << " | " << c.errors.rows << " | "
+         << (any ? g4(c.errors.stats[0].mean_abs) : "-") << " | "
+         << (any ? g4(c.errors.stats[1].mean_abs) : "-") << " | "
+         << (any ? g4(std::max(c.errors.stats[0].max_abs, c.errors.stats[1].max_abs)) : "-") << " | "
+         << c.errors.failures_method << " | "
+         << (method.network >= 0 && any
+                 ? std::to_string(c.out_of_domain) + " (" + percent(c.out_of_domain_fraction()) + ")"
+                 : std::string("-"))
+         << " | " << (j.meets(m, i) ? "met" : "**missed**") << " |\n";
+    }
+  }
+  return md.str();
+}
+
+std::string history_json(const HistoryJudgement& j) {
+  std::ostringstream out;
+  out << "{\"results\": " << json_string(j.results) << ", \"increments\": " << j.increments.size()
+      << ", \"domain\": " << json_string(j.domain)
+      << ", \"max_out_of_domain\": " << json_number(kMaxOutOfDomain) << ", \"methods\": [";
+  for (std::size_t m = 0; m < j.methods.size() && !j.increments.empty(); ++m) {
+    const std::size_t w = j.worst(m);
+    long missed = 0;
+    double worst_ood = 0.0;
+    for (std::size_t i = 0; i < j.increments.size(); ++i) {
+      missed += j.meets(m, i) ? 0 : 1;
+      worst_ood = std::max(worst_ood, j.cells[m][i].out_of_domain_fraction());
+    }
+    const HistoryCell& c = j.cells[m][w];
+    out << (m ? ", " : "") << "{\"method\": " << json_string(j.methods[m].name)
+        << ", \"plan\": " << (j.methods[m].plan ? "true" : "false")
+        << ", \"scene_network\": " << (j.methods[m].scene ? "true" : "false")
+        << ", \"worst_increment\": " << j.increments[w] << ", \"worst_mean_abs\": ["
+        << json_number(c.errors.stats[0].mean_abs) << ", " << json_number(c.errors.stats[1].mean_abs)
+        << "], \"worst_out_of_domain_fraction\": "
+        << (j.methods[m].network >= 0 ? json_number(worst_ood) : "null")
+        << ", \"increments_missed\": " << missed << "}";
+  }
+  out << "]}";
+  return out.str();
+}
+
+}  // namespace contactnn::study
