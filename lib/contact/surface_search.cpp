@@ -369,7 +369,6 @@ NodeSegmentPair search_one(const mesh::SurfaceMesh& master, std::span<const Vec3
   }
   double best_distance = std::numeric_limits<double>::infinity();
   projection::FaceClosestPoint best_point;
-  bool best_unverified = false;
   // A tracked node's answers, each face's in scan order (see the end of the scan).
   struct Answer {
     int face;
@@ -378,7 +377,7 @@ NodeSegmentPair search_one(const mesh::SurfaceMesh& master, std::span<const Vec3
   };
   thread_local std::vector<Answer> answers;
   answers.clear();
-  const auto consider = [&](int f, const projection::FaceClosestPoint& p, bool unverified) {
+  const auto consider = [&](int f, const projection::FaceClosestPoint& p) {
     const double tie = kTieTolerance * index.sizes[static_cast<std::size_t>(f)];
     bool better = best.segment < 0 || p.distance < best_distance - tie;
     if (!better && p.distance <= best_distance + tie) {
@@ -389,7 +388,6 @@ NodeSegmentPair search_one(const mesh::SurfaceMesh& master, std::span<const Vec3
       best.segment = f;
       best_distance = p.distance;
       best_point = p;
-      best_unverified = unverified;
     }
   };
   for (const auto& [bound, f] : candidates) {
@@ -416,23 +414,28 @@ NodeSegmentPair search_one(const mesh::SurfaceMesh& master, std::span<const Vec3
     if (p.status != Status::kOk) continue;
     ++best.candidates;
     if (hint != nullptr) answers.push_back({f, p, unverified});
-    consider(f, p, unverified);
+    consider(f, p);
   }
   // A tracked node: a warm answer on a face's boundary may hide an interior point the warm run missed, which
-  // the fresh search's grid of starts finds. The grid runs on such a face only while its answer is the best:
-  // a face's grid answer is no farther than its warm one (the same edges, and the interior), so the faces
-  // already ruled out stay out; a node leaving its face for a neighbour runs none.
-  while (best.segment >= 0 && best_unverified) {
+  // the fresh search's grid of starts finds. The grid runs on such a face while its answer is the best or
+  // within the tie band of the best (two faces' warm runs both ending on their shared edge: the one whose
+  // grid finds its interior point wins): a face's grid answer is no farther than its warm one (the same edges,
+  // and the interior), so the faces already ruled out stay out; a node leaving its face for a neighbour whose
+  // warm run ends inside runs none.
+  for (;;) {
+    bool verified = false;
     for (Answer& a : answers) {
-      if (a.face != best.segment || !a.unverified) continue;
+      if (!a.unverified || a.point.status != Status::kOk) continue;
+      if (a.point.distance > best_distance + kTieTolerance * index.sizes[static_cast<std::size_t>(a.face)]) continue;
       a.point = closest_on_face(master, normals, options, a.face, slave);
       a.unverified = false;
+      verified = true;
     }
+    if (!verified) break;
     best.segment = -1;
     best_distance = std::numeric_limits<double>::infinity();
-    best_unverified = false;
     for (const Answer& a : answers) {
-      if (a.point.status == Status::kOk) consider(a.face, a.point, a.unverified);
+      if (a.point.status == Status::kOk) consider(a.face, a.point);
     }
   }
   if (best.segment < 0 || best_distance > capture) {

@@ -33,6 +33,22 @@ bool same_answer(const contact::NodeSegmentPair& a, const contact::NodeSegmentPa
   return a.segment == b.segment && (a.point - b.point).norm() <= tol && std::abs(a.label.gap - b.label.gap) <= tol;
 }
 
+/// One answer as a report cell: status, or face, location, point and gap.
+std::string answer_cell(const contact::NodeSegmentPair& p) {
+  if (p.status != contact::PairStatus::kFound) return "no_segment";
+  static constexpr const char* kWhere[] = {"face", "edge", "vertex"};
+  char text[200];
+  std::snprintf(text, sizeof text, "face %d (%s), P (%.17g, %.17g, %.17g), gap %.17g", p.segment,
+                kWhere[static_cast<int>(p.location)], p.point.x(), p.point.y(), p.point.z(), p.label.gap);
+  return text;
+}
+
+/// A node whose tracked answer differs from the fresh one, as a Markdown table row.
+std::string difference_row(int increment, const contact::NodeSegmentPair& fresh, const contact::NodeSegmentPair& tracked) {
+  return "| " + std::to_string(increment) + " | " + std::to_string(fresh.slave_id) + " | " + answer_cell(fresh) + " | " +
+         answer_cell(tracked) + " |";
+}
+
 /// The local-search queries of one increment: the found nodes whose point lies inside a quad4 segment face, in
 /// the face's own node order (raw rows of SPEC 6), with the surface search's point as the reference.
 struct Queries {
@@ -160,7 +176,10 @@ std::vector<IncrementRow> replay(mesh::ContactModel& model, const io::FrdResults
     row.ns_tracked = tracked_seconds * per_node;
     std::vector<char> kept(fresh.size(), 0);
     for (std::size_t i = 0; i < fresh.size(); ++i) {
-      row.tracking_differences += !same_answer(fresh[i], tracked[i]);
+      if (!same_answer(fresh[i], tracked[i])) {
+        ++row.tracking_differences;
+        if (row.differences.size() < 5) row.differences.push_back(difference_row(increment.number, fresh[i], tracked[i]));
+      }
       if (fresh[i].status != contact::PairStatus::kFound) continue;
       ++row.found;
       ++row.locations[static_cast<std::size_t>(fresh[i].location)];
@@ -318,6 +337,23 @@ void write_replay_report(const std::string& directory, const std::string& title,
         fmt("%g", options.tracking.margin_relative) + " x the capture distance). Points found: " + std::to_string(found) +
         " (face " + std::to_string(locations[0]) + ", edge " + std::to_string(locations[1]) + ", vertex " +
         std::to_string(locations[2]) + "); " + std::to_string(changed) + " times a node moved to another face.\n\n";
+  if (differences > 0) {
+    md += "The first tracked answers that differ (at most 5 per increment):\n\n| increment | slave node | fresh | tracked "
+          "|\n|---|---|---|---|\n";
+    for (const IncrementRow& r : rows) {
+      for (const std::string& line : r.differences) md += line + "\n";
+    }
+    md += "\n";
+  }
+  if (rows.size() > 1) {
+    double fresh_later = 0.0, tracked_later = 0.0;
+    for (std::size_t k = 1; k < rows.size(); ++k) {
+      fresh_later += rows[k].ns_fresh * static_cast<double>(rows[k].slaves);
+      tracked_later += rows[k].ns_tracked * static_cast<double>(rows[k].slaves);
+    }
+    md += "After the first increment (whose tracked search builds every list: a fresh search and more), tracked / "
+          "fresh is " + fmt("%.3f", fresh_later > 0 ? tracked_later / fresh_later : 0.0) + ".\n\n";
+  }
   if (calculix) {
     md += "CalculiX: " + std::to_string(contacts) + " contacts (COPEN < 0) of this pair's slave nodes, " +
           std::to_string(contacts_found) + " with a point; largest |gap - COPEN| " + fmt("%.3g", calculix_largest) +

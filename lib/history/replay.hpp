@@ -51,6 +51,7 @@ struct IncrementRow {
   std::array<long, 3> locations{};  ///< face, edge, vertex
   long faces_changed = 0;           ///< found nodes whose face differs from the previous increment's
   long tracking_differences = 0;    ///< nodes whose tracked face, point (1e-12 of its face) or gap differs
+  std::vector<std::string> differences;  ///< the first few of them, each a Markdown table row (report.md)
   contact::TrackingCounts tracking;
   double ns_scene = 0.0;            ///< per slave node: nodes moved, faces, node normals, slave positions
   double ns_fresh = 0.0;            ///< per slave node: the fresh surface search
