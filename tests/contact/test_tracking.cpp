@@ -149,6 +149,39 @@ TEST(Tracking, AFaceTurningInPlaceIntoACandidateIsFound) {
   expect_same(pairs, fresh, 1);
 }
 
+TEST(Tracking, TwoWarmRunsEndingOnTheirSharedEdgeGetTheGrid) {
+  // Node 1021849 of make-large-history's 1e6-node history at increment 4: it lies over the edge x = 240 between
+  // its previous face (x 239..240, warm-started from its point of increment 3) and the next one, whose closest
+  // point is 5.4e-5 inside. Both warm runs ended on the shared edge at the same distance; the tie went to the
+  // previous face, whose grid confirmed its edge point, and the next face's interior point, 1.5e-7 nearer,
+  // was never found. A warm boundary answer within the tie band of the best now gets the grid as well.
+  // The node coordinates of the .frd (z = 0.2 sin(x / 5) cos(y / 7) to 6 digits) and the slave's (+ DISP).
+  static constexpr double kZ[2][3] = {{-1.96176e-02, -2.40847e-02, -2.75916e-02},
+                                      {-3.70158e-02, -4.54445e-02, -5.20615e-02}};
+  mesh::SurfaceMesh m = testing::grid_surface(2, 1, [](double i, double j) -> Vec3 {
+    return Vec3(239.0 + i, 254.0 + j, kZ[static_cast<int>(j)][static_cast<int>(i)]);
+  });
+  for (std::size_t q = 0; q < m.segments.size(); ++q) {
+    m.segment_faces.push_back({static_cast<int>(q), 1});
+    m.segment_element_ids.push_back(static_cast<long>(q) + 1);
+  }
+  const std::vector<Vec3> normals = mesh::node_normals(m);
+  const SearchOptions options;
+  const SurfaceSearcher searcher(m, normals, options);
+  const Vec3 slave(239.95 + 0.05, 254.65, 1.22670e-02 + -0.06);
+  std::vector<std::pair<double, int>> candidates;
+  std::vector<std::pair<std::uint32_t, double>> scratch;
+  searcher.faces_within(slave, searcher.capture(), candidates, scratch);
+  std::vector<std::pair<double, int>> fresh_candidates = candidates;
+  const NodeSegmentPair fresh = searcher.nearest(1, slave, fresh_candidates);
+  ASSERT_EQ(fresh.status, PairStatus::kFound);
+  ASSERT_EQ(fresh.segment, 1);
+  ASSERT_EQ(fresh.location, Location::kFace);
+  const FaceHint previous{0, {0.9001424304424398, 0.30042795947597628}};
+  const NodeSegmentPair tracked = searcher.nearest(1, slave, candidates, &previous);
+  expect_same({fresh}, {tracked}, 4);
+}
+
 TEST(Tracking, SameResultsForAnyThreadCount) {
   const History h = slaves(800);
   std::vector<std::vector<NodeSegmentPair>> runs;
