@@ -9,8 +9,12 @@
 #include "io/csv.hpp"
 #include "search/local_search.hpp"
 #include "search/method.hpp"
+#include "study/json_text.hpp"
 
 namespace contactnn::study {
+
+using detail::json_number;
+using detail::json_string;
 
 namespace {
 
@@ -26,30 +30,7 @@ std::string percent(double fraction) {
   return b;
 }
 
-std::string json_number(double v) {
-  if (!std::isfinite(v)) return "null";
-  char b[40];
-  std::snprintf(b, sizeof b, "%.17g", v);
-  return b;
-}
 
-std::string json_string(const std::string& s) {
-  std::string out = "\"";
-  for (const char ch : s) {
-    const auto c = static_cast<unsigned char>(ch);
-    if (ch == '"' || ch == '\\') {
-      out += '\\';
-      out += ch;
-    } else if (c < 0x20) {
-      char b[8];
-      std::snprintf(b, sizeof b, "\\u%04x", c);
-      out += b;
-    } else {
-      out += ch;
-    }
-  }
-  return out + "\"";
-}
 
 const search::NetworkModel* model_of(const std::vector<const SceneNetwork*>& networks, int index) {
   return index >= 0 ? networks.at(static_cast<std::size_t>(index))->model.get() : nullptr;

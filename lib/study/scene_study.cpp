@@ -27,8 +27,12 @@
 #include "mlp/trainer.hpp"
 #include "search/local_search.hpp"
 #include "search/method.hpp"
+#include "study/json_text.hpp"
 
 namespace contactnn::study {
+
+using detail::json_number;
+using detail::json_string;
 
 namespace {
 
@@ -1128,30 +1132,7 @@ std::string g4(double v) {
   return b;
 }
 
-std::string json_string(const std::string& s) {
-  std::string out = "\"";
-  for (const char ch : s) {
-    const auto c = static_cast<unsigned char>(ch);
-    if (ch == '"' || ch == '\\') {
-      out += '\\';
-      out += ch;
-    } else if (c < 0x20) {
-      char b[8];
-      std::snprintf(b, sizeof b, "\\u%04x", c);
-      out += b;
-    } else {
-      out += ch;
-    }
-  }
-  return out + "\"";
-}
 
-std::string json_number(double v) {
-  if (!std::isfinite(v)) return "null";
-  char b[40];
-  std::snprintf(b, sizeof b, "%.17g", v);
-  return b;
-}
 
 double worse_mean(const eval::MethodErrors& e) { return std::max(e.stats[0].mean_abs, e.stats[1].mean_abs); }
 

@@ -1,0 +1,36 @@
+// JSON text for the study's report.json (scene_study.cpp, scene_history.cpp): a string quoted and escaped, a
+// number to 17 digits (null where it is not finite: JSON has no NaN or infinity).
+#pragma once
+
+#include <cmath>
+#include <cstdio>
+#include <string>
+
+namespace contactnn::study::detail {
+
+inline std::string json_string(const std::string& s) {
+  std::string out = "\"";
+  for (const char ch : s) {
+    const auto c = static_cast<unsigned char>(ch);
+    if (ch == '"' || ch == '\\') {
+      out += '\\';
+      out += ch;
+    } else if (c < 0x20) {
+      char b[8];
+      std::snprintf(b, sizeof b, "\\u%04x", c);
+      out += b;
+    } else {
+      out += ch;
+    }
+  }
+  return out + "\"";
+}
+
+inline std::string json_number(double v) {
+  if (!std::isfinite(v)) return "null";
+  char b[40];
+  std::snprintf(b, sizeof b, "%.17g", v);
+  return b;
+}
+
+}  // namespace contactnn::study::detail
