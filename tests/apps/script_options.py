@@ -205,6 +205,13 @@ def _(ctx):
          r"run-study: --threads must be an integer", ["r"]),
         (["bash", ctx.script("run-study"), "--no-build", "--build-dir", ctx.build, "--weights", "none.h5", "--data",
           "d/data.h5", "--report", "r"], r"run-study: no network file '.*none\.h5'", ["r", "d"]),
+        (["bash", ctx.script("thread-scaling"), "--build", ctx.build, "--work", "w", "--threads", "1,x"],
+         r"thread-scaling: --threads wants integers in 1\.\.1024", ["w"]),
+        (["bash", ctx.script("thread-scaling"), "--build", ctx.build, "--work", "w", "--threads", "1,2000"],
+         r"thread-scaling: --threads wants integers in 1\.\.1024", ["w"]),
+        (["bash", ctx.script("thread-scaling"), "--build", "no-such-build", "--work", "w"],
+         r"thread-scaling: --build 'no-such-build': no such directory", ["w"]),
+        (["bash", ctx.script("thread-scaling"), "--frobnicate"], r"thread-scaling: unknown option '--frobnicate'", ["w"]),
     ]
     for command, says, absent in runs:
         ctx.expect(command, 2, says, absent=absent, within=20)
