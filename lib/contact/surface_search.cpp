@@ -210,18 +210,14 @@ projection::FaceClosestPoint closest_on_face(const mesh::SurfaceMesh& master, st
   if (master.face_type(f) == mesh::FaceType::kTri3) {
     return projection::closest_point_on_triangle(triangle_nodes(master, f), slave);
   }
-  projection::FaceClosestPoint none;
-  if (master.face_type(f) == mesh::FaceType::kQuad4) {
-    const SurfaceKind kind = kind_of(master, options, f);
-    if (const auto defect = geometry::surface_defect(face_configuration(master, normals, kind, f), kind)) none.status = *defect;
-  }
-  return with_face_surface(master, normals, options, f, none, [&](const auto& surface) {
+  // The projection at `at` (S, or S relative to a quad4's first node).
+  const auto project = [&](const auto& surface, const Vec3& at) {
     std::array<double, 2> edge_start{};
     if (start == nullptr && from_edges) {
       double nearest = std::numeric_limits<double>::infinity();
       constexpr int kEdges = std::is_same_v<std::decay_t<decltype(surface)>, geometry::QuadraticTriangle> ? 3 : 4;
       for (int e = 0; e < kEdges; ++e) {
-        const auto q = edge_point_on(surface, e, slave);
+        const auto q = edge_point_on(surface, e, at);
         if (q.distance < nearest) {
           nearest = q.distance;
           edge_start = q.param;
@@ -233,15 +229,37 @@ projection::FaceClosestPoint closest_on_face(const mesh::SurfaceMesh& master, st
       SearchOptions warm = options;
       warm.projection.warm_start = true;
       warm.projection.start = *start;
-      const projection::FaceClosestPoint p = closest_on(surface, slave, warm);
+      const projection::FaceClosestPoint p = closest_on(surface, at, warm);
       if (p.status != Status::kOk || p.location == Location::kFace) return p;
       if (unverified != nullptr) {
         *unverified = true;
         return p;
       }
     }
-    return closest_on(surface, slave, options);
-  });
+    return closest_on(surface, at, options);
+  };
+  projection::FaceClosestPoint none;
+  if (master.face_type(f) != mesh::FaceType::kQuad4) {
+    return with_face_surface(master, normals, options, f, none, [&](const auto& surface) { return project(surface, slave); });
+  }
+  // A quad4: its configuration built and checked once, and its patch built relative to its first node, as
+  // projection::closest_point_on_face would rebuild it (the same bits: it then has nothing to shift).
+  const SurfaceKind kind = kind_of(master, options, f);
+  geometry::Configuration config = face_configuration(master, normals, kind, f);
+  if (const auto defect = geometry::surface_defect(config, kind)) {
+    none.status = *defect;
+    return none;
+  }
+  const Vec3 origin = config.nodes[0];
+  if (!origin.allFinite()) {
+    return geometry::with_surface(config, kind, [&](const auto& surface) { return project(surface, slave); });
+  }
+  for (Vec3& x : config.nodes) x -= origin;
+  const Vec3 relative = slave - origin;
+  projection::FaceClosestPoint p =
+      geometry::with_surface(config, kind, [&](const auto& surface) { return project(surface, relative); });
+  if (p.status == Status::kOk) p.point += origin;
+  return p;
 }
 
 /// Parameters of corner k (A, B, C, D) of a quadrilateral face.
