@@ -198,6 +198,12 @@ def frd_reader_case(work):
     check(copy == expected, "the --lengthen-static copy:\n%s\nexpected:\n%s" % ("\n".join(copy), "\n".join(expected)))
     check(cc.prepared_deck(deck, None)[1:] == open(deck).read().splitlines()[1:], "a copy without "
           "--lengthen-static changes only the include path")
+    # --add-output: the output added to every step, the *STATIC data lines kept (a shared deck on its own steps).
+    added = cc.prepared_deck(deck, None, True)
+    expected_added = [expected[0], "*STEP", "*STATIC", "** a comment", "0.001,0.001,1e-7,0.01", "*BOUNDARY", "N1,1,3",
+                      "*NODE FILE", "U", "*CONTACT FILE", "CDIS, CSTR", "*END STEP", "*Step", "*static", "*NODE FILE",
+                      "U", "*CONTACT FILE", "CDIS, CSTR", "*end step"]
+    check(added == expected_added, "the --add-output copy:\n%s\nexpected:\n%s" % ("\n".join(added), "\n".join(expected_added)))
 
     # Usage errors: exit 2 before any work.
     stub = os.path.join(work, "stub")
@@ -208,6 +214,7 @@ def frd_reader_case(work):
                        (["--run", "--lengthen-static", "1,2,3"], "4 positive numbers"),
                        (["--run", "--lengthen-static", "1,nan,3,4"], "4 positive numbers"),
                        (["--frd", frd_file, "--lengthen-static", "1,2,3,4"], "needs --run"),
+                       (["--frd", frd_file, "--add-output"], "--add-output needs --run"),
                        (["--frd", frd_file, "--pair", "-1"], "--pair"),
                        (["--run", "--ccx-timeout", "nan"], "--ccx-timeout")):
         result = run([sys.executable, COMPARE, "--deck", deck, "--gen-configs", stub] + args, 2)
