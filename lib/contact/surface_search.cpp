@@ -601,6 +601,8 @@ SurfaceSearcher::~SurfaceSearcher() = default;
 // of two: every conversion is exact).
 double SurfaceSearcher::capture() const { return impl_->capture * impl_->unit; }
 
+double SurfaceSearcher::unit() const { return impl_->unit; }
+
 double SurfaceSearcher::lower_bound(const Vec3& slave, int face) const {
   return face_lower_bound(impl_->index, slave / impl_->unit, face) * impl_->unit;
 }

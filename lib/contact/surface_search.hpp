@@ -86,6 +86,9 @@ class SurfaceSearcher {
   SurfaceSearcher& operator=(const SurfaceSearcher&) = delete;
 
   [[nodiscard]] double capture() const;
+  /// The searcher's unit of length (working_unit of its master): lengths divided by it before a norm keep
+  /// their squares in the double range.
+  [[nodiscard]] double unit() const;
   /// |S - c_f| - r_f: no point of face f is nearer S than this.
   [[nodiscard]] double lower_bound(const Vec3& slave, int face) const;
   /// |S - c_f| - r_f alone: at most lower_bound, and it moves by at most the movement of S, c_f and r_f.

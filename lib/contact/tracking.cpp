@@ -39,6 +39,7 @@ void SurfaceTracker::step(const mesh::SurfaceMesh& master, std::span<const Vec3>
   CONTACTNN_REQUIRE(slave_ids.size() == slave_positions.size(),
                     slave_ids.size() << " slave ids for " << slave_positions.size() << " positions");
   const SurfaceSearcher searcher(master, master_normals, options_);
+  const double unit = searcher.unit();
   const std::vector<Vec3>& centres = searcher.centres();
   const std::vector<double>& radii = searcher.radii();
   const std::size_t n = slave_ids.size();
@@ -53,11 +54,13 @@ void SurfaceTracker::step(const mesh::SurfaceMesh& master, std::span<const Vec3>
     lists_.assign(n, {});
     hints_.assign(n, FaceHint{});
   } else {
+    // In the searcher's unit (exact: a power of two): a norm of world lengths near 1e-200 underflowed to 0,
+    // and a list stayed valid however far its faces had moved.
     double largest = 0.0;
     for (std::size_t f = 0; f < centres.size(); ++f) {
-      largest = std::max(largest, (centres[f] - centres_[f]).norm() + std::abs(radii[f] - radii_[f]));
+      largest = std::max(largest, ((centres[f] - centres_[f]) / unit).norm() + std::abs(radii[f] - radii_[f]) / unit);
     }
-    drift_ += largest;
+    drift_ += largest * unit;
   }
   centres_ = centres;
   radii_ = radii;
@@ -75,7 +78,7 @@ void SurfaceTracker::step(const mesh::SurfaceMesh& master, std::span<const Vec3>
     for (std::size_t i = 0; i < n; ++i) {
       const Vec3& slave = slave_positions[i];
       std::vector<std::pair<double, int>>& list = lists_[i];
-      const double moved = (slave - anchors_[i]).norm() + (drift_ - drift_at_build_[i]);
+      const double moved = ((slave - anchors_[i]) / unit).norm() * unit + (drift_ - drift_at_build_[i]);
       const bool valid = same && slave.allFinite() && anchors_[i].allFinite() && moved <= margin;
       candidates.clear();
       SurfaceSearcher::Bounds bounds = SurfaceSearcher::Bounds::kLooseSorted;

@@ -330,6 +330,21 @@ TEST(SurfaceSearch, EverySearchGivesTheUnitScalesAnswerAtScalesFrom1eMinus200To1
       std::vector<NodeSegmentPair> tracked;
       if (kind.search == GlobalSearchKind::kSurface) {
         for (int step = 0; step < 2; ++step) tracker.step(m, mesh::node_normals(m), ids, slaves, tracked);
+        // A third state, every slave node moved by 0.3 face sizes: its list stays valid by the rule only if
+        // the movement is measured (a norm of world lengths near 1e-200 underflowed to 0), and then the
+        // tracked answers are the fresh ones.
+        std::vector<Vec3> moved = slaves;
+        for (Vec3& x : moved) x += scale * Vec3(0.21, -0.21, 0.0);
+        std::vector<NodeSegmentPair> third;
+        SurfaceTracker copy = tracker;
+        copy.step(m, mesh::node_normals(m), ids, moved, third);
+        const auto fresh_moved = surface_search(m, mesh::node_normals(m), ids, moved, options);
+        for (std::size_t i = 0; i < third.size(); ++i) {
+          ASSERT_EQ(third[i].status, fresh_moved[i].status) << "moved, scale " << scale << " slave " << i;
+          if (third[i].status != PairStatus::kFound) continue;
+          EXPECT_EQ(third[i].segment, fresh_moved[i].segment) << "moved, scale " << scale << " slave " << i;
+          EXPECT_LE(((third[i].point - fresh_moved[i].point) / scale).norm(), 1e-12) << "moved, scale " << scale << " slave " << i;
+        }
       }
       for (std::size_t i = 0; i < reference.size(); ++i) {
         const std::string where = std::string(to_string(kind.surface)) + (kind.search == GlobalSearchKind::kSurface ? " surface" : " nearest-node") +
