@@ -1,5 +1,6 @@
-// JSON text for the study's report.json (scene_study.cpp, scene_history.cpp): a string quoted and escaped, a
-// number to 17 digits (null where it is not finite: JSON has no NaN or infinity).
+// Text for the study's files: a string quoted and escaped (a JSON string and, the same text, a TOML basic string:
+// report.json, plan.toml), a number to 17 digits for JSON (null where it is not finite: JSON has no NaN or
+// infinity).
 #pragma once
 
 #include <cmath>
@@ -8,6 +9,7 @@
 
 namespace contactnn::study::detail {
 
+/// `"..."` with `"` and `\` escaped and the control characters (and DEL, which TOML requires) as \u00XX.
 inline std::string json_string(const std::string& s) {
   std::string out = "\"";
   for (const char ch : s) {
@@ -15,7 +17,7 @@ inline std::string json_string(const std::string& s) {
     if (ch == '"' || ch == '\\') {
       out += '\\';
       out += ch;
-    } else if (c < 0x20) {
+    } else if (c < 0x20 || c == 0x7f) {
       char b[8];
       std::snprintf(b, sizeof b, "\\u%04x", c);
       out += b;

@@ -12,6 +12,7 @@
 
 #include "core/error.hpp"
 #include "search/method.hpp"
+#include "study/json_text.hpp"
 
 namespace contactnn::study {
 
@@ -141,24 +142,8 @@ PlanMeasurement read_measurement(const toml::table& table, std::size_t index, co
   return m;
 }
 
-/// A TOML basic string.
-std::string quoted(const std::string& text) {
-  std::string out = "\"";
-  for (const char ch : text) {
-    const auto c = static_cast<unsigned char>(ch);
-    if (ch == '"' || ch == '\\') {
-      out += '\\';
-      out += ch;
-    } else if (c < 0x20 || c == 0x7f) {
-      char buffer[8];
-      std::snprintf(buffer, sizeof buffer, "\\u%04x", c);
-      out += buffer;
-    } else {
-      out += ch;
-    }
-  }
-  return out + "\"";
-}
+/// A TOML basic string (the same text as a JSON string).
+std::string quoted(const std::string& text) { return detail::json_string(text); }
 
 /// A finite real as a TOML float that reads back to the same double.
 std::string real_text(double v) {
