@@ -103,19 +103,11 @@ std::vector<NodeSegmentPair> global_search(const mesh::SurfaceMesh& master, std:
   // In the working unit (surface_search.hpp): a copy of the master and the slave nodes where it is not 1.
   const double unit = working_unit(master);
   if (unit != 1.0) {
-    mesh::SurfaceMesh scaled = master;
-    for (Vec3& x : scaled.positions) x /= unit;
     std::vector<Vec3> slaves(slave_positions.begin(), slave_positions.end());
     for (Vec3& x : slaves) x /= unit;
-    SearchOptions o = options;
-    o.capture_distance /= unit;
-    std::vector<NodeSegmentPair> pairs = global_search(scaled, master_normals, slave_ids, slaves, o);
-    for (std::size_t i = 0; i < pairs.size(); ++i) {
-      pairs[i].point *= unit;
-      pairs[i].label.gap *= unit;
-      for (Vec3& x : pairs[i].config.nodes) x *= unit;
-      pairs[i].config.slave = slave_positions[i];
-    }
+    std::vector<NodeSegmentPair> pairs =
+        global_search(in_unit(master, unit), master_normals, slave_ids, slaves, in_unit(options, unit));
+    for (std::size_t i = 0; i < pairs.size(); ++i) to_world(pairs[i], unit, slave_positions[i]);
     return pairs;
   }
   const auto n = static_cast<long>(slave_ids.size());

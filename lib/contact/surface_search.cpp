@@ -521,6 +521,24 @@ double working_unit(const mesh::SurfaceMesh& m) {
   return exponent >= -40 && exponent <= 40 ? 1.0 : std::ldexp(1.0, exponent - 1);
 }
 
+mesh::SurfaceMesh in_unit(const mesh::SurfaceMesh& master, double unit) {
+  mesh::SurfaceMesh copy = master;
+  for (Vec3& x : copy.positions) x /= unit;
+  return copy;
+}
+
+SearchOptions in_unit(SearchOptions options, double unit) {
+  options.capture_distance /= unit;
+  return options;
+}
+
+void to_world(NodeSegmentPair& pair, double unit, const Vec3& slave) {
+  pair.point *= unit;
+  pair.label.gap *= unit;
+  for (Vec3& x : pair.config.nodes) x *= unit;
+  pair.config.slave = slave;
+}
+
 double capture_distance(const mesh::SurfaceMesh& master, const SearchOptions& options) {
   if (options.capture_distance > 0.0) return options.capture_distance;
   double largest = 0.0;
@@ -533,23 +551,6 @@ double capture_distance(const mesh::SurfaceMesh& master, const SearchOptions& op
   }
   return options.capture_relative * largest;
 }
-
-namespace {
-
-/// The master in the working unit (a copy only where it is not 1).
-std::unique_ptr<mesh::SurfaceMesh> scaled_copy(const mesh::SurfaceMesh& m, double unit) {
-  if (unit == 1.0) return nullptr;
-  auto copy = std::make_unique<mesh::SurfaceMesh>(m);
-  for (Vec3& x : copy->positions) x /= unit;
-  return copy;
-}
-
-SearchOptions scaled_options(SearchOptions o, double unit) {
-  o.capture_distance /= unit;
-  return o;
-}
-
-}  // namespace
 
 struct SurfaceSearcher::Impl {
   double unit;                                ///< world length = unit x working length
@@ -567,10 +568,10 @@ struct SurfaceSearcher::Impl {
 
   Impl(const mesh::SurfaceMesh& m, std::span<const Vec3> n, const SearchOptions& o)
       : unit(working_unit(m)),
-        scaled(scaled_copy(m, unit)),
+        scaled(unit == 1.0 ? nullptr : std::make_unique<mesh::SurfaceMesh>(in_unit(m, unit))),
         master(scaled ? *scaled : m),
         normals(n),
-        options(scaled_options(o, unit)),
+        options(in_unit(o, unit)),
         index(index_faces(master, n, options)),
         capture(capture_distance(master, options)),
         largest_radius(index.radii.empty() ? 0.0 : *std::max_element(index.radii.begin(), index.radii.end())),
@@ -663,10 +664,7 @@ NodeSegmentPair SurfaceSearcher::nearest(long slave_id, const Vec3& slave,
   NodeSegmentPair pair = search_one(impl_->master, impl_->normals, impl_->options, impl_->index, impl_->capture,
                                     slave_id, slave / unit, candidates, hint, bounds == Bounds::kLooseSorted);
   for (auto& c : candidates) c.first *= unit;
-  pair.point *= unit;
-  pair.label.gap *= unit;
-  for (Vec3& x : pair.config.nodes) x *= unit;
-  pair.config.slave = slave;
+  to_world(pair, unit, slave);
   return pair;
 }
 

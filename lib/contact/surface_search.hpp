@@ -63,6 +63,12 @@ namespace contactnn::contact {
 /// found no point for any slave node, one scaled by 1e100 put every point on an edge. Both searches answer in
 /// world units.
 [[nodiscard]] double working_unit(const mesh::SurfaceMesh& master);
+/// The working unit's conversions, exact for a power of two: the master's positions and the options' absolute
+/// lengths divided by `unit`, and an answer found in that unit back in world units (its point, gap and
+/// configuration; `slave` the world slave node).
+[[nodiscard]] mesh::SurfaceMesh in_unit(const mesh::SurfaceMesh& master, double unit);
+[[nodiscard]] SearchOptions in_unit(SearchOptions options, double unit);
+void to_world(NodeSegmentPair& pair, double unit, const Vec3& slave);
 
 /// The capture distance of `options` for `master` (world units): options.capture_distance when positive,
 /// else options.capture_relative x the largest face size (0 for a surface without faces).
