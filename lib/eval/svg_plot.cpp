@@ -47,6 +47,23 @@ std::string xml_escape(std::string_view text) {
   return out;
 }
 
+namespace {
+
+/// The document's opening: the XML declaration, the <svg> element, its title, a white page and the title text.
+std::string svg_opening(const std::string& title) {
+  std::string s;
+  s += "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n";
+  s += "<svg xmlns=\"http://www.w3.org/2000/svg\" version=\"1.1\" width=\"" + number(kWidth) + "\" height=\"" +
+       number(kHeight) + "\" viewBox=\"0 0 " + number(kWidth) + " " + number(kHeight) + "\">\n";
+  s += "  <title>" + xml_escape(title) + "</title>\n";
+  s += "  <rect x=\"0\" y=\"0\" width=\"" + number(kWidth) + "\" height=\"" + number(kHeight) + "\" fill=\"white\"/>\n";
+  s += "  <text x=\"" + number(kWidth / 2) + "\" y=\"28\" text-anchor=\"middle\" font-family=\"sans-serif\" "
+       "font-size=\"15\">" + xml_escape(title) + "</text>\n";
+  return s;
+}
+
+}  // namespace
+
 std::vector<double> nice_ticks(double lo, double hi, int target) {
   CONTACTNN_REQUIRE(std::isfinite(lo) && std::isfinite(hi) && lo < hi, "nice_ticks: bad range [" << lo << ", " << hi << "]");
   const double step = nice_ceil((hi - lo) / std::max(target, 1));
@@ -84,14 +101,7 @@ std::string histogram_svg(const Histogram& h, const PlotLabels& labels) {
   const auto x_of = [&](double x) { return kLeft + (x - h.lo) / (h.hi - h.lo) * plot_w; };
   const auto y_of = [&](double c) { return kTop + plot_h - c / y_top * plot_h; };
 
-  std::string s;
-  s += "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n";
-  s += "<svg xmlns=\"http://www.w3.org/2000/svg\" version=\"1.1\" width=\"" + number(kWidth) + "\" height=\"" +
-       number(kHeight) + "\" viewBox=\"0 0 " + number(kWidth) + " " + number(kHeight) + "\">\n";
-  s += "  <title>" + xml_escape(labels.title) + "</title>\n";
-  s += "  <rect x=\"0\" y=\"0\" width=\"" + number(kWidth) + "\" height=\"" + number(kHeight) + "\" fill=\"white\"/>\n";
-  s += "  <text x=\"" + number(kWidth / 2) + "\" y=\"28\" text-anchor=\"middle\" font-family=\"sans-serif\" "
-       "font-size=\"15\">" + xml_escape(labels.title) + "</text>\n";
+  std::string s = svg_opening(labels.title);
 
   // Bars.
   s += "  <g fill=\"#4a74b0\" stroke=\"none\">\n";
@@ -191,14 +201,7 @@ std::string line_plot_svg(const std::vector<double>& x, const std::vector<LineSe
   static const char* const kColours[] = {"#4a74b0", "#d9742b", "#3a9a4a", "#b03a3a", "#7a5ab0", "#7a6a4a",
                                          "#c05aa0", "#5a5a5a", "#a0a030", "#30a0a0"};
 
-  std::string s;
-  s += "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n";
-  s += "<svg xmlns=\"http://www.w3.org/2000/svg\" version=\"1.1\" width=\"" + number(kWidth) + "\" height=\"" +
-       number(kHeight) + "\" viewBox=\"0 0 " + number(kWidth) + " " + number(kHeight) + "\">\n";
-  s += "  <title>" + xml_escape(labels.title) + "</title>\n";
-  s += "  <rect x=\"0\" y=\"0\" width=\"" + number(kWidth) + "\" height=\"" + number(kHeight) + "\" fill=\"white\"/>\n";
-  s += "  <text x=\"" + number(kWidth / 2) + "\" y=\"28\" text-anchor=\"middle\" font-family=\"sans-serif\" "
-       "font-size=\"15\">" + xml_escape(labels.title) + "</text>\n";
+  std::string s = svg_opening(labels.title);
   // Axes and ticks.
   s += "  <g stroke=\"black\" stroke-width=\"1\" fill=\"none\">\n";
   s += "    <line x1=\"" + number(kLeft) + "\" y1=\"" + number(kTop + plot_h) + "\" x2=\"" + number(kLeft + plot_w) +
