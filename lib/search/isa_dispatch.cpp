@@ -28,7 +28,7 @@ namespace {
 #define CONTACTNN_KERNEL_ENTRIES(isa, ns)                                                                     \
   detail::IsaKernels {                                                                                        \
     isa, &detail::ns::select_bilinear_kernels, &detail::ns::select_gregory_kernels,                          \
-        &detail::ns::network_stages_bilinear, &detail::ns::network_stages_gregory                             \
+        &detail::ns::network_stages_bilinear, &detail::ns::network_stages_gregory, &detail::ns::select_face_kernels \
   }
 
 /// The variants this build holds, narrowest first.

@@ -43,6 +43,7 @@ enum class KernelIsa { kBaseline, kAvx2, kAvx512, kNative };
 namespace contactnn::search::detail {
 
 struct Plan;
+struct FacePlan;
 
 /// One variant's entry points (the functions of kernels_bilinear.cpp and kernels_gregory.cpp, in namespace
 /// detail::isa_<name>).
@@ -56,6 +57,8 @@ struct IsaKernels {
                                     std::size_t& done);
   double (*network_stages_gregory)(const NetworkModel& model, const double* raw, std::size_t count, int stage,
                                    std::size_t& done);
+  /// Fills plan.block_size and FaceSearch's kernels for plan.kind (face_kernels.cpp).
+  void (*select_face)(FacePlan& plan);
 };
 
 /// The entry points of `isa` (one this build holds: see built_kernel_isas).
@@ -73,4 +76,5 @@ struct IsaKernels {
                                  std::size_t& done);                                                           \
   double network_stages_gregory(const NetworkModel& model, const double* raw, std::size_t count, int stage,    \
                                 std::size_t& done);                                                            \
+  void select_face_kernels(FacePlan& plan);                                                                    \
   }

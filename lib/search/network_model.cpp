@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <string>
 #include <type_traits>
 
 #include "core/error.hpp"
@@ -54,18 +55,18 @@ cnn_domain domain_bounds(const geometry::TrainingDomain& domain) {
 }
 
 template <class Real>
-void NetworkModel::init(const mlp::Network<Real>& network) {
-  const int n_features = feature_count(domain_.surface);
+void NetworkModel::init(const mlp::Network<Real>& network, int inputs) {
+  const int n_features = inputs >= 0 ? inputs : feature_count(domain_.surface);
   CONTACTNN_REQUIRE_AS(InvalidArgument, network.input_count() == n_features,
-                       "a " << to_string(domain_.surface) << " network needs " << n_features
-                            << " inputs, got " << network.input_count());
+                       "a " << (inputs >= 0 ? std::string("face") : std::string(to_string(domain_.surface)))
+                            << " network needs " << n_features << " inputs, got " << network.input_count());
   CONTACTNN_REQUIRE_AS(InvalidArgument, network.output_count() == 2,
                        "a local-search network has 2 outputs, got " << network.output_count());
   for (const int width : network.layer_sizes()) {
     CONTACTNN_REQUIRE_AS(InvalidArgument, width <= kMaxWidth,
                          "layer width " << width << " exceeds NetworkModel::kMaxWidth = " << kMaxWidth);
   }
-  bounds_ = search::domain_bounds(domain_);
+  if (inputs < 0) bounds_ = search::domain_bounds(domain_);
   is_float_ = std::is_same_v<Real, float>;
   sizes_ = network.layer_sizes();
   for (int l = 0; l < network.layer_count(); ++l) offsets_.push_back(network.weight_offset(l));
@@ -109,6 +110,10 @@ NetworkModel::NetworkModel(const mlp::Network<double>& network, const geometry::
     : domain_(domain) {
   init(network);
 }
+
+NetworkModel::NetworkModel(const mlp::Network<float>& network, OtherFrame frame) { init(network, frame.inputs); }
+
+NetworkModel::NetworkModel(const mlp::Network<double>& network, OtherFrame frame) { init(network, frame.inputs); }
 
 template <class Real>
 const Real* NetworkModel::weights(int layer) const {

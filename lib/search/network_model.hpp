@@ -28,6 +28,15 @@ class NetworkModel {
   /// have 2 outputs, a layer is wider than kMaxWidth, or the domain's feature ranges have the wrong size.
   NetworkModel(const mlp::Network<float>& network, const geometry::TrainingDomain& domain);
   NetworkModel(const mlp::Network<double>& network, const geometry::TrainingDomain& domain);
+  /// A network of `inputs` features of another frame than SPEC 4's (FaceNetwork's faces): the weights, scaling
+  /// and forward pass alone; domain() and domain_bounds() are not set (the owner tests its own domain). Throws
+  /// InvalidArgument when the input count is not `inputs` (at most kMaxWidth), it does not have 2 outputs, or a
+  /// layer is wider than kMaxWidth.
+  struct OtherFrame {
+    int inputs;
+  };
+  NetworkModel(const mlp::Network<float>& network, OtherFrame frame);
+  NetworkModel(const mlp::Network<double>& network, OtherFrame frame);
 
   [[nodiscard]] SurfaceKind surface() const { return domain_.surface; }
   /// True when the forward pass runs in float.
@@ -96,8 +105,9 @@ class NetworkModel {
   [[nodiscard]] const cnn_domain& domain_bounds() const { return bounds_; }
 
  private:
+  /// inputs < 0: feature_count(domain_.surface), and the domain's bounds computed.
   template <class Real>
-  void init(const mlp::Network<Real>& network);
+  void init(const mlp::Network<Real>& network, int inputs = -1);
 
   geometry::TrainingDomain domain_;
   bool is_float_ = true;

@@ -1,0 +1,44 @@
+// FaceSearch's block kernels (face_search_kernel.hpp), compiled once per instruction-set variant
+// (lib/search/CMakeLists.txt, isa_dispatch.hpp), which names the namespace of the entry point.
+#include "search/face_search_kernel.hpp"
+
+#ifndef CONTACTNN_KERNEL_ISA
+#error "face_kernels.cpp is compiled once per variant by lib/search/CMakeLists.txt, which defines CONTACTNN_KERNEL_ISA"
+#endif
+
+CONTACTNN_DECLARE_KERNEL_ISA(CONTACTNN_KERNEL_ISA)
+
+namespace contactnn::search::detail {
+namespace {
+
+template <int kFace>
+void select(FacePlan& plan) {
+  // 32 lanes as LocalSearch's Newton kernels and float networks; 16 for Newton to convergence (a block runs
+  // until its slowest lane has converged) and double networks.
+  const bool narrow = plan.method.to_convergence;
+  if (narrow) {
+    plan.block_size = 16;
+    plan.block_f = &face_block<kFace, 16, float>;
+    plan.block_d = &face_block<kFace, 16, double>;
+  } else {
+    plan.block_size = 32;
+    plan.block_f = &face_block<kFace, 32, float>;
+    plan.block_d = &face_block<kFace, 32, double>;
+  }
+  select_face_single_kernels(plan);
+}
+
+}  // namespace
+}  // namespace contactnn::search::detail
+
+namespace contactnn::search::detail::CONTACTNN_KERNEL_ISA {
+
+void select_face_kernels(FacePlan& plan) {
+  switch (plan.kind) {
+    case FaceKind::kTri3: select<0>(plan); break;
+    case FaceKind::kTri6: select<1>(plan); break;
+    case FaceKind::kQuad8: select<2>(plan); break;
+  }
+}
+
+}  // namespace contactnn::search::detail::CONTACTNN_KERNEL_ISA
