@@ -56,6 +56,9 @@
 #include "study/plan.hpp"
 #include "study/scene_history.hpp"
 #include "study/scene_study.hpp"
+#include "study/face_study.hpp"
+#include "io/face_network_file.hpp"
+#include "search/face_search.hpp"
 
 namespace {
 
@@ -118,6 +121,75 @@ void write_plan_network(const fs::path& path, const study::SceneNetwork& n, cons
   io::write_network(path, *n.network, n.domain, p);
 }
 
+
+/// --face's --sizes: comma-separated sizes, each one hidden layer (48) or two (48x48).
+std::vector<std::vector<int>> parse_face_sizes(const std::string& text) {
+  std::vector<std::vector<int>> sizes;
+  std::stringstream in(text);
+  std::string item;
+  while (std::getline(in, item, ',')) {
+    std::vector<int> layers;
+    std::stringstream layer_text(item);
+    std::string layer;
+    while (std::getline(layer_text, layer, 'x')) {
+      const std::vector<int> one = parse_sizes(layer);
+      layers.insert(layers.end(), one.begin(), one.end());
+    }
+    CONTACTNN_REQUIRE_AS(InvalidArgument, layers.size() == 1 || layers.size() == 2,
+                         "--sizes with --face: each size is one layer (48) or two (48x48), got " << quote_text(text));
+    sizes.push_back(layers);
+  }
+  CONTACTNN_REQUIRE_AS(InvalidArgument, !sizes.empty(), "--sizes: no size in " << quote_text(text));
+  return sizes;
+}
+
+/// scene-study --face: the study of the pair's quadratic faces (lib/study/face_study.hpp). Writes report.md and,
+/// when the chosen method uses one, face-network.h5 (io::write_face_network).
+int run_face_mode(const std::string& scene_path, int pair, search::FaceKind kind, const study::FaceStudyOptions& f,
+                  const std::string& output, bool check_only, bool quiet, const std::string& command_line) {
+  const fs::path dir(output);
+  CONTACTNN_REQUIRE_AS(InvalidArgument, !fs::exists(dir) || fs::is_directory(dir),
+                       "--output '" << output << "' is a file, not a directory");
+  fs::create_directories(dir);
+  for (const char* name : {"report.md", "face-network.h5"}) io::require_writable(dir / name);
+  if (check_only) return 0;
+  const auto say = [&](const std::string& line) {
+    if (!quiet) std::printf("  %s\n", line.c_str()), std::fflush(stdout);
+  };
+  if (!quiet) std::printf("scene-study: %s pair %d, %s faces\n", scene_path.c_str(), pair, std::string(search::to_string(kind)).c_str());
+  const mesh::ContactModel model = io::read_inp_deck(scene_path);
+  const contact::Scene scene = contact::make_scene(model, pair);
+  const study::FacePairs probe = study::face_pairs(scene, kind);
+  if (probe.faces == 0 || probe.pairs.size() == 0) {
+    std::fprintf(stderr, "scene-study: pair %d of %s has %d %s faces and %zu slave nodes inside them: nothing to study\n",
+                 pair, scene_path.c_str(), probe.faces, std::string(search::to_string(kind)).c_str(), probe.pairs.size());
+    return 1;
+  }
+  const study::FaceStudy st = study::run_face_study(scene, kind, f, say);
+  std::string report = study::face_study_markdown(st, scene_path, pair);
+  report += "\nCommand: `" + command_line + "`\n";
+  const fs::path network_file = dir / "face-network.h5";
+  int network = st.chosen >= 0 ? st.methods[static_cast<std::size_t>(st.chosen)].network : -1;
+  if (network >= 0) {
+    const study::FaceNetworkResult& n = st.networks[static_cast<std::size_t>(network)];
+    io::write_face_network(network_file, kind, *n.network, n.feature_min, n.feature_max,
+                           "scene-study --face " + std::string(search::to_string(kind)) + ": pair " + std::to_string(pair) +
+                               " of " + scene_path + ", " + n.name + ", " + std::to_string(n.epochs) + " epochs");
+  } else {
+    fs::remove(network_file);  // an earlier run's: this choice uses none
+  }
+  io::write_text_atomically(dir / "report.md", report);
+  if (st.chosen >= 0) {
+    const study::FaceMethodResult& c = st.methods[static_cast<std::size_t>(st.chosen)];
+    std::printf("scene-study: %s faces: %s, held-out effective mean |error| %.4g (target %g), pairs %.4g, %.1f ns/query; %.1f s\n",
+                std::string(search::to_string(kind)).c_str(), c.name.c_str(), c.heldout_effective, f.target, c.pairs_mean,
+                c.batched_ns, st.seconds);
+  } else {
+    std::printf("scene-study: %s faces: no method reaches the target %g; %.1f s\n", std::string(search::to_string(kind)).c_str(),
+                f.target, st.seconds);
+  }
+  return 0;
+}
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -130,7 +202,7 @@ int main(int argc, char** argv) {
 
   // 1. Options. Every default lives in study::SceneStudyOptions; flags only map onto it.
   study::SceneStudyOptions o;
-  std::string scene_path, output, surface_name, sizes, results_path,
+  std::string scene_path, output, surface_name, face_name, sizes, results_path,
       train_networks = std::string(study::to_string(o.train_networks)),
       domain_states = std::string(study::to_string(o.domain_states));
   int pair = 0;
@@ -138,9 +210,12 @@ int main(int argc, char** argv) {
   app.add_option("--scene", scene_path, "the deck (.inp, SPEC 7)")->required()->check(CLI::ExistingFile);
   app.add_option("--pair", pair, "the *CONTACT PAIR data line, counted from 0")
       ->transform(cli::integer_in(0, 1000000));
-  app.add_option("--surface", surface_name, "bilinear or gregory")
-      ->required()
+  app.add_option("--surface", surface_name, "bilinear or gregory (required unless --face)")
       ->check(CLI::IsMember({"bilinear", "gregory"}));
+  app.add_option("--face", face_name,
+                 "tri6 or quad8: study the pair's quadratic master faces of that type instead (FaceSearch's "
+                 "methods, face networks; lib/study/face_study.hpp); --sizes then takes layers as 48 or 48x48")
+      ->check(CLI::IsMember({"tri6", "quad8"}));
   app.add_option("--output", output, "directory of the plan, the network, the pairs and the report")
       ->required();
   app.add_option("--results", results_path,
@@ -212,6 +287,28 @@ int main(int argc, char** argv) {
     const auto start = Clock::now();
     // 2. The options resolved for the surface, and the output directory made and checked before any work.
     if (o.threads > 0) omp_set_num_threads(o.threads);
+    if (!face_name.empty()) {
+      CONTACTNN_REQUIRE_AS(InvalidArgument, results_path.empty(), "--face: --results is not supported yet");
+      study::FaceStudyOptions f;
+      f.count = o.count;
+      f.heldout = std::max<std::int64_t>(100, o.count / 4);
+      f.seed = o.seed;
+      if (app.count("--epochs") > 0) f.epochs = o.epochs;
+      if (o.target > 0.0) f.target = o.target;
+      f.margin = o.margin;
+      f.threads = o.threads;
+      if (app.count("--deformation") > 0) f.deformation = o.domain.deformation;
+      if (app.count("--capture") > 0) f.capture = o.domain.capture;
+      if (app.count("--boundary-fraction") > 0) f.boundary_fraction = o.domain.boundary_fraction;
+      if (app.count("--input-quantile") > 0) f.input_quantile = o.input_quantile;
+      if (app.count("--timing-queries") > 0) f.timing_queries = o.timing_queries;
+      if (!o.methods.empty()) f.methods = o.methods;
+      if (app.count("--network-methods") > 0) f.network_methods = o.network_methods;
+      if (!sizes.empty()) f.sizes = parse_face_sizes(sizes);
+      return run_face_mode(scene_path, pair, search::face_kind_from_string(face_name), f, output, check_only, quiet,
+                           join_command_line(argc, argv));
+    }
+    CONTACTNN_REQUIRE_AS(InvalidArgument, !surface_name.empty(), "--surface (bilinear or gregory) or --face is required");
     const SurfaceKind surface = surface_from_string(surface_name);
     if (!sizes.empty()) o.sizes = parse_sizes(sizes);
     o.train_networks = study::train_networks_from_string(train_networks);

@@ -51,105 +51,30 @@ constexpr const char* kActivationText = "O = 1 / (1 + exp(-2 U / U0)), U = sum_i
 }  // namespace
 
 template <class Real>
-std::unique_ptr<AtomicOutput> write_network_uncommitted(const std::filesystem::path& path, const mlp::Network<Real>& network,
-                   const geometry::TrainingDomain& domain, const NetworkProvenance& provenance,
-                   const mlp::TrainingState<Real>* checkpoint) {
-  for (Real p : network.parameters()) {
-    CONTACTNN_REQUIRE_AS(NumericalError, std::isfinite(static_cast<double>(p)),
-                         "refusing to write a network with a non-finite parameter to '" << path.string() << "'");
+void write_network_layers(Hdf5File& file, const mlp::Network<Real>& network) {
+  const auto& sizes = network.layer_sizes();
+  file.write_attribute("/", "u0", network.u0());
+  file.write_attribute("/", "activation", std::string(kActivationText));
+  file.write_vector("architecture/layer_sizes", std::vector<std::int32_t>(sizes.begin(), sizes.end()));
+  for (int l = 0; l < network.layer_count(); ++l) {
+    const std::string group = "layers/" + std::to_string(l);
+    MatrixRM<double> w(sizes[l + 1], sizes[l]);
+    for (Eigen::Index k = 0; k < w.size(); ++k) w.data()[k] = static_cast<double>(network.weights(l)[k]);
+    file.write_matrix(group + "/weights", w);
+    file.write_vector(group + "/thresholds", to_double(network.thresholds(l), static_cast<std::size_t>(sizes[l + 1])));
   }
-  auto out = std::make_unique<AtomicOutput>(path);
-  {
-    Hdf5File file(out->write_path(), Hdf5File::Mode::kCreate, path);
-    const auto& sizes = network.layer_sizes();
-    file.write_attribute("/", "kind", std::string(kNetworkFileKind));
-    file.write_attribute("/", "schema_version", std::int64_t{kNetworkSchemaVersion});
-    file.write_attribute("/", "surface", std::string(to_string(domain.surface)));
-    file.write_attribute("/", "real_type", std::string(std::is_same_v<Real, float> ? "float32" : "float64"));
-    file.write_attribute("/", "u0", network.u0());
-    file.write_attribute("/", "activation", std::string(kActivationText));
-    file.write_attribute("/", "config", provenance.config_toml);
-    file.write_attribute("/", "seed", static_cast<std::int64_t>(provenance.seed));
-    file.write_attribute("/", "dataset", provenance.dataset_path);
-    file.write_attribute("/", "dataset_checksum", provenance.dataset_checksum);
-    file.write_attribute("/", "training_mode", provenance.training_mode);
-    file.write_attribute("/", "training_patterns", provenance.training_patterns);
-    file.write_attribute("/", "validation_patterns", provenance.validation_patterns);
-    file.write_attribute("/", "epochs_run", provenance.epochs_run);
-    file.write_attribute("/", "best_epoch", provenance.best_epoch);
-    file.write_attribute("/", "training_loss", provenance.training_loss);
-    file.write_attribute("/", "validation_loss", provenance.validation_loss);
-
-    file.write_vector("architecture/layer_sizes", std::vector<std::int32_t>(sizes.begin(), sizes.end()));
-    for (int l = 0; l < network.layer_count(); ++l) {
-      const std::string group = "layers/" + std::to_string(l);
-      MatrixRM<double> w(sizes[l + 1], sizes[l]);
-      for (Eigen::Index k = 0; k < w.size(); ++k) w.data()[k] = static_cast<double>(network.weights(l)[k]);
-      file.write_matrix(group + "/weights", w);
-      file.write_vector(group + "/thresholds", to_double(network.thresholds(l), static_cast<std::size_t>(sizes[l + 1])));
-    }
-    const mlp::Scaling& s = network.scaling();
-    file.write_attribute("/", "input_features", std::string(to_string(s.input_features)));
-    file.write_vector("scaling/input_min", s.input_min);
-    file.write_vector("scaling/input_max", s.input_max);
-    file.write_vector("scaling/output_min", s.output_min);
-    file.write_vector("scaling/output_max", s.output_max);
-    file.write_attribute("scaling/output_min", "target_low", s.target_low);
-    file.write_attribute("scaling/output_min", "target_high", s.target_high);
-    write_domain(file, "domain", domain);
-
-    if (checkpoint != nullptr) {
-      const std::size_t n = network.parameter_count();
-      CONTACTNN_REQUIRE(checkpoint->velocity.size() == n && checkpoint->best_parameters.size() == n,
-                        "checkpoint state does not match the network's " << n << " parameters");
-      file.write_vector("checkpoint/velocity", to_double(checkpoint->velocity.data(), n));
-      file.write_vector("checkpoint/best_parameters", to_double(checkpoint->best_parameters.data(), n));
-      std::vector<std::int64_t> rng(4);
-      for (int k = 0; k < 4; ++k) rng[k] = std::bit_cast<std::int64_t>(checkpoint->rng[k]);
-      file.write_vector("checkpoint/rng_state", rng);
-      const std::string obj = "checkpoint/velocity";
-      file.write_attribute(obj, "epoch", std::int64_t{checkpoint->epoch});
-      file.write_attribute(obj, "best_epoch", std::int64_t{checkpoint->best_epoch});
-      file.write_attribute(obj, "best_validation_loss", checkpoint->best_validation_loss);
-      file.write_attribute(obj, "training_loss", checkpoint->training_loss);
-      file.write_attribute(obj, "validation_loss", checkpoint->validation_loss);
-    }
-    file.close();
-  }
-  return out;
+  const mlp::Scaling& s = network.scaling();
+  file.write_attribute("/", "input_features", std::string(to_string(s.input_features)));
+  file.write_vector("scaling/input_min", s.input_min);
+  file.write_vector("scaling/input_max", s.input_max);
+  file.write_vector("scaling/output_min", s.output_min);
+  file.write_vector("scaling/output_max", s.output_max);
+  file.write_attribute("scaling/output_min", "target_low", s.target_low);
+  file.write_attribute("scaling/output_min", "target_high", s.target_high);
 }
 
 template <class Real>
-void write_network(const std::filesystem::path& path, const mlp::Network<Real>& network,
-                   const geometry::TrainingDomain& domain, const NetworkProvenance& provenance,
-                   const mlp::TrainingState<Real>* checkpoint) {
-  write_network_uncommitted(path, network, domain, provenance, checkpoint)->commit();
-}
-
-namespace {
-std::string read_network_real_type(const Hdf5File& file) {
-  const std::string real_type = file.read_string_attribute("/", "real_type");
-  CONTACTNN_REQUIRE_AS(FormatError, real_type == "float32" || real_type == "float64",
-                       "'" << file.path().string() << "': real_type is " << quote_text(real_type)
-                           << ", expected 'float32' or 'float64'");
-  return real_type;
-}
-}  // namespace
-
-std::string read_network_real_type(const std::filesystem::path& path) {
-  const Hdf5File file(path, Hdf5File::Mode::kRead);
-  require_file_kind(file, kNetworkFileKind, kNetworkSchemaVersion);
-  return read_network_real_type(file);
-}
-
-template <class Real>
-TrainedNetwork<Real> read_network(const std::filesystem::path& path) {
-  const Hdf5File file(path, Hdf5File::Mode::kRead);
-  const std::string name = path.string();
-  require_file_kind(file, kNetworkFileKind, kNetworkSchemaVersion);
-  // What the evaluation code computes: the sigmoid of Eq 12 in float or double. A file that says it is
-  // something else is refused rather than evaluated as if it were this.
-  (void)read_network_real_type(file);
+mlp::Network<Real> read_network_layers(const Hdf5File& file, const std::string& name) {
   const std::string activation = file.read_string_attribute("/", "activation");
   CONTACTNN_REQUIRE_AS(FormatError, activation == kActivationText,
                        "'" << name << "': activation is " << quote_text(activation)
@@ -208,6 +133,95 @@ TrainedNetwork<Real> read_network(const std::filesystem::path& path) {
     CONTACTNN_REQUIRE_AS(FormatError, std::isfinite(static_cast<double>(p)),
                          "'" << name << "': a network parameter is not finite");
   }
+  return network;
+}
+
+
+template <class Real>
+std::unique_ptr<AtomicOutput> write_network_uncommitted(const std::filesystem::path& path, const mlp::Network<Real>& network,
+                   const geometry::TrainingDomain& domain, const NetworkProvenance& provenance,
+                   const mlp::TrainingState<Real>* checkpoint) {
+  for (Real p : network.parameters()) {
+    CONTACTNN_REQUIRE_AS(NumericalError, std::isfinite(static_cast<double>(p)),
+                         "refusing to write a network with a non-finite parameter to '" << path.string() << "'");
+  }
+  auto out = std::make_unique<AtomicOutput>(path);
+  {
+    Hdf5File file(out->write_path(), Hdf5File::Mode::kCreate, path);
+    file.write_attribute("/", "kind", std::string(kNetworkFileKind));
+    file.write_attribute("/", "schema_version", std::int64_t{kNetworkSchemaVersion});
+    file.write_attribute("/", "surface", std::string(to_string(domain.surface)));
+    file.write_attribute("/", "real_type", std::string(std::is_same_v<Real, float> ? "float32" : "float64"));
+    file.write_attribute("/", "config", provenance.config_toml);
+    file.write_attribute("/", "seed", static_cast<std::int64_t>(provenance.seed));
+    file.write_attribute("/", "dataset", provenance.dataset_path);
+    file.write_attribute("/", "dataset_checksum", provenance.dataset_checksum);
+    file.write_attribute("/", "training_mode", provenance.training_mode);
+    file.write_attribute("/", "training_patterns", provenance.training_patterns);
+    file.write_attribute("/", "validation_patterns", provenance.validation_patterns);
+    file.write_attribute("/", "epochs_run", provenance.epochs_run);
+    file.write_attribute("/", "best_epoch", provenance.best_epoch);
+    file.write_attribute("/", "training_loss", provenance.training_loss);
+    file.write_attribute("/", "validation_loss", provenance.validation_loss);
+
+    write_network_layers(file, network);
+    write_domain(file, "domain", domain);
+
+    if (checkpoint != nullptr) {
+      const std::size_t n = network.parameter_count();
+      CONTACTNN_REQUIRE(checkpoint->velocity.size() == n && checkpoint->best_parameters.size() == n,
+                        "checkpoint state does not match the network's " << n << " parameters");
+      file.write_vector("checkpoint/velocity", to_double(checkpoint->velocity.data(), n));
+      file.write_vector("checkpoint/best_parameters", to_double(checkpoint->best_parameters.data(), n));
+      std::vector<std::int64_t> rng(4);
+      for (int k = 0; k < 4; ++k) rng[k] = std::bit_cast<std::int64_t>(checkpoint->rng[k]);
+      file.write_vector("checkpoint/rng_state", rng);
+      const std::string obj = "checkpoint/velocity";
+      file.write_attribute(obj, "epoch", std::int64_t{checkpoint->epoch});
+      file.write_attribute(obj, "best_epoch", std::int64_t{checkpoint->best_epoch});
+      file.write_attribute(obj, "best_validation_loss", checkpoint->best_validation_loss);
+      file.write_attribute(obj, "training_loss", checkpoint->training_loss);
+      file.write_attribute(obj, "validation_loss", checkpoint->validation_loss);
+    }
+    file.close();
+  }
+  return out;
+}
+
+template <class Real>
+void write_network(const std::filesystem::path& path, const mlp::Network<Real>& network,
+                   const geometry::TrainingDomain& domain, const NetworkProvenance& provenance,
+                   const mlp::TrainingState<Real>* checkpoint) {
+  write_network_uncommitted(path, network, domain, provenance, checkpoint)->commit();
+}
+
+namespace {
+std::string read_network_real_type(const Hdf5File& file) {
+  const std::string real_type = file.read_string_attribute("/", "real_type");
+  CONTACTNN_REQUIRE_AS(FormatError, real_type == "float32" || real_type == "float64",
+                       "'" << file.path().string() << "': real_type is " << quote_text(real_type)
+                           << ", expected 'float32' or 'float64'");
+  return real_type;
+}
+}  // namespace
+
+std::string read_network_real_type(const std::filesystem::path& path) {
+  const Hdf5File file(path, Hdf5File::Mode::kRead);
+  require_file_kind(file, kNetworkFileKind, kNetworkSchemaVersion);
+  return read_network_real_type(file);
+}
+
+template <class Real>
+TrainedNetwork<Real> read_network(const std::filesystem::path& path) {
+  const Hdf5File file(path, Hdf5File::Mode::kRead);
+  const std::string name = path.string();
+  require_file_kind(file, kNetworkFileKind, kNetworkSchemaVersion);
+  // What the evaluation code computes: the sigmoid of Eq 12 in float or double. A file that says it is
+  // something else is refused rather than evaluated as if it were this.
+  (void)read_network_real_type(file);
+  mlp::Network<Real> network = read_network_layers<Real>(file, name);
+  const auto n_in = static_cast<std::size_t>(network.input_count());
+  const std::string arch = layers_text(network.layer_sizes());
 
   geometry::TrainingDomain domain = read_domain(file, "domain");
   const std::string surface = file.read_string_attribute("/", "surface");
@@ -313,4 +327,11 @@ template TrainedNetwork<double> read_network(const std::filesystem::path&);
 template mlp::TrainingState<float> read_training_state(const std::filesystem::path&, const mlp::Network<float>&);
 template mlp::TrainingState<double> read_training_state(const std::filesystem::path&, const mlp::Network<double>&);
 
+}  // namespace contactnn::io
+
+namespace contactnn::io {
+template void write_network_layers(Hdf5File&, const mlp::Network<float>&);
+template void write_network_layers(Hdf5File&, const mlp::Network<double>&);
+template mlp::Network<float> read_network_layers(const Hdf5File&, const std::string&);
+template mlp::Network<double> read_network_layers(const Hdf5File&, const std::string&);
 }  // namespace contactnn::io

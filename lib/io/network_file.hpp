@@ -15,6 +15,16 @@
 
 namespace contactnn::io {
 
+class Hdf5File;
+
+/// The network itself in an open file (u0, activation, /architecture, /layers, /scaling, input_features): the
+/// part of the network file above shared with other files of networks (face_network_file.hpp). Reading refuses
+/// (FormatError naming `name`) another activation, inconsistent sizes and non-finite parameters.
+template <class Real>
+void write_network_layers(Hdf5File& file, const mlp::Network<Real>& network);
+template <class Real>
+[[nodiscard]] mlp::Network<Real> read_network_layers(const Hdf5File& file, const std::string& name);
+
 /// Where a network came from. Stored as root attributes.
 struct NetworkProvenance {
   std::string config_toml;       ///< effective train-net configuration

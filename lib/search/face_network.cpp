@@ -9,7 +9,7 @@
 
 namespace contactnn::search {
 
-bool face_canonical_form(FaceKind kind, const double* raw, double* features, int* order) {
+bool face_canonical_form(FaceKind kind, const double* raw, double* features, int* order, double* base) {
   switch (kind) {
     case FaceKind::kTri3: {
       // A flat triangle's frame (for completeness): its corners' as a tri6 with mid-side nodes at the edges'
@@ -20,10 +20,10 @@ bool face_canonical_form(FaceKind kind, const double* raw, double* features, int
         for (int c = 0; c < 3; ++c) x[9 + 3 * e + c] = 0.5 * (raw[3 * e + c] + raw[3 * ((e + 1) % 3) + c]);
       }
       for (int c = 0; c < 3; ++c) x[18 + c] = raw[9 + c];
-      return detail::face_canonical_lane<1>(x, features, order);
+      return detail::face_canonical_lane<1>(x, features, order, base);
     }
-    case FaceKind::kTri6: return detail::face_canonical_lane<1>(raw, features, order);
-    case FaceKind::kQuad8: return detail::face_canonical_lane<2>(raw, features, order);
+    case FaceKind::kTri6: return detail::face_canonical_lane<1>(raw, features, order, base);
+    case FaceKind::kQuad8: return detail::face_canonical_lane<2>(raw, features, order, base);
   }
   return false;
 }

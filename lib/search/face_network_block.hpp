@@ -5,6 +5,7 @@
 
 #include <cmath>
 
+#include "search/closed_form_block.hpp"
 #include "search/face_block.hpp"
 #include "search/face_network.hpp"
 #include "search/network_block.hpp"
@@ -12,10 +13,11 @@
 namespace contactnn::search::detail {
 
 /// The canonical form of one query: x holds its raw values (nodes in the caller's order, then S). Writes the
-/// features and the caller's corner at each canonical slot; false where there is no frame (see
+/// features, the caller's corner at each canonical slot and `base`, the corner facet's closed form of S in the
+/// canonical parametrisation (what the network corrects); false where there is no frame (see
 /// face_canonical_form).
 template <int kFace>
-CONTACTNN_SEARCH_INLINE bool face_canonical_lane(const double* x, double* features, int* order) {
+CONTACTNN_SEARCH_INLINE bool face_canonical_lane(const double* x, double* features, int* order, double* base) {
   using T = FaceTraits<kFace>;
   constexpr int kC = T::kTriangle ? 3 : 4;
   const double* s = x + 3 * T::kNodes;
@@ -61,25 +63,54 @@ CONTACTNN_SEARCH_INLINE bool face_canonical_lane(const double* x, double* featur
   ey[0] = ez[1] * ex[2] - ez[2] * ex[1];
   ey[1] = ez[2] * ex[0] - ez[0] * ex[2];
   ey[2] = ez[0] * ex[1] - ez[1] * ex[0];
-  const auto frame = [&](const double* p, double* out, int components) {
+  // Every node in the frame (A at the origin, B at (1, 0, 0), the last corner in the xy-plane).
+  const auto frame = [&](const double* p, double* out) {
     const double d[3] = {p[0] - a[0], p[1] - a[1], p[2] - a[2]};
-    const double* axes[3] = {ex, ey, ez};
-    for (int k = 0; k < components; ++k) out[k] = (d[0] * axes[k][0] + d[1] * axes[k][1] + d[2] * axes[k][2]) * inv;
+    out[0] = (d[0] * ex[0] + d[1] * ex[1] + d[2] * ex[2]) * inv;
+    out[1] = (d[0] * ey[0] + d[1] * ey[1] + d[2] * ey[2]) * inv;
+    out[2] = (d[0] * ez[0] + d[1] * ez[1] + d[2] * ez[2]) * inv;
   };
+  double corner[4][3], middle[4][3], slave[3];
+  for (int j = 0; j < kC; ++j) frame(x + 3 * order[j], corner[j]);
+  for (int j = 0; j < kC; ++j) frame(x + 3 * mid(j), middle[j]);
+  frame(s, slave);
+  // The corner facet's closed form of S: the triangle's (r, s) of S's projection on its plane, or the quad's
+  // corners as a bilinear facet (closed_form_lane), in the canonical parametrisation.
+  if constexpr (T::kTriangle) {
+    const double yc = corner[2][1];
+    base[1] = slave[1] / yc;
+    base[0] = slave[0] - base[1] * corner[2][0];
+  } else {
+    double a0[3], a1[3], a2[3], a3[3];
+    for (int c = 0; c < 3; ++c) {
+      const double pa = corner[0][c] - slave[c], pb = corner[1][c] - slave[c], pc = corner[2][c] - slave[c],
+                   pd = corner[3][c] - slave[c];
+      a0[c] = 0.25 * (pa + pb + pc + pd);
+      a1[c] = 0.25 * (-pa + pb + pc - pd);
+      a2[c] = 0.25 * (-pa - pb + pc + pd);
+      a3[c] = 0.25 * (pa - pb + pc - pd);
+    }
+    bool fold = false, degenerate = false;
+    closed_form_lane(a0, a1, a2, a3, base[0], base[1], fold, degenerate);
+    if (degenerate || !std::isfinite(base[0]) || !std::isfinite(base[1])) return false;
+  }
+  // Features: the corner shape (tri6: C's x, y; quad8: C's x, y, z and D's x, y), each mid-side node's offset
+  // from its chord's midpoint, then the closed form's two coordinates and S's height over the corners' plane.
   int at = 0;
   if constexpr (T::kTriangle) {
-    frame(x + 3 * order[2], features, 2);
-    at = 2;
+    features[at++] = corner[2][0];
+    features[at++] = corner[2][1];
   } else {
-    frame(x + 3 * order[2], features, 3);
-    frame(x + 3 * order[3], features + 3, 2);
-    at = 5;
+    for (int c = 0; c < 3; ++c) features[at++] = corner[2][c];
+    features[at++] = corner[3][0];
+    features[at++] = corner[3][1];
   }
   for (int j = 0; j < kC; ++j) {
-    frame(x + 3 * mid(j), features + at, 3);
-    at += 3;
+    for (int c = 0; c < 3; ++c) features[at++] = middle[j][c] - 0.5 * (corner[j][c] + corner[(j + 1) % kC][c]);
   }
-  frame(s, features + at, 3);
+  features[at++] = base[0];
+  features[at++] = base[1];
+  features[at++] = slave[2];
   return true;
 }
 
@@ -138,13 +169,13 @@ static void face_network_estimate(const FaceNetwork& net, bool check_domain, con
   alignas(64) double f[kF * W];
   alignas(64) double out[2 * W];
   int order[W][4];
-  double framed[W];
+  double framed[W], base[W][2];
   const double* lo = net.lo();
   const double* hi = net.hi();
   for (int l = 0; l < W; ++l) {
     double x[T::kStride], features[kF];
     for (int k = 0; k < T::kStride; ++k) x[k] = raw[k][l];
-    const bool ok = face_canonical_lane<kFace>(x, features, order[l]);
+    const bool ok = face_canonical_lane<kFace>(x, features, order[l], base[l]);
     framed[l] = ok ? 1.0 : 0.0;
     bool inside = true;
     for (int k = 0; k < kF; ++k) {
@@ -162,7 +193,8 @@ static void face_network_estimate(const FaceNetwork& net, bool check_domain, con
   }
   for (int l = 0; l < W; ++l) {
     const bool use = framed[l] != 0.0 && (s.status[l] == kOk || s.status[l] == kOutOfDomain);
-    double u = out[l], v = out[W + l];
+    // The network's output is the correction to the corner facet's closed form.
+    double u = out[l] + base[l][0], v = out[W + l] + base[l][1];
     if (use) face_to_caller<kFace>(order[l], u, v);
     s.u[l] = use ? u : s.u[l];
     s.v[l] = use ? v : s.v[l];

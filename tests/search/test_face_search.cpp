@@ -300,13 +300,17 @@ TEST(FaceNetwork, TheCanonicalFormIsTheSameInEveryNodeOrderAndMapsParametersBoth
     for (std::size_t i = 0; i < q.size(); ++i) {
       std::vector<double> f0(static_cast<std::size_t>(nf));
       int order0[4];
-      ASSERT_TRUE(face_canonical_form(kind, rows({q[i]}).data(), f0.data(), order0));
+      double base0[2];
+      ASSERT_TRUE(face_canonical_form(kind, rows({q[i]}).data(), f0.data(), order0, base0));
       for (const auto& order : orders) {
         FaceQuery y = q[i];
         for (std::size_t k = 0; k < order.size(); ++k) y.nodes[k] = q[i].nodes[static_cast<std::size_t>(order[k])];
         std::vector<double> f(static_cast<std::size_t>(nf));
         int o[4];
-        ASSERT_TRUE(face_canonical_form(kind, rows({y}).data(), f.data(), o));
+        double base[2];
+        ASSERT_TRUE(face_canonical_form(kind, rows({y}).data(), f.data(), o, base));
+        EXPECT_NEAR(base[0], base0[0], 1e-9);
+        EXPECT_NEAR(base[1], base0[1], 1e-9);
         for (int k = 0; k < nf; ++k) EXPECT_NEAR(f[static_cast<std::size_t>(k)], f0[static_cast<std::size_t>(k)], 1e-9) << k;
         // The foot in this order's parameters, to canonical: the canonical foot of the first order.
         double s = q[i].foot[0], t = q[i].foot[1];
