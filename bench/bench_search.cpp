@@ -43,6 +43,8 @@
 #include "dataset/labeller.hpp"
 #include "eval/evaluation_set.hpp"
 #include "io/network_file.hpp"
+#include "search/face_queries.hpp"
+#include "search/face_search.hpp"
 #include "search/flop_count.hpp"
 #include "search/local_search.hpp"
 #include "search/random_queries.hpp"
@@ -448,6 +450,79 @@ int main(int argc, char** argv) {
         state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(n));
         set_counters(state, flops, acc);
       })->UseRealTime()->Unit(benchmark::kMicrosecond);
+    }
+  }
+  // 3c. FaceSearch on the other faces of SPEC 9 (tri3, tri6, quad8): random faces of unit size, corners warped by
+  //     0.15, mid-side nodes up to 0.1 of their edge off its midpoint, at a random position, orientation and
+  //     scale, S within 0.1 of the face over a foot inside it (tests/search/face_queries.hpp); the reference is
+  //     the projection's closest point on the true face (the queries whose point lies inside it).
+  for (const search::FaceKind kind : {search::FaceKind::kTri3, search::FaceKind::kTri6, search::FaceKind::kQuad8}) {
+    static std::deque<std::pair<std::vector<double>, std::vector<double>>> face_sets;  // raw rows, labels
+    auto& [raw, labels] = face_sets.emplace_back();
+    std::mt19937_64 rng(args.seed + 100 + static_cast<std::uint64_t>(kind));
+    while (labels.size() < 2 * args.queries) {
+      const testing::FaceQuery q = testing::random_face_query(kind, rng);
+      const projection::FaceClosestPoint ref = testing::reference_point(kind, q);
+      if (ref.status != Status::kOk || ref.location != Location::kFace) continue;
+      testing::append_row(q, raw);
+      labels.insert(labels.end(), {ref.param[0], ref.param[1]});
+    }
+    const std::size_t n = args.queries;
+    const auto stride = static_cast<std::size_t>(search::face_raw_columns(kind));
+    const std::vector<std::string> methods =
+        kind == search::FaceKind::kTri3
+            ? std::vector<std::string>{"closed_form", "newton:1"}
+            : std::vector<std::string>{"closed_form", "newton:1", "newton:2", "newton:3", "newton:5", "newton",
+                                       "closed_form+newton:1", "closed_form+newton:2", "closed_form+newton:3"};
+    for (const std::string& method : methods) {
+      auto search = std::make_shared<const search::FaceSearch>(kind, search::Method::parse(method));
+      std::vector<double> param(2 * n);
+      std::vector<Status> status(n);
+      std::vector<std::int32_t> steps(n);
+      search->run<double>(n, raw.data(), search::Results<double>{param.data(), nullptr, status.data(), steps.data()}, 1);
+      Accuracy acc;
+      std::vector<double> errors;
+      double step_sum = 0.0;
+      for (std::size_t i = 0; i < n; ++i) {
+        step_sum += steps[i];
+        if (status[i] != Status::kOk) {
+          ++acc.failures;
+          continue;
+        }
+        errors.push_back(std::max(std::fabs(param[2 * i] - labels[2 * i]), std::fabs(param[2 * i + 1] - labels[2 * i + 1])));
+      }
+      std::sort(errors.begin(), errors.end());
+      for (const double e : errors) acc.mean += e / static_cast<double>(std::max<std::size_t>(errors.size(), 1));
+      acc.max = errors.empty() ? 0.0 : errors.back();
+      acc.p99 = errors.empty() ? 0.0 : errors[std::min(errors.size() - 1, errors.size() * 99 / 100)];
+      acc.steps = step_sum / static_cast<double>(n);
+      const search::FlopCount flops = search::face_flops_per_query(kind, search->method(), nullptr, acc.steps);
+      const std::string name = std::string(search::to_string(kind)) + "/" + method;
+      const std::vector<double>* rows = &raw;
+      benchmark::RegisterBenchmark((name + "/one").c_str(), [=](benchmark::State& state) {
+        std::vector<double> p(2 * n);
+        std::vector<Status> st(n);
+        for (auto _ : state) {
+          for (std::size_t i = 0; i < n; ++i) {
+            search->run<double>(1, rows->data() + i * stride, search::Results<double>{p.data() + 2 * i, nullptr, st.data() + i}, 1);
+          }
+          benchmark::ClobberMemory();
+        }
+        state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(n));
+        set_counters(state, flops, acc);
+      })->UseRealTime()->Unit(benchmark::kMicrosecond);
+      for (const int threads : args.threads) {
+        benchmark::RegisterBenchmark((name + "/batched/threads:" + std::to_string(threads)).c_str(), [=](benchmark::State& state) {
+          std::vector<double> p(2 * n);
+          std::vector<Status> st(n);
+          for (auto _ : state) {
+            search->run<double>(n, rows->data(), search::Results<double>{p.data(), nullptr, st.data()}, threads);
+            benchmark::ClobberMemory();
+          }
+          state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(n));
+          set_counters(state, flops, acc);
+        })->UseRealTime()->Unit(benchmark::kMicrosecond);
+      }
     }
   }
   // 4. The stages of the two paper networks (parts/<surface>/<network>/<stage>; scripts/bench-search prints

@@ -13,9 +13,10 @@ namespace {
 
 template <int kFace>
 void select(FacePlan& plan) {
-  // 32 lanes as LocalSearch's Newton kernels and float networks; 16 for Newton to convergence (a block runs
-  // until its slowest lane has converged) and double networks.
-  const bool narrow = plan.method.to_convergence;
+  // 16 lanes for every method with Newton steps (measured with bench_search on AVX-512: at 32 lanes a tri6
+  // newton:5 took 53 ns a query against 19 at 16, its lane loops spilling the face's coefficients), 32 for the
+  // closed form and a network alone (tri6 closed form 8.8 ns against 11.2 at 16).
+  const bool narrow = plan.method.to_convergence || plan.method.newton_steps > 0;
   if (narrow) {
     plan.block_size = 16;
     plan.block_f = &face_block<kFace, 16, float>;

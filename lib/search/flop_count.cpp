@@ -138,4 +138,69 @@ FlopCount flops_per_query(SurfaceKind kind, const Method& method, const NetworkM
   return count;
 }
 
+namespace {
+
+// FaceSearch (face_block.hpp), per query, by face type (tri3, tri6, quad8; N nodes, stride 3 N + 3 values).
+// Build: finite test 2 per value; the offsets from S 3 N and their scaling 3 N + 1 (a reciprocal); the monomial
+// coefficients per component 2 (tri3), 22 (tri6), 39 (quad8); the collapsed test (corner distances 8 each,
+// cross products 20 each, thresholds): tri 50, quad 200.
+double face_build(FaceKind kind) {
+  const int n = face_node_count(kind);
+  const double values = 3.0 * n + 3.0;
+  const double coefficients = kind == FaceKind::kTri3 ? 6 : (kind == FaceKind::kTri6 ? 66 : 117);
+  const double collapsed = kind == FaceKind::kQuad8 ? 200 : 50;
+  return 2.0 * values + 3.0 * n + 3.0 * n + 1.0 + coefficients + collapsed;
+}
+// The point and its derivatives (first and second) at an iterate: per component tri3 4, tri6 21, quad8 49 (+1).
+double face_eval(FaceKind kind) { return kind == FaceKind::kTri3 ? 12 : (kind == FaceKind::kTri6 ? 63 : 148); }
+// The point alone (a halving's distance test), per component 4, 9, 13 (+1), and its squared length 5.
+double face_point(FaceKind kind) { return kind == FaceKind::kTri3 ? 17 : (kind == FaceKind::kTri6 ? 32 : 45); }
+// newton_system 45; the solve (determinant 3, reciprocal 1, steps 8) 12; the update 2.
+constexpr double kFaceSystem = 45, kFaceSolve = 12, kFaceUpdate = 2;
+// A safeguarded step adds the Gauss-Newton determinant 3, the step cap 3, the clamp 4, the point at the trial
+// 1 x face_point, the noise bound 5 (a square root) and the moved test 2.
+constexpr double kFaceSafeguard = 3 + 3 + 4 + 5 + 2;
+// Closed forms: the corner triangle's projection (e1, e2, -A 9, five dot products 25, determinant 3, reciprocal
+// 1, r and s 8, the test 3) 49; the quad's corner facet (a0..a3 48) and LocalSearch's closed form.
+constexpr double kTriangleClosedForm = 49, kQuadCornerFacet = 48;
+// face_network_block.hpp's canonical form: the nearest corner 8 per corner, the mirror test 16, e1 and e3 6,
+// the normal 9, three lengths 18 (square roots), 1 / |AB| 1, the axes 6 + 9, each node and S into the frame
+// 21; the mid-side offsets 9 each; then the features' box 2 per feature, the corrections added back 2, and the
+// map back to the caller's order (tri 2, quad 32).
+double face_canonical(FaceKind kind) {
+  const int c = kind == FaceKind::kQuad8 ? 4 : 3;
+  const int n = face_node_count(kind);
+  const double closed = kind == FaceKind::kQuad8 ? kQuadCornerFacet + kClosedForm : 5;
+  return 8.0 * c + 16 + 6 + 9 + 18 + 1 + 15 + 21.0 * (n + 1) + 9.0 * c + closed + 2 + (kind == FaceKind::kQuad8 ? 32 : 2);
+}
+
+}  // namespace
+
+FlopCount face_flops_per_query(FaceKind kind, const Method& method, const FaceNetwork* network, double newton_steps) {
+  FlopCount count;
+  double& d = count.in_double;
+  d += face_build(kind);
+  const double plain = face_eval(kind) + kFaceSystem + kFaceSolve + kFaceUpdate;
+  if (method.start == Method::Start::kClosedForm) {
+    d += kind == FaceKind::kQuad8 ? kQuadCornerFacet + kClosedForm : kTriangleClosedForm;
+  }
+  if (method.start == Method::Start::kNetwork) {
+    CONTACTNN_REQUIRE(network != nullptr, "flops of " << method.name() << " need its network");
+    const int features = face_feature_count(kind);
+    d += face_canonical(kind) + 2.0 * features + kOutputScaling * 2;
+    const NetworkModel& m = network->model();
+    double net = kInputScaling * features;
+    const auto& sizes = m.layer_sizes();
+    for (std::size_t l = 0; l + 1 < sizes.size(); ++l) net += sizes[l + 1] * (1.0 + 2.0 * sizes[l] + kSigmoid);
+    (m.is_float() ? count.in_float : d) += net;
+  }
+  if (method.is_hybrid()) {
+    d += method.newton_steps * (plain + kFaceSafeguard + face_point(kind));
+  } else if (method.start == Method::Start::kCentre) {
+    d += (method.to_convergence ? newton_steps : method.newton_steps) * plain;
+  }
+  d += 6;  // ok or outside by the domain
+  return count;
+}
+
 }  // namespace contactnn::search

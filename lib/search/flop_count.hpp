@@ -3,6 +3,8 @@
 #pragma once
 
 #include "core/conventions.hpp"
+#include "search/face_network.hpp"
+#include "search/face_search.hpp"
 #include "search/method.hpp"
 #include "search/network_model.hpp"
 
@@ -26,5 +28,10 @@ struct FlopCount {
 /// on Gregory segments.
 [[nodiscard]] FlopCount flops_per_query(SurfaceKind kind, const Method& method, const NetworkModel* network,
                                         double newton_steps = 0.0);
+
+/// The same for FaceSearch (face_block.hpp, face_network_block.hpp): `newton_steps` as above, for "newton".
+/// InvalidArgument for a network method without `network`.
+[[nodiscard]] FlopCount face_flops_per_query(FaceKind kind, const Method& method, const FaceNetwork* network,
+                                             double newton_steps = 0.0);
 
 }  // namespace contactnn::search
