@@ -20,7 +20,10 @@
 #include "core/conventions.hpp"
 #include "core/error.hpp"
 #include "core/quote_text.hpp"
+#include "io/face_network_file.hpp"
 #include "io/network_model_file.hpp"
+#include "search/face_network.hpp"
+#include "search/face_search.hpp"
 #include "search/local_search.hpp"
 #include "search/method.hpp"
 #include "search/network_model.hpp"
@@ -61,7 +64,10 @@ constexpr std::uint64_t kLiveHandle = 0x636e6e7372636801;
 struct contactnn_search {
   std::uint64_t check = kLiveHandle;
   std::unique_ptr<const search::NetworkModel> network;
-  std::optional<search::LocalSearch> search;
+  std::optional<search::LocalSearch> search;  ///< CONTACTNN_SURFACE_BILINEAR, _GREGORY
+  std::unique_ptr<const search::FaceNetwork> face_network;
+  std::optional<search::FaceSearch> face;     ///< CONTACTNN_SURFACE_TRI3, _TRI6, _QUAD8
+  int surface = 0;                            ///< the CONTACTNN_SURFACE_* it was created for
   int threads = 0;
 };
 
@@ -174,15 +180,18 @@ int run(const char* function, const contactnn_search* handle, std::size_t count,
                                   << " (raw " << (raw ? "set" : "NULL") << ", param "
                                   << (param ? "set" : "NULL") << ", status " << (status ? "set" : "NULL")
                                   << ")");
-    const auto columns =
-        static_cast<std::size_t>(search::LocalSearch::raw_columns(live.search->surface()));
+    const auto columns = static_cast<std::size_t>(contactnn_raw_columns(live.surface));
     CONTACTNN_REQUIRE_AS(
         InvalidArgument, count <= std::numeric_limits<std::size_t>::max() / (columns * sizeof(Real)),
         function << ": count = " << count << " queries of " << columns << " values overflow size_t");
     // LocalSearch writes one byte per status; the C caller gets ints.
     std::vector<Status> statuses(count);
-    live.search->run(count, raw, search::Results<Real>{param, gap, statuses.data(), iterations},
-                     run_threads(live));
+    if (live.face) {
+      live.face->run(count, raw, search::Results<Real>{param, gap, statuses.data(), iterations}, run_threads(live));
+    } else {
+      live.search->run(count, raw, search::Results<Real>{param, gap, statuses.data(), iterations},
+                       run_threads(live));
+    }
     for (std::size_t i = 0; i < count; ++i) status[i] = static_cast<int>(statuses[i]);
   });
 }
@@ -215,6 +224,9 @@ const char* contactnn_status_name(int status) {
 int contactnn_raw_columns(int surface) {
   if (surface == CONTACTNN_SURFACE_BILINEAR) return search::LocalSearch::raw_columns(SurfaceKind::kBilinear);
   if (surface == CONTACTNN_SURFACE_GREGORY) return search::LocalSearch::raw_columns(SurfaceKind::kGregory);
+  if (surface == CONTACTNN_SURFACE_TRI3) return search::face_raw_columns(search::FaceKind::kTri3);
+  if (surface == CONTACTNN_SURFACE_TRI6) return search::face_raw_columns(search::FaceKind::kTri6);
+  if (surface == CONTACTNN_SURFACE_QUAD8) return search::face_raw_columns(search::FaceKind::kQuad8);
   return 0;
 }
 
@@ -242,13 +254,12 @@ int contactnn_search_create(contactnn_search** out, int surface, const char* met
     CONTACTNN_REQUIRE_AS(InvalidArgument, out != nullptr,
                          "contactnn_search_create: search (where the handle goes) is NULL");
     *out = nullptr;
-    CONTACTNN_REQUIRE_AS(
-        InvalidArgument, surface == CONTACTNN_SURFACE_BILINEAR || surface == CONTACTNN_SURFACE_GREGORY,
-        "contactnn_search_create: surface = " << surface
-                                              << ", expected CONTACTNN_SURFACE_BILINEAR (0) or "
-                                                 "CONTACTNN_SURFACE_GREGORY (1)");
+    CONTACTNN_REQUIRE_AS(InvalidArgument, contactnn_raw_columns(surface) > 0,
+                         "contactnn_search_create: surface = "
+                             << surface
+                             << ", expected CONTACTNN_SURFACE_BILINEAR (0), _GREGORY (1), _TRI3 (2), _TRI6 (3) or "
+                                "_QUAD8 (4)");
     CONTACTNN_REQUIRE_AS(InvalidArgument, method != nullptr, "contactnn_search_create: method is NULL");
-    const auto kind = static_cast<SurfaceKind>(surface);
     const search::Method parsed = parse_method(method);
     const bool has_file = network_file != nullptr && network_file[0] != '\0';
     CONTACTNN_REQUIRE_AS(InvalidArgument, has_file || !parsed.needs_network(),
@@ -271,6 +282,27 @@ int contactnn_search_create(contactnn_search** out, int surface, const char* met
 
     auto handle = std::make_unique<contactnn_search>();
     handle->threads = options->threads;
+    handle->surface = surface;
+    if (surface >= CONTACTNN_SURFACE_TRI3) {
+      // FaceSearch (search/face_search.hpp): a face network file (io/face_network_file.hpp) of the same face type.
+      const auto face = static_cast<search::FaceKind>(surface - CONTACTNN_SURFACE_TRI3);
+      CONTACTNN_REQUIRE_AS(InvalidArgument, face != search::FaceKind::kTri3 || !parsed.needs_network(),
+                           "contactnn_search_create: method " << quote_text(method)
+                                                              << " on tri3 faces: a flat triangle's closed form is "
+                                                                 "exact (method closed_form), no network is made for it");
+      if (has_file) {
+        handle->face_network = io::load_face_network(network_file);
+        CONTACTNN_REQUIRE_AS(InvalidArgument, handle->face_network->face() == face,
+                             "contactnn_search_create: '" << network_file << "' is a "
+                                                          << search::to_string(handle->face_network->face())
+                                                          << " network, the search is for " << search::to_string(face)
+                                                          << " faces");
+      }
+      handle->face.emplace(face, parsed, to_search_options(*options), handle->face_network.get());
+      *out = handle.release();
+      return;
+    }
+    const auto kind = static_cast<SurfaceKind>(surface);
     if (has_file) {
       handle->network = load_network(network_file);
       CONTACTNN_REQUIRE_AS(InvalidArgument, handle->network->surface() == kind,
@@ -307,9 +339,7 @@ int contactnn_search_run_float(const contactnn_search* handle, size_t count, con
   return run("contactnn_search_run_float", handle, count, raw, param, gap, status, iterations);
 }
 
-int contactnn_search_surface(const contactnn_search* handle) {
-  return is_live(handle) ? static_cast<int>(handle->search->surface()) : -1;
-}
+int contactnn_search_surface(const contactnn_search* handle) { return is_live(handle) ? handle->surface : -1; }
 
 int contactnn_search_create_from_plan(contactnn_search** out, const char* plan_file, const contactnn_options* options) {
   return guarded("contactnn_search_create_from_plan", [&] {
@@ -336,6 +366,7 @@ int contactnn_search_create_from_plan(contactnn_search** out, const char* plan_f
     const study::ScenePlan plan = study::read_plan(plan_file);
     auto handle = std::make_unique<contactnn_search>();
     handle->threads = options->threads;
+    handle->surface = static_cast<int>(plan.surface);
     const std::filesystem::path network_file = study::plan_network_path(plan, plan_file);
     if (!network_file.empty()) {
       handle->network = load_network(network_file.string());
@@ -354,7 +385,7 @@ int contactnn_search_create_from_plan(contactnn_search** out, const char* plan_f
 const char* contactnn_search_method(const contactnn_search* handle) {
   thread_local std::string name;
   try {
-    name = is_live(handle) ? handle->search->method().name() : std::string();
+    name = !is_live(handle) ? std::string() : (handle->face ? handle->face->method().name() : handle->search->method().name());
   } catch (...) {
     name.clear();
   }

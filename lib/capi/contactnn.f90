@@ -49,6 +49,8 @@ module contactnn
                                        CONTACTNN_STATUS_NO_SEGMENT = 6
   ! Surface kinds (contactnn_surface).
   integer, parameter, public :: CONTACTNN_SURFACE_BILINEAR = 0, CONTACTNN_SURFACE_GREGORY = 1
+  !> The other faces of SPEC 9 (FaceSearch): raw(12, n), raw(21, n), raw(27, n); nodes in SPEC 9's order, then S.
+  integer, parameter, public :: CONTACTNN_SURFACE_TRI3 = 2, CONTACTNN_SURFACE_TRI6 = 3, CONTACTNN_SURFACE_QUAD8 = 4
 
   !> The C struct contactnn_options, field for field: get the defaults from contactnn_default_options().
   type, bind(C), public :: contactnn_options
@@ -223,7 +225,8 @@ contains
     ierr = c_options_init(options)  ! cannot fail: the argument is never null
   end function contactnn_default_options
 
-  !> Creates a search: surface CONTACTNN_SURFACE_BILINEAR or _GREGORY; method 'network', 'newton:K',
+  !> Creates a search: surface CONTACTNN_SURFACE_BILINEAR or _GREGORY (or a face of SPEC 9: _TRI3, _TRI6,
+  !> _QUAD8, FaceSearch's methods, a face network file of scene-study --face); method 'network', 'newton:K',
   !> 'newton', 'closed_form', 'network+newton:K', 'closed_form+newton:K', 'start+newton:K' (K from 0 to
   !> 1000; param holds the starts when contactnn_run is called) or, bilinear only, 'four_triangles' (after
   !> OpenRadioss's type 7 contact: the nearest point of the four triangles about the segment's centroid, no
@@ -278,7 +281,7 @@ contains
       message = 'contactnn_run: the search was not created (or was destroyed)'
     else if (raw_rows /= search%columns) then
       write (message, '(a,i0,a,i0,a)') 'contactnn_run: raw has ', raw_rows, ' rows, the search expects ', &
-        search%columns, ' (raw(15, n) bilinear, raw(27, n) Gregory)'
+        search%columns, ' (raw(15, n) bilinear, raw(27, n) Gregory or quad8, raw(12, n) tri3, raw(21, n) tri6)'
     else if (param_rows /= 2 .or. param_cols /= n) then
       write (message, '(a,i0,a,i0,a,i0,a)') 'contactnn_run: param is ', param_rows, ' x ', param_cols, &
         ', expected 2 x ', n, ' (n = size(raw, 2))'

@@ -75,10 +75,15 @@ enum contactnn_status {
   CONTACTNN_STATUS_NO_SEGMENT = 6      /* SPEC 7: no segment for the slave node (never returned by a run) */
 };
 
-/* Surface kinds: the values of contactnn::SurfaceKind. */
+/* Surface kinds: 0 and 1 are the values of contactnn::SurfaceKind (a 4-node segment, search/local_search.hpp);
+ * 2 to 4 the other faces of SPEC 9, contactnn::search::FaceKind + 2 (search/face_search.hpp). A face's raw row
+ * is its nodes' x, y, z in SPEC 9's order (corners, then the mid-side nodes of edges 1-2, 2-3, ...), then S's. */
 enum contactnn_surface {
   CONTACTNN_SURFACE_BILINEAR = 0, /* 4-node bilinear facet: raw rows of 15 values */
-  CONTACTNN_SURFACE_GREGORY = 1   /* Gregory patch from nodes and node normals: raw rows of 27 values */
+  CONTACTNN_SURFACE_GREGORY = 1,  /* Gregory patch from nodes and node normals: raw rows of 27 values */
+  CONTACTNN_SURFACE_TRI3 = 2,     /* flat 3-node triangle, (r, s): raw rows of 12 values; closed_form is exact */
+  CONTACTNN_SURFACE_TRI6 = 3,     /* 6-node quadratic triangle, (r, s): raw rows of 21 values */
+  CONTACTNN_SURFACE_QUAD8 = 4     /* 8-node serendipity quad, (xi, eta): raw rows of 27 values */
 };
 
 /* The most OpenMP threads a run uses (the contactnn tools' --threads limit too). */
@@ -124,7 +129,8 @@ CONTACTNN_API int contactnn_set_last_error(int code, const char* message);
  * "out_of_domain", "no_segment"), or "unknown" for any other value. Never fails. */
 CONTACTNN_API const char* contactnn_status_name(int status);
 
-/* Values per query in raw for a surface: 15 (bilinear), 27 (Gregory), 0 for any other value. */
+/* Values per query in raw for a surface: 15 (bilinear), 27 (Gregory), 12 (tri3), 21 (tri6), 27 (quad8), 0 for
+ * any other value. */
 CONTACTNN_API int contactnn_raw_columns(int surface);
 
 /* Writes the default options (those of search/search_options.hpp, threads 0) to *options.
@@ -133,13 +139,16 @@ CONTACTNN_API int contactnn_options_init(contactnn_options* options);
 
 /* Creates a search.
  *   search        where the handle is written (NULL on failure)
- *   surface       CONTACTNN_SURFACE_BILINEAR or CONTACTNN_SURFACE_GREGORY
+ *   surface       CONTACTNN_SURFACE_BILINEAR, _GREGORY, or a face type of SPEC 9: _TRI3, _TRI6, _QUAD8 (the
+ *                 methods of search/face_search.hpp: every method below but four_triangles; no network on
+ *                 tri3, whose closed_form is exact; closed_form on tri6 and quad8 is the corner facet's)
  *   method        "network", "newton:K", "newton", "closed_form", "network+newton:K",
  *                 "closed_form+newton:K", "start+newton:K" (K from 0 to 1000; search/method.hpp describes
  *                 each) or, bilinear only, "four_triangles" (after OpenRadioss's type 7 contact: the nearest
  *                 point of the four triangles about the segment's centroid, no iteration; another surface
  *                 than the bilinear facet)
- *   network_file  a network file of train-net (HDF5), or NULL / "" for the methods without a network. It is
+ *   network_file  a network file of train-net (HDF5; for tri6 and quad8 a face network file of scene-study
+ *                 --face), or NULL / "" for the methods without a network. It is
  *                 read once, here; a network file given to a method without a network is still read and
  *                 must be of the search's surface.
  *   options       NULL for the defaults
