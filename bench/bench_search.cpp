@@ -43,6 +43,7 @@
 #include "dataset/labeller.hpp"
 #include "eval/evaluation_set.hpp"
 #include "io/network_file.hpp"
+#include "io/face_network_file.hpp"
 #include "search/face_queries.hpp"
 #include "search/face_search.hpp"
 #include "search/flop_count.hpp"
@@ -474,8 +475,19 @@ int main(int argc, char** argv) {
             ? std::vector<std::string>{"closed_form", "newton:1"}
             : std::vector<std::string>{"closed_form", "newton:1", "newton:2", "newton:3", "newton:5", "newton",
                                        "closed_form+newton:1", "closed_form+newton:2", "closed_form+newton:3"};
-    for (const std::string& method : methods) {
-      auto search = std::make_shared<const search::FaceSearch>(kind, search::Method::parse(method));
+    // The shipped general network of the face type (data/weights/<kind>-48-48.h5, scripts/face-table --ship).
+    static std::deque<std::unique_ptr<search::FaceNetwork>> face_networks;
+    const search::FaceNetwork* net = nullptr;
+    std::vector<std::string> all = methods;
+    if (kind != search::FaceKind::kTri3) {
+      face_networks.push_back(io::load_face_network(args.weights + "/" + std::string(search::to_string(kind)) + "-48-48.h5"));
+      net = face_networks.back().get();
+      for (const char* m : {"network", "network+newton:1", "network+newton:2"}) all.emplace_back(m);
+    }
+    for (const std::string& method : all) {
+      const bool uses = search::Method::parse(method).needs_network();
+      auto search = std::make_shared<const search::FaceSearch>(kind, search::Method::parse(method), search::SearchOptions{},
+                                                               uses ? net : nullptr);
       std::vector<double> param(2 * n);
       std::vector<Status> status(n);
       std::vector<std::int32_t> steps(n);
@@ -485,7 +497,7 @@ int main(int argc, char** argv) {
       double step_sum = 0.0;
       for (std::size_t i = 0; i < n; ++i) {
         step_sum += steps[i];
-        if (status[i] != Status::kOk) {
+        if (status[i] != Status::kOk && status[i] != Status::kOutOfDomain) {
           ++acc.failures;
           continue;
         }
@@ -496,8 +508,9 @@ int main(int argc, char** argv) {
       acc.max = errors.empty() ? 0.0 : errors.back();
       acc.p99 = errors.empty() ? 0.0 : errors[std::min(errors.size() - 1, errors.size() * 99 / 100)];
       acc.steps = step_sum / static_cast<double>(n);
-      const search::FlopCount flops = search::face_flops_per_query(kind, search->method(), nullptr, acc.steps);
-      const std::string name = std::string(search::to_string(kind)) + "/" + method;
+      const search::FlopCount flops = search::face_flops_per_query(kind, search->method(), uses ? net : nullptr, acc.steps);
+      const std::string name = std::string(search::to_string(kind)) + "/" + method +
+                               (uses ? "[" + std::string(search::to_string(kind)) + "-48-48]" : "");
       const std::vector<double>* rows = &raw;
       benchmark::RegisterBenchmark((name + "/one").c_str(), [=](benchmark::State& state) {
         std::vector<double> p(2 * n);

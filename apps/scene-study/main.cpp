@@ -40,6 +40,7 @@
 // malformed or not the deck's (node ids), naming file and line; 4 an I/O failure; 5 a numerical failure.
 #include <omp.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -146,7 +147,8 @@ std::vector<std::vector<int>> parse_face_sizes(const std::string& text) {
 /// scene-study --face: the study of the pair's quadratic faces (lib/study/face_study.hpp). Writes report.md and,
 /// when the chosen method uses one, face-network.h5 (io::write_face_network).
 int run_face_mode(const std::string& scene_path, int pair, search::FaceKind kind, const study::FaceStudyOptions& f,
-                  const std::string& output, bool check_only, bool quiet, const std::string& command_line) {
+                  const std::string& output, bool check_only, bool quiet, const std::string& command_line,
+                  double general_curvature) {
   const fs::path dir(output);
   CONTACTNN_REQUIRE_AS(InvalidArgument, !fs::exists(dir) || fs::is_directory(dir),
                        "--output '" << output << "' is a file, not a directory");
@@ -156,6 +158,25 @@ int run_face_mode(const std::string& scene_path, int pair, search::FaceKind kind
   const auto say = [&](const std::string& line) {
     if (!quiet) std::printf("  %s\n", line.c_str()), std::fflush(stdout);
   };
+  if (general_curvature >= 0.0) {
+    // The general network: the best size's network is written, whatever the choice (it is what data/weights
+    // ships; the report says whether it pays).
+    if (!quiet) std::printf("scene-study: general %s domain\n", std::string(search::to_string(kind)).c_str());
+    const study::FaceStudy st = study::run_general_face_study(kind, f, general_curvature, say);
+    std::string report = study::face_study_markdown(st, "", 0) + "\nCommand: `" + command_line + "`\n";
+    const auto best = std::min_element(st.networks.begin(), st.networks.end(), [](const auto& a, const auto& b) {
+      return a.heldout_error < b.heldout_error;
+    });
+    io::write_face_network(dir / "face-network.h5", kind, *best->network, best->feature_min, best->feature_max,
+                           "scene-study --face " + std::string(search::to_string(kind)) + " --general --curvature " +
+                               std::to_string(general_curvature) + ": " + best->name + ", " +
+                               std::to_string(best->epochs) + " epochs, held-out mean |error| " +
+                               std::to_string(best->heldout_error));
+    io::write_text_atomically(dir / "report.md", report);
+    std::printf("scene-study: general %s network %s, held-out mean |error| %.4g; %.1f s\n",
+                std::string(search::to_string(kind)).c_str(), best->name.c_str(), best->heldout_error, st.seconds);
+    return 0;
+  }
   if (!quiet) std::printf("scene-study: %s pair %d, %s faces\n", scene_path.c_str(), pair, std::string(search::to_string(kind)).c_str());
   const mesh::ContactModel model = io::read_inp_deck(scene_path);
   const contact::Scene scene = contact::make_scene(model, pair);
@@ -207,7 +228,8 @@ int main(int argc, char** argv) {
       domain_states = std::string(study::to_string(o.domain_states));
   int pair = 0;
   bool check_only = false, quiet = false;
-  app.add_option("--scene", scene_path, "the deck (.inp, SPEC 7)")->required()->check(CLI::ExistingFile);
+  app.add_option("--scene", scene_path, "the deck (.inp, SPEC 7; required unless --face with --general)")
+      ->check(CLI::ExistingFile);
   app.add_option("--pair", pair, "the *CONTACT PAIR data line, counted from 0")
       ->transform(cli::integer_in(0, 1000000));
   app.add_option("--surface", surface_name, "bilinear or gregory (required unless --face)")
@@ -216,6 +238,13 @@ int main(int argc, char** argv) {
                  "tri6 or quad8: study the pair's quadratic master faces of that type instead (FaceSearch's "
                  "methods, face networks; lib/study/face_study.hpp); --sizes then takes layers as 48 or 48x48")
       ->check(CLI::IsMember({"tri6", "quad8"}));
+  bool general = false;
+  double curvature = 0.1;
+  app.add_flag("--general", general,
+               "with --face: no deck; the paper-like general domain of the face type (how data/weights' face networks "
+               "are made)");
+  app.add_option("--curvature", curvature, "with --general: mid-side nodes off their chords' midpoints, x the edge")
+      ->check(cli::real_in(0.0, 0.49));
   app.add_option("--output", output, "directory of the plan, the network, the pairs and the report")
       ->required();
   app.add_option("--results", results_path,
@@ -305,10 +334,13 @@ int main(int argc, char** argv) {
       if (!o.methods.empty()) f.methods = o.methods;
       if (app.count("--network-methods") > 0) f.network_methods = o.network_methods;
       if (!sizes.empty()) f.sizes = parse_face_sizes(sizes);
+      CONTACTNN_REQUIRE_AS(InvalidArgument, general != !scene_path.empty(),
+                           "--face: give --scene DECK (the deck's faces) or --general (the paper-like domain), not both");
       return run_face_mode(scene_path, pair, search::face_kind_from_string(face_name), f, output, check_only, quiet,
-                           join_command_line(argc, argv));
+                           join_command_line(argc, argv), general ? curvature : -1.0);
     }
     CONTACTNN_REQUIRE_AS(InvalidArgument, !surface_name.empty(), "--surface (bilinear or gregory) or --face is required");
+    CONTACTNN_REQUIRE_AS(InvalidArgument, !scene_path.empty() && !general, "--scene is required (--general goes with --face)");
     const SurfaceKind surface = surface_from_string(surface_name);
     if (!sizes.empty()) o.sizes = parse_sizes(sizes);
     o.train_networks = study::train_networks_from_string(train_networks);

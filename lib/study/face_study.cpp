@@ -257,6 +257,92 @@ FaceQueries sample_face_domain(const contact::Scene& scene, FaceKind kind, const
   return out;
 }
 
+FaceQueries sample_general_face_domain(FaceKind kind, const FaceStudyOptions& options, double curvature,
+                                      std::int64_t count, std::uint64_t seed) {
+  CONTACTNN_REQUIRE_AS(InvalidArgument, kind != FaceKind::kTri3, "tri3 faces have no network domain");
+  const int corners = kind == FaceKind::kQuad8 ? 4 : 3;
+  FaceQueries out;
+  out.kind = kind;
+  const int stride = search::face_raw_columns(kind);
+  out.raw.assign(static_cast<std::size_t>(count) * static_cast<std::size_t>(stride), 0.0);
+  out.label.assign(2 * static_cast<std::size_t>(count), 0.0);
+  std::vector<char> kept(static_cast<std::size_t>(count), 0);
+#pragma omp parallel for schedule(dynamic, 256) num_threads(options.threads > 0 ? options.threads : omp_get_max_threads())
+  for (std::int64_t row = 0; row < count; ++row) {
+    std::mt19937_64 rng(seed * 0x9E3779B97F4A7C15ULL + static_cast<std::uint64_t>(row) * 0xBF58476D1CE4E5B9ULL + 7);
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    const auto in = [&](double lo, double hi) { return lo + (hi - lo) * unit(rng); };
+    for (int attempt = 0; attempt < 1000; ++attempt) {
+      const double angle = in(60.0, 120.0) * 3.14159265358979323846 / 180.0, length = in(0.5, 1.0);
+      const Vec3 last(length * std::cos(angle), length * std::sin(angle), 0.0);
+      std::vector<Vec3> x{Vec3(0, 0, 0), Vec3(1, 0, 0)};
+      if (corners == 4) {
+        x.push_back(Vec3(1, 0, 0) + last + Vec3(in(-0.3, 0.3), in(-0.3, 0.3), in(-0.3, 0.3)));
+      }
+      x.push_back(last);
+      for (int e = 0; e < corners; ++e) {
+        const Vec3& a = x[static_cast<std::size_t>(e)];
+        const Vec3& b = x[static_cast<std::size_t>((e + 1) % corners)];
+        const double r = curvature * (b - a).norm();
+        x.push_back(0.5 * (a + b) + Vec3(in(-r, r), in(-r, r), in(-r, r)));
+      }
+      double s, t;
+      const double where = unit(rng);
+      if (corners == 4) {
+        s = in(-1.0, 1.0);
+        t = in(-1.0, 1.0);
+        if (where < 0.5 * options.boundary_fraction) {
+          s = s < 0.0 ? -1.0 : 1.0;
+          t = t < 0.0 ? -1.0 : 1.0;
+        } else if (where < options.boundary_fraction) {
+          (unit(rng) < 0.5 ? s : t) = unit(rng) < 0.5 ? -1.0 : 1.0;
+        }
+      } else {
+        do {
+          s = unit(rng);
+          t = unit(rng);
+        } while (s + t > 1.0);
+        if (where < 0.5 * options.boundary_fraction) {
+          const int node = static_cast<int>(3.0 * unit(rng)) % 3;
+          s = node == 1 ? 1.0 : 0.0;
+          t = node == 2 ? 1.0 : 0.0;
+        } else if (where < options.boundary_fraction) {
+          const int edge = static_cast<int>(3.0 * unit(rng)) % 3;
+          const double a = unit(rng);
+          s = edge == 0 ? a : (edge == 1 ? 1.0 - a : 0.0);
+          t = edge == 0 ? 0.0 : (edge == 1 ? a : 1.0 - a);
+        }
+      }
+      const geometry::SurfacePoint p = evaluate(kind, x, s, t);
+      const Vec3 n = p.d_s.cross(p.d_t).normalized();
+      const Vec3 slave = p.position + in(-0.3, 0.3) * n;
+      const projection::FaceClosestPoint c = closest(kind, x, slave);
+      if (c.status != Status::kOk || c.location != Location::kFace) continue;
+      double* r = out.raw.data() + static_cast<std::size_t>(row) * static_cast<std::size_t>(stride);
+      for (std::size_t i = 0; i < x.size(); ++i) {
+        for (int k = 0; k < 3; ++k) r[3 * i + static_cast<std::size_t>(k)] = x[i][k];
+      }
+      for (int k = 0; k < 3; ++k) r[3 * x.size() + static_cast<std::size_t>(k)] = slave[k];
+      out.label[2 * static_cast<std::size_t>(row)] = c.param[0];
+      out.label[2 * static_cast<std::size_t>(row) + 1] = c.param[1];
+      kept[static_cast<std::size_t>(row)] = 1;
+      break;
+    }
+  }
+  std::size_t to = 0;
+  for (std::size_t row = 0; row < kept.size(); ++row) {
+    if (!kept[row]) continue;
+    std::copy_n(out.raw.begin() + static_cast<std::ptrdiff_t>(row * static_cast<std::size_t>(stride)), stride,
+                out.raw.begin() + static_cast<std::ptrdiff_t>(to * static_cast<std::size_t>(stride)));
+    out.label[2 * to] = out.label[2 * row];
+    out.label[2 * to + 1] = out.label[2 * row + 1];
+    ++to;
+  }
+  out.raw.resize(to * static_cast<std::size_t>(stride));
+  out.label.resize(2 * to);
+  return out;
+}
+
 namespace {
 
 /// Canonical features and targets of `q` (rows without a frame dropped).
@@ -355,9 +441,16 @@ FaceNetworkResult train_one(FaceKind kind, const std::vector<int>& hidden, const
 
 }  // namespace
 
-FaceStudy run_face_study(const contact::Scene& scene, FaceKind kind, const FaceStudyOptions& options,
-                         const FaceStudyLog& log) {
-  const auto t0 = std::chrono::steady_clock::now();
+FaceNetworkResult train_face_network(FaceKind kind, const std::vector<int>& hidden, const FaceQueries& train,
+                                     const FaceQueries& heldout, const FaceStudyOptions& options, const FaceStudyLog& log) {
+  mlp::MatrixRM<double> x, t;
+  canonical_set(train, x, t);
+  return train_one(kind, hidden, x, t, heldout, options, log);
+}
+
+namespace {
+
+void check_options(FaceKind kind, const FaceStudyOptions& options) {
   CONTACTNN_REQUIRE_AS(InvalidArgument, kind != FaceKind::kTri3,
                        "tri3 faces need no study: their closed form (method closed_form) is exact");
   CONTACTNN_REQUIRE_AS(InvalidArgument, options.count >= 100 && options.heldout >= 100,
@@ -366,6 +459,17 @@ FaceStudy run_face_study(const contact::Scene& scene, FaceKind kind, const FaceS
                        "target and margin must be positive, got " << options.target << " and " << options.margin);
   CONTACTNN_REQUIRE_AS(InvalidArgument, options.epochs >= 1 && !options.sizes.empty(),
                        "epochs must be at least 1 and sizes not empty");
+}
+
+void train_and_measure(FaceStudy& study, const FaceQueries& train, const FaceQueries& heldout,
+                       const FaceStudyLog& log);
+
+}  // namespace
+
+FaceStudy run_face_study(const contact::Scene& scene, FaceKind kind, const FaceStudyOptions& options,
+                         const FaceStudyLog& log) {
+  const auto t0 = std::chrono::steady_clock::now();
+  check_options(kind, options);
   const auto say = [&](const std::string& s) {
     if (log) log(s);
   };
@@ -392,6 +496,39 @@ FaceStudy run_face_study(const contact::Scene& scene, FaceKind kind, const FaceS
   study.heldout_count = heldout.size();
   say("2. domain: " + std::to_string(train.size()) + " training and " + std::to_string(heldout.size()) +
       " held-out configurations");
+  train_and_measure(study, train, heldout, log);
+  study.seconds = seconds_since(t0);
+  return study;
+}
+
+FaceStudy run_general_face_study(FaceKind kind, const FaceStudyOptions& options, double curvature,
+                                 const FaceStudyLog& log) {
+  const auto t0 = std::chrono::steady_clock::now();
+  check_options(kind, options);
+  FaceStudy study;
+  study.kind = kind;
+  study.options = options;
+  study.general_curvature = curvature;
+  const FaceQueries train = sample_general_face_domain(kind, options, curvature, options.count, options.seed);
+  const FaceQueries heldout = sample_general_face_domain(kind, options, curvature, options.heldout, options.seed + 1000);
+  study.train_count = train.size();
+  study.heldout_count = heldout.size();
+  if (log) log("2. general domain: " + std::to_string(train.size()) + " training and " + std::to_string(heldout.size()) +
+               " held-out configurations");
+  train_and_measure(study, train, heldout, log);
+  study.seconds = seconds_since(t0);
+  return study;
+}
+
+namespace {
+
+void train_and_measure(FaceStudy& study, const FaceQueries& train, const FaceQueries& heldout,
+                       const FaceStudyLog& log) {
+  const FaceKind kind = study.kind;
+  const FaceStudyOptions& options = study.options;
+  const auto say = [&](const std::string& s) {
+    if (log) log(s);
+  };
   // 3.
   mlp::MatrixRM<double> x, t;
   canonical_set(train, x, t);
@@ -440,8 +577,9 @@ FaceStudy run_face_study(const contact::Scene& scene, FaceKind kind, const FaceS
     r.heldout_effective =
         (h.mean * static_cast<double>(heldout.size() - static_cast<std::size_t>(h.failures)) + width * static_cast<double>(h.failures)) /
         static_cast<double>(heldout.size());
-    run_search(*searches[k], study.pairs.pairs, param, status, options.threads);
-    const Errors p = errors_of(param, status, study.pairs.pairs);
+    const Errors p = study.pairs.pairs.size() > 0 ? (run_search(*searches[k], study.pairs.pairs, param, status, options.threads),
+                                                      errors_of(param, status, study.pairs.pairs))
+                                                   : Errors{};
     r.pairs_mean = p.mean;
     r.pairs_max = p.max;
     r.pairs_failures = p.failures;
@@ -468,22 +606,34 @@ FaceStudy run_face_study(const contact::Scene& scene, FaceKind kind, const FaceS
       study.chosen = static_cast<int>(k);
     }
   }
-  study.seconds = seconds_since(t0);
-  return study;
 }
+
+}  // namespace
 
 std::string face_study_markdown(const FaceStudy& st, const std::string& deck, int pair) {
   std::ostringstream o;
   const std::string kind(search::to_string(st.kind));
   const std::string units = st.kind == FaceKind::kQuad8 ? "(xi, eta) units, domain width 2" : "(r, s) units, domain width 1";
-  o << "# Face study: " << deck << ", pair " << pair << ", " << kind << " faces\n\n";
-  o << "- Pairs: " << st.pairs.pairs.size() << " of " << st.pairs.slave_nodes << " slave nodes lie inside one of the "
-    << st.pairs.faces << " " << kind << " master faces (" << st.pairs.on_kind
-    << " on such a face in all, the others on its edges or vertices: no local search needed).\n";
-  o << "- Domain: the scene's " << kind << " faces, nodes moved by up to " << st.options.deformation
-    << " e, S within " << std::setprecision(3) << st.capture << " e of the face (e: the face's shortest corner edge); "
-    << st.train_count << " training and " << st.heldout_count << " held-out configurations (seeds "
-    << st.options.seed << ", " << st.options.seed + 1000 << ").\n";
+  const bool general = st.general_curvature >= 0.0;
+  if (general) {
+    o << "# General face network: " << kind << " faces of the paper-like domain\n\n";
+    o << "- Domain (lib/study/face_study.hpp, sample_general_face_domain): A = (0, 0, 0), B = (1, 0, 0), the last corner "
+         "at 0.5 to 1 from A and 60 to 120 degrees from AB"
+      << (st.kind == FaceKind::kQuad8 ? ", C at B + D moved by up to 0.3 in each coordinate" : "")
+      << ", mid-side nodes up to " << st.general_curvature
+      << " x their edge off its midpoint in each coordinate, S within 0.3 of the face over a foot in it; "
+      << st.train_count << " training and " << st.heldout_count << " held-out configurations (seeds " << st.options.seed
+      << ", " << st.options.seed + 1000 << "). No deck: no pairs.\n";
+  } else {
+    o << "# Face study: " << deck << ", pair " << pair << ", " << kind << " faces\n\n";
+    o << "- Pairs: " << st.pairs.pairs.size() << " of " << st.pairs.slave_nodes << " slave nodes lie inside one of the "
+      << st.pairs.faces << " " << kind << " master faces (" << st.pairs.on_kind
+      << " on such a face in all, the others on its edges or vertices: no local search needed).\n";
+    o << "- Domain: the scene's " << kind << " faces, nodes moved by up to " << st.options.deformation
+      << " e, S within " << std::setprecision(3) << st.capture << " e of the face (e: the face's shortest corner edge); "
+      << st.train_count << " training and " << st.heldout_count << " held-out configurations (seeds "
+      << st.options.seed << ", " << st.options.seed + 1000 << ").\n";
+  }
   o << "- Target: mean |error| " << st.options.target << " in " << units << "; a method reaches it at "
     << st.options.margin << " x target on the held-out sample (effective mean: a failure counts as one domain width).\n";
   o << "- Whole study: " << std::setprecision(3) << st.seconds << " s.\n\n";
@@ -492,23 +642,26 @@ std::string face_study_markdown(const FaceStudy& st, const std::string& deck, in
     o << "| " << n.name << " | " << n.epochs << " (" << n.best_epoch << ") | " << std::setprecision(3) << n.heldout_error
       << " | " << std::setprecision(3) << n.seconds << " |\n";
   }
-  o << "\n## Every method\n\nHeld-out: the scene's domain, never trained on. Pairs: the deck's own, labelled by the surface "
-       "search. ns: batched, 1 thread, the fastest of "
-    << st.options.timing_passes << " passes.\n\n";
-  o << "| method | held-out mean | effective | max | failures | pairs mean | pairs max | pairs failures | ns/query | reaches |\n";
-  o << "|---|---|---|---|---|---|---|---|---|---|\n";
+  o << "\n## Every method\n\nHeld-out: the " << (general ? "general" : "scene's")
+    << " domain, never trained on." << (general ? "" : " Pairs: the deck's own, labelled by the surface search.")
+    << " ns: batched, 1 thread, the fastest of " << st.options.timing_passes << " passes.\n\n";
+  o << "| method | held-out mean | effective | max | failures |"
+    << (general ? "" : " pairs mean | pairs max | pairs failures |") << " ns/query | reaches |\n";
+  o << "|---|---|---|---|---|" << (general ? "" : "---|---|---|") << "---|---|\n";
   for (std::size_t k = 0; k < st.methods.size(); ++k) {
     const FaceMethodResult& m = st.methods[k];
     o << "| " << (static_cast<int>(k) == st.chosen ? "**" + m.name + "**" : m.name) << " | " << std::setprecision(3)
-      << m.heldout_mean << " | " << m.heldout_effective << " | " << m.heldout_max << " | " << m.heldout_failures << " | "
-      << m.pairs_mean << " | " << m.pairs_max << " | " << m.pairs_failures << " | " << std::setprecision(3)
-      << m.batched_ns << " | " << (m.reaches ? "yes" : "no") << " |\n";
+      << m.heldout_mean << " | " << m.heldout_effective << " | " << m.heldout_max << " | " << m.heldout_failures << " | ";
+    if (!general) o << m.pairs_mean << " | " << m.pairs_max << " | " << m.pairs_failures << " | ";
+    o << std::setprecision(3) << m.batched_ns << " | " << (m.reaches ? "yes" : "no") << " |\n";
   }
   o << "\n## The choice\n\n";
   if (st.chosen >= 0) {
     const FaceMethodResult& c = st.methods[static_cast<std::size_t>(st.chosen)];
     o << "**" << c.name << "**: the fastest method that reaches the target on the held-out sample (" << std::setprecision(3)
-      << c.batched_ns << " ns per query; held-out " << c.heldout_effective << ", the deck's pairs " << c.pairs_mean << ").\n";
+      << c.batched_ns << " ns per query; held-out " << c.heldout_effective;
+    if (!general) o << ", the deck's pairs " << c.pairs_mean;
+    o << ").\n";
   } else {
     o << "No method reaches the target on the held-out sample.\n";
   }

@@ -98,6 +98,23 @@ struct FacePairs {
                                              const FaceStudyOptions& options, double capture, std::int64_t count,
                                              std::uint64_t seed);
 
+/// The general domain of a face type, paper-like (Section 5's bilinear domain carried to quadratic faces;
+/// docs/library.md "Faces"): in the canonical frame A = (0, 0, 0), B = (1, 0, 0); the last corner (C of a
+/// triangle, D of a quad) at a distance in [0.5, 1] from A (|AD| <= |AB|, as the paper's) and an angle at A in
+/// [60, 120] degrees; a quad's C at B + D moved by up to 0.3 in each coordinate (warped out of plane by up to
+/// 0.3, as the paper's z of C); each mid-side node at its chord's midpoint moved by up to `curvature` x the edge
+/// length in each coordinate; S over a foot point in the face (boundary_fraction on nodes and edges) at a height
+/// within +-0.3 (the paper's z of S), kept when its closest point on the true face lies inside it.
+[[nodiscard]] FaceQueries sample_general_face_domain(search::FaceKind kind, const FaceStudyOptions& options,
+                                                     double curvature, std::int64_t count, std::uint64_t seed);
+
+/// Trains one network of `hidden` layers on `train` (canonical features, targets the corrections to the corner
+/// closed form) and measures it on `heldout` (step 3 of the study for one size).
+struct FaceNetworkResult;
+[[nodiscard]] FaceNetworkResult train_face_network(search::FaceKind kind, const std::vector<int>& hidden,
+                                                   const FaceQueries& train, const FaceQueries& heldout,
+                                                   const FaceStudyOptions& options, const FaceStudyLog& log = {});
+
 struct FaceNetworkResult {
   std::string name;  ///< e.g. "20-48-2"
   std::vector<int> hidden;
@@ -125,7 +142,8 @@ struct FaceStudy {
   search::FaceKind kind = search::FaceKind::kTri6;
   FaceStudyOptions options;
   FacePairs pairs;
-  double capture = 0.0;  ///< resolved, x e
+  double capture = 0.0;  ///< resolved, x e (a scene's study)
+  double general_curvature = -1.0;  ///< the general domain's mid-side offsets (run_general_face_study), else < 0
   std::size_t train_count = 0, heldout_count = 0;
   std::vector<FaceNetworkResult> networks;
   std::vector<FaceMethodResult> methods;
@@ -138,6 +156,11 @@ struct FaceStudy {
 /// `kind` or without pairs inside them, or options out of range.
 [[nodiscard]] FaceStudy run_face_study(const contact::Scene& scene, search::FaceKind kind,
                                        const FaceStudyOptions& options, const FaceStudyLog& log = {});
+
+/// Steps 2-4 on the general domain of `kind` (sample_general_face_domain) instead of a scene's: no pairs. What
+/// scene-study --face K --general runs to make the shipped general face networks (data/weights).
+[[nodiscard]] FaceStudy run_general_face_study(search::FaceKind kind, const FaceStudyOptions& options,
+                                               double curvature, const FaceStudyLog& log = {});
 
 /// The report: the scene, the sample, the networks, every method on the held-out sample and on the deck's
 /// pairs, the choice, and the fastest method at each accuracy level (the frontier of the scene).
