@@ -179,6 +179,31 @@ def _(ctx):
         ctx.expect(command, 2, says, within=20)
 
 
+@case("results_pages")
+def _(ctx):
+    # The scripts that write a results page (--page) check it before any work: a page under a regular file, or a
+    # page that is a directory, is exit 2 naming --page, and nothing is built, run or written.
+    deck = ctx.deck()
+    ctx.write("file", "a file, not a directory\n")
+    os.makedirs(ctx.path("folder"))
+    py = sys.executable
+    commands = {
+        "frontier": ([py, ctx.script("frontier"), "--build-dir", ctx.build, "--work", "w", "--output", "o"],
+                     ["w", "o"]),
+        "bench-search": (["bash", ctx.script("bench-search"), "--build", ctx.build], []),
+        "scene-table": ([py, ctx.script("scene-table"), "--output", "o", "--build-dir", ctx.build, deck], ["o"]),
+    }
+    for name, (command, absent) in commands.items():
+        ctx.expect(command + ["--page", "file/page.md"], 2, r"--page 'file/page\.md': cannot write there",
+                   absent=absent, within=20)
+        ctx.expect(command + ["--page", "folder"], 2, r"--page 'folder' is a directory, not a file", absent=absent,
+                   within=20)
+    for name in ("frontier", "bench-search"):
+        command, absent = commands[name]
+        ctx.expect(command + ["--page", "page.md", "--no-page"], 2, r"--page and --no-page exclude each other",
+                   absent=absent + ["page.md"], within=20)
+
+
 @case("other_script_options")
 def _(ctx):
     deck = ctx.deck()

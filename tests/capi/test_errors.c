@@ -77,7 +77,7 @@ int main(int argc, char** argv) {
       strcmp(contactnn_status_name(7), "unknown") == 0 && strcmp(contactnn_status_name(-1), "unknown") == 0,
       "status names outside 0..6 are unknown");
   expect(contactnn_raw_columns(CONTACTNN_SURFACE_BILINEAR) == 15 &&
-             contactnn_raw_columns(CONTACTNN_SURFACE_GREGORY) == 27 && contactnn_raw_columns(2) == 0,
+             contactnn_raw_columns(CONTACTNN_SURFACE_GREGORY) == 27 && contactnn_raw_columns(5) == 0,
          "raw columns 15, 27, 0");
 
   /* 2. Creation. */
@@ -96,8 +96,8 @@ int main(int argc, char** argv) {
                       "no-such-network.h5", "a missing network file");
   expect_create_fails(CONTACTNN_SURFACE_BILINEAR, "network", csv, NULL, CONTACTNN_ERROR_FORMAT,
                       "raw-bilinear.csv", "a CSV file as the network");
-  expect_create_fails(2, "newton:5", NULL, NULL, CONTACTNN_ERROR_INVALID_ARGUMENT, "surface = 2",
-                      "surface 2");
+  expect_create_fails(5, "newton:5", NULL, NULL, CONTACTNN_ERROR_INVALID_ARGUMENT, "surface = 5",
+                      "surface 5 (the faces end at CONTACTNN_SURFACE_QUAD8, 4)");
   expect_create_fails(-1, "newton:5", NULL, NULL, CONTACTNN_ERROR_INVALID_ARGUMENT, "surface = -1",
                       "surface -1");
   expect_create_fails(CONTACTNN_SURFACE_BILINEAR, "network", gregory_net, NULL,

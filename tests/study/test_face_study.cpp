@@ -95,7 +95,9 @@ TEST(FaceStudy, ANetworkCorrectsTheCornerClosedFormAndTheChoiceIsTheFastestThatR
     const FaceMethodResult& chosen = st.methods[static_cast<std::size_t>(st.chosen)];
     EXPECT_TRUE(chosen.reaches);
     for (const FaceMethodResult& m : st.methods) {
-      if (m.reaches) EXPECT_GE(m.batched_ns, chosen.batched_ns) << m.name;
+      if (m.reaches) {
+        EXPECT_GE(m.batched_ns, chosen.batched_ns) << m.name;
+      }
     }
     const std::string report = face_study_markdown(st, deck, 0);
     EXPECT_NE(report.find("**" + chosen.name + "**"), std::string::npos);
