@@ -254,6 +254,10 @@ int main(int argc, char** argv) {
                  "the states the scene's domain is drawn from: rest (the deck), history (the deck and every "
                  "increment of --results) or auto (history with --results, rest without)")
       ->check(CLI::IsMember({"auto", "rest", "history"}));
+  app.add_option("--segment-test", o.segment_test,
+                 "scene domain: slave nodes pass the segment test of Eqs 3-6 (on), or not necessarily (off: as the "
+                 "surface search pairs them); auto: off with --results, on without")
+      ->check(CLI::IsMember({"auto", "on", "off"}));
   app.add_option("--count", o.count,
                  "configurations of the scene's domain to train from (held out: count / 4)")
       ->transform(cli::integer_in(100, 1'000'000'000));
@@ -351,6 +355,7 @@ int main(int argc, char** argv) {
     CONTACTNN_REQUIRE_AS(InvalidArgument,
                          o.domain_states != study::DomainStates::kHistory || !results_path.empty(),
                          "--domain history: the whole history's domain needs --results RUN.frd");
+    o.domain.segment_test = o.segment_test == "on" || (o.segment_test == "auto" && results_path.empty());
     o = study::resolved(o, surface);
     const fs::path dir(output);
     CONTACTNN_REQUIRE_AS(InvalidArgument, !fs::exists(dir) || fs::is_directory(dir),

@@ -120,10 +120,11 @@ LabelledSet sample_scene(const std::vector<SceneSegment>& segments, const SceneD
         const Vec3 normal = foot.d_s.cross(foot.d_t);
         if (!(normal.norm() > 0.0)) return attempt;
         c.slave = foot.position + random.uniform(-domain.capture, domain.capture) * e * normal.normalized();
-        // 3. A pair the global search could make: the segment's node nearest S, and S passes the segment test
-        //    of Eqs 3-6 there (the SPEC 4 frame requires both).
+        // 3. A pair the global search could make: the segment's node nearest S, and (domain.segment_test) S passes
+        //    the segment test of Eqs 3-6 there, as the paper's pairs; the surface search's need not.
         const int a = geometry::canonical_symmetry(c.nodes, c.slave).rotation;
-        if (!geometry::passes_segment_test(c.nodes[a], c.nodes[(a + 1) % 4], c.nodes[(a + 3) % 4], c.slave,
+        if (domain.segment_test &&
+            !geometry::passes_segment_test(c.nodes[a], c.nodes[(a + 1) % 4], c.nodes[(a + 3) % 4], c.slave,
                                            geometry::kSegmentTestTolerance)) {
           return attempt;
         }
@@ -168,6 +169,7 @@ LabelledSet sample_scene(const std::vector<SceneSegment>& segments, const SceneD
   f.xy_limit *= 1.0 + kWidening;
   f.z_limit = std::max(f.z_limit * (1.0 + kWidening), 1e-12);
   f.convex = all_convex;
+  f.segment_test_a = domain.segment_test;
   f.min_angle_degrees = std::max(0.0, f.min_angle_degrees - 180.0 * kWidening);
   f.max_angle_degrees = std::min(180.0, f.max_angle_degrees + 180.0 * kWidening);
   f.max_normal_tilt_tangent = gregory ? f.max_normal_tilt_tangent * (1.0 + kWidening) : geometry::DomainFilters{}.max_normal_tilt_tangent;

@@ -12,6 +12,7 @@
 
 #include "core/error.hpp"
 #include "search/method.hpp"
+#include "core/quote_text.hpp"
 #include "study/json_text.hpp"
 
 namespace contactnn::study {
@@ -23,7 +24,7 @@ using Keys = std::vector<std::string>;
 const Keys kPlanKeys = {"schema_version", "surface", "method", "network", "target", "margin", "reached"};
 const Keys kDomainKeys = {
     "deck",          "pair",        "deformation", "capture", "normal_tilt_tangent", "boundary_fraction",
-    "heldout_count", "heldout_seed"};
+    "heldout_count", "heldout_seed", "segment_test", "states", "results"};
 const Keys kMeasurementKeys = {"method",   "mean_abs",   "effective_mean", "max_abs",
                                "failures", "batched_ns", "reaches_target"};
 
@@ -233,6 +234,14 @@ ScenePlan parse_plan(const std::string& text, const std::string& source) {
   plan.domain.boundary_fraction = d.real("boundary_fraction");
   plan.domain.heldout_count = d.integer("heldout_count", 1);
   plan.domain.heldout_seed = d.integer("heldout_seed", 0);
+  // Optional (plans written before they existed: the rest state, the test on).
+  plan.domain.segment_test = d.node("segment_test", false) == nullptr || d.boolean("segment_test");
+  plan.domain.states = d.node("states", false) == nullptr ? std::string("rest") : d.string("states");
+  if (plan.domain.states != "rest" && plan.domain.states != "history") {
+    d.fail(d.line("states"), "key 'states' in [domain]: '" + quote_text(plan.domain.states) +
+                                 "', expected \"rest\" or \"history\"");
+  }
+  plan.domain.results = d.string("results", false);
 
   if (const toml::array* measurements = root["measurement"].as_array()) {
     for (std::size_t i = 0; i < measurements->size(); ++i) {
@@ -279,7 +288,10 @@ std::string plan_to_toml(const ScenePlan& plan) {
       << "normal_tilt_tangent = " << real_text(plan.domain.normal_tilt_tangent) << "\n"
       << "boundary_fraction = " << real_text(plan.domain.boundary_fraction) << "\n"
       << "heldout_count = " << plan.domain.heldout_count << "\n"
-      << "heldout_seed = " << plan.domain.heldout_seed << "\n";
+      << "heldout_seed = " << plan.domain.heldout_seed << "\n"
+      << "segment_test = " << (plan.domain.segment_test ? "true" : "false") << "\n"
+      << "states = " << quoted(plan.domain.states) << "\n"
+      << "results = " << quoted(plan.domain.results) << "\n";
   for (const PlanMeasurement& m : plan.measurements) {
     out << "\n[[measurement]]\n"
         << "method = " << quoted(m.method) << "\n"

@@ -27,6 +27,12 @@
 //   boundary_fraction = 0.2
 //   heldout_count = 15000                  configurations of the held-out sample, integer >= 1
 //   heldout_seed = 1001                    its seed, integer >= 0
+//   segment_test = true                    optional (default true): whether the domain's slave nodes pass the
+//                                          segment test of Eqs 3-6 (dataset::SceneDomainOptions::segment_test)
+//   states = "history"                     optional (default "rest"): the states the domain was drawn from, the
+//                                          deck ("rest") or the deck and every increment of `results`
+//   results = "run.frd"                    optional (default ""): the solver's results the study was given
+//                                          (scene-study --results), as given
 //   [[measurement]]                        optional, any number: one per method measured
 //   method = "closed_form"                 the study's name of the method ("network[16-32-2]" for a network)
 //   mean_abs = [1.2e-3, 3.4e-3]            held-out mean |error| of each coordinate (failures left out)
@@ -76,6 +82,9 @@ struct PlanDomain {
   double boundary_fraction = 0.0;
   std::int64_t heldout_count = 0;
   std::int64_t heldout_seed = 0;
+  bool segment_test = true;
+  std::string states = "rest";  ///< "rest" or "history"
+  std::string results;          ///< scene-study --results, or empty
 };
 
 struct ScenePlan {

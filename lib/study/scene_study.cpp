@@ -1109,6 +1109,9 @@ ScenePlan make_plan(const SceneStudyResult& r, const std::string& network_file) 
   plan.domain.boundary_fraction = r.domain.boundary_fraction;
   plan.domain.heldout_count = r.heldout_rows;
   plan.domain.heldout_seed = static_cast<std::int64_t>(r.heldout_seed);
+  plan.domain.segment_test = r.domain.segment_test;
+  plan.domain.states = r.options.domain_states == DomainStates::kHistory ? "history" : "rest";
+  plan.domain.results = r.results;
   for (const MethodMeasurement& m : r.measured) {
     PlanMeasurement p;
     p.method = m.name;

@@ -103,6 +103,7 @@ TEST(Sampling, ShrunkProposalBoxesKeepTheDensityUniform) {
   }
   for (int accepted = 0; accepted < kDraws;) {
     geometry::Configuration c{};
+    c.nodes[0] = geometry::Vec3::Zero();  // Eigen's vectors are not zeroed by {}
     c.nodes[1] = geometry::Vec3(1, 0, 0);
     c.nodes[3] = geometry::Vec3(b.uniform(-2, 2), b.uniform(0, 2), 0);
     c.slave = geometry::Vec3(b.uniform(-2, 2), b.uniform(-2, 2), b.uniform(-0.3, 0.3));

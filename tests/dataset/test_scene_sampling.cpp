@@ -46,6 +46,7 @@ TEST(SceneSampling, RowsAreCanonicalInsideAndWithinTheRecordedDomain) {
     }
     // The recorded filters describe the set: every row passes them (a slack of 1e-9 as evaluate-net's).
     geometry::Configuration c{};
+    c.nodes[0] = Vec3::Zero();  // Eigen's vectors are not zeroed by {}: A was whatever the stack held
     c.nodes[1] = Vec3(1, 0, 0);
     int inside = 0;
     for (Eigen::Index r = 0; r < set.size(); ++r) {
@@ -61,6 +62,42 @@ TEST(SceneSampling, RowsAreCanonicalInsideAndWithinTheRecordedDomain) {
     // Thin segments are what the paper's frame stores worst: the features spread across their width.
     EXPECT_GT(set.filters.max_angle_degrees, 90.0);
     EXPECT_LT(set.filters.min_angle_degrees, 90.0);
+  }
+}
+
+// segment_test off (a history study's pairs come from the surface search, which need not pass Eqs 3-6): some rows
+// fail the test at their canonical corner, the recorded filters say the test is off, and every row is still
+// inside the recorded domain; with it on (the default) every row passes.
+TEST(SceneSampling, WithoutTheSegmentTestTheDomainHoldsSlavesThatFailIt) {
+  EnumerationOptions o;
+  o.surface = SurfaceKind::kGregory;
+  for (const bool test : {true, false}) {
+    SceneDomainOptions d;
+    d.segment_test = test;
+    d.capture = 1.0;
+    EnumerationSummary summary;
+    const LabelledSet set = sample_scene(strip(3, 2.0), d, o, 2000, summary);
+    EXPECT_EQ(set.filters.segment_test_a, test);
+    const geometry::TrainingDomain domain = geometry::TrainingDomain::from_features(
+        o.surface, set.features.data(), static_cast<long>(set.size()), set.status, set.filters);
+    int failing = 0, inside = 0;
+    geometry::Configuration c{};
+    c.nodes[0] = Vec3::Zero();  // Eigen's vectors are not zeroed by {}: A was whatever the stack held
+    c.nodes[1] = Vec3(1, 0, 0);
+    for (Eigen::Index r = 0; r < set.size(); ++r) {
+      c.nodes[2] = Vec3(set.features(r, 0), set.features(r, 1), set.features(r, 2));
+      c.nodes[3] = Vec3(set.features(r, 3), set.features(r, 4), 0);
+      c.slave = Vec3(set.features(r, 5), set.features(r, 6), set.features(r, 7));
+      for (int i = 0; i < 4; ++i) c.normals[i] = Vec3(set.features(r, 8 + 2 * i), set.features(r, 9 + 2 * i), 1).normalized();
+      failing += !geometry::passes_segment_test(c.nodes[0], c.nodes[1], c.nodes[3], c.slave, geometry::kSegmentTestTolerance);
+      inside += domain.contains(c, set.features.row(r).data());
+    }
+    EXPECT_EQ(inside, 2000) << "segment test " << test;
+    if (test) {
+      EXPECT_EQ(failing, 0);
+    } else {
+      EXPECT_GT(failing, 20);
+    }
   }
 }
 

@@ -94,6 +94,10 @@ TEST(ScenePlan, ReadsEveryFieldOfAHandWrittenPlan) {
   EXPECT_EQ(p.domain.capture, 1.0);
   EXPECT_EQ(p.domain.heldout_count, 15000);
   EXPECT_EQ(p.domain.heldout_seed, 1001);
+  // Keys a plan of before the history study lacks: the rest state, the segment test on.
+  EXPECT_TRUE(p.domain.segment_test);
+  EXPECT_EQ(p.domain.states, "rest");
+  EXPECT_EQ(p.domain.results, "");
   ASSERT_EQ(p.measurements.size(), 2u);
   EXPECT_EQ(p.measurements[0].method, "closed_form");
   EXPECT_EQ(p.measurements[0].mean_abs[1], 0.02);
@@ -108,7 +112,23 @@ TEST(ScenePlan, WrittenPlanReadsBackToTheSameValues) {
   p.target = 1.0 / 3.0;  // a value that needs all 17 digits
   p.domain.deck = "a \"quoted\" \\ path\twith a tab.inp";
   p.measurements[1].mean_abs[0] = 5e-324;
+  p.domain.segment_test = false;
+  p.domain.states = "history";
+  p.domain.results = "runs/hertz-slide.frd";
   const ScenePlan q = parse_plan(plan_to_toml(p), "written.toml");
+  EXPECT_FALSE(q.domain.segment_test);
+  EXPECT_EQ(q.domain.states, "history");
+  EXPECT_EQ(q.domain.results, "runs/hertz-slide.frd");
+  // states is "rest" or "history", named with its line when not.
+  std::string text = plan_to_toml(p);
+  text.replace(text.find("states = \"history\""), 18, "states = \"later\"");
+  try {
+    (void)parse_plan(text, "states.toml");
+    ADD_FAILURE() << "states = \"later\" accepted";
+  } catch (const FormatError& e) {
+    EXPECT_NE(std::string(e.what()).find("'states.toml':"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("key 'states' in [domain]"), std::string::npos) << e.what();
+  }
   EXPECT_EQ(q.target, p.target);
   EXPECT_EQ(q.domain.deck, p.domain.deck);
   EXPECT_EQ(q.method, p.method);
