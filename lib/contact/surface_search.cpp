@@ -7,7 +7,7 @@
 #include <limits>
 #include <memory>
 #include <nanoflann.hpp>
-#include <unordered_map>
+#include <mutex>
 #include <utility>
 
 #include "core/error.hpp"
@@ -96,14 +96,18 @@ struct FaceIndex {
   std::vector<double> radii;  ///< bounding-sphere radius about the centre
   std::vector<Vec3> box_lo, box_hi;  ///< bounding box of the same points
   std::vector<double> sizes;  ///< longest corner distance
-  /// Faces sharing each edge, by its two corner nodes (smaller first): (face, edge) pairs.
-  std::unordered_map<std::uint64_t, std::vector<std::pair<int, int>>> edges;
-  std::vector<std::vector<int>> node_faces;  ///< the faces at each surface node (as a corner), increasing
+  /// The faces at each surface node (as a corner), increasing: node i's are node_faces[node_offsets[i] ..
+  /// node_offsets[i + 1]) (one flat list: a list per node cost 1e5 allocations per state of a large master). The
+  /// faces sharing an edge are those of its first corner that have it (faces_on_edge).
+  std::vector<int> node_offsets, node_faces;
+  /// 1 for a quad4 face on a bilinear facet that passes projection::closest_point_on_face's checks (finite,
+  /// not degenerate, on its nodes relative to the first): its projections skip them
+  /// (ProjectionOptions::face_checked; the same answers, computed once per face instead of once per slave).
+  std::vector<std::uint8_t> checked;
 
-  static std::uint64_t edge_key(int a, int b) {
-    const auto lo = static_cast<std::uint64_t>(std::min(a, b));
-    const auto hi = static_cast<std::uint64_t>(std::max(a, b));
-    return (lo << 32U) | hi;
+  [[nodiscard]] std::span<const int> faces_at(int node) const {
+    const auto n = static_cast<std::size_t>(node);
+    return {node_faces.data() + node_offsets[n], static_cast<std::size_t>(node_offsets[n + 1] - node_offsets[n])};
   }
 };
 
@@ -115,11 +119,36 @@ FaceIndex index_faces(const mesh::SurfaceMesh& master, std::span<const Vec3> nor
   index.box_lo.resize(n);
   index.box_hi.resize(n);
   index.sizes.resize(n);
-  index.node_faces.resize(master.positions.size());
+  index.checked.assign(n, 0);
+  // The faces at each node, counted, then filled in face order.
+  index.node_offsets.assign(master.positions.size() + 1, 0);
+  for (std::size_t f = 0; f < n; ++f) {
+    for (const int c : master.face_corners(static_cast<int>(f))) ++index.node_offsets[static_cast<std::size_t>(c) + 1];
+  }
+  for (std::size_t i = 1; i < index.node_offsets.size(); ++i) index.node_offsets[i] += index.node_offsets[i - 1];
+  index.node_faces.resize(static_cast<std::size_t>(index.node_offsets.back()));
+  {
+    std::vector<int> at(index.node_offsets.begin(), index.node_offsets.end() - 1);
+    for (std::size_t f = 0; f < n; ++f) {
+      for (const int c : master.face_corners(static_cast<int>(f))) {
+        index.node_faces[static_cast<std::size_t>(at[static_cast<std::size_t>(c)]++)] = static_cast<int>(f);
+      }
+    }
+  }
   for (std::size_t f = 0; f < n; ++f) {
     const auto face = static_cast<int>(f);
     const std::span<const int> corners = master.face_corners(face);
     const mesh::FaceNodes nodes = master.face_nodes(face);
+    if (nodes.type == mesh::FaceType::kQuad4 && kind_of(master, options, face) == SurfaceKind::kBilinear) {
+      // closest_on_face's patch: the face's configuration relative to its first node.
+      geometry::Configuration config = face_configuration(master, normals, SurfaceKind::kBilinear, face);
+      const Vec3 origin = config.nodes[0];
+      if (origin.allFinite()) {
+        for (Vec3& x : config.nodes) x -= origin;
+        const geometry::BilinearPatch patch(config.nodes);
+        index.checked[f] = std::isfinite(patch.characteristic_length()) && !geometry::is_degenerate_segment(patch.nodes()) ? 1 : 0;
+      }
+    }
     Vec3 centre = Vec3::Zero();
     for (int c : corners) centre += master.positions[static_cast<std::size_t>(c)];
     centre /= static_cast<double>(corners.size());
@@ -159,12 +188,6 @@ FaceIndex index_faces(const mesh::SurfaceMesh& master, std::span<const Vec3> nor
     index.box_lo[f] = box_lo;
     index.box_hi[f] = box_hi;
     index.sizes[f] = size;
-    const auto k = static_cast<int>(corners.size());
-    for (int e = 0; e < k; ++e) {
-      index.edges[FaceIndex::edge_key(corners[static_cast<std::size_t>(e)], corners[static_cast<std::size_t>((e + 1) % k)])]
-          .emplace_back(face, e);
-      index.node_faces[static_cast<std::size_t>(corners[static_cast<std::size_t>(e)])].push_back(face);
-    }
   }
   return index;
 }
@@ -340,14 +363,26 @@ Vec3 pseudo_normal(const mesh::SurfaceMesh& master, std::span<const Vec3> normal
   Vec3 sum = Vec3::Zero();
   if (p.location == Location::kEdge) {
     const auto e = static_cast<std::size_t>(p.feature);
-    for (const auto& [face, edge] : index.edges.at(FaceIndex::edge_key(corners[e], corners[(e + 1) % k]))) {
-      sum += face == f ? p.normal : normal_on_edge(master, normals, options, face, edge, p.point);
+    const int a = corners[e], b = corners[(e + 1) % k];
+    // The faces with the edge (a, b) either way round, in face order, each edge of a face once.
+    int previous = -1;
+    for (const int face : index.faces_at(a)) {
+      if (face == previous) continue;  // a face with node a at two corners is listed twice
+      previous = face;
+      const std::span<const int> other = master.face_corners(face);
+      const auto m = other.size();
+      for (std::size_t g = 0; g < m; ++g) {
+        const int x = other[g], y = other[(g + 1) % m];
+        if ((x == a && y == b) || (x == b && y == a)) {
+          sum += face == f ? p.normal : normal_on_edge(master, normals, options, face, static_cast<int>(g), p.point);
+        }
+      }
     }
     return sum;
   }
   // A vertex: every face at the node, weighted by its corner angle there.
   const int node = corners[static_cast<std::size_t>(p.feature)];
-  for (int face : index.node_faces[static_cast<std::size_t>(node)]) {
+  for (int face : index.faces_at(node)) {
     const std::span<const int> other = master.face_corners(face);
     const auto at = static_cast<int>(std::find(other.begin(), other.end(), node) - other.begin());
     sum += weighted_corner_normal(master, normals, options, face, at);
@@ -373,8 +408,10 @@ double face_lower_bound(const FaceIndex& index, const Vec3& slave, int face) {
 
 /// Steps 2-4 of the header for one slave node, given its candidate faces (unordered; with `loose`, sorted by
 /// bounds that are at most each face's own: SurfaceSearcher::nearest).
+/// `checked`: `options` with projection.face_checked set, for the faces FaceIndex::checked marks.
 NodeSegmentPair search_one(const mesh::SurfaceMesh& master, std::span<const Vec3> normals,
-                           const SearchOptions& options, const FaceIndex& index, double capture, long slave_id,
+                           const SearchOptions& options, const SearchOptions& checked, const FaceIndex& index,
+                           double capture, long slave_id,
                            const Vec3& slave, std::vector<std::pair<double, int>>& candidates,
                            const FaceHint* hint, bool loose) {
   NodeSegmentPair best;
@@ -429,7 +466,8 @@ NodeSegmentPair search_one(const mesh::SurfaceMesh& master, std::span<const Vec3
       if (exact > capture || exact > best_distance + kTieTolerance * index.sizes[static_cast<std::size_t>(f)]) continue;
     }
     bool unverified = false;
-    const projection::FaceClosestPoint p = closest_on_face(master, normals, options, f, slave,
+    const SearchOptions& face_options = index.checked[static_cast<std::size_t>(f)] != 0 ? checked : options;
+    const projection::FaceClosestPoint p = closest_on_face(master, normals, face_options, f, slave,
                                                            hinted ? &hint->param : nullptr, hint != nullptr,
                                                            hint != nullptr ? &unverified : nullptr);
     if (p.status != Status::kOk) continue;
@@ -448,7 +486,8 @@ NodeSegmentPair search_one(const mesh::SurfaceMesh& master, std::span<const Vec3
     for (Answer& a : answers) {
       if (!a.unverified || a.point.status != Status::kOk) continue;
       if (a.point.distance > best_distance + kTieTolerance * index.sizes[static_cast<std::size_t>(a.face)]) continue;
-      a.point = closest_on_face(master, normals, options, a.face, slave);
+      a.point = closest_on_face(master, normals, index.checked[static_cast<std::size_t>(a.face)] != 0 ? checked : options,
+                                a.face, slave);
       a.unverified = false;
       verified = true;
     }
@@ -552,17 +591,32 @@ double capture_distance(const mesh::SurfaceMesh& master, const SearchOptions& op
   return options.capture_relative * largest;
 }
 
+SearchOptions with_face_checked(SearchOptions o) {
+  o.projection.face_checked = true;
+  return o;
+}
+
 struct SurfaceSearcher::Impl {
   double unit;                                ///< world length = unit x working length
   std::unique_ptr<mesh::SurfaceMesh> scaled;  ///< the master in working units, where unit != 1
   const mesh::SurfaceMesh& master;            ///< the master in working units
   std::span<const Vec3> normals;              ///< unit vectors: the same in any unit
   SearchOptions options;
+  SearchOptions checked_options;  ///< options with projection.face_checked (FaceIndex::checked)
   FaceIndex index;
   double capture = 0.0;
   double largest_radius = 0.0;
   Centres cloud;
-  CentreTree tree;
+  /// Built on the first query that needs it (faces_within): a tracker's increment whose nodes all answer from
+  /// their lists needs none.
+  mutable std::unique_ptr<CentreTree> tree;
+  mutable std::once_flag tree_built;
+  const CentreTree& centre_tree() const {
+    std::call_once(tree_built, [this] {
+      tree = std::make_unique<CentreTree>(3, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(10));
+    });
+    return *tree;
+  }
   std::vector<Vec3> world_centres;  ///< index's, in world units (where unit != 1)
   std::vector<double> world_radii;
 
@@ -572,11 +626,11 @@ struct SurfaceSearcher::Impl {
         master(scaled ? *scaled : m),
         normals(n),
         options(in_unit(o, unit)),
+        checked_options(with_face_checked(options)),
         index(index_faces(master, n, options)),
         capture(capture_distance(master, options)),
         largest_radius(index.radii.empty() ? 0.0 : *std::max_element(index.radii.begin(), index.radii.end())),
-        cloud{&index.centres},
-        tree(3, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(10)) {
+        cloud{&index.centres} {
     if (unit == 1.0) return;
     for (const Vec3& c : index.centres) world_centres.push_back(c * unit);
     for (double r : index.radii) world_radii.push_back(r * unit);
@@ -645,7 +699,7 @@ void SurfaceSearcher::faces_within(const Vec3& world_slave, double world_reach, 
   const double radius = reach + impl_->largest_radius;
   const double q[3] = {slave.x(), slave.y(), slave.z()};
   scratch.clear();
-  impl_->tree.radiusSearch(q, radius * radius * (1.0 + 1e-12), scratch, nanoflann::SearchParams(32, 0.0F, false));
+  impl_->centre_tree().radiusSearch(q, radius * radius * (1.0 + 1e-12), scratch, nanoflann::SearchParams(32, 0.0F, false));
   for (const auto& item : scratch) {
     const double bound = bound_of(static_cast<int>(item.first));
     if (bound <= reach) out.emplace_back(bound * unit, static_cast<int>(item.first));
@@ -657,11 +711,11 @@ NodeSegmentPair SurfaceSearcher::nearest(long slave_id, const Vec3& slave,
                                          Bounds bounds) const {
   const double unit = impl_->unit;
   if (unit == 1.0) {
-    return search_one(impl_->master, impl_->normals, impl_->options, impl_->index, impl_->capture, slave_id, slave,
+    return search_one(impl_->master, impl_->normals, impl_->options, impl_->checked_options, impl_->index, impl_->capture, slave_id, slave,
                       candidates, hint, bounds == Bounds::kLooseSorted);
   }
   for (auto& c : candidates) c.first /= unit;
-  NodeSegmentPair pair = search_one(impl_->master, impl_->normals, impl_->options, impl_->index, impl_->capture,
+  NodeSegmentPair pair = search_one(impl_->master, impl_->normals, impl_->options, impl_->checked_options, impl_->index, impl_->capture,
                                     slave_id, slave / unit, candidates, hint, bounds == Bounds::kLooseSorted);
   for (auto& c : candidates) c.first *= unit;
   to_world(pair, unit, slave);

@@ -163,10 +163,12 @@ FaceClosestPoint closest_point_on_face(const SurfaceT& surface, const Vec3& slav
   }
   const ParamDomain d = param_domain(SurfaceT::kKind);
 
-  if (!std::isfinite(surface.characteristic_length())) return out;  // invalid
-  if (geometry::is_degenerate_segment(surface.nodes())) {
-    out.status = Status::kDegenerate;
-    return out;
+  if (!options.face_checked) {
+    if (!std::isfinite(surface.characteristic_length())) return out;  // invalid
+    if (geometry::is_degenerate_segment(surface.nodes())) {
+      out.status = Status::kDegenerate;
+      return out;
+    }
   }
   // 1. The interior stationary point (the reference projection). A sound face may still have none: the
   //    stationary point of a slave beside a planar quad can lie beyond the fold of its bilinear map, where
