@@ -54,7 +54,8 @@ int checked_inputs(FaceKind kind) {
 
 }  // namespace
 
-FaceNetwork::FaceNetwork(FaceKind kind, const mlp::Network<float>& network, std::vector<double> feature_min,
+template <class Real>
+FaceNetwork::FaceNetwork(FaceKind kind, const mlp::Network<Real>& network, std::vector<double> feature_min,
                          std::vector<double> feature_max)
     : kind_(kind),
       model_(network, NetworkModel::OtherFrame{checked_inputs(kind)}),
@@ -63,14 +64,8 @@ FaceNetwork::FaceNetwork(FaceKind kind, const mlp::Network<float>& network, std:
   check_bounds();
 }
 
-FaceNetwork::FaceNetwork(FaceKind kind, const mlp::Network<double>& network, std::vector<double> feature_min,
-                         std::vector<double> feature_max)
-    : kind_(kind),
-      model_(network, NetworkModel::OtherFrame{checked_inputs(kind)}),
-      min_(std::move(feature_min)),
-      max_(std::move(feature_max)) {
-  check_bounds();
-}
+template FaceNetwork::FaceNetwork(FaceKind, const mlp::Network<float>&, std::vector<double>, std::vector<double>);
+template FaceNetwork::FaceNetwork(FaceKind, const mlp::Network<double>&, std::vector<double>, std::vector<double>);
 
 void FaceNetwork::check_bounds() {
   const auto n = static_cast<std::size_t>(face_feature_count(kind_));

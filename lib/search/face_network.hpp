@@ -45,9 +45,9 @@ class FaceNetwork {
   /// `feature_min`, `feature_max`: the training domain (face_feature_count values each, min <= max). Throws
   /// InvalidArgument for tri3, a network whose input count is not face_feature_count(kind) or without 2 outputs,
   /// or bounds of the wrong size or order.
-  FaceNetwork(FaceKind kind, const mlp::Network<float>& network, std::vector<double> feature_min,
-              std::vector<double> feature_max);
-  FaceNetwork(FaceKind kind, const mlp::Network<double>& network, std::vector<double> feature_min,
+  /// Real: float or double (the network's own precision; instantiated for both).
+  template <class Real>
+  FaceNetwork(FaceKind kind, const mlp::Network<Real>& network, std::vector<double> feature_min,
               std::vector<double> feature_max);
 
   [[nodiscard]] FaceKind face() const { return kind_; }

@@ -57,17 +57,7 @@ FaceSearch::FaceSearch(FaceKind kind, Method method, SearchOptions options, cons
                          "method " << method.name() << " on " << to_string(kind) << " faces got a "
                                    << to_string(network->face()) << " network");
   }
-  CONTACTNN_REQUIRE_AS(InvalidArgument, options.max_iterations >= 1,
-                       "max_iterations = " << options.max_iterations << ", expected >= 1");
-  CONTACTNN_REQUIRE_AS(InvalidArgument, options.tol_param >= 0.0, "tol_param = " << options.tol_param << ", expected >= 0");
-  CONTACTNN_REQUIRE_AS(InvalidArgument, options.domain_margin >= 0.0,
-                       "domain_margin = " << options.domain_margin << ", expected >= 0");
-  CONTACTNN_REQUIRE_AS(InvalidArgument, options.bilinear_box_margin >= 0.0,
-                       "bilinear_box_margin = " << options.bilinear_box_margin << ", expected >= 0");
-  CONTACTNN_REQUIRE_AS(InvalidArgument, options.max_step_widths > 0.0,
-                       "max_step_widths = " << options.max_step_widths << ", expected > 0");
-  CONTACTNN_REQUIRE_AS(InvalidArgument, options.max_halvings >= 0,
-                       "max_halvings = " << options.max_halvings << ", expected >= 0");
+  check_search_options(options);
   auto plan = std::make_shared<detail::FacePlan>();
   plan->kind = kind;
   plan->method = method;

@@ -50,4 +50,8 @@ struct SearchOptions {
   std::size_t min_parallel_count = 512;
 };
 
+/// InvalidArgument naming the field for options out of range (max_iterations < 1, tol_param or domain_margin < 0,
+/// a box margin < 0, max_step_widths <= 0, max_halvings < 0): what LocalSearch and FaceSearch refuse.
+void check_search_options(const SearchOptions& options);
+
 }  // namespace contactnn::search

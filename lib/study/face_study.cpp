@@ -158,6 +158,96 @@ FacePairs face_pairs(const contact::Scene& scene, FaceKind kind) {
   return out;
 }
 
+namespace {
+
+/// A foot point of a face in its parameters: uniform over the quad's square or the triangle, or
+/// (boundary_fraction) half of the time on a node, half on an edge.
+std::array<double, 2> draw_foot(int corners, double boundary_fraction, std::mt19937_64& rng) {
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  double s, t;
+  const double where = unit(rng);
+  if (corners == 4) {
+    s = 2.0 * unit(rng) - 1.0;
+    t = 2.0 * unit(rng) - 1.0;
+    if (where < 0.5 * boundary_fraction) {  // a node
+      s = s < 0.0 ? -1.0 : 1.0;
+      t = t < 0.0 ? -1.0 : 1.0;
+    } else if (where < boundary_fraction) {  // an edge
+      (unit(rng) < 0.5 ? s : t) = unit(rng) < 0.5 ? -1.0 : 1.0;
+    }
+  } else {
+    do {
+      s = unit(rng);
+      t = unit(rng);
+    } while (s + t > 1.0);
+    if (where < 0.5 * boundary_fraction) {
+      const int node = static_cast<int>(3.0 * unit(rng)) % 3;
+      s = node == 1 ? 1.0 : 0.0;
+      t = node == 2 ? 1.0 : 0.0;
+    } else if (where < boundary_fraction) {
+      const int edge = static_cast<int>(3.0 * unit(rng)) % 3;
+      const double a = unit(rng);
+      s = edge == 0 ? a : (edge == 1 ? 1.0 - a : 0.0);
+      t = edge == 0 ? 0.0 : (edge == 1 ? a : 1.0 - a);
+    }
+  }
+  return {s, t};
+}
+
+/// `count` rows: each draws from the generator of (seed, row) a face (`draw_face(rng, nodes)` fills its nodes and
+/// returns the slave's largest offset along the normal) and a foot point, places S over it, labels it by the
+/// closest point on the true face and keeps it when that lies inside; up to 1000 draws a row, rows that kept none
+/// dropped (none on the decks tried). Any thread count gives the same set.
+template <class DrawFace>
+FaceQueries sample_rows(FaceKind kind, const FaceStudyOptions& options, std::int64_t count, std::uint64_t seed,
+                        std::uint64_t stream, const DrawFace& draw_face) {
+  const int corners = kind == FaceKind::kQuad8 ? 4 : 3;
+  FaceQueries out;
+  out.kind = kind;
+  const int stride = search::face_raw_columns(kind);
+  out.raw.assign(static_cast<std::size_t>(count) * static_cast<std::size_t>(stride), 0.0);
+  out.label.assign(2 * static_cast<std::size_t>(count), 0.0);
+  std::vector<char> kept(static_cast<std::size_t>(count), 0);
+#pragma omp parallel for schedule(dynamic, 256) num_threads(options.threads > 0 ? options.threads : omp_get_max_threads())
+  for (std::int64_t row = 0; row < count; ++row) {
+    std::mt19937_64 rng(seed * 0x9E3779B97F4A7C15ULL + static_cast<std::uint64_t>(row) * 0xBF58476D1CE4E5B9ULL + stream);
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    std::vector<Vec3> x;
+    for (int attempt = 0; attempt < 1000; ++attempt) {
+      const double offset = draw_face(rng, x);
+      const auto [s, t] = draw_foot(corners, options.boundary_fraction, rng);
+      const geometry::SurfacePoint p = evaluate(kind, x, s, t);
+      const Vec3 n = p.d_s.cross(p.d_t).normalized();
+      const Vec3 slave = p.position + (2.0 * unit(rng) - 1.0) * offset * n;
+      const projection::FaceClosestPoint c = closest(kind, x, slave);
+      if (c.status != Status::kOk || c.location != Location::kFace) continue;
+      double* r = out.raw.data() + static_cast<std::size_t>(row) * static_cast<std::size_t>(stride);
+      for (std::size_t i = 0; i < x.size(); ++i) {
+        for (int k = 0; k < 3; ++k) r[3 * i + static_cast<std::size_t>(k)] = x[i][k];
+      }
+      for (int k = 0; k < 3; ++k) r[3 * x.size() + static_cast<std::size_t>(k)] = slave[k];
+      out.label[2 * static_cast<std::size_t>(row)] = c.param[0];
+      out.label[2 * static_cast<std::size_t>(row) + 1] = c.param[1];
+      kept[static_cast<std::size_t>(row)] = 1;
+      break;
+    }
+  }
+  std::size_t to = 0;
+  for (std::size_t row = 0; row < kept.size(); ++row) {
+    if (!kept[row]) continue;
+    std::copy_n(out.raw.begin() + static_cast<std::ptrdiff_t>(row * static_cast<std::size_t>(stride)), stride,
+                out.raw.begin() + static_cast<std::ptrdiff_t>(to * static_cast<std::size_t>(stride)));
+    out.label[2 * to] = out.label[2 * row];
+    out.label[2 * to + 1] = out.label[2 * row + 1];
+    ++to;
+  }
+  out.raw.resize(to * static_cast<std::size_t>(stride));
+  out.label.resize(2 * to);
+  return out;
+}
+
+}  // namespace
+
 FaceQueries sample_face_domain(const contact::Scene& scene, FaceKind kind, const FaceStudyOptions& options,
                                double capture, std::int64_t count, std::uint64_t seed) {
   const mesh::FaceType type = mesh_type(kind);
@@ -175,172 +265,43 @@ FaceQueries sample_face_domain(const contact::Scene& scene, FaceKind kind, const
   }
   CONTACTNN_REQUIRE_AS(InvalidArgument, !faces.empty() && total > 0.0,
                        "the master surface has no " << search::to_string(kind) << " face of positive area");
-  FaceQueries out;
-  out.kind = kind;
-  const int stride = search::face_raw_columns(kind);
-  out.raw.assign(static_cast<std::size_t>(count) * static_cast<std::size_t>(stride), 0.0);
-  out.label.assign(2 * static_cast<std::size_t>(count), 0.0);
-  // Each row draws until it keeps one (a curved face's nearest point for S high above may lie on an edge):
-  // from the generator of (seed, row), so the set does not depend on the threads.
-  std::vector<char> kept(static_cast<std::size_t>(count), 0);
-#pragma omp parallel for schedule(dynamic, 256) num_threads(options.threads > 0 ? options.threads : omp_get_max_threads())
-  for (std::int64_t row = 0; row < count; ++row) {
-    std::mt19937_64 rng(seed * 0x9E3779B97F4A7C15ULL + static_cast<std::uint64_t>(row) * 0xBF58476D1CE4E5B9ULL + 1);
+  return sample_rows(kind, options, count, seed, 1, [&](std::mt19937_64& rng, std::vector<Vec3>& x) {
     std::uniform_real_distribution<double> unit(0.0, 1.0);
-    for (int attempt = 0; attempt < 1000; ++attempt) {
-      const double pick = unit(rng) * total;
-      const auto f = static_cast<std::size_t>(std::lower_bound(cumulative.begin(), cumulative.end(), pick) - cumulative.begin());
-      std::vector<Vec3> x = faces[std::min(f, faces.size() - 1)];
-      const double e = shortest_corner_edge(x, corners);
-      for (Vec3& p : x) {
-        Vec3 d;
-        do {
-          d = Vec3(2.0 * unit(rng) - 1.0, 2.0 * unit(rng) - 1.0, 2.0 * unit(rng) - 1.0);
-        } while (d.squaredNorm() > 1.0);
-        p += options.deformation * e * d;
-      }
-      double s, t;
-      const double where = unit(rng);
-      if (corners == 4) {
-        s = 2.0 * unit(rng) - 1.0;
-        t = 2.0 * unit(rng) - 1.0;
-        if (where < 0.5 * options.boundary_fraction) {  // a node
-          s = s < 0.0 ? -1.0 : 1.0;
-          t = t < 0.0 ? -1.0 : 1.0;
-        } else if (where < options.boundary_fraction) {  // an edge
-          (unit(rng) < 0.5 ? s : t) = unit(rng) < 0.5 ? -1.0 : 1.0;
-        }
-      } else {
-        do {
-          s = unit(rng);
-          t = unit(rng);
-        } while (s + t > 1.0);
-        if (where < 0.5 * options.boundary_fraction) {
-          const int node = static_cast<int>(3.0 * unit(rng)) % 3;
-          s = node == 1 ? 1.0 : 0.0;
-          t = node == 2 ? 1.0 : 0.0;
-        } else if (where < options.boundary_fraction) {
-          const int edge = static_cast<int>(3.0 * unit(rng)) % 3;
-          const double a = unit(rng);
-          s = edge == 0 ? a : (edge == 1 ? 1.0 - a : 0.0);
-          t = edge == 0 ? 0.0 : (edge == 1 ? a : 1.0 - a);
-        }
-      }
-      const geometry::SurfacePoint p = evaluate(kind, x, s, t);
-      const Vec3 n = p.d_s.cross(p.d_t).normalized();
-      const Vec3 slave = p.position + (2.0 * unit(rng) - 1.0) * capture * e * n;
-      const projection::FaceClosestPoint c = closest(kind, x, slave);
-      if (c.status != Status::kOk || c.location != Location::kFace) continue;
-      double* r = out.raw.data() + static_cast<std::size_t>(row) * static_cast<std::size_t>(stride);
-      for (std::size_t i = 0; i < x.size(); ++i) {
-        for (int k = 0; k < 3; ++k) r[3 * i + static_cast<std::size_t>(k)] = x[i][k];
-      }
-      for (int k = 0; k < 3; ++k) r[3 * x.size() + static_cast<std::size_t>(k)] = slave[k];
-      out.label[2 * static_cast<std::size_t>(row)] = c.param[0];
-      out.label[2 * static_cast<std::size_t>(row) + 1] = c.param[1];
-      kept[static_cast<std::size_t>(row)] = 1;
-      break;
+    const double pick = unit(rng) * total;
+    const auto f = static_cast<std::size_t>(std::lower_bound(cumulative.begin(), cumulative.end(), pick) - cumulative.begin());
+    x = faces[std::min(f, faces.size() - 1)];
+    const double e = shortest_corner_edge(x, corners);
+    for (Vec3& p : x) {
+      Vec3 d;
+      do {
+        d = Vec3(2.0 * unit(rng) - 1.0, 2.0 * unit(rng) - 1.0, 2.0 * unit(rng) - 1.0);
+      } while (d.squaredNorm() > 1.0);
+      p += options.deformation * e * d;
     }
-  }
-  // Rows that kept nothing in 1000 draws (none on the decks tried) are dropped.
-  std::size_t to = 0;
-  for (std::size_t row = 0; row < kept.size(); ++row) {
-    if (!kept[row]) continue;
-    std::copy_n(out.raw.begin() + static_cast<std::ptrdiff_t>(row * static_cast<std::size_t>(stride)), stride,
-                out.raw.begin() + static_cast<std::ptrdiff_t>(to * static_cast<std::size_t>(stride)));
-    out.label[2 * to] = out.label[2 * row];
-    out.label[2 * to + 1] = out.label[2 * row + 1];
-    ++to;
-  }
-  out.raw.resize(to * static_cast<std::size_t>(stride));
-  out.label.resize(2 * to);
-  return out;
+    return capture * e;
+  });
 }
 
 FaceQueries sample_general_face_domain(FaceKind kind, const FaceStudyOptions& options, double curvature,
                                       std::int64_t count, std::uint64_t seed) {
   CONTACTNN_REQUIRE_AS(InvalidArgument, kind != FaceKind::kTri3, "tri3 faces have no network domain");
   const int corners = kind == FaceKind::kQuad8 ? 4 : 3;
-  FaceQueries out;
-  out.kind = kind;
-  const int stride = search::face_raw_columns(kind);
-  out.raw.assign(static_cast<std::size_t>(count) * static_cast<std::size_t>(stride), 0.0);
-  out.label.assign(2 * static_cast<std::size_t>(count), 0.0);
-  std::vector<char> kept(static_cast<std::size_t>(count), 0);
-#pragma omp parallel for schedule(dynamic, 256) num_threads(options.threads > 0 ? options.threads : omp_get_max_threads())
-  for (std::int64_t row = 0; row < count; ++row) {
-    std::mt19937_64 rng(seed * 0x9E3779B97F4A7C15ULL + static_cast<std::uint64_t>(row) * 0xBF58476D1CE4E5B9ULL + 7);
+  return sample_rows(kind, options, count, seed, 7, [&](std::mt19937_64& rng, std::vector<Vec3>& x) {
     std::uniform_real_distribution<double> unit(0.0, 1.0);
     const auto in = [&](double lo, double hi) { return lo + (hi - lo) * unit(rng); };
-    for (int attempt = 0; attempt < 1000; ++attempt) {
-      const double angle = in(60.0, 120.0) * 3.14159265358979323846 / 180.0, length = in(0.5, 1.0);
-      const Vec3 last(length * std::cos(angle), length * std::sin(angle), 0.0);
-      std::vector<Vec3> x{Vec3(0, 0, 0), Vec3(1, 0, 0)};
-      if (corners == 4) {
-        x.push_back(Vec3(1, 0, 0) + last + Vec3(in(-0.3, 0.3), in(-0.3, 0.3), in(-0.3, 0.3)));
-      }
-      x.push_back(last);
-      for (int e = 0; e < corners; ++e) {
-        const Vec3& a = x[static_cast<std::size_t>(e)];
-        const Vec3& b = x[static_cast<std::size_t>((e + 1) % corners)];
-        const double r = curvature * (b - a).norm();
-        x.push_back(0.5 * (a + b) + Vec3(in(-r, r), in(-r, r), in(-r, r)));
-      }
-      double s, t;
-      const double where = unit(rng);
-      if (corners == 4) {
-        s = in(-1.0, 1.0);
-        t = in(-1.0, 1.0);
-        if (where < 0.5 * options.boundary_fraction) {
-          s = s < 0.0 ? -1.0 : 1.0;
-          t = t < 0.0 ? -1.0 : 1.0;
-        } else if (where < options.boundary_fraction) {
-          (unit(rng) < 0.5 ? s : t) = unit(rng) < 0.5 ? -1.0 : 1.0;
-        }
-      } else {
-        do {
-          s = unit(rng);
-          t = unit(rng);
-        } while (s + t > 1.0);
-        if (where < 0.5 * options.boundary_fraction) {
-          const int node = static_cast<int>(3.0 * unit(rng)) % 3;
-          s = node == 1 ? 1.0 : 0.0;
-          t = node == 2 ? 1.0 : 0.0;
-        } else if (where < options.boundary_fraction) {
-          const int edge = static_cast<int>(3.0 * unit(rng)) % 3;
-          const double a = unit(rng);
-          s = edge == 0 ? a : (edge == 1 ? 1.0 - a : 0.0);
-          t = edge == 0 ? 0.0 : (edge == 1 ? a : 1.0 - a);
-        }
-      }
-      const geometry::SurfacePoint p = evaluate(kind, x, s, t);
-      const Vec3 n = p.d_s.cross(p.d_t).normalized();
-      const Vec3 slave = p.position + in(-0.3, 0.3) * n;
-      const projection::FaceClosestPoint c = closest(kind, x, slave);
-      if (c.status != Status::kOk || c.location != Location::kFace) continue;
-      double* r = out.raw.data() + static_cast<std::size_t>(row) * static_cast<std::size_t>(stride);
-      for (std::size_t i = 0; i < x.size(); ++i) {
-        for (int k = 0; k < 3; ++k) r[3 * i + static_cast<std::size_t>(k)] = x[i][k];
-      }
-      for (int k = 0; k < 3; ++k) r[3 * x.size() + static_cast<std::size_t>(k)] = slave[k];
-      out.label[2 * static_cast<std::size_t>(row)] = c.param[0];
-      out.label[2 * static_cast<std::size_t>(row) + 1] = c.param[1];
-      kept[static_cast<std::size_t>(row)] = 1;
-      break;
+    const double angle = in(60.0, 120.0) * 3.14159265358979323846 / 180.0, length = in(0.5, 1.0);
+    const Vec3 last(length * std::cos(angle), length * std::sin(angle), 0.0);
+    x = {Vec3(0, 0, 0), Vec3(1, 0, 0)};
+    if (corners == 4) x.push_back(Vec3(1, 0, 0) + last + Vec3(in(-0.3, 0.3), in(-0.3, 0.3), in(-0.3, 0.3)));
+    x.push_back(last);
+    for (int e = 0; e < corners; ++e) {
+      const Vec3 a = x[static_cast<std::size_t>(e)];
+      const Vec3 b = x[static_cast<std::size_t>((e + 1) % corners)];
+      const double r = curvature * (b - a).norm();
+      x.push_back(0.5 * (a + b) + Vec3(in(-r, r), in(-r, r), in(-r, r)));
     }
-  }
-  std::size_t to = 0;
-  for (std::size_t row = 0; row < kept.size(); ++row) {
-    if (!kept[row]) continue;
-    std::copy_n(out.raw.begin() + static_cast<std::ptrdiff_t>(row * static_cast<std::size_t>(stride)), stride,
-                out.raw.begin() + static_cast<std::ptrdiff_t>(to * static_cast<std::size_t>(stride)));
-    out.label[2 * to] = out.label[2 * row];
-    out.label[2 * to + 1] = out.label[2 * row + 1];
-    ++to;
-  }
-  out.raw.resize(to * static_cast<std::size_t>(stride));
-  out.label.resize(2 * to);
-  return out;
+    return 0.3;
+  });
 }
 
 namespace {
