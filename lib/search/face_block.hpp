@@ -67,6 +67,8 @@ struct FaceBlock {
   double corner[3 * kCorners][W];
   double unit[W];
   double status[W];
+  /// S's distance to the face's nearest node, in the block's units: a gap's cap.
+  double nearest[W];
 
   /// From raw[k][l] (the rows of SPEC 9 nodes, then S). A lane with a non-finite value gets status kInvalid and
   /// a unit face one below S in its place (no NaN in the other lanes' vector operations).
@@ -103,6 +105,16 @@ struct FaceBlock {
 #pragma omp simd
       for (int l = 0; l < W; ++l) x[k][l] = finite[l] != 0.0 ? x[k][l] * inv[l] : replacement;
     }
+    double near[W];
+    for (int l = 0; l < W; ++l) near[l] = std::numeric_limits<double>::max();
+    for (int i = 0; i < kN; ++i) {
+#pragma omp simd
+      for (int l = 0; l < W; ++l) {
+        near[l] = min_of(near[l], x[3 * i][l] * x[3 * i][l] + x[3 * i + 1][l] * x[3 * i + 1][l] + x[3 * i + 2][l] * x[3 * i + 2][l]);
+      }
+    }
+#pragma omp simd
+    for (int l = 0; l < W; ++l) nearest[l] = std::sqrt(near[l]);
     CONTACTNN_LANES
     for (int l = 0; l < W; ++l) {
       CONTACTNN_UNROLL

@@ -72,7 +72,9 @@ static void face_block(const FacePlan& plan, const In* raw_rows, const Results<I
     }
   }
 
-  // 4. The gap n.(S - P) at the reported point, in world units.
+  // 4. The gap n.(S - P) at the reported point, in world units, never larger than S's distance to the face's
+  //    nearest node (a slave far from a curved face has its stationary point on the surface's extrapolation,
+  //    whose gap grows with the distance squared).
   double gap[W];
   if (out.gap != nullptr) {
     CONTACTNN_LANES
@@ -84,7 +86,8 @@ static void face_block(const FacePlan& plan, const In* raw_rows, const Results<I
       const double length = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
       const double g = -(n[0] * e.p[0] + n[1] * e.p[1] + n[2] * e.p[2]) / length;
       const bool none = (s.status[l] == kInvalid) | (s.status[l] == kDegenerate) | !(length > 0.0) | !is_finite(g);
-      gap[l] = none ? 0.0 : g * f.unit[l];
+      const double capped = g > f.nearest[l] ? f.nearest[l] : (g < -f.nearest[l] ? -f.nearest[l] : g);
+      gap[l] = none ? 0.0 : capped * f.unit[l];
     }
   }
 

@@ -194,8 +194,8 @@ TEST(FaceSearch, AQueryAloneAndInABlockGivesTheSameBitsAndFloatFollowsDouble) {
                                       raw.begin() + static_cast<std::ptrdiff_t>((i + 1) * columns));
         const Answers a = run(search, one);
         EXPECT_EQ(a.param[0], all.param[2 * i]) << to_string(kind) << " " << name << " " << i;
-        EXPECT_EQ(a.param[1], all.param[2 * i + 1]);
-        EXPECT_EQ(a.gap[0], all.gap[i]);
+        EXPECT_EQ(a.param[1], all.param[2 * i + 1]) << to_string(kind) << " " << name << " " << i;
+        EXPECT_EQ(a.gap[0], all.gap[i]) << to_string(kind) << " " << name << " " << i;
         EXPECT_EQ(a.status[0], all.status[i]);
       }
       // Float: the rows placed near the origin (float has no room for the placement's offsets).
@@ -363,6 +363,87 @@ TEST(FaceNetwork, ANetworksEstimateIsTheSamePointInEveryNodeOrder) {
           first.push_back(p);
         } else {
           EXPECT_LT((p - first[i]).norm(), 1e-5 * face_size(q[i])) << to_string(kind) << " order " << k << " query " << i;
+        }
+      }
+    }
+  }
+}
+
+}  // namespace
+}  // namespace contactnn::search
+
+namespace contactnn::search {
+namespace {
+
+// The extremes, as the quad4 search's hostile set (issue 31): a face at any scale from 1e-200 to 1e200 gives the
+// unit face's answer (every conversion a power of two is exact); a slave node 1e3 to 1e15 face sizes away gets a
+// finite answer whose |gap| is never more than its distance to the face's nearest node (FaceSearch computes in the caller's node order, so which stationary point of the
+// extrapolated surface a far slave's Newton reaches, and its status, may differ between node orders: docs/library.md
+// "Faces"); nothing non-finite comes out of any input.
+TEST(FaceSearchExtremes, ScalesFarSlavesAndNonFiniteInputs) {
+  for (const FaceKind kind : kKinds) {
+    testing::FaceQueryOptions local;
+    local.place = false;
+    const auto q = queries(kind, 40, 81, local);
+    for (const char* name : {"newton", "newton:3", "closed_form", "closed_form+newton:2"}) {
+      const FaceSearch search(kind, Method::parse(name));
+      const Answers unit = run(search, rows(q));
+      for (const double scale : {0x1p-660, 0x1p-300, 0x1p300, 0x1p660}) {  // about 1e-200 .. 1e200
+        std::vector<FaceQuery> scaled = q;
+        for (FaceQuery& x : scaled) {
+          for (Vec3& p : x.nodes) p *= scale;
+          x.slave *= scale;
+        }
+        const Answers a = run(search, rows(scaled));
+        for (std::size_t i = 0; i < q.size(); ++i) {
+          SCOPED_TRACE(std::string(to_string(kind)) + " " + name + " scale " + std::to_string(std::log2(scale)));
+          EXPECT_EQ(a.status[i], unit.status[i]);
+          EXPECT_EQ(a.param[2 * i], unit.param[2 * i]);
+          EXPECT_EQ(a.param[2 * i + 1], unit.param[2 * i + 1]);
+          EXPECT_EQ(a.gap[i], unit.gap[i] * scale);
+        }
+      }
+      // Far slaves, in every node order.
+      const auto orders = testing::face_orders(kind);
+      for (const double far : {1e3, 1e6, 1e10, 1e15}) {
+        std::vector<Answers> by_order;
+        std::vector<std::vector<FaceQuery>> permuted(orders.size());
+        for (std::size_t k = 0; k < orders.size(); ++k) {
+          for (const FaceQuery& x : q) {
+            FaceQuery y = x;
+            const Vec3 n = (x.nodes[1] - x.nodes[0]).cross(x.nodes[2] - x.nodes[0]).normalized();
+            y.slave = x.slave + far * (n + Vec3(0.3, -0.2, 0.1));
+            for (std::size_t j = 0; j < orders[k].size(); ++j) y.nodes[j] = x.nodes[static_cast<std::size_t>(orders[k][j])];
+            permuted[k].push_back(y);
+          }
+          by_order.push_back(run(search, rows(permuted[k])));
+        }
+        for (std::size_t i = 0; i < q.size(); ++i) {
+          SCOPED_TRACE(std::string(to_string(kind)) + " " + name + " far " + std::to_string(far) + " query " + std::to_string(i));
+          double nearest = std::numeric_limits<double>::infinity();
+          for (const Vec3& p : permuted[0][i].nodes) nearest = std::min(nearest, (permuted[0][i].slave - p).norm());
+          for (std::size_t k = 0; k < orders.size(); ++k) {
+            const Answers& a = by_order[k];
+            EXPECT_TRUE(std::isfinite(a.param[2 * i]) && std::isfinite(a.param[2 * i + 1]) && std::isfinite(a.gap[i]));
+            EXPECT_LE(std::fabs(a.gap[i]), nearest * (1.0 + 1e-12)) << "order " << k;
+          }
+        }
+      }
+    }
+    // Non-finite values anywhere: invalid, finite outputs, in float and double.
+    std::vector<double> raw = rows({q[0]});
+    const auto columns = raw.size();
+    for (std::size_t k = 0; k < columns; ++k) {
+      for (const double bad : {std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity()}) {
+        std::vector<double> r = raw;
+        r[k] = bad;
+        for (const char* name : {"newton", "closed_form+newton:3", "newton:2"}) {
+          const Answers a = run(FaceSearch(kind, Method::parse(name)), r);
+          EXPECT_EQ(a.status[0], Status::kInvalid) << to_string(kind) << " " << name << " value " << k;
+          EXPECT_TRUE(std::isfinite(a.param[0]) && std::isfinite(a.param[1]) && a.gap[0] == 0.0);
+          const std::vector<float> rf(r.begin(), r.end());
+          const Answers f = run<float>(FaceSearch(kind, Method::parse(name)), rf);
+          EXPECT_EQ(f.status[0], Status::kInvalid);
         }
       }
     }
