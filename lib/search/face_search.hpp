@@ -15,7 +15,10 @@
 // SearchOptions::domain_margin; degenerate for a collapsed face (coincident corners, no area, a corner of zero
 // angle); no_convergence; invalid for a non-finite input; out_of_domain for a network's query outside its
 // training domain. The gap is n.(S - P) with n the unit P_s x P_t of the face's own parametrisation (its node
-// order, SPEC 9), in world units.
+// order, SPEC 9), in world units, and never larger than S's distance to the face's nearest node. Every method
+// computes in the caller's node order: near the face every order gives the same point to rounding; a slave far
+// from a curved face may reach another stationary point of the extrapolated surface in another order
+// (docs/library.md "Faces").
 #pragma once
 
 #include <cstddef>
