@@ -265,6 +265,9 @@ int main(int argc, char** argv) {
       ->transform(cli::integer_in(0, cli::kMaxSeed - 1000));
   app.add_option("--sizes", sizes,
                  "hidden sizes to try, smallest first (default bilinear 8,16,32; gregory 16,32,48)");
+  app.add_option("--second-layer", o.second_layer,
+                 "a second hidden layer of this many units behind every size (0: one hidden layer)")
+      ->transform(cli::integer_in(0, 128));
   app.add_option("--epochs", o.epochs, "training epochs of each size")
       ->transform(cli::integer_in(1, 100000000));
   app.add_option("--long-epochs", o.long_epochs,

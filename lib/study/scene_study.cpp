@@ -62,8 +62,9 @@ std::string join(const std::vector<int>& sizes) {
 
 int feature_count_of(SurfaceKind surface) { return surface == SurfaceKind::kBilinear ? 8 : 16; }
 
-std::string network_name(SurfaceKind surface, int hidden) {
-  return std::to_string(feature_count_of(surface)) + "-" + std::to_string(hidden) + "-2";
+std::string network_name(SurfaceKind surface, int hidden, int second_layer) {
+  return std::to_string(feature_count_of(surface)) + "-" + std::to_string(hidden) +
+         (second_layer > 0 ? "-" + std::to_string(second_layer) : std::string()) + "-2";
 }
 
 int team_size(const SceneStudyOptions& options) {
@@ -163,7 +164,10 @@ TrainingData prepare_training(const dataset::LabelledSet& set, const SceneStudyO
 
 mlp::Network<float> fresh_network(SurfaceKind surface, int hidden, const TrainingData& data,
                                   const SceneStudyOptions& o) {
-  mlp::Network<float> network({feature_count_of(surface), hidden, 2}, o.u0, data.scaling);
+  std::vector<int> sizes{feature_count_of(surface), hidden};
+  if (o.second_layer > 0) sizes.push_back(o.second_layer);
+  sizes.push_back(2);
+  mlp::Network<float> network(sizes, o.u0, data.scaling);
   network.initialize(mlp::Rng::derive_seed(o.seed, 0));
   return network;
 }
@@ -470,7 +474,7 @@ std::vector<SceneNetwork> untrained_networks(const SceneDomain& domain, SurfaceK
   std::vector<SceneNetwork> out;
   for (const int h : options.sizes) {
     SceneNetwork n;
-    n.name = network_name(surface, h) + "-untrained";
+    n.name = network_name(surface, h, options.second_layer) + "-untrained";
     n.hidden = h;
     n.domain = data.domain;
     auto network = std::make_shared<mlp::Network<float>>(fresh_network(surface, h, data, options));
@@ -678,7 +682,7 @@ class TrainingSchedule {
       (void)s.trainer->train_epoch();
     }
     s.seconds += seconds_since(start);
-    SceneNetwork n = snapshot(*s.network, s.trainer->state(), network_name(surface_, s.hidden), s.hidden,
+    SceneNetwork n = snapshot(*s.network, s.trainer->state(), network_name(surface_, s.hidden, o_.second_layer), s.hidden,
                               data_, domain_.heldout_set, o_);
     n.seconds = s.seconds;
     const std::lock_guard<std::mutex> lock(mutex_);
@@ -716,7 +720,7 @@ class TrainingSchedule {
       (void)s.trainer->train_epoch();
     }
     s.seconds += seconds_since(start);
-    SceneNetwork n = snapshot(*s.network, s.trainer->state(), network_name(surface_, s.hidden) + "-long",
+    SceneNetwork n = snapshot(*s.network, s.trainer->state(), network_name(surface_, s.hidden, o_.second_layer) + "-long",
                               s.hidden, data_, domain_.heldout_set, o_);
     n.seconds = s.seconds;
     const std::lock_guard<std::mutex> lock(mutex_);
@@ -1271,7 +1275,7 @@ std::string report_json(const SceneStudyResult& r) {
     << ",\n  \"surface\": " << json_string(std::string(to_string(r.surface)))
     << ",\n  \"target\": " << json_number(o.target) << ",\n  \"margin\": " << json_number(o.margin)
     << ",\n  \"count\": " << o.count << ",\n  \"seed\": " << o.seed << ",\n  \"epochs\": " << o.epochs
-    << ",\n  \"long_epochs\": " << o.long_epochs
+    << ",\n  \"long_epochs\": " << o.long_epochs << ",\n  \"second_layer\": " << o.second_layer
     << ",\n  \"input_features\": " << json_string(o.input_features)
     << ",\n  \"train_networks\": " << json_string(std::string(to_string(o.train_networks)))
     << ",\n  \"domain\": " << json_string(std::string(to_string(o.domain_states)))
@@ -1283,7 +1287,7 @@ std::string report_json(const SceneStudyResult& r) {
       << json_number(n.heldout_mean_abs[0]) << ", " << json_number(n.heldout_mean_abs[1])
       << "], \"train_seconds\": " << json_number(n.seconds) << "}";
   }
-  j << "],\n  \"network\": " << (scene ? json_string(network_name(r.surface, scene->hidden)) : "null")
+  j << "],\n  \"network\": " << (scene ? json_string(network_name(r.surface, scene->hidden, r.options.second_layer)) : "null")
     << ",\n  \"chosen_hidden\": " << (scene ? std::to_string(scene->hidden) : "null")
     << ",\n  \"chosen_epochs\": " << (scene ? std::to_string(scene->epochs) : "null")
     << ",\n  \"network_reached\": " << (r.training.reached ? "true" : "false")

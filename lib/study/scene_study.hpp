@@ -111,6 +111,9 @@ struct SceneStudyOptions {
 
   // The scene networks.
   std::vector<int> sizes;  ///< hidden sizes, smallest first; surface default {8, 16, 32} or {16, 32, 48}
+  /// A second hidden layer of this many units behind every size (0: one hidden layer, the paper's networks):
+  /// --sizes 48 --second-layer 48 trains 16-48-48-2.
+  int second_layer = 0;
   int epochs = 1000;  ///< training epochs of each size (the paper's 10000 iterations are passes; 1000 do)
   /// When no size reaches the target: the best trained on to this many epochs (0 or at most epochs: no second
   /// round). On metalforming.inp's tool radius, 6000 passes over 60000 configurations reached what 400000 did

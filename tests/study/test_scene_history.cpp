@@ -168,3 +168,26 @@ TEST(SceneHistory, DomainStatesNames) {
 
 }  // namespace
 }  // namespace contactnn::study
+
+namespace contactnn::study {
+namespace {
+
+// --second-layer: every size gets a second hidden layer of that width (untrained for timing, and trained).
+TEST(SceneStudyNetworks, ASecondLayerBehindEverySize) {
+  const TwoBlocks t;
+  SceneStudyOptions o = small_options();
+  o.second_layer = 6;
+  const SceneDomain domain = sample_domain(t.rest, SurfaceKind::kBilinear, o);
+  const std::vector<SceneNetwork> untrained = untrained_networks(domain, SurfaceKind::kBilinear, o);
+  ASSERT_EQ(untrained.size(), 1u);
+  EXPECT_EQ(untrained[0].network->layer_sizes(), (std::vector<int>{8, 4, 6, 2}));
+  EXPECT_EQ(untrained[0].name, "8-4-6-2-untrained");
+  const NetworkTraining trained = train_networks(domain, SurfaceKind::kBilinear, o, o.sizes);
+  ASSERT_EQ(trained.tried.size(), 1u);
+  EXPECT_EQ(trained.tried[0].network->layer_sizes(), (std::vector<int>{8, 4, 6, 2}));
+  EXPECT_EQ(trained.tried[0].name, "8-4-6-2");
+  EXPECT_TRUE(std::isfinite(trained.tried[0].heldout_error()));
+}
+
+}  // namespace
+}  // namespace contactnn::study
