@@ -38,7 +38,6 @@ struct FacePlan {
   Method method;
   SearchOptions options;
   const FaceNetwork* network = nullptr;
-  double inside_margin = 0.0;  ///< ok versus outside: the domain enlarged by this (parameter units)
   double box_margin = 0.0;     ///< hybrids: iterates stay in the domain enlarged by this (parameter units)
   double max_step = 0.0;       ///< hybrids: the longest step (max norm, parameter units)
   int block_size = 32;
@@ -456,7 +455,7 @@ static void face_safeguarded_newton(const FaceBlock<kFace, W>& f, const FacePlan
   // there (SearchOptions::closest_point_on_face then finds that point).
   CONTACTNN_LANES
   for (int l = 0; l < W; ++l) {
-    const bool beyond = !face_inside<kFace>(s.u[l], s.v[l], plan.inside_margin);
+    const bool beyond = !face_inside<kFace>(s.u[l], s.v[l], plan.options.domain_margin);
     s.status[l] = (s.status[l] == kNoConvergence) & beyond ? kOutside : s.status[l];
   }
 }

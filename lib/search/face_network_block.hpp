@@ -165,7 +165,6 @@ template <int kFace, int W>
 static void face_network_estimate(const FaceNetwork& net, bool check_domain, const double (*raw)[W], LaneState<W>& s) {
   using T = FaceTraits<kFace>;
   constexpr int kF = kFace == 1 ? 14 : 20;
-  constexpr int kC = T::kTriangle ? 3 : 4;
   alignas(64) double f[kF * W];
   alignas(64) double out[2 * W];
   int order[W][4];
@@ -199,7 +198,6 @@ static void face_network_estimate(const FaceNetwork& net, bool check_domain, con
     s.u[l] = use ? u : s.u[l];
     s.v[l] = use ? v : s.v[l];
   }
-  (void)kC;
 }
 
 }  // namespace contactnn::search::detail

@@ -66,7 +66,6 @@ FaceSearch::FaceSearch(FaceKind kind, Method method, SearchOptions options, cons
   // Widths: 1 for a triangle's (r, s), 2 for the quad's (xi, eta). The hybrids' box is the quads' (SearchOptions::
   // bilinear_box_margin widths beyond the face): a face's closest point beyond that is no contact on it.
   const double width = kind == FaceKind::kQuad8 ? 2.0 : 1.0;
-  plan->inside_margin = options.domain_margin;
   plan->box_margin = options.bilinear_box_margin * width;
   plan->max_step = options.max_step_widths * width;
   const detail::IsaKernels& kernels = detail::isa_kernels(kernel_isa());

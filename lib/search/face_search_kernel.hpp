@@ -67,7 +67,7 @@ static void face_block(const FacePlan& plan, const In* raw_rows, const Results<I
   if (method.start != Method::Start::kNetwork || hybrid) {
     CONTACTNN_LANES
     for (int l = 0; l < W; ++l) {
-      const bool inside = face_inside<kFace>(s.u[l], s.v[l], plan.inside_margin);
+      const bool inside = face_inside<kFace>(s.u[l], s.v[l], plan.options.domain_margin);
       s.status[l] = (s.status[l] == kOk) & !inside ? kOutside : s.status[l];
     }
   }

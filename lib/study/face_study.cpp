@@ -382,14 +382,10 @@ FaceNetworkResult train_one(FaceKind kind, const std::vector<int>& hidden, const
   r.name = name;
   r.hidden = hidden;
   r.network = network;
-  r.feature_min.assign(static_cast<std::size_t>(nf), std::numeric_limits<double>::infinity());
-  r.feature_max.assign(static_cast<std::size_t>(nf), -std::numeric_limits<double>::infinity());
-  for (Eigen::Index row = 0; row < train; ++row) {
-    for (int k = 0; k < nf; ++k) {
-      r.feature_min[static_cast<std::size_t>(k)] = std::min(r.feature_min[static_cast<std::size_t>(k)], x(row, k));
-      r.feature_max[static_cast<std::size_t>(k)] = std::max(r.feature_max[static_cast<std::size_t>(k)], x(row, k));
-    }
-  }
+  // The training domain: each feature between its extremes over the training rows.
+  const Eigen::RowVectorXd lo = x.topRows(train).colwise().minCoeff(), hi = x.topRows(train).colwise().maxCoeff();
+  r.feature_min.assign(lo.data(), lo.data() + nf);
+  r.feature_max.assign(hi.data(), hi.data() + nf);
   r.model = std::make_shared<search::FaceNetwork>(kind, *network, r.feature_min, r.feature_max);
   const search::FaceSearch alone(kind, search::Method::parse("network"), {}, r.model.get());
   std::vector<double> param;

@@ -172,7 +172,9 @@ TEST(FaceSearch, EveryNodeOrderOfAFaceGivesTheSamePointStatusAndGap) {
           // the normal, and with it the gap's sign.
           EXPECT_LT((p - p0).norm(), 1e-10 * face_size(q[i]));
           EXPECT_NEAR(std::fabs(a.gap[i]), std::fabs(by_order[0].gap[i]), 1e-12 * face_size(q[i]));
-          if (k < orders.size() / 2) EXPECT_NEAR(a.gap[i], by_order[0].gap[i], 1e-12 * face_size(q[i]));
+          if (k < orders.size() / 2) {
+            EXPECT_NEAR(a.gap[i], by_order[0].gap[i], 1e-12 * face_size(q[i]));
+          }
         }
       }
     }
