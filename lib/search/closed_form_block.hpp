@@ -12,8 +12,8 @@
 // sqrt(disc)) / 2, eta = k0 / Q and Q / k2: a parallelogram (k2 = 0) gives the linear root k0 / Q without a
 // division by ~0, the other root being infinite and rejected. Of the two, the one nearer the domain (smaller
 // max(|xi|, |eta|)) is taken: inside the domain when either is.
-// The facet is the block's canonical one (LaneSymmetry): the estimate is the same for each of the caller's node
-// orders, mapped to the caller's (xi, eta) exactly.
+// The facet is the block's canonical one (LaneSwap): the estimate is the same for each of the caller's node
+// orders, mapped to the caller's (xi, eta) exactly (every step is odd in xi and in eta with their coefficients).
 // Statuses: ok or outside by the domain; no_convergence when the discriminant is negative (the projected
 // point lies beyond the fold of the map: the discriminant is taken as 0 and the nearer of the two roots
 // above reported, a finite estimate that Newton can refine; solved both ways, eta first and xi first, the

@@ -38,14 +38,14 @@ constexpr double kInputScaling = 3, kOutputScaling = 3, kMapBack = 4, kSigmoid =
 // surface_block.hpp: the queries relative to S (finite test 2 per value, 12 differences).
 constexpr double kRelativePerValue = 2, kRelative = 12;
 // Bilinear: coefficients a0..a3 from the diagonals' sums and differences 36; the lane's canonical order
-// (LaneSymmetry::choose: two keys 8, the signs 1, the signed coefficients 9) 18; the squared distance to the
+// (LaneSwap::choose: two keys 8, the choice 1; the swap only selects) 9; the squared distance to the
 // nearest node (gap_at's cap) 23; the collapsed-segment test (edges and diagonals 18, their squared lengths
 // 30, thresholds 3, area 15, four corner folds 4 x 19) 142. One hybrid (safeguarded) Newton step on the
 // surface's values: evaluation 31, residual and Jacobian 33, solve (determinant 3, reciprocal 1, step 8) 12,
 // update and checks 7. A plain step (lean_newton, converged_newton) on the polynomial system of
 // PlainSystem<BilinearBlock>: its nine dot products once per query 46; per step u v and the doubled
 // coefficients 3, g00 and g11 8, the residual 14, h01 7, then the solve 12 and update and checks 7.
-constexpr double kBilinearCoefficients = 36, kCanonicalOrder = 18, kNearestNode = 23, kCollapsedTest = 142;
+constexpr double kBilinearCoefficients = 36, kCanonicalOrder = 9, kNearestNode = 23, kCollapsedTest = 142;
 constexpr double kBilinearBuild = kBilinearCoefficients + kCanonicalOrder + kNearestNode + kCollapsedTest;
 constexpr double kBilinearStep = 31 + 33 + 12 + 7;
 constexpr double kBilinearPlainSetup = 46, kBilinearPlainStep = 3 + 8 + 14 + 7 + 12 + 7;

@@ -5,7 +5,7 @@
 //  - safeguarded_newton: the hybrids' refinement of an estimate, kept in a box, with step control.
 // Each lane runs independently: a lane that stops keeps its iterate and status while the others go on, so a
 // lane's result is the same in any block, at any position, with any neighbours. Each runs in its surface's
-// canonical parametrisation (LaneSymmetry, surface_block.hpp): the lanes' coordinates go in and come out in the
+// canonical parametrisation (LaneSymmetry or LaneSwap, surface_block.hpp): the lanes' coordinates go in and come out in the
 // caller's, and in between the arithmetic is the same for each of the caller's 8 node orders of a segment, so
 // that no status, coordinate or gap depends on the node order (far slave nodes and folded segments made them
 // depend on it: there the rounding of the caller's own order decided).
@@ -152,7 +152,7 @@ CONTACTNN_SEARCH_INLINE void lean_steps(const Surf& surf, int steps, LaneState<W
   }
 }
 
-/// The lanes' coordinates from the caller's parametrisation to the surface's canonical one (LaneSymmetry).
+/// The lanes' coordinates from the caller's parametrisation to the surface's canonical one (Surf::sym).
 template <class Surf, int W>
 CONTACTNN_SEARCH_INLINE void to_canonical(const Surf& surf, LaneState<W>& s) {
   CONTACTNN_LANES

@@ -146,8 +146,8 @@ static void search_rows(const Plan& plan, const In* raw_rows, const Results<In>&
       // (eta + 1) / 2), exact where the patch is that facet (a flat segment whose node normals are its normal,
       // SPEC 1). A collapsed facet is degenerate, as the labels say: the patch's build tested it
       // (collapsed_segment), and q's range (rescaled if it had to be).
-      // The facet's canonical parametrisation is the patch's (both LaneSymmetry's choice from the same corner
-      // facet): the estimate goes to (u, v) there and is reported through the patch, which keeps it, so that
+      // The estimate goes to the patch's canonical parametrisation (its LaneSymmetry, chosen from the same corner
+      // facet; exact in (xi, eta)), to (u, v) there, and is reported through the patch, which keeps it, so that
       // the gap is evaluated at the same point in every node order (from the caller's u, the reflection 1 - u
       // rounds, and a far slave's extrapolated gap moved by 1e-6 of itself with the node order). A lane the
       // closed form did not answer (degenerate, invalid) keeps the centre.
@@ -159,7 +159,7 @@ static void search_rows(const Plan& plan, const In* raw_rows, const Results<In>&
       closed_form<W>(facet, s);
       for (int l = 0; l < W; ++l) {
         double xi = s.u[l], eta = s.v[l];
-        facet.sym.template to_canonical<BilinearBlock<W>::kReflect>(l, xi, eta);  // exact
+        surf.sym.template to_canonical<BilinearBlock<W>::kReflect>(l, xi, eta);  // the patch's: exact in (xi, eta)
         double u = 0.5 * (xi + 1.0), v = 0.5 * (eta + 1.0);
         surf.report(l, u, v);
         const bool take = (answered[l] != 0.0) & (s.status[l] != kDegenerate);

@@ -7,10 +7,12 @@
 // degeneracy checks of GregoryPatch::diagnose done once while building (not twice), lengths compared squared,
 // and divisions by a length replaced by products with its reciprocal.
 //
-// Each lane's surface is built in a canonical node order of its own (LaneSymmetry), the same for each of the
-// caller's 8 node orders of a segment (SPEC 4): the methods compute in its parametrisation, so that a
-// query's arithmetic, and with it its status and gap, do not depend on the node order it came in. The public
-// eval takes the caller's coordinates.
+// Each lane's surface is built in a canonical node order of its own, the same for each of the caller's 8 node
+// orders of a segment (SPEC 4): the methods compute in its parametrisation, so that a query's arithmetic, and
+// with it its status and gap, do not depend on the node order it came in. A Gregory patch takes the whole
+// symmetry (LaneSymmetry); a bilinear facet only the order of xi and eta (LaneSwap), since a reflection of
+// (xi, eta) changes its arithmetic by exact changes of sign alone. The public eval takes the caller's
+// coordinates.
 #pragma once
 
 #include <bit>
@@ -349,6 +351,49 @@ struct LaneSymmetry {
   }
 };
 
+/// The bilinear facet's share of LaneSymmetry: whether to swap xi and eta, nothing more. A reflection of
+/// (xi, eta) needs no map: it negates a1 (or a2) and a3 exactly (caller_facet), and every method's arithmetic on
+/// the facet is odd in each coordinate with its coefficients (products, sums and fused products of negated
+/// values are the negated results under round-to-nearest, and every box and domain is symmetric about 0), so
+/// a reflected node order gives the same bits with the signs changed. Only the order of xi and eta changes the
+/// arithmetic: the canonical facet has first the coefficient of larger |symmetry_key| (LaneSymmetry's choice
+/// without its signs), the same for all 8 node orders. The caller's normal P_s x P_t is orient times the
+/// canonical one (a swap negates it; a reflection negates P_s or P_t, and the canonical normal with it).
+template <int W>
+struct LaneSwap {
+  double swap[W];    ///< 1 or 0
+  double orient[W];  ///< -1 where swapped, else +1
+
+  /// Chooses lane l's order from the caller's facet coefficients (caller_facet) and writes a1', a2', a3 to
+  /// out[0..2].
+  CONTACTNN_SEARCH_INLINE void choose(int l, const double (*coef)[3], double (*out)[3]) {
+    const double k1 = symmetry_key(coef[1]), k2 = symmetry_key(coef[2]);
+    const double w = std::fabs(k1) < std::fabs(k2) ? 1.0 : 0.0;
+    CONTACTNN_UNROLL
+    for (int c = 0; c < 3; ++c) {
+      out[0][c] = w != 0.0 ? coef[2][c] : coef[1][c];
+      out[1][c] = w != 0.0 ? coef[1][c] : coef[2][c];
+      out[2][c] = coef[3][c];
+    }
+    swap[l] = w;
+    orient[l] = w != 0.0 ? -1.0 : 1.0;
+  }
+  /// The caller's (xi, eta) -> the canonical, in place (a swap: exact).
+  template <int kReflect>
+  CONTACTNN_SEARCH_INLINE void to_canonical(int l, double& s, double& t) const {
+    static_assert(kReflect == 0, "the bilinear facet's coordinates (xi, eta)");
+    const bool w = swap[l] != 0.0;
+    const double x = w ? t : s, y = w ? s : t;
+    s = x;
+    t = y;
+  }
+  /// The canonical (xi, eta) -> the caller's, in place.
+  template <int kReflect>
+  CONTACTNN_SEARCH_INLINE void to_caller(int l, double& s, double& t) const {
+    to_canonical<kReflect>(l, s, t);
+  }
+};
+
 /// The value of the caller's node at (s_pos, t_pos) of its square (caller_corner), among its nodes' values a,
 /// b, c, d.
 CONTACTNN_SEARCH_INLINE double caller_node_value(double s_pos, double t_pos, double a, double b, double c, double d) {
@@ -363,8 +408,8 @@ struct BilinearBlock {
   static constexpr SurfaceKind kKind = SurfaceKind::kBilinear;
   static constexpr bool kHasPureSecond = false;  // P_ss = P_tt = 0
   static constexpr int kReflect = 0;             // the reflections of (xi, eta): x -> -x
-  double a[12][W];  // a0 xyz, a1 xyz, a2 xyz, a3 xyz, of the canonical facet (LaneSymmetry)
-  LaneSymmetry<W> sym;
+  double a[12][W];  // a0 xyz, a1 xyz, a2 xyz, a3 xyz, of the canonical facet (LaneSwap)
+  LaneSwap<W> sym;
   double longest[W];  ///< the longest node distance, squared (build with kCheck)
   double reach_sq[W];  ///< nearest_node_distance_sq (build with kCheck)
 
