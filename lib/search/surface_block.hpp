@@ -515,55 +515,47 @@ struct GregoryBlock {
   /// distance (coincident nodes, a normal along an edge). Returns whether a lane's longest node distance lies
   /// outside [1 / kSaneLength, kSaneLength], as BilinearBlock::build.
   [[nodiscard]] bool build(const QueryBlock<W>& q, double* status) {
-    // The nodes and their normals in each lane's canonical order: that of its corner facet (LaneSymmetry), the
-    // same bits for every node order of the segment (the selections cost about 2.5 ns a query, 3.5% of
-    // newton:5).
-    alignas(64) double node[12][W], normal[12][W];
+    // One loop: each lane's symmetry (LaneSymmetry, from its corner facet), then its patch from its nodes and
+    // normals in the canonical order, selected where build_lane reads them, the same bits for every node order
+    // of the segment (copied first into arrays of canonical nodes, their stores, loads and spills cost the
+    // closed form and newton:1 2% more).
+    double out_of_range[W];
     CONTACTNN_LANES
     for (int l = 0; l < W; ++l) {
       double coef[4][3], canonical[3][3];
       caller_facet(q, l, coef);
       sym.choose(l, coef, canonical);
-      CONTACTNN_UNROLL
-      for (int i = 0; i < 4; ++i) {
-        double s_pos, t_pos;
-        sym.caller_corner(l, i, s_pos, t_pos);
-        CONTACTNN_UNROLL
-        for (int c = 0; c < 3; ++c) {
-          node[3 * i + c][l] =
-              caller_node_value(s_pos, t_pos, q.node[c][l], q.node[3 + c][l], q.node[6 + c][l], q.node[9 + c][l]);
-          normal[3 * i + c][l] = caller_node_value(s_pos, t_pos, q.normal[c][l], q.normal[3 + c][l],
-                                                   q.normal[6 + c][l], q.normal[9 + c][l]);
-        }
-      }
       reach_sq[l] = nearest_node_distance_sq(q, l);
+      out_of_range[l] = build_lane(q, l, status);
     }
-    double out_of_range[W];
-    CONTACTNN_LANES
-    for (int l = 0; l < W; ++l) out_of_range[l] = build_lane(q, node, normal, l, status);
     for (int k = 0; k < 4; ++k) {
       for (int l = 0; l < W; ++l) reported[k][l] = std::numeric_limits<double>::quiet_NaN();
     }
     return any_of<W>(out_of_range) != 0.0;  // a loop of its own: in the lane loop it stops vectorisation
   }
 
-  /// One lane's patch from its canonical nodes and normals (node, normal: as QueryBlock's; q for the collapsed
-  /// test, which is the same for any node order).
-  CONTACTNN_SEARCH_INLINE double build_lane(const QueryBlock<W>& q, const double (*node)[W], const double (*normal)[W],
-                                            int l, double* status) {
-    double x[4][3], u[4][3], pn[4][3], pp[4][3], inv_pn[4], inv_pp[4], dot_np[4];
+  /// One lane's patch from its nodes and normals in its canonical order (sym, chosen), selected from q's (the
+  /// collapsed test reads q as it is, the same for any node order).
+  CONTACTNN_SEARCH_INLINE double build_lane(const QueryBlock<W>& q, int l, double* status) {
+    double x[4][3], n0[4][3], u[4][3], pn[4][3], pp[4][3], inv_pn[4], inv_pp[4], dot_np[4];
     bool bad = false;
     CONTACTNN_UNROLL
     for (int i = 0; i < 4; ++i) {
+      double s_pos, t_pos;
+      sym.caller_corner(l, i, s_pos, t_pos);
       CONTACTNN_UNROLL
-      for (int c = 0; c < 3; ++c) x[i][c] = node[3 * i + c][l];
+      for (int c = 0; c < 3; ++c) {
+        x[i][c] = caller_node_value(s_pos, t_pos, q.node[c][l], q.node[3 + c][l], q.node[6 + c][l], q.node[9 + c][l]);
+        n0[i][c] = caller_node_value(s_pos, t_pos, q.normal[c][l], q.normal[3 + c][l], q.normal[6 + c][l],
+                                     q.normal[9 + c][l]);
+      }
     }
     // Unit normals: scaled by their largest component first, so that any positive length works; a normal
     // whose components are all below 2^-900 (subnormal lengths included, whose reciprocal overflows) is first
     // multiplied by 2^600, exactly.
     CONTACTNN_UNROLL
     for (int i = 0; i < 4; ++i) {
-      const double n0x = normal[3 * i][l], n0y = normal[3 * i + 1][l], n0z = normal[3 * i + 2][l];
+      const double n0x = n0[i][0], n0y = n0[i][1], n0z = n0[i][2];
       const double m0 = max_of(max_of(std::fabs(n0x), std::fabs(n0y)), std::fabs(n0z));
       const double up = m0 < 0x1p-900 ? 0x1p600 : 1.0;
       const double nx = n0x * up, ny = n0y * up, nz = n0z * up;
