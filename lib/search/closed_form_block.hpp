@@ -16,8 +16,8 @@
 // orders, mapped to the caller's (xi, eta) exactly (every step is odd in xi and in eta with their coefficients).
 // Statuses: ok or outside by the domain; no_convergence when the discriminant is negative (the projected
 // point lies beyond the fold of the map: the discriminant is taken as 0 and the nearer of the two roots
-// above reported, a finite estimate that Newton can refine; solved both ways, eta first and xi first, the
-// estimate nearer S: closed_form_beyond_fold); degenerate when the facet has no plane
+// above reported, a finite estimate that Newton can refine; as the start of a hybrid solved both ways, eta
+// first and xi first, the estimate nearer S: closed_form_beyond_fold); degenerate when the facet has no plane
 // (|a1 x a2| <= 1e-12 |a1| |a2|) or no root is finite.
 #pragma once
 
@@ -80,7 +80,9 @@ CONTACTNN_SEARCH_INLINE void closed_form_lane(const double* a0, const double* a1
 /// a facet gave depended on its parametrisation (the caller's node order, now the canonical one): the nearer is
 /// the same in any, and a better start for Newton (of 2000 random bilinear queries of the paper's domain, the
 /// one whose closed_form+newton:3 went from an error of 0.14 to 0.88 in the canonical parametrisation came
-/// back). Out of line and cold: 0.6% of such queries.
+/// back). Out of line and cold: 0.6% of such queries, whose one or two lanes in a block cost the closed form 6% (a
+/// scalar solve of long latency): done for the hybrids' start only. The closed form alone reports such a lane
+/// no_convergence, with its first estimate (the canonical parametrisation's, the same in every node order).
 template <int W>
 [[gnu::noinline, gnu::cold]] static void closed_form_beyond_fold(const BilinearBlock<W>& b, const double* fold,
                                                                  const double* xi, const double* eta, LaneState<W>& s) {
@@ -109,7 +111,7 @@ template <int W>
 }
 
 template <int W>
-static void closed_form(const BilinearBlock<W>& b, LaneState<W>& s) {
+static void closed_form(const BilinearBlock<W>& b, LaneState<W>& s, bool start) {
   double xi[W], eta[W], beyond[W];
   CONTACTNN_LANES
   for (int l = 0; l < W; ++l) {
@@ -131,7 +133,7 @@ static void closed_form(const BilinearBlock<W>& b, LaneState<W>& s) {
     s.status[l] = !active ? s.status[l] : (degenerate ? kDegenerate : (fold ? kNoConvergence : kOk));
     beyond[l] = active & fold & !degenerate ? 1.0 : 0.0;
   }
-  if (any_of<W>(beyond) != 0.0) closed_form_beyond_fold<W>(b, beyond, xi, eta, s);
+  if (start && any_of<W>(beyond) != 0.0) closed_form_beyond_fold<W>(b, beyond, xi, eta, s);
 }
 
 }  // namespace contactnn::search::detail

@@ -140,7 +140,7 @@ static void search_rows(const Plan& plan, const In* raw_rows, const Results<In>&
   } else if (method.start == Method::Start::kClosedForm) {
     if constexpr (!kGregory) {
       build_for_method();
-      closed_form<W>(surf, s);
+      closed_form<W>(surf, s, hybrid);
     } else {
       // A Gregory patch: the closed form on the bilinear facet of its corner nodes, (u, v) = ((xi + 1) / 2,
       // (eta + 1) / 2), exact where the patch is that facet (a flat segment whose node normals are its normal,
@@ -156,7 +156,7 @@ static void search_rows(const Plan& plan, const In* raw_rows, const Results<In>&
       (void)facet.template build<false>(q, nullptr);
       double answered[W];
       for (int l = 0; l < W; ++l) answered[l] = s.status[l] == kOk ? 1.0 : 0.0;
-      closed_form<W>(facet, s);
+      closed_form<W>(facet, s, hybrid);
       for (int l = 0; l < W; ++l) {
         double xi = s.u[l], eta = s.v[l];
         surf.sym.template to_canonical<BilinearBlock<W>::kReflect>(l, xi, eta);  // the patch's: exact in (xi, eta)
