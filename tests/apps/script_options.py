@@ -191,6 +191,7 @@ def _(ctx):
         "frontier": ([py, ctx.script("frontier"), "--build-dir", ctx.build, "--work", "w", "--output", "o"],
                      ["w", "o"]),
         "bench-search": (["bash", ctx.script("bench-search"), "--build", ctx.build], []),
+        "bench-against": ([py, ctx.script("bench-against"), "HEAD", "--build", ctx.build], []),
         "scene-table": ([py, ctx.script("scene-table"), "--output", "o", "--build-dir", ctx.build, deck], ["o"]),
     }
     for name, (command, absent) in commands.items():
@@ -237,6 +238,12 @@ def _(ctx):
         (["bash", ctx.script("thread-scaling"), "--build", "no-such-build", "--work", "w"],
          r"thread-scaling: --build 'no-such-build': no such directory", ["w"]),
         (["bash", ctx.script("thread-scaling"), "--frobnicate"], r"thread-scaling: unknown option '--frobnicate'", ["w"]),
+        ([py, ctx.script("bench-against"), "HEAD", "--build", ctx.build, "--rounds", "0"],
+         r"argument --rounds: must be an integer in 1\.\.100", []),
+        ([py, ctx.script("bench-against"), "HEAD", "--build", ctx.build, "--min-time", "0"],
+         r"argument --min-time: must be a finite number > 0", []),
+        ([py, ctx.script("bench-against"), "no-such-commit", "--build", ctx.build],
+         r"'no-such-commit' is not a commit of this repository", []),
     ]
     for command, says, absent in runs:
         ctx.expect(command, 2, says, absent=absent, within=20)
