@@ -5,10 +5,10 @@
 //  - safeguarded_newton: the hybrids' refinement of an estimate, kept in a box, with step control.
 // Each lane runs independently: a lane that stops keeps its iterate and status while the others go on, so a
 // lane's result is the same in any block, at any position, with any neighbours. Each runs in its surface's
-// canonical parametrisation (LaneSymmetry or LaneSwap, surface_block.hpp): the lanes' coordinates go in and come out in the
-// caller's, and in between the arithmetic is the same for each of the caller's 8 node orders of a segment, so
-// that no status, coordinate or gap depends on the node order (far slave nodes and folded segments made them
-// depend on it: there the rounding of the caller's own order decided).
+// canonical parametrisation (LaneSymmetry or LaneSwap, surface_block.hpp): the lanes' coordinates go in and come
+// out in the caller's, and in between the arithmetic is the same for each of the caller's 8 node orders of a
+// segment, so that no status, coordinate or gap depends on the node order (far slave nodes and folded segments
+// made them depend on it: there the rounding of the caller's own order decided).
 #pragma once
 
 #include <cmath>

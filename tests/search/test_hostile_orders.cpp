@@ -3,8 +3,9 @@
 // segments, configurations at 1e+-100 and 1e+-300 and far from the origin, beside random ones of the paper's
 // domains. For every method on both surfaces, double and float, in a block and one query at a time: the status,
 // the gap (to 1e-12 of the segment size), the point (mapped to one node order) and the steps are the same in
-// every node order (gap and point to the bit on a bilinear facet, but for a network's start); no output is NaN; no gap exceeds the distance to the segment's nearest node. Where the
-// labels call a fold degenerate, so do the methods that converge there. A stalled refinement stops.
+// every node order (gap and point to the bit on a bilinear facet, but for a network's start); no output is NaN;
+// no gap exceeds the distance to the segment's nearest node. Where the labels call a fold degenerate, so do the
+// methods that converge there. A stalled refinement stops.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -231,7 +232,8 @@ void expect_the_same_in_every_node_order(SurfaceKind kind) {
         const std::array<double, 2> p = orders[k].to_canonical(
             {static_cast<double>(block.param[2 * i]), static_cast<double>(block.param[2 * i + 1])}, kind);
         const bool point = block.status[first] != Status::kDegenerate && block.status[first] != Status::kInvalid;
-        const double rounding = exact ? 0.0 : 1e-12 + (kind == kGregory ? 4.0 * std::numeric_limits<Real>::epsilon() : 0.0);
+        const double rounding =
+            exact ? 0.0 : 1e-12 + (kind == kGregory ? 4.0 * std::numeric_limits<Real>::epsilon() : 0.0);
         for (int a = 0; a < 2 && point; ++a) {
           const double ref = static_cast<double>(block.param[2 * first + static_cast<std::size_t>(a)]);
           EXPECT_NEAR(p[static_cast<std::size_t>(a)], ref, rounding * std::max(1.0, std::abs(ref))) << where;
