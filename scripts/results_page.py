@@ -14,8 +14,9 @@ import datetime
 import os
 import shlex
 import subprocess
-import tempfile
 import textwrap
+
+import script_checks
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
@@ -93,16 +94,7 @@ def check_writable(parser, flag, path, shown=None):
     """parser.error (exit 2) naming `flag` and `path` (or `shown`, the path as the caller wrote it) unless a file
     can be written at `path`: its folder is made and a file written and removed in it; an existing directory of
     that name is refused."""
-    shown = path if shown is None else shown
-    if os.path.isdir(path):
-        parser.error(f"{flag} {shown!r} is a directory, not a file")
-    directory = os.path.dirname(os.path.abspath(path))
-    try:
-        os.makedirs(directory, exist_ok=True)
-        with tempfile.NamedTemporaryFile(dir=directory, prefix=".write-check-"):
-            pass
-    except OSError as e:
-        parser.error(f"{flag} {shown!r}: cannot write there ({e.strerror or e})")
+    script_checks.output_file(parser, flag, path, path if shown is None else shown)
 
 
 def wrap(text, width=118):

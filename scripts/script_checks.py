@@ -107,23 +107,24 @@ def executables(parser, paths, hint):
             parser.error(f"{path} not found: {hint}")
 
 
-def output_directory(parser, flag, path):
+def output_directory(parser, flag, path, shown=None):
     """Makes directory `path` (and its parents) and writes and removes a file in it: parser.error (exit 2) naming
-    `flag` when it cannot (a read-only file system, a path under a file, no permission)."""
+    `flag` and `path` (or `shown`) when it cannot (a read-only file system, a path under a file, no permission)."""
     try:
         os.makedirs(path, exist_ok=True)
         with tempfile.NamedTemporaryFile(dir=path, prefix=".write-check-"):
             pass
     except OSError as e:
-        parser.error(f"{flag} {path!r}: cannot write there ({e.strerror or e})")
+        parser.error(f"{flag} {path if shown is None else shown!r}: cannot write there ({e.strerror or e})")
 
 
-def output_file(parser, flag, path):
+def output_file(parser, flag, path, shown=None):
     """The same for a file to be written: its directory is made and checked, and an existing directory of that
-    name is refused."""
+    name is refused. The messages name `shown` where given (the path as the caller wrote it), else the path, and
+    for a directory that cannot be written, that directory."""
     if os.path.isdir(path):
-        parser.error(f"{flag} {path!r} is a directory, not a file")
-    output_directory(parser, flag, os.path.dirname(os.path.abspath(path)))
+        parser.error(f"{flag} {path if shown is None else shown!r} is a directory, not a file")
+    output_directory(parser, flag, os.path.dirname(os.path.abspath(path)), shown)
 
 
 def run_main(name, main):
