@@ -1,0 +1,402 @@
+#include "contact/contact_search.hpp"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <sstream>
+#include <string>
+#include <unordered_map>
+#include <utility>
+
+#include "core/error.hpp"
+#include "geometry/quadratic_triangle.hpp"
+#include "geometry/serendipity_quad.hpp"
+#include "geometry/surface_of.hpp"
+
+namespace contactnn::contact {
+
+int face_node_count(mesh::FaceType type) {
+  switch (type) {
+    case mesh::FaceType::kQuad4: return 4;
+    case mesh::FaceType::kQuad8: return 8;
+    case mesh::FaceType::kTri3: return 3;
+    case mesh::FaceType::kTri6: return 6;
+  }
+  return 0;
+}
+
+namespace {
+
+Vec3 unit_or_zero(const Vec3& n) {
+  const double length = n.norm();
+  return length > 0.0 && std::isfinite(length) ? Vec3(n / length) : Vec3(Vec3::Zero());
+}
+
+/// Face f's unit normal d_s x d_t at its local coordinates `param` (its own node order), zero where the
+/// surface has none there.
+Vec3 face_normal_at(const mesh::SurfaceMesh& surface, std::span<const Vec3> normals, SurfaceKind quad4, int f,
+                    const std::array<double, 2>& param) {
+  const mesh::FaceNodes nodes = surface.face_nodes(f);
+  const auto x = [&](int k) -> const Vec3& { return surface.positions[static_cast<std::size_t>(nodes[k])]; };
+  switch (nodes.type) {
+    case mesh::FaceType::kTri3: return unit_or_zero((x(1) - x(0)).cross(x(2) - x(0)));
+    case mesh::FaceType::kTri6: {
+      const geometry::QuadraticTriangle face({x(0), x(1), x(2), x(3), x(4), x(5)});
+      const geometry::SurfacePoint p = face.evaluate(param[0], param[1]);
+      return unit_or_zero(p.d_s.cross(p.d_t));
+    }
+    case mesh::FaceType::kQuad8: {
+      const geometry::SerendipityQuad face({x(0), x(1), x(2), x(3), x(4), x(5), x(6), x(7)});
+      const geometry::SurfacePoint p = face.evaluate(param[0], param[1]);
+      return unit_or_zero(p.d_s.cross(p.d_t));
+    }
+    case mesh::FaceType::kQuad4: break;
+  }
+  geometry::Configuration config;
+  for (std::size_t i = 0; i < 4; ++i) {
+    const auto n = static_cast<std::size_t>(nodes.nodes[i]);
+    config.nodes[i] = surface.positions[n];
+    config.normals[i] = quad4 == SurfaceKind::kGregory ? normals[n] : Vec3::Zero();
+  }
+  if (geometry::surface_defect(config, quad4)) return Vec3::Zero();
+  return geometry::with_surface(config, quad4, [&](const auto& patch) {
+    const geometry::SurfacePoint p = patch.evaluate(param[0], param[1]);
+    return unit_or_zero(p.d_s.cross(p.d_t));
+  });
+}
+
+/// Sets OpenMP's thread count for the calling thread's next parallel regions, and back when it goes.
+class ThreadCount {
+ public:
+  explicit ThreadCount(int threads) : previous_(omp_get_max_threads()), set_(threads > 0) {
+    if (set_) omp_set_num_threads(threads);
+  }
+  ~ThreadCount() {
+    if (set_) omp_set_num_threads(previous_);
+  }
+  ThreadCount(const ThreadCount&) = delete;
+  ThreadCount& operator=(const ThreadCount&) = delete;
+
+ private:
+  int previous_;
+  bool set_;
+};
+
+}  // namespace
+
+struct ContactSearch::Impl {
+  ContactSearchOptions options;
+  SearchOptions search;
+  long node_count = 0;
+  bool free = false;
+  mesh::SurfaceMesh surface;
+  std::vector<int> caller_face;  ///< the caller's index of each face of `surface`
+  std::vector<long> slave_ids;   ///< slave node ids, or 0 .. m-1 for free points
+  std::vector<int> slave_nodes;  ///< coordinate-array index of each slave node (empty for free points)
+  std::vector<Vec3> slave_positions;
+  std::vector<Vec3> normals;     ///< Gregory node normals of the state
+  SurfaceTracker tracker;
+  std::vector<NodeSegmentPair> pairs;
+  std::vector<Vec3> contact_normals;
+  TrackingCounts counts;
+
+  Impl(const ContactSearchOptions& o, const SearchOptions& s) : options(o), search(s), tracker(s) {}
+};
+
+namespace {
+
+SearchOptions search_options(const ContactSearchOptions& o) {
+  SearchOptions s;
+  s.surface = o.quad4;
+  s.search = GlobalSearchKind::kSurface;
+  if (o.capture_distance > 0.0) s.capture_distance = o.capture_distance;
+  return s;
+}
+
+}  // namespace
+
+ContactSearch::ContactSearch(std::span<const mesh::FaceType> face_types, std::span<const long> connectivity,
+                             const NodeNumbering& nodes, const SlavePoints& slaves, const ContactSearchOptions& options) {
+  CONTACTNN_REQUIRE_AS(InvalidArgument, options.quad4 == SurfaceKind::kBilinear || options.quad4 == SurfaceKind::kGregory,
+                       "contact search: quad4 surface " << static_cast<int>(options.quad4)
+                                                        << ", expected bilinear (0) or Gregory (1)");
+  CONTACTNN_REQUIRE_AS(InvalidArgument, std::isfinite(options.capture_distance),
+                       "contact search: capture distance " << options.capture_distance << " is not finite");
+  CONTACTNN_REQUIRE_AS(InvalidArgument, !face_types.empty(), "contact search: no master faces");
+  CONTACTNN_REQUIRE_AS(InvalidArgument, face_types.size() <= static_cast<std::size_t>(std::numeric_limits<int>::max()),
+                       "contact search: " << face_types.size() << " faces, at most " << std::numeric_limits<int>::max());
+  CONTACTNN_REQUIRE_AS(InvalidArgument, nodes.count > 0 && nodes.count <= std::numeric_limits<int>::max(),
+                       "contact search: node count " << nodes.count << ", expected 1 to "
+                                                     << std::numeric_limits<int>::max());
+  CONTACTNN_REQUIRE_AS(InvalidArgument, nodes.ids.empty() || nodes.ids.size() == static_cast<std::size_t>(nodes.count),
+                       "contact search: " << nodes.ids.size() << " node ids for " << nodes.count << " nodes");
+  const bool free = slaves.nodes.empty();
+  CONTACTNN_REQUIRE_AS(InvalidArgument, (free && slaves.free_points > 0) || (!free && slaves.free_points == 0),
+                       "contact search: " << slaves.nodes.size() << " slave nodes and " << slaves.free_points
+                                          << " free points; expected slave nodes or free points, one of the two");
+  CONTACTNN_REQUIRE_AS(InvalidArgument, slaves.free_points >= 0 && slaves.free_points <= std::numeric_limits<int>::max(),
+                       "contact search: free point count " << slaves.free_points << ", expected 0 to "
+                                                           << std::numeric_limits<int>::max());
+  impl_ = std::make_unique<Impl>(options, search_options(options));
+  Impl& m = *impl_;
+  m.node_count = nodes.count;
+  m.free = free;
+
+  // Node ids to coordinate-array indices.
+  std::unordered_map<long, int> by_id;
+  if (!nodes.ids.empty()) {
+    by_id.reserve(nodes.ids.size());
+    for (std::size_t i = 0; i < nodes.ids.size(); ++i) {
+      const auto [at, inserted] = by_id.emplace(nodes.ids[i], static_cast<int>(i));
+      CONTACTNN_REQUIRE_AS(InvalidArgument, inserted,
+                           "contact search: node id " << nodes.ids[i] << " given twice (nodes " << at->second
+                                                      << " and " << i << " of the coordinate array)");
+    }
+  }
+  const auto index_of = [&](long id, const auto& what) {
+    if (nodes.ids.empty()) {
+      const long i = id - nodes.base;
+      CONTACTNN_REQUIRE_AS(InvalidArgument, id >= nodes.base && i < nodes.count,
+                           "contact search: " << what() << " names node " << id << ", which does not exist (ids "
+                                              << nodes.base << " to " << nodes.base + nodes.count - 1 << ")");
+      return static_cast<int>(i);
+    }
+    const auto at = by_id.find(id);
+    CONTACTNN_REQUIRE_AS(InvalidArgument, at != by_id.end(),
+                         "contact search: " << what() << " names node " << id << ", which is not among the "
+                                            << nodes.count << " node ids");
+    return at->second;
+  };
+
+  // The faces: their types, their nodes as coordinate-array indices, the connectivity's length.
+  std::size_t total = 0;
+  for (std::size_t f = 0; f < face_types.size(); ++f) {
+    const int k = face_node_count(face_types[f]);
+    CONTACTNN_REQUIRE_AS(InvalidArgument, k > 0,
+                         "contact search: face " << f << " has type " << static_cast<int>(face_types[f])
+                                                 << ", expected quad4, quad8, tri3 or tri6");
+    total += static_cast<std::size_t>(k);
+  }
+  CONTACTNN_REQUIRE_AS(InvalidArgument, connectivity.size() == total,
+                       "contact search: connectivity of " << connectivity.size() << " node ids, the " << face_types.size()
+                                                          << " faces' types need " << total);
+  std::vector<std::array<int, 8>> face_nodes(face_types.size());
+  std::vector<char> used(static_cast<std::size_t>(nodes.count), 0);
+  std::size_t at = 0;
+  for (std::size_t f = 0; f < face_types.size(); ++f) {
+    const int k = face_node_count(face_types[f]);
+    face_nodes[f].fill(-1);
+    for (int j = 0; j < k; ++j) {
+      const long id = connectivity[at++];
+      const int i = index_of(id, [&] { return "face " + std::to_string(f) + " (node " + std::to_string(j + 1) + ")"; });
+      for (int q = 0; q < j; ++q) {
+        CONTACTNN_REQUIRE_AS(InvalidArgument, face_nodes[f][static_cast<std::size_t>(q)] != i,
+                             "contact search: face " << f << " names node " << id << " twice (its nodes " << q + 1
+                                                     << " and " << j + 1 << ")");
+      }
+      face_nodes[f][static_cast<std::size_t>(j)] = i;
+      used[static_cast<std::size_t>(i)] = 1;
+    }
+  }
+
+  // The surface's nodes: the faces' nodes in coordinate-array order.
+  mesh::SurfaceMesh& s = m.surface;
+  std::vector<int> local(static_cast<std::size_t>(nodes.count), -1);
+  for (std::size_t i = 0; i < used.size(); ++i) {
+    if (used[i] == 0) continue;
+    local[i] = static_cast<int>(s.mesh_nodes.size());
+    s.mesh_nodes.push_back(static_cast<int>(i));
+    s.node_ids.push_back(nodes.ids.empty() ? nodes.base + static_cast<long>(i) : nodes.ids[i]);
+  }
+  s.positions.assign(s.mesh_nodes.size(), Vec3::Zero());
+  // Quadrilaterals as segments, triangles as extra faces, each in the caller's order; the caller's index
+  // stands in for the element id of SPEC 9's tie rule (face number 1 for all).
+  bool quad8 = false, tri6 = false;
+  for (std::size_t f = 0; f < face_types.size(); ++f) {
+    quad8 = quad8 || face_types[f] == mesh::FaceType::kQuad8;
+    tri6 = tri6 || face_types[f] == mesh::FaceType::kTri6;
+  }
+  std::vector<int> quads, triangles;
+  for (std::size_t f = 0; f < face_types.size(); ++f) {
+    const mesh::FaceType type = face_types[f];
+    const bool quad = type == mesh::FaceType::kQuad4 || type == mesh::FaceType::kQuad8;
+    (quad ? quads : triangles).push_back(static_cast<int>(f));
+  }
+  const auto to_local = [&](const std::array<int, 8>& n, int first, int count) {
+    std::array<int, 4> out{-1, -1, -1, -1};
+    for (int j = 0; j < count; ++j) {
+      const int node = n[static_cast<std::size_t>(first + j)];
+      out[static_cast<std::size_t>(j)] = node < 0 ? -1 : local[static_cast<std::size_t>(node)];
+    }
+    return out;
+  };
+  for (const int f : quads) {
+    const auto& n = face_nodes[static_cast<std::size_t>(f)];
+    s.segments.push_back(to_local(n, 0, 4));
+    s.segment_faces.push_back({f, 1});
+    s.segment_element_ids.push_back(f);
+    if (quad8) s.segment_midsides.push_back(to_local(n, 4, face_types[static_cast<std::size_t>(f)] == mesh::FaceType::kQuad8 ? 4 : 0));
+    m.caller_face.push_back(f);
+  }
+  for (const int f : triangles) {
+    const auto& n = face_nodes[static_cast<std::size_t>(f)];
+    s.extra_faces.push_back(to_local(n, 0, 3));
+    s.extra_face_faces.push_back({f, 1});
+    s.extra_face_element_ids.push_back(f);
+    if (tri6) s.extra_face_midsides.push_back(to_local(n, 3, face_types[static_cast<std::size_t>(f)] == mesh::FaceType::kTri6 ? 3 : 0));
+    m.caller_face.push_back(f);
+  }
+  // The segments at each node (mesh::node_normals reads them), increasing, as build_surface_mesh makes them.
+  const std::size_t n_nodes = s.mesh_nodes.size();
+  s.adjacency_offsets.assign(n_nodes + 1, 0);
+  for (const auto& quad : s.segments) {
+    for (int n : quad) ++s.adjacency_offsets[static_cast<std::size_t>(n) + 1];
+  }
+  for (std::size_t i = 0; i < n_nodes; ++i) s.adjacency_offsets[i + 1] += s.adjacency_offsets[i];
+  s.adjacency.resize(static_cast<std::size_t>(s.adjacency_offsets[n_nodes]));
+  std::vector<int> fill(s.adjacency_offsets.begin(), s.adjacency_offsets.end() - 1);
+  for (std::size_t q = 0; q < s.segments.size(); ++q) {
+    for (int n : s.segments[q]) s.adjacency[static_cast<std::size_t>(fill[static_cast<std::size_t>(n)]++)] = static_cast<int>(q);
+  }
+
+  // The slave points.
+  if (free) {
+    for (long i = 0; i < slaves.free_points; ++i) m.slave_ids.push_back(i);
+  } else {
+    for (std::size_t i = 0; i < slaves.nodes.size(); ++i) {
+      m.slave_ids.push_back(slaves.nodes[i]);
+      m.slave_nodes.push_back(index_of(slaves.nodes[i], [&] { return "slave node " + std::to_string(i); }));
+    }
+  }
+  m.slave_positions.assign(m.slave_ids.size(), Vec3::Zero());
+}
+
+ContactSearch::~ContactSearch() = default;
+
+long ContactSearch::face_count() const { return static_cast<long>(impl_->caller_face.size()); }
+long ContactSearch::slave_count() const { return static_cast<long>(impl_->slave_ids.size()); }
+long ContactSearch::node_count() const { return impl_->node_count; }
+bool ContactSearch::free_points() const { return impl_->free; }
+const TrackingCounts& ContactSearch::counts() const { return impl_->counts; }
+const mesh::SurfaceMesh& ContactSearch::surface() const { return impl_->surface; }
+
+void ContactSearch::update(std::span<const double> coordinates, std::span<const double> free_points,
+                           const ContactResults& out) {
+  Impl& m = *impl_;
+  const std::size_t n = m.slave_ids.size();
+  // Every argument checked before anything is written or the tracker moves.
+  CONTACTNN_REQUIRE_AS(InvalidArgument, coordinates.size() == 3 * static_cast<std::size_t>(m.node_count),
+                       "contact search update: " << coordinates.size() << " coordinates, expected 3 x " << m.node_count
+                                                 << " nodes = " << 3 * m.node_count);
+  if (m.free) {
+    CONTACTNN_REQUIRE_AS(InvalidArgument, free_points.size() == 3 * n,
+                         "contact search update: " << free_points.size() << " free-point coordinates, expected 3 x "
+                                                   << n << " points = " << 3 * n);
+  } else {
+    CONTACTNN_REQUIRE_AS(InvalidArgument, free_points.empty(),
+                         "contact search update: " << free_points.size()
+                                                   << " free-point coordinates given to a search of slave nodes");
+  }
+  const auto check_size = [&](const char* name, std::size_t size, std::size_t per, bool required) {
+    CONTACTNN_REQUIRE_AS(InvalidArgument, size == per * n || (!required && size == 0),
+                         "contact search update: output " << name << " holds " << size << " values, expected "
+                                                          << per * n << (required ? "" : " (or none)"));
+  };
+  check_size("status", out.status.size(), 1, true);
+  check_size("face", out.face.size(), 1, true);
+  check_size("location", out.location.size(), 1, false);
+  check_size("param", out.param.size(), 2, false);
+  check_size("point", out.point.size(), 3, false);
+  check_size("gap", out.gap.size(), 1, false);
+  check_size("normal", out.normal.size(), 3, false);
+  const auto node_at = [&](int i) {
+    const auto u = 3 * static_cast<std::size_t>(i);
+    return Vec3(coordinates[u], coordinates[u + 1], coordinates[u + 2]);
+  };
+  const auto id_of = [&](int i) {
+    const auto at = std::find(m.surface.mesh_nodes.begin(), m.surface.mesh_nodes.end(), i);
+    return at != m.surface.mesh_nodes.end() ? m.surface.node_ids[static_cast<std::size_t>(at - m.surface.mesh_nodes.begin())]
+                                            : m.slave_ids[static_cast<std::size_t>(
+                                                  std::find(m.slave_nodes.begin(), m.slave_nodes.end(), i) - m.slave_nodes.begin())];
+  };
+  const auto require_finite = [&](const Vec3& x, const auto& what) {
+    if (x.allFinite()) return;
+    std::ostringstream os;
+    os << "contact search update: " << what() << " has a non-finite coordinate (" << x.x() << ", " << x.y() << ", "
+       << x.z() << ")";
+    throw NumericalError(os.str());
+  };
+  for (std::size_t i = 0; i < m.surface.mesh_nodes.size(); ++i) {
+    const int c = m.surface.mesh_nodes[i];
+    require_finite(node_at(c), [&] { return "node " + std::to_string(m.surface.node_ids[i]); });
+  }
+  if (m.free) {
+    for (std::size_t i = 0; i < n; ++i) {
+      const Vec3 x(free_points[3 * i], free_points[3 * i + 1], free_points[3 * i + 2]);
+      require_finite(x, [&] { return "free point " + std::to_string(i); });
+    }
+  } else {
+    for (std::size_t i = 0; i < n; ++i) {
+      require_finite(node_at(m.slave_nodes[i]), [&] { return "slave node " + std::to_string(id_of(m.slave_nodes[i])); });
+    }
+  }
+
+  // The state: positions, node normals, the search. A failure here (no memory) leaves the caller's arrays as
+  // they were and the tracker reset (its next step fresh).
+  for (std::size_t i = 0; i < m.surface.mesh_nodes.size(); ++i) m.surface.positions[i] = node_at(m.surface.mesh_nodes[i]);
+  for (std::size_t i = 0; i < n; ++i) {
+    m.slave_positions[i] = m.free ? Vec3(free_points[3 * i], free_points[3 * i + 1], free_points[3 * i + 2])
+                                  : node_at(m.slave_nodes[i]);
+  }
+  try {
+    if (m.options.quad4 == SurfaceKind::kGregory) m.normals = mesh::node_normals(m.surface);
+    const ThreadCount team(m.options.threads);
+    m.counts = TrackingCounts{};
+    if (m.options.tracking) {
+      m.tracker.step(m.surface, m.normals, m.slave_ids, m.slave_positions, m.pairs, &m.counts);
+    } else {
+      surface_search(m.surface, m.normals, m.slave_ids, m.slave_positions, m.search, m.pairs);
+    }
+    m.contact_normals.resize(n);
+    const auto count = static_cast<long>(n);
+#pragma omp parallel for schedule(dynamic, 256) if (count >= 2048)
+    for (long i = 0; i < count; ++i) {
+      const auto u = static_cast<std::size_t>(i);
+      const NodeSegmentPair& p = m.pairs[u];
+      Vec3 normal = Vec3::Zero();
+      if (p.status == PairStatus::kFound) {
+        const Vec3 d = m.slave_positions[u] - p.point;
+        const double length = d.norm();
+        if (p.location != Location::kFace && length > 0.0 && p.label.gap != 0.0 && std::isfinite(length)) {
+          normal = (p.label.gap < 0.0 ? -d : d) / length;
+        } else {
+          normal = face_normal_at(m.surface, m.normals, m.options.quad4, p.segment, p.face_param);
+        }
+      }
+      m.contact_normals[u] = normal;
+    }
+  } catch (...) {
+    m.tracker.reset();
+    throw;
+  }
+
+  // The caller's arrays.
+  for (std::size_t i = 0; i < n; ++i) {
+    const NodeSegmentPair& p = m.pairs[i];
+    const bool found = p.status == PairStatus::kFound;
+    out.status[i] = static_cast<int>(found ? Status::kOk : Status::kNoSegment);
+    out.face[i] = found ? m.caller_face[static_cast<std::size_t>(p.segment)] : -1;
+    if (!out.location.empty()) out.location[i] = found ? static_cast<int>(p.location) : -1;
+    for (std::size_t k = 0; k < 2 && !out.param.empty(); ++k) out.param[2 * i + k] = found ? p.face_param[k] : 0.0;
+    for (std::size_t k = 0; k < 3; ++k) {
+      const auto e = static_cast<Eigen::Index>(k);
+      if (!out.point.empty()) out.point[3 * i + k] = found ? p.point[e] : 0.0;
+      if (!out.normal.empty()) out.normal[3 * i + k] = m.contact_normals[i][e];
+    }
+    if (!out.gap.empty()) out.gap[i] = found ? p.label.gap : 0.0;
+  }
+}
+
+}  // namespace contactnn::contact

@@ -1,0 +1,125 @@
+// The contact search an FE code calls (issue 38): a handle created once from the master faces and the slave
+// points, then called at every increment with the node coordinates; it answers SPEC 9's surface search for
+// every slave point into arrays the caller owns. The C interface (contactnn/contactnn.h,
+// contactnn_contact_*) and the Fortran module wrap it.
+//
+// What it is built from:
+//  - Master faces, each of a type (mesh::FaceType: quad4, quad8, tri3, tri6) with its nodes in SPEC 9's
+//    order: the corners counter-clockwise seen from outside (the side a positive gap lies on; (B-A)x(D-A),
+//    resp. (B-A)x(C-A), points out of the body), then for a quadratic face the mid-side nodes of the edges
+//    1-2, 2-3, ... The caller's node order is kept: the local coordinates are in it.
+//  - Node numbering: the coordinate array holds `count` nodes; a node id names node `id - base` (base 0 for
+//    C, 1 for Fortran), or, where `ids` is given, the node whose id it is (an FE code's global ids).
+//  - Slave points: slave nodes by id (their coordinates come from the node coordinates) or `free_points`
+//    free points (integration points of a surface-to-surface code) whose coordinates the caller passes at
+//    every update.
+//
+// The search is surface_search's (surface_search.hpp, SPEC 9) on the surface these faces make, by
+// SurfaceTracker (tracking.hpp): the first update is a fresh search, later ones reuse the previous lists and
+// points and give a fresh search's answers. Built once at creation: the mesh::SurfaceMesh (quad4 and quad8
+// faces as its segments, tri3 and tri6 as its extra faces, each in the caller's order), the face index maps;
+// an update only copies the positions in (and, Gregory, computes the node normals of Eq 26, mesh::node_normals,
+// over the quad4 and quad8 faces, as a deck's C3D8 and C3D20 segments).
+//
+// Differences from a deck's search, by design:
+//  - Face i is the caller's face i; SPEC 9's tie rule (the lower element id, then the lower face number) reads
+//    the lower face index: a deck's faces given in increasing (element id, face number) answer as the deck.
+//  - Every quad4 face is a segment: with Gregory quad4 it becomes a Gregory patch. A deck's C3D6
+//    quadrilaterals stay bilinear facets under --surface gregory (surface_search.hpp); the handle has no such
+//    faces.
+//  - Only the exact search (lib/projection's reference on every candidate face) is implemented; the options
+//    take no method or plan yet.
+//
+// What an update writes, per slave point i (arrays of the caller, m points; an empty span is not written):
+//  status[i]    Status::kOk (0) found, Status::kNoSegment (6) no face point within the capture distance
+//  face[i]      the caller's face index (from 0), -1 when none
+//  location[i]  Location: 0 face interior, 1 edge, 2 vertex; -1 when none
+//  param[2i..]  local coordinates of the point in the face's own node order: (xi, eta) in [-1, 1]^2 for a
+//               quad4 bilinear facet and a quad8, (u, v) in [0, 1]^2 for a Gregory quad4, (r, s) for a
+//               triangle (SPEC 9)
+//  point[3i..]  the closest point P
+//  gap[i]       the signed distance |S - P| (SPEC 9: negative where S penetrates)
+//  normal[3i..] unit normal: at a face interior the face's outward unit normal at P; at an edge or a vertex
+//               (S - P) / gap (so that S = P + gap n); where S lies on the surface (gap 0) the face's normal
+//               at P. A slave point without a face gets 0 in param, point, gap and normal.
+// Bad input throws (InvalidArgument, NumericalError for a non-finite coordinate) before anything is written.
+#pragma once
+
+#include <memory>
+#include <span>
+#include <vector>
+
+#include "contact/surface_search.hpp"
+#include "contact/tracking.hpp"
+#include "mesh/surface_mesh.hpp"
+
+namespace contactnn::contact {
+
+/// How node ids name the nodes of the coordinate array.
+struct NodeNumbering {
+  long count = 0;             ///< nodes in the coordinate array (3 coordinates each)
+  long base = 0;              ///< the id of node 0 when `ids` is empty: 0 (C) or 1 (Fortran)
+  std::span<const long> ids;  ///< empty, or `count` distinct ids: node i's id
+};
+
+/// The slave points: node ids, or a number of free points (exactly one of them).
+struct SlavePoints {
+  std::span<const long> nodes;  ///< slave node ids
+  long free_points = 0;         ///< or: this many points, their coordinates passed to every update
+};
+
+struct ContactSearchOptions {
+  /// World units; <= 0: one largest face size of the state searched (SearchOptions::capture_relative 1).
+  double capture_distance = 0.0;
+  SurfaceKind quad4 = SurfaceKind::kBilinear;  ///< a quad4 face's surface: bilinear facet or Gregory patch
+  int threads = 0;                             ///< OpenMP threads of an update; <= 0 OpenMP's default
+  bool tracking = true;                        ///< false: every update a fresh search (the same answers)
+};
+
+/// The caller's output arrays for m slave points (sizes m, 2m, 3m); an empty optional span is not written.
+struct ContactResults {
+  std::span<int> status;      ///< required
+  std::span<int> face;        ///< required
+  std::span<int> location;
+  std::span<double> param;    ///< 2m
+  std::span<double> point;    ///< 3m
+  std::span<double> gap;
+  std::span<double> normal;   ///< 3m
+};
+
+class ContactSearch {
+ public:
+  /// `face_types[i]` and its nodes, concatenated in `connectivity` (4, 8, 3 or 6 ids per face by its type).
+  /// InvalidArgument for a face naming a node that does not exist, a face with a node twice, a connectivity of
+  /// the wrong length, repeated node ids, a slave node that does not exist, no faces, or both or neither kind of
+  /// slave point.
+  ContactSearch(std::span<const mesh::FaceType> face_types, std::span<const long> connectivity,
+                const NodeNumbering& nodes, const SlavePoints& slaves, const ContactSearchOptions& options = {});
+  ~ContactSearch();
+  ContactSearch(const ContactSearch&) = delete;
+  ContactSearch& operator=(const ContactSearch&) = delete;
+
+  /// One increment. `coordinates`: 3 x NodeNumbering::count values (x, y, z of each node); `free_points`:
+  /// 3 x SlavePoints::free_points values for free points (empty for slave nodes). Writes `out` (see the
+  /// header). InvalidArgument for arrays of the wrong size, NumericalError for a non-finite coordinate of a
+  /// node the search uses or of a free point: then nothing is written and the tracking state is unchanged.
+  void update(std::span<const double> coordinates, std::span<const double> free_points, const ContactResults& out);
+
+  [[nodiscard]] long face_count() const;
+  [[nodiscard]] long slave_count() const;
+  [[nodiscard]] long node_count() const;
+  [[nodiscard]] bool free_points() const;
+  /// What the last update cost the tracker (zero before the first or without tracking).
+  [[nodiscard]] const TrackingCounts& counts() const;
+  /// The surface the search runs on (its positions those of the last update).
+  [[nodiscard]] const mesh::SurfaceMesh& surface() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+/// Nodes per face of a type: 4, 8, 3, 6.
+[[nodiscard]] int face_node_count(mesh::FaceType type);
+
+}  // namespace contactnn::contact
