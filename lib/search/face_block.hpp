@@ -56,6 +56,18 @@ struct FaceTraits {
   static constexpr double kCentre = kTriangle ? 1.0 / 3.0 : 0.0;
 };
 
+/// a * b + c, rounded once in the variants with FMA and twice in baseline, whatever the compiler would
+/// contract: for the expressions whose contraction GCC chose differently in the vectorised lane loops and in
+/// the one-lane kernel (face_kernels_single.cpp), so that a query's bits do not depend on its place in a
+/// batch.
+CONTACTNN_SEARCH_INLINE double mul_add(double a, double b, double c) {
+#if defined(__FMA__) || defined(__ARM_FEATURE_FMA)
+  return __builtin_fma(a, b, c);
+#else
+  return a * b + c;
+#endif
+}
+
 /// The face of W queries: monomial coefficients c[3 k + comp][l] relative to S in units unit[l]; corner
 /// offsets from S in the same units; per-lane status (kOk, kInvalid, kDegenerate).
 template <int kFace, int W>
@@ -209,35 +221,42 @@ struct FaceBlock {
     return T::kTriangle ? kTri[k] : kQuad[k];
   }
 
-  /// P and its derivatives at (s, t), lane l (kSecond: with the second derivatives).
+  /// P and its derivatives at (s, t), lane l (kSecond: with the second derivatives). Each multiply-add
+  /// written out (mul_add): its rounding is the source's, not the compiler's choice of what to contract,
+  /// which differed between the block's vectorised lanes and the one-lane kernel (issue 39).
   template <bool kSecond>
   CONTACTNN_SEARCH_INLINE void eval(int l, double s, double t, Eval& e) const {
     CONTACTNN_UNROLL
     for (int comp = 0; comp < 3; ++comp) {
       const auto k = [&](int i) { return c[3 * i + comp][l]; };
       if constexpr (kFace == 0) {
-        e.p[comp] = k(0) + s * k(1) + t * k(2);
+        e.p[comp] = mul_add(t, k(2), mul_add(s, k(1), k(0)));
         e.ps[comp] = k(1);
         e.pt[comp] = k(2);
         if constexpr (kSecond) e.pss[comp] = e.pst[comp] = e.ptt[comp] = 0.0;
       } else if constexpr (kFace == 1) {
-        e.p[comp] = k(0) + s * (k(1) + s * k(3) + t * k(4)) + t * (k(2) + t * k(5));
-        e.ps[comp] = k(1) + (2.0 * s) * k(3) + t * k(4);
-        e.pt[comp] = k(2) + s * k(4) + (2.0 * t) * k(5);
+        // k0 + s (k1 + s k3 + t k4) + t (k2 + t k5)
+        const double a = mul_add(t, k(4), mul_add(s, k(3), k(1))), b = mul_add(t, k(5), k(2));
+        e.p[comp] = mul_add(t, b, mul_add(s, a, k(0)));
+        e.ps[comp] = mul_add(t, k(4), mul_add(2.0 * s, k(3), k(1)));
+        e.pt[comp] = mul_add(2.0 * t, k(5), mul_add(s, k(4), k(2)));
         if constexpr (kSecond) {
           e.pss[comp] = 2.0 * k(3);
           e.pst[comp] = k(4);
           e.ptt[comp] = 2.0 * k(5);
         }
       } else {
-        const double st = s * t;
-        e.p[comp] = k(0) + s * (k(1) + s * k(3) + t * k(4) + st * k(6)) + t * (k(2) + t * k(5) + st * k(7));
-        e.ps[comp] = k(1) + (2.0 * s) * k(3) + t * k(4) + (2.0 * st) * k(6) + (t * t) * k(7);
-        e.pt[comp] = k(2) + s * k(4) + (2.0 * t) * k(5) + (s * s) * k(6) + (2.0 * st) * k(7);
+        // k0 + s (k1 + s k3 + t k4 + s t k6) + t (k2 + t k5 + s t k7)
+        const double st = s * t, st2 = 2.0 * st, s2 = 2.0 * s, t2 = 2.0 * t;
+        const double a = mul_add(st, k(6), mul_add(t, k(4), mul_add(s, k(3), k(1))));
+        const double b = mul_add(st, k(7), mul_add(t, k(5), k(2)));
+        e.p[comp] = mul_add(t, b, mul_add(s, a, k(0)));
+        e.ps[comp] = mul_add(t * t, k(7), mul_add(st2, k(6), mul_add(t, k(4), mul_add(s2, k(3), k(1)))));
+        e.pt[comp] = mul_add(st2, k(7), mul_add(s * s, k(6), mul_add(t2, k(5), mul_add(s, k(4), k(2)))));
         if constexpr (kSecond) {
-          e.pss[comp] = 2.0 * k(3) + (2.0 * t) * k(6);
-          e.pst[comp] = k(4) + (2.0 * s) * k(6) + (2.0 * t) * k(7);
-          e.ptt[comp] = 2.0 * k(5) + (2.0 * s) * k(7);
+          e.pss[comp] = mul_add(t2, k(6), 2.0 * k(3));
+          e.pst[comp] = mul_add(t2, k(7), mul_add(s2, k(6), k(4)));
+          e.ptt[comp] = mul_add(s2, k(7), 2.0 * k(5));
         }
       }
     }
