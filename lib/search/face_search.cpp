@@ -89,8 +89,13 @@ using geometry::Vec3;
 template <class Real>
 void move_to_boundary(FaceKind kind, const Real* raw, Real* param, Real* gap, Status* status, Location* location) {
   const int nodes = face_node_count(kind);
-  const auto vec = [raw](int i) {
-    return Vec3(static_cast<double>(raw[3 * i]), static_cast<double>(raw[3 * i + 1]), static_cast<double>(raw[3 * i + 2]));
+  // Relative to the face's first node: the projection then rounds at the face's size, not at its distance
+  // from the origin (issue 39: 2e6 face sizes away, the boundary point was 1e-5 off in the parameters).
+  const double origin[3] = {static_cast<double>(raw[0]), static_cast<double>(raw[1]),
+                            static_cast<double>(raw[2])};
+  const auto vec = [raw, &origin](int i) {
+    return Vec3(static_cast<double>(raw[3 * i]) - origin[0], static_cast<double>(raw[3 * i + 1]) - origin[1],
+                static_cast<double>(raw[3 * i + 2]) - origin[2]);
   };
   const Vec3 s = vec(nodes);
   std::array<double, 2> p{};

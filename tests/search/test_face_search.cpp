@@ -452,5 +452,65 @@ TEST(FaceSearchExtremes, ScalesFarSlavesAndNonFiniteInputs) {
   }
 }
 
+// A face far from the origin gives the answer of the same face at the origin to the rounding of its
+// coordinates there (issue 39: the boundary step of the whole face, computed in world coordinates, was 1e-5
+// off in the parameters 2e6 face sizes away). The kernels compute relative to S, the boundary step relative
+// to the face's first node: the translated face differs from the untranslated one by the rounding of its
+// coordinates, eps |offset|, and the answers by a few of those (well-conditioned queries: slave nodes within
+// 0.1 of the face size, mid-side nodes within 0.1 of their chords). Offsets up to 1e8 face sizes in random
+// directions, faces of size 1e-3 to 1e3; interior feet, and feet outside the face with the whole face.
+TEST(FaceSearchTranslation, AFaceFarFromTheOriginGivesItsAnswerThereToTheRoundingOfTheOffset) {
+  std::mt19937_64 rng(91);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  for (const FaceKind kind : kKinds) {
+    for (const bool outside : {false, true}) {
+      testing::FaceQueryOptions o;
+      o.place = false;
+      o.foot_inset = outside ? -0.3 : 0.05;
+      const auto q = queries(kind, 60, 92, o);
+      SearchOptions options;
+      options.closest_point_on_face = outside;
+      // Plain Newton from the centre is not asked to a slave beyond the face: it reaches a stationary point
+      // of the extrapolated surface, which a few ulps of the input may change (FaceSearchExtremes).
+      const std::vector<const char*> methods =
+          outside ? std::vector<const char*>{"closed_form+newton:3", "closed_form"}
+                  : std::vector<const char*>{"newton", "newton:5", "closed_form+newton:3", "closed_form"};
+      for (const char* name : methods) {
+        const FaceSearch search(kind, Method::parse(name), options);
+        for (const double size : {1e-3, 1.0, 1e3}) {
+          std::vector<FaceQuery> here = q;
+          for (FaceQuery& x : here) {
+            for (Vec3& p : x.nodes) p *= size;
+            x.slave *= size;
+          }
+          const Answers origin = run(search, rows(here));
+          for (const double offset : {1e2, 1e4, 2e6, 1e8}) {
+            std::vector<FaceQuery> far = here;
+            std::vector<double> rounding(q.size());
+            for (std::size_t i = 0; i < q.size(); ++i) {
+              const Vec3 shift = offset * size * Vec3(unit(rng), unit(rng), unit(rng));
+              for (Vec3& p : far[i].nodes) p += shift;
+              far[i].slave += shift;
+              // eps |offset|, with the face's own size (the untranslated answer's rounding).
+              rounding[i] =
+                  std::numeric_limits<double>::epsilon() * (shift.lpNorm<Eigen::Infinity>() + 4.0 * size);
+            }
+            const Answers a = run(search, rows(far));
+            for (std::size_t i = 0; i < q.size(); ++i) {
+              SCOPED_TRACE(std::string(to_string(kind)) + " " + name + (outside ? " (whole face)" : "") +
+                           " size " + std::to_string(size) + " offset " + std::to_string(offset) + " query " +
+                           std::to_string(i));
+              EXPECT_EQ(a.status[i], origin.status[i]);
+              EXPECT_NEAR(a.param[2 * i], origin.param[2 * i], 8.0 * rounding[i] / size);
+              EXPECT_NEAR(a.param[2 * i + 1], origin.param[2 * i + 1], 8.0 * rounding[i] / size);
+              EXPECT_NEAR(a.gap[i], origin.gap[i], 8.0 * rounding[i]);
+            }
+          }
+        }
+      }
+    }
+  }
+}
+
 }  // namespace
 }  // namespace contactnn::search
