@@ -17,6 +17,7 @@
 #include <type_traits>
 #include <vector>
 
+#include "capi_internal.hpp"
 #include "core/conventions.hpp"
 #include "core/error.hpp"
 #include "core/quote_text.hpp"
@@ -88,27 +89,9 @@ int record_error(int code, const char* message) noexcept {
   return code;
 }
 
-/// Runs `body` and turns what it throws into a return code and this thread's message.
-template <class Body>
-int guarded(const char* function, Body&& body) noexcept {
-  try {
-    body();
-    return CONTACTNN_SUCCESS;
-  } catch (const Error& e) {
-    return record_error(e.exit_code(), e.what());
-  } catch (const std::bad_alloc&) {
-    return record_error(CONTACTNN_ERROR_OUT_OF_MEMORY, "out of memory");
-  } catch (const std::exception& e) {
-    try {
-      return record_error(CONTACTNN_ERROR_INTERNAL,
-                          (std::string(function) + ": internal error: " + e.what()).c_str());
-    } catch (...) {
-      return record_error(CONTACTNN_ERROR_INTERNAL, "internal error");
-    }
-  } catch (...) {
-    return record_error(CONTACTNN_ERROR_INTERNAL, "internal error: an unknown exception");
-  }
-}
+/// Runs `body`: exceptions to return codes and this thread's message (capi_internal.hpp, shared with the contact
+/// search handle's entry points).
+using capi::guarded;
 
 /// HDF5 as Debian builds it is not thread-safe: one network file read at a time.
 std::mutex g_network_read_mutex;

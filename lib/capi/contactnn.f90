@@ -178,6 +178,66 @@ module contactnn
     end function c_strlen
   end interface
 
+  ! ---------------------------------------------------------------------------------------------------------------
+  ! The contact search handle (contactnn.h's contactnn_contact_*, issue 38): the whole surface search of SPEC 9 for
+  ! an FE code, tracking inside. Face types (contactnn_face_type) and locations (contactnn_location):
+  integer, parameter, public :: CONTACTNN_FACE_QUAD4 = 0, CONTACTNN_FACE_QUAD8 = 1, CONTACTNN_FACE_TRI3 = 2, &
+                                CONTACTNN_FACE_TRI6 = 3
+  integer, parameter, public :: CONTACTNN_LOCATION_FACE = 0, CONTACTNN_LOCATION_EDGE = 1, CONTACTNN_LOCATION_VERTEX = 2
+
+  !> The C struct contactnn_contact_options: get the defaults from contactnn_default_contact_options().
+  type, bind(C), public :: contactnn_contact_options
+    real(c_double) :: capture_distance ! world units; <= 0: one largest face size
+    integer(c_int) :: quad4_surface    ! CONTACTNN_SURFACE_BILINEAR or CONTACTNN_SURFACE_GREGORY
+    integer(c_int) :: threads          ! OpenMP threads of an update; <= 0: OpenMP's default
+    integer(c_int) :: tracking         ! /= 0: reuse the previous increment's candidates (the same answers)
+  end type contactnn_contact_options
+
+  !> A contact search; create with contactnn_contact_create, free with contactnn_contact_destroy. A copy shares the
+  !> handle: destroy one of them only.
+  type, public :: contactnn_contact
+    private
+    type(c_ptr) :: handle = c_null_ptr
+    integer :: nodes = 0, slaves = 0
+    logical :: free = .false.
+  end type contactnn_contact
+
+  public :: contactnn_contact_create, contactnn_contact_update, contactnn_contact_destroy, &
+            contactnn_default_contact_options
+
+  interface
+    function c_contact_options_init(options) bind(C, name='contactnn_contact_options_init')
+      import :: c_int, contactnn_contact_options
+      type(contactnn_contact_options), intent(out) :: options
+      integer(c_int) :: c_contact_options_init
+    end function c_contact_options_init
+
+    function c_contact_create(contact, n_faces, face_types, connectivity, n_nodes, node_ids, id_base, n_slaves, &
+                              slave_node_ids, options) bind(C, name='contactnn_contact_create')
+      import :: c_int, c_size_t, c_ptr, contactnn_contact_options
+      type(c_ptr), intent(out) :: contact
+      integer(c_size_t), value :: n_faces, n_nodes, n_slaves
+      type(c_ptr), value :: face_types, connectivity, node_ids, slave_node_ids
+      integer(c_int), value :: id_base
+      type(contactnn_contact_options), intent(in) :: options
+      integer(c_int) :: c_contact_create
+    end function c_contact_create
+
+    subroutine c_contact_destroy(contact) bind(C, name='contactnn_contact_destroy')
+      import :: c_ptr
+      type(c_ptr), value :: contact
+    end subroutine c_contact_destroy
+
+    function c_contact_update(contact, n_nodes, coords, n_slaves, slave_points, status, face, location, param, &
+                              point, gap, normal) bind(C, name='contactnn_contact_update')
+      import :: c_int, c_size_t, c_ptr
+      type(c_ptr), value :: contact
+      integer(c_size_t), value :: n_nodes, n_slaves
+      type(c_ptr), value :: coords, slave_points, status, face, location, param, point, gap, normal
+      integer(c_int) :: c_contact_update
+    end function c_contact_update
+  end interface
+
 contains
 
   !> A Fortran string from a C string (empty for a null pointer).
@@ -389,5 +449,183 @@ contains
     method = ''
     if (c_associated(search%handle)) method = from_c_string(c_search_method(search%handle))
   end function contactnn_method
+
+  ! ---------------------------------------------------------------------------------------------------------------
+  ! The contact search handle.
+
+  function contactnn_default_contact_options() result(options)
+    type(contactnn_contact_options) :: options
+    integer(c_int) :: ierr
+    ierr = c_contact_options_init(options)  ! cannot fail: the argument is never null
+  end function contactnn_default_contact_options
+
+  !> Creates a contact search (contactnn.h's contactnn_contact_create).
+  !>   face_types(n_faces)  CONTACTNN_FACE_*
+  !>   connectivity(:)      the faces' node ids, concatenated (4, 8, 3 or 6 per face by its type; SPEC 9's order)
+  !>   n_nodes              nodes of the coordinate array coords(3, n_nodes) of every update
+  !>   slave_nodes(m)       slave node ids; or, absent, n_points free points (integration points) whose
+  !>                        coordinates every update passes in points(3, n_points)
+  !>   id_base              the id of coords(:, 1) (default 1); node_ids(n_nodes): each node's id (global ids)
+  !>   options              contactnn_default_contact_options() when absent
+  !> On failure contact holds no handle and ierr /= CONTACTNN_SUCCESS (contactnn_last_error() says why). A contact
+  !> that already holds a handle is destroyed first.
+  subroutine contactnn_contact_create(contact, face_types, connectivity, n_nodes, ierr, slave_nodes, n_points, &
+                                      id_base, node_ids, options)
+    type(contactnn_contact), intent(inout) :: contact
+    integer(c_int), intent(in), contiguous, target :: face_types(:), connectivity(:)
+    integer, intent(in) :: n_nodes
+    integer, intent(out) :: ierr
+    integer(c_int), intent(in), optional, contiguous, target :: slave_nodes(:), node_ids(:)
+    integer, intent(in), optional :: n_points, id_base
+    type(contactnn_contact_options), intent(in), optional :: options
+    type(contactnn_contact_options) :: effective
+    type(c_ptr) :: handle, ids_ptr, slaves_ptr
+    integer :: base, m, expected, f
+    logical :: known
+    character(len=200) :: message
+
+    call contactnn_contact_destroy(contact)
+    effective = contactnn_default_contact_options()
+    if (present(options)) effective = options
+    base = 1
+    if (present(id_base)) base = id_base
+    message = ''
+    expected = 0
+    known = .true.  ! an unknown face type is the C interface's to name
+    do f = 1, size(face_types)
+      select case (face_types(f))
+      case (CONTACTNN_FACE_QUAD4)
+        expected = expected + 4
+      case (CONTACTNN_FACE_QUAD8)
+        expected = expected + 8
+      case (CONTACTNN_FACE_TRI3)
+        expected = expected + 3
+      case (CONTACTNN_FACE_TRI6)
+        expected = expected + 6
+      case default
+        known = .false.
+      end select
+    end do
+    if (present(slave_nodes) .eqv. present(n_points)) then
+      message = 'contactnn_contact_create: give slave_nodes or n_points, one of the two'
+    else if (present(node_ids)) then
+      if (size(node_ids) /= n_nodes) write (message, '(a,i0,a,i0)') 'contactnn_contact_create: node_ids has ', &
+        size(node_ids), ' elements, expected n_nodes = ', n_nodes
+    end if
+    if (len_trim(message) == 0 .and. size(connectivity) /= expected .and. known) then
+      write (message, '(a,i0,a,i0)') 'contactnn_contact_create: connectivity has ', size(connectivity), &
+        ' node ids, the face types need ', expected
+    end if
+    if (len_trim(message) == 0 .and. n_nodes < 0) write (message, '(a,i0)') 'contactnn_contact_create: n_nodes = ', &
+      n_nodes
+    if (len_trim(message) == 0 .and. present(n_points)) then
+      if (n_points < 0) write (message, '(a,i0)') 'contactnn_contact_create: n_points = ', n_points
+    end if
+    if (len_trim(message) /= 0) then
+      ierr = c_set_last_error(int(CONTACTNN_ERROR_INVALID_ARGUMENT, c_int), trim(message)//c_null_char)
+      return
+    end if
+    ids_ptr = c_null_ptr
+    slaves_ptr = c_null_ptr
+    if (present(node_ids)) ids_ptr = c_loc(node_ids)
+    if (present(slave_nodes)) then
+      m = size(slave_nodes)
+      if (m > 0) slaves_ptr = c_loc(slave_nodes)
+    else
+      m = n_points
+    end if
+    ierr = c_contact_create(handle, int(size(face_types), c_size_t), c_loc(face_types), c_loc(connectivity), &
+                            int(n_nodes, c_size_t), ids_ptr, int(base, c_int), int(m, c_size_t), slaves_ptr, effective)
+    if (ierr /= CONTACTNN_SUCCESS) return
+    contact%handle = handle
+    contact%nodes = n_nodes
+    contact%slaves = m
+    contact%free = .not. present(slave_nodes)
+  end subroutine contactnn_contact_create
+
+  !> One increment (contactnn.h's contactnn_contact_update): coords(3, n_nodes), points(3, m) for free points; per
+  !> slave point status(m) (CONTACTNN_STATUS_OK or _NO_SEGMENT), face(m) the face's position in face_types FROM 1
+  !> (0: none), optionally location(m) (CONTACTNN_LOCATION_*, -1: none), param(2, m), point(3, m), gap(m),
+  !> normal(3, m). On failure nothing is written.
+  subroutine contactnn_contact_update(contact, coords, ierr, status, face, location, param, point, gap, normal, points)
+    type(contactnn_contact), intent(in) :: contact
+    real(c_double), intent(in), contiguous, target :: coords(:, :)
+    integer, intent(out) :: ierr
+    integer(c_int), intent(inout), contiguous, target :: status(:), face(:)
+    integer(c_int), intent(inout), optional, contiguous, target :: location(:)
+    real(c_double), intent(inout), optional, contiguous, target :: param(:, :), point(:, :), normal(:, :)
+    real(c_double), intent(inout), optional, contiguous, target :: gap(:)
+    real(c_double), intent(in), optional, contiguous, target :: points(:, :)
+    type(c_ptr) :: location_ptr, param_ptr, point_ptr, gap_ptr, normal_ptr, points_ptr
+    character(len=200) :: message
+    integer :: m
+
+    m = contact%slaves
+    message = ''
+    if (.not. c_associated(contact%handle)) then
+      message = 'contactnn_contact_update: the contact search was not created (or was destroyed)'
+    else if (size(coords, 1) /= 3 .or. size(coords, 2) /= contact%nodes) then
+      write (message, '(a,i0,a,i0,a,i0)') 'contactnn_contact_update: coords is ', size(coords, 1), ' x ', &
+        size(coords, 2), ', expected 3 x ', contact%nodes
+    else if (present(points) .neqv. contact%free) then
+      message = 'contactnn_contact_update: points are given exactly for a search of free points'
+    else if (size(status) /= m .or. size(face) /= m) then
+      write (message, '(a,i0,a,i0,a,i0)') 'contactnn_contact_update: status and face have ', size(status), ' and ', &
+        size(face), ' elements, expected ', m
+    end if
+    if (len_trim(message) == 0 .and. present(points)) then
+      if (size(points, 1) /= 3 .or. size(points, 2) /= m) write (message, '(a,i0)') &
+        'contactnn_contact_update: points must be 3 x ', m
+    end if
+    if (len_trim(message) == 0 .and. present(location)) then
+      if (size(location) /= m) write (message, '(a,i0)') 'contactnn_contact_update: location must have m = ', m
+    end if
+    if (len_trim(message) == 0 .and. present(gap)) then
+      if (size(gap) /= m) write (message, '(a,i0)') 'contactnn_contact_update: gap must have m = ', m
+    end if
+    if (len_trim(message) == 0 .and. present(param)) then
+      if (size(param, 1) /= 2 .or. size(param, 2) /= m) write (message, '(a,i0)') &
+        'contactnn_contact_update: param must be 2 x ', m
+    end if
+    if (len_trim(message) == 0 .and. present(point)) then
+      if (size(point, 1) /= 3 .or. size(point, 2) /= m) write (message, '(a,i0)') &
+        'contactnn_contact_update: point must be 3 x ', m
+    end if
+    if (len_trim(message) == 0 .and. present(normal)) then
+      if (size(normal, 1) /= 3 .or. size(normal, 2) /= m) write (message, '(a,i0)') &
+        'contactnn_contact_update: normal must be 3 x ', m
+    end if
+    if (len_trim(message) /= 0) then
+      ierr = c_set_last_error(int(CONTACTNN_ERROR_INVALID_ARGUMENT, c_int), trim(message)//c_null_char)
+      return
+    end if
+    location_ptr = c_null_ptr
+    param_ptr = c_null_ptr
+    point_ptr = c_null_ptr
+    gap_ptr = c_null_ptr
+    normal_ptr = c_null_ptr
+    points_ptr = c_null_ptr
+    if (present(location)) location_ptr = c_loc(location)
+    if (present(param)) param_ptr = c_loc(param)
+    if (present(point)) point_ptr = c_loc(point)
+    if (present(gap)) gap_ptr = c_loc(gap)
+    if (present(normal)) normal_ptr = c_loc(normal)
+    if (present(points)) points_ptr = c_loc(points)
+    ierr = c_contact_update(contact%handle, int(contact%nodes, c_size_t), c_loc(coords), int(m, c_size_t), &
+                            points_ptr, c_loc(status), c_loc(face), location_ptr, param_ptr, point_ptr, gap_ptr, &
+                            normal_ptr)
+    if (ierr /= CONTACTNN_SUCCESS) return
+    face = face + 1  ! Fortran counts faces from 1 (0: none)
+  end subroutine contactnn_contact_update
+
+  !> Frees a contact search (nothing happens for one that holds no handle).
+  subroutine contactnn_contact_destroy(contact)
+    type(contactnn_contact), intent(inout) :: contact
+    if (c_associated(contact%handle)) call c_contact_destroy(contact%handle)
+    contact%handle = c_null_ptr
+    contact%nodes = 0
+    contact%slaves = 0
+    contact%free = .false.
+  end subroutine contactnn_contact_destroy
 
 end module contactnn

@@ -215,6 +215,107 @@ CONTACTNN_API int contactnn_search_create_from_plan(contactnn_search** search, c
  * function on the same thread. Never fails. */
 CONTACTNN_API const char* contactnn_search_method(const contactnn_search* search);
 
+/* ---------------------------------------------------------------------------------------------------------
+ * The contact search handle (contactnn::contact::ContactSearch, contact/contact_search.hpp; issue 38): the whole
+ * surface search of SPEC 9 for an FE code. Created once from the master faces and the slave points; then, at every
+ * increment, given the node coordinates, it answers for every slave point the closest point of the master surface
+ * (a face's interior, an edge or a vertex), its signed gap and the unit normal, into arrays the caller owns.
+ * Tracking (the previous increment's candidate faces and points) lives inside the handle: the first update is a
+ * fresh search, the later ones give a fresh search's answers at less cost.
+ *
+ *   faces         n_faces face types (CONTACTNN_FACE_*) and their node ids, concatenated in connectivity (4, 8, 3
+ *                 or 6 ids per face, by its type): the corners counter-clockwise seen from outside (the side a
+ *                 positive gap lies on), then a quadratic face's mid-side nodes of the edges 1-2, 2-3, ... (SPEC 9)
+ *   nodes         n_nodes nodes in the coordinate array; a node id names node (id - id_base) (id_base 0 in C, 1 in
+ *                 Fortran), or, where node_ids is not NULL, the node whose id node_ids holds (an FE code's global
+ *                 ids; distinct)
+ *   slave points  n_slaves slave node ids (slave_node_ids), or, with slave_node_ids NULL, n_slaves free points
+ *                 (integration points) whose coordinates every update passes
+ * Face i is reported as face i (from 0). SPEC 9's tie rule (equal distances to 1e-12 of the face size) takes the
+ * lower face index. Only the exact search (lib/projection's reference) runs for now: no method or plan option.
+ *
+ * Per slave point i, an update writes (optional arrays may be NULL):
+ *   status[i]     CONTACTNN_STATUS_OK: found; CONTACTNN_STATUS_NO_SEGMENT: no face within the capture distance
+ *   face[i]       the face index (from 0), -1 when none
+ *   location[i]   CONTACTNN_LOCATION_FACE, _EDGE or _VERTEX: where the point lies on its face; -1 when none
+ *   param[2i..]   local coordinates in the face's own node order: (xi, eta) in [-1, 1]^2 (quad4 bilinear, quad8),
+ *                 (u, v) in [0, 1]^2 (quad4 Gregory), (r, s) of a triangle
+ *   point[3i..]   the closest point P
+ *   gap[i]        the signed distance |S - P|, negative where S penetrates
+ *   normal[3i..]  unit normal: the face's outward normal at P for a point inside a face; (S - P) / gap at an
+ *                 edge or a vertex (S = P + gap n); the face's normal at P where S lies on the surface
+ * A slave point without a face gets 0 in param, point, gap and normal.
+ * Bad input (a face naming a node that does not exist, a non-finite coordinate, a count that does not match the
+ * handle's) returns its code and message and writes NOTHING to the caller's arrays; the handle stays usable.
+ * Thread safety: one update of a handle at a time (an update changes its tracking state); separate handles are
+ * independent. Handles carry a check value as contactnn_search's do (see "Handles" above).
+ *
+ * Sample use (error handling shortened):
+ *   contactnn_contact* c = NULL;
+ *   contactnn_contact_create(&c, n_faces, types, conn, n_nodes, NULL, 0, n_slaves, slave_ids, NULL);
+ *   for (int inc = 0; inc < n_inc; ++inc) {
+ *     ... coords[3 * node] = x, y, z of each node ...
+ *     contactnn_contact_update(c, n_nodes, coords, n_slaves, NULL, status, face, location, param, point, gap, normal);
+ *   }
+ *   contactnn_contact_destroy(c);
+ */
+
+/* Face types: the values of contactnn::mesh::FaceType. */
+enum contactnn_face_type {
+  CONTACTNN_FACE_QUAD4 = 0, /* 4 corners: a bilinear facet, or a Gregory patch (options.quad4_surface) */
+  CONTACTNN_FACE_QUAD8 = 1, /* 8 nodes: the serendipity quadrilateral through them */
+  CONTACTNN_FACE_TRI3 = 2,  /* 3 corners: a flat triangle */
+  CONTACTNN_FACE_TRI6 = 3   /* 6 nodes: the quadratic triangle through them */
+};
+
+/* Where the closest point lies on its face: the values of contactnn::Location. */
+enum contactnn_location { CONTACTNN_LOCATION_FACE = 0, CONTACTNN_LOCATION_EDGE = 1, CONTACTNN_LOCATION_VERTEX = 2 };
+
+/* The options of a contact search. Fill it with contactnn_contact_options_init and change what you need. */
+typedef struct contactnn_contact_options {
+  double capture_distance; /* a face counts when its closest point lies within this distance (world units);
+                              <= 0: one largest face size of the state searched. Default 0 */
+  int quad4_surface;       /* CONTACTNN_SURFACE_BILINEAR or CONTACTNN_SURFACE_GREGORY (node normals of Eq 26
+                              over the quad4 and quad8 faces). Default bilinear */
+  int threads;             /* OpenMP threads of an update, at most CONTACTNN_MAX_THREADS; <= 0: OpenMP's default.
+                              The answers are the same bits for any count. Default 0 */
+  int tracking;            /* nonzero: reuse the previous increment's candidates and points (the same answers);
+                              0: every update a fresh search. Default 1 */
+} contactnn_contact_options;
+
+/* Opaque handle of a contact search. */
+typedef struct contactnn_contact contactnn_contact;
+
+/* Writes the default options to *options. INVALID_ARGUMENT when options is NULL. */
+CONTACTNN_API int contactnn_contact_options_init(contactnn_contact_options* options);
+
+/* Creates a contact search (the arguments above; options NULL for the defaults). The arrays are read here and
+ * not kept. Errors: INVALID_ARGUMENT (NULL contact, faces, connectivity or, with n_slaves > 0, nothing to say
+ * what the slave points are; n_faces or n_nodes 0; a face type that is none of CONTACTNN_FACE_*; a face naming a
+ * node that does not exist or a node twice; repeated node_ids; a slave node that does not exist; an option out of
+ * range), OUT_OF_MEMORY. The message names the face, its node and the id. */
+CONTACTNN_API int contactnn_contact_create(contactnn_contact** contact, size_t n_faces, const int* face_types,
+                                           const int* connectivity, size_t n_nodes, const int* node_ids, int id_base,
+                                           size_t n_slaves, const int* slave_node_ids,
+                                           const contactnn_contact_options* options);
+
+/* Frees a contact search (NULL does nothing; a handle destroyed already is left alone and recorded as the last
+ * error). */
+CONTACTNN_API void contactnn_contact_destroy(contactnn_contact* contact);
+
+/* One increment: coords holds n_nodes x 3 values (x, y, z of each node, in the coordinate array's order),
+ * slave_points n_slaves x 3 for a search of free points (NULL for slave nodes). n_nodes and n_slaves must be the
+ * handle's. Writes the arrays above (status and face required, the rest optional). Errors: INVALID_ARGUMENT (NULL
+ * or dead handle, a count that is not the handle's, a NULL required array), NUMERICAL (a non-finite coordinate of a
+ * node of a face, of a slave node or of a free point: the message names it), OUT_OF_MEMORY; then nothing is
+ * written. */
+CONTACTNN_API int contactnn_contact_update(contactnn_contact* contact, size_t n_nodes, const double* coords,
+                                           size_t n_slaves, const double* slave_points, int* status, int* face,
+                                           int* location, double* param, double* point, double* gap, double* normal);
+
+/* The number of slave points of a contact search, or -1 for NULL or a handle that is not live. Never fails. */
+CONTACTNN_API long contactnn_contact_slave_count(const contactnn_contact* contact);
+
 #ifdef __cplusplus
 }
 #endif

@@ -1,0 +1,37 @@
+// What the C interface's entry points share (contactnn.cpp, contact_search.cpp): each entry point is a boundary
+// where exceptions become return codes and this thread's message (contactnn_last_error), nothing else leaves.
+#pragma once
+
+#include <exception>
+#include <new>
+#include <string>
+
+#include "contactnn/contactnn.h"
+#include "core/error.hpp"
+
+namespace contactnn::capi {
+
+/// Runs `body` and turns what it throws into a return code and this thread's message (recorded through
+/// contactnn_set_last_error, the one place that stores it).
+template <class Body>
+int guarded(const char* function, Body&& body) noexcept {
+  try {
+    body();
+    return CONTACTNN_SUCCESS;
+  } catch (const Error& e) {
+    return contactnn_set_last_error(e.exit_code(), e.what());
+  } catch (const std::bad_alloc&) {
+    return contactnn_set_last_error(CONTACTNN_ERROR_OUT_OF_MEMORY, "out of memory");
+  } catch (const std::exception& e) {
+    try {
+      return contactnn_set_last_error(CONTACTNN_ERROR_INTERNAL,
+                                      (std::string(function) + ": internal error: " + e.what()).c_str());
+    } catch (...) {
+      return contactnn_set_last_error(CONTACTNN_ERROR_INTERNAL, "internal error");
+    }
+  } catch (...) {
+    return contactnn_set_last_error(CONTACTNN_ERROR_INTERNAL, "internal error: an unknown exception");
+  }
+}
+
+}  // namespace contactnn::capi
