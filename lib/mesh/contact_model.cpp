@@ -57,14 +57,27 @@ SlaveNodes slave_nodes(const ContactModel& model, int k, const SurfaceMesh& mast
     for (int f = 0; f < slave_surface.face_count(); ++f) {
       for (int n : slave_surface.face_corners(f)) corners.push_back(slave_surface.mesh_nodes[static_cast<std::size_t>(n)]);
     }
+    // A node merged into another of a collapsed face is a slave node too, a corner where that one is.
+    std::sort(corners.begin(), corners.end());
+    const std::size_t face_corners = corners.size();
+    for (const auto& [node, standing_for_it] : slave_surface.merged_nodes) {
+      nodes.push_back(node);
+      if (std::binary_search(corners.begin(), corners.begin() + static_cast<std::ptrdiff_t>(face_corners),
+                             standing_for_it)) {
+        corners.push_back(node);
+      }
+    }
     std::sort(corners.begin(), corners.end());
   }
   const SolidMesh& mesh = model.mesh;
   std::sort(nodes.begin(), nodes.end(), [&](int a, int b) { return mesh.node_id(a) < mesh.node_id(b); });
   nodes.erase(std::unique(nodes.begin(), nodes.end()), nodes.end());
+  // The master's nodes: its surface nodes and the nodes merged into them.
+  std::vector<int> master_nodes = master.mesh_nodes;
+  for (const auto& merged : master.merged_nodes) master_nodes.push_back(merged[0]);
+  std::sort(master_nodes.begin(), master_nodes.end());
   for (int n : nodes) {
-    if (std::binary_search(master.mesh_nodes.begin(), master.mesh_nodes.end(), n,
-                           [&](int a, int b) { return mesh.node_id(a) < mesh.node_id(b); })) {
+    if (std::binary_search(master_nodes.begin(), master_nodes.end(), n)) {
       ++slaves.shared_with_master;
     } else {
       slaves.nodes.push_back(n);

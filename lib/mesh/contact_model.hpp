@@ -59,14 +59,15 @@ struct ContactModel {
 /// the pair's line if the master is not an element surface.
 [[nodiscard]] SurfaceMesh master_surface(const ContactModel& model, int k);
 
-/// The slave nodes of a pair: a node surface's nodes, or every node of an element surface's faces (the faces of
-/// build_surface_mesh: segments and extra faces; a face it drops contributes no node), mid-side nodes of
-/// quadratic faces included (SPEC 9, as CalculiX has them), minus the nodes of `master` (its mid-side nodes
-/// included).
+/// The slave nodes of a pair: a node surface's nodes, or every node of an element surface's faces (the faces
+/// of build_surface_mesh: segments and extra faces, and the nodes merged into theirs; a face it drops
+/// contributes no node), mid-side nodes of quadratic faces included (SPEC 9, as CalculiX has them), minus the
+/// nodes of `master` (its mid-side nodes and merged nodes included).
 ///
-/// Two searches, two slave sets. The surface search (SPEC 9) takes every node. The paper's nearest-node search
-/// keeps SPEC 7's: the corner nodes of an element surface's faces, i.e. the nodes whose `midside` flag is 0
-/// (corner_slaves). A node that is a corner of one slave face and a mid-side node of another counts as a corner.
+/// Two searches, two slave sets. The surface search (SPEC 9) takes every node. The paper's nearest-node
+/// search keeps SPEC 7's: the corner nodes of an element surface's faces, i.e. the nodes whose `midside` flag
+/// is 0 (corner_slaves). A node that is a corner of one slave face and a mid-side node of another counts as a
+/// corner.
 struct SlaveNodes {
   std::vector<int> nodes;                  ///< SolidMesh node indices, in increasing node id, each once
   /// One per node: 1 for a mid-side node of the element surface's quadratic faces that is a corner of none of

@@ -10,6 +10,7 @@ int SolidMesh::add_node(long id, const Vec3& position) {
   CONTACTNN_REQUIRE(inserted, "node " << id << " is defined twice");
   node_ids_.push_back(id);
   positions_.push_back(position);
+  deck_positions_.push_back(position);
   return index;
 }
 

@@ -2,7 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <set>
+#include <string>
+#include <string_view>
 
 #include "core/error.hpp"
 
@@ -14,6 +17,65 @@ namespace {
 // geometry::corner_normal); unit corner normals summing to less than this per corner cancel.
 constexpr double kMinCornerSine = 1e-12;
 constexpr double kMinSumPerCorner = 1e-12;
+// Two nodes of a face coincide within this fraction of their element's size, or this many units in the last
+// place of its largest coordinate (the header's "Collapsed faces").
+constexpr double kCoincidentRelative = 1e-9;
+constexpr double kCoincidentUlps = 16.0;
+
+}  // namespace
+
+namespace {
+
+/// A face's corners in outward order as 0-based indices into its element's node list (then -1 for a
+/// triangle), and whether the element is numbered inside out (the manual's own order is then the outward
+/// one).
+struct OutwardCorners {
+  std::array<int, 4> local{-1, -1, -1, -1};
+  std::size_t count = 0;
+  bool inside_out = false;
+};
+
+OutwardCorners outward_local_corners(const SolidMesh& mesh, ElementFace face) {
+  const ElementType& type = mesh.element_type(face.element);
+  const std::span<const int> corners = face_corner_indices(type.shape, face.face);
+  const std::span<const int> nodes = mesh.element_nodes(face.element);
+  const auto at = [&](int local) -> const Vec3& {
+    return mesh.position(nodes[static_cast<std::size_t>(local)]);
+  };
+  Vec3 element_centroid = Vec3::Zero();
+  const int n_corners = corner_node_count(type.shape);
+  for (int i = 0; i < n_corners; ++i) element_centroid += at(i);
+  element_centroid /= n_corners;
+  OutwardCorners out;
+  out.count = corners.size();
+  if (corners.size() == 4) {
+    // The manuals list each face clockwise seen from outside (its right-hand normal points into the
+    // element), so the outward order is the reverse. The centroid test catches elements numbered the
+    // other way round; the diagonals' cross product is the face's mean normal even on a warped face.
+    const std::array<int, 4> manual = {corners[0], corners[1], corners[2], corners[3]};
+    const std::array<int, 4> reversed = {manual[0], manual[3], manual[2], manual[1]};
+    const Vec3 face_centroid = 0.25 * (at(manual[0]) + at(manual[1]) + at(manual[2]) + at(manual[3]));
+    const Vec3 normal = (at(reversed[2]) - at(reversed[0])).cross(at(reversed[3]) - at(reversed[1]));
+    out.inside_out = normal.dot(face_centroid - element_centroid) < 0.0;
+    out.local = out.inside_out ? manual : reversed;
+  } else if (corners.size() == 3) {
+    const std::array<int, 3> manual = {corners[0], corners[1], corners[2]};
+    const Vec3 face_centroid = (at(manual[0]) + at(manual[1]) + at(manual[2])) / 3.0;
+    const Vec3 normal =
+        (at(manual[2]) - at(manual[0])).cross(at(manual[1]) - at(manual[0]));  // reversed order's
+    out.inside_out = normal.dot(face_centroid - element_centroid) < 0.0;
+    out.local = out.inside_out ? std::array<int, 4>{manual[0], manual[1], manual[2], -1}
+                               : std::array<int, 4>{manual[0], manual[2], manual[1], -1};
+  }
+  return out;
+}
+
+std::array<int, 4> node_indices(const SolidMesh& mesh, int element, const std::array<int, 4>& local) {
+  const std::span<const int> nodes = mesh.element_nodes(element);
+  std::array<int, 4> out{-1, -1, -1, -1};
+  for (std::size_t k = 0; k < 4; ++k) out[k] = local[k] < 0 ? -1 : nodes[static_cast<std::size_t>(local[k])];
+  return out;
+}
 
 }  // namespace
 
@@ -21,46 +83,16 @@ std::array<int, 4> outward_quad_corners(const SolidMesh& mesh, ElementFace face)
   CONTACTNN_REQUIRE(face.element >= 0 && face.element < mesh.element_count(),
                     "element index " << face.element << " outside [0, " << mesh.element_count() << ")");
   const ElementType& type = mesh.element_type(face.element);
-  const std::span<const int> corners = face_corner_indices(type.shape, face.face);
-  CONTACTNN_REQUIRE(corners.size() == 4, "element " << mesh.element_id(face.element) << " (" << type.name
-                                                    << ") has no quadrilateral face S" << face.face);
-  const std::span<const int> nodes = mesh.element_nodes(face.element);
-  const std::array<int, 4> manual = {nodes[static_cast<std::size_t>(corners[0])],
-                                     nodes[static_cast<std::size_t>(corners[1])],
-                                     nodes[static_cast<std::size_t>(corners[2])],
-                                     nodes[static_cast<std::size_t>(corners[3])]};
-  // The manuals list each face clockwise seen from outside (its right-hand normal points into the
-  // element), so the outward order is the reverse. The centroid test catches elements numbered the
-  // other way round; the diagonals' cross product is the face's mean normal even on a warped face.
-  const std::array<int, 4> reversed = {manual[0], manual[3], manual[2], manual[1]};
-  const auto at = [&](int n) -> const Vec3& { return mesh.position(n); };
-  Vec3 element_centroid = Vec3::Zero();
-  const int n_corners = corner_node_count(type.shape);
-  for (int i = 0; i < n_corners; ++i) element_centroid += at(nodes[static_cast<std::size_t>(i)]);
-  element_centroid /= n_corners;
-  const Vec3 face_centroid = 0.25 * (at(manual[0]) + at(manual[1]) + at(manual[2]) + at(manual[3]));
-  const Vec3 normal = (at(reversed[2]) - at(reversed[0])).cross(at(reversed[3]) - at(reversed[1]));
-  return normal.dot(face_centroid - element_centroid) < 0.0 ? manual : reversed;
+  CONTACTNN_REQUIRE(face_corner_indices(type.shape, face.face).size() == 4,
+                    "element " << mesh.element_id(face.element) << " (" << type.name
+                               << ") has no quadrilateral face S" << face.face);
+  return node_indices(mesh, face.element, outward_local_corners(mesh, face).local);
 }
 
 /// The 3 corners of a triangular face, outward ((B - A) x (C - A) points out of the element: the manual's
 /// order reversed, unless the element's centroid says the element is numbered inside out), then -1.
 std::array<int, 4> outward_triangle_corners(const SolidMesh& mesh, ElementFace face) {
-  const ElementType& type = mesh.element_type(face.element);
-  const std::span<const int> corners = face_corner_indices(type.shape, face.face);
-  const std::span<const int> nodes = mesh.element_nodes(face.element);
-  const std::array<int, 3> manual = {nodes[static_cast<std::size_t>(corners[0])],
-                                     nodes[static_cast<std::size_t>(corners[1])],
-                                     nodes[static_cast<std::size_t>(corners[2])]};
-  const auto at = [&](int n) -> const Vec3& { return mesh.position(n); };
-  Vec3 element_centroid = Vec3::Zero();
-  const int n_corners = corner_node_count(type.shape);
-  for (int i = 0; i < n_corners; ++i) element_centroid += at(nodes[static_cast<std::size_t>(i)]);
-  element_centroid /= n_corners;
-  const Vec3 face_centroid = (at(manual[0]) + at(manual[1]) + at(manual[2])) / 3.0;
-  const Vec3 normal = (at(manual[2]) - at(manual[0])).cross(at(manual[1]) - at(manual[0]));  // reversed order's
-  return normal.dot(face_centroid - element_centroid) < 0.0 ? std::array<int, 4>{manual[0], manual[1], manual[2], -1}
-                                                            : std::array<int, 4>{manual[0], manual[2], manual[1], -1};
+  return node_indices(mesh, face.element, outward_local_corners(mesh, face).local);
 }
 
 std::string_view to_string(FaceType type) {
@@ -98,28 +130,163 @@ FaceNodes SurfaceMesh::face_nodes(int f) const {
 
 namespace {
 
-/// The mid-side nodes (SolidMesh indices) of the edges of a face whose corners, in outward order, are
-/// `corners` (SolidMesh indices, `count` of them), for a quadratic element; four -1 otherwise.
-std::array<int, 4> face_midsides(const SolidMesh& mesh, int element, const std::array<int, 4>& corners,
-                                 std::size_t count) {
+/// The mid-side nodes of the edges of a face whose corners, in outward order, are `local` (0-based indices
+/// into the element's node list, `count` of them), as indices into that list, for a quadratic element; four
+/// -1 otherwise. By position in the element, not by node: a collapsed face repeats a corner's node.
+std::array<int, 4> local_midsides(const SolidMesh& mesh, int element, const std::array<int, 4>& local,
+                                  std::size_t count) {
   std::array<int, 4> mids{-1, -1, -1, -1};
   const ElementType& type = mesh.element_type(element);
   if (type.node_count != quadratic_node_count(type.shape)) return mids;
-  const std::span<const int> nodes = mesh.element_nodes(element);
-  const int n_corners = corner_node_count(type.shape);
-  const auto local = [&](int node) {
-    for (int i = 0; i < n_corners; ++i) {
-      if (nodes[static_cast<std::size_t>(i)] == node) return i;
-    }
-    return -1;
-  };
   for (std::size_t k = 0; k < count; ++k) {
-    const int m = midside_node_index(type.shape, local(corners[k]), local(corners[(k + 1) % count]));
+    const int m = midside_node_index(type.shape, local[k], local[(k + 1) % count]);
     CONTACTNN_REQUIRE(m >= 0, "element " << mesh.element_id(element) << " (" << type.name
                                           << "): no mid-side node between face corners");
-    mids[k] = nodes[static_cast<std::size_t>(m)];
+    mids[k] = m;
   }
   return mids;
+}
+
+/// A face of a known element type before coincident nodes are merged: SolidMesh node indices.
+struct FaceDraft {
+  ElementFace face;
+  std::array<int, 4> corners{-1, -1, -1, -1};  ///< outward order
+  std::array<int, 4> mids{-1, -1, -1, -1};     ///< of the edges corner 1-2, 2-3, ...; -1 for a linear face
+  std::size_t count = 0;                       ///< corners: 3 or 4
+  bool inside_out = false;
+  double tolerance = 0.0;  ///< the coincidence tolerance of its element (kCoincident)
+  [[nodiscard]] std::size_t node_count() const { return mids[0] >= 0 ? 2 * count : count; }
+  [[nodiscard]] int node(std::size_t i) const { return i < count ? corners[i] : mids[i - count]; }
+};
+
+/// Sets of coincident nodes (union-find over SolidMesh indices); each set stands for its lowest deck id.
+class CoincidentNodes {
+ public:
+  explicit CoincidentNodes(const SolidMesh& mesh)
+      : mesh_(mesh), parent_(static_cast<std::size_t>(mesh.node_count())) {
+    for (std::size_t i = 0; i < parent_.size(); ++i) parent_[i] = static_cast<int>(i);
+  }
+  int representative(int n) {
+    while (parent_[static_cast<std::size_t>(n)] != n) {
+      int& p = parent_[static_cast<std::size_t>(n)];
+      p = parent_[static_cast<std::size_t>(p)];
+      n = p;
+    }
+    return n;
+  }
+  /// The root of each set is its lowest deck id, so representative() is that node.
+  void join(int a, int b) {
+    a = representative(a);
+    b = representative(b);
+    if (a == b) return;
+    if (mesh_.node_id(b) < mesh_.node_id(a)) std::swap(a, b);
+    parent_[static_cast<std::size_t>(b)] = a;
+  }
+
+ private:
+  const SolidMesh& mesh_;
+  std::vector<int> parent_;
+};
+
+/// What a face collapsed by coincident nodes is (SurfaceMesh::skipped_faces's kinds).
+enum class Collapse { kNone, kTriangle, kFlatTriangle, kLine, kPoint, kNoTriangle };
+
+std::string_view collapse_kind(Collapse c) {
+  switch (c) {
+    case Collapse::kTriangle:
+      return " face collapsed to a triangle";
+    case Collapse::kFlatTriangle:
+      return " face collapsed to a flat triangle";
+    case Collapse::kLine:
+      return " face collapsed to a line";
+    case Collapse::kPoint:
+      return " face collapsed to a point";
+    case Collapse::kNoTriangle:
+      return " face collapsed, not a triangle";
+    case Collapse::kNone:
+      break;
+  }
+  return "";
+}
+
+/// The coincidence tolerance of an element's faces (SurfaceMesh's header): kCoincidentRelative of the largest
+/// distance between its corner nodes, or kCoincidentUlps units in the last place of its largest coordinate,
+/// in the deck's coordinates.
+double coincidence_tolerance(const SolidMesh& mesh, int element) {
+  const std::span<const int> nodes = mesh.element_nodes(element);
+  const auto corners = static_cast<std::size_t>(corner_node_count(mesh.element_type(element).shape));
+  double size = 0.0, largest = 0.0;
+  for (std::size_t i = 0; i < corners && i < nodes.size(); ++i) {
+    const Vec3& x = mesh.deck_position(nodes[i]);
+    largest = std::max(largest, x.cwiseAbs().maxCoeff());
+    for (std::size_t j = i + 1; j < corners && j < nodes.size(); ++j) {
+      size = std::max(size, (x - mesh.deck_position(nodes[j])).norm());
+    }
+  }
+  return std::max(kCoincidentRelative * size,
+                  kCoincidentUlps * std::numeric_limits<double>::epsilon() * largest);
+}
+
+/// Face `d` with its nodes replaced by their sets' representatives: what it is (kNone: a face of its own
+/// type), and for a triangle its corners and mid-side nodes (SolidMesh indices) written into `corners` and
+/// `mids`.
+Collapse classify(const SolidMesh& mesh, CoincidentNodes& coincident, const FaceDraft& d,
+                  std::array<int, 4>& corners, std::array<int, 4>& mids) {
+  // No area: every node (mid-side nodes too: a quadratic face lies in their affine hull) within the tolerance
+  // of a point or of the line through the two farthest.
+  const std::size_t n = d.node_count();
+  double farthest = -1.0;
+  std::size_t p = 0, q = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    for (std::size_t j = i + 1; j < n; ++j) {
+      const double distance = (mesh.deck_position(d.node(i)) - mesh.deck_position(d.node(j))).norm();
+      if (distance > farthest) {
+        farthest = distance;
+        p = i;
+        q = j;
+      }
+    }
+  }
+  if (!(farthest > d.tolerance)) return Collapse::kPoint;
+  const Vec3 a = mesh.deck_position(d.node(p));
+  const Vec3 direction = (mesh.deck_position(d.node(q)) - a) / farthest;
+  bool on_line = true;
+  for (std::size_t i = 0; i < n && on_line; ++i) {
+    on_line = !((mesh.deck_position(d.node(i)) - a).cross(direction).norm() > d.tolerance);
+  }
+  if (on_line) return Collapse::kLine;
+
+  std::array<int, 4> c{-1, -1, -1, -1}, m{-1, -1, -1, -1};
+  for (std::size_t k = 0; k < d.count; ++k) {
+    c[k] = coincident.representative(d.corners[k]);
+    m[k] = d.mids[k] < 0 ? -1 : coincident.representative(d.mids[k]);
+  }
+  corners = c;
+  mids = m;
+  std::array<int, 4> sorted = c;
+  std::sort(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(d.count));
+  const auto distinct = static_cast<std::size_t>(
+      std::unique(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(d.count)) - sorted.begin());
+  if (distinct == d.count) return Collapse::kNone;
+  if (d.count != 4 || distinct != 3) return Collapse::kNoTriangle;
+  // One edge collapsed to a point (A = B, B = C, ...), not a diagonal (A = C: the face folds onto itself).
+  std::size_t edge = 4;
+  for (std::size_t k = 0; k < 4; ++k) {
+    if (c[k] == c[(k + 1) % 4]) edge = k;
+  }
+  if (edge == 4) return Collapse::kNoTriangle;
+  const auto at = [&](std::size_t k) { return k % 4; };
+  corners = {c[edge], c[at(edge + 2)], c[at(edge + 3)], -1};
+  if (m[0] < 0) return Collapse::kTriangle;
+  // The 6-node triangle of the other three edges, when the collapsed edge's mid-side node is on its corners
+  // and the six nodes are distinct; else the flat triangle of the corners.
+  mids = {m[at(edge + 1)], m[at(edge + 2)], m[at(edge + 3)], -1};
+  std::array<int, 6> six = {corners[0], corners[1], corners[2], mids[0], mids[1], mids[2]};
+  std::sort(six.begin(), six.end());
+  if (m[edge] == c[edge] && std::adjacent_find(six.begin(), six.end()) == six.end())
+    return Collapse::kTriangle;
+  mids = {-1, -1, -1, -1};
+  return Collapse::kFlatTriangle;
 }
 
 }  // namespace
@@ -129,6 +296,11 @@ SurfaceMesh build_surface_mesh(const SolidMesh& mesh, std::span<const ElementFac
   std::vector<std::array<int, 4>> segments, segment_mids;  // SolidMesh node indices for now
   std::vector<std::array<int, 4>> extra, extra_mids;       // likewise
   std::set<std::pair<int, int>> seen;
+  // 1. The faces of known types, by their nodes; the nodes that coincide within a collapsed face (two corners
+  // within the tolerance, deck coordinates) joined.
+  std::vector<FaceDraft> drafts;
+  CoincidentNodes coincident(mesh);
+  std::vector<int> joined;  // nodes of the joined pairs
   for (const ElementFace& face : faces) {
     CONTACTNN_REQUIRE(face.element >= 0 && face.element < mesh.element_count(),
                       "element index " << face.element << " outside [0, " << mesh.element_count() << ")");
@@ -141,46 +313,67 @@ SurfaceMesh build_surface_mesh(const SolidMesh& mesh, std::span<const ElementFac
       continue;
     }
     const std::size_t corners = face_corner_indices(type.shape, face.face).size();
-    if (!type.has_segment_faces) {
+    // Linear and quadratic hexahedra, wedges and tetrahedra; faces of other types are skipped.
+    const bool known = type.node_count == corner_node_count(type.shape) ||
+                       type.node_count == quadratic_node_count(type.shape);
+    if (!known || (corners != 3 && corners != 4)) {
       const char* kind = corners == 3 ? " triangle" : corners == 4 ? " quadrilateral" : " face";
       ++surface.skipped_faces[type.name + kind];
-      // Linear and quadratic wedges, tetrahedra (and hexahedra of other types): faces of the surface search
-      // (SPEC 9), not segments.
-      const bool known = type.node_count == corner_node_count(type.shape) || type.node_count == quadratic_node_count(type.shape);
-      if (known && (corners == 3 || corners == 4)) {
-        std::array<int, 4> outward = corners == 4 ? outward_quad_corners(mesh, face) : outward_triangle_corners(mesh, face);
-        std::array<int, 4> sorted = outward;
-        std::sort(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(corners));
-        if (std::adjacent_find(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(corners)) ==
-            sorted.begin() + static_cast<std::ptrdiff_t>(corners)) {
-          extra.push_back(outward);
-          extra_mids.push_back(face_midsides(mesh, face.element, outward, corners));
-          surface.extra_face_faces.push_back(face);
-          surface.extra_face_element_ids.push_back(mesh.element_id(face.element));
+      continue;
+    }
+    FaceDraft d;
+    d.face = face;
+    const OutwardCorners outward = outward_local_corners(mesh, face);
+    d.count = outward.count;
+    d.inside_out = outward.inside_out;
+    d.corners = node_indices(mesh, face.element, outward.local);
+    d.mids = node_indices(mesh, face.element, local_midsides(mesh, face.element, outward.local, d.count));
+    d.tolerance = coincidence_tolerance(mesh, face.element);
+    const auto close = [&](std::size_t i, std::size_t j) {
+      return !((mesh.deck_position(d.node(i)) - mesh.deck_position(d.node(j))).norm() > d.tolerance);
+    };
+    bool collapsed = false;
+    for (std::size_t i = 0; i < d.count; ++i) {
+      for (std::size_t j = i + 1; j < d.count; ++j) collapsed = collapsed || close(i, j);
+    }
+    if (collapsed) {
+      for (std::size_t i = 0; i < d.node_count(); ++i) {
+        for (std::size_t j = i + 1; j < d.node_count(); ++j) {
+          if (!close(i, j) || d.node(i) == d.node(j)) continue;
+          coincident.join(d.node(i), d.node(j));
+          joined.push_back(d.node(i));
+          joined.push_back(d.node(j));
         }
       }
-      continue;
     }
-    const std::array<int, 4> quad = outward_quad_corners(mesh, face);
-    const std::array<int, 4> manual_order = [&] {
-      const auto idx = face_corner_indices(type.shape, face.face);
-      const auto nodes = mesh.element_nodes(face.element);
-      return std::array<int, 4>{nodes[static_cast<std::size_t>(idx[0])], nodes[static_cast<std::size_t>(idx[1])],
-                                nodes[static_cast<std::size_t>(idx[2])], nodes[static_cast<std::size_t>(idx[3])]};
-    }();
-    std::array<int, 4> sorted = quad;
-    std::sort(sorted.begin(), sorted.end());
-    if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end()) {
-      ++surface.skipped_faces[type.name + " collapsed face"];
-      continue;
-    }
-    if (quad == manual_order) ++surface.inside_out_faces;
-    segments.push_back(quad);
-    segment_mids.push_back(face_midsides(mesh, face.element, quad, 4));
-    surface.segment_faces.push_back(face);
-    surface.segment_element_ids.push_back(mesh.element_id(face.element));
+    drafts.push_back(d);
   }
 
+  // 2. Each face by its representatives: a face of its own type, a triangle, or skipped.
+  for (const FaceDraft& d : drafts) {
+    const ElementType& type = mesh.element_type(d.face.element);
+    std::array<int, 4> corners{}, mids{};
+    const Collapse collapse = classify(mesh, coincident, d, corners, mids);
+    if (collapse != Collapse::kNone) {
+      ++surface.skipped_faces[type.name + std::string(collapse_kind(collapse))];
+      if (collapse != Collapse::kTriangle && collapse != Collapse::kFlatTriangle) continue;
+    } else if (type.has_segment_faces) {
+      if (d.inside_out) ++surface.inside_out_faces;
+      segments.push_back(corners);
+      segment_mids.push_back(mids);
+      surface.segment_faces.push_back(d.face);
+      surface.segment_element_ids.push_back(mesh.element_id(d.face.element));
+      continue;
+    } else {
+      // Wedges, tetrahedra (and hexahedra of other types): faces of the surface search (SPEC 9), not
+      // segments.
+      ++surface.skipped_faces[type.name + (d.count == 3 ? " triangle" : " quadrilateral")];
+    }
+    extra.push_back(corners);
+    extra_mids.push_back(mids);
+    surface.extra_face_faces.push_back(d.face);
+    surface.extra_face_element_ids.push_back(mesh.element_id(d.face.element));
+  }
   // Surface nodes (corners and mid-side nodes) in increasing deck id, so every later loop over them is in a
   // reproducible order.
   for (const auto* list : {&segments, &segment_mids, &extra, &extra_mids}) {
@@ -200,6 +393,13 @@ SurfaceMesh build_surface_mesh(const SolidMesh& mesh, std::span<const ElementFac
     local[static_cast<std::size_t>(n)] = static_cast<int>(i);
     surface.node_ids.push_back(mesh.node_id(n));
     surface.positions.push_back(mesh.position(n));
+  }
+  // The nodes that another stands for, where that one is a node of the surface's faces.
+  std::sort(joined.begin(), joined.end(), [&](int a, int b) { return mesh.node_id(a) < mesh.node_id(b); });
+  joined.erase(std::unique(joined.begin(), joined.end()), joined.end());
+  for (int n : joined) {
+    const int r = coincident.representative(n);
+    if (r != n && local[static_cast<std::size_t>(r)] >= 0) surface.merged_nodes.push_back({n, r});
   }
   const auto to_local = [&](const std::array<int, 4>& f) {
     std::array<int, 4> out{-1, -1, -1, -1};

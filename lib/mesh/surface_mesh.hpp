@@ -90,8 +90,14 @@ struct SurfaceMesh {
   std::vector<int> adjacency_offsets;      ///< segments of node i: adjacency[offsets[i] .. offsets[i+1])
   std::vector<int> adjacency;              ///< segment indices, increasing, for each node in turn
   /// Faces that gave no segment, by kind: "C3D6 triangle", "C3D6 quadrilateral", "C3D4 triangle",
-  /// "<TYPE> face" (a type without a face table), "<TYPE> collapsed face" (two corners are one node).
+  /// "<TYPE> face" (a type without a face table), and the collapsed faces of build_surface_mesh: "<TYPE> face
+  /// collapsed to a triangle" and "... to a flat triangle" (extra faces), "... to a line", "... to a point"
+  /// and "<TYPE> face collapsed, not a triangle" (no face of either search).
   std::map<std::string, int> skipped_faces;
+  /// The nodes of the faces that stand for another node of a collapsed face (build_surface_mesh): {SolidMesh
+  /// index of the node, SolidMesh index of the node that stands for it, a surface node}, in increasing id of
+  /// the first. They are not surface nodes; the faces use the second.
+  std::vector<std::array<int, 2>> merged_nodes;
   int repeated_faces = 0;    ///< faces listed more than once (kept once)
   int inside_out_faces = 0;  ///< faces whose element is numbered inside out (see outward_quad_corners)
 
@@ -129,12 +135,35 @@ struct SurfaceMesh {
 };
 
 /// The surface made of `faces`: each face of an element type with segment faces (ElementType) and four
-/// distinct corner nodes becomes one segment (outward_quad_corners), in the order of `faces`, repeats
-/// dropped; every other face is counted in skipped_faces, and, when its element is a linear or a quadratic
-/// C3D8/C3D20, C3D6/C3D15 or C3D4/C3D10 of 3 or 4 distinct corners, becomes an extra face. A face of a quadratic
-/// element (20, 15 or 10 nodes) has its mid-side nodes (element_type.hpp's tables) in segment_midsides /
+/// distinct corners becomes one segment (outward_quad_corners), in the order of `faces`, repeats dropped;
+/// every other face is counted in skipped_faces, and, when its element is a linear or a quadratic C3D8/C3D20,
+/// C3D6/C3D15 or C3D4/C3D10, becomes an extra face if it has an area (below). A face of a quadratic element
+/// (20, 15 or 10 nodes) has its mid-side nodes (element_type.hpp's tables) in segment_midsides /
 /// extra_face_midsides. The surface's nodes are every node of its faces. InvalidArgument for an element index
 /// or face number out of range.
+///
+/// Collapsed faces. Two nodes of a face coincide when they are one node (a repeated id: `1,2,3,3,5,6,7,7`) or
+/// lie within the coincidence tolerance of each other: 1e-9 of the largest distance between their element's
+/// corner nodes, or 16 units in the last place of the element's largest coordinate, whichever is larger. The
+/// element's size, not the face's: a face collapsed to a point has no size of its own; not the model's: a
+/// graded mesh has real edges far below its size. 1e-9 lies above the 1e-10 of the longest node distance
+/// below which the projections call a face degenerate (geometry::is_degenerate_segment), so no face is left
+/// that the search would refuse for a short edge, and moves no point by more than 1e-9 element sizes. Judged
+/// on the deck's coordinates (SolidMesh::deck_position), not on a history's: every increment has the same
+/// faces. Where two corners of a face coincide, its coincident nodes are one node of the surface, the lowest
+/// id standing for the others (merged_nodes) on every face of the surface, so that the faces around the
+/// collapsed one keep their shared edges. Then, by its nodes (skipped_faces's kinds):
+///  - every node (mid-side nodes too) within the tolerance of a line or a point: no area, no face of either
+///    search ("to a line", "to a point");
+///  - a quadrilateral with one edge collapsed (A = B, ...): a triangle of its three corners, in the face's
+///    outward order ("to a triangle"): tri3, or for a quad8 the tri6 of the other three edges when the
+///    collapsed edge's mid-side node is on its corners and the six nodes are distinct (the same three edges
+///    as the collapsed quad8; its interior is the quadratic triangle's); any other quad8 the flat tri3 of its
+///    corners
+///    ("to a flat triangle");
+///  - anything else (a diagonal collapsed: the face folds onto itself; a triangle with two corners one but
+///    curved edges): skipped ("collapsed, not a triangle").
+/// A triangle made so is an extra face, never a segment: the paper's search (SPEC 7) pairs quadrilaterals.
 [[nodiscard]] SurfaceMesh build_surface_mesh(const SolidMesh& mesh, std::span<const ElementFace> faces);
 
 /// Unit node normal at every surface node (paper Eq 26, SPEC 3): the normalised sum of the unit corner

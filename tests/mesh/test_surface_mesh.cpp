@@ -164,22 +164,25 @@ TEST(SurfaceMesh, TopFacesOfTwoCubesShareAnEdgeAndPointUp) {
   EXPECT_EQ(s.skipped_faces.at("C3D6 triangle"), 1);
   EXPECT_EQ(s.skipped_faces.at("C3D6 quadrilateral"), 1);
   EXPECT_EQ(s.skipped_faces.at("C3D4 triangle"), 1);
-  EXPECT_EQ(s.skipped_faces.at("C3D8 collapsed face"), 1);
+  // The collapsed hexahedron's bottom (corners 1, 2, 5, 5) is the triangle it is, not a segment.
+  EXPECT_EQ(s.skipped_faces.at("C3D8 face collapsed to a triangle"), 1);
   EXPECT_EQ(s.inside_out_faces, 0);
-  // The six top nodes (ids 7..12 are the z = 1 layer) and the bottom nodes of the wedge's side and the
-  // tetrahedron's base (ids 1, 2, 5), faces of the surface search (SPEC 9), in increasing id.
+  // The six top nodes (ids 7..12 are the z = 1 layer) and the bottom nodes of the wedge's side, the
+  // tetrahedron's base and the collapsed bottom (ids 1, 2, 5), faces of the surface search (SPEC 9), in
+  // increasing id.
   EXPECT_EQ(s.node_ids, (std::vector<long>{1, 2, 5, 7, 8, 9, 10, 11, 12}));
-  // The extra faces, outward: the wedge's top triangle (+z), its side y = 0 (-y), the tetrahedron's base (-z).
-  ASSERT_EQ(s.extra_faces.size(), 3u);
-  EXPECT_EQ(s.face_count(), 5);
-  const std::array<Vec3, 3> outward = {Vec3(0, 0, 1), Vec3(0, -1, 0), Vec3(0, 0, -1)};
-  for (int f = 2; f < 5; ++f) {
+  // The extra faces, outward: the wedge's top triangle (+z), its side y = 0 (-y), the tetrahedron's base
+  // (-z), the collapsed bottom (-z).
+  ASSERT_EQ(s.extra_faces.size(), 4u);
+  EXPECT_EQ(s.face_count(), 6);
+  const std::array<Vec3, 4> outward = {Vec3(0, 0, 1), Vec3(0, -1, 0), Vec3(0, 0, -1), Vec3(0, 0, -1)};
+  for (int f = 2; f < 6; ++f) {
     const auto c = s.face_corners(f);
     EXPECT_EQ(c.size(), f == 3 ? 4u : 3u);
     const auto at = [&](int k) { return s.positions[static_cast<std::size_t>(c[static_cast<std::size_t>(k)])]; };
     const Vec3 normal = (at(1) - at(0)).cross(at(static_cast<int>(c.size()) - 1) - at(0)).normalized();
     EXPECT_LT((normal - outward[static_cast<std::size_t>(f - 2)]).norm(), 1e-12) << "face " << f;
-    EXPECT_EQ(s.face_element_id(f), f == 4 ? 13 : 12);
+    EXPECT_EQ(s.face_element_id(f), f == 5 ? 14 : f == 4 ? 13 : 12);
   }
   for (std::size_t i = 0; i < s.segments.size(); ++i) {
     const auto& q = s.segments[i];
