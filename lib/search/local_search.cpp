@@ -13,23 +13,6 @@
 
 namespace contactnn::search {
 
-void check_search_options(const SearchOptions& options) {
-  CONTACTNN_REQUIRE_AS(InvalidArgument, options.max_iterations >= 1,
-                       "max_iterations = " << options.max_iterations << ", expected >= 1");
-  CONTACTNN_REQUIRE_AS(InvalidArgument, options.tol_param >= 0.0,
-                       "tol_param = " << options.tol_param << ", expected >= 0");
-  CONTACTNN_REQUIRE_AS(InvalidArgument, options.domain_margin >= 0.0,
-                       "domain_margin = " << options.domain_margin << ", expected >= 0");
-  CONTACTNN_REQUIRE_AS(InvalidArgument,
-                       options.gregory_box_margin >= 0.0 && options.bilinear_box_margin >= 0.0,
-                       "box margins must be >= 0, got gregory " << options.gregory_box_margin << ", bilinear "
-                                                                << options.bilinear_box_margin);
-  CONTACTNN_REQUIRE_AS(InvalidArgument, options.max_step_widths > 0.0,
-                       "max_step_widths = " << options.max_step_widths << ", expected > 0");
-  CONTACTNN_REQUIRE_AS(InvalidArgument, options.max_halvings >= 0,
-                       "max_halvings = " << options.max_halvings << ", expected >= 0");
-}
-
 LocalSearch::LocalSearch(SurfaceKind kind, Method method, SearchOptions options, const NetworkModel* network) {
   CONTACTNN_REQUIRE_AS(InvalidArgument, method.newton_steps >= 0 && method.newton_steps <= Method::kMaxSteps,
                        "method " << method.name() << ": newton_steps = " << method.newton_steps

@@ -4,6 +4,7 @@
  * Usage: test_capi_errors SOURCE_DIR   (for data/weights and data/examples). Exit status 0 when every
  * check holds; each failed check is printed. */
 #include <contactnn/contactnn.h>
+#include <limits.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -116,6 +117,68 @@ int main(int argc, char** argv) {
   options.max_step_widths = -1.0;
   expect_create_fails(CONTACTNN_SURFACE_BILINEAR, "closed_form+newton:1", NULL, &options,
                       CONTACTNN_ERROR_INVALID_ARGUMENT, "max_step_widths", "a negative step cap");
+  /* Issue 39: every option outside its documented range (contactnn.h), each of which made a run hang or every
+   * answer ok, refused with the field and its range named; on the curved faces where they hung. */
+  {
+    struct {
+      const char* field;
+      int surface;
+      const char* method;
+      int max_iterations, max_halvings;
+      double tol_param, domain_margin, gregory_box_margin, bilinear_box_margin, max_step_widths;
+      const char* needle;
+    } bad[] = {
+        {"max_halvings INT_MAX", CONTACTNN_SURFACE_TRI6, "closed_form+newton:20", 50, INT_MAX, 1e-10, 1e-10, 0, 0.25,
+         0.5, "max_halvings = 2147483647, expected 0 to 60"},
+        {"max_halvings 61", CONTACTNN_SURFACE_BILINEAR, "closed_form+newton:2", 50, 61, 1e-10, 1e-10, 0, 0.25, 0.5,
+         "max_halvings = 61, expected 0 to 60"},
+        {"max_iterations INT_MAX", CONTACTNN_SURFACE_TRI6, "newton", INT_MAX, 3, 1e-10, 1e-10, 0, 0.25, 0.5,
+         "max_iterations = 2147483647, expected 1 to 1000"},
+        {"max_iterations 1001", CONTACTNN_SURFACE_BILINEAR, "newton", 1001, 3, 1e-10, 1e-10, 0, 0.25, 0.5,
+         "max_iterations = 1001, expected 1 to 1000"},
+        {"domain_margin +inf", CONTACTNN_SURFACE_TRI6, "newton:5", 50, 3, 1e-10, INFINITY, 0, 0.25, 0.5,
+         "domain_margin = inf, expected a finite number from 0 to 1"},
+        {"domain_margin 2", CONTACTNN_SURFACE_BILINEAR, "newton:5", 50, 3, 1e-10, 2.0, 0, 0.25, 0.5,
+         "domain_margin = 2, expected"},
+        {"tol_param NaN", CONTACTNN_SURFACE_QUAD8, "newton", 50, 3, NAN, 1e-10, 0, 0.25, 0.5, "tol_param = nan"},
+        {"tol_param +inf", CONTACTNN_SURFACE_BILINEAR, "newton", 50, 3, INFINITY, 1e-10, 0, 0.25, 0.5,
+         "tol_param = inf, expected a finite number from 0 to 1"},
+        {"gregory_box_margin +inf", CONTACTNN_SURFACE_GREGORY, "closed_form+newton:2", 50, 3, 1e-10, 1e-10, INFINITY,
+         0.25, 0.5, "gregory_box_margin = inf"},
+        {"bilinear_box_margin 1e300", CONTACTNN_SURFACE_BILINEAR, "closed_form+newton:2", 50, 3, 1e-10, 1e-10, 0,
+         1e300, 0.5, "bilinear_box_margin = 1e+300, expected a finite number from 0 to 1"},
+        {"max_step_widths +inf", CONTACTNN_SURFACE_BILINEAR, "closed_form+newton:2", 50, 3, 1e-10, 1e-10, 0, 0.25,
+         INFINITY, "max_step_widths = inf, expected a finite number > 0 and <= 1"},
+    };
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; ++i) {
+      expect(contactnn_options_init(&options) == CONTACTNN_SUCCESS, "options_init");
+      options.max_iterations = bad[i].max_iterations;
+      options.max_halvings = bad[i].max_halvings;
+      options.tol_param = bad[i].tol_param;
+      options.domain_margin = bad[i].domain_margin;
+      options.gregory_box_margin = bad[i].gregory_box_margin;
+      options.bilinear_box_margin = bad[i].bilinear_box_margin;
+      options.max_step_widths = bad[i].max_step_widths;
+      expect_create_fails(bad[i].surface, bad[i].method, NULL, &options, CONTACTNN_ERROR_INVALID_ARGUMENT,
+                          bad[i].needle, bad[i].field);
+    }
+    /* The ends of each range are accepted. */
+    expect(contactnn_options_init(&options) == CONTACTNN_SUCCESS, "options_init");
+    options.max_iterations = 1000;
+    options.max_halvings = 60;
+    options.tol_param = 1.0;
+    options.domain_margin = 1.0;
+    options.gregory_box_margin = 1.0;
+    options.bilinear_box_margin = 1.0;
+    options.max_step_widths = 1.0;
+    for (int surface = CONTACTNN_SURFACE_BILINEAR; surface <= CONTACTNN_SURFACE_QUAD8; ++surface) {
+      contactnn_search* edge = NULL;
+      expect(contactnn_search_create(&edge, surface, "closed_form+newton:2", NULL, &options) == CONTACTNN_SUCCESS &&
+                 edge != NULL,
+             "every option at the upper end of its range is accepted");
+      contactnn_search_destroy(edge);
+    }
+  }
   expect(contactnn_search_create(NULL, CONTACTNN_SURFACE_BILINEAR, "newton:5", NULL, NULL) ==
              CONTACTNN_ERROR_INVALID_ARGUMENT,
          "a NULL handle pointer");

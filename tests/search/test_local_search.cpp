@@ -32,6 +32,7 @@
 #include "geometry/surface_of.hpp"
 #include "io/network_file.hpp"
 #include "projection/newton_projection.hpp"
+#include "search/face_search.hpp"
 #include "search/random_queries.hpp"
 #include "search/shipped_networks.hpp"
 
@@ -1887,6 +1888,65 @@ TEST(LocalSearch, RefusesMethodsThatCannotRun) {
   const LocalSearch search(kBilinear, Method::parse("newton:3"));
   EXPECT_THROW(search.run<double>(1, nullptr, Results<double>{}), InvalidArgument);
   search.run<double>(0, nullptr, Results<double>{});  // nothing to do
+}
+
+// Issue 39: every option has a range (search_options.hpp), and both searches refuse a value outside it with the
+// option and the range named. max_halvings = INT_MAX hung closed_form+newton:20 on curved tri6 faces,
+// max_iterations = INT_MAX ran newton past a minute, domain_margin = +inf made every answer ok.
+TEST(SearchOptions, EveryOptionOutsideItsRangeIsRefusedNamingTheRange) {
+  struct Case {
+    void (*set)(SearchOptions&);
+    const char* message;
+  };
+  const Case cases[] = {
+      {[](SearchOptions& o) { o.max_halvings = std::numeric_limits<int>::max(); },
+       "max_halvings = 2147483647, expected 0 to 60"},
+      {[](SearchOptions& o) { o.max_halvings = -1; }, "max_halvings = -1, expected 0 to 60"},
+      {[](SearchOptions& o) { o.max_iterations = std::numeric_limits<int>::max(); },
+       "max_iterations = 2147483647, expected 1 to 1000"},
+      {[](SearchOptions& o) { o.max_iterations = 0; }, "max_iterations = 0, expected 1 to 1000"},
+      {[](SearchOptions& o) { o.domain_margin = std::numeric_limits<double>::infinity(); },
+       "domain_margin = inf, expected a finite number from 0 to 1"},
+      {[](SearchOptions& o) { o.domain_margin = 1.5; }, "domain_margin = 1.5, expected a finite number from 0 to 1"},
+      {[](SearchOptions& o) { o.tol_param = std::numeric_limits<double>::quiet_NaN(); }, "tol_param = nan"},
+      {[](SearchOptions& o) { o.tol_param = -1e-10; }, "tol_param = -1e-10"},
+      {[](SearchOptions& o) { o.gregory_box_margin = std::numeric_limits<double>::infinity(); },
+       "gregory_box_margin = inf"},
+      {[](SearchOptions& o) { o.bilinear_box_margin = 2.0; }, "bilinear_box_margin = 2, expected"},
+      {[](SearchOptions& o) { o.max_step_widths = std::numeric_limits<double>::infinity(); },
+       "max_step_widths = inf, expected a finite number > 0 and <= 1"},
+      {[](SearchOptions& o) { o.max_step_widths = 0.0; }, "max_step_widths = 0"},
+  };
+  for (const Case& c : cases) {
+    SearchOptions o;
+    c.set(o);
+    const auto message_of = [](auto&& make) -> std::string {
+      try {
+        make();
+      } catch (const InvalidArgument& e) {
+        return e.what();
+      }
+      return "(accepted)";
+    };
+    EXPECT_NE(message_of([&] { (void)LocalSearch(kBilinear, Method::parse("closed_form+newton:2"), o); })
+                  .find(c.message),
+              std::string::npos)
+        << c.message;
+    EXPECT_NE(message_of([&] { (void)FaceSearch(FaceKind::kTri6, Method::parse("closed_form+newton:20"), o); })
+                  .find(c.message),
+              std::string::npos)
+        << c.message;
+  }
+  // The upper ends are accepted: the ranges are closed where search_options.hpp says so.
+  SearchOptions ends;
+  ends.max_iterations = kMaxIterations;
+  ends.max_halvings = kMaxHalvings;
+  ends.tol_param = kMaxTolParam;
+  ends.domain_margin = kMaxDomainMargin;
+  ends.gregory_box_margin = ends.bilinear_box_margin = kMaxBoxMargin;
+  ends.max_step_widths = kMaxStepWidths;
+  EXPECT_NO_THROW(LocalSearch(kGregory, Method::parse("newton"), ends));
+  EXPECT_NO_THROW(FaceSearch(FaceKind::kQuad8, Method::parse("closed_form+newton:20"), ends));
 }
 
 }  // namespace

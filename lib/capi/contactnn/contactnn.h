@@ -90,23 +90,29 @@ enum contactnn_surface {
 #define CONTACTNN_MAX_THREADS 1024
 
 /* The tolerances and limits of a search: contactnn::search::SearchOptions plus the thread count. Fill it
- * with contactnn_options_init (the library's defaults) and change the fields you need. */
+ * with contactnn_options_init (the library's defaults) and change the fields you need. Each field has the range
+ * written beside it (reals finite: NaN and infinities are outside every range); contactnn_search_create and
+ * contactnn_search_create_from_plan refuse a value outside it with CONTACTNN_ERROR_INVALID_ARGUMENT and a
+ * message naming the field and its range (contactnn_last_error). Within the ranges one query does a bounded
+ * amount of work: at most max_iterations Newton steps ("newton") or K ("newton:K", hybrids; K <= 1000), each
+ * step halved at most max_halvings times. */
 typedef struct contactnn_options {
   int threads;        /* OpenMP threads per run, at most CONTACTNN_MAX_THREADS; <= 0: OpenMP's default
                          (OMP_NUM_THREADS), capped at CONTACTNN_MAX_THREADS. Default 0 */
   int check_domain;   /* network methods: nonzero tests each query against the network's training domain
                          (status out_of_domain); a query on a tie then averages the network over its
                          canonical forms in the domain, else over all of them. Default 1 */
-  int max_iterations; /* "newton" (to convergence): iteration limit, >= 1. Default 50 */
-  int max_halvings;   /* hybrids: halvings of a step that does not reduce |S - P|, >= 0. Default 3 */
-  double tol_param;   /* "newton": converged when the step (max norm, parameter units) is at most this, >= 0.
+  int max_iterations; /* "newton" (to convergence): iteration limit, 1 to 1000. Default 50 */
+  int max_halvings;   /* hybrids: halvings of a step that does not reduce |S - P|, 0 to 60. Default 3 */
+  double tol_param;   /* "newton": converged when the step (max norm, parameter units) is at most this, 0 to 1.
                          Default 1e-10 */
-  double domain_margin;       /* ok versus outside: slack of the parameter domain, parameter units, >= 0.
+  double domain_margin;       /* ok versus outside: slack of the parameter domain, parameter units, 0 to 1.
                                  Default 1e-10 */
   double gregory_box_margin;  /* hybrids, Gregory: iterates stay in the domain enlarged by this many domain
-                                 widths, >= 0. Default 0: the segment itself, [0, 1]^2 */
-  double bilinear_box_margin; /* hybrids, bilinear: the same for the facet, >= 0. Default 0.25 */
-  double max_step_widths;     /* hybrids: longest Newton step in domain widths (max norm), > 0. Default 0.5 */
+                                 widths, 0 to 1. Default 0: the segment itself, [0, 1]^2 */
+  double bilinear_box_margin; /* hybrids, bilinear: the same for the facet, 0 to 1. Default 0.25 */
+  double max_step_widths;     /* hybrids: longest Newton step in domain widths (max norm), > 0 and <= 1.
+                                 Default 0.5 */
   size_t min_parallel_count;  /* below this many queries a run stays on the calling thread. Default 512 */
 } contactnn_options;
 
