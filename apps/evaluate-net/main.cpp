@@ -49,6 +49,7 @@
 #include "io/csv.hpp"
 #include "io/dataset_file.hpp"
 #include "io/file_identity.hpp"
+#include "io/output_checks.hpp"
 #include "io/network_file.hpp"
 #include "io/raw_configurations.hpp"
 #include "search/local_search.hpp"
@@ -289,10 +290,10 @@ int main(int argc, char** argv) {
                  "an estimate more than this many domain widths outside the domain is a failure")
       ->check(cli::kPositive);
   app.add_option("--converged_max_iterations", options.search.max_iterations, "Newton to convergence: iteration limit")
-      ->transform(cli::integer_in(1, 10000));
+      ->transform(cli::integer_in(1, search::kMaxIterations));
   app.add_option("--converged_tol_param", options.search.tol_param,
                  "Newton to convergence: step tolerance (parameter units)")
-      ->check(cli::kPositive);
+      ->check(cli::real_in(0.0, search::kMaxTolParam));
   app.add_option("--hist_bins", options.hist_bins, "bins of the error histograms")->transform(cli::integer_in(1, 100000));
   app.add_option("--hist_range", options.hist_range,
                  "histogram range [-r, r]; 0: a nice number above the 99.9th percentile of |error|")
@@ -322,23 +323,18 @@ int main(int argc, char** argv) {
     if (threads > 0) omp_set_num_threads(threads);
     paths.command_line = join_command_line(argc, argv);
     const std::string effective = cli::effective_config(app, "evaluate-net");
-    std::vector<io::NamedPath> outputs = {{"--output", paths.output}};
-    if (!paths.report.empty()) {
-      for (const std::string& name : kReportFiles) {
-        outputs.push_back({"--report file '" + name + "'", std::filesystem::path(paths.report) / name});
-      }
-    }
+    std::vector<io::OutputDirectory> directories;
+    if (!paths.report.empty()) directories.push_back({"--report", paths.report, kReportFiles, true});
     std::vector<io::NamedPath> inputs = {{"--input", paths.input}, {"--config", cli::config_path(app)},
                                          {"--plan", paths.plan}};
     for (const auto& w : paths.weights) inputs.push_back({"--weights", w});
     for (const auto& d : paths.data) inputs.push_back({"--data", d});
     for (const auto& p : paths.pairs) inputs.push_back({"--pairs", p});
-    io::require_distinct(outputs, inputs);
+    io::require_outputs({{"--output", paths.output}}, directories, inputs);
     std::unique_ptr<io::AtomicDirectory> report_directory;
     if (!paths.report.empty()) {
       report_directory = std::make_unique<io::AtomicDirectory>(paths.report, kReportFiles, "--report");
     }
-    if (!paths.output.empty()) io::require_writable(paths.output);
 
     // 3. A plan: its method, and its network (a path relative to the plan) read in the precision it was trained
     //    in; input mode.

@@ -59,7 +59,9 @@
 #include "io/file_identity.hpp"
 #include "io/frd_results.hpp"
 #include "io/inp_deck.hpp"
+#include "io/output_checks.hpp"
 #include "io/raw_configurations.hpp"
+#include "search/search_options.hpp"
 
 namespace {
 
@@ -492,7 +494,7 @@ int main(int argc, char** argv) {
   app.add_option("--starts_per_axis", options.projection.starts_per_axis, "Newton starts per parameter axis")
       ->transform(cli::integer_in(1, 10));
   app.add_option("--domain_margin", options.projection.domain_margin, "parameter slack counted as inside")
-      ->check(cli::kNonNegative);
+      ->check(cli::real_in(0.0, search::kMaxDomainMargin));
 
   return cli::run(app, argc, argv, [&]() -> int {
     // 2. Threads, surface, and what must hold before any work: settings that contradict each other, an
@@ -502,10 +504,14 @@ int main(int argc, char** argv) {
     CONTACTNN_REQUIRE_AS(InvalidArgument, f.min_angle_degrees <= f.max_angle_degrees,
                          "min_angle_degrees " << f.min_angle_degrees << " is above max_angle_degrees "
                                               << f.max_angle_degrees << ": no segment could pass");
-    const std::filesystem::path effective_config = input.empty() ? cli::effective_config_path(output) : "";
-    io::require_distinct({{"--output", output}, {"the effective config", effective_config}},
-                         {{"--input", input}, {"--scene", scene}, {"--config", cli::config_path(app)},
-                          {"--results", history.results}});
+    // Every output checked before any work (io::require_outputs: exit 2 for an output that is an input, 4 for
+    // one that cannot be written); the effective config goes beside a dataset written to a regular file.
+    const bool writes_config = input.empty() && (scene.empty() || sampling == "random");
+    const std::filesystem::path effective_config =
+        writes_config && !io::written_in_place(output) ? cli::effective_config_path(output) : "";
+    io::require_outputs({{"--output", output}, {"the effective config", effective_config}}, {},
+                        {{"--input", input}, {"--scene", scene}, {"--config", cli::config_path(app)},
+                         {"--results", history.results}});
 
     // 3. Label mode: a user's CSV in, the same rows with labels out.
     if (!input.empty()) return label_mode(options.surface, input, output, options.projection);
@@ -516,6 +522,9 @@ int main(int argc, char** argv) {
     search.projection = options.projection;
     search.search = search_name == "nearest_node" ? contact::GlobalSearchKind::kNearestNode
                                                   : contact::GlobalSearchKind::kSurface;
+    // --increment '' is no increment (it was taken as `last`): refused like any other bad value.
+    CONTACTNN_REQUIRE_AS(InvalidArgument, app.count("--increment") == 0 || !history.increment.empty(),
+                         "--increment: expected a number from 1, 'last' or 'all', got ''");
     if (!history.results.empty() && history.increment.empty()) history.increment = "last";
     CONTACTNN_REQUIRE_AS(InvalidArgument, history.results.empty() || sampling != "random",
                          "--results: a scene's domain (--sampling random) is sampled from the deck alone");
@@ -523,8 +532,6 @@ int main(int argc, char** argv) {
 
     // 4. Enumeration or random sampling: label, write the dataset and the effective config, summarise.
     CONTACTNN_REQUIRE(sampling == "grid" || count > 0, "--sampling random needs --count N");
-    io::require_writable(output);
-    if (!io::written_in_place(output)) io::require_writable(cli::effective_config_path(output));
     cli::Progress progress("gen-configs: labelling", quiet);
     const auto report = [&](std::int64_t done, std::int64_t total) { progress.update(done, total); };
     dataset::EnumerationSummary summary;

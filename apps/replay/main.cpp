@@ -25,6 +25,7 @@
 #include "io/frd_results.hpp"
 #include "io/inp_deck.hpp"
 #include "io/network_model_file.hpp"
+#include "io/output_checks.hpp"
 #include "search/method.hpp"
 
 int main(int argc, char** argv) {
@@ -61,6 +62,14 @@ int main(int argc, char** argv) {
   app.add_flag("--quiet", quiet, "no progress line");
 
   return cli::run(app, argc, argv, [&]() -> int {
+    // 1b. The report directory, before anything is read or written: it is replaced whole (an earlier report
+    //     only), so it may be no input and hold none (exit 2), and it must be writable (exit 4).
+    const std::initializer_list<std::string> report_files = {"report.md", "increments.csv", "time.svg", "error.svg",
+                                                             "locations.svg"};
+    io::require_outputs({}, {{"--report", report, report_files, true}},
+                        {{"--scene", deck}, {"--results", results_path}, {"--weights", weights},
+                         {"--config", cli::config_path(app)}});
+    io::AtomicDirectory report_directory(report, report_files, "--report");
     // 2. Settings: surface, methods, the network.
     options.search.surface = surface_from_string(surface_name);
     const auto split = [](const std::string& text) {
@@ -92,7 +101,8 @@ int main(int argc, char** argv) {
         history::replay(model, results, options, [&](int done, int total) { progress.update(done, total); });
     progress.finish();
     const std::string title = deck + " pair " + std::to_string(options.pair) + ", " + results_path;
-    history::write_replay_report(report, title, options, rows);
+    history::write_replay_report(report_directory.write_path().string(), title, options, rows);
+    report_directory.commit();
     long differences = 0, found = 0, slaves = 0;
     for (const auto& r : rows) {
       differences += r.tracking_differences;

@@ -53,6 +53,7 @@
 #include "io/frd_results.hpp"
 #include "io/inp_deck.hpp"
 #include "io/network_file.hpp"
+#include "io/output_checks.hpp"
 #include "search/local_search.hpp"
 #include "study/plan.hpp"
 #include "study/scene_history.hpp"
@@ -147,14 +148,12 @@ std::vector<std::vector<int>> parse_face_sizes(const std::string& text) {
 /// scene-study --face: the study of the pair's quadratic faces (lib/study/face_study.hpp). Writes report.md and,
 /// when the chosen method uses one, face-network.h5 (io::write_face_network).
 int run_face_mode(const std::string& scene_path, int pair, search::FaceKind kind, const study::FaceStudyOptions& f,
-                  const std::string& output, bool check_only, bool quiet, const std::string& command_line,
-                  double general_curvature) {
+                  const std::string& output, const std::vector<io::NamedPath>& inputs, bool check_only, bool quiet,
+                  const std::string& command_line, double general_curvature) {
   const fs::path dir(output);
-  CONTACTNN_REQUIRE_AS(InvalidArgument, !fs::exists(dir) || fs::is_directory(dir),
-                       "--output '" << output << "' is a file, not a directory");
-  fs::create_directories(dir);
-  for (const char* name : {"report.md", "face-network.h5"}) io::require_writable(dir / name);
+  io::require_outputs({}, {{"--output", dir, {"report.md", "face-network.h5"}}}, inputs);
   if (check_only) return 0;
+  io::make_output_directory("--output", dir);
   const auto say = [&](const std::string& line) {
     if (!quiet) std::printf("  %s\n", line.c_str()), std::fflush(stdout);
   };
@@ -323,6 +322,8 @@ int main(int argc, char** argv) {
     const auto start = Clock::now();
     // 2. The options resolved for the surface, and the output directory made and checked before any work.
     if (o.threads > 0) omp_set_num_threads(o.threads);
+    const std::vector<io::NamedPath> inputs = {
+        {"--scene", scene_path}, {"--results", results_path}, {"--config", cli::config_path(app)}};
     if (!face_name.empty()) {
       CONTACTNN_REQUIRE_AS(InvalidArgument, results_path.empty(), "--face: --results is not supported yet");
       study::FaceStudyOptions f;
@@ -343,8 +344,8 @@ int main(int argc, char** argv) {
       if (!sizes.empty()) f.sizes = parse_face_sizes(sizes);
       CONTACTNN_REQUIRE_AS(InvalidArgument, general != !scene_path.empty(),
                            "--face: give --scene DECK (the deck's faces) or --general (the paper-like domain), not both");
-      return run_face_mode(scene_path, pair, search::face_kind_from_string(face_name), f, output, check_only, quiet,
-                           join_command_line(argc, argv), general ? curvature : -1.0);
+      return run_face_mode(scene_path, pair, search::face_kind_from_string(face_name), f, output, inputs, check_only,
+                           quiet, join_command_line(argc, argv), general ? curvature : -1.0);
     }
     CONTACTNN_REQUIRE_AS(InvalidArgument, !surface_name.empty(), "--surface (bilinear or gregory) or --face is required");
     CONTACTNN_REQUIRE_AS(InvalidArgument, !scene_path.empty() && !general, "--scene is required (--general goes with --face)");
@@ -361,14 +362,14 @@ int main(int argc, char** argv) {
     o.domain.segment_test = o.segment_test == "on" || (o.segment_test == "auto" && results_path.empty());
     o = study::resolved(o, surface);
     const fs::path dir(output);
-    CONTACTNN_REQUIRE_AS(InvalidArgument, !fs::exists(dir) || fs::is_directory(dir),
-                         "--output '" << output << "' is a file, not a directory");
-    fs::create_directories(dir);
-    for (const char* name :
-         {"plan.toml", "network.h5", "pairs.csv", "report.md", "report.json", "history.csv"}) {
-      io::require_writable(dir / name);
-    }
+    io::require_outputs({},
+                        {{"--output",
+                          dir,
+                          {"plan.toml", "network.h5", "pairs.csv", "report.md", "report.json", "history.csv",
+                           "scene-study.config.toml"}}},
+                        inputs);
     if (check_only) return 0;
+    io::make_output_directory("--output", dir);
     const std::string config =
         cli::effective_config(app, "scene-study", {"output", "threads", "quiet", "check"});
     const auto say = [&](const std::string& line) {

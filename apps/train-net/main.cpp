@@ -36,6 +36,7 @@
 #include "io/csv.hpp"
 #include "io/dataset_file.hpp"
 #include "io/file_identity.hpp"
+#include "io/output_checks.hpp"
 #include "io/network_file.hpp"
 #include "mlp/pattern_selection.hpp"
 #include "mlp/random.hpp"
@@ -101,19 +102,15 @@ std::string format_duration(double seconds) {
 /// exists and takes a new file, it is not a directory), and the checkpoint has a regular file to sit beside.
 void check_outputs(const CLI::App& app, const std::string& data_path, const std::filesystem::path& output,
                    const std::filesystem::path& checkpoint_path, bool checkpoints, const std::string& header_path) {
-  io::require_distinct({{"--output", output},
-                        {"the checkpoint", checkpoints ? checkpoint_path : std::filesystem::path()},
-                        {"the effective config", cli::effective_config_path(output)},
-                        {"--export-header", header_path}},
-                       {{"--data", data_path}, {"--config", cli::config_path(app)}});
   const bool in_place = io::written_in_place(output);
   CONTACTNN_REQUIRE_AS(InvalidArgument, !(checkpoints && in_place),
                        "--checkpoint-every and --resume need --output to name a file: '"
                            << output.string() << "' is not a regular file (the checkpoint is OUTPUT.checkpoint.h5)");
-  io::require_writable(output);
-  if (!in_place) io::require_writable(cli::effective_config_path(output));
-  if (checkpoints) io::require_writable(checkpoint_path);
-  if (!header_path.empty()) io::require_writable(header_path);
+  io::require_outputs({{"--output", output},
+                       {"the checkpoint", checkpoints ? checkpoint_path : std::filesystem::path()},
+                       {"the effective config", in_place ? std::filesystem::path() : cli::effective_config_path(output)},
+                       {"--export-header", header_path}},
+                      {}, {{"--data", data_path}, {"--config", cli::config_path(app)}});
 }
 
 template <class Real>
