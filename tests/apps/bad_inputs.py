@@ -257,7 +257,7 @@ def _(ctx):
 def _(ctx):
     src = ctx.write("in.csv", f"{HEADER}\n{ROW}\n")
     ctx.expect_failure("gen-configs", ["--input", src, "--output", "no/such/dir/out.csv"], 4,
-                       r"^error: cannot write 'no/such/dir/out\.csv': directory 'no/such/dir' does not exist\n$")
+                       r"^error: --output: cannot write 'no/such/dir/out\.csv': directory 'no/such/dir' does not exist\n$")
 
 
 @case("output_is_a_directory")
@@ -266,7 +266,7 @@ def _(ctx):
     os.mkdir(ctx.path("out.csv"))
     ctx.write("out.csv/keep", "x")
     ctx.expect_failure("gen-configs", ["--input", src, "--output", "out.csv"], 4,
-                       r"^error: cannot write 'out\.csv': it is a directory\n$")
+                       r"^error: --output: cannot write 'out\.csv': it is a directory\n$")
 
 
 @case("failed_run_keeps_previous_output")
@@ -1071,11 +1071,10 @@ def _(ctx):
     os.mkdir(ctx.path("rep"))
     os.rename(ctx.path(data), ctx.path("rep/data.h5"))
     ctx.expect_failure("evaluate-net", ["--weights", net, "--data", "rep/data.h5", "--report", "rep", "--quiet"], 2,
-                       r"^error: --report 'rep' holds 'data\.h5', which is not part of a report: the directory is "
-                       r"replaced whole")
+                       r"^error: --report 'rep' holds --data 'rep/data\.h5': the directory is replaced whole")
     os.rename(ctx.path("rep/data.h5"), ctx.path("rep/report.md"))
     ctx.expect_failure("evaluate-net", ["--weights", net, "--data", "rep/report.md", "--report", "rep", "--quiet"], 2,
-                       r"^error: --report file 'report\.md' 'rep/report\.md' and --data 'rep/report\.md' are the same file")
+                       r"^error: --report 'rep' holds --data 'rep/report\.md': the directory is replaced whole")
 
 
 # ------------------------------------------------------------------------------------------------------
@@ -1088,14 +1087,14 @@ def _(ctx):
     # A checkpoint every epoch proves that no epoch ran.
     ctx.expect_failure("train-net", ["--data", data, "--output", "net.h5", "--export-header", "net.h", "--epochs",
                                      "100000", "--checkpoint-every", "1", "--train_count", "20", "--quiet"], 4,
-                       r"^error: cannot write 'net\.h': it is a directory\n$")
+                       r"^error: --export-header: cannot write 'net\.h': it is a directory\n$")
 
 
 @case("train_net_output_directory_missing", needs=("gen-configs", "train-net"))
 def _(ctx):
     data = make_dataset(ctx)
     ctx.expect_failure("train-net", ["--data", data, "--output", "no/dir/net.h5", "--train_count", "20", "--quiet"], 4,
-                       r"^error: cannot write 'no/dir/net\.h5': directory 'no/dir' does not exist\n$")
+                       r"^error: --output: cannot write 'no/dir/net\.h5': directory 'no/dir' does not exist\n$")
 
 
 @case("train_net_checkpoint_needs_a_regular_output", needs=("gen-configs", "train-net"))

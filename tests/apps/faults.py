@@ -220,7 +220,7 @@ def case_read_only(tools, source, work):
                            "--quiet"], work, timeout=60)
     except OSError as e:
         raise Failure(f"cannot mount a tmpfs: {e}")
-    if rc != 4 or not re.search(r"^error: cannot write '[^']*net\.h5': cannot create a file in directory '[^']*': "
+    if rc != 4 or not re.search(r"^error: --output: cannot write '[^']*net\.h5': cannot create a file in directory '[^']*': "
                                 r"Read-only file system\n$", err):
         raise Failure(f"train-net on a read-only directory: exit {rc}, expected 4 before the first epoch:\n{err}")
     print("read_only: train-net refused a read-only output directory before the first epoch", flush=True)
