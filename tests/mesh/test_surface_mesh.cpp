@@ -9,10 +9,12 @@
 #include <numbers>
 #include <random>
 #include <set>
+#include <span>
 #include <vector>
 
 #include "core/error.hpp"
 #include "geometry/node_normals.hpp"
+#include "mesh/contact_model.hpp"
 #include "mesh/element_type.hpp"
 #include "mesh/grid_surface.hpp"
 #include "mesh/solid_mesh.hpp"
@@ -252,6 +254,103 @@ TEST(NodeNormals, CollapsedCornerAddsNothingAndALoneCollapsedNodeGetsZero) {
   const std::vector<Vec3> normals = node_normals(s);
   EXPECT_EQ(normals[3], Vec3::Zero());
   EXPECT_LT((normals[0] - Vec3::UnitZ()).norm(), kNormalTol);
+}
+
+/// A unit hexahedron (C3D8 or, with `quadratic`, C3D20 with its mid-side nodes at the edges' midpoints) whose
+/// node `moved` (1-based) is put at `to`; nodes added in id order 1..8 (..20).
+SolidMesh moved_hexahedron(bool quadratic, int moved, const Vec3& to, std::span<const int> repeat = {}) {
+  SolidMesh mesh;
+  const std::array<Vec3, 8> x = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0), Vec3(0, 1, 0),
+                                 Vec3(0, 0, 1), Vec3(1, 0, 1), Vec3(1, 1, 1), Vec3(0, 1, 1)};
+  static constexpr int kEdges[12][2] = {{0, 1}, {1, 2}, {2, 3}, {3, 0}, {4, 5}, {5, 6},
+                                        {6, 7}, {7, 4}, {0, 4}, {1, 5}, {2, 6}, {3, 7}};
+  std::vector<Vec3> all(x.begin(), x.end());
+  if (quadratic) {
+    for (const auto& e : kEdges)
+      all.push_back(0.5 * (x[static_cast<std::size_t>(e[0])] + x[static_cast<std::size_t>(e[1])]));
+  }
+  all[static_cast<std::size_t>(moved - 1)] = to;
+  std::vector<int> nodes;
+  for (std::size_t i = 0; i < all.size(); ++i)
+    nodes.push_back(mesh.add_node(static_cast<long>(i) + 1, all[i]));
+  for (std::size_t i = 0; i + 1 < repeat.size(); i += 2) {
+    nodes[static_cast<std::size_t>(repeat[i] - 1)] = nodes[static_cast<std::size_t>(repeat[i + 1] - 1)];
+  }
+  mesh.add_element(1, element_type(quadratic ? "C3D20" : "C3D8"), nodes);
+  return mesh;
+}
+
+TEST(CollapsedFaces, CoincidenceIsWithinABillionthOfTheElementNotBeyond) {
+  const std::vector<ElementFace> bottom = {{0, 1}};
+  // Node 4 1e-10 of the element's size (sqrt(3)) from node 3: one point; the bottom is a triangle.
+  const SurfaceMesh near = build_surface_mesh(moved_hexahedron(false, 4, Vec3(1, 1 - 1e-10, 0)), bottom);
+  EXPECT_EQ(near.segments.size(), 0u);
+  ASSERT_EQ(near.extra_faces.size(), 1u);
+  EXPECT_EQ(near.face_type(0), FaceType::kTri3);
+  EXPECT_EQ(near.skipped_faces.at("C3D8 face collapsed to a triangle"), 1);
+  EXPECT_EQ(near.node_ids, (std::vector<long>{1, 2, 3}));
+  ASSERT_EQ(near.merged_nodes.size(), 1u);
+  EXPECT_EQ(near.merged_nodes[0], (std::array<int, 2>{3, 2}));
+  // 1e-8 of it: a thin quadrilateral, a segment of its own.
+  const SurfaceMesh far = build_surface_mesh(moved_hexahedron(false, 4, Vec3(1, 1 - 1e-8, 0)), bottom);
+  EXPECT_EQ(far.segments.size(), 1u);
+  EXPECT_TRUE(far.skipped_faces.empty());
+  EXPECT_TRUE(far.merged_nodes.empty());
+}
+
+TEST(CollapsedFaces, AFoldedFaceAndAQuad8WithoutASixNodeTriangleAreNamed) {
+  // Node 3 on node 1: the bottom's diagonal collapses, the face folds onto itself (no triangle).
+  const SurfaceMesh folded =
+      build_surface_mesh(moved_hexahedron(false, 3, Vec3(0, 0, 0)), std::vector<ElementFace>{{0, 1}});
+  EXPECT_EQ(folded.face_count(), 0);
+  EXPECT_EQ(folded.skipped_faces.at("C3D8 face collapsed, not a triangle"), 1);
+  // A C3D20 with corner 2 on corner 1 but its mid-side node 9 left at the old edge's midpoint: the edge 1-2
+  // is a loop, the face no 6-node triangle; the flat triangle of its corners.
+  const SurfaceMesh loop =
+      build_surface_mesh(moved_hexahedron(true, 2, Vec3(0, 0, 0)), std::vector<ElementFace>{{0, 1}});
+  ASSERT_EQ(loop.face_count(), 1);
+  EXPECT_EQ(loop.face_type(0), FaceType::kTri3);
+  EXPECT_EQ(loop.skipped_faces.at("C3D20 face collapsed to a flat triangle"), 1);
+  // With node 9 on corner 1 too (the edge collapsed to a point), and by repeated ids: 6-node triangles.
+  SolidMesh proper = moved_hexahedron(true, 2, Vec3(0, 0, 0));
+  proper.set_position(8, Vec3(0, 0, 0));  // a moved node: the deck's coordinates decide, not this
+  EXPECT_EQ(build_surface_mesh(proper, std::vector<ElementFace>{{0, 1}}).face_type(0), FaceType::kTri3);
+  const std::array<int, 4> repeated_ids = {2, 1, 9, 1};
+  const SurfaceMesh repeated = build_surface_mesh(moved_hexahedron(true, 2, Vec3(0, 0, 0), repeated_ids),
+                                                  std::vector<ElementFace>{{0, 1}});
+  ASSERT_EQ(repeated.face_count(), 1);
+  EXPECT_EQ(repeated.face_type(0), FaceType::kTri6);
+  const FaceNodes n = repeated.face_nodes(0);
+  std::vector<long> ids;
+  for (int i : n) ids.push_back(repeated.node_ids[static_cast<std::size_t>(i)]);
+  // Outward (-z): corners 1, 4, 3, then the mid-side nodes of 1-4, 4-3, 3-1 (2-3's node 10).
+  EXPECT_EQ(ids, (std::vector<long>{1, 4, 3, 12, 11, 10}));
+}
+
+TEST(CollapsedFaces, SlaveNodesKeepTheNodesMergedIntoAnotherAndTheMastersAreLeftOut) {
+  // A wedge as a C3D8 (node 4 on node 3, 8 on 7): its top as the slave surface, its bottom as the master.
+  ContactModel model;
+  const SolidMesh wedge = moved_hexahedron(false, 4, Vec3(1, 1, 0));
+  for (int n = 0; n < wedge.node_count(); ++n)
+    model.mesh.add_node(n + 1, n == 7 ? Vec3(1, 1, 1) : wedge.position(n));
+  model.mesh.add_element(1, element_type("C3D8"), std::vector<int>{0, 1, 2, 3, 4, 5, 6, 7});
+  model.surfaces = {{"SLAVE", SurfaceType::kElement, "ELEMENT", {{0, 2}}, {}, "here"},
+                    {"MASTER", SurfaceType::kElement, "ELEMENT", {{0, 1}}, {}, "here"},
+                    {"NODES", SurfaceType::kNode, "NODE", {}, {2, 3, 6, 7}, "here"}};
+  model.pairs = {{"SLAVE", "MASTER", 0, 1, true, "here"}, {"NODES", "MASTER", 2, 1, true, "here"}};
+  const SurfaceMesh master = master_surface(model, 0);
+  EXPECT_EQ(master.node_ids, (std::vector<long>{1, 2, 3}));
+  const SlaveNodes slaves = slave_nodes(model, 0, master);
+  std::vector<long> ids;
+  for (int n : slaves.nodes) ids.push_back(model.mesh.node_id(n));
+  EXPECT_EQ(ids, (std::vector<long>{5, 6, 7, 8}));  // 8 merged into 7 on the slave's triangle: still a slave
+  EXPECT_EQ(slaves.midside, (std::vector<std::uint8_t>{0, 0, 0, 0}));
+  // Node 4, merged into the master's node 3, is a master node.
+  const SlaveNodes listed = slave_nodes(model, 1, master);
+  ids.clear();
+  for (int n : listed.nodes) ids.push_back(model.mesh.node_id(n));
+  EXPECT_EQ(ids, (std::vector<long>{7, 8}));
+  EXPECT_EQ(listed.shared_with_master, 2);
 }
 
 }  // namespace
