@@ -6,10 +6,12 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstdint>
 #include <cmath>
 #include <filesystem>
 #include <limits>
 #include <map>
+#include <memory>
 #include <numeric>
 #include <string>
 #include <tuple>
@@ -277,6 +279,46 @@ TEST_P(DeckHandle, FreePointsBetweenTheSlaveNodesAnswerAsTheSurfaceSearch) {
     Answers a(points.size());
     handle.update(coordinates(in_, scene), free, a.results());
     expect_same(a, reference(scene, points), in_, points, size_, "increment " + std::to_string(increment));
+  }
+}
+
+TEST_P(DeckHandle, ThousandsOfFreePointsGiveTheSameBitsAtOneAndTwoThreads) {
+  // Enough points that the tracker's and the search's parallel loops run on both threads (the decks' own slave
+  // nodes are fewer than the tracker's serial threshold): points scattered about the master's nodes.
+  std::vector<double> free;
+  std::uint64_t state = 12345;
+  const auto uniform = [&] {  // a fixed LCG: the same points on every platform
+    state = state * 6364136223846793005ULL + 1442695040888963407ULL;
+    return static_cast<double>(state >> 11) * 0x1.0p-53 - 0.5;
+  };
+  for (int copy = 0; static_cast<int>(free.size() / 3) < 2100; ++copy) {
+    for (const Vec3& x : scene_.master.positions) {
+      free.insert(free.end(), {x.x() + 0.8 * size_ * uniform(), x.y() + 0.8 * size_ * uniform(),
+                               x.z() + 0.8 * size_ * uniform()});
+    }
+  }
+  const auto m = free.size() / 3;
+  std::vector<Answers> answers;
+  std::vector<std::unique_ptr<ContactSearch>> handles;
+  for (const int threads : {1, 2}) {
+    ContactSearchOptions options;
+    options.quad4 = kind_;
+    options.threads = threads;
+    handles.push_back(std::make_unique<ContactSearch>(in_.types, in_.connectivity,
+                                                      NodeNumbering{static_cast<long>(in_.ids.size()), 0, in_.ids},
+                                                      SlavePoints{{}, static_cast<long>(m)}, options));
+  }
+  Scene scene = scene_;
+  for (int increment = 0; increment < 2; ++increment) {
+    if (increment > 0) {
+      move(scene, increment, size_);
+      for (std::size_t i = 0; i < free.size(); i += 3) free[i] += 0.01 * size_;
+    }
+    const std::vector<double> x = coordinates(in_, scene);
+    Answers one(m), two(m);
+    handles[0]->update(x, free, one.results());
+    handles[1]->update(x, free, two.results());
+    EXPECT_TRUE(one == two) << "increment " << increment;
   }
 }
 
