@@ -322,9 +322,19 @@ TEST_P(DeckHandle, ThousandsOfFreePointsGiveTheSameBitsAtOneAndTwoThreads) {
   }
 }
 
+/// "hertz_0_bilinear": the deck, the pair, the quad4 surface.
+std::string deck_test_name(const ::testing::TestParamInfo<DeckHandle::ParamType>& param) {
+  const DeckPair& deck = std::get<0>(param.param);
+  std::string name = deck.deck.substr(0, deck.deck.find('.')) + "_" + std::to_string(deck.pair) +
+                     (std::get<1>(param.param) == SurfaceKind::kGregory ? "_gregory" : "_bilinear");
+  std::replace(name.begin(), name.end(), '-', '_');
+  return name;
+}
+
 INSTANTIATE_TEST_SUITE_P(Decks, DeckHandle,
                          ::testing::Combine(::testing::ValuesIn(kDecks),
-                                            ::testing::Values(SurfaceKind::kBilinear, SurfaceKind::kGregory)));
+                                            ::testing::Values(SurfaceKind::kBilinear, SurfaceKind::kGregory)),
+                         deck_test_name);
 
 // A flat surface at z = 0 made of every face type, in a mixed order: a quad4 on [0,1]x[0,1], two tri3 on
 // [1,2]x[0,1], a quad8 on [2,4]x[0,1] and three tri6 on [0,2]x[1,2] (mid-side nodes at the edges' middles: flat).
