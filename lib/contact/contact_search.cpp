@@ -67,21 +67,23 @@ Vec3 face_normal_at(const mesh::SurfaceMesh& surface, std::span<const Vec3> norm
   });
 }
 
-/// Sets OpenMP's thread count for the calling thread's next parallel regions, and back when it goes.
+/// The most threads an update uses (the C interface's CONTACTNN_MAX_THREADS, the tools' --threads limit): libgomp
+/// fails inside the parallel region when it cannot start the team an OMP_NUM_THREADS of 100000 asks for.
+constexpr int kMaxThreads = 1024;
+
+/// Sets OpenMP's thread count for the calling thread's next parallel regions (`threads`, or where <= 0 OpenMP's
+/// default capped at kMaxThreads), and back when it goes.
 class ThreadCount {
  public:
-  explicit ThreadCount(int threads) : previous_(omp_get_max_threads()), set_(threads > 0) {
-    if (set_) omp_set_num_threads(threads);
+  explicit ThreadCount(int threads) : previous_(omp_get_max_threads()) {
+    omp_set_num_threads(threads > 0 ? threads : std::clamp(previous_, 1, kMaxThreads));
   }
-  ~ThreadCount() {
-    if (set_) omp_set_num_threads(previous_);
-  }
+  ~ThreadCount() { omp_set_num_threads(previous_); }
   ThreadCount(const ThreadCount&) = delete;
   ThreadCount& operator=(const ThreadCount&) = delete;
 
  private:
   int previous_;
-  bool set_;
 };
 
 }  // namespace
@@ -124,6 +126,9 @@ ContactSearch::ContactSearch(std::span<const mesh::FaceType> face_types, std::sp
                                                         << ", expected bilinear (0) or Gregory (1)");
   CONTACTNN_REQUIRE_AS(InvalidArgument, std::isfinite(options.capture_distance),
                        "contact search: capture distance " << options.capture_distance << " is not finite");
+  CONTACTNN_REQUIRE_AS(InvalidArgument, options.threads <= kMaxThreads,
+                       "contact search: " << options.threads << " threads, at most " << kMaxThreads
+                                          << " (0 or less: OpenMP's default)");
   CONTACTNN_REQUIRE_AS(InvalidArgument, !face_types.empty(), "contact search: no master faces");
   CONTACTNN_REQUIRE_AS(InvalidArgument, face_types.size() <= static_cast<std::size_t>(std::numeric_limits<int>::max()),
                        "contact search: " << face_types.size() << " faces, at most " << std::numeric_limits<int>::max());

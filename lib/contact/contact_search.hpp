@@ -72,7 +72,7 @@ struct ContactSearchOptions {
   /// World units; <= 0: one largest face size of the state searched (SearchOptions::capture_relative 1).
   double capture_distance = 0.0;
   SurfaceKind quad4 = SurfaceKind::kBilinear;  ///< a quad4 face's surface: bilinear facet or Gregory patch
-  int threads = 0;                             ///< OpenMP threads of an update; <= 0 OpenMP's default
+  int threads = 0;  ///< OpenMP threads of an update, at most 1024; <= 0 OpenMP's default (capped at 1024)
   bool tracking = true;                        ///< false: every update a fresh search (the same answers)
 };
 

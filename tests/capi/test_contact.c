@@ -178,6 +178,19 @@ int main(void) {
     expect(memcmp(&a, &b, sizeof a) == 0, "the same bits at 1 and 2 threads");
   }
 
+  /* Every update a fresh search, on OpenMP's default team (ctest runs this program a second time with
+   * OMP_NUM_THREADS=100000, which libgomp cannot start: the handle caps it at CONTACTNN_MAX_THREADS). */
+  options.threads = 0;
+  options.tracking = 0;
+  expect(contactnn_contact_create(&c, N_FACES, kTypes, kConnectivity, N_NODES, NULL, 1, N_SLAVES, NULL, &options) ==
+             CONTACTNN_SUCCESS,
+         "create without tracking");
+  fill(&a);
+  expect(update(c, coords, free_points, &a) == CONTACTNN_SUCCESS, "update without tracking");
+  check_answers(&a, "without tracking");
+  contactnn_contact_destroy(c);
+  options.tracking = 1;
+
   /* Gregory quad4: the flat plate's patch (node normals +z) gives the same point, (u, v) in [0, 1]^2. */
   options.threads = 0;
   options.quad4_surface = CONTACTNN_SURFACE_GREGORY;

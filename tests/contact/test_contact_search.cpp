@@ -439,6 +439,11 @@ TEST(ContactSearchFlat, BadInputIsRefusedAndNothingIsWritten) {
   refused_at_creation("free points", flat.types, flat.connectivity, {n, 0, {}}, {corners, 3});
   refused_at_creation("free points", flat.types, flat.connectivity, {n, 0, {}}, {{}, 0});
   refused_at_creation("no master faces", {}, {}, {n, 0, {}}, {corners, 0});
+  {
+    ContactSearchOptions too_many;
+    too_many.threads = 1025;
+    EXPECT_THROW(ContactSearch(flat.types, flat.connectivity, {n, 0, {}}, {corners, 0}, too_many), InvalidArgument);
+  }
   std::vector<long> ids(static_cast<std::size_t>(n));
   std::iota(ids.begin(), ids.end(), 100L);
   const std::vector<long> shifted_corners = {100, 101};
