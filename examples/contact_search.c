@@ -1,26 +1,25 @@
 /* contact_search.c: the contact search handle of contactnn from C, as an FE code calls it.
  *
- * A plate [0, 4] x [0, 4] x [-1, 0] of 4 x 4 cells (the left half hexahedra, C3D8, whose top faces are quad4; the
- * right half wedges, C3D6, two per cell, whose top faces are tri3) is the master body; a faceted spherical cap
- * (61 nodes on rings of a sphere of radius 3) is the slave body. Over ten increments the cap moves down into the
- * plate and slides sideways while the plate sags; each increment passes the node coordinates to the handle and
- * prints every slave node in contact: its face, where on the face (face, edge, vertex), the signed gap (< 0:
- * penetration), the closest point and the unit normal.
+ * A plate [0, 4] x [0, 4] x [-1, 0] of 4 x 4 cells (the left half hexahedra, C3D8, whose top faces are quad4;
+ * the right half wedges, C3D6, two per cell, whose top faces are tri3) is the master body; a faceted
+ * spherical cap (61 nodes on rings of a sphere of radius 3) is the slave body. Over ten increments the cap
+ * moves down into the plate and slides sideways while the plate sags; each increment passes the node
+ * coordinates to the handle and prints every slave node in contact: its face, where on the face (face, edge,
+ * vertex), the signed gap (< 0: penetration), the closest point and the unit normal.
  *
- * Build against the installed package (examples/CMakeLists.txt) and run: ./contact_search_c [DIR]. With DIR the
- * program also writes each increment's mesh as a CalculiX deck DIR/incNN.inp (the same nodes, elements, slave node
- * surface and contact pair), which `gen-configs --scene DIR/incNN.inp` searches; tests/examples checks that both
- * agree. */
+ * Build against the installed package (examples/CMakeLists.txt) and run: ./contact_search_c [DIR]. With DIR
+ * the program also writes each increment's mesh as a CalculiX deck DIR/incNN.inp (the same nodes, elements,
+ * slave node surface and contact pair), which `gen-configs --scene DIR/incNN.inp` searches; tests/examples
+ * checks that both agree. */
+#include <contactnn/contactnn.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 
-#include <contactnn/contactnn.h>
-
-#define CELLS 4                           /* cells per side of the plate */
-#define GRID (CELLS + 1)                  /* nodes per side */
-#define PLATE_NODES (2 * GRID * GRID)     /* top layer (ids 1..25), bottom layer (26..50) */
-#define RINGS 4                           /* the cap: a pole and rings of 6, 12, 18, 24 nodes */
+#define CELLS 4                       /* cells per side of the plate */
+#define GRID (CELLS + 1)              /* nodes per side */
+#define PLATE_NODES (2 * GRID * GRID) /* top layer (ids 1..25), bottom layer (26..50) */
+#define RINGS 4                       /* the cap: a pole and rings of 6, 12, 18, 24 nodes */
 #define CAP_NODES (1 + 3 * RINGS * (RINGS + 1))
 #define N_NODES (PLATE_NODES + CAP_NODES) /* node ids 1..N_NODES, 1-based */
 #define MAX_FACES (2 * CELLS * CELLS)
@@ -30,7 +29,8 @@ static const double kPi = 3.14159265358979323846;
 
 static int top(int i, int j) { return 1 + i + GRID * j; }
 
-/* The faces, in the order of the elements that own them (element e has face e - 1): their types and node ids. */
+/* The faces, in the order of the elements that own them (element e has face e - 1): their types and node ids.
+ */
 static int build_faces(int* types, int* connectivity) {
   int n = 0, at = 0, i, j;
   for (j = 0; j < CELLS; ++j) {
@@ -76,8 +76,8 @@ static void place_nodes(int k, double* x) {
   }
 }
 
-/* The mesh of increment k as a deck: the plate's elements, its top as the master surface, the cap's nodes as a node
- * surface, one contact pair. */
+/* The mesh of increment k as a deck: the plate's elements, its top as the master surface, the cap's nodes as
+ * a node surface, one contact pair. */
 static int write_deck(const char* dir, int k, const double* x) {
   char path[4096];
   FILE* f;
@@ -86,16 +86,18 @@ static int write_deck(const char* dir, int k, const double* x) {
   f = fopen(path, "w");
   if (f == NULL) return 1;
   fprintf(f, "** contact_search.c, increment %d\n*NODE\n", k);
-  for (n = 0; n < N_NODES; ++n) fprintf(f, "%d, %.17g, %.17g, %.17g\n", n + 1, x[3 * n], x[3 * n + 1], x[3 * n + 2]);
+  for (n = 0; n < N_NODES; ++n)
+    fprintf(f, "%d, %.17g, %.17g, %.17g\n", n + 1, x[3 * n], x[3 * n + 1], x[3 * n + 2]);
   for (j = 0; j < CELLS; ++j) {
     for (i = 0; i < CELLS; ++i) {
-      const int a = top(i, j), b = top(i + 1, j), c = top(i + 1, j + 1), d = top(i, j + 1), below = GRID * GRID;
+      const int a = top(i, j), b = top(i + 1, j), c = top(i + 1, j + 1), d = top(i, j + 1),
+                below = GRID * GRID;
       if (i < CELLS / 2) {
-        fprintf(f, "*ELEMENT, TYPE=C3D8, ELSET=EPLATE\n%d, %d, %d, %d, %d, %d, %d, %d, %d\n", ++e, a + below, b + below,
-                c + below, d + below, a, b, c, d);
+        fprintf(f, "*ELEMENT, TYPE=C3D8, ELSET=EPLATE\n%d, %d, %d, %d, %d, %d, %d, %d, %d\n", ++e, a + below,
+                b + below, c + below, d + below, a, b, c, d);
       } else {
-        fprintf(f, "*ELEMENT, TYPE=C3D6, ELSET=EPLATE\n%d, %d, %d, %d, %d, %d, %d\n", ++e, a + below, b + below,
-                c + below, a, b, c);
+        fprintf(f, "*ELEMENT, TYPE=C3D6, ELSET=EPLATE\n%d, %d, %d, %d, %d, %d, %d\n", ++e, a + below,
+                b + below, c + below, a, b, c);
         fprintf(f, "%d, %d, %d, %d, %d, %d, %d\n", ++e, a + below, c + below, d + below, a, c, d);
       }
     }
@@ -116,10 +118,10 @@ int main(int argc, char** argv) {
 
   n_faces = build_faces(types, connectivity);
   for (i = 0; i < CAP_NODES; ++i) slaves[i] = PLATE_NODES + 1 + i;
-  /* Node ids from 1 (id_base 1), the slave points are nodes, the default options (NULL): capture within one largest
-   * face size, bilinear quad4, tracking. */
-  if (contactnn_contact_create(&contact, n_faces, types, connectivity, N_NODES, NULL, 1, CAP_NODES, slaves, NULL) !=
-      CONTACTNN_SUCCESS) {
+  /* Node ids from 1 (id_base 1), the slave points are nodes, the default options (NULL): capture within one
+   * largest face size, bilinear quad4, tracking. */
+  if (contactnn_contact_create(&contact, n_faces, types, connectivity, N_NODES, NULL, 1, CAP_NODES, slaves,
+                               NULL) != CONTACTNN_SUCCESS) {
     fprintf(stderr, "contactnn_contact_create: %s\n", contactnn_last_error());
     return 1;
   }
@@ -131,8 +133,8 @@ int main(int argc, char** argv) {
       fprintf(stderr, "cannot write %s/inc%02d.inp\n", argv[1], k);
       return 4;
     }
-    if (contactnn_contact_update(contact, N_NODES, x, CAP_NODES, NULL, status, face, location, param, point, gap,
-                                 normal) != CONTACTNN_SUCCESS) {
+    if (contactnn_contact_update(contact, N_NODES, x, CAP_NODES, NULL, status, face, location, param, point,
+                                 gap, normal) != CONTACTNN_SUCCESS) {
       fprintf(stderr, "contactnn_contact_update: %s\n", contactnn_last_error());
       return 1;
     }
@@ -141,8 +143,9 @@ int main(int argc, char** argv) {
     for (i = 0; i < CAP_NODES; ++i) {
       if (status[i] != CONTACTNN_STATUS_OK) continue;
       printf("%d %d %d %s %s %.17g %.17g %.17g %.17g %.17g %.17g %.17g\n", k, slaves[i], face[i] + 1,
-             types[face[i]] == CONTACTNN_FACE_QUAD4 ? "quad4" : "tri3", kLocation[location[i]], gap[i], point[3 * i],
-             point[3 * i + 1], point[3 * i + 2], normal[3 * i], normal[3 * i + 1], normal[3 * i + 2]);
+             types[face[i]] == CONTACTNN_FACE_QUAD4 ? "quad4" : "tri3", kLocation[location[i]], gap[i],
+             point[3 * i], point[3 * i + 1], point[3 * i + 2], normal[3 * i], normal[3 * i + 1],
+             normal[3 * i + 2]);
     }
   }
   contactnn_contact_destroy(contact);

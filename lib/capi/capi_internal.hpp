@@ -1,5 +1,6 @@
-// What the C interface's entry points share (contactnn.cpp, contact_search.cpp): each entry point is a boundary
-// where exceptions become return codes and this thread's message (contactnn_last_error), nothing else leaves.
+// What the C interface's entry points share (contactnn.cpp, contact_search.cpp): each entry point is a
+// boundary where exceptions become return codes and this thread's message (contactnn_last_error), nothing
+// else leaves.
 #pragma once
 
 #include <exception>

@@ -1,7 +1,9 @@
 // The C interface's contact search handle (contactnn/contactnn.h, contactnn_contact_*) over
 // contact::ContactSearch. Each entry point is a boundary: exceptions become return codes and this thread's
-// message (capi_internal.hpp), nothing else leaves; nothing is written to a caller's array before every argument
-// has been checked.
+// message (capi_internal.hpp), nothing else leaves; nothing is written to a caller's array before every
+// argument has been checked.
+#include "contact/contact_search.hpp"
+
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -11,7 +13,6 @@
 #include <vector>
 
 #include "capi_internal.hpp"
-#include "contact/contact_search.hpp"
 #include "contactnn/contactnn.h"
 #include "core/conventions.hpp"
 #include "core/error.hpp"
@@ -60,7 +61,8 @@ extern "C" {
 
 int contactnn_contact_options_init(contactnn_contact_options* options) {
   return capi::guarded("contactnn_contact_options_init", [&] {
-    CONTACTNN_REQUIRE_AS(InvalidArgument, options != nullptr, "contactnn_contact_options_init: options is NULL");
+    CONTACTNN_REQUIRE_AS(InvalidArgument, options != nullptr,
+                         "contactnn_contact_options_init: options is NULL");
     const contact::ContactSearchOptions d;
     *options = contactnn_contact_options{};
     options->capture_distance = d.capture_distance;
@@ -70,45 +72,52 @@ int contactnn_contact_options_init(contactnn_contact_options* options) {
   });
 }
 
-int contactnn_contact_create(contactnn_contact** out, size_t n_faces, const int* face_types, const int* connectivity,
-                             size_t n_nodes, const int* node_ids, int id_base, size_t n_slaves,
-                             const int* slave_node_ids, const contactnn_contact_options* options) {
+int contactnn_contact_create(contactnn_contact** out, size_t n_faces, const int* face_types,
+                             const int* connectivity, size_t n_nodes, const int* node_ids, int id_base,
+                             size_t n_slaves, const int* slave_node_ids,
+                             const contactnn_contact_options* options) {
   constexpr const char* kFunction = "contactnn_contact_create";
   return capi::guarded(kFunction, [&] {
-    CONTACTNN_REQUIRE_AS(InvalidArgument, out != nullptr, kFunction << ": contact (where the handle goes) is NULL");
+    CONTACTNN_REQUIRE_AS(InvalidArgument, out != nullptr,
+                         kFunction << ": contact (where the handle goes) is NULL");
     *out = nullptr;
     CONTACTNN_REQUIRE_AS(InvalidArgument, n_faces > 0 && face_types != nullptr && connectivity != nullptr,
-                         kFunction << ": n_faces = " << n_faces << ", face_types " << (face_types ? "set" : "NULL")
-                                   << ", connectivity " << (connectivity ? "set" : "NULL")
+                         kFunction << ": n_faces = " << n_faces << ", face_types "
+                                   << (face_types ? "set" : "NULL") << ", connectivity "
+                                   << (connectivity ? "set" : "NULL")
                                    << "; expected at least one face and both arrays");
     CONTACTNN_REQUIRE_AS(InvalidArgument, n_nodes > 0, kFunction << ": n_nodes = 0");
-    CONTACTNN_REQUIRE_AS(InvalidArgument, n_faces <= (std::size_t{1} << 31) && n_nodes <= (std::size_t{1} << 31) &&
-                                              n_slaves <= (std::size_t{1} << 31),
-                         kFunction << ": n_faces = " << n_faces << ", n_nodes = " << n_nodes << ", n_slaves = "
-                                   << n_slaves << ": each at most 2^31");
+    CONTACTNN_REQUIRE_AS(InvalidArgument,
+                         n_faces <= (std::size_t{1} << 31) && n_nodes <= (std::size_t{1} << 31) &&
+                             n_slaves <= (std::size_t{1} << 31),
+                         kFunction << ": n_faces = " << n_faces << ", n_nodes = " << n_nodes
+                                   << ", n_slaves = " << n_slaves << ": each at most 2^31");
     contactnn_contact_options defaults{};
     if (options == nullptr) {
       contactnn_contact_options_init(&defaults);
       options = &defaults;
     }
-    CONTACTNN_REQUIRE_AS(InvalidArgument,
-                         options->quad4_surface == CONTACTNN_SURFACE_BILINEAR ||
-                             options->quad4_surface == CONTACTNN_SURFACE_GREGORY,
-                         kFunction << ": options.quad4_surface = " << options->quad4_surface
-                                   << ", expected CONTACTNN_SURFACE_BILINEAR (0) or CONTACTNN_SURFACE_GREGORY (1)");
+    CONTACTNN_REQUIRE_AS(
+        InvalidArgument,
+        options->quad4_surface == CONTACTNN_SURFACE_BILINEAR ||
+            options->quad4_surface == CONTACTNN_SURFACE_GREGORY,
+        kFunction << ": options.quad4_surface = " << options->quad4_surface
+                  << ", expected CONTACTNN_SURFACE_BILINEAR (0) or CONTACTNN_SURFACE_GREGORY (1)");
     CONTACTNN_REQUIRE_AS(InvalidArgument, options->threads <= CONTACTNN_MAX_THREADS,
                          kFunction << ": options.threads = " << options->threads
                                    << ", expected at most CONTACTNN_MAX_THREADS (" << CONTACTNN_MAX_THREADS
                                    << "; 0 or less: OpenMP's default)");
-    CONTACTNN_REQUIRE_AS(InvalidArgument, std::isfinite(options->capture_distance),
-                         kFunction << ": options.capture_distance = " << options->capture_distance << " is not finite");
+    CONTACTNN_REQUIRE_AS(
+        InvalidArgument, std::isfinite(options->capture_distance),
+        kFunction << ": options.capture_distance = " << options->capture_distance << " is not finite");
     std::vector<mesh::FaceType> types(n_faces);
     std::size_t total = 0;
     for (std::size_t f = 0; f < n_faces; ++f) {
       const int t = face_types[f];
-      CONTACTNN_REQUIRE_AS(InvalidArgument, t >= CONTACTNN_FACE_QUAD4 && t <= CONTACTNN_FACE_TRI6,
-                           kFunction << ": face_types[" << f << "] = " << t
-                                     << ", expected CONTACTNN_FACE_QUAD4 (0), _QUAD8 (1), _TRI3 (2) or _TRI6 (3)");
+      CONTACTNN_REQUIRE_AS(
+          InvalidArgument, t >= CONTACTNN_FACE_QUAD4 && t <= CONTACTNN_FACE_TRI6,
+          kFunction << ": face_types[" << f << "] = " << t
+                    << ", expected CONTACTNN_FACE_QUAD4 (0), _QUAD8 (1), _TRI3 (2) or _TRI6 (3)");
       types[f] = static_cast<mesh::FaceType>(t);
       total += static_cast<std::size_t>(contact::face_node_count(types[f]));
     }
@@ -133,9 +142,10 @@ int contactnn_contact_create(contactnn_contact** out, size_t n_faces, const int*
 void contactnn_contact_destroy(contactnn_contact* handle) {
   if (handle == nullptr) return;
   if (!is_live(handle)) {
-    contactnn_set_last_error(CONTACTNN_ERROR_INVALID_ARGUMENT,
-                             "contactnn_contact_destroy: contact is not a live handle (destroyed already, or not one "
-                             "that contactnn_contact_create wrote); nothing was freed");
+    contactnn_set_last_error(
+        CONTACTNN_ERROR_INVALID_ARGUMENT,
+        "contactnn_contact_destroy: contact is not a live handle (destroyed already, or not one "
+        "that contactnn_contact_create wrote); nothing was freed");
     return;
   }
   *static_cast<volatile std::uint64_t*>(&handle->check) = 0;
@@ -148,29 +158,32 @@ int contactnn_contact_update(contactnn_contact* handle, size_t n_nodes, const do
   constexpr const char* kFunction = "contactnn_contact_update";
   return capi::guarded(kFunction, [&] {
     contact::ContactSearch& search = *live_handle(kFunction, handle).search;
-    CONTACTNN_REQUIRE_AS(InvalidArgument, n_nodes == static_cast<std::size_t>(search.node_count()),
-                         kFunction << ": n_nodes = " << n_nodes << ", the handle was created for " << search.node_count());
+    CONTACTNN_REQUIRE_AS(
+        InvalidArgument, n_nodes == static_cast<std::size_t>(search.node_count()),
+        kFunction << ": n_nodes = " << n_nodes << ", the handle was created for " << search.node_count());
     const auto m = static_cast<std::size_t>(search.slave_count());
     CONTACTNN_REQUIRE_AS(InvalidArgument, n_slaves == m,
                          kFunction << ": n_slaves = " << n_slaves << ", the handle was created for " << m);
     CONTACTNN_REQUIRE_AS(InvalidArgument, coords != nullptr, kFunction << ": coords is NULL");
-    CONTACTNN_REQUIRE_AS(InvalidArgument, (slave_points != nullptr) == search.free_points(),
-                         kFunction << ": slave_points is " << (slave_points ? "set" : "NULL") << " for a search of "
-                                   << (search.free_points() ? "free points (their coordinates are required)"
-                                                            : "slave nodes (their coordinates come from coords)"));
+    CONTACTNN_REQUIRE_AS(
+        InvalidArgument, (slave_points != nullptr) == search.free_points(),
+        kFunction << ": slave_points is " << (slave_points ? "set" : "NULL") << " for a search of "
+                  << (search.free_points() ? "free points (their coordinates are required)"
+                                           : "slave nodes (their coordinates come from coords)"));
     CONTACTNN_REQUIRE_AS(InvalidArgument, m == 0 || (status != nullptr && face != nullptr),
-                         kFunction << ": status " << (status ? "set" : "NULL") << ", face " << (face ? "set" : "NULL")
-                                   << "; both are required");
+                         kFunction << ": status " << (status ? "set" : "NULL") << ", face "
+                                   << (face ? "set" : "NULL") << "; both are required");
     const auto optional = [&](auto* p, std::size_t per) {
       using T = std::remove_pointer_t<decltype(p)>;
       return p == nullptr ? std::span<T>() : std::span<T>(p, per * m);
     };
-    const contact::ContactResults out{optional(status, 1),   optional(face, 1),  optional(location, 1),
-                                      optional(param, 2),    optional(point, 3), optional(gap, 1),
+    const contact::ContactResults out{optional(status, 1), optional(face, 1),  optional(location, 1),
+                                      optional(param, 2),  optional(point, 3), optional(gap, 1),
                                       optional(normal, 3)};
-    search.update(std::span<const double>(coords, 3 * n_nodes),
-                  slave_points == nullptr ? std::span<const double>() : std::span<const double>(slave_points, 3 * m),
-                  out);
+    search.update(
+        std::span<const double>(coords, 3 * n_nodes),
+        slave_points == nullptr ? std::span<const double>() : std::span<const double>(slave_points, 3 * m),
+        out);
   });
 }
 

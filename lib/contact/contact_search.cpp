@@ -19,10 +19,14 @@ namespace contactnn::contact {
 
 int face_node_count(mesh::FaceType type) {
   switch (type) {
-    case mesh::FaceType::kQuad4: return 4;
-    case mesh::FaceType::kQuad8: return 8;
-    case mesh::FaceType::kTri3: return 3;
-    case mesh::FaceType::kTri6: return 6;
+    case mesh::FaceType::kQuad4:
+      return 4;
+    case mesh::FaceType::kQuad8:
+      return 8;
+    case mesh::FaceType::kTri3:
+      return 3;
+    case mesh::FaceType::kTri6:
+      return 6;
   }
   return 0;
 }
@@ -41,7 +45,8 @@ Vec3 face_normal_at(const mesh::SurfaceMesh& surface, std::span<const Vec3> norm
   const mesh::FaceNodes nodes = surface.face_nodes(f);
   const auto x = [&](int k) -> const Vec3& { return surface.positions[static_cast<std::size_t>(nodes[k])]; };
   switch (nodes.type) {
-    case mesh::FaceType::kTri3: return unit_or_zero((x(1) - x(0)).cross(x(2) - x(0)));
+    case mesh::FaceType::kTri3:
+      return unit_or_zero((x(1) - x(0)).cross(x(2) - x(0)));
     case mesh::FaceType::kTri6: {
       const geometry::QuadraticTriangle face({x(0), x(1), x(2), x(3), x(4), x(5)});
       const geometry::SurfacePoint p = face.evaluate(param[0], param[1]);
@@ -52,7 +57,8 @@ Vec3 face_normal_at(const mesh::SurfaceMesh& surface, std::span<const Vec3> norm
       const geometry::SurfacePoint p = face.evaluate(param[0], param[1]);
       return unit_or_zero(p.d_s.cross(p.d_t));
     }
-    case mesh::FaceType::kQuad4: break;
+    case mesh::FaceType::kQuad4:
+      break;
   }
   geometry::Configuration config;
   for (std::size_t i = 0; i < 4; ++i) {
@@ -67,12 +73,13 @@ Vec3 face_normal_at(const mesh::SurfaceMesh& surface, std::span<const Vec3> norm
   });
 }
 
-/// The most threads an update uses (the C interface's CONTACTNN_MAX_THREADS, the tools' --threads limit): libgomp
-/// fails inside the parallel region when it cannot start the team an OMP_NUM_THREADS of 100000 asks for.
+/// The most threads an update uses (the C interface's CONTACTNN_MAX_THREADS, the tools' --threads limit):
+/// libgomp fails inside the parallel region when it cannot start the team an OMP_NUM_THREADS of 100000 asks
+/// for.
 constexpr int kMaxThreads = 1024;
 
-/// Sets OpenMP's thread count for the calling thread's next parallel regions (`threads`, or where <= 0 OpenMP's
-/// default capped at kMaxThreads), and back when it goes.
+/// Sets OpenMP's thread count for the calling thread's next parallel regions (`threads`, or where <= 0
+/// OpenMP's default capped at kMaxThreads), and back when it goes.
 class ThreadCount {
  public:
   explicit ThreadCount(int threads) : previous_(omp_get_max_threads()) {
@@ -98,7 +105,7 @@ struct ContactSearch::Impl {
   std::vector<long> slave_ids;   ///< slave node ids, or 0 .. m-1 for free points
   std::vector<int> slave_nodes;  ///< coordinate-array index of each slave node (empty for free points)
   std::vector<Vec3> slave_positions;
-  std::vector<Vec3> normals;     ///< Gregory node normals of the state
+  std::vector<Vec3> normals;  ///< Gregory node normals of the state
   SurfaceTracker tracker;
   std::vector<NodeSegmentPair> pairs;
   std::vector<Vec3> contact_normals;
@@ -120,8 +127,10 @@ SearchOptions search_options(const ContactSearchOptions& o) {
 }  // namespace
 
 ContactSearch::ContactSearch(std::span<const mesh::FaceType> face_types, std::span<const long> connectivity,
-                             const NodeNumbering& nodes, const SlavePoints& slaves, const ContactSearchOptions& options) {
-  CONTACTNN_REQUIRE_AS(InvalidArgument, options.quad4 == SurfaceKind::kBilinear || options.quad4 == SurfaceKind::kGregory,
+                             const NodeNumbering& nodes, const SlavePoints& slaves,
+                             const ContactSearchOptions& options) {
+  CONTACTNN_REQUIRE_AS(InvalidArgument,
+                       options.quad4 == SurfaceKind::kBilinear || options.quad4 == SurfaceKind::kGregory,
                        "contact search: quad4 surface " << static_cast<int>(options.quad4)
                                                         << ", expected bilinear (0) or Gregory (1)");
   CONTACTNN_REQUIRE_AS(InvalidArgument, std::isfinite(options.capture_distance),
@@ -130,18 +139,22 @@ ContactSearch::ContactSearch(std::span<const mesh::FaceType> face_types, std::sp
                        "contact search: " << options.threads << " threads, at most " << kMaxThreads
                                           << " (0 or less: OpenMP's default)");
   CONTACTNN_REQUIRE_AS(InvalidArgument, !face_types.empty(), "contact search: no master faces");
-  CONTACTNN_REQUIRE_AS(InvalidArgument, face_types.size() <= static_cast<std::size_t>(std::numeric_limits<int>::max()),
-                       "contact search: " << face_types.size() << " faces, at most " << std::numeric_limits<int>::max());
-  CONTACTNN_REQUIRE_AS(InvalidArgument, nodes.count > 0 && nodes.count <= std::numeric_limits<int>::max(),
-                       "contact search: node count " << nodes.count << ", expected 1 to "
-                                                     << std::numeric_limits<int>::max());
-  CONTACTNN_REQUIRE_AS(InvalidArgument, nodes.ids.empty() || nodes.ids.size() == static_cast<std::size_t>(nodes.count),
+  CONTACTNN_REQUIRE_AS(
+      InvalidArgument, face_types.size() <= static_cast<std::size_t>(std::numeric_limits<int>::max()),
+      "contact search: " << face_types.size() << " faces, at most " << std::numeric_limits<int>::max());
+  CONTACTNN_REQUIRE_AS(
+      InvalidArgument, nodes.count > 0 && nodes.count <= std::numeric_limits<int>::max(),
+      "contact search: node count " << nodes.count << ", expected 1 to " << std::numeric_limits<int>::max());
+  CONTACTNN_REQUIRE_AS(InvalidArgument,
+                       nodes.ids.empty() || nodes.ids.size() == static_cast<std::size_t>(nodes.count),
                        "contact search: " << nodes.ids.size() << " node ids for " << nodes.count << " nodes");
   const bool free = slaves.nodes.empty();
-  CONTACTNN_REQUIRE_AS(InvalidArgument, (free && slaves.free_points > 0) || (!free && slaves.free_points == 0),
-                       "contact search: " << slaves.nodes.size() << " slave nodes and " << slaves.free_points
-                                          << " free points; expected slave nodes or free points, one of the two");
-  CONTACTNN_REQUIRE_AS(InvalidArgument, slaves.free_points >= 0 && slaves.free_points <= std::numeric_limits<int>::max(),
+  CONTACTNN_REQUIRE_AS(
+      InvalidArgument, (free && slaves.free_points > 0) || (!free && slaves.free_points == 0),
+      "contact search: " << slaves.nodes.size() << " slave nodes and " << slaves.free_points
+                         << " free points; expected slave nodes or free points, one of the two");
+  CONTACTNN_REQUIRE_AS(InvalidArgument,
+                       slaves.free_points >= 0 && slaves.free_points <= std::numeric_limits<int>::max(),
                        "contact search: free point count " << slaves.free_points << ", expected 0 to "
                                                            << std::numeric_limits<int>::max());
   impl_ = std::make_unique<Impl>(options, search_options(options));
@@ -164,8 +177,9 @@ ContactSearch::ContactSearch(std::span<const mesh::FaceType> face_types, std::sp
     if (nodes.ids.empty()) {
       const long i = id - nodes.base;
       CONTACTNN_REQUIRE_AS(InvalidArgument, id >= nodes.base && i < nodes.count,
-                           "contact search: " << what() << " names node " << id << ", which does not exist (ids "
-                                              << nodes.base << " to " << nodes.base + nodes.count - 1 << ")");
+                           "contact search: " << what() << " names node " << id
+                                              << ", which does not exist (ids " << nodes.base << " to "
+                                              << nodes.base + nodes.count - 1 << ")");
       return static_cast<int>(i);
     }
     const auto at = by_id.find(id);
@@ -185,8 +199,9 @@ ContactSearch::ContactSearch(std::span<const mesh::FaceType> face_types, std::sp
     total += static_cast<std::size_t>(k);
   }
   CONTACTNN_REQUIRE_AS(InvalidArgument, connectivity.size() == total,
-                       "contact search: connectivity of " << connectivity.size() << " node ids, the " << face_types.size()
-                                                          << " faces' types need " << total);
+                       "contact search: connectivity of " << connectivity.size() << " node ids, the "
+                                                          << face_types.size() << " faces' types need "
+                                                          << total);
   std::vector<std::array<int, 8>> face_nodes(face_types.size());
   std::vector<char> used(static_cast<std::size_t>(nodes.count), 0);
   std::size_t at = 0;
@@ -195,11 +210,12 @@ ContactSearch::ContactSearch(std::span<const mesh::FaceType> face_types, std::sp
     face_nodes[f].fill(-1);
     for (int j = 0; j < k; ++j) {
       const long id = connectivity[at++];
-      const int i = index_of(id, [&] { return "face " + std::to_string(f) + " (node " + std::to_string(j + 1) + ")"; });
+      const int i =
+          index_of(id, [&] { return "face " + std::to_string(f) + " (node " + std::to_string(j + 1) + ")"; });
       for (int q = 0; q < j; ++q) {
         CONTACTNN_REQUIRE_AS(InvalidArgument, face_nodes[f][static_cast<std::size_t>(q)] != i,
-                             "contact search: face " << f << " names node " << id << " twice (its nodes " << q + 1
-                                                     << " and " << j + 1 << ")");
+                             "contact search: face " << f << " names node " << id << " twice (its nodes "
+                                                     << q + 1 << " and " << j + 1 << ")");
       }
       face_nodes[f][static_cast<std::size_t>(j)] = i;
       used[static_cast<std::size_t>(i)] = 1;
@@ -242,7 +258,9 @@ ContactSearch::ContactSearch(std::span<const mesh::FaceType> face_types, std::sp
     s.segments.push_back(to_local(n, 0, 4));
     s.segment_faces.push_back({f, 1});
     s.segment_element_ids.push_back(f);
-    if (quad8) s.segment_midsides.push_back(to_local(n, 4, face_types[static_cast<std::size_t>(f)] == mesh::FaceType::kQuad8 ? 4 : 0));
+    if (quad8)
+      s.segment_midsides.push_back(
+          to_local(n, 4, face_types[static_cast<std::size_t>(f)] == mesh::FaceType::kQuad8 ? 4 : 0));
     m.caller_face.push_back(f);
   }
   for (const int f : triangles) {
@@ -250,7 +268,9 @@ ContactSearch::ContactSearch(std::span<const mesh::FaceType> face_types, std::sp
     s.extra_faces.push_back(to_local(n, 0, 3));
     s.extra_face_faces.push_back({f, 1});
     s.extra_face_element_ids.push_back(f);
-    if (tri6) s.extra_face_midsides.push_back(to_local(n, 3, face_types[static_cast<std::size_t>(f)] == mesh::FaceType::kTri6 ? 3 : 0));
+    if (tri6)
+      s.extra_face_midsides.push_back(
+          to_local(n, 3, face_types[static_cast<std::size_t>(f)] == mesh::FaceType::kTri6 ? 3 : 0));
     m.caller_face.push_back(f);
   }
   // The segments at each node (mesh::node_normals reads them), increasing, as build_surface_mesh makes them.
@@ -263,7 +283,8 @@ ContactSearch::ContactSearch(std::span<const mesh::FaceType> face_types, std::sp
   s.adjacency.resize(static_cast<std::size_t>(s.adjacency_offsets[n_nodes]));
   std::vector<int> fill(s.adjacency_offsets.begin(), s.adjacency_offsets.end() - 1);
   for (std::size_t q = 0; q < s.segments.size(); ++q) {
-    for (int n : s.segments[q]) s.adjacency[static_cast<std::size_t>(fill[static_cast<std::size_t>(n)]++)] = static_cast<int>(q);
+    for (int n : s.segments[q])
+      s.adjacency[static_cast<std::size_t>(fill[static_cast<std::size_t>(n)]++)] = static_cast<int>(q);
   }
 
   // The slave points.
@@ -293,16 +314,18 @@ void ContactSearch::update(std::span<const double> coordinates, std::span<const 
   const std::size_t n = m.slave_ids.size();
   // Every argument checked before anything is written or the tracker moves.
   CONTACTNN_REQUIRE_AS(InvalidArgument, coordinates.size() == 3 * static_cast<std::size_t>(m.node_count),
-                       "contact search update: " << coordinates.size() << " coordinates, expected 3 x " << m.node_count
-                                                 << " nodes = " << 3 * m.node_count);
+                       "contact search update: " << coordinates.size() << " coordinates, expected 3 x "
+                                                 << m.node_count << " nodes = " << 3 * m.node_count);
   if (m.free) {
     CONTACTNN_REQUIRE_AS(InvalidArgument, free_points.size() == 3 * n,
-                         "contact search update: " << free_points.size() << " free-point coordinates, expected 3 x "
-                                                   << n << " points = " << 3 * n);
-  } else {
-    CONTACTNN_REQUIRE_AS(InvalidArgument, free_points.empty(),
                          "contact search update: " << free_points.size()
-                                                   << " free-point coordinates given to a search of slave nodes");
+                                                   << " free-point coordinates, expected 3 x " << n
+                                                   << " points = " << 3 * n);
+  } else {
+    CONTACTNN_REQUIRE_AS(
+        InvalidArgument, free_points.empty(),
+        "contact search update: " << free_points.size()
+                                  << " free-point coordinates given to a search of slave nodes");
   }
   const auto check_size = [&](const char* name, std::size_t size, std::size_t per, bool required) {
     CONTACTNN_REQUIRE_AS(InvalidArgument, size == per * n || (!required && size == 0),
@@ -322,15 +345,16 @@ void ContactSearch::update(std::span<const double> coordinates, std::span<const 
   };
   const auto id_of = [&](int i) {
     const auto at = std::find(m.surface.mesh_nodes.begin(), m.surface.mesh_nodes.end(), i);
-    return at != m.surface.mesh_nodes.end() ? m.surface.node_ids[static_cast<std::size_t>(at - m.surface.mesh_nodes.begin())]
-                                            : m.slave_ids[static_cast<std::size_t>(
-                                                  std::find(m.slave_nodes.begin(), m.slave_nodes.end(), i) - m.slave_nodes.begin())];
+    return at != m.surface.mesh_nodes.end()
+               ? m.surface.node_ids[static_cast<std::size_t>(at - m.surface.mesh_nodes.begin())]
+               : m.slave_ids[static_cast<std::size_t>(
+                     std::find(m.slave_nodes.begin(), m.slave_nodes.end(), i) - m.slave_nodes.begin())];
   };
   const auto require_finite = [&](const Vec3& x, const auto& what) {
     if (x.allFinite()) return;
     std::ostringstream os;
-    os << "contact search update: " << what() << " has a non-finite coordinate (" << x.x() << ", " << x.y() << ", "
-       << x.z() << ")";
+    os << "contact search update: " << what() << " has a non-finite coordinate (" << x.x() << ", " << x.y()
+       << ", " << x.z() << ")";
     throw NumericalError(os.str());
   };
   for (std::size_t i = 0; i < m.surface.mesh_nodes.size(); ++i) {
@@ -344,13 +368,15 @@ void ContactSearch::update(std::span<const double> coordinates, std::span<const 
     }
   } else {
     for (std::size_t i = 0; i < n; ++i) {
-      require_finite(node_at(m.slave_nodes[i]), [&] { return "slave node " + std::to_string(id_of(m.slave_nodes[i])); });
+      require_finite(node_at(m.slave_nodes[i]),
+                     [&] { return "slave node " + std::to_string(id_of(m.slave_nodes[i])); });
     }
   }
 
   // The state: positions, node normals, the search. A failure here (no memory) leaves the caller's arrays as
   // they were and the tracker reset (its next step fresh).
-  for (std::size_t i = 0; i < m.surface.mesh_nodes.size(); ++i) m.surface.positions[i] = node_at(m.surface.mesh_nodes[i]);
+  for (std::size_t i = 0; i < m.surface.mesh_nodes.size(); ++i)
+    m.surface.positions[i] = node_at(m.surface.mesh_nodes[i]);
   for (std::size_t i = 0; i < n; ++i) {
     m.slave_positions[i] = m.free ? Vec3(free_points[3 * i], free_points[3 * i + 1], free_points[3 * i + 2])
                                   : node_at(m.slave_nodes[i]);
@@ -394,7 +420,8 @@ void ContactSearch::update(std::span<const double> coordinates, std::span<const 
     out.status[i] = static_cast<int>(found ? Status::kOk : Status::kNoSegment);
     out.face[i] = found ? m.caller_face[static_cast<std::size_t>(p.segment)] : -1;
     if (!out.location.empty()) out.location[i] = found ? static_cast<int>(p.location) : -1;
-    for (std::size_t k = 0; k < 2 && !out.param.empty(); ++k) out.param[2 * i + k] = found ? p.face_param[k] : 0.0;
+    for (std::size_t k = 0; k < 2 && !out.param.empty(); ++k)
+      out.param[2 * i + k] = found ? p.face_param[k] : 0.0;
     for (std::size_t k = 0; k < 3; ++k) {
       const auto e = static_cast<Eigen::Index>(k);
       if (!out.point.empty()) out.point[3 * i + k] = found ? p.point[e] : 0.0;

@@ -18,11 +18,12 @@
 // SurfaceTracker (tracking.hpp): the first update is a fresh search, later ones reuse the previous lists and
 // points and give a fresh search's answers. Built once at creation: the mesh::SurfaceMesh (quad4 and quad8
 // faces as its segments, tri3 and tri6 as its extra faces, each in the caller's order), the face index maps;
-// an update only copies the positions in (and, Gregory, computes the node normals of Eq 26, mesh::node_normals,
-// over the quad4 and quad8 faces, as a deck's C3D8 and C3D20 segments).
+// an update only copies the positions in (and, Gregory, computes the node normals of Eq 26,
+// mesh::node_normals, over the quad4 and quad8 faces, as a deck's C3D8 and C3D20 segments).
 //
 // Differences from a deck's search, by design:
-//  - Face i is the caller's face i; SPEC 9's tie rule (the lower element id, then the lower face number) reads
+//  - Face i is the caller's face i; SPEC 9's tie rule (the lower element id, then the lower face number)
+//  reads
 //    the lower face index: a deck's faces given in increasing (element id, face number) answer as the deck.
 //  - Every quad4 face is a segment: with Gregory quad4 it becomes a Gregory patch. A deck's C3D6
 //    quadrilaterals stay bilinear facets under --surface gregory (surface_search.hpp); the handle has no such
@@ -73,28 +74,29 @@ struct ContactSearchOptions {
   double capture_distance = 0.0;
   SurfaceKind quad4 = SurfaceKind::kBilinear;  ///< a quad4 face's surface: bilinear facet or Gregory patch
   int threads = 0;  ///< OpenMP threads of an update, at most 1024; <= 0 OpenMP's default (capped at 1024)
-  bool tracking = true;                        ///< false: every update a fresh search (the same answers)
+  bool tracking = true;  ///< false: every update a fresh search (the same answers)
 };
 
 /// The caller's output arrays for m slave points (sizes m, 2m, 3m); an empty optional span is not written.
 struct ContactResults {
-  std::span<int> status;      ///< required
-  std::span<int> face;        ///< required
+  std::span<int> status;  ///< required
+  std::span<int> face;    ///< required
   std::span<int> location;
-  std::span<double> param;    ///< 2m
-  std::span<double> point;    ///< 3m
+  std::span<double> param;  ///< 2m
+  std::span<double> point;  ///< 3m
   std::span<double> gap;
-  std::span<double> normal;   ///< 3m
+  std::span<double> normal;  ///< 3m
 };
 
 class ContactSearch {
  public:
   /// `face_types[i]` and its nodes, concatenated in `connectivity` (4, 8, 3 or 6 ids per face by its type).
-  /// InvalidArgument for a face naming a node that does not exist, a face with a node twice, a connectivity of
-  /// the wrong length, repeated node ids, a slave node that does not exist, no faces, or both or neither kind of
-  /// slave point.
+  /// InvalidArgument for a face naming a node that does not exist, a face with a node twice, a connectivity
+  /// of the wrong length, repeated node ids, a slave node that does not exist, no faces, or both or neither
+  /// kind of slave point.
   ContactSearch(std::span<const mesh::FaceType> face_types, std::span<const long> connectivity,
-                const NodeNumbering& nodes, const SlavePoints& slaves, const ContactSearchOptions& options = {});
+                const NodeNumbering& nodes, const SlavePoints& slaves,
+                const ContactSearchOptions& options = {});
   ~ContactSearch();
   ContactSearch(const ContactSearch&) = delete;
   ContactSearch& operator=(const ContactSearch&) = delete;
@@ -103,7 +105,8 @@ class ContactSearch {
   /// 3 x SlavePoints::free_points values for free points (empty for slave nodes). Writes `out` (see the
   /// header). InvalidArgument for arrays of the wrong size, NumericalError for a non-finite coordinate of a
   /// node the search uses or of a free point: then nothing is written and the tracking state is unchanged.
-  void update(std::span<const double> coordinates, std::span<const double> free_points, const ContactResults& out);
+  void update(std::span<const double> coordinates, std::span<const double> free_points,
+              const ContactResults& out);
 
   [[nodiscard]] long face_count() const;
   [[nodiscard]] long slave_count() const;

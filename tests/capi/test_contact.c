@@ -1,8 +1,8 @@
-/* test_capi_contact: the contact search handle (contactnn_contact_*) from C99 on a flat surface of quad4 and tri3
- * faces whose answers are known in closed form (a point above or below a face, beyond a boundary edge, beyond a
- * corner, out of reach), with 1-based node ids, arbitrary ids and free points; Gregory quad4; the same bits at 1
- * and 2 threads; and every refusal: its return code, a message, and the caller's arrays untouched. Exit status 0
- * when every check holds. */
+/* test_capi_contact: the contact search handle (contactnn_contact_*) from C99 on a flat surface of quad4 and
+ * tri3 faces whose answers are known in closed form (a point above or below a face, beyond a boundary edge,
+ * beyond a corner, out of reach), with 1-based node ids, arbitrary ids and free points; Gregory quad4; the
+ * same bits at 1 and 2 threads; and every refusal: its return code, a message, and the caller's arrays
+ * untouched. Exit status 0 when every check holds. */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -22,8 +22,8 @@ static void expect(int condition, const char* what) {
 #define N_SLAVES 5
 #define N_FACES 3
 
-/* Nodes 1..6 of the surface z = 0: a (0,0) b (1,0) c (1,1) d (0,1) e (2,0) f (2,1); the quad4 a b c d and the tri3
- * b e f and b f c. Node 7 is the moving slave node. */
+/* Nodes 1..6 of the surface z = 0: a (0,0) b (1,0) c (1,1) d (0,1) e (2,0) f (2,1); the quad4 a b c d and the
+ * tri3 b e f and b f c. Node 7 is the moving slave node. */
 static const int kTypes[N_FACES] = {CONTACTNN_FACE_QUAD4, CONTACTNN_FACE_TRI3, CONTACTNN_FACE_TRI3};
 static const int kConnectivity[10] = {1, 2, 3, 4, 2, 5, 6, 2, 6, 3};
 
@@ -31,8 +31,8 @@ static const int kConnectivity[10] = {1, 2, 3, 4, 2, 5, 6, 2, 6, 3};
 static const double kSlaves[N_SLAVES][3] = {
     {0.25, 0.5, 0.2}, {1.8, 0.3, -0.1}, {2.3, 0.5, 0.4}, {-0.3, -0.4, 0.0}, {10.0, 10.0, 10.0}};
 static const int kFace[N_SLAVES] = {0, 1, 1, 0, -1};
-static const int kLocation[N_SLAVES] = {CONTACTNN_LOCATION_FACE, CONTACTNN_LOCATION_FACE, CONTACTNN_LOCATION_EDGE,
-                                        CONTACTNN_LOCATION_VERTEX, -1};
+static const int kLocation[N_SLAVES] = {CONTACTNN_LOCATION_FACE, CONTACTNN_LOCATION_FACE,
+                                        CONTACTNN_LOCATION_EDGE, CONTACTNN_LOCATION_VERTEX, -1};
 static const double kGap[N_SLAVES] = {0.2, -0.1, 0.5, 0.5, 0.0};
 static const double kPoint[N_SLAVES][3] = {{0.25, 0.5, 0}, {1.8, 0.3, 0}, {2, 0.5, 0}, {0, 0, 0}, {0, 0, 0}};
 static const double kNormal[N_SLAVES][3] = {{0, 0, 1}, {0, 0, 1}, {0.6, 0, 0.8}, {-0.6, -0.8, 0}, {0, 0, 0}};
@@ -58,8 +58,8 @@ static int untouched(const answers* a) {
 }
 
 static int update(contactnn_contact* c, const double* coords, const double* free_points, answers* a) {
-  return contactnn_contact_update(c, N_NODES, coords, N_SLAVES, free_points, a->status, a->face, a->location, a->param,
-                                  a->point, a->gap, a->normal);
+  return contactnn_contact_update(c, N_NODES, coords, N_SLAVES, free_points, a->status, a->face, a->location,
+                                  a->param, a->point, a->gap, a->normal);
 }
 
 static void check_answers(const answers* a, const char* what) {
@@ -69,10 +69,11 @@ static void check_answers(const answers* a, const char* what) {
     int ok = a->status[i] == (kFace[i] < 0 ? CONTACTNN_STATUS_NO_SEGMENT : CONTACTNN_STATUS_OK) &&
              a->face[i] == kFace[i] && a->location[i] == kLocation[i] && fabs(a->gap[i] - kGap[i]) < 1e-12;
     for (k = 0; k < 3; ++k) {
-      ok = ok && fabs(a->point[3 * i + k] - kPoint[i][k]) < 1e-12 && fabs(a->normal[3 * i + k] - kNormal[i][k]) < 1e-12;
+      ok = ok && fabs(a->point[3 * i + k] - kPoint[i][k]) < 1e-12 &&
+           fabs(a->normal[3 * i + k] - kNormal[i][k]) < 1e-12;
     }
-    snprintf(line, sizeof line, "%s: slave %d (status %d face %d location %d gap %g)", what, i, a->status[i], a->face[i],
-             a->location[i], a->gap[i]);
+    snprintf(line, sizeof line, "%s: slave %d (status %d face %d location %d gap %g)", what, i, a->status[i],
+             a->face[i], a->location[i], a->gap[i]);
     expect(ok, line);
   }
 }
@@ -97,7 +98,8 @@ int main(void) {
 
   /* Free points, 1-based ids. */
   options.capture_distance = 2.0;
-  rc = contactnn_contact_create(&c, N_FACES, kTypes, kConnectivity, N_NODES, NULL, 1, N_SLAVES, NULL, &options);
+  rc = contactnn_contact_create(&c, N_FACES, kTypes, kConnectivity, N_NODES, NULL, 1, N_SLAVES, NULL,
+                                &options);
   expect(rc == CONTACTNN_SUCCESS && c != NULL, "create with free points");
   expect(contactnn_contact_slave_count(c) == N_SLAVES, "slave count");
   fill(&a);
@@ -110,24 +112,28 @@ int main(void) {
   for (i = 0; i < N_SLAVES; ++i) free_points[3 * i + 2] += 1.0;
   fill(&b);
   expect(update(c, coords, free_points, &b) == CONTACTNN_SUCCESS, "second update");
-  for (i = 0; i < N_SLAVES; ++i) expect(b.face[i] == a.face[i] && fabs(b.gap[i] - a.gap[i]) < 1e-12, "lifted");
+  for (i = 0; i < N_SLAVES; ++i)
+    expect(b.face[i] == a.face[i] && fabs(b.gap[i] - a.gap[i]) < 1e-12, "lifted");
   for (i = 0; i < N_NODES; ++i) coords[3 * i + 2] -= 1.0;
   for (i = 0; i < N_SLAVES; ++i) free_points[3 * i + 2] -= 1.0;
 
   /* Refusals of an update: the code, a message, nothing written, the handle still usable. */
   fill(&a);
-  rc = contactnn_contact_update(c, N_NODES - 1, coords, N_SLAVES, free_points, a.status, a.face, a.location, a.param,
-                                a.point, a.gap, a.normal);
+  rc = contactnn_contact_update(c, N_NODES - 1, coords, N_SLAVES, free_points, a.status, a.face, a.location,
+                                a.param, a.point, a.gap, a.normal);
   expect(rc == CONTACTNN_ERROR_INVALID_ARGUMENT && strstr(contactnn_last_error(), "n_nodes") && untouched(&a),
          "n_nodes mismatch refused");
-  rc = contactnn_contact_update(c, N_NODES, coords, N_SLAVES + 1, free_points, a.status, a.face, a.location, a.param,
-                                a.point, a.gap, a.normal);
-  expect(rc == CONTACTNN_ERROR_INVALID_ARGUMENT && strstr(contactnn_last_error(), "n_slaves") && untouched(&a),
-         "n_slaves mismatch refused");
+  rc = contactnn_contact_update(c, N_NODES, coords, N_SLAVES + 1, free_points, a.status, a.face, a.location,
+                                a.param, a.point, a.gap, a.normal);
+  expect(
+      rc == CONTACTNN_ERROR_INVALID_ARGUMENT && strstr(contactnn_last_error(), "n_slaves") && untouched(&a),
+      "n_slaves mismatch refused");
   rc = update(c, coords, NULL, &a);
-  expect(rc == CONTACTNN_ERROR_INVALID_ARGUMENT && strstr(contactnn_last_error(), "slave_points") && untouched(&a),
+  expect(rc == CONTACTNN_ERROR_INVALID_ARGUMENT && strstr(contactnn_last_error(), "slave_points") &&
+             untouched(&a),
          "free points missing refused");
-  rc = contactnn_contact_update(c, N_NODES, coords, N_SLAVES, free_points, NULL, a.face, NULL, NULL, NULL, NULL, NULL);
+  rc = contactnn_contact_update(c, N_NODES, coords, N_SLAVES, free_points, NULL, a.face, NULL, NULL, NULL,
+                                NULL, NULL);
   expect(rc == CONTACTNN_ERROR_INVALID_ARGUMENT && untouched(&a), "NULL status refused");
   coords[3 * 2 + 1] = NAN;
   rc = update(c, coords, free_points, &a);
@@ -149,7 +155,8 @@ int main(void) {
   expect(strstr(contactnn_last_error(), "nothing was freed") != NULL, "destroying twice frees nothing");
   expect(contactnn_contact_slave_count(c) == -1, "no slave count of a dead handle");
 
-  /* Slave nodes by arbitrary ids: the surface's nodes 101..106, the slave nodes 201..205 placed at the points. */
+  /* Slave nodes by arbitrary ids: the surface's nodes 101..106, the slave nodes 201..205 placed at the
+   * points. */
   {
     int ids[N_NODES - 1 + N_SLAVES], slaves[N_SLAVES], conn[10];
     for (i = 0; i < N_NODES - 1; ++i) ids[i] = 101 + i;
@@ -162,18 +169,19 @@ int main(void) {
     for (i = 0; i < 2; ++i) {
       contactnn_contact* t = NULL;
       options.threads = i + 1;
-      rc = contactnn_contact_create(&t, N_FACES, kTypes, conn, N_NODES - 1 + N_SLAVES, ids, 0, N_SLAVES, slaves,
-                                    &options);
+      rc = contactnn_contact_create(&t, N_FACES, kTypes, conn, N_NODES - 1 + N_SLAVES, ids, 0, N_SLAVES,
+                                    slaves, &options);
       expect(rc == CONTACTNN_SUCCESS, "create with arbitrary ids");
       fill(i == 0 ? &a : &b);
-      rc = contactnn_contact_update(t, N_NODES - 1 + N_SLAVES, coords_all, N_SLAVES, NULL, (i == 0 ? &a : &b)->status,
-                                    (i == 0 ? &a : &b)->face, (i == 0 ? &a : &b)->location, (i == 0 ? &a : &b)->param,
-                                    (i == 0 ? &a : &b)->point, (i == 0 ? &a : &b)->gap, (i == 0 ? &a : &b)->normal);
+      rc = contactnn_contact_update(
+          t, N_NODES - 1 + N_SLAVES, coords_all, N_SLAVES, NULL, (i == 0 ? &a : &b)->status,
+          (i == 0 ? &a : &b)->face, (i == 0 ? &a : &b)->location, (i == 0 ? &a : &b)->param,
+          (i == 0 ? &a : &b)->point, (i == 0 ? &a : &b)->gap, (i == 0 ? &a : &b)->normal);
       expect(rc == CONTACTNN_SUCCESS, "update of slave nodes");
       contactnn_contact_destroy(t);
     }
-    /* Slave node 205 - i is at kSlaves[i]: the answers in the order of slave_node_ids (205, 204, ...) are those of
-     * kSlaves (slaves[i] = 205 - i). */
+    /* Slave node 205 - i is at kSlaves[i]: the answers in the order of slave_node_ids (205, 204, ...) are
+     * those of kSlaves (slaves[i] = 205 - i). */
     check_answers(&a, "slave nodes, arbitrary ids, 1 thread");
     expect(memcmp(&a, &b, sizeof a) == 0, "the same bits at 1 and 2 threads");
   }
@@ -182,8 +190,8 @@ int main(void) {
    * OMP_NUM_THREADS=100000, which libgomp cannot start: the handle caps it at CONTACTNN_MAX_THREADS). */
   options.threads = 0;
   options.tracking = 0;
-  expect(contactnn_contact_create(&c, N_FACES, kTypes, kConnectivity, N_NODES, NULL, 1, N_SLAVES, NULL, &options) ==
-             CONTACTNN_SUCCESS,
+  expect(contactnn_contact_create(&c, N_FACES, kTypes, kConnectivity, N_NODES, NULL, 1, N_SLAVES, NULL,
+                                  &options) == CONTACTNN_SUCCESS,
          "create without tracking");
   fill(&a);
   expect(update(c, coords, free_points, &a) == CONTACTNN_SUCCESS, "update without tracking");
@@ -194,8 +202,8 @@ int main(void) {
   /* Gregory quad4: the flat plate's patch (node normals +z) gives the same point, (u, v) in [0, 1]^2. */
   options.threads = 0;
   options.quad4_surface = CONTACTNN_SURFACE_GREGORY;
-  expect(contactnn_contact_create(&c, N_FACES, kTypes, kConnectivity, N_NODES, NULL, 1, N_SLAVES, NULL, &options) ==
-             CONTACTNN_SUCCESS,
+  expect(contactnn_contact_create(&c, N_FACES, kTypes, kConnectivity, N_NODES, NULL, 1, N_SLAVES, NULL,
+                                  &options) == CONTACTNN_SUCCESS,
          "create Gregory");
   fill(&a);
   expect(update(c, coords, free_points, &a) == CONTACTNN_SUCCESS, "update Gregory");
@@ -212,13 +220,16 @@ int main(void) {
     memcpy(bad_conn, kConnectivity, sizeof bad_conn);
     bad_conn[5] = 99;
     c = (contactnn_contact*)&rc; /* overwritten with NULL by every failed create */
-    rc = contactnn_contact_create(&c, N_FACES, bad_types, kConnectivity, N_NODES, NULL, 1, N_SLAVES, NULL, NULL);
-    expect(rc == CONTACTNN_ERROR_INVALID_ARGUMENT && c == NULL && strstr(contactnn_last_error(), "face_types[1] = 7"),
+    rc = contactnn_contact_create(&c, N_FACES, bad_types, kConnectivity, N_NODES, NULL, 1, N_SLAVES, NULL,
+                                  NULL);
+    expect(rc == CONTACTNN_ERROR_INVALID_ARGUMENT && c == NULL &&
+               strstr(contactnn_last_error(), "face_types[1] = 7"),
            "an unknown face type refused");
     rc = contactnn_contact_create(&c, N_FACES, kTypes, bad_conn, N_NODES, NULL, 1, N_SLAVES, NULL, NULL);
     expect(rc == CONTACTNN_ERROR_INVALID_ARGUMENT && c == NULL && strstr(contactnn_last_error(), "node 99"),
            "a face naming a node that does not exist refused");
-    rc = contactnn_contact_create(&c, N_FACES, kTypes, kConnectivity, N_NODES - 1, NULL, 0, N_SLAVES, NULL, NULL);
+    rc = contactnn_contact_create(&c, N_FACES, kTypes, kConnectivity, N_NODES - 1, NULL, 0, N_SLAVES, NULL,
+                                  NULL);
     expect(rc == CONTACTNN_ERROR_INVALID_ARGUMENT && strstr(contactnn_last_error(), "names node 6"),
            "1-based connectivity read 0-based refused (node 6 of 0..5)");
     rc = contactnn_contact_create(&c, N_FACES, kTypes, kConnectivity, N_NODES, NULL, 1, 1, &slave_zero, NULL);
@@ -226,7 +237,8 @@ int main(void) {
            "a slave node that does not exist refused");
     rc = contactnn_contact_create(&c, 0, kTypes, kConnectivity, N_NODES, NULL, 1, N_SLAVES, NULL, NULL);
     expect(rc == CONTACTNN_ERROR_INVALID_ARGUMENT, "no faces refused");
-    rc = contactnn_contact_create(NULL, N_FACES, kTypes, kConnectivity, N_NODES, NULL, 1, N_SLAVES, NULL, NULL);
+    rc = contactnn_contact_create(NULL, N_FACES, kTypes, kConnectivity, N_NODES, NULL, 1, N_SLAVES, NULL,
+                                  NULL);
     expect(rc == CONTACTNN_ERROR_INVALID_ARGUMENT, "NULL contact refused");
     contactnn_contact_options_init(&bad);
     bad.quad4_surface = 3;
@@ -236,7 +248,8 @@ int main(void) {
     contactnn_contact_options_init(&bad);
     bad.threads = CONTACTNN_MAX_THREADS + 1;
     rc = contactnn_contact_create(&c, N_FACES, kTypes, kConnectivity, N_NODES, NULL, 1, N_SLAVES, NULL, &bad);
-    expect(rc == CONTACTNN_ERROR_INVALID_ARGUMENT && strstr(contactnn_last_error(), "threads"), "too many threads refused");
+    expect(rc == CONTACTNN_ERROR_INVALID_ARGUMENT && strstr(contactnn_last_error(), "threads"),
+           "too many threads refused");
   }
 
   if (failures == 0) printf("PASS: the contact search handle from C\n");

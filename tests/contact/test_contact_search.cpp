@@ -6,8 +6,8 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
-#include <cstdint>
 #include <cmath>
+#include <cstdint>
 #include <filesystem>
 #include <limits>
 #include <map>
@@ -34,20 +34,26 @@ struct Answers {
   std::vector<int> status, face, location;
   std::vector<double> param, point, gap, normal;
   explicit Answers(std::size_t m, double fill = 0.0)
-      : status(m, -7), face(m, -7), location(m, -7), param(2 * m, fill), point(3 * m, fill), gap(m, fill),
+      : status(m, -7),
+        face(m, -7),
+        location(m, -7),
+        param(2 * m, fill),
+        point(3 * m, fill),
+        gap(m, fill),
         normal(3 * m, fill) {}
   ContactResults results() { return {status, face, location, param, point, gap, normal}; }
   friend bool operator==(const Answers&, const Answers&) = default;
 };
 
-/// A deck's scene in the handle's terms: every node of the pair (master surface and slave nodes) in increasing
-/// deck id, the faces in increasing (element id, face number) (SPEC 9's tie order), their connectivity in deck ids.
+/// A deck's scene in the handle's terms: every node of the pair (master surface and slave nodes) in
+/// increasing deck id, the faces in increasing (element id, face number) (SPEC 9's tie order), their
+/// connectivity in deck ids.
 struct HandleInput {
-  std::vector<long> ids;                ///< deck id of each node of the coordinate array
-  std::vector<mesh::FaceType> types;    ///< the caller's faces
-  std::vector<long> connectivity;       ///< deck ids
-  std::vector<int> deck_face;           ///< the deck surface's face index of caller face i
-  std::vector<int> caller_face;         ///< the caller's index of deck face f
+  std::vector<long> ids;              ///< deck id of each node of the coordinate array
+  std::vector<mesh::FaceType> types;  ///< the caller's faces
+  std::vector<long> connectivity;     ///< deck ids
+  std::vector<int> deck_face;         ///< the deck surface's face index of caller face i
+  std::vector<int> caller_face;       ///< the caller's index of deck face f
 };
 
 HandleInput handle_input(const Scene& scene) {
@@ -59,7 +65,9 @@ HandleInput handle_input(const Scene& scene) {
   const int n = scene.master.face_count();
   in.deck_face.resize(static_cast<std::size_t>(n));
   std::iota(in.deck_face.begin(), in.deck_face.end(), 0);
-  const auto key = [&](int f) { return std::pair(scene.master.face_element_id(f), scene.master.face_of(f).face); };
+  const auto key = [&](int f) {
+    return std::pair(scene.master.face_element_id(f), scene.master.face_of(f).face);
+  };
   std::sort(in.deck_face.begin(), in.deck_face.end(), [&](int a, int b) { return key(a) < key(b); });
   in.caller_face.resize(static_cast<std::size_t>(n));
   for (int i = 0; i < n; ++i) {
@@ -76,16 +84,18 @@ HandleInput handle_input(const Scene& scene) {
 std::vector<double> coordinates(const HandleInput& in, const Scene& scene) {
   std::vector<double> x(3 * in.ids.size(), std::numeric_limits<double>::quiet_NaN());
   const auto put = [&](long id, const Vec3& p) {
-    const auto i = static_cast<std::size_t>(std::lower_bound(in.ids.begin(), in.ids.end(), id) - in.ids.begin());
+    const auto i =
+        static_cast<std::size_t>(std::lower_bound(in.ids.begin(), in.ids.end(), id) - in.ids.begin());
     for (std::size_t k = 0; k < 3; ++k) x[3 * i + k] = p[static_cast<Eigen::Index>(k)];
   };
-  for (std::size_t i = 0; i < scene.master.node_ids.size(); ++i) put(scene.master.node_ids[i], scene.master.positions[i]);
+  for (std::size_t i = 0; i < scene.master.node_ids.size(); ++i)
+    put(scene.master.node_ids[i], scene.master.positions[i]);
   for (std::size_t i = 0; i < scene.slave_ids.size(); ++i) put(scene.slave_ids[i], scene.slave_positions[i]);
   return x;
 }
 
-/// An increment of a made-up history: the slave side moves toward and along the master (a rigid translation of
-/// up to a fifth of the capture distance per increment), the master surface waves by a small smooth
+/// An increment of a made-up history: the slave side moves toward and along the master (a rigid translation
+/// of up to a fifth of the capture distance per increment), the master surface waves by a small smooth
 /// displacement. Deck ids decide nothing: every node of the same kind moves alike.
 void move(Scene& scene, int increment, double size) {
   const double t = 0.05 * size * increment;
@@ -101,8 +111,8 @@ double largest_face(const mesh::SurfaceMesh& m) {
   return capture_distance(m, o);
 }
 
-/// The handle's answers against surface_search's pairs: the same status, face, location; points, parameters and
-/// gaps to 1e-10 of the face size; a unit normal with gap = (S - P).n.
+/// The handle's answers against surface_search's pairs: the same status, face, location; points, parameters
+/// and gaps to 1e-10 of the face size; a unit normal with gap = (S - P).n.
 void expect_same(const Answers& a, const std::vector<NodeSegmentPair>& pairs, const HandleInput& in,
                  std::span<const Vec3> slaves, double size, const std::string& where) {
   ASSERT_EQ(a.status.size(), pairs.size());
@@ -119,7 +129,8 @@ void expect_same(const Answers& a, const std::vector<NodeSegmentPair>& pairs, co
     }
     ASSERT_EQ(a.face[i], in.caller_face[static_cast<std::size_t>(p.segment)]) << where << " slave " << i;
     EXPECT_EQ(a.location[i], static_cast<int>(p.location)) << where << " slave " << i;
-    for (std::size_t k = 0; k < 2; ++k) EXPECT_NEAR(a.param[2 * i + k], p.face_param[k], 1e-9) << where << " slave " << i;
+    for (std::size_t k = 0; k < 2; ++k)
+      EXPECT_NEAR(a.param[2 * i + k], p.face_param[k], 1e-9) << where << " slave " << i;
     Vec3 point, normal;
     for (std::size_t k = 0; k < 3; ++k) {
       point[static_cast<Eigen::Index>(k)] = a.point[3 * i + k];
@@ -142,13 +153,15 @@ struct DeckPair {
 void PrintTo(const DeckPair& p, std::ostream* os) { *os << p.deck << " pair " << p.pair; }
 
 std::filesystem::path deck_path(const DeckPair& p) {
-  return std::filesystem::path(p.dir == "scenes" ? CONTACTNN_EXAMPLE_SCENES_DIR : CONTACTNN_EXAMPLE_HISTORIES_DIR) /
+  return std::filesystem::path(p.dir == "scenes" ? CONTACTNN_EXAMPLE_SCENES_DIR
+                                                 : CONTACTNN_EXAMPLE_HISTORIES_DIR) /
          p.deck;
 }
 
 const std::vector<DeckPair> kDecks = {
-    {"scenes", "hertz.inp", 0},    {"scenes", "hertz.inp", 1},       {"scenes", "cylinders.inp", 0},
-    {"scenes", "flat.inp", 0},     {"scenes", "flat.inp", 1},        {"scenes", "forming.inp", 0},
+    {"scenes", "hertz.inp", 0},          {"scenes", "hertz.inp", 1},
+    {"scenes", "cylinders.inp", 0},      {"scenes", "flat.inp", 0},
+    {"scenes", "flat.inp", 1},           {"scenes", "forming.inp", 0},
     {"histories", "hertz-slide.inp", 0}, {"histories", "forming-stroke.inp", 0},
     {"histories", "tet-press.inp", 0},   {"histories", "tubes-press.inp", 0}};
 
@@ -159,20 +172,25 @@ class DeckHandle : public ::testing::TestWithParam<std::tuple<DeckPair, SurfaceK
     model_ = io::read_inp_deck(deck_path(deck));
     scene_ = make_scene(model_, deck.pair);
     kind_ = kind;
-    // The handle makes every quad4 a segment (a Gregory patch under Gregory); a deck's C3D6 quadrilaterals stay
-    // bilinear facets. Such decks are compared under bilinear only.
+    // The handle makes every quad4 a segment (a Gregory patch under Gregory); a deck's C3D6 quadrilaterals
+    // stay bilinear facets. Such decks are compared under bilinear only.
     bool extra_quads = false;
     for (const auto& e : scene_.master.extra_faces) extra_quads = extra_quads || e[3] >= 0;
-    if (kind == SurfaceKind::kGregory && extra_quads) GTEST_SKIP() << "C3D6 quadrilaterals in the master surface";
+    if (kind == SurfaceKind::kGregory && extra_quads)
+      GTEST_SKIP() << "C3D6 quadrilaterals in the master surface";
     in_ = handle_input(scene_);
     size_ = largest_face(scene_.master);
   }
-  [[nodiscard]] std::vector<NodeSegmentPair> reference(const Scene& scene, std::span<const Vec3> slaves) const {
+  [[nodiscard]] std::vector<NodeSegmentPair> reference(const Scene& scene,
+                                                       std::span<const Vec3> slaves) const {
     SearchOptions o;
     o.surface = kind_;
     std::vector<long> ids(slaves.size());
     std::iota(ids.begin(), ids.end(), 0L);
-    return surface_search(scene.master, scene.master_normals, scene.slave_ids.size() == slaves.size() ? std::span<const long>(scene.slave_ids) : std::span<const long>(ids), slaves, o);
+    return surface_search(scene.master, scene.master_normals,
+                          scene.slave_ids.size() == slaves.size() ? std::span<const long>(scene.slave_ids)
+                                                                  : std::span<const long>(ids),
+                          slaves, o);
   }
   mesh::ContactModel model_;
   Scene scene_;
@@ -220,11 +238,13 @@ TEST_P(DeckHandle, ZeroAndOneBasedIdsFreePointsThreadsAndTrackingGiveTheSameBits
     options.tracking = variant != 4;
     const long base = variant == 1 ? 1 : 0;
     if (variant == 2) {
-      handles.push_back(std::make_unique<ContactSearch>(in_.types, renumber(in_.connectivity, 0), NodeNumbering{n, 0, {}},
+      handles.push_back(std::make_unique<ContactSearch>(in_.types, renumber(in_.connectivity, 0),
+                                                        NodeNumbering{n, 0, {}},
                                                         SlavePoints{{}, static_cast<long>(m)}, options));
     } else {
-      handles.push_back(std::make_unique<ContactSearch>(in_.types, renumber(in_.connectivity, base), NodeNumbering{n, base, {}},
-                                                        SlavePoints{renumber(scene_.slave_ids, base), 0}, options));
+      handles.push_back(std::make_unique<ContactSearch>(
+          in_.types, renumber(in_.connectivity, base), NodeNumbering{n, base, {}},
+          SlavePoints{renumber(scene_.slave_ids, base), 0}, options));
     }
   }
   for (int increment = 0; increment < 4; ++increment) {
@@ -235,11 +255,12 @@ TEST_P(DeckHandle, ZeroAndOneBasedIdsFreePointsThreadsAndTrackingGiveTheSameBits
     std::vector<Answers> answers;
     for (std::size_t h = 0; h < handles.size(); ++h) {
       answers.emplace_back(m);
-      handles[h]->update(x, handles[h]->free_points() ? std::span<const double>(free) : std::span<const double>(),
-                         answers.back().results());
+      handles[h]->update(
+          x, handles[h]->free_points() ? std::span<const double>(free) : std::span<const double>(),
+          answers.back().results());
     }
-    // Ids, free points, threads: the same bits. Without tracking: a fresh search's answers, which tracking gives
-    // to rounding (its warm Newton runs end on the same points, not on the same bits).
+    // Ids, free points, threads: the same bits. Without tracking: a fresh search's answers, which tracking
+    // gives to rounding (its warm Newton runs end on the same points, not on the same bits).
     for (std::size_t h = 1; h + 1 < answers.size(); ++h) {
       EXPECT_TRUE(answers[h] == answers[0]) << "variant " << h << " at increment " << increment;
     }
@@ -258,8 +279,8 @@ TEST_P(DeckHandle, ZeroAndOneBasedIdsFreePointsThreadsAndTrackingGiveTheSameBits
 }
 
 TEST_P(DeckHandle, FreePointsBetweenTheSlaveNodesAnswerAsTheSurfaceSearch) {
-  // Integration points: midpoints of consecutive slave nodes (a surface-to-surface code's points lie on the slave
-  // faces, not at the nodes).
+  // Integration points: midpoints of consecutive slave nodes (a surface-to-surface code's points lie on the
+  // slave faces, not at the nodes).
   std::vector<Vec3> points;
   for (std::size_t i = 0; i + 1 < scene_.slave_positions.size(); ++i) {
     points.push_back(0.5 * (scene_.slave_positions[i] + scene_.slave_positions[i + 1]));
@@ -283,8 +304,8 @@ TEST_P(DeckHandle, FreePointsBetweenTheSlaveNodesAnswerAsTheSurfaceSearch) {
 }
 
 TEST_P(DeckHandle, ThousandsOfFreePointsGiveTheSameBitsAtOneAndTwoThreads) {
-  // Enough points that the tracker's and the search's parallel loops run on both threads (the decks' own slave
-  // nodes are fewer than the tracker's serial threshold): points scattered about the master's nodes.
+  // Enough points that the tracker's and the search's parallel loops run on both threads (the decks' own
+  // slave nodes are fewer than the tracker's serial threshold): points scattered about the master's nodes.
   std::vector<double> free;
   std::uint64_t state = 12345;
   const auto uniform = [&] {  // a fixed LCG: the same points on every platform
@@ -304,9 +325,9 @@ TEST_P(DeckHandle, ThousandsOfFreePointsGiveTheSameBitsAtOneAndTwoThreads) {
     ContactSearchOptions options;
     options.quad4 = kind_;
     options.threads = threads;
-    handles.push_back(std::make_unique<ContactSearch>(in_.types, in_.connectivity,
-                                                      NodeNumbering{static_cast<long>(in_.ids.size()), 0, in_.ids},
-                                                      SlavePoints{{}, static_cast<long>(m)}, options));
+    handles.push_back(std::make_unique<ContactSearch>(
+        in_.types, in_.connectivity, NodeNumbering{static_cast<long>(in_.ids.size()), 0, in_.ids},
+        SlavePoints{{}, static_cast<long>(m)}, options));
   }
   Scene scene = scene_;
   for (int increment = 0; increment < 2; ++increment) {
@@ -337,8 +358,9 @@ INSTANTIATE_TEST_SUITE_P(Decks, DeckHandle,
                          deck_test_name);
 
 // A flat surface at z = 0 made of every face type, in a mixed order: a quad4 on [0,1]x[0,1], two tri3 on
-// [1,2]x[0,1], a quad8 on [2,4]x[0,1] and three tri6 on [0,2]x[1,2] (mid-side nodes at the edges' middles: flat).
-// The plane's known answers: P = S's foot, gap = S's height, normal +z, parameters from the face's own map.
+// [1,2]x[0,1], a quad8 on [2,4]x[0,1] and three tri6 on [0,2]x[1,2] (mid-side nodes at the edges' middles:
+// flat). The plane's known answers: P = S's foot, gap = S's height, normal +z, parameters from the face's own
+// map.
 struct FlatMixed {
   std::vector<double> x;  ///< node i at x[3i..]
   std::vector<mesh::FaceType> types;
@@ -354,11 +376,12 @@ struct FlatMixed {
     const long e = add(2, 0), f = add(2, 1);
     types.insert(types.end(), {mesh::FaceType::kTri3, mesh::FaceType::kTri3});
     connectivity.insert(connectivity.end(), {b, e, f, b, f, c});
-    const long g = add(4, 0), h = add(4, 1), m1 = add(3, 0), m2 = add(4, 0.5), m3 = add(3, 1), m4 = add(2, 0.5);
+    const long g = add(4, 0), h = add(4, 1), m1 = add(3, 0), m2 = add(4, 0.5), m3 = add(3, 1),
+               m4 = add(2, 0.5);
     types.push_back(mesh::FaceType::kQuad8);
     connectivity.insert(connectivity.end(), {e, g, h, f, m1, m2, m3, m4});
-    const long i = add(0, 2), j = add(2, 2), k2 = add(0.5, 1.5), k4 = add(0, 1.5), k5 = add(0.5, 1), k6 = add(1.5, 1),
-               k7 = add(2, 1.5), k8 = add(1.5, 1.5), k9 = add(1, 2);
+    const long i = add(0, 2), j = add(2, 2), k2 = add(0.5, 1.5), k4 = add(0, 1.5), k5 = add(0.5, 1),
+               k6 = add(1.5, 1), k7 = add(2, 1.5), k8 = add(1.5, 1.5), k9 = add(1, 2);
     // tri6 (d, c, i): corners, then the middles of d-c, c-i, i-d.
     types.push_back(mesh::FaceType::kTri6);
     connectivity.insert(connectivity.end(), {d, c, i, k5, k2, k4});
@@ -374,8 +397,8 @@ TEST(ContactSearchFlat, EveryFaceTypeMixedGivesThePlanesAnswers) {
   const FlatMixed flat;
   const auto n = static_cast<long>(flat.x.size() / 3);
   // Points strictly inside each face's shadow, above and below.
-  const std::vector<Vec3> points = {{0.3, 0.6, 0.25},  {1.7, 0.2, -0.05}, {1.2, 0.7, 0.1},  {3.3, 0.4, 0.2},
-                                    {0.4, 1.3, -0.1},  {1.8, 1.4, 0.3},   {1.0, 1.8, 0.05}, {2.9, 0.9, -0.02}};
+  const std::vector<Vec3> points = {{0.3, 0.6, 0.25}, {1.7, 0.2, -0.05}, {1.2, 0.7, 0.1},  {3.3, 0.4, 0.2},
+                                    {0.4, 1.3, -0.1}, {1.8, 1.4, 0.3},   {1.0, 1.8, 0.05}, {2.9, 0.9, -0.02}};
   // Which face holds each, and its expected parameters in the face's own order.
   const std::vector<int> faces = {0, 1, 2, 3, 4, 5, 6, 3};
   std::vector<double> free;
@@ -398,8 +421,9 @@ TEST(ContactSearchFlat, EveryFaceTypeMixedGivesThePlanesAnswers) {
       EXPECT_NEAR(a.point[3 * i + 2], 0.0, 1e-12) << i;
       EXPECT_NEAR(a.normal[3 * i + 2], 1.0, 1e-12) << i;
     }
-    // The quad4 [0,1]^2 as a bilinear facet: (xi, eta) = (2x - 1, 2y - 1); the quad8 on [2,4]x[0,1]: (x - 3, 2y - 1);
-    // the tri3 (b, e, f) = ((1,0), (2,0), (2,1)): r = x - 1 - (y - 0) ... P = b + r (e - b) + s (f - b).
+    // The quad4 [0,1]^2 as a bilinear facet: (xi, eta) = (2x - 1, 2y - 1); the quad8 on [2,4]x[0,1]: (x - 3,
+    // 2y - 1); the tri3 (b, e, f) = ((1,0), (2,0), (2,1)): r = x - 1 - (y - 0) ... P = b + r (e - b) + s (f -
+    // b).
     EXPECT_NEAR(a.param[0], -0.4, 1e-12);
     EXPECT_NEAR(a.param[1], 0.2, 1e-12);
     EXPECT_NEAR(a.param[6], 0.3, 1e-12);
@@ -426,7 +450,8 @@ TEST(ContactSearchFlat, BadInputIsRefusedAndNothingIsWritten) {
     }
   };
   refused_at_creation("which does not exist", flat.types, flat.connectivity, {n - 1, 0, {}}, {corners, 0});
-  refused_at_creation("names node 0, which does not exist", flat.types, flat.connectivity, {n, 1, {}}, {corners, 0});
+  refused_at_creation("names node 0, which does not exist", flat.types, flat.connectivity, {n, 1, {}},
+                      {corners, 0});
   std::vector<long> short_conn(flat.connectivity.begin(), flat.connectivity.end() - 1);
   refused_at_creation("connectivity of", flat.types, short_conn, {n, 0, {}}, {corners, 0});
   std::vector<mesh::FaceType> bad_type = flat.types;
@@ -435,20 +460,23 @@ TEST(ContactSearchFlat, BadInputIsRefusedAndNothingIsWritten) {
   std::vector<long> repeated = flat.connectivity;
   repeated[1] = repeated[0];
   refused_at_creation("face 0 names node 0 twice", flat.types, repeated, {n, 0, {}}, {corners, 0});
-  refused_at_creation("slave node 0 names node", flat.types, flat.connectivity, {n, 0, {}}, {std::vector<long>{n}, 0});
+  refused_at_creation("slave node 0 names node", flat.types, flat.connectivity, {n, 0, {}},
+                      {std::vector<long>{n}, 0});
   refused_at_creation("free points", flat.types, flat.connectivity, {n, 0, {}}, {corners, 3});
   refused_at_creation("free points", flat.types, flat.connectivity, {n, 0, {}}, {{}, 0});
   refused_at_creation("no master faces", {}, {}, {n, 0, {}}, {corners, 0});
   {
     ContactSearchOptions too_many;
     too_many.threads = 1025;
-    EXPECT_THROW(ContactSearch(flat.types, flat.connectivity, {n, 0, {}}, {corners, 0}, too_many), InvalidArgument);
+    EXPECT_THROW(ContactSearch(flat.types, flat.connectivity, {n, 0, {}}, {corners, 0}, too_many),
+                 InvalidArgument);
   }
   std::vector<long> ids(static_cast<std::size_t>(n));
   std::iota(ids.begin(), ids.end(), 100L);
   const std::vector<long> shifted_corners = {100, 101};
   ids[3] = ids[2];
-  refused_at_creation("node id 102 given twice", flat.types, flat.connectivity, {n, 0, ids}, {shifted_corners, 0});
+  refused_at_creation("node id 102 given twice", flat.types, flat.connectivity, {n, 0, ids},
+                      {shifted_corners, 0});
   std::iota(ids.begin(), ids.end(), 100L);
   refused_at_creation("is not among", flat.types, flat.connectivity, {n, 0, ids}, {shifted_corners, 0});
 
@@ -457,7 +485,8 @@ TEST(ContactSearchFlat, BadInputIsRefusedAndNothingIsWritten) {
   std::vector<double> x = flat.x;
   x.insert(x.end(), {0.5, 0.5, 0.1});  // the second slave node above face 0
   const Answers sentinel(2, -12345.0);
-  const auto refused = [&](ContactSearch& h, std::span<const double> coords, std::span<const double> free, auto exception) {
+  const auto refused = [&](ContactSearch& h, std::span<const double> coords, std::span<const double> free,
+                           auto exception) {
     Answers a(static_cast<std::size_t>(h.slave_count()), -12345.0);
     EXPECT_THROW(h.update(coords, free, a.results()), decltype(exception));
     EXPECT_TRUE(a == Answers(static_cast<std::size_t>(h.slave_count()), -12345.0));
@@ -465,7 +494,8 @@ TEST(ContactSearchFlat, BadInputIsRefusedAndNothingIsWritten) {
   refused(handle, std::span<const double>(x).first(x.size() - 3), {}, InvalidArgument(""));
   const std::vector<double> three = {0.0, 0.0, 0.0};
   refused(handle, x, three, InvalidArgument(""));
-  for (const double bad : {std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity()}) {
+  for (const double bad :
+       {std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity()}) {
     std::vector<double> y = x;
     y[3 * 2 + 1] = bad;  // a face's node
     refused(handle, y, {}, NumericalError(""));
