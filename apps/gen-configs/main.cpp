@@ -236,6 +236,7 @@ std::vector<std::size_t> increments_named(const io::FrdResults& results, const s
 struct SceneHistory {
   std::string results;    ///< --results RUN.frd, empty for the deck's own state
   std::string increment;  ///< --increment N|last|all
+  bool trust_nodes = false;  ///< --trust-results-nodes: the node block is not checked against the deck
 };
 
 /// Scene mode (SPEC 7, 9, 10): the pairs of one *CONTACT PAIR of a deck, labelled, as a RAW.csv with node ids;
@@ -249,6 +250,7 @@ int scene_mode(const std::string& deck, int pair, const contact::SearchOptions& 
   std::vector<std::size_t> increments = {0};
   if (!history.results.empty()) {
     results = io::read_frd(history.results);
+    if (!history.trust_nodes) io::check_node_block(model, *results);
     increments = increments_named(*results, history.increment);
   }
   const bool all = history.increment == "all";
@@ -440,6 +442,10 @@ int main(int argc, char** argv) {
                              ->check(CLI::ExistingFile)
                              ->needs(scene_option);
   app.add_option("--increment", history.increment, "with --results: N (from 1), last or all (default last)")
+      ->needs(results_option);
+  app.add_flag("--trust-results-nodes", history.trust_nodes,
+               "with --results: take the .frd's node coordinates even where they are not the deck's (another mesh "
+               "with the same node ids is refused otherwise)")
       ->needs(results_option);
   app.add_option("--output", output, "dataset .h5 (enumeration), labels .csv (label mode) or pairs .csv (scene mode)")
       ->required();

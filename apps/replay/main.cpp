@@ -59,6 +59,10 @@ int main(int argc, char** argv) {
       ->check(cli::real_in(0.0, 100.0));
   app.add_option("--repeats", options.repeats, "timings: the fastest of this many runs")->transform(cli::integer_in(1, 100));
   app.add_option("--threads", options.threads, "OpenMP threads of every phase")->transform(cli::integer_in(1, cli::kMaxThreads));
+  bool trust_nodes = false;
+  app.add_flag("--trust-results-nodes", trust_nodes,
+               "take the .frd's node coordinates even where they are not the deck's (another mesh with the same "
+               "node ids is refused otherwise)");
   app.add_flag("--quiet", quiet, "no progress line");
 
   return cli::run(app, argc, argv, [&]() -> int {
@@ -94,6 +98,7 @@ int main(int argc, char** argv) {
     // 3. The deck and the results file (their node ids must match: exit 3 otherwise).
     mesh::ContactModel model = io::read_inp_deck(deck);
     const io::FrdResults results = io::read_frd(results_path);
+    if (!trust_nodes) io::check_node_block(model, results);
     // 4. Replay every increment; 5. the report.
     cli::Progress progress("replay: increments", quiet);
     const auto start = std::chrono::steady_clock::now();

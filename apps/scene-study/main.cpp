@@ -44,6 +44,7 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <optional>
 #include <sstream>
 
 #include "cli_support.hpp"
@@ -315,6 +316,10 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"paper", "affine"}));
   app.add_option("--input-quantile", o.input_quantile, "inputs' q and 1-q quantiles map to -1 and 1")
       ->check(cli::real_in(0.0, 0.49));
+  bool trust_nodes = false;
+  app.add_flag("--trust-results-nodes", trust_nodes,
+               "with --results: take the .frd's node coordinates even where they are not the deck's (another mesh "
+               "with the same node ids is refused otherwise)");
   app.add_flag("--check", check_only, "check the options, the deck's path and --output, then stop");
   app.add_flag("--quiet", quiet, "no progress lines");
 
@@ -369,7 +374,6 @@ int main(int argc, char** argv) {
                            "scene-study.config.toml"}}},
                         inputs);
     if (check_only) return 0;
-    io::make_output_directory("--output", dir);
     const std::string config =
         cli::effective_config(app, "scene-study", {"output", "threads", "quiet", "check"});
     const auto say = [&](const std::string& line) {
@@ -378,7 +382,13 @@ int main(int argc, char** argv) {
     if (!quiet) std::printf("scene-study: %s pair %d, %s\n", scene_path.c_str(), pair, surface_name.c_str());
 
     // 3. The deck, read once: the pair's master faces, node normals and slave nodes.
+    //    With --results, the results file too, checked against the deck before anything is written.
     mesh::ContactModel model = io::read_inp_deck(scene_path);
+    std::optional<io::FrdResults> results;
+    if (!results_path.empty()) {
+      results = io::read_frd(results_path);
+      if (!trust_nodes) io::check_node_block(model, *results);
+    }
     const contact::Scene scene = contact::make_scene(model, pair);
     if (scene.slave_ids.empty()) {
       std::fprintf(stderr, "scene-study: pair %d of %s has no slave nodes: nothing to study\n", pair,
@@ -396,6 +406,7 @@ int main(int argc, char** argv) {
           scene.slave_ids.size(), pair, scene_path.c_str());
       return 1;
     }
+    io::make_output_directory("--output", dir);
     io::write_text_atomically(dir / "pairs.csv", study::pairs_csv(scene, pairs, surface));
     say("pairs: face " + std::to_string(pairs.locations[0]) + ", edge " + std::to_string(pairs.locations[1]) +
         ", vertex " + std::to_string(pairs.locations[2]) + ", no_segment " +
@@ -404,10 +415,7 @@ int main(int argc, char** argv) {
     // 4b. With --results: the pair at every increment of the run (SPEC 10), the nodes moved as gen-configs
     //     --results moves them.
     std::vector<study::HistoryState> history;
-    if (!results_path.empty()) {
-      const io::FrdResults results = io::read_frd(results_path);
-      history = study::history_states(std::move(model), results, pair, say);
-    }
+    if (results) history = study::history_states(std::move(model), *results, pair, say);
 
     // 5. The scene's domain: a training sample and a held-out one, from the deck's state or from every state
     //    of its history.

@@ -7,6 +7,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <sstream>
 #include <string_view>
@@ -562,6 +563,25 @@ void move_to_increment(mesh::SolidMesh& mesh, const FrdResults& results, std::si
            (count > 1 ? " and " + std::to_string(count - 1) + " other node(s) of the deck's elements"
                       : std::string());
   };
+  if (missing_block > 0) {
+    const mesh::ElementType& type = mesh.element_type(element_of[static_cast<std::size_t>(first_missing_block)]);
+    if (!type.name.starts_with("C3D")) {
+      // CalculiX expands shell, beam, membrane and plane elements into solids with new nodes: the node block
+      // holds those, not the deck's.
+      long foreign = 0;
+      for (const long id : results.node_ids) foreign += mesh.find_node(id) < 0 ? 1 : 0;
+      throw FormatError("'" + results.file + "':" + std::to_string(results.node_block_line) +
+                        ": node block ('    2C'): " + describe(first_missing_block, missing_block) +
+                        " not in it, and " + std::to_string(foreign) +
+                        " node(s) the deck does not have: element " +
+                        std::to_string(mesh.element_id(element_of[static_cast<std::size_t>(first_missing_block)])) +
+                        " is of type " + type.name +
+                        ", a shell, beam, membrane or plane element, which CalculiX expands into solid elements "
+                        "with new nodes (those it writes) and the project does not model. Use a deck whose "
+                        "elements are solid (C3D*), or have CalculiX write the deck's own nodes (*NODE FILE, "
+                        "OUTPUT=2D, where its manual allows it)");
+    }
+  }
   CONTACTNN_REQUIRE_AS(FormatError, missing_block == 0,
                        "'" << results.file << "':" << results.node_block_line
                            << ": node block ('    2C'): " << describe(first_missing_block, missing_block)
@@ -579,6 +599,54 @@ void move_to_increment(mesh::SolidMesh& mesh, const FrdResults& results, std::si
     const auto d = in_disp.find(mesh.node_id(n));
     if (d != in_disp.end()) p += inc.displacement[d->second];
     mesh.set_position(n, p);
+  }
+}
+
+void check_node_block(const mesh::ContactModel& model, const FrdResults& results) {
+  const mesh::SolidMesh& mesh = model.mesh;
+  // The nodes to check: those of the deck's elements, less the slave surfaces' (ADJUST= may have moved them).
+  std::vector<char> checked(static_cast<std::size_t>(mesh.node_count()), 0);
+  for (int e = 0; e < mesh.element_count(); ++e) {
+    for (int n : mesh.element_nodes(e)) checked[static_cast<std::size_t>(n)] = 1;
+  }
+  for (const mesh::ContactPairDefinition& pair : model.pairs) {
+    if (pair.slave < 0 || pair.slave >= static_cast<int>(model.surfaces.size())) continue;
+    const mesh::SurfaceDefinition& slave = model.surfaces[static_cast<std::size_t>(pair.slave)];
+    for (const int n : slave.nodes) checked[static_cast<std::size_t>(n)] = 0;
+    for (const mesh::ElementFace& f : slave.faces) {
+      for (const int n : mesh.element_nodes(f.element)) checked[static_cast<std::size_t>(n)] = 0;
+    }
+  }
+  std::unordered_map<long, std::size_t> in_block;
+  in_block.reserve(results.node_ids.size());
+  for (std::size_t i = 0; i < results.node_ids.size(); ++i) in_block.emplace(results.node_ids[i], i);
+  geometry::Vec3 lo = geometry::Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+  for (int e = 0; e < mesh.element_count(); ++e) {
+    for (int n : mesh.element_nodes(e)) {
+      lo = lo.cwiseMin(mesh.deck_position(n));
+      hi = hi.cwiseMax(mesh.deck_position(n));
+    }
+  }
+  if (!(lo.array() <= hi.array()).all()) return;  // no element
+  const double size = (hi - lo).norm();
+  for (int n = 0; n < mesh.node_count(); ++n) {
+    const auto b = in_block.find(mesh.node_id(n));
+    if (checked[static_cast<std::size_t>(n)] == 0 || b == in_block.end()) continue;
+    const geometry::Vec3& deck = mesh.deck_position(n);
+    const geometry::Vec3& file = results.coordinates[b->second];
+    const double distance = (file - deck).norm();
+    const double rounding = 1e-5 * std::sqrt(3.0) * std::max(deck.cwiseAbs().maxCoeff(), file.cwiseAbs().maxCoeff());
+    const double tolerance = kNodeBlockTolerance * size + rounding;
+    if (distance <= tolerance) continue;
+    std::ostringstream message;
+    message.precision(6);
+    message << "'" << results.file << "':" << results.node_block_line << ": node block ('    2C'): node "
+            << mesh.node_id(n) << " is at (" << file.x() << ", " << file.y() << ", " << file.z() << "), the deck's at ("
+            << deck.x() << ", " << deck.y() << ", " << deck.z() << "): " << distance << " apart, more than "
+            << tolerance << " (" << kNodeBlockTolerance << " of the model's size " << size
+            << "): the results are of another mesh with the same node ids (scaled, rotated or moved?); give "
+               "--trust-results-nodes to take the file's coordinates";
+    throw FormatError(message.str());
   }
 }
 

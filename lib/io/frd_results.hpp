@@ -42,6 +42,7 @@
 #include <vector>
 
 #include "geometry/surface_point.hpp"
+#include "mesh/contact_model.hpp"
 #include "mesh/solid_mesh.hpp"
 
 namespace contactnn::io {
@@ -89,12 +90,29 @@ inline constexpr int kLastIncrement = -1;
 /// InvalidArgument (exit 2) naming the file and its number of increments when N is out of range.
 [[nodiscard]] std::size_t increment_index(const FrdResults& results, int number);
 
+/// How far (in units of the model's size) a node of the node block may lie from the deck's node of that id.
+inline constexpr double kNodeBlockTolerance = 1e-3;
+
+/// Checks that `results` is a run of `model`'s mesh and not of another mesh with the same node ids (scaled,
+/// rotated, moved), before the tools move any node (their --trust-results-nodes skips it): every node of the
+/// deck's elements that the node block lists must lie where the deck puts it (mesh.deck_position), within
+/// kNodeBlockTolerance of the model's size (the diagonal of the box around those nodes) plus the block's
+/// rounding (E12.5: 1e-5 of the coordinate). Nodes of the contact pairs' slave surfaces are not checked:
+/// *CONTACT PAIR, ADJUST= moves them before CalculiX writes the node block (punch1.inp of its test suite:
+/// 0.0043). FormatError (exit 3) naming the file, the node block's line, the first node that differs, both
+/// positions, the distance, the tolerance and --trust-results-nodes. Nodes the block lacks are left to
+/// move_to_increment.
+void check_node_block(const mesh::ContactModel& model, const FrdResults& results);
+
 /// Moves every node of `mesh` to its node-block coordinates plus the DISP of results.increments[increment].
 /// A node used by no element of `mesh` may be absent from the node block or from DISP (ccx leaves such nodes
 /// out): it keeps its position (its node-block coordinates, if listed). A node used by an element must be
 /// in both, else FormatError naming the results file and the line of the node block (the results do not
 /// belong to the deck) or of the DISP block (U written for a node set only: "*NODE FILE, NSET="), the node,
-/// an element using it and how many nodes are missing; `mesh` is then left unchanged.
+/// an element using it and how many nodes are missing; `mesh` is then left unchanged. When the element using
+/// the first missing node is not a solid (C3D*: a shell, beam, membrane or plane element), the message says
+/// what CalculiX did instead: it writes the expanded 3-D nodes of such elements under new ids (counted: the
+/// node block's nodes the deck does not have), which the project does not model.
 /// InvalidArgument if `increment` is out of range.
 void move_to_increment(mesh::SolidMesh& mesh, const FrdResults& results, std::size_t increment);
 

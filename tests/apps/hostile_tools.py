@@ -213,6 +213,78 @@ def _(ctx):
                 r"--increment: expected a number from 1, 'last' or 'all', got ''")
 
 
+def rewrite_node_block(frd, move=None, extra=()):
+    """Rewrites the node block of `frd`: each node's coordinates through `move`, and the nodes `extra` ((id, x, y,
+    z), ids the deck does not have) added, NUMNOD updated (the long format ccx writes: I10, 3E12.5)."""
+    with open(frd) as f:
+        lines = f.read().split("\n")
+    start = next(i for i, line in enumerate(lines) if line.startswith("    2C"))
+    end = next(i for i in range(start, len(lines)) if lines[i].startswith(" -3"))
+    records = []
+    for line in lines[start + 1:end]:
+        node, xyz = int(line[3:13]), [float(line[13 + 12 * k:25 + 12 * k]) for k in range(3)]
+        records.append((node, move(*xyz) if move else xyz))
+    records += [(n, [x, y, z]) for n, x, y, z in extra]
+    header = lines[start]
+    lines[start] = header[:24] + "%12d" % len(records) + header[36:]
+    lines[start + 1:end] = [" -1%10d%12.5E%12.5E%12.5E" % (n, *xyz) for n, xyz in records]
+    with open(frd, "w") as f:
+        f.write("\n".join(lines))
+
+
+def rotated(x, y, z):
+    c, s = 0.8660254037844387, 0.5
+    return [c * x - s * y, s * x + c * y, z]
+
+
+@case("results_of_another_mesh")
+def _(ctx):
+    # Another mesh with the deck's node ids (scaled, rotated, moved) was accepted silently, its coordinates
+    # replacing the deck's: exit 3 naming the node block's line and the first node that differs, in every tool
+    # that reads a .frd; --trust-results-nodes takes the file's coordinates.
+    deck, frd = ctx.history()
+    original = open(frd).read()
+    for name, move in (("scaled", lambda x, y, z: [1.5 * x, 1.5 * y, 1.5 * z]), ("rotated", rotated),
+                       ("moved", lambda x, y, z: [x + 0.05, y, z])):
+        with open(frd, "w") as f:
+            f.write(original)
+        rewrite_node_block(frd, move)
+        pattern = r"run\.frd':3: node block \('    2C'\): node \d+ is at .*, the deck's at .* apart, more than " \
+                  r".*--trust-results-nodes"
+        ctx.refused("gen-configs", ["--scene", deck, "--results", frd, "--output", "pairs.csv"], 3, pattern)
+        ctx.refused("replay", ["--scene", deck, "--results", frd, "--report", "report"] + REPLAY, 3, pattern)
+        ctx.refused("scene-study", ["--scene", deck, "--results", frd, "--surface", "bilinear", "--output", "study",
+                                    "--count", "100", "--epochs", "1", "--train-networks", "never", "--quiet"], 3,
+                    pattern)
+        r = ctx.run("gen-configs", ["--scene", deck, "--results", frd, "--output", name + ".csv",
+                                    "--trust-results-nodes"])
+        if r.returncode != 0:
+            raise Failure(f"{name}: --trust-results-nodes: exit {r.returncode}\n{r.stderr}")
+    # The rounding of the node block (E12.5) is no difference.
+    with open(frd, "w") as f:
+        f.write(original)
+    rewrite_node_block(frd, lambda x, y, z: [x * (1 + 4e-6), y * (1 - 4e-6), z * (1 + 4e-6)])
+    r = ctx.run("gen-configs", ["--scene", deck, "--results", frd, "--output", "rounded.csv"])
+    if r.returncode != 0:
+        raise Failure(f"a node block rounded differently is refused: exit {r.returncode}\n{r.stderr}")
+
+
+@case("results_of_a_deck_with_shell_elements")
+def _(ctx):
+    # CalculiX expands shell and beam elements into solids with new nodes and writes those: the message said "the
+    # results file does not belong to the deck"; it says what was found and what to do.
+    deck, frd = ctx.history()
+    with open(deck, "a") as f:
+        f.write("*NODE\n90001, 0, 0, 5\n90002, 1, 0, 5\n90003, 1, 1, 5\n90004, 0, 1, 5\n"
+                "*ELEMENT, TYPE=S4, ELSET=SHELL\n9001, 90001, 90002, 90003, 90004\n")
+    rewrite_node_block(frd, extra=[(100001 + k, k % 2, k // 4, 5.0 + 0.1 * (k % 3)) for k in range(8)])
+    ctx.refused("gen-configs", ["--scene", deck, "--results", frd, "--output", "pairs.csv"], 3,
+                r"run\.frd':3: node block \('    2C'\): node 90001 \(of element 9001\) and 3 other node\(s\) .*not "
+                r"in it, and 8 node\(s\) the deck does not have: element 9001 is of type S4, a shell, beam, membrane "
+                r"or plane element, which CalculiX expands into solid elements with new nodes .*Use a deck whose "
+                r"elements are solid")
+
+
 def main():
     p = argparse.ArgumentParser()
     for tool in ("gen-configs", "train-net", "evaluate-net", "replay", "scene-study"):
