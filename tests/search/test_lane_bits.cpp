@@ -253,9 +253,10 @@ void check_segments(SurfaceKind kind, const std::string& isa) {
 // --- FaceSearch: tri3, tri6, quad8
 // ---------------------------------------------------------------------------
 
-/// Random faces (placed at random positions, orientations and scales), one in five spoiled: a slave node far
-/// away (Newton from the centre does not converge on a curved face), a NaN, a face collapsed to a point, a
-/// slave node far beyond an edge.
+/// Random faces (placed at random positions, orientations and scales; one in five strongly curved, one in
+/// five with its slave node 3 face sizes off), one in five spoiled: a slave node 1e3 face sizes away (Newton
+/// from the centre wanders over the extrapolated surface), a NaN, a face collapsed to a point, a slave node
+/// far beyond an edge.
 std::vector<double> face_pool(FaceKind kind, std::size_t count, std::uint64_t seed) {
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
@@ -344,8 +345,8 @@ void check_faces(FaceKind kind, const std::string& isa) {
           (net == nullptr ? "" : (net == &*double_net ? " (double net)" : " (float net)")) +
           (whole_face ? " (whole face)" : "") + (variant == 2 ? " (max_iterations 4)" : "") + ", " +
           (sizeof(Real) == 4 ? "float" : "double") + ", " + isa;
-      // Float rows: the faces near the origin (float has no room for the placement's offsets) are not needed
-      // here: the same bits are asked of whatever float makes of them.
+      // Float rows: the faces as they are (float rounds their placement; the same bits are asked of whatever
+      // float makes of them).
       const bool unconverged = variant == 2 && kind != FaceKind::kTri3;
       EXPECT_EQ(lane_mismatches(s, as<Real>(pool), as<Real>(starts), what, unconverged), 0u) << what;
     }
