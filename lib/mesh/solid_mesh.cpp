@@ -10,7 +10,7 @@ int SolidMesh::add_node(long id, const Vec3& position) {
   CONTACTNN_REQUIRE(inserted, "node " << id << " is defined twice");
   node_ids_.push_back(id);
   positions_.push_back(position);
-  deck_positions_.push_back(position);
+  if (!deck_positions_.empty()) deck_positions_.push_back(position);
   return index;
 }
 
@@ -19,6 +19,7 @@ void SolidMesh::set_position(int node, const Vec3& position) {
                     "node index " << node << " outside [0, " << node_count() << ")");
   CONTACTNN_REQUIRE(position.allFinite(),
                     "node " << node_id(node) << ": position (" << position.transpose() << ") is not finite");
+  if (deck_positions_.empty()) deck_positions_ = positions_;
   positions_[static_cast<std::size_t>(node)] = position;
 }
 

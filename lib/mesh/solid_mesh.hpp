@@ -36,7 +36,7 @@ class SolidMesh {
   /// The position the node was added with (the deck's coordinates), whatever set_position did since: what
   /// decides which faces are collapsed (build_surface_mesh), so that a history keeps one set of faces.
   [[nodiscard]] const Vec3& deck_position(int node) const {
-    return deck_positions_[static_cast<std::size_t>(node)];
+    return (deck_positions_.empty() ? positions_ : deck_positions_)[static_cast<std::size_t>(node)];
   }
   /// Moves node `node` (an index) to `position` (e.g. a solver's deformed configuration). InvalidArgument if
   /// `node` is out of range or `position` is not finite.
@@ -49,7 +49,7 @@ class SolidMesh {
  private:
   std::vector<long> node_ids_;
   std::vector<Vec3> positions_;
-  std::vector<Vec3> deck_positions_;
+  std::vector<Vec3> deck_positions_;  ///< a copy of positions_ made by the first set_position; empty before
   std::unordered_map<long, int> node_index_;
   std::vector<long> element_ids_;
   std::vector<int> element_type_;          ///< index into types_

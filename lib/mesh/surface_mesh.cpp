@@ -6,6 +6,7 @@
 #include <set>
 #include <string>
 #include <string_view>
+#include <unordered_map>
 
 #include "core/error.hpp"
 
@@ -154,7 +155,8 @@ struct FaceDraft {
   std::array<int, 4> mids{-1, -1, -1, -1};     ///< of the edges corner 1-2, 2-3, ...; -1 for a linear face
   std::size_t count = 0;                       ///< corners: 3 or 4
   bool inside_out = false;
-  double tolerance = 0.0;  ///< the coincidence tolerance of its element (kCoincident)
+  bool collapsed = false;  ///< two of its corners coincide
+  double tolerance = 0.0;  ///< the coincidence tolerance of its element (coincidence_tolerance)
   [[nodiscard]] std::size_t node_count() const { return mids[0] >= 0 ? 2 * count : count; }
   [[nodiscard]] int node(std::size_t i) const { return i < count ? corners[i] : mids[i - count]; }
 };
@@ -162,16 +164,10 @@ struct FaceDraft {
 /// Sets of coincident nodes (union-find over SolidMesh indices); each set stands for its lowest deck id.
 class CoincidentNodes {
  public:
-  explicit CoincidentNodes(const SolidMesh& mesh)
-      : mesh_(mesh), parent_(static_cast<std::size_t>(mesh.node_count())) {
-    for (std::size_t i = 0; i < parent_.size(); ++i) parent_[i] = static_cast<int>(i);
-  }
+  explicit CoincidentNodes(const SolidMesh& mesh) : mesh_(mesh) {}
   int representative(int n) {
-    while (parent_[static_cast<std::size_t>(n)] != n) {
-      int& p = parent_[static_cast<std::size_t>(n)];
-      p = parent_[static_cast<std::size_t>(p)];
-      n = p;
-    }
+    if (parent_.empty()) return n;  // nothing joined (no collapsed face): no look-up
+    for (auto it = parent_.find(n); it != parent_.end(); it = parent_.find(n)) n = it->second;
     return n;
   }
   /// The root of each set is its lowest deck id, so representative() is that node.
@@ -180,12 +176,12 @@ class CoincidentNodes {
     b = representative(b);
     if (a == b) return;
     if (mesh_.node_id(b) < mesh_.node_id(a)) std::swap(a, b);
-    parent_[static_cast<std::size_t>(b)] = a;
+    parent_[b] = a;
   }
 
  private:
   const SolidMesh& mesh_;
-  std::vector<int> parent_;
+  std::unordered_map<int, int> parent_;  ///< the joined nodes only (a large mesh has few collapsed faces)
 };
 
 /// What a face collapsed by coincident nodes is (SurfaceMesh::skipped_faces's kinds).
@@ -209,20 +205,26 @@ std::string_view collapse_kind(Collapse c) {
   return "";
 }
 
-/// The coincidence tolerance of an element's faces (SurfaceMesh's header): kCoincidentRelative of the largest
-/// distance between its corner nodes, or kCoincidentUlps units in the last place of its largest coordinate,
-/// in the deck's coordinates.
+/// How far apart two points are for the coincidence test: their largest coordinate difference (no square: no
+/// overflow or underflow at any scale the searches take).
+double apart(const Vec3& a, const Vec3& b) { return (a - b).cwiseAbs().maxCoeff(); }
+
+/// The coincidence tolerance of an element's faces (build_surface_mesh's "Collapsed faces"):
+/// kCoincidentRelative of the largest coordinate difference between its corner nodes, or kCoincidentUlps
+/// units in the last place of its largest coordinate, in the deck's coordinates.
 double coincidence_tolerance(const SolidMesh& mesh, int element) {
   const std::span<const int> nodes = mesh.element_nodes(element);
-  const auto corners = static_cast<std::size_t>(corner_node_count(mesh.element_type(element).shape));
-  double size = 0.0, largest = 0.0;
-  for (std::size_t i = 0; i < corners && i < nodes.size(); ++i) {
-    const Vec3& x = mesh.deck_position(nodes[i]);
-    largest = std::max(largest, x.cwiseAbs().maxCoeff());
-    for (std::size_t j = i + 1; j < corners && j < nodes.size(); ++j) {
-      size = std::max(size, (x - mesh.deck_position(nodes[j])).norm());
-    }
+  const auto corners =
+      std::min(nodes.size(), static_cast<std::size_t>(corner_node_count(mesh.element_type(element).shape)));
+  // The largest coordinate difference between two corners is the bounding box's largest side.
+  Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+  for (std::size_t i = 0; i < corners; ++i) {
+    lo = lo.cwiseMin(mesh.deck_position(nodes[i]));
+    hi = hi.cwiseMax(mesh.deck_position(nodes[i]));
   }
+  if (corners == 0) return 0.0;
+  const double size = (hi - lo).maxCoeff();
+  const double largest = std::max(hi.cwiseAbs().maxCoeff(), lo.cwiseAbs().maxCoeff());
   return std::max(kCoincidentRelative * size,
                   kCoincidentUlps * std::numeric_limits<double>::epsilon() * largest);
 }
@@ -232,30 +234,6 @@ double coincidence_tolerance(const SolidMesh& mesh, int element) {
 /// `mids`.
 Collapse classify(const SolidMesh& mesh, CoincidentNodes& coincident, const FaceDraft& d,
                   std::array<int, 4>& corners, std::array<int, 4>& mids) {
-  // No area: every node (mid-side nodes too: a quadratic face lies in their affine hull) within the tolerance
-  // of a point or of the line through the two farthest.
-  const std::size_t n = d.node_count();
-  double farthest = -1.0;
-  std::size_t p = 0, q = 0;
-  for (std::size_t i = 0; i < n; ++i) {
-    for (std::size_t j = i + 1; j < n; ++j) {
-      const double distance = (mesh.deck_position(d.node(i)) - mesh.deck_position(d.node(j))).norm();
-      if (distance > farthest) {
-        farthest = distance;
-        p = i;
-        q = j;
-      }
-    }
-  }
-  if (!(farthest > d.tolerance)) return Collapse::kPoint;
-  const Vec3 a = mesh.deck_position(d.node(p));
-  const Vec3 direction = (mesh.deck_position(d.node(q)) - a) / farthest;
-  bool on_line = true;
-  for (std::size_t i = 0; i < n && on_line; ++i) {
-    on_line = !((mesh.deck_position(d.node(i)) - a).cross(direction).norm() > d.tolerance);
-  }
-  if (on_line) return Collapse::kLine;
-
   std::array<int, 4> c{-1, -1, -1, -1}, m{-1, -1, -1, -1};
   for (std::size_t k = 0; k < d.count; ++k) {
     c[k] = coincident.representative(d.corners[k]);
@@ -267,6 +245,32 @@ Collapse classify(const SolidMesh& mesh, CoincidentNodes& coincident, const Face
   std::sort(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(d.count));
   const auto distinct = static_cast<std::size_t>(
       std::unique(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(d.count)) - sorted.begin());
+  if (distinct == d.count && !d.collapsed) return Collapse::kNone;
+
+  // No area: every node (mid-side nodes too: a quadratic face lies in their affine hull) within the tolerance
+  // of a point or of the line through the two farthest.
+  const std::size_t n = d.node_count();
+  double farthest = -1.0;
+  std::size_t p = 0, q = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    for (std::size_t j = i + 1; j < n; ++j) {
+      const double distance = apart(mesh.deck_position(d.node(i)), mesh.deck_position(d.node(j)));
+      if (distance > farthest) {
+        farthest = distance;
+        p = i;
+        q = j;
+      }
+    }
+  }
+  if (!(farthest > d.tolerance)) return Collapse::kPoint;
+  const Vec3 a = mesh.deck_position(d.node(p));
+  Vec3 direction = (mesh.deck_position(d.node(q)) - a) / farthest;  // largest coordinate 1: its norm is safe
+  direction /= direction.norm();
+  bool on_line = true;
+  for (std::size_t i = 0; i < n && on_line; ++i) {
+    on_line = !((mesh.deck_position(d.node(i)) - a).cross(direction).cwiseAbs().maxCoeff() > d.tolerance);
+  }
+  if (on_line) return Collapse::kLine;
   if (distinct == d.count) return Collapse::kNone;
   if (d.count != 4 || distinct != 3) return Collapse::kNoTriangle;
   // One edge collapsed to a point (A = B, B = C, ...), not a diagonal (A = C: the face folds onto itself).
@@ -299,6 +303,7 @@ SurfaceMesh build_surface_mesh(const SolidMesh& mesh, std::span<const ElementFac
   // 1. The faces of known types, by their nodes; the nodes that coincide within a collapsed face (two corners
   // within the tolerance, deck coordinates) joined.
   std::vector<FaceDraft> drafts;
+  drafts.reserve(faces.size());
   CoincidentNodes coincident(mesh);
   std::vector<int> joined;  // nodes of the joined pairs
   for (const ElementFace& face : faces) {
@@ -330,13 +335,12 @@ SurfaceMesh build_surface_mesh(const SolidMesh& mesh, std::span<const ElementFac
     d.mids = node_indices(mesh, face.element, local_midsides(mesh, face.element, outward.local, d.count));
     d.tolerance = coincidence_tolerance(mesh, face.element);
     const auto close = [&](std::size_t i, std::size_t j) {
-      return !((mesh.deck_position(d.node(i)) - mesh.deck_position(d.node(j))).norm() > d.tolerance);
+      return !(apart(mesh.deck_position(d.node(i)), mesh.deck_position(d.node(j))) > d.tolerance);
     };
-    bool collapsed = false;
     for (std::size_t i = 0; i < d.count; ++i) {
-      for (std::size_t j = i + 1; j < d.count; ++j) collapsed = collapsed || close(i, j);
+      for (std::size_t j = i + 1; j < d.count; ++j) d.collapsed = d.collapsed || close(i, j);
     }
-    if (collapsed) {
+    if (d.collapsed) {
       for (std::size_t i = 0; i < d.node_count(); ++i) {
         for (std::size_t j = i + 1; j < d.node_count(); ++j) {
           if (!close(i, j) || d.node(i) == d.node(j)) continue;

@@ -143,24 +143,25 @@ struct SurfaceMesh {
 /// or face number out of range.
 ///
 /// Collapsed faces. Two nodes of a face coincide when they are one node (a repeated id: `1,2,3,3,5,6,7,7`) or
-/// lie within the coincidence tolerance of each other: 1e-9 of the largest distance between their element's
-/// corner nodes, or 16 units in the last place of the element's largest coordinate, whichever is larger. The
-/// element's size, not the face's: a face collapsed to a point has no size of its own; not the model's: a
-/// graded mesh has real edges far below its size. 1e-9 lies above the 1e-10 of the longest node distance
-/// below which the projections call a face degenerate (geometry::is_degenerate_segment), so no face is left
-/// that the search would refuse for a short edge, and moves no point by more than 1e-9 element sizes. Judged
-/// on the deck's coordinates (SolidMesh::deck_position), not on a history's: every increment has the same
-/// faces. Where two corners of a face coincide, its coincident nodes are one node of the surface, the lowest
-/// id standing for the others (merged_nodes) on every face of the surface, so that the faces around the
-/// collapsed one keep their shared edges. Then, by its nodes (skipped_faces's kinds):
-///  - every node (mid-side nodes too) within the tolerance of a line or a point: no area, no face of either
-///    search ("to a line", "to a point");
+/// no coordinate of theirs differs by more than the coincidence tolerance: 1e-9 of their element's size (the
+/// largest coordinate difference between its corner nodes), or 16 units in the last place of the element's
+/// largest coordinate, whichever is larger (coordinate differences, not distances: nothing is squared, so a
+/// deck at any scale the searches take collapses the same faces). The element's size, not the face's: a face
+/// collapsed to a point has no size of its own; not the model's: a graded mesh has real edges far below its
+/// size. 1e-9 lies above the 1e-10 of the longest node distance below which the projections call a face
+/// degenerate (geometry::is_degenerate_segment), so no face is left that the search would refuse for a short
+/// edge, and moves no point by more than 2e-9 element sizes. Judged on the deck's coordinates
+/// (SolidMesh::deck_position), not on a history's: every increment has the same faces. Where two corners of a
+/// face coincide, its coincident nodes are one node of the surface, the lowest id standing for the others
+/// (merged_nodes) on every face of the surface, so that the faces around the collapsed one keep their shared
+/// edges. Then, by its nodes (skipped_faces's kinds):
+///  - every node (mid-side nodes too) within the tolerance of a point or of a line: no area, no face of
+///    either search ("to a point", "to a line");
 ///  - a quadrilateral with one edge collapsed (A = B, ...): a triangle of its three corners, in the face's
 ///    outward order ("to a triangle"): tri3, or for a quad8 the tri6 of the other three edges when the
 ///    collapsed edge's mid-side node is on its corners and the six nodes are distinct (the same three edges
 ///    as the collapsed quad8; its interior is the quadratic triangle's); any other quad8 the flat tri3 of its
-///    corners
-///    ("to a flat triangle");
+///    corners ("to a flat triangle");
 ///  - anything else (a diagonal collapsed: the face folds onto itself; a triangle with two corners one but
 ///    curved edges): skipped ("collapsed, not a triangle").
 /// A triangle made so is an extra face, never a segment: the paper's search (SPEC 7) pairs quadrilaterals.

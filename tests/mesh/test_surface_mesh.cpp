@@ -282,7 +282,8 @@ SolidMesh moved_hexahedron(bool quadratic, int moved, const Vec3& to, std::span<
 
 TEST(CollapsedFaces, CoincidenceIsWithinABillionthOfTheElementNotBeyond) {
   const std::vector<ElementFace> bottom = {{0, 1}};
-  // Node 4 1e-10 of the element's size (sqrt(3)) from node 3: one point; the bottom is a triangle.
+  // Node 4 1e-10 of the element's size (1, its largest coordinate difference) from node 3: one point; the
+  // bottom is a triangle.
   const SurfaceMesh near = build_surface_mesh(moved_hexahedron(false, 4, Vec3(1, 1 - 1e-10, 0)), bottom);
   EXPECT_EQ(near.segments.size(), 0u);
   ASSERT_EQ(near.extra_faces.size(), 1u);
@@ -291,6 +292,17 @@ TEST(CollapsedFaces, CoincidenceIsWithinABillionthOfTheElementNotBeyond) {
   EXPECT_EQ(near.node_ids, (std::vector<long>{1, 2, 3}));
   ASSERT_EQ(near.merged_nodes.size(), 1u);
   EXPECT_EQ(near.merged_nodes[0], (std::array<int, 2>{3, 2}));
+  // The same at any scale: nothing is squared.
+  for (const double scale : {1e-200, 1e200}) {
+    const SolidMesh unit = moved_hexahedron(false, 4, Vec3(1, 1 - 1e-10, 0));
+    SolidMesh scaled;
+    for (int i = 0; i < unit.node_count(); ++i) scaled.add_node(unit.node_id(i), scale * unit.position(i));
+    const auto nodes = unit.element_nodes(0);
+    scaled.add_element(1, element_type("C3D8"), std::vector<int>(nodes.begin(), nodes.end()));
+    const SurfaceMesh s = build_surface_mesh(scaled, bottom);
+    EXPECT_EQ(s.skipped_faces, near.skipped_faces) << scale;
+    EXPECT_EQ(s.face_count(), 1) << scale;
+  }
   // 1e-8 of it: a thin quadrilateral, a segment of its own.
   const SurfaceMesh far = build_surface_mesh(moved_hexahedron(false, 4, Vec3(1, 1 - 1e-8, 0)), bottom);
   EXPECT_EQ(far.segments.size(), 1u);
