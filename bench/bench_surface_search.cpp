@@ -25,6 +25,7 @@
 
 #include "contact/global_search.hpp"
 #include "contact/surface_search.hpp"
+#include "contact/tracking.hpp"
 #include "mesh/grid_surface.hpp"
 
 namespace {
@@ -66,26 +67,49 @@ const Scene& scene() {
 }
 
 void report(benchmark::State& state, const std::vector<contact::NodeSegmentPair>& pairs) {
-  double candidates = 0.0;
+  double candidates = 0.0, reference = 0.0;
   long found = 0;
   for (const auto& p : pairs) {
     candidates += p.candidates;
+    reference += p.reference_faces;
     found += p.status == contact::PairStatus::kFound;
   }
   const double n = static_cast<double>(pairs.size());
   state.counters["candidates"] = candidates / n;
+  state.counters["reference_faces"] = reference / n;
   state.counters["found"] = static_cast<double>(found);
   state.counters["ns_per_slave"] =
       benchmark::Counter(n * 1e-9, benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
 }
 
+/// The surface search with the narrow phase state.range(1) (0: certified, 1: the reference on every face).
 void surface(benchmark::State& state) {
   const Scene& s = scene();
   omp_set_num_threads(static_cast<int>(state.range(0)));
   contact::SearchOptions options;
+  options.narrow = state.range(1) == 0 ? contact::NarrowPhase::kCertified : contact::NarrowPhase::kReference;
   std::vector<contact::NodeSegmentPair> pairs;
   for (auto _ : state) {
-    pairs = contact::surface_search(s.master, s.normals, s.ids, s.slaves, options);
+    contact::surface_search(s.master, s.normals, s.ids, s.slaves, options, pairs);
+    benchmark::DoNotOptimize(pairs.data());
+  }
+  report(state, pairs);
+}
+
+/// The tracked search (contact::SurfaceTracker): the slave nodes move by 0.001 (1e-3 of a face) in z per
+/// increment; one iteration is one increment after the first.
+void surface_tracked(benchmark::State& state) {
+  const Scene& s = scene();
+  omp_set_num_threads(static_cast<int>(state.range(0)));
+  contact::SearchOptions options;
+  options.narrow = state.range(1) == 0 ? contact::NarrowPhase::kCertified : contact::NarrowPhase::kReference;
+  contact::SurfaceTracker tracker(options);
+  std::vector<geometry::Vec3> slaves = s.slaves;
+  std::vector<contact::NodeSegmentPair> pairs;
+  tracker.step(s.master, s.normals, s.ids, slaves, pairs);
+  for (auto _ : state) {
+    for (auto& x : slaves) x.z() += 0.001;
+    tracker.step(s.master, s.normals, s.ids, slaves, pairs);
     benchmark::DoNotOptimize(pairs.data());
   }
   report(state, pairs);
@@ -122,7 +146,12 @@ int main(int argc, char** argv) {
   int rest_count = static_cast<int>(rest.size());
   benchmark::Initialize(&rest_count, rest.data());
   for (int threads : {1, 2}) {
-    benchmark::RegisterBenchmark("global/surface", surface)->Arg(threads)->ArgName("threads")->UseRealTime()->Unit(benchmark::kMillisecond);
+    for (int narrow : {0, 1}) {
+      const char* name = narrow == 0 ? "global/surface" : "global/surface_reference";
+      benchmark::RegisterBenchmark(name, surface)->Args({threads, narrow})->ArgNames({"threads", "narrow"})->UseRealTime()->Unit(benchmark::kMillisecond);
+      const char* tracked = narrow == 0 ? "global/surface_tracked" : "global/surface_tracked_reference";
+      benchmark::RegisterBenchmark(tracked, surface_tracked)->Args({threads, narrow})->ArgNames({"threads", "narrow"})->UseRealTime()->Unit(benchmark::kMillisecond);
+    }
     benchmark::RegisterBenchmark("global/nearest_node", nearest_node)->Arg(threads)->ArgName("threads")->UseRealTime()->Unit(benchmark::kMillisecond);
   }
   benchmark::RunSpecifiedBenchmarks();

@@ -49,6 +49,12 @@ enum class NearestNodeMethod { kTree, kBruteForce };
 /// paper's nearest-node search of SPEC 7 (this header).
 enum class GlobalSearchKind { kSurface, kNearestNode };
 
+/// The surface search's closest point on a face (surface_search.hpp): kCertified takes one Newton run where a
+/// certificate proves its answer is the face's closest point (bilinear_certificate.hpp) and the reference
+/// elsewhere; kReference the reference (lib/projection's grid of starts) on every face, as before the
+/// certificate (kept to be timed and compared beside it).
+enum class NarrowPhase { kCertified, kReference };
+
 struct SearchOptions {
   SurfaceKind surface = SurfaceKind::kBilinear;
   GlobalSearchKind search = GlobalSearchKind::kSurface;  ///< search_scene's choice; global_search is nearest-node
@@ -60,6 +66,7 @@ struct SearchOptions {
   double capture_relative = 1.0;
   /// Surface search: every face is a candidate (the oracle the tests compare the tree against).
   bool brute_force_faces = false;
+  NarrowPhase narrow = NarrowPhase::kCertified;  ///< surface search: how each face's closest point is found
   double segment_test_tolerance = geometry::kSegmentTestTolerance;  ///< relative; see the header comment
   double distance_tie_tolerance = 1e-9;  ///< relative to the longest candidate edge
   NearestNodeMethod nearest = NearestNodeMethod::kTree;
@@ -76,6 +83,8 @@ struct NodeSegmentPair {
   int segment = -1;                   ///< index into SurfaceMesh::segments
   std::array<int, 4> nodes{-1, -1, -1, -1};  ///< master surface nodes A, B, C, D (A = nearest_node)
   int candidates = 0;                 ///< segments at the nearest node that passed the segment test
+  /// Surface search: faces whose closest point needed the reference (no certificate; NarrowPhase)
+  int reference_faces = 0;
   geometry::Configuration config;     ///< world coordinates in the order A, B, C, D; unit node normals (Gregory)
   dataset::Label label;               ///< the reference projection of `config` (status ok..invalid)
   // The surface search's closest point (SPEC 9); the nearest-node search leaves these at their defaults.

@@ -10,6 +10,7 @@
 #include <mutex>
 #include <utility>
 
+#include "contact/bilinear_certificate.hpp"
 #include "core/error.hpp"
 #include "geometry/bilinear_patch.hpp"
 #include "geometry/gregory_patch.hpp"
@@ -104,6 +105,9 @@ struct FaceIndex {
   /// not degenerate, on its nodes relative to the first): its projections skip them
   /// (ProjectionOptions::face_checked; the same answers, computed once per face instead of once per slave).
   std::vector<std::uint8_t> checked;
+  /// The certificates of the checked quad4 bilinear faces (lambda_floor 0 for every other face): their closest
+  /// points in one Newton run where the certificate holds (NarrowPhase::kCertified).
+  std::vector<BilinearCertificate> bilinear;
 
   [[nodiscard]] std::span<const int> faces_at(int node) const {
     const auto n = static_cast<std::size_t>(node);
@@ -120,6 +124,7 @@ FaceIndex index_faces(const mesh::SurfaceMesh& master, std::span<const Vec3> nor
   index.box_hi.resize(n);
   index.sizes.resize(n);
   index.checked.assign(n, 0);
+  index.bilinear.resize(options.narrow == NarrowPhase::kCertified ? n : 0);
   // The faces at each node, counted, then filled in face order.
   index.node_offsets.assign(master.positions.size() + 1, 0);
   for (std::size_t f = 0; f < n; ++f) {
@@ -147,6 +152,9 @@ FaceIndex index_faces(const mesh::SurfaceMesh& master, std::span<const Vec3> nor
         for (Vec3& x : config.nodes) x -= origin;
         const geometry::BilinearPatch patch(config.nodes);
         index.checked[f] = std::isfinite(patch.characteristic_length()) && !geometry::is_degenerate_segment(patch.nodes()) ? 1 : 0;
+        if (index.checked[f] != 0 && !index.bilinear.empty()) {
+          index.bilinear[f] = BilinearCertificate::prepare(face_configuration(master, normals, SurfaceKind::kBilinear, face).nodes);
+        }
       }
     }
     Vec3 centre = Vec3::Zero();
@@ -225,11 +233,20 @@ projection::EdgePoint edge_point_on(const geometry::QuadraticTriangle& face, int
 /// the face it is leaving), the same from the face's nearest edge point. With `unverified`, a warm answer on
 /// the boundary is returned as it is and *unverified set: the caller runs the grid (closest_on_face without a
 /// start) only if that answer would win.
+/// With `certificate` (a checked bilinear face's, NarrowPhase::kCertified): its certified Newton run first,
+/// from `start` or the centre; where it holds no certificate, the reference as above and *reference_count
+/// counts the face.
 projection::FaceClosestPoint closest_on_face(const mesh::SurfaceMesh& master, std::span<const Vec3> normals,
                                              const SearchOptions& options, int f, const Vec3& slave,
                                              const std::array<double, 2>* start = nullptr, bool from_edges = false,
-                                             bool* unverified = nullptr) {
+                                             bool* unverified = nullptr,
+                                             const BilinearCertificate* certificate = nullptr,
+                                             int* reference_count = nullptr) {
   if (unverified != nullptr) *unverified = false;
+  if (certificate != nullptr && certificate->lambda_floor > 0.0) {
+    if (auto p = certificate->closest_point(slave, options.projection, start)) return *p;
+  }
+  if (reference_count != nullptr && master.face_type(f) != mesh::FaceType::kTri3) ++*reference_count;
   if (master.face_type(f) == mesh::FaceType::kTri3) {
     return projection::closest_point_on_triangle(triangle_nodes(master, f), slave);
   }
@@ -256,7 +273,11 @@ projection::FaceClosestPoint closest_on_face(const mesh::SurfaceMesh& master, st
       warm.projection.warm_start = true;
       warm.projection.start = *start;
       const projection::FaceClosestPoint p = closest_on(surface, at, warm);
-      if (p.status != Status::kOk || p.location == Location::kFace) return p;
+      // Any warm answer may be another stationary point than the face's nearest: on its boundary, an interior
+      // point the run missed; inside, a farther local minimum of a curved face (a slave inside a closed body of
+      // Gregory patches or quadratic faces; issue 39). Only a certified face (BilinearCertificate) knows its
+      // answer is the nearest; here the grid decides whenever the warm answer would win.
+      if (p.status != Status::kOk) return p;
       if (unverified != nullptr) {
         *unverified = true;
         return p;
@@ -398,6 +419,13 @@ std::array<double, 2> rotate_param(std::array<double, 2> p, int k, SurfaceKind k
   return p;
 }
 
+/// Face f's certificate, or null where it has none (NarrowPhase::kReference, or not a checked bilinear quad4).
+const BilinearCertificate* certificate_of(const FaceIndex& index, int face) {
+  if (index.bilinear.empty()) return nullptr;
+  const BilinearCertificate& c = index.bilinear[static_cast<std::size_t>(face)];
+  return c.lambda_floor > 0.0 ? &c : nullptr;
+}
+
 /// |S - c_f| - r_f and the distance to face f's box, the larger (SurfaceSearcher::lower_bound).
 double face_lower_bound(const FaceIndex& index, const Vec3& slave, int face) {
   const auto f = static_cast<std::size_t>(face);
@@ -406,16 +434,26 @@ double face_lower_bound(const FaceIndex& index, const Vec3& slave, int face) {
   return std::max((slave - index.centres[f]).norm() - index.radii[f], outside.norm());
 }
 
+/// A face's closest point computed before the scan (SurfaceSearcher::nearest_fresh's first face), and the
+/// faces that needed the reference for it.
+struct KnownPoint {
+  int face = -1;
+  projection::FaceClosestPoint point;
+  int reference_faces = 0;
+};
+
 /// Steps 2-4 of the header for one slave node, given its candidate faces (unordered; with `loose`, sorted by
 /// bounds that are at most each face's own: SurfaceSearcher::nearest).
 /// `checked`: `options` with projection.face_checked set, for the faces FaceIndex::checked marks.
+/// `known`: a face's closest point already computed, taken where the scan reaches that face.
 NodeSegmentPair search_one(const mesh::SurfaceMesh& master, std::span<const Vec3> normals,
                            const SearchOptions& options, const SearchOptions& checked, const FaceIndex& index,
                            double capture, long slave_id,
                            const Vec3& slave, std::vector<std::pair<double, int>>& candidates,
-                           const FaceHint* hint, bool loose) {
+                           const FaceHint* hint, bool loose, const KnownPoint* known = nullptr) {
   NodeSegmentPair best;
   best.slave_id = slave_id;
+  if (known != nullptr) best.reference_faces = known->reference_faces;
   // Nearest sphere first; equal bounds in face order, so the scan is the same whatever the tree returned. A
   // hint's face goes first (its point, warm-started, is usually the answer and prunes the others). Loose
   // bounds come sorted.
@@ -467,9 +505,12 @@ NodeSegmentPair search_one(const mesh::SurfaceMesh& master, std::span<const Vec3
     }
     bool unverified = false;
     const SearchOptions& face_options = index.checked[static_cast<std::size_t>(f)] != 0 ? checked : options;
-    const projection::FaceClosestPoint p = closest_on_face(master, normals, face_options, f, slave,
-                                                           hinted ? &hint->param : nullptr, hint != nullptr,
-                                                           hint != nullptr ? &unverified : nullptr);
+    const projection::FaceClosestPoint p =
+        known != nullptr && f == known->face
+            ? known->point
+            : closest_on_face(master, normals, face_options, f, slave, hinted ? &hint->param : nullptr,
+                              hint != nullptr, hint != nullptr ? &unverified : nullptr, certificate_of(index, f),
+                              &best.reference_faces);
     if (p.status != Status::kOk) continue;
     ++best.candidates;
     if (hint != nullptr) answers.push_back({f, p, unverified});
@@ -487,7 +528,7 @@ NodeSegmentPair search_one(const mesh::SurfaceMesh& master, std::span<const Vec3
       if (!a.unverified || a.point.status != Status::kOk) continue;
       if (a.point.distance > best_distance + kTieTolerance * index.sizes[static_cast<std::size_t>(a.face)]) continue;
       a.point = closest_on_face(master, normals, index.checked[static_cast<std::size_t>(a.face)] != 0 ? checked : options,
-                                a.face, slave);
+                                a.face, slave, nullptr, false, nullptr, nullptr, &best.reference_faces);
       a.unverified = false;
       verified = true;
     }
@@ -606,6 +647,7 @@ struct SurfaceSearcher::Impl {
   FaceIndex index;
   double capture = 0.0;
   double largest_radius = 0.0;
+  double largest_size = 0.0;  ///< the largest face size (the tie band's widest)
   Centres cloud;
   /// Built on the first query that needs it (faces_within): a tracker's increment whose nodes all answer from
   /// their lists needs none.
@@ -620,6 +662,31 @@ struct SurfaceSearcher::Impl {
   std::vector<Vec3> world_centres;  ///< index's, in world units (where unit != 1)
   std::vector<double> world_radii;
 
+  /// Step 1 in working units (faces_within): every face whose bound comes within `reach` of `slave`.
+  void collect(const Vec3& slave, double reach, std::vector<std::pair<double, int>>& out,
+               std::vector<std::pair<std::uint32_t, double>>& scratch, bool spheres_only) const {
+    const auto bound_of = [&](int face) {
+      const auto f = static_cast<std::size_t>(face);
+      return spheres_only ? (slave - index.centres[f]).norm() - index.radii[f] : face_lower_bound(index, slave, face);
+    };
+    if (options.brute_force_faces) {
+      for (std::size_t s = 0; s < index.centres.size(); ++s) {
+        const double bound = bound_of(static_cast<int>(s));
+        if (bound <= reach) out.emplace_back(bound, static_cast<int>(s));
+      }
+      return;
+    }
+    // Every centre within reach + the largest radius, then each face by its own sphere.
+    const double radius = reach + largest_radius;
+    const double q[3] = {slave.x(), slave.y(), slave.z()};
+    scratch.clear();
+    centre_tree().radiusSearch(q, radius * radius * (1.0 + 1e-12), scratch, nanoflann::SearchParams(32, 0.0F, false));
+    for (const auto& item : scratch) {
+      const double bound = bound_of(static_cast<int>(item.first));
+      if (bound <= reach) out.emplace_back(bound, static_cast<int>(item.first));
+    }
+  }
+
   Impl(const mesh::SurfaceMesh& m, std::span<const Vec3> n, const SearchOptions& o)
       : unit(working_unit(m)),
         scaled(unit == 1.0 ? nullptr : std::make_unique<mesh::SurfaceMesh>(in_unit(m, unit))),
@@ -630,6 +697,7 @@ struct SurfaceSearcher::Impl {
         index(index_faces(master, n, options)),
         capture(capture_distance(master, options)),
         largest_radius(index.radii.empty() ? 0.0 : *std::max_element(index.radii.begin(), index.radii.end())),
+        largest_size(index.sizes.empty() ? 0.0 : *std::max_element(index.sizes.begin(), index.sizes.end())),
         cloud{&index.centres} {
     if (unit == 1.0) return;
     for (const Vec3& c : index.centres) world_centres.push_back(c * unit);
@@ -679,31 +747,55 @@ const std::vector<double>& SurfaceSearcher::radii() const {
 
 void SurfaceSearcher::faces_within(const Vec3& world_slave, double world_reach, std::vector<std::pair<double, int>>& out,
                                    std::vector<std::pair<std::uint32_t, double>>& scratch, bool spheres_only) const {
-  const FaceIndex& index = impl_->index;
   const double unit = impl_->unit;
   const Vec3 slave = world_slave / unit;
-  const double reach = world_reach / unit;
-  if (!slave.allFinite() || index.centres.empty()) return;
-  const auto bound_of = [&](int face) {
-    const auto f = static_cast<std::size_t>(face);
-    return spheres_only ? (slave - index.centres[f]).norm() - index.radii[f] : face_lower_bound(index, slave, face);
-  };
-  if (impl_->options.brute_force_faces) {
-    for (std::size_t s = 0; s < index.centres.size(); ++s) {
-      const double bound = bound_of(static_cast<int>(s));
-      if (bound <= reach) out.emplace_back(bound * unit, static_cast<int>(s));
-    }
-    return;
+  if (!slave.allFinite() || impl_->index.centres.empty()) return;
+  const std::size_t first = out.size();
+  impl_->collect(slave, world_reach / unit, out, scratch, spheres_only);
+  if (unit != 1.0) {
+    for (std::size_t i = first; i < out.size(); ++i) out[i].first *= unit;
   }
-  // Every centre within reach + the largest radius, then each face by its own sphere.
-  const double radius = reach + impl_->largest_radius;
+}
+
+NodeSegmentPair SurfaceSearcher::nearest_fresh(long slave_id, const Vec3& world_slave,
+                                               std::vector<std::pair<double, int>>& candidates,
+                                               std::vector<std::pair<std::uint32_t, double>>& scratch) const {
+  const Impl& m = *impl_;
+  const Vec3 slave = world_slave / m.unit;
+  candidates.clear();
+  // NarrowPhase::kReference is the search as it was before the certificate, its broad phase included.
+  if (!slave.allFinite() || m.index.centres.empty() || m.options.brute_force_faces ||
+      m.options.narrow == NarrowPhase::kReference) {
+    faces_within(world_slave, capture(), candidates, scratch);
+    return nearest(slave_id, world_slave, candidates);
+  }
+  // The face whose centre is nearest S, projected first: its distance d bounds the answer's, and the scan
+  // (steps 2-3) stops before any face whose bound exceeds d and the tie band. Only those faces are gathered;
+  // the scan then takes the same faces in the same order as over every face within the capture distance.
+  std::size_t nearest_centre = 0;
+  double squared = 0.0;
+  nanoflann::KNNResultSet<double, std::uint32_t> one(1);
+  std::uint32_t index_of = 0;
+  one.init(&index_of, &squared);
   const double q[3] = {slave.x(), slave.y(), slave.z()};
-  scratch.clear();
-  impl_->centre_tree().radiusSearch(q, radius * radius * (1.0 + 1e-12), scratch, nanoflann::SearchParams(32, 0.0F, false));
-  for (const auto& item : scratch) {
-    const double bound = bound_of(static_cast<int>(item.first));
-    if (bound <= reach) out.emplace_back(bound * unit, static_cast<int>(item.first));
-  }
+  // Any face would do (the answer does not depend on it; a nearer one gathers fewer candidates): an approximate
+  // search, which prunes every branch unless it may hold a centre 5 times nearer, costs a descent.
+  m.centre_tree().findNeighbors(one, q, nanoflann::SearchParams(32, 4.0F));
+  nearest_centre = index_of;
+  KnownPoint known;
+  known.face = static_cast<int>(nearest_centre);
+  const SearchOptions& face_options = m.index.checked[nearest_centre] != 0 ? m.checked_options : m.options;
+  known.point = closest_on_face(m.master, m.normals, face_options, known.face, slave, nullptr, false, nullptr,
+                                certificate_of(m.index, known.face), &known.reference_faces);
+  // The scan's best may move up by a tie band each time a face within the band has the lower key: a chain of
+  // such faces (those at one vertex, a few tens at most) stays within a thousand bands.
+  double reach = m.capture;
+  if (known.point.status == Status::kOk) reach = std::min(reach, known.point.distance + 1000.0 * kTieTolerance * m.largest_size);
+  m.collect(slave, reach, candidates, scratch, false);
+  NodeSegmentPair pair = search_one(m.master, m.normals, m.options, m.checked_options, m.index, m.capture, slave_id,
+                                    slave, candidates, nullptr, false, &known);
+  if (m.unit != 1.0) to_world(pair, m.unit, world_slave);
+  return pair;
 }
 
 NodeSegmentPair SurfaceSearcher::nearest(long slave_id, const Vec3& slave,
@@ -745,9 +837,7 @@ void surface_search(const mesh::SurfaceMesh& master, std::span<const Vec3> maste
 #pragma omp for schedule(dynamic, 16)
     for (long i = 0; i < n; ++i) {
       const auto u = static_cast<std::size_t>(i);
-      candidates.clear();
-      searcher.faces_within(slave_positions[u], searcher.capture(), candidates, scratch);
-      pairs[u] = searcher.nearest(slave_ids[u], slave_positions[u], candidates);
+      pairs[u] = searcher.nearest_fresh(slave_ids[u], slave_positions[u], candidates, scratch);
     }
   }
 }

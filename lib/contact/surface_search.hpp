@@ -116,6 +116,12 @@ class SurfaceSearcher {
   [[nodiscard]] NodeSegmentPair nearest(long slave_id, const Vec3& slave,
                                         std::vector<std::pair<double, int>>& candidates,
                                         const FaceHint* hint = nullptr, Bounds bounds = Bounds::kExact) const;
+  /// Steps 1-4 for one slave node, fresh: faces_within(capture) and nearest, gathering fewer candidates: the
+  /// face whose centre is nearest S is projected first, and only the faces whose bound is within its distance
+  /// (and the tie band) are gathered, the only ones the scan of step 2 can reach. The same answer.
+  [[nodiscard]] NodeSegmentPair nearest_fresh(long slave_id, const Vec3& slave,
+                                              std::vector<std::pair<double, int>>& candidates,
+                                              std::vector<std::pair<std::uint32_t, double>>& scratch) const;
   [[nodiscard]] const std::vector<Vec3>& centres() const;  ///< face centres (mean of the corners)
   [[nodiscard]] const std::vector<double>& radii() const;  ///< bounding-sphere radii
 

@@ -1,0 +1,141 @@
+#include "contact/bilinear_certificate.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace contactnn::contact {
+
+namespace {
+
+/// The certificate holds where max_k |a3.(S - X_k)| is below this fraction of lambda_floor: the Hessian's
+/// smallest eigenvalue is then at least (1 - kMargin) lambda_floor everywhere on the square.
+constexpr double kMargin = 0.9;
+/// Newton's iterations before the run is given up (a strongly convex, nearly quadratic f converges in a few).
+constexpr int kMaxIterations = 16;
+/// (s, t) of the corners A, B, C, D.
+constexpr std::array<std::array<double, 2>, 4> kCorners = {
+    {{-1.0, -1.0}, {1.0, -1.0}, {1.0, 1.0}, {-1.0, 1.0}}};
+
+}  // namespace
+
+BilinearCertificate BilinearCertificate::prepare(const std::array<Vec3, 4>& nodes) {
+  BilinearCertificate c;
+  c.origin = nodes[0];
+  if (!c.origin.allFinite()) return c;
+  std::array<Vec3, 4> x;
+  for (std::size_t k = 0; k < 4; ++k) x[k] = nodes[k] - c.origin;
+  for (const Vec3& v : x) {
+    if (!v.allFinite()) return c;
+  }
+  c.patch = geometry::BilinearPatch(x);
+  c.length = c.patch.characteristic_length();
+  const Vec3 a1 = 0.25 * (-x[0] + x[1] + x[2] - x[3]);
+  const Vec3 a2 = 0.25 * (-x[0] - x[1] + x[2] + x[3]);
+  const Vec3 a3 = 0.25 * (x[0] - x[1] + x[2] - x[3]);
+  c.twist = a3;
+  for (std::size_t k = 0; k < 4; ++k) c.twist_at_corner[k] = a3.dot(x[k]);
+  const Vec3 centre_normal = a1.cross(a2);
+  const double norm = centre_normal.norm();
+  if (!(norm > 0.0) || !std::isfinite(norm) || !(c.length > 0.0) || !std::isfinite(c.length)) return c;
+  const Vec3 n = centre_normal / norm;
+  double nu = std::numeric_limits<double>::infinity();
+  for (const auto& [s, t] : kCorners) nu = std::min(nu, (a1 + t * a3).cross(a2 + s * a3).dot(n));
+  const double trace = std::max((a1 - a3).squaredNorm(), (a1 + a3).squaredNorm()) +
+                       std::max((a2 - a3).squaredNorm(), (a2 + a3).squaredNorm());
+  if (!(nu > 0.0) || !(trace > 0.0)) return c;
+  // lambda_min = (tr - sqrt(tr^2 - 4 det)) / 2 grows with det and falls with tr: the bounds give a bound,
+  // written without the cancellation.
+  const double det = nu * nu;
+  const double floor = 2.0 * det / (trace + std::sqrt(std::max(trace * trace - 4.0 * det, 0.0)));
+  c.lambda_floor = std::isfinite(floor) ? floor : 0.0;
+  return c;
+}
+
+bool BilinearCertificate::convex_for(const Vec3& relative) const {
+  const double at_slave = twist.dot(relative);
+  double largest = 0.0;
+  for (const double corner : twist_at_corner) largest = std::max(largest, std::abs(at_slave - corner));
+  return largest < kMargin * lambda_floor;
+}
+
+std::optional<projection::FaceClosestPoint> BilinearCertificate::closest_point(
+    const Vec3& slave, const projection::ProjectionOptions& options,
+    const std::array<double, 2>* start) const {
+  const Vec3 relative = slave - origin;
+  if (!(lambda_floor > 0.0) || !relative.allFinite() || !convex_for(relative)) return std::nullopt;
+
+  // 1. One Newton run on grad f = 0 (undamped: f is strictly convex on the square and nearly quadratic).
+  std::array<double, 2> p = start != nullptr ? *start : std::array<double, 2>{0.0, 0.0};
+  const double residual_floor = options.tol_residual * length * length;
+  bool converged = false;
+  int iterations = 0;
+  for (int it = 1; it <= kMaxIterations; ++it) {
+    const geometry::SurfacePoint sp = patch.evaluate(p[0], p[1]);
+    const Vec3 r = relative - sp.position;
+    const double r0 = sp.d_s.dot(r), r1 = sp.d_t.dot(r);
+    if (std::abs(r0) <= residual_floor && std::abs(r1) <= residual_floor) {
+      converged = true;
+      iterations = it - 1;
+      break;
+    }
+    const double h00 = sp.d_s.squaredNorm(), h11 = sp.d_t.squaredNorm();
+    const double h01 = sp.d_s.dot(sp.d_t) - twist.dot(r);
+    const double det = h00 * h11 - h01 * h01;
+    if (!(det > 0.0)) break;  // beyond the square, where nothing is certified
+    const double d0 = (h11 * r0 - h01 * r1) / det, d1 = (h00 * r1 - h01 * r0) / det;
+    p = {p[0] + d0, p[1] + d1};
+    if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || std::max(std::abs(p[0]), std::abs(p[1])) > 4.0) break;
+    if (std::max(std::abs(d0), std::abs(d1)) <= options.tol_param) {
+      converged = true;
+      iterations = it;
+      break;
+    }
+  }
+  const bool interior = converged && std::abs(p[0]) <= 1.0 + options.domain_margin &&
+                        std::abs(p[1]) <= 1.0 + options.domain_margin;
+
+  // 2. As projection::closest_point_on_face: the interior point (clamped), then the edges, the nearest wins.
+  projection::FaceClosestPoint out;
+  out.iterations = iterations;
+  double best = std::numeric_limits<double>::infinity();
+  bool from_interior = false;
+  if (interior) {
+    out.param = {std::clamp(p[0], -1.0, 1.0), std::clamp(p[1], -1.0, 1.0)};
+    best = (relative - patch.position(out.param[0], out.param[1])).norm();
+    from_interior = true;
+  }
+  for (int edge = 0; edge < projection::kQuadEdges; ++edge) {
+    const projection::EdgePoint e = projection::closest_point_on_edge(patch, edge, relative);
+    if (e.distance < best) {
+      best = e.distance;
+      out.param = e.param;
+      from_interior = false;
+    }
+  }
+  if (!std::isfinite(best)) return std::nullopt;
+  const geometry::SurfacePoint sp = patch.evaluate(out.param[0], out.param[1]);
+
+  // 3. The certificate of a boundary answer: no descent into the square (Karush-Kuhn-Tucker). Otherwise the
+  //    square's interior holds a nearer point that the run did not reach: the reference decides.
+  if (!from_interior) {
+    const Vec3 r = relative - sp.position;
+    const double g[2] = {-sp.d_s.dot(r), -sp.d_t.dot(r)};
+    const double tol = 1e-12 * (1.0 - kMargin) * lambda_floor;
+    for (std::size_t k = 0; k < 2; ++k) {
+      if (out.param[k] == 1.0 && g[k] > tol) return std::nullopt;
+      if (out.param[k] == -1.0 && g[k] < -tol) return std::nullopt;
+    }
+  }
+
+  projection::locate_on_quad(param_domain(SurfaceKind::kBilinear), out);
+  out.point = sp.position + origin;
+  out.distance = (relative - sp.position).norm();
+  const Vec3 n = sp.d_s.cross(sp.d_t);
+  const double n_length = n.norm();
+  out.normal = n_length > 0.0 && std::isfinite(n_length) ? Vec3(n / n_length) : Vec3(Vec3::Zero());
+  out.status = std::isfinite(out.distance) ? Status::kOk : Status::kInvalid;
+  return out;
+}
+
+}  // namespace contactnn::contact
