@@ -205,9 +205,25 @@ std::string read_network_real_type(const Hdf5File& file) {
 }
 }  // namespace
 
+namespace {
+
+/// require_file_kind for a network file; a face network (scene-study --face's, for tri6 or quad8 faces) is a valid
+/// file given to the wrong search: InvalidArgument, as a network of the other surface is, not FormatError.
+void require_network_file(const Hdf5File& file) {
+  CONTACTNN_REQUIRE_AS(InvalidArgument,
+                       !file.has_attribute("/", "kind") ||
+                           file.read_string_attribute("/", "kind") != "contactnn-face-network",
+                       "'" << file.path().string()
+                           << "' is a face network (scene-study --face's, for tri6 or quad8 faces), not a network of "
+                              "4-node segments: bilinear and Gregory surfaces take train-net's network file");
+  require_file_kind(file, kNetworkFileKind, kNetworkSchemaVersion);
+}
+
+}  // namespace
+
 std::string read_network_real_type(const std::filesystem::path& path) {
   const Hdf5File file(path, Hdf5File::Mode::kRead);
-  require_file_kind(file, kNetworkFileKind, kNetworkSchemaVersion);
+  require_network_file(file);
   return read_network_real_type(file);
 }
 
@@ -215,7 +231,7 @@ template <class Real>
 TrainedNetwork<Real> read_network(const std::filesystem::path& path) {
   const Hdf5File file(path, Hdf5File::Mode::kRead);
   const std::string name = path.string();
-  require_file_kind(file, kNetworkFileKind, kNetworkSchemaVersion);
+  require_network_file(file);
   // What the evaluation code computes: the sigmoid of Eq 12 in float or double. A file that says it is
   // something else is refused rather than evaluated as if it were this.
   (void)read_network_real_type(file);

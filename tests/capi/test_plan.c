@@ -191,6 +191,8 @@ int main(int argc, char** argv) {
 
   snprintf(path, sizeof path, "%.4000s/none.toml", argv[2]);
   expect_refused(path, CONTACTNN_ERROR_IO, "none.toml", "a plan that does not exist");
+  /* Issue 39: a directory is a plan that cannot be read (IO, as contactnn.h says; it was FORMAT). */
+  expect_refused(argv[2], CONTACTNN_ERROR_IO, "is a directory", "a plan path that is a directory");
   expect_refused("", CONTACTNN_ERROR_INVALID_ARGUMENT, "plan_file is empty", "an empty plan path");
   {
     contactnn_search* search = NULL;

@@ -159,8 +159,9 @@ CONTACTNN_API int contactnn_options_init(contactnn_options* options);
  *                 must be of the search's surface.
  *   options       NULL for the defaults
  * Errors: INVALID_ARGUMENT (NULL search or method, an unknown surface or method, a network method without
- * network_file, a network of the other surface, an option out of range), IO (network_file cannot be
- * opened or read), FORMAT (it is not a contactnn network, or is damaged). Messages quote a method or file
+ * network_file, a network of the other surface or of the other kind: train-net's network for tri6 or quad8, a
+ * face network for bilinear or Gregory; an option out of range), IO (network_file cannot be opened or read:
+ * missing, no permission, a directory), FORMAT (it is not a contactnn network, or is damaged). Messages quote a method or file
  * name of more than 40 bytes by its first 40 and its length; a network_file longer than 4096 bytes (PATH_MAX)
  * is INVALID_ARGUMENT. */
 CONTACTNN_API int contactnn_search_create(contactnn_search** search, int surface, const char* method,
@@ -210,7 +211,8 @@ CONTACTNN_API int contactnn_search_surface(const contactnn_search* search);
  * The plan decides the surface: contactnn_search_surface tells it (raw rows of 15 or 27 values), and
  * contactnn_search_method the method it chose.
  * Errors: INVALID_ARGUMENT (NULL search or plan_file, an empty plan_file or one longer than 4096 bytes, an option
- * out of range), IO (the plan or its network file cannot be opened or read), FORMAT (the plan is not a valid
+ * out of range), IO (the plan or its network file cannot be opened or read: missing, no permission, a
+ * directory), FORMAT (the plan is not a valid
  * plan: the message names the file, the line and the key; or its network file is not a contactnn network, or
  * one of the other surface). */
 CONTACTNN_API int contactnn_search_create_from_plan(contactnn_search** search, const char* plan_file,
