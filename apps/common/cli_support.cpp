@@ -18,6 +18,7 @@
 
 #include "core/error.hpp"
 #include "io/csv.hpp"
+#include "io/inp_deck.hpp"
 #include "io/interrupt_cleanup.hpp"
 
 namespace contactnn::cli {
@@ -586,6 +587,17 @@ void Progress::update(std::int64_t done, std::int64_t total) {
 void Progress::finish() {
   if (printed_ && !quiet_) std::fprintf(stderr, "\n");
   printed_ = false;
+}
+
+std::vector<std::string> warn_unapplied_geometry(const char* tool, const std::string& deck) {
+  std::vector<std::string> keywords = io::unapplied_geometry_keywords(deck);
+  for (const std::string& k : keywords) {
+    std::fprintf(stderr,
+                 "%s: warning: %s: this keyword changes the contact geometry CalculiX uses, and it is not applied "
+                 "here: the gaps and points are those of the mesh as written\n",
+                 tool, k.c_str());
+  }
+  return keywords;
 }
 
 }  // namespace contactnn::cli

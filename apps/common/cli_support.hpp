@@ -104,6 +104,11 @@ inline constexpr std::int64_t kMaxSeed = INT64_MAX;
 void warn_about_raw_output(const char* tools, const std::string& input, const std::string& output,
                            const std::vector<std::string>& replaced, std::size_t rows);
 
+/// The keywords of `deck` that change the contact geometry CalculiX uses and that the project does not apply
+/// (io::unapplied_geometry_keywords: *CLEARANCE, *CONTACT PAIR with ADJUST=, ...), each named on stderr as a
+/// warning from `tool`; returned for the tool's summary.
+std::vector<std::string> warn_unapplied_geometry(const char* tool, const std::string& deck);
+
 /// Adds the exit-code table to the app's --help footer.
 void add_exit_code_footer(CLI::App& app);
 

@@ -44,6 +44,7 @@
 #include <iostream>
 #include <optional>
 #include <span>
+#include <unordered_map>
 
 #include "cli_support.hpp"
 #include "contact/scene.hpp"
@@ -140,6 +141,36 @@ std::string faces(const std::map<std::string, int>& skipped) {
 }
 
 /// The scene's summary: counts, skipped faces and the shape statistics (min / median / max).
+/// The slave nodes the surface search found no face for (no_segment: none within the capture distance), and of
+/// those the ones behind the master surface (on the inner side of their nearest master node's normal): nodes
+/// driven through the master deeper than the capture distance, whose contact the search does not see.
+struct BeyondCapture {
+  long nodes = 0;
+  long behind = 0;
+};
+
+BeyondCapture beyond_capture(const contact::Scene& scene, const contact::SceneResult& result) {
+  BeyondCapture out;
+  std::unordered_map<long, std::size_t> slave_index;
+  for (std::size_t i = 0; i < scene.slave_ids.size(); ++i) slave_index.emplace(scene.slave_ids[i], i);
+  const std::vector<geometry::Vec3>& master = scene.master.positions;
+  for (const contact::NodeSegmentPair& p : result.pairs) {
+    if (p.status != contact::PairStatus::kNoSegment) continue;
+    ++out.nodes;
+    const auto s = slave_index.find(p.slave_id);
+    if (s == slave_index.end() || master.empty()) continue;
+    const geometry::Vec3& slave = scene.slave_positions[s->second];
+    std::size_t nearest = 0;
+    for (std::size_t j = 1; j < master.size(); ++j) {
+      if ((master[j] - slave).squaredNorm() < (master[nearest] - slave).squaredNorm()) nearest = j;
+    }
+    if (nearest < scene.master_normals.size() && (slave - master[nearest]).dot(scene.master_normals[nearest]) < 0.0) {
+      ++out.behind;
+    }
+  }
+  return out;
+}
+
 void print_scene_summary(const std::string& deck, const contact::Scene& scene, const contact::SceneResult& result,
                          SurfaceKind surface, const std::string& output, double seconds) {
   const auto spread = [](const char* name, const contact::Spread& s) {
@@ -246,6 +277,7 @@ int scene_mode(const std::string& deck, int pair, const contact::SearchOptions& 
   const auto start = std::chrono::steady_clock::now();
   // 1. Read the deck (and the results file, whose node ids must be the deck's).
   mesh::ContactModel model = io::read_inp_deck(deck);
+  const std::vector<std::string> unapplied = cli::warn_unapplied_geometry("gen-configs", deck);
   std::optional<io::FrdResults> results;
   std::vector<std::size_t> increments = {0};
   if (!history.results.empty()) {
@@ -334,12 +366,29 @@ int scene_mode(const std::string& deck, int pair, const contact::SearchOptions& 
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   print_scene_summary(deck, *scene, *result, options.surface, output, seconds);
   if (surface_search) {
-    std::printf("  search               surface (capture distance %.6g)\n", contact::capture_distance(scene->master, options));
+    const double capture = contact::capture_distance(scene->master, options);
+    std::printf("  search               surface (capture distance %.6g)\n", capture);
+    // A node beyond the capture distance has no contact; one behind the master surface is a contact lost (a
+    // penetration deeper than the capture distance): counted, and said on stderr.
+    const BeyondCapture beyond = beyond_capture(*scene, *result);
+    std::printf("  beyond capture       %ld slave nodes (no face within %.6g), %ld of them behind the master "
+                "surface\n",
+                beyond.nodes, capture, beyond.behind);
+    if (beyond.behind > 0) {
+      std::fprintf(stderr,
+                   "gen-configs: warning: %ld slave node(s) of pair %d lie behind the master surface farther than the "
+                   "capture distance %.6g from every face: penetrations deeper than it, whose contact the search "
+                   "does not find (no_segment); give --capture_distance larger than the deepest penetration\n",
+                   beyond.behind, scene->pair, capture);
+    }
     std::printf("  closest points       face %ld, edge %ld, vertex %ld%s\n", locations[0], locations[1], locations[2],
                 all ? " (every increment)" : "");
   } else {
     std::printf("  search               nearest_node\n");
   }
+  std::printf("  not applied          %zu keyword(s) that change the contact geometry%s\n", unapplied.size(),
+              unapplied.empty() ? "" : " (named on stderr)");
+  for (const std::string& k : unapplied) std::printf("                       %s\n", k.c_str());
   if (results) {
     const io::FrdIncrement& last = results->increments[increments.back()];
     std::printf("  results              %s: %zu increment%s read (last: %d, step %d, time %.6g)\n",

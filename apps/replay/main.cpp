@@ -97,6 +97,7 @@ int main(int argc, char** argv) {
     }
     // 3. The deck and the results file (their node ids must match: exit 3 otherwise).
     mesh::ContactModel model = io::read_inp_deck(deck);
+    const std::vector<std::string> unapplied = cli::warn_unapplied_geometry("replay", deck);
     const io::FrdResults results = io::read_frd(results_path);
     if (!trust_nodes) io::check_node_block(model, results);
     // 4. Replay every increment; 5. the report.
@@ -115,8 +116,11 @@ int main(int argc, char** argv) {
       slaves += r.slaves;
     }
     std::printf("replay summary\n  increments           %zu\n  slave node states    %ld (%ld with a point)\n"
-                "  tracking differences %ld\n  report               %s/report.md\n  time                 %.2f s\n",
-                rows.size(), slaves, found, differences, report.c_str(),
+                "  tracking differences %ld\n  beyond capture       %ld slave node states (no face within the "
+                "capture distance: no_segment)\n  not applied          %zu keyword(s) that change the contact "
+                "geometry%s\n  report               %s/report.md\n  time                 %.2f s\n",
+                rows.size(), slaves, found, differences, slaves - found, unapplied.size(),
+                unapplied.empty() ? "" : " (named on stderr)", report.c_str(),
                 std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
     return 0;
   });

@@ -384,6 +384,7 @@ int main(int argc, char** argv) {
     // 3. The deck, read once: the pair's master faces, node normals and slave nodes.
     //    With --results, the results file too, checked against the deck before anything is written.
     mesh::ContactModel model = io::read_inp_deck(scene_path);
+    (void)cli::warn_unapplied_geometry("scene-study", scene_path);
     std::optional<io::FrdResults> results;
     if (!results_path.empty()) {
       results = io::read_frd(results_path);

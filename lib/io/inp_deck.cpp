@@ -12,6 +12,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <fstream>
 #include <memory>
 #include <optional>
 #include <system_error>
@@ -970,6 +971,53 @@ mesh::ContactModel read_inp_deck(const std::filesystem::path& path) {
 
 mesh::ContactModel parse_inp_deck(std::string_view text, const std::filesystem::path& name) {
   return DeckReader().read(InputFile(), std::string(text), name);
+}
+
+namespace {
+
+void scan_geometry_keywords(const std::filesystem::path& path, int depth, std::vector<std::string>& out) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in || depth > 16) return;
+  std::string line;
+  for (int number = 1; std::getline(in, line); ++number) {
+    if (line.size() < 2 || line[0] != '*' || line[1] == '*') continue;
+    std::string key;  // upper case, without blanks
+    for (const char c : line) {
+      if (c != ' ' && c != '\t' && c != '\r') key += static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+    }
+    const auto starts = [&](std::string_view k) { return key.compare(0, k.size(), k) == 0; };
+    const auto has = [&](std::string_view p) { return key.find(p) != std::string::npos; };
+    if (starts("*INCLUDE")) {
+      // INPUT= as written (case kept), up to the next comma, blanks and quotes trimmed; relative to this file.
+      std::string upper = line;
+      for (char& c : upper) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+      const std::size_t at = upper.find("INPUT");
+      const std::size_t eq = at == std::string::npos ? std::string::npos : line.find('=', at);
+      if (eq == std::string::npos) continue;
+      std::string input = line.substr(eq + 1);
+      input = input.substr(0, input.find(','));
+      const std::size_t first = input.find_first_not_of(" \t\"");
+      const std::size_t last = input.find_last_not_of(" \t\r\"");
+      if (first != std::string::npos) {
+        scan_geometry_keywords(path.parent_path() / input.substr(first, last - first + 1), depth + 1, out);
+      }
+      continue;
+    }
+    const bool geometry = starts("*CLEARANCE") || (starts("*CONTACTPAIR") && has("ADJUST=")) ||
+                          starts("*CONTACTINTERFERENCE") || (starts("*SHELLSECTION") && has("OFFSET="));
+    if (!geometry) continue;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    out.push_back("'" + path.string() + "':" + std::to_string(number) + ": " +
+                  escape_text(line.size() > 80 ? line.substr(0, 80) + "..." : line));
+  }
+}
+
+}  // namespace
+
+std::vector<std::string> unapplied_geometry_keywords(const std::filesystem::path& path) {
+  std::vector<std::string> out;
+  scan_geometry_keywords(path, 0, out);
+  return out;
 }
 
 }  // namespace contactnn::io

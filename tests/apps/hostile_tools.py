@@ -285,6 +285,75 @@ def _(ctx):
                 r"elements are solid")
 
 
+PLATE = """*NODE
+1, 0, 0, 0
+2, 1, 0, 0
+3, 1, 1, 0
+4, 0, 1, 0
+5, 0, 0, 0.2
+6, 1, 0, 0.2
+7, 1, 1, 0.2
+8, 0, 1, 0.2
+101, 0.5, 0.5, 0.3
+102, 0.5, 0.5, -5.0
+103, 7, 7, 7
+*ELEMENT, TYPE=C3D8, ELSET=PLATE
+1, 1, 2, 3, 4, 5, 6, 7, 8
+*NSET, NSET=SLAVES
+101, 102, 103
+*SURFACE, NAME=SSLAVE, TYPE=NODE
+SLAVES
+*SURFACE, NAME=SMASTER, TYPE=ELEMENT
+PLATE, S2
+*CONTACT PAIR, INTERACTION=SI1, TYPE=NODE TO SURFACE
+SSLAVE, SMASTER
+"""
+
+
+@case("deep_penetration_counted")
+def _(ctx):
+    # A slave node driven through a thin master beyond the capture distance got no_segment, a contact lost without
+    # a word: the summary counts the nodes beyond capture and those of them behind the master, and stderr warns.
+    # Node 101 is above the plate (found), 102 five plate thicknesses under its top face (behind it, far beyond
+    # the capture distance), 103 far away in front.
+    with open(ctx.path("plate.inp"), "w") as f:
+        f.write(PLATE)
+    r = ctx.run("gen-configs", ["--scene", "plate.inp", "--output", "pairs.csv"])
+    if r.returncode != 0:
+        raise Failure(f"exit {r.returncode}\n{r.stdout}{r.stderr}")
+    if not re.search(r"\n  beyond capture +2 slave nodes \(no face within [0-9.e+-]+\), 1 of them behind the master "
+                     r"surface\n", r.stdout):
+        raise Failure("the summary does not count the nodes beyond capture:\n" + r.stdout)
+    if not re.search(r"warning: 1 slave node\(s\) of pair 0 lie behind the master surface .*--capture_distance",
+                     r.stderr):
+        raise Failure("no warning on stderr:\n" + r.stderr)
+
+
+@case("geometry_keywords_named")
+def _(ctx):
+    # Keywords that change the contact geometry CalculiX uses were skipped without a word: each is named on stderr
+    # (file, line, the keyword line) and counted in the summary; one in an included file too.
+    deck = PLATE.replace("*CONTACT PAIR, INTERACTION=SI1, TYPE=NODE TO SURFACE",
+                         "*CONTACT PAIR, INTERACTION=SI1, TYPE=NODE TO SURFACE, Adjust=0.01")
+    deck += "*Clearance, master=SMASTER, slave=SSLAVE, value=-0.1\n*INCLUDE, INPUT=more.inp\n"
+    with open(ctx.path("plate.inp"), "w") as f:
+        f.write(deck)
+    with open(ctx.path("more.inp"), "w") as f:
+        f.write("** shrink fit\n*CONTACT INTERFERENCE, SHRINK\nSSLAVE, SMASTER\n")
+    r = ctx.run("gen-configs", ["--scene", "plate.inp", "--output", "pairs.csv"])
+    if r.returncode != 0:
+        raise Failure(f"exit {r.returncode}\n{r.stdout}{r.stderr}")
+    for line, text in ((21, r"\*CONTACT PAIR, INTERACTION=SI1, TYPE=NODE TO SURFACE, Adjust=0\.01"),
+                       (23, r"\*Clearance, master=SMASTER, slave=SSLAVE, value=-0\.1")):
+        if not re.search(r"gen-configs: warning: 'plate\.inp':%d: %s: this keyword changes the contact geometry"
+                         % (line, text), r.stderr):
+            raise Failure(f"line {line} not named on stderr:\n{r.stderr}")
+    if not re.search(r"warning: '.*more\.inp':2: \*CONTACT INTERFERENCE, SHRINK: this keyword", r.stderr):
+        raise Failure("the included file's keyword is not named:\n" + r.stderr)
+    if not re.search(r"\n  not applied +3 keyword\(s\) that change the contact geometry", r.stdout):
+        raise Failure("the summary does not count them:\n" + r.stdout)
+
+
 def main():
     p = argparse.ArgumentParser()
     for tool in ("gen-configs", "train-net", "evaluate-net", "replay", "scene-study"):
