@@ -470,6 +470,7 @@ struct Scene {
   std::vector<long> connectivity;
   std::vector<long> face_elements;
   std::vector<int> face_numbers;
+  std::vector<std::uint8_t> face_segments;  ///< 1 for a segment (SPEC 7), 0 for an extra face (SPEC 9)
   std::vector<long> slave_ids;
   const io::FrdResults* checked = nullptr;  ///< the results whose node block was last checked against the deck
 };
@@ -506,6 +507,7 @@ std::unique_ptr<Scene> make_scene(const mesh::ContactModel& model, int pair) {
     for (int k : face) s->connectivity.push_back(scene.master.node_ids[static_cast<std::size_t>(k)]);
     s->face_elements.push_back(scene.master.face_element_id(f));
     s->face_numbers.push_back(scene.master.face_of(f).face);
+    s->face_segments.push_back(static_cast<std::size_t>(f) < scene.master.segments.size() ? 1 : 0);
   }
   s->slave_ids = scene.slave_ids;
   return s;
@@ -751,6 +753,9 @@ PYBIND11_MODULE(_contactnn, m) {
                              "The faces' node ids (deck ids), concatenated, in SPEC 9's order")
       .def_property_readonly("face_elements", [](const Scene& s) { return array_of(s.face_elements); })
       .def_property_readonly("face_numbers", [](const Scene& s) { return array_of(s.face_numbers); })
+      .def_property_readonly("face_segments", [](const Scene& s) { return array_of(s.face_segments); },
+                             "1 for a segment (SPEC 7), 0 for another face (SPEC 9): a deck's C3D6 quadrilateral "
+                             "is a quad4 that stays a bilinear facet under --surface gregory, unlike the handle's")
       .def_property_readonly("slave_ids", [](const Scene& s) { return array_of(s.slave_ids); })
       .def("coordinates", [](Scene& s, const Results* results, int increment, bool trust) {
              return scene_coordinates(s, results, increment, trust);
