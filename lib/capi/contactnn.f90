@@ -56,13 +56,13 @@ module contactnn
   type, bind(C), public :: contactnn_options
     integer(c_int) :: threads             ! OpenMP threads per run; <= 0: OpenMP's default
     integer(c_int) :: check_domain        ! network methods: /= 0 flags out_of_domain queries
-    integer(c_int) :: max_iterations      ! "newton": iteration limit
-    integer(c_int) :: max_halvings        ! hybrids: step halvings before no_convergence
-    real(c_double) :: tol_param           ! "newton": step tolerance, parameter units
-    real(c_double) :: domain_margin       ! ok versus outside: slack, parameter units
-    real(c_double) :: gregory_box_margin  ! hybrids, Gregory: box margin in domain widths
-    real(c_double) :: bilinear_box_margin ! hybrids, bilinear: box margin in domain widths
-    real(c_double) :: max_step_widths     ! hybrids: longest step in domain widths
+    integer(c_int) :: max_iterations      ! "newton": iteration limit, 1 to 1000
+    integer(c_int) :: max_halvings        ! hybrids: step halvings before no_convergence, 0 to 60
+    real(c_double) :: tol_param           ! "newton": step tolerance, parameter units, 0 to 1
+    real(c_double) :: domain_margin       ! ok versus outside: slack, parameter units, 0 to 1
+    real(c_double) :: gregory_box_margin  ! hybrids, Gregory: box margin in domain widths, 0 to 1
+    real(c_double) :: bilinear_box_margin ! hybrids, bilinear: box margin in domain widths, 0 to 1
+    real(c_double) :: max_step_widths     ! hybrids: longest step in domain widths, > 0 and <= 1
     integer(c_size_t) :: min_parallel_count ! below this many queries a run uses one thread
   end type contactnn_options
 
