@@ -1,7 +1,6 @@
 #include "contact/surface_search.hpp"
 
 #include <algorithm>
-#include <type_traits>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -226,65 +225,26 @@ projection::EdgePoint edge_point_on(const geometry::QuadraticTriangle& face, int
   return projection::closest_point_on_quadratic_edge(face, edge, p);
 }
 
-/// The closest point of face f to `slave` (closest_point_on_triangle for a flat triangle, else closest_on). With
-/// `start` (a warm start: the face's previous point, in its own order): one run from there; an answer on the
-/// boundary may hide an interior point the warm run missed, and then the grid of starts decides, as fresh.
-/// With `from_edges` (a tracked node's other faces, which have no previous point: mostly the neighbours of
-/// the face it is leaving), the same from the face's nearest edge point. With `unverified`, a warm answer on
-/// the boundary is returned as it is and *unverified set: the caller runs the grid (closest_on_face without a
-/// start) only if that answer would win.
+/// The closest point of face f to `slave` (closest_point_on_triangle for a flat triangle, else closest_on).
 /// With `certificate` (a checked bilinear face's, NarrowPhase::kCertified): its certified Newton run first,
-/// from `start` or the centre; where it holds no certificate, the reference as above and *reference_count
-/// counts the face.
+/// from `start` (a tracked node's previous point on the face, in its own order) or the centre. Otherwise, or
+/// where the certificate does not hold, the reference (its grid of starts, never a warm start: a warm run
+/// can end on another stationary point than the face's nearest, on its boundary or, on a curved face, inside;
+/// issue 39), and *reference_count counts the face.
 projection::FaceClosestPoint closest_on_face(const mesh::SurfaceMesh& master, std::span<const Vec3> normals,
                                              const SearchOptions& options, int f, const Vec3& slave,
-                                             const std::array<double, 2>* start = nullptr, bool from_edges = false,
-                                             bool* unverified = nullptr,
                                              const BilinearCertificate* certificate = nullptr,
+                                             const std::array<double, 2>* start = nullptr,
                                              int* reference_count = nullptr) {
-  if (unverified != nullptr) *unverified = false;
   if (certificate != nullptr && certificate->lambda_floor > 0.0) {
     if (auto p = certificate->closest_point(slave, options.projection, start)) return *p;
   }
-  if (reference_count != nullptr && master.face_type(f) != mesh::FaceType::kTri3) ++*reference_count;
   if (master.face_type(f) == mesh::FaceType::kTri3) {
     return projection::closest_point_on_triangle(triangle_nodes(master, f), slave);
   }
+  if (reference_count != nullptr) ++*reference_count;
   // The projection at `at` (S, or S relative to a quad4's first node).
-  const auto project = [&](const auto& surface, const Vec3& at) {
-    std::array<double, 2> edge_start{};
-    // Quadratic faces: their edges are curves projected by sampling and refinement, most of a projection's
-    // cost, so a start from the edges cost more than the grid it saves (tet-press: tracked 1.22x fresh).
-    using Face = std::decay_t<decltype(surface)>;
-    constexpr bool kQuadratic = std::is_same_v<Face, geometry::QuadraticTriangle> || std::is_same_v<Face, geometry::SerendipityQuad>;
-    if (start == nullptr && from_edges && !kQuadratic) {
-      double nearest = std::numeric_limits<double>::infinity();
-      for (int e = 0; e < 4; ++e) {
-        const auto q = edge_point_on(surface, e, at);
-        if (q.distance < nearest) {
-          nearest = q.distance;
-          edge_start = q.param;
-        }
-      }
-      if (std::isfinite(nearest)) start = &edge_start;
-    }
-    if (start != nullptr) {
-      SearchOptions warm = options;
-      warm.projection.warm_start = true;
-      warm.projection.start = *start;
-      const projection::FaceClosestPoint p = closest_on(surface, at, warm);
-      // Any warm answer may be another stationary point than the face's nearest: on its boundary, an interior
-      // point the run missed; inside, a farther local minimum of a curved face (a slave inside a closed body of
-      // Gregory patches or quadratic faces; issue 39). Only a certified face (BilinearCertificate) knows its
-      // answer is the nearest; here the grid decides whenever the warm answer would win.
-      if (p.status != Status::kOk) return p;
-      if (unverified != nullptr) {
-        *unverified = true;
-        return p;
-      }
-    }
-    return closest_on(surface, at, options);
-  };
+  const auto project = [&](const auto& surface, const Vec3& at) { return closest_on(surface, at, options); };
   projection::FaceClosestPoint none;
   if (master.face_type(f) != mesh::FaceType::kQuad4) {
     return with_face_surface(master, normals, options, f, none, [&](const auto& surface) { return project(surface, slave); });
@@ -465,14 +425,6 @@ NodeSegmentPair search_one(const mesh::SurfaceMesh& master, std::span<const Vec3
   }
   double best_distance = std::numeric_limits<double>::infinity();
   projection::FaceClosestPoint best_point;
-  // A tracked node's answers, each face's in scan order (see the end of the scan).
-  struct Answer {
-    int face;
-    projection::FaceClosestPoint point;
-    bool unverified;
-  };
-  thread_local std::vector<Answer> answers;
-  answers.clear();
   const auto consider = [&](int f, const projection::FaceClosestPoint& p) {
     const double tie = kTieTolerance * index.sizes[static_cast<std::size_t>(f)];
     bool better = best.segment < 0 || p.distance < best_distance - tie;
@@ -503,41 +455,15 @@ NodeSegmentPair search_one(const mesh::SurfaceMesh& master, std::span<const Vec3
       const double exact = face_lower_bound(index, slave, f);
       if (exact > capture || exact > best_distance + kTieTolerance * index.sizes[static_cast<std::size_t>(f)]) continue;
     }
-    bool unverified = false;
     const SearchOptions& face_options = index.checked[static_cast<std::size_t>(f)] != 0 ? checked : options;
     const projection::FaceClosestPoint p =
         known != nullptr && f == known->face
             ? known->point
-            : closest_on_face(master, normals, face_options, f, slave, hinted ? &hint->param : nullptr,
-                              hint != nullptr, hint != nullptr ? &unverified : nullptr, certificate_of(index, f),
-                              &best.reference_faces);
+            : closest_on_face(master, normals, face_options, f, slave, certificate_of(index, f),
+                              hinted ? &hint->param : nullptr, &best.reference_faces);
     if (p.status != Status::kOk) continue;
     ++best.candidates;
-    if (hint != nullptr) answers.push_back({f, p, unverified});
     consider(f, p);
-  }
-  // A tracked node: a warm answer on a face's boundary may hide an interior point the warm run missed, which
-  // the fresh search's grid of starts finds. The grid runs on such a face while its answer is the best or
-  // within the tie band of the best (two faces' warm runs both ending on their shared edge: the one whose
-  // grid finds its interior point wins): a face's grid answer is no farther than its warm one (the same edges,
-  // and the interior), so the faces already ruled out stay out; a node leaving its face for a neighbour whose
-  // warm run ends inside runs none.
-  for (;;) {
-    bool verified = false;
-    for (Answer& a : answers) {
-      if (!a.unverified || a.point.status != Status::kOk) continue;
-      if (a.point.distance > best_distance + kTieTolerance * index.sizes[static_cast<std::size_t>(a.face)]) continue;
-      a.point = closest_on_face(master, normals, index.checked[static_cast<std::size_t>(a.face)] != 0 ? checked : options,
-                                a.face, slave, nullptr, false, nullptr, nullptr, &best.reference_faces);
-      a.unverified = false;
-      verified = true;
-    }
-    if (!verified) break;
-    best.segment = -1;
-    best_distance = std::numeric_limits<double>::infinity();
-    for (const Answer& a : answers) {
-      if (a.point.status == Status::kOk) consider(a.face, a.point);
-    }
   }
   if (best.segment < 0 || best_distance > capture) {
     best.segment = -1;
@@ -785,8 +711,8 @@ NodeSegmentPair SurfaceSearcher::nearest_fresh(long slave_id, const Vec3& world_
   KnownPoint known;
   known.face = static_cast<int>(nearest_centre);
   const SearchOptions& face_options = m.index.checked[nearest_centre] != 0 ? m.checked_options : m.options;
-  known.point = closest_on_face(m.master, m.normals, face_options, known.face, slave, nullptr, false, nullptr,
-                                certificate_of(m.index, known.face), &known.reference_faces);
+  known.point = closest_on_face(m.master, m.normals, face_options, known.face, slave,
+                                certificate_of(m.index, known.face), nullptr, &known.reference_faces);
   // The scan's best may move up by a tie band each time a face within the band has the lower key: a chain of
   // such faces (those at one vertex, a few tens at most) stays within a thousand bands.
   double reach = m.capture;

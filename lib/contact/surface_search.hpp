@@ -18,8 +18,10 @@
 //     which bound the patch: a quadratic face may bulge beyond its nodes) comes within the capture distance of
 //     S. A k-d tree over the centres (nanoflann) finds them; brute_force_faces tries every face (the oracle).
 //  2. Candidates in increasing order of their sphere's distance; the closest point on each (by its type, as
-//     above: the references of lib/projection); a face whose sphere is farther than the best point
-//     so far cannot hold a nearer one and ends the scan.
+//     above: the references of lib/projection; a bilinear quad4 by one Newton run where a convexity
+//     certificate proves its answer is the face's nearest, bilinear_certificate.hpp, NarrowPhase); a face
+//     whose sphere is farther than the best point so far cannot hold a nearer one and ends the scan. A fresh
+//     query projects the face whose centre is nearest S first and gathers only the faces within its distance.
 //  3. The nearest point wins; ties (equal distances to 1e-12 of the face size) go to the lower element id,
 //     then the lower face number (SPEC 9). No point within the capture distance: no_segment.
 //  4. The gap is the signed distance |S - P|: the sign of (S - P).n, n the face's unit normal at P for a
@@ -109,10 +111,9 @@ class SurfaceSearcher {
   /// by (bound, face) (a tracker's bounds from an earlier state less the movement since: each face's own
   /// bound is then computed only where the loose one does not already rule the face out).
   enum class Bounds { kExact, kLooseSorted };
-  /// Steps 2-4 over `candidates` (reordered). With a hint (a tracked node), its face is projected first from
-  /// the hint's start (one warm Newton run instead of the grid of starts, the edges as always), the other
-  /// faces from their nearest edge point; a warm answer on a face's boundary gets the grid of starts only
-  /// while it is the best. The answer is the same for either kind of bounds.
+  /// Steps 2-4 over `candidates` (reordered). With a hint (a tracked node), its face is projected first, from
+  /// the hint's point where the face has a certificate (bilinear_certificate.hpp; otherwise by the reference,
+  /// as fresh). The answer is the same for either kind of bounds, and with or without a hint.
   [[nodiscard]] NodeSegmentPair nearest(long slave_id, const Vec3& slave,
                                         std::vector<std::pair<double, int>>& candidates,
                                         const FaceHint* hint = nullptr, Bounds bounds = Bounds::kExact) const;

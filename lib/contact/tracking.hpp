@@ -13,15 +13,15 @@
 //     beyond capture + m at the build, and its sphere can have come nearer by at most that much, so it is
 //     still beyond the capture distance. Otherwise the node gets a fresh list (step 1).
 //  3. The node's answer is the nearest point over its list's faces (SurfaceSearcher::nearest), the face it
-//     had at the previous increment first, projected from its previous point (one warm Newton run instead
-//     of the grid of starts); the other faces are pruned as in the fresh search, by b_f - |S - S0| - (D - D0),
-//     which no face's sphere (and so no point of it) can be nearer than: a face's own bound is computed only
-//     once that one no longer rules it out (after the warm point, for most nodes, none is). The other faces
-//     projected start from their nearest edge point; a warm answer on a face's boundary is checked by the
-//     grid of starts only while it is the best (SurfaceSearcher::nearest with a hint).
-// The faces and points equal a fresh search's except where a face holds several stationary points near the
-// node and the warm start finds another than the grid's nearest (the tests and `replay` compare every
-// increment with a fresh search and count the differences).
+//     had at the previous increment first; the other faces are pruned as in the fresh search, by
+//     b_f - |S - S0| - (D - D0), which no face's sphere (and so no point of it) can be nearer than: a face's own
+//     bound is computed only once that one no longer rules it out (after the first face's point, for most
+//     nodes, none is). A bilinear face with a certificate (bilinear_certificate.hpp) is projected by one Newton
+//     run from the node's previous point on it; every other face by the fresh search's reference. A warm start
+//     on a face without a certificate could end on another stationary point than the face's nearest (a farther
+//     local minimum of a Gregory patch around a slave node inside a closed body: issue 39), so none is made.
+// The faces, points and gaps equal a fresh search's (the tests and `replay` compare every increment with a
+// fresh search and count the differences).
 #pragma once
 
 #include <span>
