@@ -13,6 +13,8 @@
 #include <pybind11/stl.h>
 
 #include <algorithm>
+#include <chrono>
+#include <limits>
 #include <cstdint>
 #include <memory>
 #include <numeric>
@@ -306,6 +308,48 @@ py::tuple run_search(Searcher<Search>& s, const py::handle& raw_object, py::ssiz
       s.search.template run<Real>(static_cast<std::size_t>(n), in, results, threads);
     }
     return py::make_tuple(param, gap, status);
+  };
+  return single ? go(0.0f) : go(0.0);
+}
+
+/// The fastest of `repeats` runs of the search itself on `raw` (seconds), timed in C++ around the library's call
+/// alone: what scripts/bench-python compares the module's calls with.
+template <class Search>
+double time_search(const Searcher<Search>& s, const py::handle& raw_object, py::ssize_t columns, const py::object& out,
+                   int repeats, int threads) {
+  py::array raw = as_array(raw_object);
+  const bool single = is_float32(raw, "_time_run: raw");
+  require_rows(raw, columns, "_time_run: raw");
+  require_c_contiguous(raw, "_time_run: raw");
+  const auto n = static_cast<std::size_t>(raw.shape(0));
+  auto go = [&](auto zero) {
+    using Real = decltype(zero);
+    std::vector<Real> param_buffer, gap_buffer;
+    std::vector<Status> status_buffer;
+    search::Results<Real> results;
+    const auto rows = static_cast<py::ssize_t>(n);
+    if (out.is_none()) {
+      param_buffer.resize(2 * n);
+      gap_buffer.resize(n);
+      status_buffer.resize(n);
+      results = {param_buffer.data(), gap_buffer.data(), status_buffer.data(), nullptr, nullptr};
+    } else {  // the caller's arrays, as run(raw, out=...) writes them
+      const auto t = out.cast<py::tuple>();
+      if (t.size() != 3) refuse_value("_time_run: out: 3 arrays expected (param, gap, status)");
+      results = {checked_output<Real>(t[0], {rows, 2}, "_time_run: out[0]").mutable_data(),
+                 checked_output<Real>(t[1], {rows}, "_time_run: out[1]").mutable_data(),
+                 reinterpret_cast<Status*>(checked_output<std::uint8_t>(t[2], {rows}, "_time_run: out[2]").mutable_data()),
+                 nullptr, nullptr};
+    }
+    const auto* in = static_cast<const Real*>(raw.data());
+    double best = std::numeric_limits<double>::infinity();
+    py::gil_scoped_release release;
+    for (int r = 0; r < std::max(repeats, 1); ++r) {
+      const auto start = std::chrono::steady_clock::now();
+      s.search.template run<Real>(n, in, results, threads);
+      best = std::min(best, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+    }
+    return best;
   };
   return single ? go(0.0f) : go(0.0);
 }
@@ -645,6 +689,11 @@ PYBIND11_MODULE(_contactnn, m) {
       .def_property_readonly("surface", [](const LocalSearcher& s) { return std::string(to_string(s.search.surface())); })
       .def_property_readonly("method", [](const LocalSearcher& s) { return s.search.method().name(); })
       .def_property_readonly("columns", [](const LocalSearcher& s) { return search::LocalSearch::raw_columns(s.search.surface()); })
+      .def("_time_run", [](const LocalSearcher& s, const py::handle& raw, const py::object& out, int repeats, int threads) {
+             return time_search(s, raw, search::LocalSearch::raw_columns(s.search.surface()), out, repeats, threads);
+           },
+           py::arg("raw"), py::kw_only(), py::arg("out") = py::none(), py::arg("repeats") = 5, py::arg("threads") = 0,
+           "Benchmarks only: the fastest of `repeats` runs timed in C++ around the library's call (seconds)")
       .def_property_readonly("last_input_address", [](const LocalSearcher& s) { return s.last_input; },
                              "Address of the raw rows the last run read (compare with raw.ctypes.data: no copy)");
   using FaceSearcher = Searcher<search::FaceSearch>;
@@ -661,6 +710,10 @@ PYBIND11_MODULE(_contactnn, m) {
       .def_property_readonly("face", [](const FaceSearcher& s) { return std::string(search::to_string(s.search.face())); })
       .def_property_readonly("method", [](const FaceSearcher& s) { return s.search.method().name(); })
       .def_property_readonly("columns", [](const FaceSearcher& s) { return search::face_raw_columns(s.search.face()); })
+      .def("_time_run", [](const FaceSearcher& s, const py::handle& raw, const py::object& out, int repeats, int threads) {
+             return time_search(s, raw, search::face_raw_columns(s.search.face()), out, repeats, threads);
+           },
+           py::arg("raw"), py::kw_only(), py::arg("out") = py::none(), py::arg("repeats") = 5, py::arg("threads") = 0)
       .def_property_readonly("last_input_address", [](const FaceSearcher& s) { return s.last_input; });
 
   // The contact search handle.
