@@ -140,7 +140,6 @@ std::string faces(const std::map<std::string, int>& skipped) {
   return text.empty() ? std::string("none") : text;
 }
 
-/// The scene's summary: counts, skipped faces and the shape statistics (min / median / max).
 /// The slave nodes the surface search found no face for (no_segment: none within the capture distance), and of
 /// those the ones behind the master surface (on the inner side of their nearest master node's normal): nodes
 /// driven through the master deeper than the capture distance, whose contact the search does not see.
@@ -171,6 +170,7 @@ BeyondCapture beyond_capture(const contact::Scene& scene, const contact::SceneRe
   return out;
 }
 
+/// The scene's summary: counts, skipped faces and the shape statistics (min / median / max).
 void print_scene_summary(const std::string& deck, const contact::Scene& scene, const contact::SceneResult& result,
                          SurfaceKind surface, const std::string& output, double seconds) {
   const auto spread = [](const char* name, const contact::Spread& s) {

@@ -34,8 +34,8 @@ bool under(const fs::path& inner, const fs::path& outer) {
   return o == outer.end();
 }
 
-/// Where an input lies, as the places a directory replaced whole could hold it: the file itself (links followed)
-/// and the name it was given by (its directory resolved, the last link not followed).
+/// Where an input lies, as the places a directory replaced whole could hold it: the file itself (links
+/// followed) and the name it was given by (its directory resolved, the last link not followed).
 std::vector<fs::path> places_of(const fs::path& input) {
   std::vector<fs::path> places = {resolved(input)};
   const fs::path absolute = fs::absolute(input).lexically_normal();
@@ -43,8 +43,8 @@ std::vector<fs::path> places_of(const fs::path& input) {
   return places;
 }
 
-/// Makes and removes a directory in `dir`: IoError naming `option` and `shown` with the system's reason when the
-/// file system refuses (read-only, no permission, /proc).
+/// Makes and removes a directory in `dir`: IoError naming `option` and `shown` with the system's reason when
+/// the file system refuses (read-only, no permission, /proc).
 void probe(const std::string& option, const fs::path& shown, const fs::path& dir) {
   const fs::path name = dir / (".contactnn-probe." + std::to_string(::getpid()) + ".tmp");
   CONTACTNN_REQUIRE_AS(IoError, ::mkdir(name.c_str(), 0700) == 0,
@@ -59,8 +59,9 @@ void require_writable_directory(const OutputDirectory& d) {
   const fs::file_status status = fs::status(d.path, ec);
   if (!ec && status.type() != fs::file_type::not_found) {
     CONTACTNN_REQUIRE_AS(IoError, status.type() == fs::file_type::directory,
-                         d.option << " " << in_quotes(d.path) << ": cannot write a directory there: it exists and is "
-                                                                  "not a directory");
+                         d.option << " " << in_quotes(d.path)
+                                  << ": cannot write a directory there: it exists and is "
+                                     "not a directory");
     const fs::path target = resolved(d.path);
     if (d.replaced_whole) {
       probe(d.option, d.path, target.parent_path());  // the new report is built beside the old one
@@ -77,7 +78,8 @@ void require_writable_directory(const OutputDirectory& d) {
     ancestor = ancestor.parent_path();
     const fs::file_status s = fs::status(ancestor, ec);
     if (ec && ec != std::errc::no_such_file_or_directory && ec != std::errc::not_a_directory) {
-      throw IoError(d.option + " " + in_quotes(d.path) + ": cannot check " + in_quotes(ancestor) + ": " + ec.message());
+      throw IoError(d.option + " " + in_quotes(d.path) + ": cannot check " + in_quotes(ancestor) + ": " +
+                    ec.message());
     }
     if (s.type() == fs::file_type::not_found) continue;
     CONTACTNN_REQUIRE_AS(IoError, s.type() == fs::file_type::directory,
@@ -101,20 +103,22 @@ void require_outputs(const std::vector<NamedPath>& files, const std::vector<Outp
       if (in.path.empty()) continue;
       const bool is = same_file(d.path, in.path) || resolved(in.path) == dir;
       CONTACTNN_REQUIRE_AS(InvalidArgument, !is,
-                           d.option << " " << in_quotes(d.path) << " and " << in.option << " " << in_quotes(in.path)
+                           d.option << " " << in_quotes(d.path) << " and " << in.option << " "
+                                    << in_quotes(in.path)
                                     << " are the same file: refusing to overwrite an input");
       if (!d.replaced_whole) continue;
       for (const fs::path& place : places_of(in.path)) {
-        CONTACTNN_REQUIRE_AS(InvalidArgument, !under(place, dir),
-                             d.option << " " << in_quotes(d.path) << " holds " << in.option << " "
-                                      << in_quotes(in.path)
-                                      << ": the directory is replaced whole, so it must not hold an input (choose a "
-                                         "new or empty directory)");
+        CONTACTNN_REQUIRE_AS(
+            InvalidArgument, !under(place, dir),
+            d.option << " " << in_quotes(d.path) << " holds " << in.option << " " << in_quotes(in.path)
+                     << ": the directory is replaced whole, so it must not hold an input (choose a "
+                        "new or empty directory)");
       }
     }
     for (const NamedPath& f : files) {
       CONTACTNN_REQUIRE_AS(InvalidArgument, f.path.empty() || resolved(f.path) != dir,
-                           d.option << " " << in_quotes(d.path) << " and " << f.option << " " << in_quotes(f.path)
+                           d.option << " " << in_quotes(d.path) << " and " << f.option << " "
+                                    << in_quotes(f.path)
                                     << " are the same path: a directory and a file cannot share it");
     }
     for (const std::string& name : d.names) {
@@ -140,7 +144,8 @@ void require_outputs(const std::vector<NamedPath>& files, const std::vector<Outp
 void make_output_directory(const std::string& option, const std::filesystem::path& path) {
   std::error_code ec;
   fs::create_directories(path, ec);
-  CONTACTNN_REQUIRE_AS(IoError, !ec, option << " " << in_quotes(path) << ": cannot make the directory: " << ec.message());
+  CONTACTNN_REQUIRE_AS(IoError, !ec,
+                       option << " " << in_quotes(path) << ": cannot make the directory: " << ec.message());
 }
 
 }  // namespace contactnn::io

@@ -13,9 +13,9 @@ namespace contactnn::io {
 
 /// A directory a run writes its files into.
 struct OutputDirectory {
-  std::string option;               ///< "--report", "--output"
+  std::string option;  ///< "--report", "--output"
   std::filesystem::path path;
-  std::vector<std::string> names;   ///< the files the run writes into it
+  std::vector<std::string> names;  ///< the files the run writes into it
   /// True for a report put in place whole (AtomicDirectory): it replaces the directory, so the directory may
   /// hold no input at any depth. False for a directory that only receives `names` (the rest is left alone).
   bool replaced_whole = false;
@@ -23,10 +23,10 @@ struct OutputDirectory {
 
 /// Checks every output of a run against its inputs and the file system, before anything is written, in the
 /// same order in every tool:
-///  1. InvalidArgument (exit 2): an output file, or a file of an output directory, that is the same file as an
-///     input (io::same_file: through symbolic and hard links) or as another output; an output directory that
-///     is an input; a directory replaced whole that holds an input at any depth (`--report DIR` beside the
-///     run's deck); an output directory that is also an output file.
+///  1. InvalidArgument (exit 2): an output file, or a file of an output directory, that is the same file as
+///     an input (io::same_file: through symbolic and hard links) or as another output; an output directory
+///     that is an input; a directory replaced whole that holds an input at any depth (`--report DIR` beside
+///     the run's deck); an output directory that is also an output file.
 ///  2. IoError (exit 4), naming the option, the path and the system's reason: an output file that cannot be
 ///     created (its directory missing or not writable, a directory of that name; io::require_writable); an
 ///     output directory that exists and is not a directory (`--report /dev/null`, `--report deck.inp` when

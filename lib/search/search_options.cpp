@@ -13,14 +13,15 @@ namespace {
 void require_in(const char* name, double value, double lo, double hi, bool lo_open = false) {
   const bool above_lo = lo_open ? value > lo : value >= lo;
   CONTACTNN_REQUIRE_AS(InvalidArgument, std::isfinite(value) && above_lo && value <= hi,
-                       name << " = " << value << ", expected a finite number " << (lo_open ? "> " : "from ") << lo
-                            << (lo_open ? " and <= " : " to ") << hi);
+                       name << " = " << value << ", expected a finite number " << (lo_open ? "> " : "from ")
+                            << lo << (lo_open ? " and <= " : " to ") << hi);
 }
 
 }  // namespace
 
 void check_search_options(const SearchOptions& options) {
-  CONTACTNN_REQUIRE_AS(InvalidArgument, options.max_iterations >= 1 && options.max_iterations <= kMaxIterations,
+  CONTACTNN_REQUIRE_AS(InvalidArgument,
+                       options.max_iterations >= 1 && options.max_iterations <= kMaxIterations,
                        "max_iterations = " << options.max_iterations << ", expected 1 to " << kMaxIterations);
   CONTACTNN_REQUIRE_AS(InvalidArgument, options.max_halvings >= 0 && options.max_halvings <= kMaxHalvings,
                        "max_halvings = " << options.max_halvings << ", expected 0 to " << kMaxHalvings);
