@@ -16,6 +16,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdint>
+#include <initializer_list>
 #include <limits>
 #include <memory>
 #include <numeric>
@@ -105,48 +106,62 @@ std::string shape_text(const py::array& a) {
 
 std::string dtype_text(const py::array& a) { return py::str(a.dtype()).cast<std::string>(); }
 
+/// What a message names ("LocalSearch.run: raw"), in two parts joined only when a message is made: a call
+/// that passes its checks builds no string.
+struct What {
+  const char* head;
+  const char* tail = "";
+  What(const char* h, const char* t = "") : head(h), tail(t) {}  // NOLINT: implicit by design
+  What(const std::string& h) : head(h.c_str()) {}                // NOLINT
+  [[nodiscard]] std::string text() const { return std::string(head) + tail; }
+};
+
 [[noreturn]] void refuse_type(const std::string& message) { throw py::type_error(message); }
 [[noreturn]] void refuse_value(const std::string& message) { throw py::value_error(message); }
 
 /// True for float32, false for float64; TypeError naming `what` otherwise.
-bool is_float32(const py::array& a, const std::string& what) {
+bool is_float32(const py::array& a, const What& what) {
   if (a.dtype().is(py::dtype::of<double>())) return false;
   if (a.dtype().is(py::dtype::of<float>())) return true;
-  refuse_type(what + ": dtype " + dtype_text(a) + ", expected float64 or float32 (convert it with .astype)");
+  refuse_type(what.text() + ": dtype " + dtype_text(a) +
+              ", expected float64 or float32 (convert it with .astype)");
 }
 
-void require_c_contiguous(const py::array& a, const std::string& what) {
+void require_c_contiguous(const py::array& a, const What& what) {
   if ((a.flags() & py::array::c_style) == 0)
     refuse_value(
-        what + ": not C-contiguous (a slice or a transpose; np.ascontiguousarray(...) makes a copy that is)");
+        what.text() +
+        ": not C-contiguous (a slice or a transpose; np.ascontiguousarray(...) makes a copy that is)");
 }
 
 /// A 2-D array of `columns` columns (any row count).
-void require_rows(const py::array& a, py::ssize_t columns, const std::string& what) {
+void require_rows(const py::array& a, py::ssize_t columns, const What& what) {
   if (a.ndim() != 2 || a.shape(1) != columns)
-    refuse_value(what + ": shape " + shape_text(a) + ", expected (n, " + std::to_string(columns) + ")");
+    refuse_value(what.text() + ": shape " + shape_text(a) + ", expected (n, " + std::to_string(columns) +
+                 ")");
 }
 
 /// An output array of exactly dtype T, the given shape, C-contiguous and writable.
 template <class T>
-py::array_t<T> checked_output(const py::handle& object, const std::vector<py::ssize_t>& shape,
-                              const std::string& what) {
-  if (!py::isinstance<py::array>(object)) refuse_type(what + ": not a numpy array");
+py::array_t<T> checked_output(const py::handle& object, std::initializer_list<py::ssize_t> shape,
+                              const What& what) {
+  if (!py::isinstance<py::array>(object)) refuse_type(what.text() + ": not a numpy array");
   auto a = py::reinterpret_borrow<py::array>(object);
   if (!a.dtype().is(py::dtype::of<T>()))
-    refuse_type(what + ": dtype " + dtype_text(a) + ", expected " +
+    refuse_type(what.text() + ": dtype " + dtype_text(a) + ", expected " +
                 py::str(py::dtype::of<T>()).cast<std::string>());
   bool same = a.ndim() == static_cast<py::ssize_t>(shape.size());
   for (std::size_t d = 0; same && d < shape.size(); ++d)
-    same = a.shape(static_cast<py::ssize_t>(d)) == shape[d];
+    same = a.shape(static_cast<py::ssize_t>(d)) == shape.begin()[d];
   if (!same) {
     std::string expected = "(";
-    for (std::size_t d = 0; d < shape.size(); ++d) expected += (d ? ", " : "") + std::to_string(shape[d]);
-    refuse_value(what + ": shape " + shape_text(a) + ", expected " + expected +
+    for (std::size_t d = 0; d < shape.size(); ++d)
+      expected += (d ? ", " : "") + std::to_string(shape.begin()[d]);
+    refuse_value(what.text() + ": shape " + shape_text(a) + ", expected " + expected +
                  (shape.size() == 1 ? ",)" : ")"));
   }
   require_c_contiguous(a, what);
-  if (!a.writeable()) refuse_value(what + ": read-only");
+  if (!a.writeable()) refuse_value(what.text() + ": read-only");
   return py::reinterpret_borrow<py::array_t<T>>(a);
 }
 
@@ -290,11 +305,11 @@ struct Searcher {
 /// run(raw, out, threads) of either search: (param, gap, status) of the input's dtype (status uint8).
 template <class Search>
 py::tuple run_search(Searcher<Search>& s, const py::handle& raw_object, py::ssize_t columns,
-                     const py::object& out, int threads, const std::string& name) {
+                     const py::object& out, int threads, const char* name) {
   py::array raw = as_array(raw_object);
-  const bool single = is_float32(raw, name + ".run: raw");
-  require_rows(raw, columns, name + ".run: raw");
-  require_c_contiguous(raw, name + ".run: raw");
+  const bool single = is_float32(raw, {name, ".run: raw"});
+  require_rows(raw, columns, {name, ".run: raw"});
+  require_c_contiguous(raw, {name, ".run: raw"});
   const py::ssize_t n = raw.shape(0);
   auto go = [&](auto zero) -> py::tuple {
     using Real = decltype(zero);
@@ -307,11 +322,11 @@ py::tuple run_search(Searcher<Search>& s, const py::handle& raw_object, py::ssiz
     } else {
       const auto t = out.cast<py::tuple>();
       if (t.size() != 3)
-        refuse_value(name + ".run: out: " + std::to_string(t.size()) +
+        refuse_value(std::string(name) + ".run: out: " + std::to_string(t.size()) +
                      " arrays, expected 3 (param, gap, status)");
-      param = checked_output<Real>(t[0], {n, 2}, name + ".run: out[0] (param)");
-      gap = checked_output<Real>(t[1], {n}, name + ".run: out[1] (gap)");
-      status = checked_output<std::uint8_t>(t[2], {n}, name + ".run: out[2] (status)");
+      param = checked_output<Real>(t[0], {n, 2}, {name, ".run: out[0] (param)"});
+      gap = checked_output<Real>(t[1], {n}, {name, ".run: out[1] (gap)"});
+      status = checked_output<std::uint8_t>(t[2], {n}, {name, ".run: out[2] (status)"});
     }
     const auto* in = static_cast<const Real*>(raw.data());
     s.last_input = reinterpret_cast<std::uintptr_t>(in);
@@ -466,11 +481,11 @@ std::unique_ptr<Handle> make_handle(const py::iterable& face_types, const py::ha
 
 /// A (rows, 3) array of coordinates: float64 read in place, float32 converted (the handle computes in
 /// double).
-py::array_t<double> coordinate_rows(const py::handle& object, long rows, const std::string& what) {
+py::array_t<double> coordinate_rows(const py::handle& object, long rows, const What& what) {
   py::array a = as_array(object);
   const bool single = is_float32(a, what);
   if (a.ndim() != 2 || a.shape(0) != rows || a.shape(1) != 3)
-    refuse_value(what + ": shape " + shape_text(a) + ", expected (" + std::to_string(rows) + ", 3)");
+    refuse_value(what.text() + ": shape " + shape_text(a) + ", expected (" + std::to_string(rows) + ", 3)");
   require_c_contiguous(a, what);
   if (single) return py::array_t<double>(a.attr("astype")("float64"));
   return py::reinterpret_borrow<py::array_t<double>>(a);
