@@ -1,6 +1,7 @@
 #include "cli_support.hpp"
 
 #include <omp.h>
+#include <toml++/toml.h>
 
 #include <algorithm>
 #include <cctype>
@@ -14,7 +15,6 @@
 #include <optional>
 #include <set>
 #include <sstream>
-#include <toml++/toml.h>
 
 #include "core/error.hpp"
 #include "io/csv.hpp"
@@ -592,10 +592,11 @@ void Progress::finish() {
 std::vector<std::string> warn_unapplied_geometry(const char* tool, const std::string& deck) {
   std::vector<std::string> keywords = io::unapplied_geometry_keywords(deck);
   for (const std::string& k : keywords) {
-    std::fprintf(stderr,
-                 "%s: warning: %s: this keyword changes the contact geometry CalculiX uses, and it is not applied "
-                 "here: the gaps and points are those of the mesh as written\n",
-                 tool, k.c_str());
+    std::fprintf(
+        stderr,
+        "%s: warning: %s: this keyword changes the contact geometry CalculiX uses, and it is not applied "
+        "here: the gaps and points are those of the mesh as written\n",
+        tool, k.c_str());
   }
   return keywords;
 }

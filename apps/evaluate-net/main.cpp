@@ -49,8 +49,8 @@
 #include "io/csv.hpp"
 #include "io/dataset_file.hpp"
 #include "io/file_identity.hpp"
-#include "io/output_checks.hpp"
 #include "io/network_file.hpp"
+#include "io/output_checks.hpp"
 #include "io/raw_configurations.hpp"
 #include "search/local_search.hpp"
 #include "study/plan.hpp"
@@ -289,7 +289,8 @@ int main(int argc, char** argv) {
   app.add_option("--failure_box_margin", options.failure_box_margin,
                  "an estimate more than this many domain widths outside the domain is a failure")
       ->check(cli::kPositive);
-  app.add_option("--converged_max_iterations", options.search.max_iterations, "Newton to convergence: iteration limit")
+  app.add_option("--converged_max_iterations", options.search.max_iterations,
+                 "Newton to convergence: iteration limit")
       ->transform(cli::integer_in(1, search::kMaxIterations));
   app.add_option("--converged_tol_param", options.search.tol_param,
                  "Newton to convergence: step tolerance (parameter units)")

@@ -49,8 +49,8 @@
 #include "cli_support.hpp"
 #include "contact/scene.hpp"
 #include "contact/surface_search.hpp"
-#include "core/quote_text.hpp"
 #include "core/error.hpp"
+#include "core/quote_text.hpp"
 #include "dataset/enumeration.hpp"
 #include "dataset/labeller.hpp"
 #include "dataset/sampling.hpp"
@@ -140,9 +140,9 @@ std::string faces(const std::map<std::string, int>& skipped) {
   return text.empty() ? std::string("none") : text;
 }
 
-/// The slave nodes the surface search found no face for (no_segment: none within the capture distance), and of
-/// those the ones behind the master surface (on the inner side of their nearest master node's normal): nodes
-/// driven through the master deeper than the capture distance, whose contact the search does not see.
+/// The slave nodes the surface search found no face for (no_segment: none within the capture distance), and
+/// of those the ones behind the master surface (on the inner side of their nearest master node's normal):
+/// nodes driven through the master deeper than the capture distance, whose contact the search does not see.
 struct BeyondCapture {
   long nodes = 0;
   long behind = 0;
@@ -163,7 +163,8 @@ BeyondCapture beyond_capture(const contact::Scene& scene, const contact::SceneRe
     for (std::size_t j = 1; j < master.size(); ++j) {
       if ((master[j] - slave).squaredNorm() < (master[nearest] - slave).squaredNorm()) nearest = j;
     }
-    if (nearest < scene.master_normals.size() && (slave - master[nearest]).dot(scene.master_normals[nearest]) < 0.0) {
+    if (nearest < scene.master_normals.size() &&
+        (slave - master[nearest]).dot(scene.master_normals[nearest]) < 0.0) {
       ++out.behind;
     }
   }
@@ -371,15 +372,17 @@ int scene_mode(const std::string& deck, int pair, const contact::SearchOptions& 
     // A node beyond the capture distance has no contact; one behind the master surface is a contact lost (a
     // penetration deeper than the capture distance): counted, and said on stderr.
     const BeyondCapture beyond = beyond_capture(*scene, *result);
-    std::printf("  beyond capture       %ld slave nodes (no face within %.6g), %ld of them behind the master "
-                "surface\n",
-                beyond.nodes, capture, beyond.behind);
+    std::printf(
+        "  beyond capture       %ld slave nodes (no face within %.6g), %ld of them behind the master "
+        "surface\n",
+        beyond.nodes, capture, beyond.behind);
     if (beyond.behind > 0) {
-      std::fprintf(stderr,
-                   "gen-configs: warning: %ld slave node(s) of pair %d lie behind the master surface farther than the "
-                   "capture distance %.6g from every face: penetrations deeper than it, whose contact the search "
-                   "does not find (no_segment); give --capture_distance larger than the deepest penetration\n",
-                   beyond.behind, scene->pair, capture);
+      std::fprintf(
+          stderr,
+          "gen-configs: warning: %ld slave node(s) of pair %d lie behind the master surface farther than the "
+          "capture distance %.6g from every face: penetrations deeper than it, whose contact the search "
+          "does not find (no_segment); give --capture_distance larger than the deepest penetration\n",
+          beyond.behind, scene->pair, capture);
     }
     std::printf("  closest points       face %ld, edge %ld, vertex %ld%s\n", locations[0], locations[1], locations[2],
                 all ? " (every increment)" : "");
@@ -492,9 +495,10 @@ int main(int argc, char** argv) {
                              ->needs(scene_option);
   app.add_option("--increment", history.increment, "with --results: N (from 1), last or all (default last)")
       ->needs(results_option);
-  app.add_flag("--trust-results-nodes", history.trust_nodes,
-               "with --results: take the .frd's node coordinates even where they are not the deck's (another mesh "
-               "with the same node ids is refused otherwise)")
+  app.add_flag(
+         "--trust-results-nodes", history.trust_nodes,
+         "with --results: take the .frd's node coordinates even where they are not the deck's (another mesh "
+         "with the same node ids is refused otherwise)")
       ->needs(results_option);
   app.add_option("--output", output, "dataset .h5 (enumeration), labels .csv (label mode) or pairs .csv (scene mode)")
       ->required();
@@ -565,7 +569,9 @@ int main(int argc, char** argv) {
     const std::filesystem::path effective_config =
         writes_config && !io::written_in_place(output) ? cli::effective_config_path(output) : "";
     io::require_outputs({{"--output", output}, {"the effective config", effective_config}}, {},
-                        {{"--input", input}, {"--scene", scene}, {"--config", cli::config_path(app)},
+                        {{"--input", input},
+                         {"--scene", scene},
+                         {"--config", cli::config_path(app)},
                          {"--results", history.results}});
 
     // 3. Label mode: a user's CSV in, the same rows with labels out.

@@ -60,18 +60,21 @@ int main(int argc, char** argv) {
   app.add_option("--repeats", options.repeats, "timings: the fastest of this many runs")->transform(cli::integer_in(1, 100));
   app.add_option("--threads", options.threads, "OpenMP threads of every phase")->transform(cli::integer_in(1, cli::kMaxThreads));
   bool trust_nodes = false;
-  app.add_flag("--trust-results-nodes", trust_nodes,
-               "take the .frd's node coordinates even where they are not the deck's (another mesh with the same "
-               "node ids is refused otherwise)");
+  app.add_flag(
+      "--trust-results-nodes", trust_nodes,
+      "take the .frd's node coordinates even where they are not the deck's (another mesh with the same "
+      "node ids is refused otherwise)");
   app.add_flag("--quiet", quiet, "no progress line");
 
   return cli::run(app, argc, argv, [&]() -> int {
     // 1b. The report directory, before anything is read or written: it is replaced whole (an earlier report
     //     only), so it may be no input and hold none (exit 2), and it must be writable (exit 4).
-    const std::initializer_list<std::string> report_files = {"report.md", "increments.csv", "time.svg", "error.svg",
-                                                             "locations.svg"};
+    const std::initializer_list<std::string> report_files = {"report.md", "increments.csv", "time.svg",
+                                                             "error.svg", "locations.svg"};
     io::require_outputs({}, {{"--report", report, report_files, true}},
-                        {{"--scene", deck}, {"--results", results_path}, {"--weights", weights},
+                        {{"--scene", deck},
+                         {"--results", results_path},
+                         {"--weights", weights},
                          {"--config", cli::config_path(app)}});
     io::AtomicDirectory report_directory(report, report_files, "--report");
     // 2. Settings: surface, methods, the network.
@@ -115,13 +118,14 @@ int main(int argc, char** argv) {
       found += r.found;
       slaves += r.slaves;
     }
-    std::printf("replay summary\n  increments           %zu\n  slave node states    %ld (%ld with a point)\n"
-                "  tracking differences %ld\n  beyond capture       %ld slave node states (no face within the "
-                "capture distance: no_segment)\n  not applied          %zu keyword(s) that change the contact "
-                "geometry%s\n  report               %s/report.md\n  time                 %.2f s\n",
-                rows.size(), slaves, found, differences, slaves - found, unapplied.size(),
-                unapplied.empty() ? "" : " (named on stderr)", report.c_str(),
-                std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+    std::printf(
+        "replay summary\n  increments           %zu\n  slave node states    %ld (%ld with a point)\n"
+        "  tracking differences %ld\n  beyond capture       %ld slave node states (no face within the "
+        "capture distance: no_segment)\n  not applied          %zu keyword(s) that change the contact "
+        "geometry%s\n  report               %s/report.md\n  time                 %.2f s\n",
+        rows.size(), slaves, found, differences, slaves - found, unapplied.size(),
+        unapplied.empty() ? "" : " (named on stderr)", report.c_str(),
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
     return 0;
   });
 }

@@ -51,17 +51,17 @@
 #include "core/error.hpp"
 #include "io/atomic_output.hpp"
 #include "io/csv.hpp"
+#include "io/face_network_file.hpp"
 #include "io/frd_results.hpp"
 #include "io/inp_deck.hpp"
 #include "io/network_file.hpp"
 #include "io/output_checks.hpp"
+#include "search/face_search.hpp"
 #include "search/local_search.hpp"
+#include "study/face_study.hpp"
 #include "study/plan.hpp"
 #include "study/scene_history.hpp"
 #include "study/scene_study.hpp"
-#include "study/face_study.hpp"
-#include "io/face_network_file.hpp"
-#include "search/face_search.hpp"
 
 namespace {
 
@@ -148,8 +148,9 @@ std::vector<std::vector<int>> parse_face_sizes(const std::string& text) {
 
 /// scene-study --face: the study of the pair's quadratic faces (lib/study/face_study.hpp). Writes report.md and,
 /// when the chosen method uses one, face-network.h5 (io::write_face_network).
-int run_face_mode(const std::string& scene_path, int pair, search::FaceKind kind, const study::FaceStudyOptions& f,
-                  const std::string& output, const std::vector<io::NamedPath>& inputs, bool check_only, bool quiet,
+int run_face_mode(const std::string& scene_path, int pair, search::FaceKind kind,
+                  const study::FaceStudyOptions& f, const std::string& output,
+                  const std::vector<io::NamedPath>& inputs, bool check_only, bool quiet,
                   const std::string& command_line, double general_curvature) {
   const fs::path dir(output);
   io::require_outputs({}, {{"--output", dir, {"report.md", "face-network.h5"}}}, inputs);
@@ -317,9 +318,10 @@ int main(int argc, char** argv) {
   app.add_option("--input-quantile", o.input_quantile, "inputs' q and 1-q quantiles map to -1 and 1")
       ->check(cli::real_in(0.0, 0.49));
   bool trust_nodes = false;
-  app.add_flag("--trust-results-nodes", trust_nodes,
-               "with --results: take the .frd's node coordinates even where they are not the deck's (another mesh "
-               "with the same node ids is refused otherwise)");
+  app.add_flag(
+      "--trust-results-nodes", trust_nodes,
+      "with --results: take the .frd's node coordinates even where they are not the deck's (another mesh "
+      "with the same node ids is refused otherwise)");
   app.add_flag("--check", check_only, "check the options, the deck's path and --output, then stop");
   app.add_flag("--quiet", quiet, "no progress lines");
 
@@ -349,8 +351,8 @@ int main(int argc, char** argv) {
       if (!sizes.empty()) f.sizes = parse_face_sizes(sizes);
       CONTACTNN_REQUIRE_AS(InvalidArgument, general != !scene_path.empty(),
                            "--face: give --scene DECK (the deck's faces) or --general (the paper-like domain), not both");
-      return run_face_mode(scene_path, pair, search::face_kind_from_string(face_name), f, output, inputs, check_only,
-                           quiet, join_command_line(argc, argv), general ? curvature : -1.0);
+      return run_face_mode(scene_path, pair, search::face_kind_from_string(face_name), f, output, inputs,
+                           check_only, quiet, join_command_line(argc, argv), general ? curvature : -1.0);
     }
     CONTACTNN_REQUIRE_AS(InvalidArgument, !surface_name.empty(), "--surface (bilinear or gregory) or --face is required");
     CONTACTNN_REQUIRE_AS(InvalidArgument, !scene_path.empty() && !general, "--scene is required (--general goes with --face)");

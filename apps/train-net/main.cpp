@@ -36,8 +36,8 @@
 #include "io/csv.hpp"
 #include "io/dataset_file.hpp"
 #include "io/file_identity.hpp"
-#include "io/output_checks.hpp"
 #include "io/network_file.hpp"
+#include "io/output_checks.hpp"
 #include "mlp/pattern_selection.hpp"
 #include "mlp/random.hpp"
 #include "mlp/trainer.hpp"
@@ -101,16 +101,18 @@ std::string format_duration(double seconds) {
 /// The outputs of a run, checked before any work: none is an input, each can be written (its directory
 /// exists and takes a new file, it is not a directory), and the checkpoint has a regular file to sit beside.
 void check_outputs(const CLI::App& app, const std::string& data_path, const std::filesystem::path& output,
-                   const std::filesystem::path& checkpoint_path, bool checkpoints, const std::string& header_path) {
+                   const std::filesystem::path& checkpoint_path, bool checkpoints,
+                   const std::string& header_path) {
   const bool in_place = io::written_in_place(output);
   CONTACTNN_REQUIRE_AS(InvalidArgument, !(checkpoints && in_place),
                        "--checkpoint-every and --resume need --output to name a file: '"
                            << output.string() << "' is not a regular file (the checkpoint is OUTPUT.checkpoint.h5)");
-  io::require_outputs({{"--output", output},
-                       {"the checkpoint", checkpoints ? checkpoint_path : std::filesystem::path()},
-                       {"the effective config", in_place ? std::filesystem::path() : cli::effective_config_path(output)},
-                       {"--export-header", header_path}},
-                      {}, {{"--data", data_path}, {"--config", cli::config_path(app)}});
+  io::require_outputs(
+      {{"--output", output},
+       {"the checkpoint", checkpoints ? checkpoint_path : std::filesystem::path()},
+       {"the effective config", in_place ? std::filesystem::path() : cli::effective_config_path(output)},
+       {"--export-header", header_path}},
+      {}, {{"--data", data_path}, {"--config", cli::config_path(app)}});
 }
 
 template <class Real>

@@ -32,9 +32,14 @@ inline constexpr std::size_t kQuotedBytes = 40;
     }
     // A UTF-8 sequence: its length from the lead byte, continuation bytes 10xxxxxx, no overlong form, no
     // surrogate, nothing above U+10FFFF.
-    const std::size_t length = c >= 0xc2 && c <= 0xdf ? 2 : c >= 0xe0 && c <= 0xef ? 3 : c >= 0xf0 && c <= 0xf4 ? 4 : 0;
+    const std::size_t length = c >= 0xc2 && c <= 0xdf   ? 2
+                               : c >= 0xe0 && c <= 0xef ? 3
+                               : c >= 0xf0 && c <= 0xf4 ? 4
+                                                        : 0;
     bool valid = length > 0 && i + length <= text.size();
-    for (std::size_t k = 1; valid && k < length; ++k) valid = (static_cast<unsigned char>(text[i + k]) & 0xc0) == 0x80;
+    for (std::size_t k = 1; valid && k < length; ++k) {
+      valid = (static_cast<unsigned char>(text[i + k]) & 0xc0) == 0x80;
+    }
     if (valid && length >= 3) {
       const auto c1 = static_cast<unsigned char>(text[i + 1]);
       valid = !(c == 0xe0 && c1 < 0xa0) && !(c == 0xed && c1 >= 0xa0) && !(c == 0xf0 && c1 < 0x90) &&
@@ -51,8 +56,8 @@ inline constexpr std::size_t kQuotedBytes = 40;
   return out;
 }
 
-/// 'text' (escaped as escape_text does) when it is at most kQuotedBytes long, otherwise its first kQuotedBytes
-/// bytes followed by "...' (N bytes)".
+/// 'text' (escaped as escape_text does) when it is at most kQuotedBytes long, otherwise its first
+/// kQuotedBytes bytes followed by "...' (N bytes)".
 [[nodiscard]] inline std::string quote_text(std::string_view text) {
   if (text.size() <= kQuotedBytes) return "'" + escape_text(text) + "'";
   return "'" + escape_text(text.substr(0, kQuotedBytes)) + "...' (" + std::to_string(text.size()) + " bytes)";

@@ -41,10 +41,12 @@ FaceNetworkFile read_face_network(const std::filesystem::path& path) {
   const std::string name = path.string();
   // A network, but of the 4-node segments: a valid file given to the wrong search (InvalidArgument, as a face
   // network of the other face type is), not a damaged one.
-  CONTACTNN_REQUIRE_AS(InvalidArgument,
-                       !file.has_attribute("/", "kind") || file.read_string_attribute("/", "kind") != kNetworkFileKind,
-                       "'" << name << "' is a network of 4-node segments (train-net's network file), not a face "
-                                  "network: tri6 and quad8 faces take a face network file (scene-study --face)");
+  CONTACTNN_REQUIRE_AS(
+      InvalidArgument,
+      !file.has_attribute("/", "kind") || file.read_string_attribute("/", "kind") != kNetworkFileKind,
+      "'" << name
+          << "' is a network of 4-node segments (train-net's network file), not a face "
+             "network: tri6 and quad8 faces take a face network file (scene-study --face)");
   require_file_kind(file, kFaceNetworkFileKind, kFaceNetworkSchemaVersion);
   const std::string face = file.read_string_attribute("/", "face");
   CONTACTNN_REQUIRE_AS(FormatError, face == "tri6" || face == "quad8",

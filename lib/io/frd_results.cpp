@@ -564,22 +564,23 @@ void move_to_increment(mesh::SolidMesh& mesh, const FrdResults& results, std::si
                       : std::string());
   };
   if (missing_block > 0) {
-    const mesh::ElementType& type = mesh.element_type(element_of[static_cast<std::size_t>(first_missing_block)]);
+    const mesh::ElementType& type =
+        mesh.element_type(element_of[static_cast<std::size_t>(first_missing_block)]);
     if (!type.name.starts_with("C3D")) {
       // CalculiX expands shell, beam, membrane and plane elements into solids with new nodes: the node block
       // holds those, not the deck's.
       long foreign = 0;
       for (const long id : results.node_ids) foreign += mesh.find_node(id) < 0 ? 1 : 0;
-      throw FormatError("'" + results.file + "':" + std::to_string(results.node_block_line) +
-                        ": node block ('    2C'): " + describe(first_missing_block, missing_block) +
-                        " not in it, and " + std::to_string(foreign) +
-                        " node(s) the deck does not have: element " +
-                        std::to_string(mesh.element_id(element_of[static_cast<std::size_t>(first_missing_block)])) +
-                        " is of type " + type.name +
-                        ", a shell, beam, membrane or plane element, which CalculiX expands into solid elements "
-                        "with new nodes (those it writes) and the project does not model. Use a deck whose "
-                        "elements are solid (C3D*), or have CalculiX write the deck's own nodes (*NODE FILE, "
-                        "OUTPUT=2D, where its manual allows it)");
+      throw FormatError(
+          "'" + results.file + "':" + std::to_string(results.node_block_line) +
+          ": node block ('    2C'): " + describe(first_missing_block, missing_block) + " not in it, and " +
+          std::to_string(foreign) + " node(s) the deck does not have: element " +
+          std::to_string(mesh.element_id(element_of[static_cast<std::size_t>(first_missing_block)])) +
+          " is of type " + type.name +
+          ", a shell, beam, membrane or plane element, which CalculiX expands into solid elements "
+          "with new nodes (those it writes) and the project does not model. Use a deck whose "
+          "elements are solid (C3D*), or have CalculiX write the deck's own nodes (*NODE FILE, "
+          "OUTPUT=2D, where its manual allows it)");
     }
   }
   CONTACTNN_REQUIRE_AS(FormatError, missing_block == 0,
@@ -635,15 +636,17 @@ void check_node_block(const mesh::ContactModel& model, const FrdResults& results
     const geometry::Vec3& deck = mesh.deck_position(n);
     const geometry::Vec3& file = results.coordinates[b->second];
     const double distance = (file - deck).norm();
-    const double rounding = 1e-5 * std::sqrt(3.0) * std::max(deck.cwiseAbs().maxCoeff(), file.cwiseAbs().maxCoeff());
+    const double rounding =
+        1e-5 * std::sqrt(3.0) * std::max(deck.cwiseAbs().maxCoeff(), file.cwiseAbs().maxCoeff());
     const double tolerance = kNodeBlockTolerance * size + rounding;
     if (distance <= tolerance) continue;
     std::ostringstream message;
     message.precision(6);
     message << "'" << results.file << "':" << results.node_block_line << ": node block ('    2C'): node "
-            << mesh.node_id(n) << " is at (" << file.x() << ", " << file.y() << ", " << file.z() << "), the deck's at ("
-            << deck.x() << ", " << deck.y() << ", " << deck.z() << "): " << distance << " apart, more than "
-            << tolerance << " (" << kNodeBlockTolerance << " of the model's size " << size
+            << mesh.node_id(n) << " is at (" << file.x() << ", " << file.y() << ", " << file.z()
+            << "), the deck's at (" << deck.x() << ", " << deck.y() << ", " << deck.z() << "): " << distance
+            << " apart, more than " << tolerance << " (" << kNodeBlockTolerance << " of the model's size "
+            << size
             << "): the results are of another mesh with the same node ids (scaled, rotated or moved?); give "
                "--trust-results-nodes to take the file's coordinates";
     throw FormatError(message.str());

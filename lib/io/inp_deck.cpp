@@ -983,12 +983,14 @@ void scan_geometry_keywords(const std::filesystem::path& path, int depth, std::v
     if (line.size() < 2 || line[0] != '*' || line[1] == '*') continue;
     std::string key;  // upper case, without blanks
     for (const char c : line) {
-      if (c != ' ' && c != '\t' && c != '\r') key += static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+      if (c != ' ' && c != '\t' && c != '\r')
+        key += static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
     }
     const auto starts = [&](std::string_view k) { return key.compare(0, k.size(), k) == 0; };
     const auto has = [&](std::string_view p) { return key.find(p) != std::string::npos; };
     if (starts("*INCLUDE")) {
-      // INPUT= as written (case kept), up to the next comma, blanks and quotes trimmed; relative to this file.
+      // INPUT= as written (case kept), up to the next comma, blanks and quotes trimmed; relative to this
+      // file.
       std::string upper = line;
       for (char& c : upper) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
       const std::size_t at = upper.find("INPUT");

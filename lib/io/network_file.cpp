@@ -207,15 +207,16 @@ std::string read_network_real_type(const Hdf5File& file) {
 
 namespace {
 
-/// require_file_kind for a network file; a face network (scene-study --face's, for tri6 or quad8 faces) is a valid
-/// file given to the wrong search: InvalidArgument, as a network of the other surface is, not FormatError.
+/// require_file_kind for a network file; a face network (scene-study --face's, for tri6 or quad8 faces) is a
+/// valid file given to the wrong search: InvalidArgument, as a network of the other surface is, not
+/// FormatError.
 void require_network_file(const Hdf5File& file) {
-  CONTACTNN_REQUIRE_AS(InvalidArgument,
-                       !file.has_attribute("/", "kind") ||
-                           file.read_string_attribute("/", "kind") != "contactnn-face-network",
-                       "'" << file.path().string()
-                           << "' is a face network (scene-study --face's, for tri6 or quad8 faces), not a network of "
-                              "4-node segments: bilinear and Gregory surfaces take train-net's network file");
+  CONTACTNN_REQUIRE_AS(
+      InvalidArgument,
+      !file.has_attribute("/", "kind") || file.read_string_attribute("/", "kind") != "contactnn-face-network",
+      "'" << file.path().string()
+          << "' is a face network (scene-study --face's, for tri6 or quad8 faces), not a network of "
+             "4-node segments: bilinear and Gregory surfaces take train-net's network file");
   require_file_kind(file, kNetworkFileKind, kNetworkSchemaVersion);
 }
 

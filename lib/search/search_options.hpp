@@ -7,14 +7,14 @@ namespace contactnn::search {
 
 /// The range of each option (check_search_options refuses what lies outside; contactnn.h documents the same).
 /// Each bound keeps one query's work bounded: at most kMaxIterations Newton steps (newton), at most
-/// Method::kMaxSteps (newton:K, hybrids), each with at most kMaxHalvings halvings; and each real is finite, so
-/// that no margin or tolerance makes every answer `ok` or every step converged.
-inline constexpr int kMaxIterations = 1000;        ///< max_iterations in 1..1000, as Method::kMaxSteps
-inline constexpr int kMaxHalvings = 60;            ///< max_halvings in 0..60: 2^-60 of a step is below rounding
-inline constexpr double kMaxTolParam = 1.0;        ///< tol_param in [0, 1] parameter units
-inline constexpr double kMaxDomainMargin = 1.0;    ///< domain_margin in [0, 1] parameter units
-inline constexpr double kMaxBoxMargin = 1.0;       ///< gregory_box_margin, bilinear_box_margin in [0, 1] widths
-inline constexpr double kMaxStepWidths = 1.0;      ///< max_step_widths in (0, 1] domain widths
+/// Method::kMaxSteps (newton:K, hybrids), each with at most kMaxHalvings halvings; and each real is finite,
+/// so that no margin or tolerance makes every answer `ok` or every step converged.
+inline constexpr int kMaxIterations = 1000;      ///< max_iterations in 1..1000, as Method::kMaxSteps
+inline constexpr int kMaxHalvings = 60;          ///< max_halvings in 0..60: 2^-60 of a step is below rounding
+inline constexpr double kMaxTolParam = 1.0;      ///< tol_param in [0, 1] parameter units
+inline constexpr double kMaxDomainMargin = 1.0;  ///< domain_margin in [0, 1] parameter units
+inline constexpr double kMaxBoxMargin = 1.0;     ///< gregory_box_margin, bilinear_box_margin in [0, 1] widths
+inline constexpr double kMaxStepWidths = 1.0;    ///< max_step_widths in (0, 1] domain widths
 
 struct SearchOptions {
   /// "newton" (to convergence): iteration limit. Quadratic convergence needs fewer than 10 steps from the

@@ -252,8 +252,8 @@ ScenePlan parse_plan(const std::string& text, const std::string& source) {
 }
 
 ScenePlan read_plan(const std::filesystem::path& path) {
-  // A directory opens as a stream on Linux and reads as nothing: it is a plan that cannot be read (IoError, as
-  // contactnn.h says and as a network file that is a directory is), not a malformed one.
+  // A directory opens as a stream on Linux and reads as nothing: it is a plan that cannot be read (IoError,
+  // as contactnn.h says and as a network file that is a directory is), not a malformed one.
   std::error_code ec;
   CONTACTNN_REQUIRE_AS(IoError, !std::filesystem::is_directory(path, ec),
                        "cannot read the scene plan '" << path.string() << "': it is a directory");

@@ -128,10 +128,10 @@ int main(int argc, char** argv) {
       double tol_param, domain_margin, gregory_box_margin, bilinear_box_margin, max_step_widths;
       const char* needle;
     } bad[] = {
-        {"max_halvings INT_MAX", CONTACTNN_SURFACE_TRI6, "closed_form+newton:20", 50, INT_MAX, 1e-10, 1e-10, 0, 0.25,
-         0.5, "max_halvings = 2147483647, expected 0 to 60"},
-        {"max_halvings 61", CONTACTNN_SURFACE_BILINEAR, "closed_form+newton:2", 50, 61, 1e-10, 1e-10, 0, 0.25, 0.5,
-         "max_halvings = 61, expected 0 to 60"},
+        {"max_halvings INT_MAX", CONTACTNN_SURFACE_TRI6, "closed_form+newton:20", 50, INT_MAX, 1e-10, 1e-10,
+         0, 0.25, 0.5, "max_halvings = 2147483647, expected 0 to 60"},
+        {"max_halvings 61", CONTACTNN_SURFACE_BILINEAR, "closed_form+newton:2", 50, 61, 1e-10, 1e-10, 0, 0.25,
+         0.5, "max_halvings = 61, expected 0 to 60"},
         {"max_iterations INT_MAX", CONTACTNN_SURFACE_TRI6, "newton", INT_MAX, 3, 1e-10, 1e-10, 0, 0.25, 0.5,
          "max_iterations = 2147483647, expected 1 to 1000"},
         {"max_iterations 1001", CONTACTNN_SURFACE_BILINEAR, "newton", 1001, 3, 1e-10, 1e-10, 0, 0.25, 0.5,
@@ -140,15 +140,16 @@ int main(int argc, char** argv) {
          "domain_margin = inf, expected a finite number from 0 to 1"},
         {"domain_margin 2", CONTACTNN_SURFACE_BILINEAR, "newton:5", 50, 3, 1e-10, 2.0, 0, 0.25, 0.5,
          "domain_margin = 2, expected"},
-        {"tol_param NaN", CONTACTNN_SURFACE_QUAD8, "newton", 50, 3, NAN, 1e-10, 0, 0.25, 0.5, "tol_param = nan"},
+        {"tol_param NaN", CONTACTNN_SURFACE_QUAD8, "newton", 50, 3, NAN, 1e-10, 0, 0.25, 0.5,
+         "tol_param = nan"},
         {"tol_param +inf", CONTACTNN_SURFACE_BILINEAR, "newton", 50, 3, INFINITY, 1e-10, 0, 0.25, 0.5,
          "tol_param = inf, expected a finite number from 0 to 1"},
-        {"gregory_box_margin +inf", CONTACTNN_SURFACE_GREGORY, "closed_form+newton:2", 50, 3, 1e-10, 1e-10, INFINITY,
-         0.25, 0.5, "gregory_box_margin = inf"},
-        {"bilinear_box_margin 1e300", CONTACTNN_SURFACE_BILINEAR, "closed_form+newton:2", 50, 3, 1e-10, 1e-10, 0,
-         1e300, 0.5, "bilinear_box_margin = 1e+300, expected a finite number from 0 to 1"},
-        {"max_step_widths +inf", CONTACTNN_SURFACE_BILINEAR, "closed_form+newton:2", 50, 3, 1e-10, 1e-10, 0, 0.25,
-         INFINITY, "max_step_widths = inf, expected a finite number > 0 and <= 1"},
+        {"gregory_box_margin +inf", CONTACTNN_SURFACE_GREGORY, "closed_form+newton:2", 50, 3, 1e-10, 1e-10,
+         INFINITY, 0.25, 0.5, "gregory_box_margin = inf"},
+        {"bilinear_box_margin 1e300", CONTACTNN_SURFACE_BILINEAR, "closed_form+newton:2", 50, 3, 1e-10, 1e-10,
+         0, 1e300, 0.5, "bilinear_box_margin = 1e+300, expected a finite number from 0 to 1"},
+        {"max_step_widths +inf", CONTACTNN_SURFACE_BILINEAR, "closed_form+newton:2", 50, 3, 1e-10, 1e-10, 0,
+         0.25, INFINITY, "max_step_widths = inf, expected a finite number > 0 and <= 1"},
     };
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; ++i) {
       expect(contactnn_options_init(&options) == CONTACTNN_SUCCESS, "options_init");
@@ -173,7 +174,8 @@ int main(int argc, char** argv) {
     options.max_step_widths = 1.0;
     for (int surface = CONTACTNN_SURFACE_BILINEAR; surface <= CONTACTNN_SURFACE_QUAD8; ++surface) {
       contactnn_search* edge = NULL;
-      expect(contactnn_search_create(&edge, surface, "closed_form+newton:2", NULL, &options) == CONTACTNN_SUCCESS &&
+      expect(contactnn_search_create(&edge, surface, "closed_form+newton:2", NULL, &options) ==
+                     CONTACTNN_SUCCESS &&
                  edge != NULL,
              "every option at the upper end of its range is accepted");
       contactnn_search_destroy(edge);

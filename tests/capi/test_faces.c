@@ -86,19 +86,22 @@ int main(int argc, char** argv) {
     if (argv[1] != NULL) {
       char path[4200];
       snprintf(path, sizeof path, "%s/data/weights/bilinear-8.h5", argv[1]);
-      /* Issue 39: a valid network file of the other kind is a wrong argument, as a network of the other surface
-       * or face type is (contactnn.h): INVALID_ARGUMENT, not FORMAT (which is for files that are no network). */
+      /* Issue 39: a valid network file of the other kind is a wrong argument, as a network of the other
+       * surface or face type is (contactnn.h): INVALID_ARGUMENT, not FORMAT (which is for files that are no
+       * network). */
       expect(contactnn_search_create(&s, CONTACTNN_SURFACE_TRI6, "network", path, NULL) ==
                      CONTACTNN_ERROR_INVALID_ARGUMENT &&
                  s == NULL,
              "a network file of train-net given to a face search is INVALID_ARGUMENT");
-      expect(strstr(contactnn_last_error(), "not a face network") != NULL, "the message says what the file is");
+      expect(strstr(contactnn_last_error(), "not a face network") != NULL,
+             "the message says what the file is");
       snprintf(path, sizeof path, "%s/data/weights/tri6-48-48.h5", argv[1]);
       expect(contactnn_search_create(&s, CONTACTNN_SURFACE_BILINEAR, "network", path, NULL) ==
                      CONTACTNN_ERROR_INVALID_ARGUMENT &&
                  s == NULL,
              "a face network given to a bilinear search is INVALID_ARGUMENT");
-      expect(strstr(contactnn_last_error(), "is a face network") != NULL, "the message says what the file is");
+      expect(strstr(contactnn_last_error(), "is a face network") != NULL,
+             "the message says what the file is");
     }
   }
   if (failures > 0) {

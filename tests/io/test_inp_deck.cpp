@@ -424,16 +424,23 @@ TEST(InpDeck, MessagesEscapeBytesThatAreNoText) {
       EXPECT_TRUE(b >= 0x20 && b < 0x7f) << "a raw byte " << int(b) << " in: " << message;
     }
   };
-  expect_escaped(error_of<FormatError>("name.inp", nodes + "*SURFACE, NAME=\xff\xfe" "ab\n1, S1\n"),
+  expect_escaped(error_of<FormatError>("name.inp", nodes + "*SURFACE, NAME=\xff\xfe"
+                                                           "ab\n1, S1\n"),
                  "'\\xff\\xfeab'");
   expect_escaped(error_of<FormatError>("field.inp", "*NODE\n\xe9\xff, 0, 0, 0\n"), "'\\xe9\\xff'");
   expect_escaped(error_of<FormatError>("utf8.inp", nodes + "*ELEMENT, TYPE=C3D8\n1, 1, 2\xc3\x28, 3\n"),
                  "'2\\xc3('");
   // Valid UTF-8 stays as it is.
-  const std::string accented = error_of<FormatError>("accent.inp", nodes + "*SURFACE, NAME=Fl\xc3\xa4" "che\n1, S1\n");
-  EXPECT_NE(accented.find("'Fl\xc3\xa4" "che'"), std::string::npos) << accented;
+  const std::string accented = error_of<FormatError>("accent.inp", nodes +
+                                                                       "*SURFACE, NAME=Fl\xc3\xa4"
+                                                                       "che\n1, S1\n");
+  EXPECT_NE(accented.find("'Fl\xc3\xa4"
+                          "che'"),
+            std::string::npos)
+      << accented;
   EXPECT_EQ(quote_text("tab\there\x7f"), "'tab\\x09here\\x7f'");
-  EXPECT_EQ(quote_text("\xf0\x9f\x98\x80 \xed\xa0\x80 \xc0\xaf"), "'\xf0\x9f\x98\x80 \\xed\\xa0\\x80 \\xc0\\xaf'");
+  EXPECT_EQ(quote_text("\xf0\x9f\x98\x80 \xed\xa0\x80 \xc0\xaf"),
+            "'\xf0\x9f\x98\x80 \\xed\\xa0\\x80 \\xc0\\xaf'");
 }
 
 }  // namespace

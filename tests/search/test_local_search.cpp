@@ -7,8 +7,6 @@
 // start+newton:K from starts near the labels; four_triangles against a reference of its own (Ericson's closest
 // point on each triangle, in long double), a dense sampling of the triangles, the labels on flat
 // parallelograms, point-in-polygon statuses on flat quads and the 8 node orders.
-#include "search/local_search.hpp"
-
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -33,6 +31,7 @@
 #include "io/network_file.hpp"
 #include "projection/newton_projection.hpp"
 #include "search/face_search.hpp"
+#include "search/local_search.hpp"
 #include "search/random_queries.hpp"
 #include "search/shipped_networks.hpp"
 
@@ -1890,8 +1889,8 @@ TEST(LocalSearch, RefusesMethodsThatCannotRun) {
   search.run<double>(0, nullptr, Results<double>{});  // nothing to do
 }
 
-// Issue 39: every option has a range (search_options.hpp), and both searches refuse a value outside it with the
-// option and the range named. max_halvings = INT_MAX hung closed_form+newton:20 on curved tri6 faces,
+// Issue 39: every option has a range (search_options.hpp), and both searches refuse a value outside it with
+// the option and the range named. max_halvings = INT_MAX hung closed_form+newton:20 on curved tri6 faces,
 // max_iterations = INT_MAX ran newton past a minute, domain_margin = +inf made every answer ok.
 TEST(SearchOptions, EveryOptionOutsideItsRangeIsRefusedNamingTheRange) {
   struct Case {
@@ -1907,7 +1906,8 @@ TEST(SearchOptions, EveryOptionOutsideItsRangeIsRefusedNamingTheRange) {
       {[](SearchOptions& o) { o.max_iterations = 0; }, "max_iterations = 0, expected 1 to 1000"},
       {[](SearchOptions& o) { o.domain_margin = std::numeric_limits<double>::infinity(); },
        "domain_margin = inf, expected a finite number from 0 to 1"},
-      {[](SearchOptions& o) { o.domain_margin = 1.5; }, "domain_margin = 1.5, expected a finite number from 0 to 1"},
+      {[](SearchOptions& o) { o.domain_margin = 1.5; },
+       "domain_margin = 1.5, expected a finite number from 0 to 1"},
       {[](SearchOptions& o) { o.tol_param = std::numeric_limits<double>::quiet_NaN(); }, "tol_param = nan"},
       {[](SearchOptions& o) { o.tol_param = -1e-10; }, "tol_param = -1e-10"},
       {[](SearchOptions& o) { o.gregory_box_margin = std::numeric_limits<double>::infinity(); },
@@ -1928,12 +1928,14 @@ TEST(SearchOptions, EveryOptionOutsideItsRangeIsRefusedNamingTheRange) {
       }
       return "(accepted)";
     };
-    EXPECT_NE(message_of([&] { (void)LocalSearch(kBilinear, Method::parse("closed_form+newton:2"), o); })
-                  .find(c.message),
+    EXPECT_NE(message_of([&] {
+                (void)LocalSearch(kBilinear, Method::parse("closed_form+newton:2"), o);
+              }).find(c.message),
               std::string::npos)
         << c.message;
-    EXPECT_NE(message_of([&] { (void)FaceSearch(FaceKind::kTri6, Method::parse("closed_form+newton:20"), o); })
-                  .find(c.message),
+    EXPECT_NE(message_of([&] {
+                (void)FaceSearch(FaceKind::kTri6, Method::parse("closed_form+newton:20"), o);
+              }).find(c.message),
               std::string::npos)
         << c.message;
   }
