@@ -30,10 +30,12 @@
 #include "core/conventions.hpp"
 #include "core/error.hpp"
 #include "core/input_features.hpp"
+#include "io/face_network_file.hpp"
 #include "io/frd_results.hpp"
 #include "io/inp_deck.hpp"
 #include "io/network_file.hpp"
 #include "mlp/network.hpp"
+#include "search/face_network.hpp"
 #include "search/face_search.hpp"
 #include "search/local_search.hpp"
 #include "search/method.hpp"
@@ -298,8 +300,8 @@ py::array_t<double> network_evaluate(const Network& n, const py::handle& object)
 template <class Search>
 struct Searcher {
   Search search;
-  std::shared_ptr<Network> network;  ///< kept alive as long as the search (it reads the network's model)
-  std::uintptr_t last_input = 0;     ///< the address the last run read its queries from (the zero-copy test)
+  std::shared_ptr<const void> network;  ///< the search's network, kept alive as long as the search
+  std::uintptr_t last_input = 0;  ///< the address the last run read its queries from (the zero-copy test)
 };
 
 /// run(raw, out, threads) of either search: (param, gap, status) of the input's dtype (status uint8).
@@ -782,15 +784,26 @@ PYBIND11_MODULE(_contactnn, m) {
       .def_property_readonly(
           "last_input_address", [](const LocalSearcher& s) { return s.last_input; },
           "Address of the raw rows the last run read (compare with raw.ctypes.data: no copy)");
+  py::class_<search::FaceNetwork, std::shared_ptr<search::FaceNetwork>>(
+      m, "FaceNetwork", "A face network file's network (tri6 or quad8), for FaceSearch's network methods.")
+      .def_property_readonly(
+          "face", [](const search::FaceNetwork& n) { return std::string(search::to_string(n.face())); });
+  m.def(
+      "read_face_network",
+      [](const std::string& path) {
+        return std::shared_ptr<search::FaceNetwork>(io::load_face_network(path));
+      },
+      py::arg("path"), "Reads a face network file (scene-study --face, data/weights/tri6-48-48.h5).");
   using FaceSearcher = Searcher<search::FaceSearch>;
   py::class_<FaceSearcher>(m, "FaceSearch",
                            "lib/search's batched local search on tri3, tri6 and quad8 faces.")
-      .def(py::init([](const std::string& face, const std::string& method) {
-             return FaceSearcher{
-                 search::FaceSearch(search::face_kind_from_string(face), search::Method::parse(method)),
-                 nullptr};
+      .def(py::init([](const std::string& face, const std::string& method,
+                       std::shared_ptr<const search::FaceNetwork> network) {
+             return FaceSearcher{search::FaceSearch(search::face_kind_from_string(face),
+                                                    search::Method::parse(method), {}, network.get()),
+                                 network};
            }),
-           py::arg("face"), py::arg("method"))
+           py::arg("face"), py::arg("method"), py::arg("network") = nullptr)
       .def(
           "run",
           [](FaceSearcher& s, const py::handle& raw, const py::object& out, int threads) {

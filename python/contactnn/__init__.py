@@ -16,6 +16,7 @@ from ._contactnn import (  # noqa: F401  (the module's interface)
     Contacts,
     Deck,
     Error,
+    FaceNetwork,
     FaceSearch,
     FormatError,
     InvalidArgument,
@@ -27,14 +28,16 @@ from ._contactnn import (  # noqa: F401  (the module's interface)
     Scene,
     make_network,
     read_deck,
+    read_face_network,
     read_network,
     read_results,
 )
 
 __all__ = [
-    "FACE_TYPES", "LOCATION_NAMES", "STATUS_NAMES", "ContactSearch", "Contacts", "Deck", "Error", "FaceSearch",
-    "FormatError", "InvalidArgument", "IoError", "LocalSearch", "Network", "NumericalError", "Results", "Scene",
-    "contact_search", "make_network", "read_deck", "read_network", "read_results", "write_network",
+    "FACE_TYPES", "LOCATION_NAMES", "STATUS_NAMES", "ContactSearch", "Contacts", "Deck", "Error",
+    "FaceNetwork", "FaceSearch", "FormatError", "InvalidArgument", "IoError", "LocalSearch", "Network",
+    "NumericalError", "Results", "Scene", "contact_search", "make_network", "read_deck", "read_face_network",
+    "read_network", "read_results", "write_network",
 ]
 
 

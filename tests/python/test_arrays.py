@@ -188,3 +188,17 @@ def test_handle_bad_inputs():
     with flat_handle()[0] as handle:
         handle.update(x)
     assert handle.closed
+
+
+def test_face_search_with_a_face_network(source_dir):
+    """A shipped tri6 network (scene-study --face) in FaceSearch: its estimate refined by Newton is the flat face's
+    exact answer; the network of another face type is refused."""
+    net = contactnn.read_face_network(os.path.join(source_dir, "data", "weights", "tri6-48-48.h5"))
+    assert net.face == "tri6"
+    tri6 = np.array([[0, 0, 0, 1, 0, 0, 0, 1, 0, 0.5, 0, 0, 0.5, 0.5, 0, 0, 0.5, 0, 0.2, 0.3, -0.1]])
+    estimate = contactnn.FaceSearch("tri6", "network", network=net).run(tri6)[0]
+    assert np.max(np.abs(estimate - [0.2, 0.3])) < 0.05
+    param, gap, status = contactnn.FaceSearch("tri6", "network+newton:3", network=net).run(tri6)
+    assert status[0] == 0 and np.allclose(param, [[0.2, 0.3]], atol=1e-12) and np.isclose(gap[0], -0.1)
+    with pytest.raises(contactnn.InvalidArgument, match="tri6 network"):
+        contactnn.FaceSearch("quad8", "network", network=net)
