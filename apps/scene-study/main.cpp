@@ -155,7 +155,6 @@ int run_face_mode(const std::string& scene_path, int pair, search::FaceKind kind
   const fs::path dir(output);
   io::require_outputs({}, {{"--output", dir, {"report.md", "face-network.h5"}}}, inputs);
   if (check_only) return 0;
-  io::make_output_directory("--output", dir);
   const auto say = [&](const std::string& line) {
     if (!quiet) std::printf("  %s\n", line.c_str()), std::fflush(stdout);
   };
@@ -168,6 +167,7 @@ int run_face_mode(const std::string& scene_path, int pair, search::FaceKind kind
     const auto best = std::min_element(st.networks.begin(), st.networks.end(), [](const auto& a, const auto& b) {
       return a.heldout_error < b.heldout_error;
     });
+    io::make_output_directory("--output", dir);
     io::write_face_network(dir / "face-network.h5", kind, *best->network, best->feature_min, best->feature_max,
                            "scene-study --face " + std::string(search::to_string(kind)) + " --general --curvature " +
                                std::to_string(general_curvature) + ": " + best->name + ", " +
@@ -180,6 +180,7 @@ int run_face_mode(const std::string& scene_path, int pair, search::FaceKind kind
   }
   if (!quiet) std::printf("scene-study: %s pair %d, %s faces\n", scene_path.c_str(), pair, std::string(search::to_string(kind)).c_str());
   const mesh::ContactModel model = io::read_inp_deck(scene_path);
+  (void)cli::warn_unapplied_geometry("scene-study", scene_path);
   const contact::Scene scene = contact::make_scene(model, pair);
   const study::FacePairs probe = study::face_pairs(scene, kind);
   if (probe.faces == 0 || probe.pairs.size() == 0) {
@@ -190,6 +191,7 @@ int run_face_mode(const std::string& scene_path, int pair, search::FaceKind kind
   const study::FaceStudy st = study::run_face_study(scene, kind, f, say);
   std::string report = study::face_study_markdown(st, scene_path, pair);
   report += "\nCommand: `" + command_line + "`\n";
+  io::make_output_directory("--output", dir);
   const fs::path network_file = dir / "face-network.h5";
   int network = st.chosen >= 0 ? st.methods[static_cast<std::size_t>(st.chosen)].network : -1;
   if (network >= 0) {
