@@ -33,6 +33,23 @@ bool same_answer(const contact::NodeSegmentPair& a, const contact::NodeSegmentPa
   return a.segment == b.segment && (a.point - b.point).norm() <= tol && std::abs(a.label.gap - b.label.gap) <= tol;
 }
 
+/// The same answer as the reference search's to 1e-10 of the face's size (its longest corner distance): status,
+/// face and location, the point and the gap.
+bool same_as_reference(const mesh::SurfaceMesh& master, const contact::NodeSegmentPair& a,
+                       const contact::NodeSegmentPair& b) {
+  if (a.status != b.status) return false;
+  if (a.status != contact::PairStatus::kFound) return true;
+  if (a.segment != b.segment || a.location != b.location) return false;
+  double size = 0.0;
+  for (const int i : master.face_corners(a.segment)) {
+    for (const int j : master.face_corners(a.segment)) {
+      size = std::max(size, (master.positions[static_cast<std::size_t>(i)] - master.positions[static_cast<std::size_t>(j)]).norm());
+    }
+  }
+  const double tol = 1e-10 * size;
+  return (a.point - b.point).norm() <= tol && std::abs(a.label.gap - b.label.gap) <= tol;
+}
+
 /// One answer as a report cell: status, or face, location, point and gap.
 std::string answer_cell(const contact::NodeSegmentPair& p) {
   if (p.status != contact::PairStatus::kFound) return "no_segment";
@@ -133,8 +150,12 @@ std::vector<IncrementRow> replay(mesh::ContactModel& model, const io::FrdResults
   const int saved_threads = omp_get_max_threads();
   omp_set_num_threads(std::max(options.threads, 1));
   contact::SurfaceTracker tracker(options.search, options.tracking);
+  contact::SearchOptions reference_options = options.search;
+  reference_options.narrow = contact::NarrowPhase::kReference;
+  const bool beside = options.beside_reference && options.search.narrow != contact::NarrowPhase::kReference;
+  contact::SurfaceTracker reference_tracker(reference_options, options.tracking);
   std::vector<IncrementRow> rows;
-  std::vector<contact::NodeSegmentPair> previous, fresh, tracked;
+  std::vector<contact::NodeSegmentPair> previous, fresh, tracked, reference;
   const int total = static_cast<int>(results.increments.size());
   for (int k = 0; k < total; ++k) {
     const io::FrdIncrement& increment = results.increments[static_cast<std::size_t>(k)];
@@ -174,6 +195,31 @@ std::vector<IncrementRow> replay(mesh::ContactModel& model, const io::FrdResults
       if (r + 1 == std::max(options.repeats, 1)) tracker = std::move(trial);
     }
     row.ns_tracked = tracked_seconds * per_node;
+    for (const contact::NodeSegmentPair& p : fresh) row.reference_faces += p.reference_faces;
+    if (beside) {
+      // The search as it was, timed the same way beside this one; the fresh answers compared.
+      double reference_seconds = std::numeric_limits<double>::infinity();
+      for (int r = 0; r < std::max(options.repeats, 1); ++r) {
+        start = Clock::now();
+        contact::surface_search(scene.master, scene.master_normals, scene.slave_ids, scene.slave_positions,
+                                reference_options, reference);
+        reference_seconds = std::min(reference_seconds, seconds_since(start));
+      }
+      row.ns_fresh_reference = reference_seconds * per_node;
+      double reference_tracked_seconds = std::numeric_limits<double>::infinity();
+      std::vector<contact::NodeSegmentPair> reference_tracked;
+      for (int r = 0; r < std::max(options.repeats, 1); ++r) {
+        contact::SurfaceTracker trial = reference_tracker;
+        start = Clock::now();
+        trial.step(scene.master, scene.master_normals, scene.slave_ids, scene.slave_positions, reference_tracked);
+        reference_tracked_seconds = std::min(reference_tracked_seconds, seconds_since(start));
+        if (r + 1 == std::max(options.repeats, 1)) reference_tracker = std::move(trial);
+      }
+      row.ns_tracked_reference = reference_tracked_seconds * per_node;
+      for (std::size_t i = 0; i < fresh.size(); ++i) {
+        if (!same_as_reference(scene.master, fresh[i], reference[i])) ++row.reference_differences;
+      }
+    }
     std::vector<char> kept(fresh.size(), 0);
     for (std::size_t i = 0; i < fresh.size(); ++i) {
       if (!same_answer(fresh[i], tracked[i])) {
@@ -257,7 +303,8 @@ void write_replay_report(const std::string& directory, const std::string& title,
 
   // increments.csv: one row per increment, one column group per method.
   std::string csv = "increment,step,time,slaves,found,face,edge,vertex,faces_changed,tracking_differences,fresh_lists,"
-                    "tracked,ns_scene,ns_fresh,ns_tracked,calculix_contacts,calculix_found,calculix_largest_difference";
+                    "tracked,ns_scene,ns_fresh,ns_tracked,calculix_contacts,calculix_found,calculix_largest_difference,"
+                    "reference_faces,ns_fresh_reference,ns_tracked_reference,reference_differences";
   if (!rows.empty()) {
     for (const MethodRow& m : rows.front().methods) {
       csv += "," + m.method + ":queries," + m.method + ":ns," + m.method + ":mean_error," + m.method + ":max_error," +
@@ -272,7 +319,9 @@ void write_replay_report(const std::string& directory, const std::string& title,
            "," + std::to_string(r.tracking_differences) + "," + std::to_string(r.tracking.fresh) + "," +
            std::to_string(r.tracking.tracked) + "," + fmt("%.1f", r.ns_scene) + "," + fmt("%.1f", r.ns_fresh) + "," +
            fmt("%.1f", r.ns_tracked) + "," + std::to_string(r.calculix_contacts) + "," + std::to_string(r.calculix_found) +
-           "," + fmt("%.3g", r.calculix_largest_difference);
+           "," + fmt("%.3g", r.calculix_largest_difference) + "," + std::to_string(r.reference_faces) + "," +
+           fmt("%.1f", r.ns_fresh_reference) + "," + fmt("%.1f", r.ns_tracked_reference) + "," +
+           std::to_string(r.reference_differences);
     for (const MethodRow& m : r.methods) {
       csv += "," + std::to_string(m.queries) + "," + fmt("%.1f", m.ns_per_query) + "," + fmt("%.3g", m.mean_error) + "," +
              fmt("%.3g", m.max_error) + "," + std::to_string(m.failures);
@@ -284,6 +333,8 @@ void write_replay_report(const std::string& directory, const std::string& title,
   // Totals.
   long slaves = 0, found = 0, changed = 0, differences = 0, fresh_lists = 0, tracked = 0, contacts = 0, contacts_found = 0;
   double scene_ns = 0.0, fresh_ns = 0.0, tracked_ns = 0.0, calculix_largest = 0.0;
+  double fresh_reference_ns = 0.0, tracked_reference_ns = 0.0;
+  long reference_faces = 0, reference_differences = 0;
   std::array<long, 3> locations{};
   std::vector<MethodTotal> totals;
   bool calculix = false;
@@ -297,6 +348,10 @@ void write_replay_report(const std::string& directory, const std::string& title,
     scene_ns += r.ns_scene * static_cast<double>(r.slaves);
     fresh_ns += r.ns_fresh * static_cast<double>(r.slaves);
     tracked_ns += r.ns_tracked * static_cast<double>(r.slaves);
+    fresh_reference_ns += r.ns_fresh_reference * static_cast<double>(r.slaves);
+    tracked_reference_ns += r.ns_tracked_reference * static_cast<double>(r.slaves);
+    reference_faces += r.reference_faces;
+    reference_differences += r.reference_differences;
     for (int k = 0; k < 3; ++k) locations[static_cast<std::size_t>(k)] += r.locations[static_cast<std::size_t>(k)];
     if (r.calculix_contacts >= 0) {
       calculix = true;
@@ -330,7 +385,22 @@ void write_replay_report(const std::string& directory, const std::string& title,
   md += "| scene (nodes moved, faces, normals) | " + fmt("%.0f", per(scene_ns, slaves)) + " | |\n";
   md += "| fresh surface search | " + fmt("%.0f", per(fresh_ns, slaves)) + " | 1 |\n";
   md += "| tracked surface search | " + fmt("%.0f", per(tracked_ns, slaves)) + " | " +
-        fmt("%.3f", fresh_ns > 0 ? tracked_ns / fresh_ns : 0.0) + " |\n\n";
+        fmt("%.3f", fresh_ns > 0 ? tracked_ns / fresh_ns : 0.0) + " |\n";
+  if (fresh_reference_ns > 0.0) {
+    md += "| fresh, reference narrow phase (the search before the certificate) | " +
+          fmt("%.0f", per(fresh_reference_ns, slaves)) + " | " + fmt("%.3f", fresh_reference_ns / fresh_ns) + " |\n";
+    md += "| tracked, reference narrow phase | " + fmt("%.0f", per(tracked_reference_ns, slaves)) + " | " +
+          fmt("%.3f", tracked_reference_ns / fresh_ns) + " |\n";
+  }
+  md += "\n";
+  md += "Narrow phase: " + std::to_string(reference_faces) +
+        " faces needed the reference (no certificate) over all slave node states";
+  if (fresh_reference_ns > 0.0) {
+    md += "; " + std::to_string(reference_differences) +
+          " fresh answers differ from the reference search's (status, face, location; point or gap by more than "
+          "1e-10 of the face size)";
+  }
+  md += ".\n\n";
   md += "Tracking: " + std::to_string(differences) + " answers of " + std::to_string(slaves) +
         " differ from the fresh search's (face, point to 1e-12, gap); " + std::to_string(fresh_lists) +
         " fresh lists, " + std::to_string(tracked) + " nodes answered from their lists (margin " +

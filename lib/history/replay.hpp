@@ -29,6 +29,9 @@ struct ReplayOptions {
   const search::NetworkModel* network = nullptr;  ///< for network methods (must outlive the replay)
   int repeats = 3;                                ///< timings: the fastest of this many runs of each call
   int threads = 1;                                ///< OpenMP threads of every timed phase
+  /// Where search.narrow is not the reference: also the search as it was before the certificate
+  /// (contact::NarrowPhase::kReference), fresh and tracked, timed in the same run, and its answers compared.
+  bool beside_reference = true;
 };
 
 /// One method's local search on one increment's pairs inside faces.
@@ -56,6 +59,12 @@ struct IncrementRow {
   double ns_scene = 0.0;            ///< per slave node: nodes moved, faces, node normals, slave positions
   double ns_fresh = 0.0;            ///< per slave node: the fresh surface search
   double ns_tracked = 0.0;          ///< per slave node: the tracked search
+  long reference_faces = 0;         ///< faces whose closest point needed the reference (no certificate)
+  /// ReplayOptions::beside_reference: the reference search's times (0 when not run), and the nodes whose
+  /// fresh answer differs from it (status, face, location; point or gap by more than 1e-10 of the face size).
+  double ns_fresh_reference = 0.0;
+  double ns_tracked_reference = 0.0;
+  long reference_differences = 0;
   std::vector<MethodRow> methods;   ///< cold methods, then start+newton:K (warm, the kept faces only)
   long calculix_contacts = 0;       ///< the pair's slave nodes with COPEN < 0 in the file (-1: no CONTACT block)
   long calculix_found = 0;          ///< of those, with a point
