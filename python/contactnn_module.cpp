@@ -434,10 +434,18 @@ struct Handle {
   long nodes = 0, slaves = 0;
   bool free = false;
   std::uintptr_t last_input = 0;
+  /// An update is running with the GIL released: another thread may neither update nor close the handle (read
+  /// and written with the GIL held only).
+  bool busy = false;
 
   contact::ContactSearch& get() {
     if (!search) refuse_value("ContactSearch: the handle is closed");
+    if (busy) throw std::runtime_error("ContactSearch: an update is running in another thread");
     return *search;
+  }
+  void close() {
+    if (busy) throw std::runtime_error("ContactSearch: an update is running in another thread");
+    search.reset();
   }
 };
 
@@ -530,6 +538,11 @@ Contacts& update(Handle& h, const py::handle& coordinates, const py::object& fre
   const std::span<const double> fs =
       h.free ? std::span<const double>(f.data(), static_cast<std::size_t>(f.size()))
              : std::span<const double>();
+  struct Busy {
+    bool& flag;
+    explicit Busy(bool& f) : flag(f) { flag = true; }
+    ~Busy() { flag = false; }  // after the GIL is taken back (declared before the release)
+  } busy(h.busy);
   {
     py::gil_scoped_release release;
     search.update(xs, fs, r);
@@ -858,10 +871,10 @@ PYBIND11_MODULE(_contactnn, m) {
           py::arg("out") = nullptr,
           "One increment: coordinates (node_count, 3) float64 (float32 is converted); returns Contacts (or "
           "fills out)")
-      .def("close", [](Handle& h) { h.search.reset(); })
+      .def("close", [](Handle& h) { h.close(); })
       .def(
           "__enter__", [](Handle& h) -> Handle& { return h; }, py::return_value_policy::reference)
-      .def("__exit__", [](Handle& h, const py::args&) { h.search.reset(); })
+      .def("__exit__", [](Handle& h, const py::args&) { h.close(); })
       .def_property_readonly("closed", [](const Handle& h) { return !h.search; })
       .def_property_readonly("node_count", [](const Handle& h) { return h.nodes; })
       .def_property_readonly("slave_count", [](const Handle& h) { return h.slaves; })
