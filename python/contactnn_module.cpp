@@ -322,7 +322,8 @@ py::tuple run_search(Searcher<Search>& s, const py::handle& raw_object, py::ssiz
       gap = py::array_t<Real>(n);
       status = py::array_t<std::uint8_t>(n);
     } else {
-      const auto t = out.cast<py::tuple>();
+      if (!py::isinstance<py::sequence>(out)) refuse_type("out: a tuple (param, gap, status) expected");
+      const auto t = py::reinterpret_borrow<py::sequence>(out);
       if (t.size() != 3)
         refuse_value(std::string(name) + ".run: out: " + std::to_string(t.size()) +
                      " arrays, expected 3 (param, gap, status)");
@@ -365,7 +366,8 @@ double time_search(const Searcher<Search>& s, const py::handle& raw_object, py::
       status_buffer.resize(n);
       results = {param_buffer.data(), gap_buffer.data(), status_buffer.data(), nullptr, nullptr};
     } else {  // the caller's arrays, as run(raw, out=...) writes them
-      const auto t = out.cast<py::tuple>();
+      if (!py::isinstance<py::sequence>(out)) refuse_type("out: a tuple (param, gap, status) expected");
+      const auto t = py::reinterpret_borrow<py::sequence>(out);
       if (t.size() != 3) refuse_value("_time_run: out: 3 arrays expected (param, gap, status)");
       results = {checked_output<Real>(t[0], {rows, 2}, "_time_run: out[0]").mutable_data(),
                  checked_output<Real>(t[1], {rows}, "_time_run: out[1]").mutable_data(),
