@@ -488,6 +488,14 @@ int main(int argc, char** argv) {
                  "master face size)")
       ->check(cli::kPositive)
       ->needs(scene_option);
+  std::string narrow_name = "certified";
+  app.add_option("--narrow", narrow_name,
+                 "surface search: how each face's closest point is found: certified (one Newton run where a "
+                 "certificate proves it the face's nearest, the reference elsewhere) or reference (the grid of "
+                 "starts on every face, as before the certificate); the same answers")
+      ->check(CLI::IsMember({"certified", "reference"}))
+      ->needs(scene_option)
+      ->default_str("");
   SceneHistory history;
   auto* results_option = app.add_option("--results", history.results,
                                         "scene mode: a CalculiX .frd; the scene at --increment of it (SPEC 10)")
@@ -581,6 +589,7 @@ int main(int argc, char** argv) {
     //     random: the scene's domain as a dataset, below).
     search.surface = options.surface;
     search.projection = options.projection;
+    search.narrow = narrow_name == "reference" ? contact::NarrowPhase::kReference : contact::NarrowPhase::kCertified;
     search.search = search_name == "nearest_node" ? contact::GlobalSearchKind::kNearestNode
                                                   : contact::GlobalSearchKind::kSurface;
     // --increment '' is no increment (it was taken as `last`): refused like any other bad value.

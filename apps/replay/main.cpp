@@ -54,6 +54,12 @@ int main(int argc, char** argv) {
   app.add_option("--capture_distance", options.search.capture_distance,
                  "surface search: faces within this distance (default: the largest master face size)")
       ->check(cli::kPositive);
+  std::string narrow_name = "certified";
+  app.add_option("--narrow", narrow_name,
+                 "surface search: certified (one Newton run where a certificate proves it the face's nearest, the "
+                 "reference elsewhere; the reference search is also run beside it) or reference (the grid of "
+                 "starts on every face, as before the certificate)")
+      ->check(CLI::IsMember({"certified", "reference"}));
   app.add_option("--margin", options.tracking.margin_relative,
                  "tracking: list margin in units of the capture distance")
       ->check(cli::real_in(0.0, 100.0));
@@ -79,6 +85,7 @@ int main(int argc, char** argv) {
     io::AtomicDirectory report_directory(report, report_files, "--report");
     // 2. Settings: surface, methods, the network.
     options.search.surface = surface_from_string(surface_name);
+    options.search.narrow = narrow_name == "reference" ? contact::NarrowPhase::kReference : contact::NarrowPhase::kCertified;
     const auto split = [](const std::string& text) {
       std::vector<std::string> parts;
       std::stringstream in(text);
