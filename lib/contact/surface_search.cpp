@@ -756,16 +756,87 @@ void surface_search(const mesh::SurfaceMesh& master, std::span<const Vec3> maste
   const SurfaceSearcher searcher(master, master_normals, options);
   const auto n = static_cast<long>(slave_ids.size());
   pairs.resize(static_cast<std::size_t>(n));
-#pragma omp parallel
+  // The slave nodes in Morton order (the search before the certificate, NarrowPhase::kReference, in theirs).
+  thread_local std::vector<std::uint32_t> order;
+  thread_local std::vector<std::uint64_t> codes;
+  if (options.narrow == NarrowPhase::kReference) {
+    order.resize(static_cast<std::size_t>(n));
+    for (std::size_t i = 0; i < order.size(); ++i) order[i] = static_cast<std::uint32_t>(i);
+  } else {
+    spatial_order(slave_positions, order, codes);
+  }
+  const std::uint32_t* at = order.data();
+#pragma omp parallel if (n >= 512)
   {
     std::vector<std::pair<double, int>> candidates;
     std::vector<std::pair<std::uint32_t, double>> scratch;
-#pragma omp for schedule(dynamic, 16)
+#pragma omp for schedule(dynamic, 64)
     for (long i = 0; i < n; ++i) {
-      const auto u = static_cast<std::size_t>(i);
+      const std::size_t u = at[i];
       pairs[u] = searcher.nearest_fresh(slave_ids[u], slave_positions[u], candidates, scratch);
     }
   }
+}
+
+namespace {
+
+/// x's low 10 bits spread to every third bit (bits 0, 3, 6, ...).
+std::uint64_t spread_bits(std::uint64_t x) {
+  x &= 0x3ff;
+  x = (x | (x << 16)) & 0x030000ff;
+  x = (x | (x << 8)) & 0x0300f00f;
+  x = (x | (x << 4)) & 0x030c30c3;
+  x = (x | (x << 2)) & 0x09249249;
+  return x;
+}
+
+}  // namespace
+
+void spatial_order(std::span<const Vec3> points, std::vector<std::uint32_t>& order,
+                   std::vector<std::uint64_t>& scratch) {
+  const std::size_t n = points.size();
+  CONTACTNN_REQUIRE(n < (std::size_t{1} << 32), n << " points: at most 2^32 - 1");
+  order.resize(n);
+  Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+  for (const Vec3& x : points) {
+    if (!x.allFinite()) continue;
+    lo = lo.cwiseMin(x);
+    hi = hi.cwiseMax(x);
+  }
+  // Each key: the 30-bit Morton code above the point's index (32 bits).
+  scratch.resize(2 * n);
+  std::uint64_t* keys = scratch.data();
+  std::uint64_t* other = scratch.data() + n;
+  const Vec3 extent = hi - lo;
+  for (std::size_t i = 0; i < n; ++i) {
+    std::uint64_t code = 0;
+    if (points[i].allFinite()) {
+      for (int d = 0; d < 3; ++d) {
+        const double e = extent[d];
+        const double t = e > 0.0 ? (points[i][d] - lo[d]) / e : 0.0;
+        const auto cell = static_cast<std::uint64_t>(std::clamp(t * 1024.0, 0.0, 1023.0));
+        code |= spread_bits(cell) << d;
+      }
+    }
+    keys[i] = (code << 32) | i;
+  }
+  // Two passes of 15 bits over the code (a stable LSD radix sort).
+  constexpr int kBits = 15;
+  std::vector<std::uint32_t> count(std::size_t{1} << kBits);
+  for (int pass = 0; pass < 2; ++pass) {
+    const int shift = 32 + pass * kBits;
+    std::fill(count.begin(), count.end(), 0U);
+    for (std::size_t i = 0; i < n; ++i) ++count[(keys[i] >> shift) & ((1U << kBits) - 1)];
+    std::uint32_t sum = 0;
+    for (std::uint32_t& c : count) {
+      const std::uint32_t here = c;
+      c = sum;
+      sum += here;
+    }
+    for (std::size_t i = 0; i < n; ++i) other[count[(keys[i] >> shift) & ((1U << kBits) - 1)]++] = keys[i];
+    std::swap(keys, other);
+  }
+  for (std::size_t i = 0; i < n; ++i) order[i] = static_cast<std::uint32_t>(keys[i] & 0xffffffffU);
 }
 
 }  // namespace contactnn::contact

@@ -131,6 +131,13 @@ class SurfaceSearcher {
   std::unique_ptr<Impl> impl_;
 };
 
+/// The indices of `points` in Morton order (the Z curve through their bounding box at 2^10 cells a side, a
+/// two-pass radix sort; non-finite points first), so that consecutive queries meet the same faces and tree
+/// nodes: the searches take their slave nodes in this order (the answers do not depend on it), and a random
+/// node order costs what a mesh's own does. `order` and `scratch` are resized and reused.
+void spatial_order(std::span<const Vec3> points, std::vector<std::uint32_t>& order,
+                   std::vector<std::uint64_t>& scratch);
+
 /// Steps 1-4 above for every slave node, in parallel (OpenMP); result i belongs to slave i; deterministic
 /// for any thread count. `master_normals`: unit node normals (mesh::node_normals) for Gregory, ignored for
 /// bilinear. InvalidArgument if the spans' sizes disagree, Gregory normals are missing, or master's mid-side

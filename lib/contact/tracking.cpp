@@ -68,6 +68,8 @@ void SurfaceTracker::step(const mesh::SurfaceMesh& master, std::span<const Vec3>
   const double capture = searcher.capture();
   const double margin = tracking_.margin_relative * capture;
   pairs.resize(n);
+  spatial_order(slave_positions, order_, order_scratch_);
+  const std::uint32_t* order = order_.data();
   long fresh = 0, tracked = 0, warm = 0, list_faces = 0;
   // A parallel region costs microseconds: only for enough nodes (the answers do not depend on it).
 #pragma omp parallel reduction(+ : fresh, tracked, warm, list_faces) if (n >= 512)
@@ -75,7 +77,8 @@ void SurfaceTracker::step(const mesh::SurfaceMesh& master, std::span<const Vec3>
     std::vector<std::pair<double, int>> candidates, list_build;
     std::vector<std::pair<std::uint32_t, double>> scratch;
 #pragma omp for schedule(dynamic, 64)
-    for (std::size_t i = 0; i < n; ++i) {
+    for (std::size_t k = 0; k < n; ++k) {
+      const std::size_t i = order[k];
       const Vec3& slave = slave_positions[i];
       std::vector<std::pair<double, int>>& list = lists_[i];
       const double moved = ((slave - anchors_[i]) / unit).norm() * unit + (drift_ - drift_at_build_[i]);

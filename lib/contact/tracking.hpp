@@ -24,6 +24,7 @@
 // fresh search and count the differences).
 #pragma once
 
+#include <cstdint>
 #include <span>
 #include <vector>
 
@@ -74,6 +75,8 @@ class SurfaceTracker {
   std::vector<Vec3> centres_;              ///< the previous state's face spheres
   std::vector<double> radii_;
   double drift_ = 0.0;
+  std::vector<std::uint32_t> order_;     ///< the slave nodes in Morton order (spatial_order), and its work space
+  std::vector<std::uint64_t> order_scratch_;
 };
 
 }  // namespace contactnn::contact
