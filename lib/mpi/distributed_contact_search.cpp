@@ -1,0 +1,587 @@
+#include "mpi/distributed_contact_search.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <numeric>
+#include <sstream>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+#include "core/conventions.hpp"
+#include "core/error.hpp"
+#include "geometry/surface_point.hpp"
+
+namespace contactnn::mpi {
+
+using geometry::Vec3;
+
+namespace {
+
+using contact::face_node_count;
+
+/// The kind of error a rank found: none, or the exception to throw on every rank.
+enum class ErrorKind : int { kNone = 0, kInvalidArgument = 1, kNumerical = 2, kOther = 3 };
+
+struct LocalError {
+  ErrorKind kind = ErrorKind::kNone;
+  std::string message;
+};
+
+/// Runs `work`, catching what it throws into a LocalError (the first error only).
+template <class F>
+void capture_error(LocalError& error, F&& work) {
+  if (error.kind != ErrorKind::kNone) return;
+  try {
+    work();
+  } catch (const InvalidArgument& e) {
+    error = {ErrorKind::kInvalidArgument, e.what()};
+  } catch (const NumericalError& e) {
+    error = {ErrorKind::kNumerical, e.what()};
+  } catch (const std::exception& e) {
+    error = {ErrorKind::kOther, e.what()};
+  }
+}
+
+void check_mpi(int code, const char* what) {
+  if (code == MPI_SUCCESS) return;
+  char text[MPI_MAX_ERROR_STRING];
+  int length = 0;
+  MPI_Error_string(code, text, &length);
+  throw Error(std::string("contact search under MPI: ") + what +
+              " failed: " + std::string(text, static_cast<std::size_t>(length)));
+}
+
+/// Collective: every rank learns whether any rank failed; if so, every rank throws the same exception, the
+/// lowest failing rank's, its message prefixed by that rank.
+void agree(MPI_Comm comm, const LocalError& error) {
+  int rank = 0, size = 1;
+  MPI_Comm_rank(comm, &rank);
+  MPI_Comm_size(comm, &size);
+  const int mine = error.kind == ErrorKind::kNone ? size : rank;
+  int first = size;
+  check_mpi(MPI_Allreduce(&mine, &first, 1, MPI_INT, MPI_MIN, comm), "MPI_Allreduce (errors)");
+  if (first == size) return;
+  std::array<int, 2> head{static_cast<int>(error.kind), static_cast<int>(error.message.size())};
+  check_mpi(MPI_Bcast(head.data(), 2, MPI_INT, first, comm), "MPI_Bcast (error)");
+  std::string message = error.message;
+  message.resize(static_cast<std::size_t>(head[1]));
+  check_mpi(MPI_Bcast(message.data(), head[1], MPI_CHAR, first, comm), "MPI_Bcast (error message)");
+  message = "rank " + std::to_string(first) + ": " + message;
+  switch (static_cast<ErrorKind>(head[0])) {
+    case ErrorKind::kInvalidArgument:
+      throw InvalidArgument(message);
+    case ErrorKind::kNumerical:
+      throw NumericalError(message);
+    default:
+      throw Error(message);
+  }
+}
+
+/// The rank that checks a global id: id mod P (non-negative).
+int home_of(long id, int size) { return static_cast<int>(((id % size) + size) % size); }
+
+/// MPI_Alltoallv of plain values, one vector per destination; returns one vector per source and adds the
+/// bytes sent to other ranks to `bytes`.
+template <class T>
+std::vector<std::vector<T>> exchange(MPI_Comm comm, const std::vector<std::vector<T>>& out, long& bytes) {
+  const auto size = static_cast<int>(out.size());
+  int rank = 0;
+  MPI_Comm_rank(comm, &rank);
+  std::vector<int> send_counts(static_cast<std::size_t>(size)), recv_counts(static_cast<std::size_t>(size));
+  std::vector<int> send_offsets(static_cast<std::size_t>(size) + 1, 0),
+      recv_offsets(static_cast<std::size_t>(size) + 1, 0);
+  for (int r = 0; r < size; ++r) {
+    const auto u = static_cast<std::size_t>(r);
+    const std::size_t b = out[u].size() * sizeof(T);
+    CONTACTNN_REQUIRE(b <= static_cast<std::size_t>(std::numeric_limits<int>::max()),
+                      "contact search under MPI: " << b << " bytes for rank " << r << ", at most 2^31 - 1");
+    send_counts[u] = static_cast<int>(b);
+    if (r != rank) bytes += static_cast<long>(b);
+  }
+  check_mpi(MPI_Alltoall(send_counts.data(), 1, MPI_INT, recv_counts.data(), 1, MPI_INT, comm),
+            "MPI_Alltoall");
+  std::vector<char> send, recv;
+  for (int r = 0; r < size; ++r) {
+    const auto u = static_cast<std::size_t>(r);
+    send_offsets[u + 1] = send_offsets[u] + send_counts[u];
+    recv_offsets[u + 1] = recv_offsets[u] + recv_counts[u];
+  }
+  send.resize(static_cast<std::size_t>(send_offsets.back()));
+  recv.resize(static_cast<std::size_t>(recv_offsets.back()));
+  for (int r = 0; r < size; ++r) {
+    const auto u = static_cast<std::size_t>(r);
+    if (!out[u].empty())
+      std::memcpy(send.data() + send_offsets[u], out[u].data(), static_cast<std::size_t>(send_counts[u]));
+  }
+  check_mpi(MPI_Alltoallv(send.data(), send_counts.data(), send_offsets.data(), MPI_BYTE, recv.data(),
+                          recv_counts.data(), recv_offsets.data(), MPI_BYTE, comm),
+            "MPI_Alltoallv");
+  std::vector<std::vector<T>> in(static_cast<std::size_t>(size));
+  for (int r = 0; r < size; ++r) {
+    const auto u = static_cast<std::size_t>(r);
+    in[u].resize(static_cast<std::size_t>(recv_counts[u]) / sizeof(T));
+    if (recv_counts[u] > 0)
+      std::memcpy(in[u].data(), recv.data() + recv_offsets[u], static_cast<std::size_t>(recv_counts[u]));
+  }
+  return in;
+}
+
+/// An interface node's copy as its home rank receives it.
+struct NodeCopy {
+  long id;
+  double x[3];
+};
+
+/// A face as it travels: its id, type and node count, then `count` node ids and 3 x count coordinates, all as
+/// 8-byte words (a double's bits in a long).
+void pack_face(std::vector<long>& out, long id, mesh::FaceType type, std::span<const long> nodes,
+               std::span<const double> xyz) {
+  out.push_back(id);
+  out.push_back(static_cast<long>(type));
+  for (long n : nodes) out.push_back(n);
+  for (double x : xyz) {
+    long bits = 0;
+    std::memcpy(&bits, &x, sizeof bits);
+    out.push_back(bits);
+  }
+}
+
+/// The largest distance between two corners of a face (contact::capture_distance's face size).
+double face_size(std::span<const Vec3> corners) {
+  double largest = 0.0;
+  for (const Vec3& a : corners)
+    for (const Vec3& b : corners) largest = std::max(largest, (a - b).norm());
+  return largest;
+}
+
+/// A box bounding the face's surface: its corners' box widened by the quadratic bulge. A quad8 (serendipity)
+/// or tri6 face is the bilinear (linear) surface of its corners plus, per edge, the mid-side node's offset
+/// from the edge's midpoint times a shape function within [0, 1]: the sum of the offsets' lengths bounds it.
+std::array<double, 6> face_box(mesh::FaceType type, std::span<const Vec3> x) {
+  const int corners = type == mesh::FaceType::kQuad4 || type == mesh::FaceType::kQuad8 ? 4 : 3;
+  double bulge = 0.0;
+  if (static_cast<int>(x.size()) > corners) {
+    for (int e = 0; e < corners; ++e) {
+      const Vec3 mid =
+          0.5 * (x[static_cast<std::size_t>(e)] + x[static_cast<std::size_t>((e + 1) % corners)]);
+      bulge += (x[static_cast<std::size_t>(corners + e)] - mid).norm();
+    }
+  }
+  std::array<double, 6> box{};
+  for (int k = 0; k < 3; ++k) {
+    double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+    for (int c = 0; c < corners; ++c) {
+      lo = std::min(lo, x[static_cast<std::size_t>(c)][k]);
+      hi = std::max(hi, x[static_cast<std::size_t>(c)][k]);
+    }
+    box[static_cast<std::size_t>(k)] = lo - bulge;
+    box[static_cast<std::size_t>(k) + 3] = hi + bulge;
+  }
+  return box;
+}
+
+bool boxes_meet(const std::array<double, 6>& a, const double* b, double reach) {
+  for (std::size_t k = 0; k < 3; ++k) {
+    if (a[k] > b[k + 3] + reach || b[k] - reach > a[k + 3]) return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+struct DistributedContactSearch::Impl {
+  MPI_Comm comm = MPI_COMM_NULL;
+  int rank = 0;
+  int size = 1;
+  contact::ContactSearchOptions options;
+  std::vector<long> face_ids;
+  std::vector<mesh::FaceType> face_types;
+  std::vector<long> face_offsets;  ///< face f's node ids: connectivity[face_offsets[f] ..]
+  std::vector<long> connectivity;
+  std::vector<int> face_nodes;  ///< coordinate-array index of each connectivity entry
+  std::vector<long> node_ids;
+  std::vector<int> slave_nodes;  ///< coordinate-array index of each slave node
+  std::vector<long> slave_ids;
+  std::vector<int> interface_nodes;  ///< coordinate-array indices of the nodes other ranks also use
+  std::vector<char> used;            ///< node i used by a face or a slave node
+  ExchangeCounts counts;
+
+  ~Impl() {
+    if (comm != MPI_COMM_NULL) MPI_Comm_free(&comm);
+  }
+};
+
+DistributedContactSearch::DistributedContactSearch(MPI_Comm comm, std::span<const long> face_ids,
+                                                   std::span<const mesh::FaceType> face_types,
+                                                   std::span<const long> connectivity,
+                                                   std::span<const long> node_ids,
+                                                   std::span<const long> slave_nodes,
+                                                   const contact::ContactSearchOptions& options)
+    : impl_(std::make_unique<Impl>()) {
+  Impl& m = *impl_;
+  check_mpi(MPI_Comm_dup(comm, &m.comm), "MPI_Comm_dup");
+  MPI_Comm_rank(m.comm, &m.rank);
+  MPI_Comm_size(m.comm, &m.size);
+  m.options = options;
+  m.options.tracking = false;
+
+  // Local checks; every rank agrees on the outcome before anything is exchanged.
+  LocalError error;
+  std::unordered_map<long, int> by_id;
+  capture_error(error, [&] {
+    CONTACTNN_REQUIRE_AS(
+        InvalidArgument, options.quad4 == SurfaceKind::kBilinear,
+        "contact search under MPI: only bilinear quad4 faces (Gregory patches need each face's "
+        "ring of neighbours on the slave node's rank: not implemented)");
+    CONTACTNN_REQUIRE_AS(
+        InvalidArgument, std::isfinite(options.capture_distance),
+        "contact search under MPI: capture distance " << options.capture_distance << " is not finite");
+    CONTACTNN_REQUIRE_AS(InvalidArgument, face_ids.size() == face_types.size(),
+                         "contact search under MPI: " << face_ids.size() << " face ids for "
+                                                      << face_types.size() << " face types");
+    CONTACTNN_REQUIRE_AS(InvalidArgument,
+                         node_ids.size() <= static_cast<std::size_t>(std::numeric_limits<int>::max()),
+                         "contact search under MPI: " << node_ids.size() << " nodes, at most 2^31 - 1");
+    by_id.reserve(node_ids.size());
+    for (std::size_t i = 0; i < node_ids.size(); ++i) {
+      const auto [at, inserted] = by_id.emplace(node_ids[i], static_cast<int>(i));
+      CONTACTNN_REQUIRE_AS(InvalidArgument, inserted,
+                           "contact search under MPI: node id " << node_ids[i] << " given twice (nodes "
+                                                                << at->second << " and " << i
+                                                                << " of the coordinate array)");
+    }
+    std::size_t total = 0;
+    for (std::size_t f = 0; f < face_types.size(); ++f) {
+      const int k = face_node_count(face_types[f]);
+      CONTACTNN_REQUIRE_AS(InvalidArgument, k > 0,
+                           "contact search under MPI: face id " << face_ids[f] << " has type "
+                                                                << static_cast<int>(face_types[f])
+                                                                << ", expected quad4, quad8, tri3 or tri6");
+      m.face_offsets.push_back(static_cast<long>(total));
+      total += static_cast<std::size_t>(k);
+    }
+    m.face_offsets.push_back(static_cast<long>(total));
+    CONTACTNN_REQUIRE_AS(InvalidArgument, connectivity.size() == total,
+                         "contact search under MPI: connectivity of "
+                             << connectivity.size() << " node ids, the " << face_types.size()
+                             << " faces' types need " << total);
+    m.used.assign(node_ids.size(), 0);
+    for (std::size_t f = 0; f < face_types.size(); ++f) {
+      const auto first = static_cast<std::size_t>(m.face_offsets[f]);
+      const int k = face_node_count(face_types[f]);
+      for (int j = 0; j < k; ++j) {
+        const long id = connectivity[first + static_cast<std::size_t>(j)];
+        const auto at = by_id.find(id);
+        CONTACTNN_REQUIRE_AS(InvalidArgument, at != by_id.end(),
+                             "contact search under MPI: face id "
+                                 << face_ids[f] << " (node " << j + 1 << ") names node " << id
+                                 << ", whose coordinates this rank does not "
+                                    "pass (a rank passes every node of its faces)");
+        for (int q = 0; q < j; ++q) {
+          CONTACTNN_REQUIRE_AS(InvalidArgument, connectivity[first + static_cast<std::size_t>(q)] != id,
+                               "contact search under MPI: face id " << face_ids[f] << " names node " << id
+                                                                    << " twice (its nodes " << q + 1
+                                                                    << " and " << j + 1 << ")");
+        }
+        m.face_nodes.push_back(at->second);
+        m.used[static_cast<std::size_t>(at->second)] = 1;
+      }
+    }
+    for (std::size_t i = 0; i < slave_nodes.size(); ++i) {
+      const auto at = by_id.find(slave_nodes[i]);
+      CONTACTNN_REQUIRE_AS(InvalidArgument, at != by_id.end(),
+                           "contact search under MPI: slave node "
+                               << i << " names node " << slave_nodes[i]
+                               << ", whose coordinates this rank does not pass");
+      m.slave_nodes.push_back(at->second);
+      m.used[static_cast<std::size_t>(at->second)] = 1;
+    }
+  });
+  agree(m.comm, error);
+  m.face_ids.assign(face_ids.begin(), face_ids.end());
+  m.face_types.assign(face_types.begin(), face_types.end());
+  m.connectivity.assign(connectivity.begin(), connectivity.end());
+  m.node_ids.assign(node_ids.begin(), node_ids.end());
+  m.slave_ids.assign(slave_nodes.begin(), slave_nodes.end());
+
+  // Global ids: face ids given twice over the ranks, and the nodes used on more than one rank. Each id goes
+  // to its home rank (id mod P), which answers each sender with the sender's node ids that other ranks also
+  // use.
+  long bytes = 0;
+  const auto p = static_cast<std::size_t>(m.size);
+  std::vector<std::vector<long>> faces_out(p), nodes_out(p);
+  for (long id : m.face_ids) faces_out[static_cast<std::size_t>(home_of(id, m.size))].push_back(id);
+  for (std::size_t i = 0; i < m.used.size(); ++i) {
+    if (m.used[i] != 0)
+      nodes_out[static_cast<std::size_t>(home_of(m.node_ids[i], m.size))].push_back(m.node_ids[i]);
+  }
+  const auto faces_in = exchange(m.comm, faces_out, bytes);
+  const auto nodes_in = exchange(m.comm, nodes_out, bytes);
+  std::vector<std::vector<long>> shared_out(p);
+  capture_error(error, [&] {
+    std::unordered_map<long, int> face_rank;
+    for (int r = 0; r < m.size; ++r) {
+      for (long id : faces_in[static_cast<std::size_t>(r)]) {
+        const auto [at, inserted] = face_rank.emplace(id, r);
+        CONTACTNN_REQUIRE_AS(InvalidArgument, inserted,
+                             "contact search under MPI: face id " << id << " given twice (by rank "
+                                                                  << at->second << " and by rank " << r
+                                                                  << ")");
+      }
+    }
+    std::unordered_map<long, int> node_ranks;
+    for (const auto& ids : nodes_in)
+      for (long id : ids) ++node_ranks[id];
+    for (int r = 0; r < m.size; ++r) {
+      for (long id : nodes_in[static_cast<std::size_t>(r)]) {
+        if (node_ranks[id] > 1) shared_out[static_cast<std::size_t>(r)].push_back(id);
+      }
+    }
+  });
+  agree(m.comm, error);
+  const auto shared_in = exchange(m.comm, shared_out, bytes);
+  for (const auto& ids : shared_in)
+    for (long id : ids) m.interface_nodes.push_back(by_id.at(id));
+  std::sort(m.interface_nodes.begin(), m.interface_nodes.end());
+}
+
+DistributedContactSearch::~DistributedContactSearch() = default;
+
+int DistributedContactSearch::rank() const { return impl_->rank; }
+int DistributedContactSearch::size() const { return impl_->size; }
+const ExchangeCounts& DistributedContactSearch::counts() const { return impl_->counts; }
+
+void DistributedContactSearch::update(std::span<const double> coordinates, const DistributedResults& out) {
+  Impl& m = *impl_;
+  const std::size_t n = m.slave_ids.size();
+  const auto p = static_cast<std::size_t>(m.size);
+  ExchangeCounts counts;
+  const auto node_at = [&](int i) {
+    const auto u = 3 * static_cast<std::size_t>(i);
+    return Vec3(coordinates[u], coordinates[u + 1], coordinates[u + 2]);
+  };
+
+  // 1-2. Local checks, the interface nodes' copies compared at their home ranks, one agreement.
+  LocalError error;
+  capture_error(error, [&] {
+    CONTACTNN_REQUIRE_AS(InvalidArgument, coordinates.size() == 3 * m.node_ids.size(),
+                         "contact search under MPI update: " << coordinates.size()
+                                                             << " coordinates, expected 3 x "
+                                                             << m.node_ids.size() << " nodes");
+    const auto check_size = [&](const char* name, std::size_t size, std::size_t per, bool required) {
+      CONTACTNN_REQUIRE_AS(InvalidArgument, size == per * n || (!required && size == 0),
+                           "contact search under MPI update: output " << name << " holds " << size
+                                                                      << " values, expected " << per * n
+                                                                      << (required ? "" : " (or none)"));
+    };
+    check_size("status", out.status.size(), 1, true);
+    check_size("face", out.face.size(), 1, true);
+    check_size("owner", out.owner.size(), 1, false);
+    check_size("location", out.location.size(), 1, false);
+    check_size("param", out.param.size(), 2, false);
+    check_size("point", out.point.size(), 3, false);
+    check_size("gap", out.gap.size(), 1, false);
+    check_size("normal", out.normal.size(), 3, false);
+    for (std::size_t i = 0; i < m.used.size(); ++i) {
+      if (m.used[i] == 0) continue;
+      const Vec3 x = node_at(static_cast<int>(i));
+      if (!x.allFinite()) {
+        std::ostringstream os;
+        os << "contact search under MPI update: node " << m.node_ids[i] << " has a non-finite coordinate ("
+           << x.x() << ", " << x.y() << ", " << x.z() << ")";
+        throw NumericalError(os.str());
+      }
+    }
+  });
+  std::vector<std::vector<NodeCopy>> copies_out(p);
+  if (error.kind == ErrorKind::kNone) {
+    for (int i : m.interface_nodes) {
+      const long id = m.node_ids[static_cast<std::size_t>(i)];
+      const Vec3 x = node_at(i);
+      copies_out[static_cast<std::size_t>(home_of(id, m.size))].push_back({id, {x.x(), x.y(), x.z()}});
+    }
+  }
+  const auto copies_in = exchange(m.comm, copies_out, counts.bytes_sent);
+  capture_error(error, [&] {
+    std::unordered_map<long, std::pair<int, NodeCopy>> first;
+    for (int r = 0; r < m.size; ++r) {
+      for (const NodeCopy& c : copies_in[static_cast<std::size_t>(r)]) {
+        const auto [at, inserted] = first.emplace(c.id, std::pair(r, c));
+        const NodeCopy& a = at->second.second;
+        const bool same = a.x[0] == c.x[0] && a.x[1] == c.x[1] && a.x[2] == c.x[2];
+        CONTACTNN_REQUIRE_AS(InvalidArgument, inserted || same,
+                             "contact search under MPI update: node id "
+                                 << c.id << " is (" << a.x[0] << ", " << a.x[1] << ", " << a.x[2]
+                                 << ") on rank " << at->second.first << " and (" << c.x[0] << ", " << c.x[1]
+                                 << ", " << c.x[2] << ") on rank " << r
+                                 << ": two different nodes under one global id");
+      }
+    }
+  });
+  agree(m.comm, error);
+
+  // 3. The capture distance: the option's, or the largest face size over all ranks.
+  const std::size_t faces = m.face_ids.size();
+  std::vector<std::array<double, 6>> boxes(faces);
+  double largest = 0.0;
+  std::vector<Vec3> x;
+  for (std::size_t f = 0; f < faces; ++f) {
+    const int k = face_node_count(m.face_types[f]);
+    const int corners =
+        m.face_types[f] == mesh::FaceType::kQuad4 || m.face_types[f] == mesh::FaceType::kQuad8 ? 4 : 3;
+    x.clear();
+    for (int j = 0; j < k; ++j)
+      x.push_back(node_at(m.face_nodes[static_cast<std::size_t>(m.face_offsets[f] + j)]));
+    largest = std::max(largest, face_size(std::span<const Vec3>(x).first(static_cast<std::size_t>(corners))));
+    boxes[f] = face_box(m.face_types[f], x);
+  }
+  double global_largest = 0.0;
+  check_mpi(MPI_Allreduce(&largest, &global_largest, 1, MPI_DOUBLE, MPI_MAX, m.comm),
+            "MPI_Allreduce (face size)");
+  contact::SearchOptions defaults;
+  const double capture = m.options.capture_distance > 0.0 ? m.options.capture_distance
+                                                          : defaults.capture_relative * global_largest;
+  // The reach of a box: the capture distance, widened against rounding and the tie band of SPEC 9 (1e-12 of a
+  // face size), so that a face the serial search could weigh is never left out (one more face costs nothing).
+  const double reach = capture * (1.0 + 1e-9) + 1e-9 * global_largest;
+
+  // 4. Every rank's slave box.
+  std::array<double, 6> mine{};
+  for (std::size_t k = 0; k < 3; ++k) {
+    mine[k] = std::numeric_limits<double>::infinity();
+    mine[k + 3] = -std::numeric_limits<double>::infinity();
+  }
+  for (int s : m.slave_nodes) {
+    const Vec3 y = node_at(s);
+    for (std::size_t k = 0; k < 3; ++k) {
+      mine[k] = std::min(mine[k], y[static_cast<Eigen::Index>(k)]);
+      mine[k + 3] = std::max(mine[k + 3], y[static_cast<Eigen::Index>(k)]);
+    }
+  }
+  std::vector<double> all_boxes(6 * p);
+  check_mpi(MPI_Allgather(mine.data(), 6, MPI_DOUBLE, all_boxes.data(), 6, MPI_DOUBLE, m.comm),
+            "MPI_Allgather");
+  counts.bytes_sent += static_cast<long>(6 * sizeof(double) * (p - 1));
+
+  // 5. The ghost layer, and this rank's own faces within reach of its slaves.
+  std::vector<std::vector<long>> faces_out(p);
+  std::vector<std::size_t> own;
+  std::vector<double> xyz;
+  for (std::size_t f = 0; f < faces; ++f) {
+    const int k = face_node_count(m.face_types[f]);
+    const auto first = static_cast<std::size_t>(m.face_offsets[f]);
+    bool packed = false;
+    for (int r = 0; r < m.size; ++r) {
+      if (!boxes_meet(boxes[f], &all_boxes[6 * static_cast<std::size_t>(r)], reach)) continue;
+      if (r == m.rank) {
+        own.push_back(f);
+        continue;
+      }
+      if (!packed) {
+        xyz.clear();
+        for (int j = 0; j < k; ++j) {
+          const Vec3 y = node_at(m.face_nodes[first + static_cast<std::size_t>(j)]);
+          xyz.insert(xyz.end(), {y.x(), y.y(), y.z()});
+        }
+        packed = true;
+      }
+      pack_face(faces_out[static_cast<std::size_t>(r)], m.face_ids[f], m.face_types[f],
+                std::span<const long>(m.connectivity).subspan(first, static_cast<std::size_t>(k)), xyz);
+      ++counts.ghost_faces_sent;
+    }
+  }
+  const auto faces_in = exchange(m.comm, faces_out, counts.bytes_sent);
+
+  // 6. The local search over the own faces within reach and the ghosts, in increasing global face id.
+  struct Face {
+    long id;
+    int owner;
+    mesh::FaceType type;
+    std::array<long, 8> nodes;
+  };
+  std::vector<Face> local;
+  std::unordered_map<long, Vec3> positions;  // global node id -> coordinates
+  for (std::size_t f : own) {
+    Face face{m.face_ids[f], m.rank, m.face_types[f], {}};
+    const int k = face_node_count(face.type);
+    for (int j = 0; j < k; ++j) {
+      const auto at = static_cast<std::size_t>(m.face_offsets[f] + j);
+      face.nodes[static_cast<std::size_t>(j)] = m.connectivity[at];
+      positions.emplace(m.connectivity[at], node_at(m.face_nodes[at]));
+    }
+    local.push_back(face);
+  }
+  for (int r = 0; r < m.size; ++r) {
+    const auto& words = faces_in[static_cast<std::size_t>(r)];
+    std::size_t at = 0;
+    while (at < words.size()) {
+      Face face{words[at], r, static_cast<mesh::FaceType>(words[at + 1]), {}};
+      const int k = face_node_count(face.type);
+      at += 2;
+      for (int j = 0; j < k; ++j)
+        face.nodes[static_cast<std::size_t>(j)] = words[at + static_cast<std::size_t>(j)];
+      for (int j = 0; j < k; ++j) {
+        Vec3 y;
+        for (int c = 0; c < 3; ++c)
+          std::memcpy(&y[c], &words[at + static_cast<std::size_t>(k + 3 * j + c)], sizeof(double));
+        positions.emplace(face.nodes[static_cast<std::size_t>(j)], y);
+      }
+      at += static_cast<std::size_t>(4 * k);
+      local.push_back(face);
+      ++counts.ghost_faces_received;
+    }
+  }
+  std::sort(local.begin(), local.end(), [](const Face& a, const Face& b) { return a.id < b.id; });
+  counts.faces_searched = static_cast<long>(local.size());
+
+  std::vector<int> status(n, static_cast<int>(Status::kNoSegment)), face(n, -1), location(n, -1);
+  std::vector<double> param(2 * n, 0.0), point(3 * n, 0.0), gap(n, 0.0), normal(3 * n, 0.0);
+  capture_error(error, [&] {
+    if (n == 0 || local.empty()) return;
+    for (int s : m.slave_nodes) positions.emplace(m.node_ids[static_cast<std::size_t>(s)], node_at(s));
+    // Nodes in increasing global id: the same order whatever the split.
+    std::vector<long> ids;
+    ids.reserve(positions.size());
+    for (const auto& [id, y] : positions) ids.push_back(id);
+    std::sort(ids.begin(), ids.end());
+    std::vector<double> coords;
+    coords.reserve(3 * ids.size());
+    for (long id : ids) {
+      const Vec3& y = positions.at(id);
+      coords.insert(coords.end(), {y.x(), y.y(), y.z()});
+    }
+    std::vector<mesh::FaceType> types;
+    std::vector<long> conn;
+    for (const Face& f : local) {
+      types.push_back(f.type);
+      conn.insert(conn.end(), f.nodes.begin(), f.nodes.begin() + face_node_count(f.type));
+    }
+    contact::ContactSearchOptions o = m.options;
+    o.capture_distance = capture;
+    contact::ContactSearch search(types, conn, {static_cast<long>(ids.size()), 0, ids}, {m.slave_ids, 0}, o);
+    search.update(coords, {}, {status, face, location, param, point, gap, normal});
+  });
+  agree(m.comm, error);
+
+  // 7. The answers.
+  for (std::size_t i = 0; i < n; ++i) {
+    const bool found = face[i] >= 0;
+    out.status[i] = status[i];
+    out.face[i] = found ? local[static_cast<std::size_t>(face[i])].id : -1;
+    if (!out.owner.empty()) out.owner[i] = found ? local[static_cast<std::size_t>(face[i])].owner : -1;
+    if (!out.location.empty()) out.location[i] = location[i];
+    if (!out.gap.empty()) out.gap[i] = gap[i];
+    for (std::size_t k = 0; k < 2 && !out.param.empty(); ++k) out.param[2 * i + k] = param[2 * i + k];
+    for (std::size_t k = 0; k < 3; ++k) {
+      if (!out.point.empty()) out.point[3 * i + k] = point[3 * i + k];
+      if (!out.normal.empty()) out.normal[3 * i + k] = normal[3 * i + k];
+    }
+  }
+  m.counts = counts;
+}
+
+}  // namespace contactnn::mpi
