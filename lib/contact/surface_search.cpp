@@ -798,22 +798,35 @@ void spatial_order(std::span<const Vec3> points, std::vector<std::uint32_t>& ord
   CONTACTNN_REQUIRE(n < (std::size_t{1} << 32), n << " points: at most 2^32 - 1");
   order.resize(n);
   Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
-  for (const Vec3& x : points) {
+  double step = 0.0;  // the summed distance between consecutive points
+  for (std::size_t i = 0; i < n; ++i) {
+    const Vec3& x = points[i];
     if (!x.allFinite()) continue;
     lo = lo.cwiseMin(x);
     hi = hi.cwiseMax(x);
+    if (i > 0 && points[i - 1].allFinite()) step += (x - points[i - 1]).norm();
+  }
+  // A mesh's own order (rows of a grid, an element's nodes together) steps a node spacing or two on average,
+  // about extent / sqrt(n) on a surface; kept, it is at least as local as the Z curve. Only an order that
+  // steps farther (a random one) is sorted.
+  const double largest = (hi - lo).maxCoeff();
+  if (n < 2 || !(step <= largest * static_cast<double>(n)) ||
+      step < 8.0 * largest * std::sqrt(static_cast<double>(n))) {
+    for (std::size_t i = 0; i < n; ++i) order[i] = static_cast<std::uint32_t>(i);
+    return;
   }
   // Each key: the 30-bit Morton code above the point's index (32 bits).
   scratch.resize(2 * n);
   std::uint64_t* keys = scratch.data();
   std::uint64_t* other = scratch.data() + n;
-  const Vec3 extent = hi - lo;
+  // Cubic cells, the largest extent's 1/1024: a thin direction (a sheet's thickness) takes few cells and the
+  // low bits, where a cell count of its own would let its jitter scatter neighbours along the sheet.
+  const double extent = (hi - lo).maxCoeff();
   for (std::size_t i = 0; i < n; ++i) {
     std::uint64_t code = 0;
     if (points[i].allFinite()) {
       for (int d = 0; d < 3; ++d) {
-        const double e = extent[d];
-        const double t = e > 0.0 ? (points[i][d] - lo[d]) / e : 0.0;
+        const double t = extent > 0.0 ? (points[i][d] - lo[d]) / extent : 0.0;
         const auto cell = static_cast<std::uint64_t>(std::clamp(t * 1024.0, 0.0, 1023.0));
         code |= spread_bits(cell) << d;
       }
