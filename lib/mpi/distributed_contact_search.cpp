@@ -84,6 +84,10 @@ void agree(MPI_Comm comm, const LocalError& error) {
 /// The rank that checks a global id: id mod P (non-negative).
 int home_of(long id, int size) { return static_cast<int>(((id % size) + size) % size); }
 
+/// The movement budget: faces are chosen within the capture distance plus this fraction of it, and chosen
+/// again only when the nodes have moved that far (one MPI_Allreduce per update otherwise).
+constexpr double kBudget = 0.25;
+
 /// MPI_Alltoallv of plain values, one vector per destination; returns one vector per source and adds the
 /// bytes sent to other ranks to `bytes`.
 template <class T>
@@ -135,20 +139,6 @@ struct NodeCopy {
   long id;
   double x[3];
 };
-
-/// A face as it travels: its id, type and node count, then `count` node ids and 3 x count coordinates, all as
-/// 8-byte words (a double's bits in a long).
-void pack_face(std::vector<long>& out, long id, mesh::FaceType type, std::span<const long> nodes,
-               std::span<const double> xyz) {
-  out.push_back(id);
-  out.push_back(static_cast<long>(type));
-  for (long n : nodes) out.push_back(n);
-  for (double x : xyz) {
-    long bits = 0;
-    std::memcpy(&bits, &x, sizeof bits);
-    out.push_back(bits);
-  }
-}
 
 /// The largest distance between two corners of a face (contact::capture_distance's face size).
 double face_size(std::span<const Vec3> corners) {
@@ -209,6 +199,22 @@ struct DistributedContactSearch::Impl {
   std::vector<int> interface_nodes;  ///< coordinate-array indices of the nodes other ranks also use
   std::vector<char> used;            ///< node i used by a face or a slave node
   ExchangeCounts counts;
+
+  // The last exchange of faces (the ghost layer), kept while the movement since fits in its reach.
+  bool exchanged = false;
+  double reach = 0.0;                        ///< the reach the faces were chosen with
+  std::vector<Vec3> reference;               ///< each used node's coordinates at the exchange
+  std::vector<std::vector<int>> send_nodes;  ///< per rank: own nodes whose coordinates it needs, by global id
+  std::vector<std::vector<int>>
+      recv_slots;  ///< per rank: the local handle's node of each coordinate it sends
+  std::vector<std::pair<int, int>> own_slots;  ///< (coordinate-array index, local handle's node)
+  std::vector<long> local_ids;                 ///< the local handle's node ids, increasing
+  std::vector<mesh::FaceType> local_types;     ///< the local handle's faces, in increasing global id
+  std::vector<long> local_connectivity;
+  std::vector<long> local_face_id;
+  std::vector<int> local_face_owner;
+  std::unique_ptr<contact::ContactSearch> handle;  ///< over the local faces; null without faces or slaves
+  double handle_capture = 0.0;
 
   ~Impl() {
     if (comm != MPI_COMM_NULL) MPI_Comm_free(&comm);
@@ -424,10 +430,12 @@ void DistributedContactSearch::update(std::span<const double> coordinates, const
   });
   agree(m.comm, error);
 
-  // 3. The capture distance: the option's, or the largest face size over all ranks.
+  // 3. The capture distance (the option's, or the largest face size over all ranks) and the movement since
+  // the last exchange of faces, in one MPI_Allreduce: the largest face size, node movement and slave
+  // movement.
   const std::size_t faces = m.face_ids.size();
   std::vector<std::array<double, 6>> boxes(faces);
-  double largest = 0.0;
+  std::array<double, 3> local{0.0, 0.0, 0.0}, global{0.0, 0.0, 0.0};
   std::vector<Vec3> x;
   for (std::size_t f = 0; f < faces; ++f) {
     const int k = face_node_count(m.face_types[f]);
@@ -436,134 +444,212 @@ void DistributedContactSearch::update(std::span<const double> coordinates, const
     x.clear();
     for (int j = 0; j < k; ++j)
       x.push_back(node_at(m.face_nodes[static_cast<std::size_t>(m.face_offsets[f] + j)]));
-    largest = std::max(largest, face_size(std::span<const Vec3>(x).first(static_cast<std::size_t>(corners))));
+    local[0] =
+        std::max(local[0], face_size(std::span<const Vec3>(x).first(static_cast<std::size_t>(corners))));
     boxes[f] = face_box(m.face_types[f], x);
   }
-  double global_largest = 0.0;
-  check_mpi(MPI_Allreduce(&largest, &global_largest, 1, MPI_DOUBLE, MPI_MAX, m.comm),
-            "MPI_Allreduce (face size)");
-  contact::SearchOptions defaults;
-  const double capture = m.options.capture_distance > 0.0 ? m.options.capture_distance
-                                                          : defaults.capture_relative * global_largest;
-  // The reach of a box: the capture distance, widened against rounding and the tie band of SPEC 9 (1e-12 of a
-  // face size), so that a face the serial search could weigh is never left out (one more face costs nothing).
-  const double reach = capture * (1.0 + 1e-9) + 1e-9 * global_largest;
-
-  // 4. Every rank's slave box.
-  std::array<double, 6> mine{};
-  for (std::size_t k = 0; k < 3; ++k) {
-    mine[k] = std::numeric_limits<double>::infinity();
-    mine[k + 3] = -std::numeric_limits<double>::infinity();
-  }
-  for (int s : m.slave_nodes) {
-    const Vec3 y = node_at(s);
-    for (std::size_t k = 0; k < 3; ++k) {
-      mine[k] = std::min(mine[k], y[static_cast<Eigen::Index>(k)]);
-      mine[k + 3] = std::max(mine[k + 3], y[static_cast<Eigen::Index>(k)]);
-    }
-  }
-  std::vector<double> all_boxes(6 * p);
-  check_mpi(MPI_Allgather(mine.data(), 6, MPI_DOUBLE, all_boxes.data(), 6, MPI_DOUBLE, m.comm),
-            "MPI_Allgather");
-  counts.bytes_sent += static_cast<long>(6 * sizeof(double) * (p - 1));
-
-  // 5. The ghost layer, and this rank's own faces within reach of its slaves.
-  std::vector<std::vector<long>> faces_out(p);
-  std::vector<std::size_t> own;
-  std::vector<double> xyz;
-  for (std::size_t f = 0; f < faces; ++f) {
-    const int k = face_node_count(m.face_types[f]);
-    const auto first = static_cast<std::size_t>(m.face_offsets[f]);
-    bool packed = false;
-    for (int r = 0; r < m.size; ++r) {
-      if (!boxes_meet(boxes[f], &all_boxes[6 * static_cast<std::size_t>(r)], reach)) continue;
-      if (r == m.rank) {
-        own.push_back(f);
-        continue;
-      }
-      if (!packed) {
-        xyz.clear();
-        for (int j = 0; j < k; ++j) {
-          const Vec3 y = node_at(m.face_nodes[first + static_cast<std::size_t>(j)]);
-          xyz.insert(xyz.end(), {y.x(), y.y(), y.z()});
-        }
-        packed = true;
-      }
-      pack_face(faces_out[static_cast<std::size_t>(r)], m.face_ids[f], m.face_types[f],
-                std::span<const long>(m.connectivity).subspan(first, static_cast<std::size_t>(k)), xyz);
-      ++counts.ghost_faces_sent;
-    }
-  }
-  const auto faces_in = exchange(m.comm, faces_out, counts.bytes_sent);
-
-  // 6. The local search over the own faces within reach and the ghosts, in increasing global face id.
-  struct Face {
-    long id;
-    int owner;
-    mesh::FaceType type;
-    std::array<long, 8> nodes;
-  };
-  std::vector<Face> local;
-  std::unordered_map<long, Vec3> positions;  // global node id -> coordinates
-  for (std::size_t f : own) {
-    Face face{m.face_ids[f], m.rank, m.face_types[f], {}};
-    const int k = face_node_count(face.type);
-    for (int j = 0; j < k; ++j) {
-      const auto at = static_cast<std::size_t>(m.face_offsets[f] + j);
-      face.nodes[static_cast<std::size_t>(j)] = m.connectivity[at];
-      positions.emplace(m.connectivity[at], node_at(m.face_nodes[at]));
-    }
-    local.push_back(face);
-  }
-  for (int r = 0; r < m.size; ++r) {
-    const auto& words = faces_in[static_cast<std::size_t>(r)];
-    std::size_t at = 0;
-    while (at < words.size()) {
-      Face face{words[at], r, static_cast<mesh::FaceType>(words[at + 1]), {}};
-      const int k = face_node_count(face.type);
-      at += 2;
-      for (int j = 0; j < k; ++j)
-        face.nodes[static_cast<std::size_t>(j)] = words[at + static_cast<std::size_t>(j)];
+  if (m.exchanged) {
+    for (std::size_t f = 0; f < faces; ++f) {
+      // A face's box grows by at most its nodes' movement (corners), or 9 times it (a quadratic face: the
+      // corners', and the bulge of 4 edges, each mid-side offset moving at most twice the nodes' movement).
+      const int k = face_node_count(m.face_types[f]);
+      const double growth = k == 4 || k == 3 ? 1.0 : 9.0;
       for (int j = 0; j < k; ++j) {
-        Vec3 y;
-        for (int c = 0; c < 3; ++c)
-          std::memcpy(&y[c], &words[at + static_cast<std::size_t>(k + 3 * j + c)], sizeof(double));
-        positions.emplace(face.nodes[static_cast<std::size_t>(j)], y);
+        const int i = m.face_nodes[static_cast<std::size_t>(m.face_offsets[f] + j)];
+        local[1] =
+            std::max(local[1], growth * (node_at(i) - m.reference[static_cast<std::size_t>(i)]).norm());
       }
-      at += static_cast<std::size_t>(4 * k);
-      local.push_back(face);
-      ++counts.ghost_faces_received;
+    }
+    for (int s : m.slave_nodes)
+      local[2] = std::max(local[2], (node_at(s) - m.reference[static_cast<std::size_t>(s)]).norm());
+  }
+  check_mpi(MPI_Allreduce(local.data(), global.data(), 3, MPI_DOUBLE, MPI_MAX, m.comm),
+            "MPI_Allreduce (sizes)");
+  contact::SearchOptions defaults;
+  const double capture =
+      m.options.capture_distance > 0.0 ? m.options.capture_distance : defaults.capture_relative * global[0];
+  // The reach a face must come within of a rank's slave box: the capture distance, widened against rounding
+  // and SPEC 9's tie band (1e-12 of a face size), so that a face the serial search could weigh is never left
+  // out.
+  const double needed = capture * (1.0 + 1e-9) + 1e-9 * global[0];
+  // The faces exchanged last still hold every face the search needs while the capture distance plus the
+  // growth of the faces' boxes (global[1]) and the slave nodes' movement (global[2]) since fits in the reach
+  // they were chosen with. The same decision on every rank.
+  const bool fresh = !m.exchanged || needed + global[1] + global[2] > m.reach;
+
+  if (fresh) {
+    counts.exchanged = 1;
+    m.reach = needed + kBudget * capture;
+    m.reference.assign(coordinates.size() / 3, Vec3::Zero());
+    for (std::size_t i = 0; i < m.used.size(); ++i) {
+      if (m.used[i] != 0) m.reference[i] = node_at(static_cast<int>(i));
+    }
+    m.exchanged = true;
+
+    // 4. Every rank's slave box.
+    std::array<double, 6> mine{};
+    for (std::size_t k = 0; k < 3; ++k) {
+      mine[k] = std::numeric_limits<double>::infinity();
+      mine[k + 3] = -std::numeric_limits<double>::infinity();
+    }
+    for (int s : m.slave_nodes) {
+      const Vec3 y = node_at(s);
+      for (std::size_t k = 0; k < 3; ++k) {
+        mine[k] = std::min(mine[k], y[static_cast<Eigen::Index>(k)]);
+        mine[k + 3] = std::max(mine[k + 3], y[static_cast<Eigen::Index>(k)]);
+      }
+    }
+    std::vector<double> all_boxes(6 * p);
+    check_mpi(MPI_Allgather(mine.data(), 6, MPI_DOUBLE, all_boxes.data(), 6, MPI_DOUBLE, m.comm),
+              "MPI_Allgather");
+    counts.bytes_sent += static_cast<long>(6 * sizeof(double) * (p - 1));
+
+    // 5. The ghost layer (faces without coordinates: those travel below, at every update), and this rank's
+    // own faces within reach of its slaves.
+    std::vector<std::vector<long>> faces_out(p);
+    std::vector<std::vector<int>> send_nodes(p);
+    std::vector<std::size_t> own;
+    for (std::size_t f = 0; f < faces; ++f) {
+      const int k = face_node_count(m.face_types[f]);
+      const auto first = static_cast<std::size_t>(m.face_offsets[f]);
+      for (int r = 0; r < m.size; ++r) {
+        if (!boxes_meet(boxes[f], &all_boxes[6 * static_cast<std::size_t>(r)], m.reach)) continue;
+        if (r == m.rank) {
+          own.push_back(f);
+          continue;
+        }
+        const auto u = static_cast<std::size_t>(r);
+        faces_out[u].push_back(m.face_ids[f]);
+        faces_out[u].push_back(static_cast<long>(m.face_types[f]));
+        for (int j = 0; j < k; ++j) {
+          faces_out[u].push_back(m.connectivity[first + static_cast<std::size_t>(j)]);
+          send_nodes[u].push_back(m.face_nodes[first + static_cast<std::size_t>(j)]);
+        }
+        ++counts.ghost_faces_sent;
+      }
+    }
+    const auto faces_in = exchange(m.comm, faces_out, counts.bytes_sent);
+
+    // 6a. The local faces: own within reach and ghosts, in increasing global face id; their nodes and the
+    // slave nodes in increasing global id (the same order whatever the split); where each node's coordinates
+    // come from.
+    struct Face {
+      long id;
+      int owner;
+      mesh::FaceType type;
+      std::array<long, 8> nodes;
+    };
+    std::vector<Face> kept;
+    for (std::size_t f : own) {
+      Face face{m.face_ids[f], m.rank, m.face_types[f], {}};
+      for (int j = 0; j < face_node_count(face.type); ++j)
+        face.nodes[static_cast<std::size_t>(j)] =
+            m.connectivity[static_cast<std::size_t>(m.face_offsets[f] + j)];
+      kept.push_back(face);
+    }
+    std::vector<std::vector<long>> recv_ids(p);
+    for (int r = 0; r < m.size; ++r) {
+      const auto& words = faces_in[static_cast<std::size_t>(r)];
+      std::size_t at = 0;
+      while (at < words.size()) {
+        Face face{words[at], r, static_cast<mesh::FaceType>(words[at + 1]), {}};
+        const int k = face_node_count(face.type);
+        at += 2;
+        for (int j = 0; j < k; ++j) {
+          face.nodes[static_cast<std::size_t>(j)] = words[at + static_cast<std::size_t>(j)];
+          recv_ids[static_cast<std::size_t>(r)].push_back(words[at + static_cast<std::size_t>(j)]);
+        }
+        at += static_cast<std::size_t>(k);
+        kept.push_back(face);
+        ++counts.ghost_faces_received;
+      }
+    }
+    std::sort(kept.begin(), kept.end(), [](const Face& a, const Face& b) { return a.id < b.id; });
+    // Each node's coordinates travel once per sender and update, in increasing global id.
+    for (int r = 0; r < m.size; ++r) {
+      auto& send = send_nodes[static_cast<std::size_t>(r)];
+      std::sort(send.begin(), send.end(), [&](int a, int b) {
+        return m.node_ids[static_cast<std::size_t>(a)] < m.node_ids[static_cast<std::size_t>(b)];
+      });
+      send.erase(std::unique(send.begin(), send.end()), send.end());
+      auto& ids = recv_ids[static_cast<std::size_t>(r)];
+      std::sort(ids.begin(), ids.end());
+      ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+    }
+    m.send_nodes = std::move(send_nodes);
+    std::vector<long> ids;
+    for (const Face& f : kept)
+      ids.insert(ids.end(), f.nodes.begin(), f.nodes.begin() + face_node_count(f.type));
+    for (long id : m.slave_ids) ids.push_back(id);
+    std::sort(ids.begin(), ids.end());
+    ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+    const auto slot_of = [&](long id) {
+      return static_cast<int>(std::lower_bound(ids.begin(), ids.end(), id) - ids.begin());
+    };
+    m.own_slots.clear();
+    for (std::size_t i = 0; i < m.node_ids.size(); ++i) {
+      if (m.used[i] == 0) continue;
+      const auto at = std::lower_bound(ids.begin(), ids.end(), m.node_ids[i]);
+      if (at != ids.end() && *at == m.node_ids[i])
+        m.own_slots.emplace_back(static_cast<int>(i), slot_of(*at));
+    }
+    m.recv_slots.assign(p, {});
+    for (std::size_t r = 0; r < p; ++r)
+      for (long id : recv_ids[r]) m.recv_slots[r].push_back(slot_of(id));
+    m.local_face_id.clear();
+    m.local_face_owner.clear();
+    m.local_types.clear();
+    m.local_connectivity.clear();
+    m.handle.reset();
+    m.local_ids = std::move(ids);
+    for (const Face& f : kept) {
+      m.local_types.push_back(f.type);
+      m.local_connectivity.insert(m.local_connectivity.end(), f.nodes.begin(),
+                                  f.nodes.begin() + face_node_count(f.type));
+      m.local_face_id.push_back(f.id);
+      m.local_face_owner.push_back(f.owner);
     }
   }
-  std::sort(local.begin(), local.end(), [](const Face& a, const Face& b) { return a.id < b.id; });
-  counts.faces_searched = static_cast<long>(local.size());
+  counts.faces_searched = static_cast<long>(m.local_face_id.size());
 
+  // 6b. The coordinates of the ghost faces' nodes, from their owners (every update), and the local search.
+  std::vector<std::vector<double>> xyz_out(p);
+  for (std::size_t r = 0; r < p; ++r) {
+    for (int i : m.send_nodes[r]) {
+      const Vec3 y = node_at(i);
+      xyz_out[r].insert(xyz_out[r].end(), {y.x(), y.y(), y.z()});
+    }
+  }
+  const auto xyz_in = exchange(m.comm, xyz_out, counts.bytes_sent);
   std::vector<int> status(n, static_cast<int>(Status::kNoSegment)), face(n, -1), location(n, -1);
   std::vector<double> param(2 * n, 0.0), point(3 * n, 0.0), gap(n, 0.0), normal(3 * n, 0.0);
   capture_error(error, [&] {
-    if (n == 0 || local.empty()) return;
-    for (int s : m.slave_nodes) positions.emplace(m.node_ids[static_cast<std::size_t>(s)], node_at(s));
-    // Nodes in increasing global id: the same order whatever the split.
-    std::vector<long> ids;
-    ids.reserve(positions.size());
-    for (const auto& [id, y] : positions) ids.push_back(id);
-    std::sort(ids.begin(), ids.end());
-    std::vector<double> coords;
-    coords.reserve(3 * ids.size());
-    for (long id : ids) {
-      const Vec3& y = positions.at(id);
-      coords.insert(coords.end(), {y.x(), y.y(), y.z()});
+    if (n == 0 || m.local_types.empty()) return;
+    // The serial handle's capture distance is fixed at its creation: a new handle where this increment's
+    // differs (the default capture distance follows the largest face size; creating a handle builds its
+    // surface only).
+    if (!m.handle || m.handle_capture != capture) {
+      contact::ContactSearchOptions o = m.options;
+      o.capture_distance = capture;
+      m.handle.reset();
+      m.handle = std::make_unique<contact::ContactSearch>(
+          m.local_types, m.local_connectivity,
+          contact::NodeNumbering{static_cast<long>(m.local_ids.size()), 0, m.local_ids},
+          contact::SlavePoints{m.slave_ids, 0}, o);
+      m.handle_capture = capture;
     }
-    std::vector<mesh::FaceType> types;
-    std::vector<long> conn;
-    for (const Face& f : local) {
-      types.push_back(f.type);
-      conn.insert(conn.end(), f.nodes.begin(), f.nodes.begin() + face_node_count(f.type));
+    std::vector<double> coords(3 * m.local_ids.size(), 0.0);
+    for (const auto& [i, slot] : m.own_slots) {
+      for (std::size_t c = 0; c < 3; ++c)
+        coords[3 * static_cast<std::size_t>(slot) + c] = coordinates[3 * static_cast<std::size_t>(i) + c];
     }
-    contact::ContactSearchOptions o = m.options;
-    o.capture_distance = capture;
-    contact::ContactSearch search(types, conn, {static_cast<long>(ids.size()), 0, ids}, {m.slave_ids, 0}, o);
-    search.update(coords, {}, {status, face, location, param, point, gap, normal});
+    for (std::size_t r = 0; r < p; ++r) {
+      for (std::size_t k = 0; k < m.recv_slots[r].size(); ++k) {
+        for (std::size_t c = 0; c < 3; ++c)
+          coords[3 * static_cast<std::size_t>(m.recv_slots[r][k]) + c] = xyz_in[r][3 * k + c];
+      }
+    }
+    m.handle->update(coords, {}, {status, face, location, param, point, gap, normal});
   });
   agree(m.comm, error);
 
@@ -571,8 +657,8 @@ void DistributedContactSearch::update(std::span<const double> coordinates, const
   for (std::size_t i = 0; i < n; ++i) {
     const bool found = face[i] >= 0;
     out.status[i] = status[i];
-    out.face[i] = found ? local[static_cast<std::size_t>(face[i])].id : -1;
-    if (!out.owner.empty()) out.owner[i] = found ? local[static_cast<std::size_t>(face[i])].owner : -1;
+    out.face[i] = found ? m.local_face_id[static_cast<std::size_t>(face[i])] : -1;
+    if (!out.owner.empty()) out.owner[i] = found ? m.local_face_owner[static_cast<std::size_t>(face[i])] : -1;
     if (!out.location.empty()) out.location[i] = location[i];
     if (!out.gap.empty()) out.gap[i] = gap[i];
     for (std::size_t k = 0; k < 2 && !out.param.empty(); ++k) out.param[2 * i + k] = param[2 * i + k];

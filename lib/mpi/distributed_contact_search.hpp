@@ -74,6 +74,7 @@ struct ExchangeCounts {
   long ghost_faces_sent = 0;      ///< faces of this rank sent to other ranks (a face sent twice counts twice)
   long ghost_faces_received = 0;  ///< faces of other ranks this rank searched
   long faces_searched = 0;        ///< own faces within reach plus the ghost faces
+  int exchanged = 0;              ///< 1 where this update chose the ghost faces afresh, 0 where it kept them
 };
 
 class DistributedContactSearch {

@@ -10,6 +10,7 @@
 //     (given in increasing global face id, the global id being that index): the same status, face, owner
 //     rank, location and the same bits of the local coordinates, point, gap and normal. Exit 0 when every
 //     answer of every rank is identical and some slave node found a face; prints the bytes each rank sent.
+//     --slide F: the slave nodes also slide F face sizes along x per increment.
 //   mpi_contact_check --deck D.inp --pair K --hostile duplicate-node|missing-node|nonfinite|duplicate-face
 //     Bad input on one rank (run with 3 ranks): exit 0 when every rank ends with the same exception (type and
 //     message), 1 otherwise (a deadlock is ctest's timeout).
@@ -87,8 +88,9 @@ std::vector<double> coordinates(const Input& in, const Scene& scene) {
 
 /// test_contact_search.cpp's made-up history: the slave side moves toward and along the master, the master
 /// waves.
-void move(Scene& scene, int increment, double size) {
+void move(Scene& scene, int increment, double size, double slide) {
   const double t = 0.05 * size * increment;
+  for (Vec3& x : scene.slave_positions) x += Vec3(slide * size, 0.0, 0.0);
   for (Vec3& x : scene.master.positions)
     x += Vec3(0.0, 0.0, 0.02 * size * std::sin(0.7 * increment + x.x() / size) * std::cos(x.y() / size));
   for (Vec3& x : scene.slave_positions) x += Vec3(0.6 * t, 0.3 * t, -0.2 * t);
@@ -115,6 +117,9 @@ int run(int argc, char** argv, int rank, int size) {
   const std::string split = arg(argc, argv, "--split", "slab");
   const std::string hostile = arg(argc, argv, "--hostile", "");
   const int increments = std::stoi(arg(argc, argv, "--increments", "4"));
+  // --slide F: the slave nodes also slide F face sizes along x per increment (beyond the ghost layer's
+  // movement budget, so that the faces are chosen again).
+  const double slide = std::stod(arg(argc, argv, "--slide", "0"));
   const unsigned seed = static_cast<unsigned>(std::stoul(arg(argc, argv, "--seed", "7")));
 
   const mesh::ContactModel model = io::read_inp_deck(deck);
@@ -214,9 +219,9 @@ int run(int argc, char** argv, int rank, int size) {
   serial_options.tracking = arg(argc, argv, "--serial", "fresh") == "tracked";
   contact::ContactSearch serial(in.types, in.connectivity, {static_cast<long>(in.ids.size()), 0, in.ids},
                                 {scene.slave_ids, 0}, serial_options);
-  long mismatches = 0, found = 0;
+  long mismatches = 0, found = 0, exchanges = 0;
   for (int increment = 0; increment < increments; ++increment) {
-    if (increment > 0) move(scene, increment, size_of_face);
+    if (increment > 0) move(scene, increment, size_of_face, slide);
     const std::vector<double> all = coordinates(in, scene);
     std::vector<double> x;
     for (long id : node_ids) {
@@ -256,10 +261,12 @@ int run(int argc, char** argv, int rank, int size) {
       }
     }
     const mpi::ExchangeCounts& c = search.counts();
+    exchanges += c.exchanged;
     std::vector<long> sent(static_cast<std::size_t>(size));
     MPI_Gather(&c.bytes_sent, 1, MPI_LONG, sent.data(), 1, MPI_LONG, 0, MPI_COMM_WORLD);
     if (rank == 0) {
-      std::printf("increment %d: bytes sent per rank", increment);
+      std::printf("increment %d (%s): bytes sent per rank", increment,
+                  c.exchanged != 0 ? "faces exchanged" : "faces kept");
       for (long b : sent) std::printf(" %ld", b);
       std::printf("\n");
     }
@@ -268,9 +275,10 @@ int run(int argc, char** argv, int rank, int size) {
   MPI_Allreduce(totals, global, 2, MPI_LONG, MPI_SUM, MPI_COMM_WORLD);
   if (rank == 0) {
     std::printf(
-        "%s pair %d split %s on %d ranks, %d increments: %ld answers found, %ld differ from the serial "
-        "search\n",
-        deck.c_str(), pair, split.c_str(), size, increments, global[1], global[0]);
+        "%s pair %d split %s on %d ranks, %d increments, %ld exchanges of faces: %ld answers found, %ld "
+        "differ "
+        "from the serial search\n",
+        deck.c_str(), pair, split.c_str(), size, increments, exchanges, global[1], global[0]);
   }
   if (!hostile.empty()) {
     if (rank == 0) std::printf("hostile case %s: no error\n", hostile.c_str());
