@@ -40,10 +40,11 @@
 #include <string>
 #include <vector>
 
+#include "contactnn/contactnn.h"
 #include "dataset/labeller.hpp"
 #include "eval/evaluation_set.hpp"
-#include "io/network_file.hpp"
 #include "io/face_network_file.hpp"
+#include "io/network_file.hpp"
 #include "search/face_queries.hpp"
 #include "search/face_search.hpp"
 #include "search/flop_count.hpp"
@@ -413,6 +414,39 @@ int main(int argc, char** argv) {
       state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(n));
       set_counters(state, flops, acc);
     })->UseRealTime()->Unit(benchmark::kMicrosecond);
+    // The same one at a time through the C interface (contactnn_search_run, count = 1: the call an FE code
+    // makes per pair), for the methods a handle takes as they are (no caller's starts, no whole-face step,
+    // the domain checked); scripts/bench-search's table leaves these rows out.
+    if (!search->method().needs_start() && !c.whole_face && !c.inside_only && c.check_domain) {
+      const std::string file = c.network.empty() ? std::string() : args.weights + "/" + c.network;
+      benchmark::RegisterBenchmark(
+          (case_name(c) + "/c-api-one").c_str(),
+          [=, &set](benchmark::State& state) {
+            contactnn_options copts;
+            contactnn_options_init(&copts);
+            copts.threads = 1;
+            contactnn_search* handle = nullptr;
+            if (contactnn_search_create(&handle, static_cast<int>(c.kind), c.method.c_str(), file.c_str(),
+                                        &copts) != 0) {
+              state.SkipWithError(contactnn_last_error());
+              return;
+            }
+            std::vector<double> param(2 * n);
+            std::vector<int> status(n);
+            for (auto _ : state) {
+              for (std::size_t i = 0; i < n; ++i) {
+                contactnn_search_run(handle, 1, set.raw.data() + i * stride, param.data() + 2 * i, nullptr,
+                                     status.data() + i, nullptr);
+              }
+              benchmark::ClobberMemory();
+            }
+            contactnn_search_destroy(handle);
+            state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(n));
+            set_counters(state, flops, acc);
+          })
+          ->UseRealTime()
+          ->Unit(benchmark::kMicrosecond);
+    }
     for (const int threads : args.threads) {
       benchmark::RegisterBenchmark((case_name(c) + "/batched/threads:" + std::to_string(threads)).c_str(),
                                    [=, &set](benchmark::State& state) {

@@ -53,6 +53,8 @@ static_assert(CONTACTNN_SURFACE_GREGORY == static_cast<int>(SurfaceKind::kGregor
 static_assert(std::is_same_v<std::int32_t, int>);
 // A network_file longer than Linux's PATH_MAX names no file: refused before it is echoed or opened.
 constexpr std::size_t kMaxPathBytes = 4096;
+/// A run of at most this many queries keeps its statuses on the stack (contactnn_search_run).
+constexpr std::size_t kStackStatuses = 64;
 
 namespace {
 /// The check value of a live handle ("cnnsrch" and a version byte). Written at creation, cleared at destroy.
@@ -167,13 +169,22 @@ int run(const char* function, const contactnn_search* handle, std::size_t count,
     CONTACTNN_REQUIRE_AS(
         InvalidArgument, count <= std::numeric_limits<std::size_t>::max() / (columns * sizeof(Real)),
         function << ": count = " << count << " queries of " << columns << " values overflow size_t");
-    // LocalSearch writes one byte per status; the C caller gets ints.
-    std::vector<Status> statuses(count);
+    // LocalSearch writes one byte per status; the C caller gets ints. A few queries (an FE code's one pair per
+    // call) keep theirs on the stack, with no heap allocation, and never ask OpenMP for a team: below
+    // min_parallel_count the search runs on the calling thread whatever the thread count.
+    const search::SearchOptions& options = live.face ? live.face->options() : live.search->options();
+    const int threads = count < options.min_parallel_count ? 1 : run_threads(live);
+    Status few[kStackStatuses];
+    std::vector<Status> many;
+    Status* statuses = few;
+    if (count > kStackStatuses) {
+      many.resize(count);
+      statuses = many.data();
+    }
     if (live.face) {
-      live.face->run(count, raw, search::Results<Real>{param, gap, statuses.data(), iterations}, run_threads(live));
+      live.face->run(count, raw, search::Results<Real>{param, gap, statuses, iterations}, threads);
     } else {
-      live.search->run(count, raw, search::Results<Real>{param, gap, statuses.data(), iterations},
-                       run_threads(live));
+      live.search->run(count, raw, search::Results<Real>{param, gap, statuses, iterations}, threads);
     }
     for (std::size_t i = 0; i < count; ++i) status[i] = static_cast<int>(statuses[i]);
   });

@@ -156,7 +156,7 @@ void move_to_boundary(FaceKind kind, const Real* raw, Real* param, Real* gap, St
 }  // namespace
 
 template <class Real>
-void FaceSearch::run(std::size_t count, const Real* raw, Results<Real> out, int threads) const {
+void FaceSearch::run(std::size_t count, const Real* raw, const Results<Real>& out, int threads) const {
   if (count == 0) return;
   CONTACTNN_REQUIRE_AS(
       InvalidArgument, raw != nullptr && out.param != nullptr && out.status != nullptr,
@@ -172,8 +172,10 @@ void FaceSearch::run(std::size_t count, const Real* raw, Results<Real> out, int 
   }
   const auto width = static_cast<std::size_t>(plan.block_size);
   const std::size_t blocks = count / width;
-  const int team = threads > 0 ? threads : omp_get_max_threads();
-  const bool parallel = team > 1 && blocks >= 2 && count >= plan.options.min_parallel_count;
+  // OpenMP's default team asked only of a run that may use it (a query alone, or a few, never does).
+  const bool large = blocks >= 2 && count >= plan.options.min_parallel_count;
+  const int team = !large ? 1 : (threads > 0 ? threads : omp_get_max_threads());
+  const bool parallel = team > 1;
   if (parallel) {
     const auto n = static_cast<std::ptrdiff_t>(blocks);
 #pragma omp parallel for num_threads(team) schedule(static)
@@ -194,7 +196,7 @@ void FaceSearch::run(std::size_t count, const Real* raw, Results<Real> out, int 
   }
 }
 
-template void FaceSearch::run<float>(std::size_t, const float*, Results<float>, int) const;
-template void FaceSearch::run<double>(std::size_t, const double*, Results<double>, int) const;
+template void FaceSearch::run<float>(std::size_t, const float*, const Results<float>&, int) const;
+template void FaceSearch::run<double>(std::size_t, const double*, const Results<double>&, int) const;
 
 }  // namespace contactnn::search

@@ -72,7 +72,7 @@ class FaceSearch {
   /// of its boundary (the curved edges of tri6 and quad8 included), status ok, location edge or vertex, gap
   /// +-|S - P| signed by the face normal at P.
   template <class Real>
-  void run(std::size_t count, const Real* raw, Results<Real> out, int threads = 0) const;
+  void run(std::size_t count, const Real* raw, const Results<Real>& out, int threads = 0) const;
 
   [[nodiscard]] FaceKind face() const;
   [[nodiscard]] const Method& method() const;

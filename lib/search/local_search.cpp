@@ -65,7 +65,7 @@ const NetworkModel* LocalSearch::network() const { return plan_->network; }
 int LocalSearch::block_size() const { return plan_->block_size; }
 
 template <class Real>
-void LocalSearch::run(std::size_t count, const Real* raw, Results<Real> out, int threads) const {
+void LocalSearch::run(std::size_t count, const Real* raw, const Results<Real>& out, int threads) const {
   if (count == 0) return;
   CONTACTNN_REQUIRE_AS(
       InvalidArgument, raw != nullptr && out.param != nullptr && out.status != nullptr,
@@ -81,8 +81,10 @@ void LocalSearch::run(std::size_t count, const Real* raw, Results<Real> out, int
   }
   const auto width = static_cast<std::size_t>(plan.block_size);
   const std::size_t blocks = count / width;
-  const int team = threads > 0 ? threads : omp_get_max_threads();
-  const bool parallel = team > 1 && blocks >= 2 && count >= plan.options.min_parallel_count;
+  // OpenMP's default team asked only of a run that may use it (a query alone, or a few, never does).
+  const bool large = blocks >= 2 && count >= plan.options.min_parallel_count;
+  const int team = !large ? 1 : (threads > 0 ? threads : omp_get_max_threads());
+  const bool parallel = team > 1;
   detail::RowsFn<Real> rows = nullptr;
   if constexpr (std::is_same_v<Real, float>) {
     rows = plan.rows_f;
@@ -182,7 +184,7 @@ double network_stages(const NetworkModel& model, const double* raw, std::size_t 
 
 }  // namespace detail
 
-template void LocalSearch::run<float>(std::size_t, const float*, Results<float>, int) const;
-template void LocalSearch::run<double>(std::size_t, const double*, Results<double>, int) const;
+template void LocalSearch::run<float>(std::size_t, const float*, const Results<float>&, int) const;
+template void LocalSearch::run<double>(std::size_t, const double*, const Results<double>&, int) const;
 
 }  // namespace contactnn::search

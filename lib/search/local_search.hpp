@@ -62,7 +62,8 @@ class LocalSearch {
   /// order of SPEC 6: ax ay az bx by bz cx cy cz dx dy dz sx sy sz, then nax ... ndz (node normals, any positive
   /// length). Real is float or double (inputs and outputs); the geometry is computed in double, a network in
   /// its own real type. `threads` <= 0: OpenMP's default; below options().min_parallel_count queries no
-  /// parallel region is opened. No allocation.
+  /// parallel region is opened. No allocation. `out` by reference: five pointers passed by value went through
+  /// the stack, stored one by one and read back two at a time (a stalled store forward in every call).
   ///
   /// Statuses by method:
   ///  - network: ok; out_of_domain (the canonical configuration is outside the network's training domain;
@@ -107,7 +108,7 @@ class LocalSearch {
   ///    ending outside) is tried again from the centre, as a network's. "start" (K = 0): the start itself,
   ///    ok or outside, with its gap.
   template <class Real>
-  void run(std::size_t count, const Real* raw, Results<Real> out, int threads = 0) const;
+  void run(std::size_t count, const Real* raw, const Results<Real>& out, int threads = 0) const;
 
   [[nodiscard]] SurfaceKind surface() const;
   [[nodiscard]] const Method& method() const;

@@ -144,6 +144,41 @@ TEST(CApi, GivesLibSearchsResultsBitForBitForEveryMethodInDoubleAndFloat) {
   }
 }
 
+TEST(CApi, AQueryAloneAndAFewGetTheBitsOfALargerBatch) {
+  // contactnn_search_run keeps the statuses of at most 64 queries on the stack (an FE code's one pair per
+  // call) and runs them on the calling thread: each query alone, and the first 64 in one call, must give the
+  // bits of one call for all 65 (the heap path), in double and float.
+  constexpr std::size_t kCount = 65;
+  for (const SurfaceKind kind : {kBilinear, kGregory}) {
+    const std::vector<double> raw = mixed_queries(kind, kCount, 43);
+    const auto columns = static_cast<std::size_t>(LocalSearch::raw_columns(kind));
+    const contactnn_options options = c_options(SearchOptions{}, 2);
+    for (const std::string& method : methods_of(kind)) {
+      if (Method::parse(method).needs_start()) continue;  // its own test: param holds the starts
+      SCOPED_TRACE(std::string(to_string(kind)) + " " + method);
+      const Handle c(kind, method, &options);
+      const auto check = [&](const auto& rows) {
+        using Real = typename std::decay_t<decltype(rows)>::value_type;
+        const Outputs<Real> all = run_c(c.search, rows, kCount);
+        const auto prefix = [&](const Outputs<Real>& o, std::size_t first, std::size_t n) {
+          return Outputs<Real>{{o.param.begin() + 2 * first, o.param.begin() + 2 * (first + n)},
+                               {o.gap.begin() + first, o.gap.begin() + first + n},
+                               {o.status.begin() + first, o.status.begin() + first + n},
+                               {o.iterations.begin() + first, o.iterations.begin() + first + n}};
+        };
+        const std::vector<Real> few(rows.begin(), rows.begin() + 64 * columns);
+        EXPECT_TRUE(run_c(c.search, few, 64) == prefix(all, 0, 64));
+        for (std::size_t i = 0; i < kCount; ++i) {
+          const std::vector<Real> one(rows.begin() + i * columns, rows.begin() + (i + 1) * columns);
+          EXPECT_TRUE(run_c(c.search, one, 1) == prefix(all, i, 1)) << "query " << i;
+        }
+      };
+      check(raw);
+      check(as<float>(raw));
+    }
+  }
+}
+
 TEST(CApi, StartPlusNewtonReadsEachQuerysStartFromParam) {
   constexpr std::size_t kCount = 700;
   for (const SurfaceKind kind : {kBilinear, kGregory}) {
