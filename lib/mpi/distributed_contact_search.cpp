@@ -201,6 +201,7 @@ struct DistributedContactSearch::Impl {
   ExchangeCounts counts;
 
   // The last exchange of faces (the ghost layer), kept while the movement since fits in its reach.
+  bool track = true;  ///< options.tracking: keep the ghost layer while the movement allows
   bool exchanged = false;
   double reach = 0.0;                        ///< the reach the faces were chosen with
   std::vector<Vec3> reference;               ///< each used node's coordinates at the exchange
@@ -233,6 +234,8 @@ DistributedContactSearch::DistributedContactSearch(MPI_Comm comm, std::span<cons
   MPI_Comm_rank(m.comm, &m.rank);
   MPI_Comm_size(m.comm, &m.size);
   m.options = options;
+  m.track = options.tracking;  // of the ghost layer; the local search is fresh (the serial tracker's warm
+                               // starts may differ from a fresh search in the last bits)
   m.options.tracking = false;
 
   // Local checks; every rank agrees on the outcome before anything is exchanged.
@@ -475,7 +478,7 @@ void DistributedContactSearch::update(std::span<const double> coordinates, const
   // The faces exchanged last still hold every face the search needs while the capture distance plus the
   // growth of the faces' boxes (global[1]) and the slave nodes' movement (global[2]) since fits in the reach
   // they were chosen with. The same decision on every rank.
-  const bool fresh = !m.exchanged || needed + global[1] + global[2] > m.reach;
+  const bool fresh = !m.track || !m.exchanged || needed + global[1] + global[2] > m.reach;
 
   if (fresh) {
     counts.exchanged = 1;

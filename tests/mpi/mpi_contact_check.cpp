@@ -214,7 +214,10 @@ int run(int argc, char** argv, int rank, int size) {
     poisoned = 0;
   }
 
-  mpi::DistributedContactSearch search(MPI_COMM_WORLD, face_ids, types, connectivity, node_ids, slaves);
+  contact::ContactSearchOptions options;
+  options.tracking = arg(argc, argv, "--tracking", "on") == "on";  // off: the faces exchanged at every update
+  mpi::DistributedContactSearch search(MPI_COMM_WORLD, face_ids, types, connectivity, node_ids, slaves,
+                                       options);
   contact::ContactSearchOptions serial_options;
   serial_options.tracking = arg(argc, argv, "--serial", "fresh") == "tracked";
   contact::ContactSearch serial(in.types, in.connectivity, {static_cast<long>(in.ids.size()), 0, in.ids},
