@@ -20,18 +20,22 @@
 //    nodes), and tells each rank which of its nodes those are.
 //  - At every update, in this order:
 //    1. the interface nodes' coordinates to the rank `id mod P` (MPI_Alltoallv), which compares the copies;
-//    2. one MPI_Allreduce of the local errors (sizes, non-finite coordinates, interface nodes that differ):
-//    on
-//       any error every rank throws the same exception with the lowest failing rank's message (MPI_Bcast),
-//       before any exchange of faces and before anything is written;
-//    3. the capture distance: the option's, or (<= 0, the default) the largest face size over all ranks (one
-//       MPI_Allreduce of the local largest face size; contact::capture_distance's definition);
-//    4. the box of each rank's slave nodes (MPI_Allgather, 6 doubles per rank);
-//    5. the ghost layer: each rank sends every face of its own whose bounding box (its corners' box, widened
-//       by the quadratic faces' bulge) meets another rank's slave box widened by the capture distance to
-//       that rank, with the coordinates of its nodes (MPI_Alltoall of the sizes, MPI_Alltoallv of the faces);
+//    2. one MPI_Allreduce of the local errors (sizes, non-finite coordinates, interface nodes that
+//       differ): on any error every rank throws the same exception with the lowest failing rank's message
+//       (MPI_Bcast), before any exchange of faces and before anything is written;
+//    3. one MPI_Allreduce (3 doubles, max): the largest face size (the default capture distance is one
+//       largest face size over all ranks, contact::capture_distance's definition), the growth of the faces'
+//       boxes and the slave nodes' movement since the last choice of the ghost faces;
+//    4. only where that movement outruns the budget (the capture distance plus a quarter of it, the reach
+//       the ghost faces were chosen with), at the first update, or always with options.tracking false: the
+//       box of each rank's slave nodes (MPI_Allgather, 6 doubles per rank), then the ghost layer: each rank
+//       sends each other rank its faces whose bounding box (its corners' box, widened by a quadratic face's
+//       bulge) meets that rank's slave box widened by the reach: ids, types, node ids (MPI_Alltoallv);
+//    5. the coordinates of the ghost faces' nodes from their owners, each node once per sender
+//       (MPI_Alltoallv);
 //    6. the local search: a contact::ContactSearch over the rank's own faces within reach of its slaves and
-//       the ghost faces received, in increasing global face id, fresh (no tracking across increments yet);
+//       the ghost faces, in increasing global face id, its nodes in increasing global id, fresh (the serial
+//       tracker's warm starts may differ from a fresh search in the last bits);
 //    7. one MPI_Allreduce of the local search's errors, then the answers are written.
 //  No answer travels: every face that holds a point within the capture distance of a slave node (and so
 //  every face that can win or tie, and every face sharing the edge or vertex where a closest point lies,
@@ -39,9 +43,9 @@
 //  search is the serial one restricted to faces that cannot change its answer.
 //
 // Not (yet) supported: Gregory quad4 surfaces (their node normals need each face's whole ring of neighbours:
-// InvalidArgument), free points, tracking across increments (every update exchanges afresh), and decks whose
-// largest coordinate lies beyond 2^+-40 (the serial search's working unit, surface_search.hpp, is then the
-// master's and a rank's local master may have another: the answers may then differ in their last bits).
+// InvalidArgument), free points, and decks whose largest coordinate lies beyond 2^+-40 (the serial search's
+// working unit, surface_search.hpp, is then the master's, and a rank's local master may have another: the
+// answers may then differ in their last bits).
 #pragma once
 
 #include <mpi.h>
@@ -81,10 +85,10 @@ class DistributedContactSearch {
  public:
   /// Collective over `comm`. `face_ids[i]`, `face_types[i]` and its nodes, concatenated in `connectivity`
   /// (4, 8, 3 or 6 global node ids by its type); `node_ids`: the global id of each node of the coordinate
-  /// array the updates pass; `slave_nodes`: global node ids. Options as the serial handle's (threads: the
-  /// local search's). InvalidArgument on every rank, the same message, for bad input on any: a face or node
-  /// id given twice, a face or slave node naming a node the rank does not pass, a face of a bad type or with
-  /// a node twice, a connectivity of the wrong length, a Gregory surface.
+  /// array the updates pass; `slave_nodes`: global node ids. Options as the serial handle's (tracking: of the
+  /// ghost layer; threads: the local search's). InvalidArgument on every rank, the same message, for bad
+  /// input on any: a face or node id given twice, a face or slave node naming a node the rank does not pass,
+  /// a face of a bad type or with a node twice, a connectivity of the wrong length, a Gregory surface.
   DistributedContactSearch(MPI_Comm comm, std::span<const long> face_ids,
                            std::span<const mesh::FaceType> face_types, std::span<const long> connectivity,
                            std::span<const long> node_ids, std::span<const long> slave_nodes,
