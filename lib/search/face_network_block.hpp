@@ -158,6 +158,17 @@ CONTACTNN_SEARCH_INLINE void face_to_canonical(const int* order, double& s, doub
   }
 }
 
+/// face_canonical_lane for the per-lane loop of face_network_estimate: out of line, with internal linkage (a copy
+/// in every kernel file, none shared across instruction sets) and never vectorised, in the block kernels as in
+/// the one-lane kernel (which is compiled without auto-vectorisation): GCC contracted the frame's multiply-adds
+/// differently when it vectorised that loop, and a quad8 network query's last bits depended on its place in
+/// the batch (test_lane_bits, each kernel variant in a process of its own).
+template <int kFace>
+[[gnu::noinline, gnu::optimize("no-tree-vectorize", "no-tree-slp-vectorize")]] static bool face_canonical_scalar(
+    const double* x, double* features, int* order, double* base) {
+  return face_canonical_lane<kFace>(x, features, order, base);
+}
+
 /// The network's estimate for the lanes still ok: status degenerate where the face has no frame (centre
 /// reported), out_of_domain where a feature lies outside the network's box (check_domain; the estimate is still
 /// reported), ok otherwise.
@@ -174,7 +185,7 @@ static void face_network_estimate(const FaceNetwork& net, bool check_domain, con
   for (int l = 0; l < W; ++l) {
     double x[T::kStride], features[kF];
     for (int k = 0; k < T::kStride; ++k) x[k] = raw[k][l];
-    const bool ok = face_canonical_lane<kFace>(x, features, order[l], base[l]);
+    const bool ok = face_canonical_scalar<kFace>(x, features, order[l], base[l]);
     framed[l] = ok ? 1.0 : 0.0;
     bool inside = true;
     for (int k = 0; k < kF; ++k) {
