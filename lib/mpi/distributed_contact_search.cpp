@@ -95,19 +95,24 @@ std::vector<std::vector<T>> exchange(MPI_Comm comm, const std::vector<std::vecto
   const auto size = static_cast<int>(out.size());
   int rank = 0;
   MPI_Comm_rank(comm, &rank);
+  bool too_big = false;
   std::vector<int> send_counts(static_cast<std::size_t>(size)), recv_counts(static_cast<std::size_t>(size));
   std::vector<int> send_offsets(static_cast<std::size_t>(size) + 1, 0),
       recv_offsets(static_cast<std::size_t>(size) + 1, 0);
   for (int r = 0; r < size; ++r) {
     const auto u = static_cast<std::size_t>(r);
     const std::size_t b = out[u].size() * sizeof(T);
-    CONTACTNN_REQUIRE(b <= static_cast<std::size_t>(std::numeric_limits<int>::max()),
-                      "contact search under MPI: " << b << " bytes for rank " << r << ", at most 2^31 - 1");
-    send_counts[u] = static_cast<int>(b);
+    if (b > static_cast<std::size_t>(std::numeric_limits<int>::max())) too_big = true;
+    send_counts[u] = static_cast<int>(std::min<std::size_t>(b, std::numeric_limits<int>::max()));
     if (r != rank) bytes += static_cast<long>(b);
   }
+  // A message beyond an int's count fails every rank (a count of -1 to all of them), not the sender alone.
+  if (too_big) std::fill(send_counts.begin(), send_counts.end(), -1);
   check_mpi(MPI_Alltoall(send_counts.data(), 1, MPI_INT, recv_counts.data(), 1, MPI_INT, comm),
             "MPI_Alltoall");
+  CONTACTNN_REQUIRE(
+      !too_big && std::all_of(recv_counts.begin(), recv_counts.end(), [](int c) { return c >= 0; }),
+      "contact search under MPI: a rank's message to another holds more than 2^31 - 1 bytes");
   std::vector<char> send, recv;
   for (int r = 0; r < size; ++r) {
     const auto u = static_cast<std::size_t>(r);
