@@ -695,9 +695,8 @@ NodeSegmentPair SurfaceSearcher::nearest_fresh(long slave_id, const Vec3& world_
     faces_within(world_slave, capture(), candidates, scratch);
     return nearest(slave_id, world_slave, candidates);
   }
-  // The face whose centre is nearest S, projected first: its distance d bounds the answer's, and the scan
-  // (steps 2-3) stops before any face whose bound exceeds d and the tie band. Only those faces are gathered;
-  // the scan then takes the same faces in the same order as over every face within the capture distance.
+  // The face whose centre is nearest S: its distance d bounds the answer's, and the scan (steps 2-3) stops
+  // before any face whose bound exceeds the best and its tie band. Only the faces within d are gathered.
   std::size_t nearest_centre = 0;
   double squared = 0.0;
   nanoflann::KNNResultSet<double, std::uint32_t> one(1);
@@ -708,18 +707,45 @@ NodeSegmentPair SurfaceSearcher::nearest_fresh(long slave_id, const Vec3& world_
   // search, which prunes every branch unless it may hold a centre 5 times nearer, costs a descent.
   m.centre_tree().findNeighbors(one, q, nanoflann::SearchParams(32, 4.0F));
   nearest_centre = index_of;
+  // Its distance d bounds the answer's: where the face has a certificate (or is a flat triangle), its closest
+  // point, computed once and taken again by the scan; otherwise its nearest corner (a point of the face), so
+  // that no reference projection is spent on a face the scan may never reach.
   KnownPoint known;
-  known.face = static_cast<int>(nearest_centre);
-  const SearchOptions& face_options = m.index.checked[nearest_centre] != 0 ? m.checked_options : m.options;
-  known.point = closest_on_face(m.master, m.normals, face_options, known.face, slave,
-                                certificate_of(m.index, known.face), nullptr, &known.reference_faces);
-  // The scan's best may move up by a tie band each time a face within the band has the lower key: a chain of
-  // such faces (those at one vertex, a few tens at most) stays within a thousand bands.
+  const KnownPoint* first = nullptr;
   double reach = m.capture;
-  if (known.point.status == Status::kOk) reach = std::min(reach, known.point.distance + 1000.0 * kTieTolerance * m.largest_size);
+  const BilinearCertificate* certificate = certificate_of(m.index, static_cast<int>(nearest_centre));
+  if (certificate != nullptr || m.master.face_type(static_cast<int>(nearest_centre)) == mesh::FaceType::kTri3) {
+    known.face = static_cast<int>(nearest_centre);
+    const SearchOptions& face_options = m.index.checked[nearest_centre] != 0 ? m.checked_options : m.options;
+    known.point = closest_on_face(m.master, m.normals, face_options, known.face, slave, certificate, nullptr,
+                                  &known.reference_faces);
+    first = &known;
+    if (known.point.status == Status::kOk) reach = std::min(reach, known.point.distance);
+  } else {
+    for (const int c : m.master.face_corners(static_cast<int>(nearest_centre))) {
+      const double d = (slave - m.master.positions[static_cast<std::size_t>(c)]).norm();
+      if (std::isfinite(d)) reach = std::min(reach, d);
+    }
+  }
+  // The scan over the faces within `reach` makes the same choices as over every face within the capture
+  // distance as long as it reaches none of the faces left out: its final best B (and B's tie band) must stay
+  // within `reach`. Then every face left out has a bound beyond B and its band, where the full scan stops. Where
+  // that does not hold (no point, or a best beyond), the scan runs again over the capture distance.
+  const double band = kTieTolerance * m.largest_size;
+  reach = std::min(m.capture, reach + 4.0 * band);
   m.collect(slave, reach, candidates, scratch, false);
   NodeSegmentPair pair = search_one(m.master, m.normals, m.options, m.checked_options, m.index, m.capture, slave_id,
-                                    slave, candidates, nullptr, false, &known);
+                                    slave, candidates, nullptr, false, first);
+  const bool complete = reach >= m.capture || (pair.status == PairStatus::kFound &&
+                                               (slave - pair.point).norm() + band <= reach);
+  if (!complete) {
+    const int spent = pair.reference_faces - (first != nullptr ? first->reference_faces : 0);
+    candidates.clear();
+    m.collect(slave, m.capture, candidates, scratch, false);
+    pair = search_one(m.master, m.normals, m.options, m.checked_options, m.index, m.capture, slave_id, slave,
+                      candidates, nullptr, false, first);
+    pair.reference_faces += spent;
+  }
   if (m.unit != 1.0) to_world(pair, m.unit, world_slave);
   return pair;
 }

@@ -117,9 +117,10 @@ class SurfaceSearcher {
   [[nodiscard]] NodeSegmentPair nearest(long slave_id, const Vec3& slave,
                                         std::vector<std::pair<double, int>>& candidates,
                                         const FaceHint* hint = nullptr, Bounds bounds = Bounds::kExact) const;
-  /// Steps 1-4 for one slave node, fresh: faces_within(capture) and nearest, gathering fewer candidates: the
-  /// face whose centre is nearest S is projected first, and only the faces whose bound is within its distance
-  /// (and the tie band) are gathered, the only ones the scan of step 2 can reach. The same answer.
+  /// Steps 1-4 for one slave node, fresh: faces_within(capture) and nearest, gathering fewer candidates: only
+  /// the faces whose bound is within the distance of the face whose centre is nearest S (its certified closest
+  /// point, or its nearest corner); where the scan's answer is not within that reach (and its tie band), the
+  /// scan runs again over the capture distance. The same answer.
   [[nodiscard]] NodeSegmentPair nearest_fresh(long slave_id, const Vec3& slave,
                                               std::vector<std::pair<double, int>>& candidates,
                                               std::vector<std::pair<std::uint32_t, double>>& scratch) const;
