@@ -736,8 +736,10 @@ NodeSegmentPair SurfaceSearcher::nearest_fresh(long slave_id, const Vec3& world_
   m.collect(slave, reach, candidates, scratch, false);
   NodeSegmentPair pair = search_one(m.master, m.normals, m.options, m.checked_options, m.index, m.capture, slave_id,
                                     slave, candidates, nullptr, false, first);
-  const bool complete = reach >= m.capture || (pair.status == PairStatus::kFound &&
-                                               (slave - pair.point).norm() + band <= reach);
+  // |gap| is the scan's own distance of the best, bit for bit (a distance recomputed from the point may differ
+  // by the rounding of the face's origin, as much as the band itself far from the origin).
+  const bool complete = reach >= m.capture ||
+                        (pair.status == PairStatus::kFound && std::abs(pair.label.gap) + band <= reach);
   if (!complete) {
     const int spent = pair.reference_faces - (first != nullptr ? first->reference_faces : 0);
     candidates.clear();
@@ -786,6 +788,7 @@ void surface_search(const mesh::SurfaceMesh& master, std::span<const Vec3> maste
   thread_local std::vector<std::uint32_t> order;
   thread_local std::vector<std::uint64_t> codes;
   if (options.narrow == NarrowPhase::kReference) {
+    CONTACTNN_REQUIRE(slave_ids.size() < (std::size_t{1} << 32), n << " slave nodes: at most 2^32 - 1");
     order.resize(static_cast<std::size_t>(n));
     for (std::size_t i = 0; i < order.size(); ++i) order[i] = static_cast<std::uint32_t>(i);
   } else {
@@ -836,7 +839,7 @@ void spatial_order(std::span<const Vec3> points, std::vector<std::uint32_t>& ord
   // about extent / sqrt(n) on a surface; kept, it is at least as local as the Z curve. Only an order that
   // steps farther (a random one) is sorted.
   const double largest = (hi - lo).maxCoeff();
-  if (n < 2 || !(step <= largest * static_cast<double>(n)) ||
+  if (n < 2 || !std::isfinite(largest) || !(step <= largest * static_cast<double>(n)) ||
       step < 8.0 * largest * std::sqrt(static_cast<double>(n))) {
     for (std::size_t i = 0; i < n; ++i) order[i] = static_cast<std::uint32_t>(i);
     return;

@@ -133,7 +133,7 @@ class SurfaceSearcher {
 };
 
 /// The indices of `points` in Morton order (the Z curve through their bounding box in cubic cells, 2^10 along its
-/// longest side; a two-pass radix sort; non-finite points first), so that consecutive queries meet the same faces
+/// longest side; a two-pass radix sort; non-finite points in the first cell), so that consecutive queries meet the same faces
 /// and tree nodes: the searches take their slave nodes in this order (the answers do not depend on it), and a
 /// random node order costs about what a mesh's own does. An order whose consecutive points lie a few spacings
 /// apart on average (a mesh's own, at most 8 extent / sqrt(n) a step) is kept as it is: measured on the large

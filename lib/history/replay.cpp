@@ -386,7 +386,7 @@ void write_replay_report(const std::string& directory, const std::string& title,
   md += "| fresh surface search | " + fmt("%.0f", per(fresh_ns, slaves)) + " | 1 |\n";
   md += "| tracked surface search | " + fmt("%.0f", per(tracked_ns, slaves)) + " | " +
         fmt("%.3f", fresh_ns > 0 ? tracked_ns / fresh_ns : 0.0) + " |\n";
-  if (fresh_reference_ns > 0.0) {
+  if (fresh_reference_ns > 0.0 && fresh_ns > 0.0) {
     md += "| fresh, reference narrow phase (the search before the certificate) | " +
           fmt("%.0f", per(fresh_reference_ns, slaves)) + " | " + fmt("%.3f", fresh_reference_ns / fresh_ns) + " |\n";
     md += "| tracked, reference narrow phase | " + fmt("%.0f", per(tracked_reference_ns, slaves)) + " | " +
