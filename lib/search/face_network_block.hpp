@@ -163,8 +163,13 @@ CONTACTNN_SEARCH_INLINE void face_to_canonical(const int* order, double& s, doub
 /// the one-lane kernel (which is compiled without auto-vectorisation): GCC contracted the frame's multiply-adds
 /// differently when it vectorised that loop, and a quad8 network query's last bits depended on its place in
 /// the batch (test_lane_bits, each kernel variant in a process of its own).
+#if defined(__GNUC__) && !defined(__clang__)
+#define CONTACTNN_SCALAR_LANE [[gnu::noinline, gnu::optimize("no-tree-vectorize", "no-tree-slp-vectorize")]]
+#else
+#define CONTACTNN_SCALAR_LANE [[gnu::noinline]]  // Clang has no optimize attribute (GCC builds the kernels here)
+#endif
 template <int kFace>
-[[gnu::noinline, gnu::optimize("no-tree-vectorize", "no-tree-slp-vectorize")]] static bool face_canonical_scalar(
+CONTACTNN_SCALAR_LANE static bool face_canonical_scalar(
     const double* x, double* features, int* order, double* base) {
   return face_canonical_lane<kFace>(x, features, order, base);
 }
