@@ -96,29 +96,15 @@ std::optional<projection::FaceClosestPoint> BilinearCertificate::closest_point(
                         std::abs(p[1]) <= 1.0 + options.domain_margin;
 
   // 2. As projection::closest_point_on_face: the interior point (clamped), then the edges, the nearest wins.
-  projection::FaceClosestPoint out;
-  out.iterations = iterations;
-  double best = std::numeric_limits<double>::infinity();
   bool from_interior = false;
-  if (interior) {
-    out.param = {std::clamp(p[0], -1.0, 1.0), std::clamp(p[1], -1.0, 1.0)};
-    best = (relative - patch.position(out.param[0], out.param[1])).norm();
-    from_interior = true;
-  }
-  for (int edge = 0; edge < projection::kQuadEdges; ++edge) {
-    const projection::EdgePoint e = projection::closest_point_on_edge(patch, edge, relative);
-    if (e.distance < best) {
-      best = e.distance;
-      out.param = e.param;
-      from_interior = false;
-    }
-  }
-  if (!std::isfinite(best)) return std::nullopt;
-  const geometry::SurfacePoint sp = patch.evaluate(out.param[0], out.param[1]);
+  projection::FaceClosestPoint out =
+      projection::nearest_of_interior_and_edges(patch, relative, interior ? &p : nullptr, iterations, &from_interior);
+  if (out.status != Status::kOk) return std::nullopt;
 
   // 3. The certificate of a boundary answer: no descent into the square (Karush-Kuhn-Tucker). Otherwise the
   //    square's interior holds a nearer point that the run did not reach: the reference decides.
   if (!from_interior) {
+    const geometry::SurfacePoint sp = patch.evaluate(out.param[0], out.param[1]);
     const Vec3 r = relative - sp.position;
     const double g[2] = {-sp.d_s.dot(r), -sp.d_t.dot(r)};
     const double tol = 1e-12 * (1.0 - kMargin) * lambda_floor;
@@ -127,14 +113,7 @@ std::optional<projection::FaceClosestPoint> BilinearCertificate::closest_point(
       if (out.param[k] == -1.0 && g[k] < -tol) return std::nullopt;
     }
   }
-
-  projection::locate_on_quad(param_domain(SurfaceKind::kBilinear), out);
-  out.point = sp.position + origin;
-  out.distance = (relative - sp.position).norm();
-  const Vec3 n = sp.d_s.cross(sp.d_t);
-  const double n_length = n.norm();
-  out.normal = n_length > 0.0 && std::isfinite(n_length) ? Vec3(n / n_length) : Vec3(Vec3::Zero());
-  out.status = std::isfinite(out.distance) ? Status::kOk : Status::kInvalid;
+  out.point += origin;
   return out;
 }
 

@@ -161,8 +161,6 @@ FaceClosestPoint closest_point_on_face(const SurfaceT& surface, const Vec3& slav
     if (shifted.status == Status::kOk) shifted.point += origin;
     return shifted;
   }
-  const ParamDomain d = param_domain(SurfaceT::kKind);
-
   if (!options.face_checked) {
     if (!std::isfinite(surface.characteristic_length())) return out;  // invalid
     if (geometry::is_degenerate_segment(surface.nodes())) {
@@ -175,11 +173,23 @@ FaceClosestPoint closest_point_on_face(const SurfaceT& surface, const Vec3& slav
   //    the projection reports degenerate; the boundary then holds the answer.
   const ProjectionResult interior = project_point(surface, slave, options);
   if (interior.status == Status::kInvalid) return out;
-  out.iterations = interior.iterations;
+  return nearest_of_interior_and_edges(surface, slave, interior.status == Status::kOk ? &interior.param : nullptr,
+                                       interior.iterations);
+}
+
+template <geometry::Surface SurfaceT>
+FaceClosestPoint nearest_of_interior_and_edges(const SurfaceT& surface, const Vec3& slave,
+                                               const std::array<double, 2>* interior, int iterations,
+                                               bool* from_interior) {
+  const ParamDomain d = param_domain(SurfaceT::kKind);
+  FaceClosestPoint out;
+  out.iterations = iterations;
   double best = std::numeric_limits<double>::infinity();
-  if (interior.status == Status::kOk) {
-    out.param = {std::clamp(interior.param[0], d.lo, d.hi), std::clamp(interior.param[1], d.lo, d.hi)};
+  bool interior_wins = false;
+  if (interior != nullptr) {
+    out.param = {std::clamp((*interior)[0], d.lo, d.hi), std::clamp((*interior)[1], d.lo, d.hi)};
     best = (slave - surface.position(out.param[0], out.param[1])).norm();
+    interior_wins = true;
   }
   // 2. The edges, ends included; 3. the nearest wins (strictly nearer replaces: ties keep the earlier).
   for (int edge = 0; edge < kQuadEdges; ++edge) {
@@ -187,8 +197,10 @@ FaceClosestPoint closest_point_on_face(const SurfaceT& surface, const Vec3& slav
     if (e.distance < best) {
       best = e.distance;
       out.param = e.param;
+      interior_wins = false;
     }
   }
+  if (from_interior != nullptr) *from_interior = interior_wins;
   if (!std::isfinite(best)) return out;  // invalid: the surface has a non-finite value
 
   locate_on_quad(d, out);
@@ -286,7 +298,9 @@ FaceClosestPoint closest_point_on_triangle(const std::array<Vec3, 3>& nodes, con
 #define CONTACTNN_INSTANTIATE(SurfaceT)                                                                        \
   template FaceClosestPoint closest_point_on_face<SurfaceT>(const SurfaceT&, const Vec3&,                      \
                                                             const ProjectionOptions&);                         \
-  template EdgePoint closest_point_on_edge<SurfaceT>(const SurfaceT&, int, const Vec3&);
+  template EdgePoint closest_point_on_edge<SurfaceT>(const SurfaceT&, int, const Vec3&);                     \
+  template FaceClosestPoint nearest_of_interior_and_edges<SurfaceT>(const SurfaceT&, const Vec3&,             \
+                                                                    const std::array<double, 2>*, int, bool*);
 CONTACTNN_INSTANTIATE(geometry::BilinearPatch)
 CONTACTNN_INSTANTIATE(geometry::GregoryPatch)
 #undef CONTACTNN_INSTANTIATE

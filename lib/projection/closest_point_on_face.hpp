@@ -56,6 +56,17 @@ template <geometry::Surface SurfaceT>
 [[nodiscard]] FaceClosestPoint closest_point_on_face(const SurfaceT& surface, const Vec3& slave,
                                                      const ProjectionOptions& options = {});
 
+/// Steps 2 and 3 above, given step 1's answer: `interior` the interior stationary point's parameters (clamped to
+/// the closed domain here; null: none) and `iterations` its Newton iterations. The nearest of it and the four edge
+/// points (strictly nearer replaces), located and reported as closest_point_on_face does; status invalid where a
+/// surface value is not finite. `from_interior` (optional): whether the interior point won. For
+/// closest_point_on_face and for faster interior solvers that must answer as it does (lib/contact's
+/// BilinearCertificate).
+template <geometry::Surface SurfaceT>
+[[nodiscard]] FaceClosestPoint nearest_of_interior_and_edges(const SurfaceT& surface, const Vec3& slave,
+                                                             const std::array<double, 2>* interior, int iterations,
+                                                             bool* from_interior = nullptr);
+
 /// The nearest point of edge `edge` (0..3) of `surface` to `slave` (step 2 above): its parameters on the
 /// face and |S - P|. For tests and the surface search's own use.
 struct EdgePoint {
