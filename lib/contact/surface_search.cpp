@@ -386,6 +386,16 @@ const BilinearCertificate* certificate_of(const FaceIndex& index, int face) {
   return c.lambda_floor > 0.0 ? &c : nullptr;
 }
 
+/// closest_on_face for face f of an indexed state: `checked` (the options with face_checked) where the index
+/// checked the face, and its certificate where it has one.
+projection::FaceClosestPoint closest_on_indexed_face(const mesh::SurfaceMesh& master, std::span<const Vec3> normals,
+                                                     const SearchOptions& options, const SearchOptions& checked,
+                                                     const FaceIndex& index, int f, const Vec3& slave,
+                                                     const std::array<double, 2>* start, int* reference_count) {
+  const SearchOptions& face_options = index.checked[static_cast<std::size_t>(f)] != 0 ? checked : options;
+  return closest_on_face(master, normals, face_options, f, slave, certificate_of(index, f), start, reference_count);
+}
+
 /// |S - c_f| - r_f and the distance to face f's box, the larger (SurfaceSearcher::lower_bound).
 double face_lower_bound(const FaceIndex& index, const Vec3& slave, int face) {
   const auto f = static_cast<std::size_t>(face);
@@ -455,12 +465,11 @@ NodeSegmentPair search_one(const mesh::SurfaceMesh& master, std::span<const Vec3
       const double exact = face_lower_bound(index, slave, f);
       if (exact > capture || exact > best_distance + kTieTolerance * index.sizes[static_cast<std::size_t>(f)]) continue;
     }
-    const SearchOptions& face_options = index.checked[static_cast<std::size_t>(f)] != 0 ? checked : options;
     const projection::FaceClosestPoint p =
         known != nullptr && f == known->face
             ? known->point
-            : closest_on_face(master, normals, face_options, f, slave, certificate_of(index, f),
-                              hinted ? &hint->param : nullptr, &best.reference_faces);
+            : closest_on_indexed_face(master, normals, options, checked, index, f, slave,
+                                      hinted ? &hint->param : nullptr, &best.reference_faces);
     if (p.status != Status::kOk) continue;
     ++best.candidates;
     consider(f, p);
@@ -697,7 +706,6 @@ NodeSegmentPair SurfaceSearcher::nearest_fresh(long slave_id, const Vec3& world_
   }
   // The face whose centre is nearest S: its distance d bounds the answer's, and the scan (steps 2-3) stops
   // before any face whose bound exceeds the best and its tie band. Only the faces within d are gathered.
-  std::size_t nearest_centre = 0;
   double squared = 0.0;
   nanoflann::KNNResultSet<double, std::uint32_t> one(1);
   std::uint32_t index_of = 0;
@@ -706,23 +714,21 @@ NodeSegmentPair SurfaceSearcher::nearest_fresh(long slave_id, const Vec3& world_
   // Any face would do (the answer does not depend on it; a nearer one gathers fewer candidates): an approximate
   // search, which prunes every branch unless it may hold a centre 5 times nearer, costs a descent.
   m.centre_tree().findNeighbors(one, q, nanoflann::SearchParams(32, 4.0F));
-  nearest_centre = index_of;
+  const int nearest = static_cast<int>(index_of);
   // Its distance d bounds the answer's: where the face has a certificate (or is a flat triangle), its closest
   // point, computed once and taken again by the scan; otherwise its nearest corner (a point of the face), so
   // that no reference projection is spent on a face the scan may never reach.
   KnownPoint known;
   const KnownPoint* first = nullptr;
   double reach = m.capture;
-  const BilinearCertificate* certificate = certificate_of(m.index, static_cast<int>(nearest_centre));
-  if (certificate != nullptr || m.master.face_type(static_cast<int>(nearest_centre)) == mesh::FaceType::kTri3) {
-    known.face = static_cast<int>(nearest_centre);
-    const SearchOptions& face_options = m.index.checked[nearest_centre] != 0 ? m.checked_options : m.options;
-    known.point = closest_on_face(m.master, m.normals, face_options, known.face, slave, certificate, nullptr,
-                                  &known.reference_faces);
+  if (certificate_of(m.index, nearest) != nullptr || m.master.face_type(nearest) == mesh::FaceType::kTri3) {
+    known.face = nearest;
+    known.point = closest_on_indexed_face(m.master, m.normals, m.options, m.checked_options, m.index, nearest, slave,
+                                          nullptr, &known.reference_faces);
     first = &known;
     if (known.point.status == Status::kOk) reach = std::min(reach, known.point.distance);
   } else {
-    for (const int c : m.master.face_corners(static_cast<int>(nearest_centre))) {
+    for (const int c : m.master.face_corners(nearest)) {
       const double d = (slave - m.master.positions[static_cast<std::size_t>(c)]).norm();
       if (std::isfinite(d)) reach = std::min(reach, d);
     }

@@ -41,7 +41,7 @@ struct TrackingOptions {
 struct TrackingCounts {
   long fresh = 0;        ///< nodes whose list was built by a fresh query (first increment, moved past the margin)
   long tracked = 0;      ///< nodes answered from their list
-  long warm = 0;         ///< nodes whose previous face was tried first from its previous point
+  long warm = 0;         ///< nodes whose previous face was tried first (warm where it has a certificate)
   long list_faces = 0;   ///< faces in the lists used (sum over the nodes)
 };
 
