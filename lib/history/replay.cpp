@@ -155,7 +155,7 @@ std::vector<IncrementRow> replay(mesh::ContactModel& model, const io::FrdResults
   const bool beside = options.beside_reference && options.search.narrow != contact::NarrowPhase::kReference;
   contact::SurfaceTracker reference_tracker(reference_options, options.tracking);
   std::vector<IncrementRow> rows;
-  std::vector<contact::NodeSegmentPair> previous, fresh, tracked, reference;
+  std::vector<contact::NodeSegmentPair> previous, fresh, tracked, reference, reference_tracked;
   const int total = static_cast<int>(results.increments.size());
   for (int k = 0; k < total; ++k) {
     const io::FrdIncrement& increment = results.increments[static_cast<std::size_t>(k)];
@@ -176,46 +176,37 @@ std::vector<IncrementRow> replay(mesh::ContactModel& model, const io::FrdResults
 
     // 2. The surface search, fresh (the fastest of `repeats`) and tracked (once: it keeps state).
     // Both searches write into buffers kept from one increment to the next, as an FE code's would.
-    double fresh_seconds = std::numeric_limits<double>::infinity();
-    for (int r = 0; r < std::max(options.repeats, 1); ++r) {
-      start = Clock::now();
-      contact::surface_search(scene.master, scene.master_normals, scene.slave_ids, scene.slave_positions,
-                              options.search, fresh);
-      fresh_seconds = std::min(fresh_seconds, seconds_since(start));
-    }
-    row.ns_fresh = fresh_seconds * per_node;
+    const int repeats = std::max(options.repeats, 1);
+    const auto time_fresh = [&](const contact::SearchOptions& search, std::vector<contact::NodeSegmentPair>& out) {
+      double best = std::numeric_limits<double>::infinity();
+      for (int r = 0; r < repeats; ++r) {
+        start = Clock::now();
+        contact::surface_search(scene.master, scene.master_normals, scene.slave_ids, scene.slave_positions, search, out);
+        best = std::min(best, seconds_since(start));
+      }
+      return best * per_node;
+    };
     // Tracking keeps state: each timed run steps a copy of the tracker (the copy outside the time), the last
     // one goes on.
-    double tracked_seconds = std::numeric_limits<double>::infinity();
-    for (int r = 0; r < std::max(options.repeats, 1); ++r) {
-      contact::SurfaceTracker trial = tracker;
-      start = Clock::now();
-      trial.step(scene.master, scene.master_normals, scene.slave_ids, scene.slave_positions, tracked, &row.tracking);
-      tracked_seconds = std::min(tracked_seconds, seconds_since(start));
-      if (r + 1 == std::max(options.repeats, 1)) tracker = std::move(trial);
-    }
-    row.ns_tracked = tracked_seconds * per_node;
+    const auto time_tracked = [&](contact::SurfaceTracker& kept_tracker, std::vector<contact::NodeSegmentPair>& out,
+                                  contact::TrackingCounts* counts) {
+      double best = std::numeric_limits<double>::infinity();
+      for (int r = 0; r < repeats; ++r) {
+        contact::SurfaceTracker trial = kept_tracker;
+        start = Clock::now();
+        trial.step(scene.master, scene.master_normals, scene.slave_ids, scene.slave_positions, out, counts);
+        best = std::min(best, seconds_since(start));
+        if (r + 1 == repeats) kept_tracker = std::move(trial);
+      }
+      return best * per_node;
+    };
+    row.ns_fresh = time_fresh(options.search, fresh);
+    row.ns_tracked = time_tracked(tracker, tracked, &row.tracking);
     for (const contact::NodeSegmentPair& p : fresh) row.reference_faces += p.reference_faces;
     if (beside) {
       // The search as it was, timed the same way beside this one; the fresh answers compared.
-      double reference_seconds = std::numeric_limits<double>::infinity();
-      for (int r = 0; r < std::max(options.repeats, 1); ++r) {
-        start = Clock::now();
-        contact::surface_search(scene.master, scene.master_normals, scene.slave_ids, scene.slave_positions,
-                                reference_options, reference);
-        reference_seconds = std::min(reference_seconds, seconds_since(start));
-      }
-      row.ns_fresh_reference = reference_seconds * per_node;
-      double reference_tracked_seconds = std::numeric_limits<double>::infinity();
-      std::vector<contact::NodeSegmentPair> reference_tracked;
-      for (int r = 0; r < std::max(options.repeats, 1); ++r) {
-        contact::SurfaceTracker trial = reference_tracker;
-        start = Clock::now();
-        trial.step(scene.master, scene.master_normals, scene.slave_ids, scene.slave_positions, reference_tracked);
-        reference_tracked_seconds = std::min(reference_tracked_seconds, seconds_since(start));
-        if (r + 1 == std::max(options.repeats, 1)) reference_tracker = std::move(trial);
-      }
-      row.ns_tracked_reference = reference_tracked_seconds * per_node;
+      row.ns_fresh_reference = time_fresh(reference_options, reference);
+      row.ns_tracked_reference = time_tracked(reference_tracker, reference_tracked, nullptr);
       for (std::size_t i = 0; i < fresh.size(); ++i) {
         if (!same_as_reference(scene.master, fresh[i], reference[i])) ++row.reference_differences;
       }
