@@ -1,10 +1,10 @@
 // Description: the global search's cost per slave node on a generated scene of at least 1e5 slave nodes: the
 // surface search of SPEC 9 (k-d tree over face centres, the closest point of every candidate face with edges
 // and vertices, pseudo-normal gap) beside the paper's nearest-node search of SPEC 7 (k-d tree over master
-// nodes, the segment test, the reference projection on each segment at the node), both labelling with the same
-// reference projection, at 1 and 2 threads. The master surface is a wavy sheet of 300 x 300 bilinear faces
-// (node z = 0.3 sin(x / 7) cos(y / 5), unit spacing); the slave nodes lie at random above and below it (|z|
-// offset up to half an element), a fixed seed.
+// nodes, the segment test, the reference projection on each segment at the node), both labelling with the
+// same reference projection, at 1 and 2 threads. The master surface is a wavy sheet of 300 x 300 bilinear
+// faces (node z = 0.3 sin(x / 7) cos(y / 5), unit spacing); the slave nodes lie at random above and below it
+// (|z| offset up to half an element), a fixed seed.
 //
 // Sample runs:
 //   build/bench/bench_surface_search
@@ -43,7 +43,8 @@ Scene make_scene(long slave_count) {
   constexpr int kFaces = 300;
   const auto height = [](double x, double y) { return 0.3 * std::sin(x / 7.0) * std::cos(y / 5.0); };
   Scene s;
-  s.master = testing::grid_surface(kFaces, kFaces, [&](double i, double j) { return geometry::Vec3(i, j, height(i, j)); });
+  s.master = testing::grid_surface(kFaces, kFaces,
+                                   [&](double i, double j) { return geometry::Vec3(i, j, height(i, j)); });
   for (std::size_t q = 0; q < s.master.segments.size(); ++q) {
     s.master.segment_faces.push_back({static_cast<int>(q), 1});
     s.master.segment_element_ids.push_back(static_cast<long>(q) + 1);
@@ -78,8 +79,8 @@ void report(benchmark::State& state, const std::vector<contact::NodeSegmentPair>
   state.counters["candidates"] = candidates / n;
   state.counters["reference_faces"] = reference / n;
   state.counters["found"] = static_cast<double>(found);
-  state.counters["ns_per_slave"] =
-      benchmark::Counter(n * 1e-9, benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
+  state.counters["ns_per_slave"] = benchmark::Counter(
+      n * 1e-9, benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
 }
 
 /// The surface search with the narrow phase state.range(1) (0: certified, 1: the reference on every face).
@@ -105,10 +106,12 @@ void searcher_build(benchmark::State& state) {
     const contact::SurfaceSearcher searcher(s.master, s.normals, options);
     benchmark::DoNotOptimize(searcher.capture());
   }
-  state.counters["ns_per_slave"] = benchmark::Counter(static_cast<double>(s.ids.size()) * 1e-9,
-                                                      benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
-  state.counters["ns_per_face"] = benchmark::Counter(static_cast<double>(s.master.face_count()) * 1e-9,
-                                                     benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
+  state.counters["ns_per_slave"] =
+      benchmark::Counter(static_cast<double>(s.ids.size()) * 1e-9,
+                         benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
+  state.counters["ns_per_face"] =
+      benchmark::Counter(static_cast<double>(s.master.face_count()) * 1e-9,
+                         benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
 }
 
 /// The tracked search (contact::SurfaceTracker): the slave nodes move by 0.001 (1e-3 of a face) in z per
@@ -160,15 +163,29 @@ int main(int argc, char** argv) {
   }
   int rest_count = static_cast<int>(rest.size());
   benchmark::Initialize(&rest_count, rest.data());
-  benchmark::RegisterBenchmark("global/searcher_build", searcher_build)->UseRealTime()->Unit(benchmark::kMillisecond);
+  benchmark::RegisterBenchmark("global/searcher_build", searcher_build)
+      ->UseRealTime()
+      ->Unit(benchmark::kMillisecond);
   for (int threads : {1, 2}) {
     for (int narrow : {0, 1}) {
       const char* name = narrow == 0 ? "global/surface" : "global/surface_reference";
-      benchmark::RegisterBenchmark(name, surface)->Args({threads, narrow})->ArgNames({"threads", "narrow"})->UseRealTime()->Unit(benchmark::kMillisecond);
+      benchmark::RegisterBenchmark(name, surface)
+          ->Args({threads, narrow})
+          ->ArgNames({"threads", "narrow"})
+          ->UseRealTime()
+          ->Unit(benchmark::kMillisecond);
       const char* tracked = narrow == 0 ? "global/surface_tracked" : "global/surface_tracked_reference";
-      benchmark::RegisterBenchmark(tracked, surface_tracked)->Args({threads, narrow})->ArgNames({"threads", "narrow"})->UseRealTime()->Unit(benchmark::kMillisecond);
+      benchmark::RegisterBenchmark(tracked, surface_tracked)
+          ->Args({threads, narrow})
+          ->ArgNames({"threads", "narrow"})
+          ->UseRealTime()
+          ->Unit(benchmark::kMillisecond);
     }
-    benchmark::RegisterBenchmark("global/nearest_node", nearest_node)->Arg(threads)->ArgName("threads")->UseRealTime()->Unit(benchmark::kMillisecond);
+    benchmark::RegisterBenchmark("global/nearest_node", nearest_node)
+        ->Arg(threads)
+        ->ArgName("threads")
+        ->UseRealTime()
+        ->Unit(benchmark::kMillisecond);
   }
   benchmark::RunSpecifiedBenchmarks();
   benchmark::Shutdown();

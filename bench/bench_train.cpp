@@ -8,9 +8,9 @@
 //   build/bench/bench_train --threads 1 --hidden 32 --only full --repeats 9
 //
 // Writes one line per measurement to stdout: `<method> threads=<T> sec_per_epoch=<best> samples=<s1,...>
-// [extra=...]`, and `gemm threads=<T> gflops=<best> samples=<r1,...>`: every timed repetition (after an untimed
-// warm-up) as seconds per epoch or GFLOP/s, so the caller can take minima and medians over several runs; a
-// plain timing main, not a test.
+// [extra=...]`, and `gemm threads=<T> gflops=<best> samples=<r1,...>`: every timed repetition (after an
+// untimed warm-up) as seconds per epoch or GFLOP/s, so the caller can take minima and medians over several
+// runs; a plain timing main, not a test.
 #include <floatfann.h>
 #include <omp.h>
 
@@ -40,7 +40,7 @@ struct Args {
   long patterns = 83552;
   std::size_t mini_batch = 1024;
   double u0 = 2.0;
-  int repeats = 5;    // timed repetitions per method
+  int repeats = 5;   // timed repetitions per method
   std::string only;  // run one method only: gemm, full, mini, online, fann
 };
 
@@ -77,7 +77,8 @@ void bench_gemm(const Args& a) {
   const double flops = 2.0 * n * n * double(n);
   std::printf("gemm threads=%d gflops=%.1f samples=", a.threads,
               flops / *std::min_element(seconds.begin(), seconds.end()) * 1e-9);
-  for (std::size_t i = 0; i < seconds.size(); ++i) std::printf("%s%.1f", i ? "," : "", flops / seconds[i] * 1e-9);
+  for (std::size_t i = 0; i < seconds.size(); ++i)
+    std::printf("%s%.1f", i ? "," : "", flops / seconds[i] * 1e-9);
   std::printf("\n");
 }
 
@@ -120,9 +121,8 @@ void bench_fann(const Args& a, const MatrixRM<float>& x, const MatrixRM<float>& 
   fann_set_learning_rate(ann, 0.01f);
   fann_set_learning_momentum(ann, 0.9f);
   fann_randomize_weights(ann, -0.1f, 0.1f);
-  struct fann_train_data* data =
-      fann_create_train(static_cast<unsigned>(x.rows()), static_cast<unsigned>(a.inputs),
-                        static_cast<unsigned>(a.outputs));
+  struct fann_train_data* data = fann_create_train(
+      static_cast<unsigned>(x.rows()), static_cast<unsigned>(a.inputs), static_cast<unsigned>(a.outputs));
   for (Eigen::Index r = 0; r < x.rows(); ++r) {
     for (int i = 0; i < a.inputs; ++i) data->input[r][i] = x(r, i);
     for (int k = 0; k < a.outputs; ++k) data->output[r][k] = t(r, k);
@@ -142,20 +142,28 @@ Args parse(int argc, char** argv) {
   Args a;
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string k = argv[i], v = argv[i + 1];
-    if (k == "--threads") a.threads = std::atoi(v.c_str());
-    else if (k == "--hidden") a.hidden = std::atoi(v.c_str());
-    else if (k == "--inputs") a.inputs = std::atoi(v.c_str());
-    else if (k == "--patterns") a.patterns = std::atol(v.c_str());
-    else if (k == "--mini-batch") a.mini_batch = static_cast<std::size_t>(std::atol(v.c_str()));
-    else if (k == "--repeats") a.repeats = std::atoi(v.c_str());
-    else if (k == "--only") a.only = v;
+    if (k == "--threads")
+      a.threads = std::atoi(v.c_str());
+    else if (k == "--hidden")
+      a.hidden = std::atoi(v.c_str());
+    else if (k == "--inputs")
+      a.inputs = std::atoi(v.c_str());
+    else if (k == "--patterns")
+      a.patterns = std::atol(v.c_str());
+    else if (k == "--mini-batch")
+      a.mini_batch = static_cast<std::size_t>(std::atol(v.c_str()));
+    else if (k == "--repeats")
+      a.repeats = std::atoi(v.c_str());
+    else if (k == "--only")
+      a.only = v;
     else {
       std::fprintf(stderr, "bench_train: unknown option %s\n", k.c_str());
       std::exit(2);
     }
   }
   if (a.threads < 1 || a.repeats < 1 || a.patterns < 1 || a.inputs < 1 || a.hidden < 1) {
-    std::fprintf(stderr, "bench_train: --threads, --repeats, --patterns, --inputs and --hidden must be >= 1\n");
+    std::fprintf(stderr,
+                 "bench_train: --threads, --repeats, --patterns, --inputs and --hidden must be >= 1\n");
     std::exit(2);
   }
   return a;

@@ -1,6 +1,7 @@
 // Description: writes the exported C header of a network file (search::export_c_header), for bench_search's
 // c-header rows (bench/CMakeLists.txt runs it at build time on the shipped networks). Not an app: train-net
-// --export-header is the user's way; this exists so that the benchmark times exactly what an FE code compiles.
+// --export-header is the user's way; this exists so that the benchmark times exactly what an FE code
+// compiles.
 //
 // Sample run:
 //   build/bench/export_header data/weights/bilinear-8.h5 /tmp/bilinear_8.h bilinear_8

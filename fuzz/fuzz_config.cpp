@@ -1,5 +1,5 @@
-// libFuzzer target: config file text through cli::parse_config_text (the [section] reader, CLI11's TOML parser, value checks).
-// Properties: fuzz_harness.hpp. Built and run by scripts/fuzz.
+// libFuzzer target: config file text through cli::parse_config_text (the [section] reader, CLI11's TOML
+// parser, value checks). Properties: fuzz_harness.hpp. Built and run by scripts/fuzz.
 #include <cstdio>
 #include <cstdlib>
 

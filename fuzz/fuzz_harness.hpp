@@ -56,7 +56,8 @@ inline std::string fuzz_csv(const std::uint8_t* data, std::size_t size) {
   try {
     table = io::parse_csv(text, name);
   } catch (const FormatError& e) {
-    if (std::string(e.what()).find(name) == std::string::npos) return std::string("message without the file: ") + e.what();
+    if (std::string(e.what()).find(name) == std::string::npos)
+      return std::string("message without the file: ") + e.what();
     return "";
   } catch (const std::exception& e) {
     return std::string("parse_csv threw a non-contactnn exception: ") + e.what();
@@ -103,10 +104,12 @@ inline std::string fuzz_csv(const std::uint8_t* data, std::size_t size) {
       if (raw.configs.size() != raw.table.rows.size()) return "configurations and rows differ in number";
       for (std::size_t i = 0; i < raw.configs.size() && i < kLabelledRows; ++i) {
         const std::string problem = check_label(dataset::label_configuration(raw.configs[i], kind));
-        if (!problem.empty()) return std::string(to_string(kind)) + " row " + std::to_string(i) + ": " + problem;
+        if (!problem.empty())
+          return std::string(to_string(kind)) + " row " + std::to_string(i) + ": " + problem;
       }
     } catch (const FormatError& e) {
-      if (std::string(e.what()).find(name) == std::string::npos) return std::string("message without the file: ") + e.what();
+      if (std::string(e.what()).find(name) == std::string::npos)
+        return std::string("message without the file: ") + e.what();
     } catch (const std::exception& e) {
       return std::string("RAW.csv reading or labelling threw a non-format exception: ") + e.what();
     }

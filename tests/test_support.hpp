@@ -10,8 +10,8 @@
 #include <random>
 
 #include "core/conventions.hpp"
-#include "geometry/domain.hpp"
 #include "geometry/configuration.hpp"
+#include "geometry/domain.hpp"
 
 namespace contactnn::testing {
 
@@ -23,9 +23,10 @@ inline geometry::Configuration random_paper_configuration(std::mt19937_64& rng) 
   std::uniform_real_distribution<double> xy(-2.0, 2.0), z(-0.3, 0.3);
   const geometry::DomainFilters filters;
   for (;;) {
-    geometry::Configuration c{{Vec3::Zero(), Vec3(1, 0, 0), Vec3(xy(rng), xy(rng), z(rng)), Vec3(xy(rng), std::abs(xy(rng)), 0)},
-                              Vec3(xy(rng), xy(rng), z(rng)),
-                              {}};
+    geometry::Configuration c{
+        {Vec3::Zero(), Vec3(1, 0, 0), Vec3(xy(rng), xy(rng), z(rng)), Vec3(xy(rng), std::abs(xy(rng)), 0)},
+        Vec3(xy(rng), xy(rng), z(rng)),
+        {}};
     if (filters.accepts(c, SurfaceKind::kBilinear)) return c;
   }
 }
@@ -39,8 +40,8 @@ inline Eigen::Matrix3d random_rotation(std::mt19937_64& rng) {
 }
 
 /// x -> scale * R x + t applied to every node, the slave and (rotated only) the normals.
-inline geometry::Configuration transform(const geometry::Configuration& c, const Eigen::Matrix3d& r, double scale,
-                                         const Vec3& t) {
+inline geometry::Configuration transform(const geometry::Configuration& c, const Eigen::Matrix3d& r,
+                                         double scale, const Vec3& t) {
   geometry::Configuration out = c;
   for (int i = 0; i < 4; ++i) {
     out.nodes[i] = scale * (r * c.nodes[i]) + t;

@@ -26,7 +26,8 @@ namespace contactnn::cli {
 namespace {
 
 /// The sections a contactnn study config may hold: one per app.
-const std::set<std::string> kKnownSections = {"gen-configs", "train-net", "evaluate-net", "scene-study", "replay"};
+const std::set<std::string> kKnownSections = {"gen-configs", "train-net", "evaluate-net", "scene-study",
+                                              "replay"};
 
 /// How an option's value is typed in TOML, from CLI11's type name ("INT:INT in [1 - 400]" -> integer).
 enum class ValueKind { kBoolean, kInteger, kReal, kText };
@@ -43,26 +44,40 @@ ValueKind value_kind(const CLI::Option& option) {
 
 std::string kind_text(ValueKind kind) {
   switch (kind) {
-    case ValueKind::kBoolean: return "a boolean (true or false)";
-    case ValueKind::kInteger: return "an integer";
-    case ValueKind::kReal: return "a number";
-    case ValueKind::kText: return "a string";
+    case ValueKind::kBoolean:
+      return "a boolean (true or false)";
+    case ValueKind::kInteger:
+      return "an integer";
+    case ValueKind::kReal:
+      return "a number";
+    case ValueKind::kText:
+      return "a string";
   }
   return "a value";
 }
 
 std::string node_text(const toml::node& node) {
   switch (node.type()) {
-    case toml::node_type::string: return "a string";
-    case toml::node_type::integer: return "an integer";
-    case toml::node_type::floating_point: return "a floating-point number";
-    case toml::node_type::boolean: return "a boolean";
-    case toml::node_type::array: return "an array";
-    case toml::node_type::table: return "a table";
-    case toml::node_type::date: return "a date";
-    case toml::node_type::time: return "a time";
-    case toml::node_type::date_time: return "a date-time";
-    default: return "nothing";
+    case toml::node_type::string:
+      return "a string";
+    case toml::node_type::integer:
+      return "an integer";
+    case toml::node_type::floating_point:
+      return "a floating-point number";
+    case toml::node_type::boolean:
+      return "a boolean";
+    case toml::node_type::array:
+      return "an array";
+    case toml::node_type::table:
+      return "a table";
+    case toml::node_type::date:
+      return "a date";
+    case toml::node_type::time:
+      return "a time";
+    case toml::node_type::date_time:
+      return "a date-time";
+    default:
+      return "nothing";
   }
 }
 
@@ -77,15 +92,26 @@ std::string toml_string(const std::string& text) {
   std::string quoted = "\"";
   for (const char c : text) {
     switch (c) {
-      case '"': quoted += "\\\""; break;
-      case '\\': quoted += "\\\\"; break;
-      case '\n': quoted += "\\n"; break;
-      case '\t': quoted += "\\t"; break;
-      case '\r': quoted += "\\r"; break;
+      case '"':
+        quoted += "\\\"";
+        break;
+      case '\\':
+        quoted += "\\\\";
+        break;
+      case '\n':
+        quoted += "\\n";
+        break;
+      case '\t':
+        quoted += "\\t";
+        break;
+      case '\r':
+        quoted += "\\r";
+        break;
       default:
         if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) {
           char escape[8];
-          std::snprintf(escape, sizeof escape, "\\u%04x", static_cast<unsigned>(static_cast<unsigned char>(c)));
+          std::snprintf(escape, sizeof escape, "\\u%04x",
+                        static_cast<unsigned>(static_cast<unsigned char>(c)));
           quoted += escape;
         } else {
           quoted += c;
@@ -100,7 +126,8 @@ std::string toml_value(const CLI::Option& option, const std::string& text) {
   switch (value_kind(option)) {
     case ValueKind::kBoolean: {
       std::string lower = text;
-      std::transform(lower.begin(), lower.end(), lower.begin(), [](unsigned char c) { return std::tolower(c); });
+      std::transform(lower.begin(), lower.end(), lower.begin(),
+                     [](unsigned char c) { return std::tolower(c); });
       if (lower == "true" || lower == "1" || lower == "on" || lower == "yes") return "true";
       if (lower == "false" || lower == "0" || lower == "off" || lower == "no") return "false";
       break;
@@ -119,7 +146,8 @@ std::string toml_value(const CLI::Option& option, const std::string& text) {
       if (CLI::detail::lexical_cast(text, value)) return real_text(value);
       break;
     }
-    case ValueKind::kText: break;
+    case ValueKind::kText:
+      break;
   }
   return toml_string(text);
 }
@@ -160,8 +188,8 @@ class SectionConfig : public CLI::Config {
     try {
       root = toml::parse(text);
     } catch (const toml::parse_error& e) {
-      line_error(e.source().begin.line, "column " + std::to_string(e.source().begin.column) + ": not valid TOML: " +
-                                            std::string(e.description()));
+      line_error(e.source().begin.line, "column " + std::to_string(e.source().begin.column) +
+                                            ": not valid TOML: " + std::string(e.description()));
     }
     // toml++ keeps keys sorted; report problems in file order.
     const auto by_line = [](const toml::table& table) {
@@ -182,8 +210,10 @@ class SectionConfig : public CLI::Config {
         line_error(line, "key '" + name + "' is outside any section (expected it under [" + section_ + "])");
       }
       if (kKnownSections.count(name) == 0) {
-        line_error(line, "unknown section [" + name +
-                             "] (expected one of [gen-configs], [train-net], [evaluate-net], [scene-study], [replay])");
+        line_error(
+            line,
+            "unknown section [" + name +
+                "] (expected one of [gen-configs], [train-net], [evaluate-net], [scene-study], [replay])");
       }
       if (name != section_) continue;
       for (const auto& [key, value] : by_line(*node->as_table())) {
@@ -196,7 +226,8 @@ class SectionConfig : public CLI::Config {
   std::string to_config(const CLI::App* app, bool default_also, bool, std::string) const override {
     std::string out;
     for (const CLI::Option* opt : app->get_options({})) {
-      if (!opt->get_configurable() || opt->get_lnames().empty() || opt->get_lnames().front() == "config") continue;
+      if (!opt->get_configurable() || opt->get_lnames().empty() || opt->get_lnames().front() == "config")
+        continue;
       const std::vector<std::string> results = opt->reduced_results();
       std::string value;
       if (opt->get_expected_max() > 1) {
@@ -235,7 +266,8 @@ class SectionConfig : public CLI::Config {
     key_lines_.emplace(key, line);
     const CLI::Option* option = app_->get_option_no_throw("--" + key);
     if (option == nullptr || !option->get_configurable() || key == "config" || key == "help") {
-      line_error(line, "unknown key '" + key + "' in [" + section_ + "] (expected one of: " + config_keys(*app_) + ")");
+      line_error(line, "unknown key '" + key + "' in [" + section_ +
+                           "] (expected one of: " + config_keys(*app_) + ")");
     }
     const ValueKind kind = value_kind(*option);
     std::string text;
@@ -294,17 +326,20 @@ bool on_command_line(int argc, char** argv, const std::string& name) {
 
 /// For a parse error caused by a value in the config file (its option named in the message and not given on
 /// the command line): "config file 'F', line N, key 'k'". std::nullopt otherwise.
-std::optional<std::string> config_origin(const CLI::App& app, int argc, char** argv, const std::string& message) {
+std::optional<std::string> config_origin(const CLI::App& app, int argc, char** argv,
+                                         const std::string& message) {
   const auto formatter = std::dynamic_pointer_cast<SectionConfig>(app.get_config_formatter());
   if (formatter == nullptr || config_path(app).empty()) return std::nullopt;
   for (const auto& [key, line] : formatter->key_lines()) {
     const auto at = message.find("--" + key);
     if (at == std::string::npos) continue;
     const auto end = at + 2 + key.size();
-    const bool whole_name = end == message.size() || !(std::isalnum(static_cast<unsigned char>(message[end])) ||
-                                                       message[end] == '_' || message[end] == '-');
+    const bool whole_name =
+        end == message.size() || !(std::isalnum(static_cast<unsigned char>(message[end])) ||
+                                   message[end] == '_' || message[end] == '-');
     if (!whole_name || on_command_line(argc, argv, key)) continue;
-    return "config file '" + config_path(app).string() + "', line " + std::to_string(line) + ", key '" + key + "'";
+    return "config file '" + config_path(app).string() + "', line " + std::to_string(line) + ", key '" + key +
+           "'";
   }
   return std::nullopt;
 }
@@ -322,8 +357,8 @@ std::string describe_config_error(const CLI::App& app, const CLI::ConfigError& e
   if (message.rfind(prefix, 0) == 0) {
     const auto formatter = std::dynamic_pointer_cast<SectionConfig>(app.get_config_formatter());
     const std::string section = formatter != nullptr ? formatter->section() : "?";
-    return ": unknown key '" + message.substr(prefix.size()) + "' in [" + section + "] (expected one of: " +
-           config_keys(app) + ")";
+    return ": unknown key '" + message.substr(prefix.size()) + "' in [" + section +
+           "] (expected one of: " + config_keys(app) + ")";
   }
   return ": " + message;
 }
@@ -340,7 +375,8 @@ const bool g_interrupt_cleanup_installed = [] {
 int cap_openmp_threads() {
   const int asked = omp_get_max_threads();
   if (asked <= kMaxThreads) return asked;
-  std::fprintf(stderr, "warning: OpenMP's default of %d threads (OMP_NUM_THREADS) is more than %lld; using %lld\n",
+  std::fprintf(stderr,
+               "warning: OpenMP's default of %d threads (OMP_NUM_THREADS) is more than %lld; using %lld\n",
                asked, static_cast<long long>(kMaxThreads), static_cast<long long>(kMaxThreads));
   omp_set_num_threads(static_cast<int>(kMaxThreads));
   return static_cast<int>(kMaxThreads);
@@ -353,7 +389,8 @@ int run(CLI::App& app, int argc, char** argv, const std::function<int()>& body) 
     try {
       app.parse(argc, argv);
     } catch (const CLI::ConfigError& e) {
-      std::cerr << "error: config file '" << config_path(app).string() << "'" << describe_config_error(app, e) << "\n";
+      std::cerr << "error: config file '" << config_path(app).string() << "'" << describe_config_error(app, e)
+                << "\n";
       return static_cast<int>(ExitCode::kUsage);
     } catch (const CLI::ParseError& e) {
       // A value out of range or of the wrong type that came from the config file: say which file and line.
@@ -379,8 +416,9 @@ int run(CLI::App& app, int argc, char** argv, const std::function<int()>& body) 
   } catch (const std::bad_alloc&) {
     // Not a bug but a resource the system refused, like a full disk: same code, and the temporaries are
     // gone (their owners' destructors ran while the exception came up).
-    std::cerr << "error: out of memory: the system refused an allocation (free memory, use fewer --threads, or "
-                 "give a smaller input)\n";
+    std::cerr
+        << "error: out of memory: the system refused an allocation (free memory, use fewer --threads, or "
+           "give a smaller input)\n";
     return static_cast<int>(ExitCode::kIo);
   } catch (const std::exception& e) {
     std::cerr << "error: internal: " << e.what() << "\n";
@@ -417,7 +455,8 @@ std::filesystem::path config_path(const CLI::App& app) {
   return config != nullptr && !config->results().empty() ? config->results().front() : "";
 }
 
-std::string effective_config(const CLI::App& app, const std::string& section, const std::vector<std::string>& omit) {
+std::string effective_config(const CLI::App& app, const std::string& section,
+                             const std::vector<std::string>& omit) {
   std::string body = app.config_to_str(true, false);
   std::string out = "[" + section + "]\n";
   std::istringstream lines(body);
@@ -457,7 +496,8 @@ std::map<std::string, std::string> settings(const std::string& text) {
 }
 }  // namespace
 
-std::string config_differences(const std::string& a, const std::string& b, const std::vector<std::string>& ignore) {
+std::string config_differences(const std::string& a, const std::string& b,
+                               const std::vector<std::string>& ignore) {
   std::map<std::string, std::string> first, second;
   try {
     first = settings(a);
@@ -492,9 +532,9 @@ std::filesystem::path effective_config_path(const std::filesystem::path& output)
 std::unique_ptr<io::AtomicOutput> write_effective_config(const CLI::App& app, const std::string& section,
                                                          const std::filesystem::path& output) {
   if (io::written_in_place(output)) return nullptr;
-  return io::write_text_uncommitted(effective_config_path(output), "# effective configuration written by " +
-                                                                       app.get_name() + "\n" +
-                                                                       effective_config(app, section));
+  return io::write_text_uncommitted(
+      effective_config_path(output),
+      "# effective configuration written by " + app.get_name() + "\n" + effective_config(app, section));
 }
 
 namespace {
@@ -521,7 +561,8 @@ CLI::Validator real_in(double lo, double hi) {
         double value = 0.0;
         if (!io::parse_double(input, value)) return "'" + input + "' is not a number";
         if (!(std::isfinite(value) && value >= lo && value <= hi)) {
-          return "must be a finite number in " + io::format_double(lo) + ".." + io::format_double(hi) + ", got " + input;
+          return "must be a finite number in " + io::format_double(lo) + ".." + io::format_double(hi) +
+                 ", got " + input;
         }
         return std::string();
       },
@@ -551,20 +592,23 @@ CLI::Validator integer_in(std::int64_t lo, std::int64_t hi) {
 void warn_about_raw_output(const char* tools, const std::string& input, const std::string& output,
                            const std::vector<std::string>& replaced, std::size_t rows) {
   for (const auto& name : replaced) {
-    std::fprintf(stderr, "warning: input column '%s' is replaced by %s own '%s' column\n", name.c_str(), tools,
-                 name.c_str());
+    std::fprintf(stderr, "warning: input column '%s' is replaced by %s own '%s' column\n", name.c_str(),
+                 tools, name.c_str());
   }
   if (rows == 0) {
-    std::fprintf(stderr, "warning: '%s' has a header and no data rows: '%s' has the header only\n", input.c_str(),
-                 output.c_str());
+    std::fprintf(stderr, "warning: '%s' has a header and no data rows: '%s' has the header only\n",
+                 input.c_str(), output.c_str());
   }
 }
 
 void add_exit_code_footer(CLI::App& app) {
   app.footer(
-      "Exit codes: 0 success; 1 internal error; 2 bad command line or config (unknown key, value out of range,\n"
-      "an output that is an input); 3 bad input data (malformed CSV, wrong HDF5 schema, shape or file kind, corrupt\n"
-      "file); 4 I/O or resource failure (cannot open, write or rename; disk full; out of memory); 5 numerical\n"
+      "Exit codes: 0 success; 1 internal error; 2 bad command line or config (unknown key, value out of "
+      "range,\n"
+      "an output that is an input); 3 bad input data (malformed CSV, wrong HDF5 schema, shape or file kind, "
+      "corrupt\n"
+      "file); 4 I/O or resource failure (cannot open, write or rename; disk full; out of memory); 5 "
+      "numerical\n"
       "failure (non-finite value where a finite one is required); 128+N killed by signal N after removing\n"
       "its temporary files (130 SIGINT, 143 SIGTERM).");
 }
@@ -579,7 +623,8 @@ void Progress::update(std::int64_t done, std::int64_t total) {
   const double eta = rate > 0 ? static_cast<double>(total - done) / rate : 0.0;
   std::fprintf(stderr, "\r%s: %lld / %lld (%.1f%%), %.0f/s, elapsed %.1f s, ETA %.1f s   ", label_.c_str(),
                static_cast<long long>(done), static_cast<long long>(total),
-               total > 0 ? 100.0 * static_cast<double>(done) / static_cast<double>(total) : 100.0, rate, elapsed, eta);
+               total > 0 ? 100.0 * static_cast<double>(done) / static_cast<double>(total) : 100.0, rate,
+               elapsed, eta);
   std::fflush(stderr);
   printed_ = true;
 }

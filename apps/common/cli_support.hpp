@@ -90,9 +90,9 @@ extern const CLI::Validator kNonNegative;
 /// --threads: 0 (OpenMP's default) .. kMaxThreads (the C interface's CONTACTNN_MAX_THREADS).
 inline constexpr std::int64_t kMaxThreads = 1024;
 
-/// Caps OpenMP's default thread count at kMaxThreads, as --threads is capped, with a warning on stderr when it
-/// was more: libgomp takes any OMP_NUM_THREADS and then fails inside every parallel region whose team it cannot
-/// start (100000 threads), ending the process without the apps' cleanup. Returns the default in force.
+/// Caps OpenMP's default thread count at kMaxThreads, as --threads is capped, with a warning on stderr when
+/// it was more: libgomp takes any OMP_NUM_THREADS and then fails inside every parallel region whose team it
+/// cannot start (100000 threads), ending the process without the apps' cleanup. Returns the default in force.
 int cap_openmp_threads();
 
 /// --seed: 0 .. 2^63 - 1 (a TOML integer is 64-bit signed, and the effective config must read back).

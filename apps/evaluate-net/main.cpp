@@ -1,22 +1,23 @@
 // evaluate-net: apply trained networks, and measure every local-search method's accuracy and speed.
 //
 // Description:
-//   Report mode runs every method of lib/search (networks, Newton with k steps and to convergence, the bilinear
-//   closed form, the hybrids) on one or more evaluation sets (gen-configs datasets: the paper's grid, a held-out
-//   random sample, a scene's domain; scene pairs files from gen-configs --scene) and compares each with the
-//   reference labels: errors, gap errors, inside/outside agreement, failures, and the time per query one at a
-//   time and batched at 1 and several threads, all in one run (paper Sections 5.3 and 6.3.3: Table 1, Figs 4,
-//   10 and 11). Input mode applies one network (SPEC 6), optionally followed by K Newton steps (SPEC 8), to a
-//   user's configurations in world coordinates; with --plan, the method (and network) a scene plan names
-//   (scene-study's DIR/plan.toml, SPEC 7).
+//   Report mode runs every method of lib/search (networks, Newton with k steps and to convergence, the
+//   bilinear closed form, the hybrids) on one or more evaluation sets (gen-configs datasets: the paper's
+//   grid, a held-out random sample, a scene's domain; scene pairs files from gen-configs --scene) and
+//   compares each with the reference labels: errors, gap errors, inside/outside agreement, failures, and the
+//   time per query one at a time and batched at 1 and several threads, all in one run (paper Sections 5.3
+//   and 6.3.3: Table 1, Figs 4, 10 and 11). Input mode applies one network (SPEC 6), optionally followed by K
+//   Newton steps (SPEC 8), to a user's configurations in world coordinates; with --plan, the method (and
+//   network) a scene plan names (scene-study's DIR/plan.toml, SPEC 7).
 //
 // Sample runs:
 //   evaluate-net --config configs/bilinear-paper.toml --weights data/weights/bilinear-8.h5
 //                --data data/bilinear.h5 --report reports/bilinear     (one line)
 //   evaluate-net --weights data/weights/gregory-48.h5 --weights data/weights/gregory-32.h5
 //                --data data/gregory-random.h5 --pairs /tmp/hertz-pairs.csv --report /tmp/frontier
-//   evaluate-net --weights data/weights/bilinear-8.h5 --input data/examples/raw-bilinear.csv --output /tmp/pred.csv
-//   evaluate-net --weights data/weights/gregory-48.h5 --input data/examples/raw-gregory.csv --output /tmp/p.csv
+//   evaluate-net --weights data/weights/bilinear-8.h5 --input data/examples/raw-bilinear.csv --output
+//   /tmp/pred.csv evaluate-net --weights data/weights/gregory-48.h5 --input data/examples/raw-gregory.csv
+//   --output /tmp/p.csv
 //                --newton-steps 2
 //   evaluate-net --plan /tmp/hertz-study/plan.toml --input /tmp/hertz-pairs.csv --output /tmp/p.csv
 //
@@ -25,13 +26,14 @@
 //                DIR/evaluate-net.config.toml (effective config); a summary on stdout, progress on stderr.
 //                DIR is written under a temporary name and put in place whole; an existing DIR is replaced
 //                only if it holds nothing but these files.
-//   input mode:  OUTPUT (.csv): the input columns, then xi,eta (u,v for Gregory),status; one row per input row,
+//   input mode:  OUTPUT (.csv): the input columns, then xi,eta (u,v for Gregory),status; one row per input
+//   row,
 //                in input order. status: ok; out_of_domain (outside the network's training domain; the
 //                prediction is still written); with --newton-steps K > 0 the steps' outcome (ok, outside,
 //                no_convergence); invalid (non-finite input), degenerate (no canonical frame), no_segment (a
 //                pairs row without coordinates): values empty. Rows are streamed in chunks (bounded memory).
-//                With --plan: the same columns for the plan's method (search/local_search.hpp lists the statuses
-//                of each); the plan's surface decides the columns read (SPEC 6).
+//                With --plan: the same columns for the plan's method (search/local_search.hpp lists the
+//                statuses of each); the plan's surface decides the columns read (SPEC 6).
 #include <omp.h>
 
 #include <cstdio>
@@ -59,11 +61,11 @@ namespace {
 
 using namespace contactnn;
 
-/// What a report directory may hold: the files report mode writes (docs/tools.md, "evaluate-net"). Only a directory
-/// holding nothing else is replaced.
+/// What a report directory may hold: the files report mode writes (docs/tools.md, "evaluate-net"). Only a
+/// directory holding nothing else is replaced.
 const std::initializer_list<std::string> kReportFiles = {
-    "errors.csv",  "speed.csv",   "hist_xi.csv", "hist_eta.csv", "hist_u.csv", "hist_v.csv",
-    "hist_xi.svg", "hist_eta.svg", "hist_u.svg", "hist_v.svg",  "report.md",  "evaluate-net.config.toml"};
+    "errors.csv",  "speed.csv",    "hist_xi.csv", "hist_eta.csv", "hist_u.csv", "hist_v.csv",
+    "hist_xi.svg", "hist_eta.svg", "hist_u.svg",  "hist_v.svg",   "report.md",  "evaluate-net.config.toml"};
 
 /// The files and switches of one run (every numeric setting lives in eval::StudyOptions).
 struct Paths {
@@ -105,8 +107,9 @@ LoadedNetwork load_as(const std::string& path) {
   }
   char u0[32];
   std::snprintf(u0, sizeof u0, "%g", trained.network.u0());
-  n.summary += std::string(", ") + (std::is_same_v<Real, float> ? "float" : "double") + ", U0 = " + u0 + ", " +
-               std::string(to_string(trained.network.scaling().input_features)) + " inputs, `" + path + "`";
+  n.summary += std::string(", ") + (std::is_same_v<Real, float> ? "float" : "double") + ", U0 = " + u0 +
+               ", " + std::string(to_string(trained.network.scaling().input_features)) + " inputs, `" + path +
+               "`";
   n.model = std::make_unique<search::NetworkModel>(trained.network, trained.domain);
   return n;
 }
@@ -116,10 +119,11 @@ LoadedNetwork load_network(const std::string& path) {
   return io::read_network_real_type(path) == "float64" ? load_as<double>(path) : load_as<float>(path);
 }
 
-/// Input mode (SPEC 6, SPEC 7, SPEC 8): RAW.csv streamed in chunks of io::kRawChunkRows rows through one batched
-/// call of lib/search per chunk (network, network+newton:K, or a plan's method); the output appears only when
-/// every row is done. `network` may be null for a method without one.
-int input_mode(SurfaceKind kind, const search::Method& method, const search::NetworkModel* network, const Paths& paths) {
+/// Input mode (SPEC 6, SPEC 7, SPEC 8): RAW.csv streamed in chunks of io::kRawChunkRows rows through one
+/// batched call of lib/search per chunk (network, network+newton:K, or a plan's method); the output appears
+/// only when every row is done. `network` may be null for a method without one.
+int input_mode(SurfaceKind kind, const search::Method& method, const search::NetworkModel* network,
+               const Paths& paths) {
   const search::LocalSearch search(kind, method, {}, network);
   const auto names = coordinate_names(kind);
   const std::vector<std::string> header = {std::string(names[0]), std::string(names[1]), "status"};
@@ -141,15 +145,17 @@ int input_mode(SurfaceKind kind, const search::Method& method, const search::Net
         }
         param.resize(2 * chunk.size());
         status.resize(chunk.size());
-        search.run(chunk.size(), raw.data(), search::Results<double>{param.data(), nullptr, status.data(), nullptr});
+        search.run(chunk.size(), raw.data(),
+                   search::Results<double>{param.data(), nullptr, status.data(), nullptr});
         for (std::size_t r = 0; r < chunk.size(); ++r) {
           if (chunk.no_segment[r] != 0) status[r] = Status::kNoSegment;  // SPEC 7: nothing to predict
           const Status s = status[r];
           const bool has_value = s == Status::kOk || s == Status::kOutside || s == Status::kOutOfDomain;
-          CONTACTNN_REQUIRE_AS(NumericalError, !has_value || (std::isfinite(param[2 * r]) && std::isfinite(param[2 * r + 1])),
-                               "'" << paths.input << "' line " << chunk.line_numbers[r] << ": a non-finite estimate");
-          rows[r] = {has_value ? io::format_double(param[2 * r]) : "", has_value ? io::format_double(param[2 * r + 1]) : "",
-                     std::string(to_string(s))};
+          CONTACTNN_REQUIRE_AS(
+              NumericalError, !has_value || (std::isfinite(param[2 * r]) && std::isfinite(param[2 * r + 1])),
+              "'" << paths.input << "' line " << chunk.line_numbers[r] << ": a non-finite estimate");
+          rows[r] = {has_value ? io::format_double(param[2 * r]) : "",
+                     has_value ? io::format_double(param[2 * r + 1]) : "", std::string(to_string(s))};
           ++counts[static_cast<std::size_t>(s)];
         }
       },
@@ -165,16 +171,18 @@ int input_mode(SurfaceKind kind, const search::Method& method, const search::Net
   return 0;
 }
 
-int report_mode(const std::vector<LoadedNetwork>& networks, const Paths& paths, const eval::StudyOptions& options,
-                const std::string& effective_config, io::AtomicDirectory& report) {
+int report_mode(const std::vector<LoadedNetwork>& networks, const Paths& paths,
+                const eval::StudyOptions& options, const std::string& effective_config,
+                io::AtomicDirectory& report) {
   // 1. The sets, each of the networks' surface (the first set's when there is no network).
   std::vector<eval::EvaluationSet> sets;
   for (const std::string& path : paths.data) {
     const dataset::LabelledSet set = io::read_dataset(path);
     const auto ok_rows = std::count(set.status.begin(), set.status.end(), Status::kOk);
-    CONTACTNN_REQUIRE_AS(FormatError, ok_rows > 0,
-                         "'" << path << "' holds " << set.size()
-                             << " configurations and none with status ok: nothing to report (no error can be measured)");
+    CONTACTNN_REQUIRE_AS(
+        FormatError, ok_rows > 0,
+        "'" << path << "' holds " << set.size()
+            << " configurations and none with status ok: nothing to report (no error can be measured)");
     sets.push_back(eval::set_from_dataset(set, std::filesystem::path(path).stem().string(), path,
                                           options.random_placement, options.seed));
   }
@@ -184,15 +192,16 @@ int report_mode(const std::vector<LoadedNetwork>& networks, const Paths& paths, 
   for (const std::string& path : paths.pairs) sets.push_back(eval::set_from_labelled_csv(path, kind));
   for (const eval::EvaluationSet& s : sets) {
     CONTACTNN_REQUIRE_AS(FormatError, s.surface == kind,
-                         "'" << s.source << "' is a " << to_string(s.surface) << " set but the study is " << to_string(kind)
-                             << (networks.empty() ? "" : " (the networks')"));
+                         "'" << s.source << "' is a " << to_string(s.surface) << " set but the study is "
+                             << to_string(kind) << (networks.empty() ? "" : " (the networks')"));
   }
   std::vector<eval::EvaluatedNetwork> evaluated;
   for (const LoadedNetwork& n : networks) evaluated.push_back({n.name, n.summary, n.model.get()});
 
   // 2. The study: accuracy in parallel, timing as stated in the report.
   const auto log = [&](std::string_view line) {
-    if (!paths.quiet) std::fprintf(stderr, "evaluate-net: %.*s\n", static_cast<int>(line.size()), line.data());
+    if (!paths.quiet)
+      std::fprintf(stderr, "evaluate-net: %.*s\n", static_cast<int>(line.size()), line.data());
   };
   const eval::StudyResult result = eval::run_study(sets, evaluated, options, log);
 
@@ -215,10 +224,13 @@ int report_mode(const std::vector<LoadedNetwork>& networks, const Paths& paths, 
 
   // 4. Summary: the first network on every set.
   const auto names = coordinate_names(kind);
-  std::printf("evaluate-net summary (%zu method(s) on %zu set(s))\n", result.methods.size(), result.sets.size());
+  std::printf("evaluate-net summary (%zu method(s) on %zu set(s))\n", result.methods.size(),
+              result.sets.size());
   for (const eval::SetResult& s : result.sets) {
     for (const eval::MethodErrors& m : s.errors) {
-      if (m.method != result.histogram_method && !(result.histogram_method.empty() && &m == &s.errors.front())) continue;
+      if (m.method != result.histogram_method &&
+          !(result.histogram_method.empty() && &m == &s.errors.front()))
+        continue;
       std::printf("  %-16s %s mean |error| %s %.4g, %s %.4g (%lld rows, failures %lld, out of domain %lld)\n",
                   s.name.c_str(), m.method.c_str(), std::string(names[0]).c_str(), m.stats[0].mean_abs,
                   std::string(names[1]).c_str(), m.stats[1].mean_abs, static_cast<long long>(m.rows),
@@ -234,49 +246,60 @@ int report_mode(const std::vector<LoadedNetwork>& networks, const Paths& paths, 
 
 int main(int argc, char** argv) {
   using namespace contactnn;
-  CLI::App app{"evaluate-net: apply trained networks; measure every local-search method's accuracy and speed"};
+  CLI::App app{
+      "evaluate-net: apply trained networks; measure every local-search method's accuracy and speed"};
   cli::add_exit_code_footer(app);
   cli::add_config_option(app, "evaluate-net");
 
-  // 1. Options. Every default lives in eval::StudyOptions and search::SearchOptions; flags only map onto them.
+  // 1. Options. Every default lives in eval::StudyOptions and search::SearchOptions; flags only map onto
+  // them.
   eval::StudyOptions options;
   Paths paths;
   int threads = 0;
-  app.add_option("--weights", paths.weights,
-                 "network file of train-net (.h5); report mode: repeat for several networks, each with its methods")
+  app.add_option(
+         "--weights", paths.weights,
+         "network file of train-net (.h5); report mode: repeat for several networks, each with its methods")
       ->check(CLI::ExistingFile);
-  auto* data = app.add_option("--data", paths.data, "report mode: labelled dataset of gen-configs (.h5); repeatable")
-                   ->check(CLI::ExistingFile);
-  auto* pairs = app.add_option("--pairs", paths.pairs,
-                               "report mode: labelled RAW.csv (gen-configs --scene pairs, label mode output); repeatable")
-                    ->check(CLI::ExistingFile);
+  auto* data =
+      app.add_option("--data", paths.data, "report mode: labelled dataset of gen-configs (.h5); repeatable")
+          ->check(CLI::ExistingFile);
+  auto* pairs =
+      app.add_option(
+             "--pairs", paths.pairs,
+             "report mode: labelled RAW.csv (gen-configs --scene pairs, label mode output); repeatable")
+          ->check(CLI::ExistingFile);
   auto* report = app.add_option("--report", paths.report, "report mode: output directory");
   auto* input = app.add_option("--input", paths.input, "input mode: RAW.csv of world configurations (SPEC 6)")
                     ->check(CLI::ExistingFile);
   auto* output = app.add_option("--output", paths.output, "input mode: predictions .csv");
-  auto* plan = app.add_option("--plan", paths.plan,
-                              "input mode: a scene plan (scene-study's plan.toml, SPEC 7) in place of --weights: its "
-                              "method, with its network if it names one")
-                   ->check(CLI::ExistingFile);
-  auto* steps = app.add_option("--newton-steps", paths.newton_steps,
-                               "input mode: safeguarded Newton steps after the network's estimate (SPEC 8; 0: the "
-                               "network alone)")
-                    ->transform(cli::integer_in(0, 1000));
+  auto* plan =
+      app.add_option("--plan", paths.plan,
+                     "input mode: a scene plan (scene-study's plan.toml, SPEC 7) in place of --weights: its "
+                     "method, with its network if it names one")
+          ->check(CLI::ExistingFile);
+  auto* steps =
+      app.add_option("--newton-steps", paths.newton_steps,
+                     "input mode: safeguarded Newton steps after the network's estimate (SPEC 8; 0: the "
+                     "network alone)")
+          ->transform(cli::integer_in(0, 1000));
   input->needs(output);
   output->needs(input);
   steps->needs(input);
   plan->needs(input)->excludes(steps)->excludes(app.get_option("--weights"));
   input->excludes(data)->excludes(pairs)->excludes(report);
-  app.add_option("--methods", options.methods,
-                 "report mode: comma-separated search methods (network, newton:K, newton, closed_form, "
-                 "network+newton:K, closed_form+newton:K, start+newton:K with --start_offset); empty: the default "
-                 "list")
+  app.add_option(
+         "--methods", options.methods,
+         "report mode: comma-separated search methods (network, newton:K, newton, closed_form, "
+         "network+newton:K, closed_form+newton:K, start+newton:K with --start_offset); empty: the default "
+         "list")
       ->default_str("");
-  app.add_option("--start_offset", options.start_offset,
-                 "report mode: start+newton:K starts from each reference point moved this far (parameter units) "
-                 "in a random direction; -1: no starts, the method is refused")
+  app.add_option(
+         "--start_offset", options.start_offset,
+         "report mode: start+newton:K starts from each reference point moved this far (parameter units) "
+         "in a random direction; -1: no starts, the method is refused")
       ->check(cli::real_in(-1.0, 1e6));
-  app.add_option("--threads", threads, "OpenMP threads of the accuracy part and input mode (0: OpenMP's default)")
+  app.add_option("--threads", threads,
+                 "OpenMP threads of the accuracy part and input mode (0: OpenMP's default)")
       ->transform(cli::integer_in(0, cli::kMaxThreads));
   app.add_flag("--quiet", paths.quiet, "no progress lines");
   app.add_option("--seed", options.seed, "seed of the placements and the timing sample")
@@ -295,7 +318,8 @@ int main(int argc, char** argv) {
   app.add_option("--converged_tol_param", options.search.tol_param,
                  "Newton to convergence: step tolerance (parameter units)")
       ->check(cli::real_in(0.0, search::kMaxTolParam));
-  app.add_option("--hist_bins", options.hist_bins, "bins of the error histograms")->transform(cli::integer_in(1, 100000));
+  app.add_option("--hist_bins", options.hist_bins, "bins of the error histograms")
+      ->transform(cli::integer_in(1, 100000));
   app.add_option("--hist_range", options.hist_range,
                  "histogram range [-r, r]; 0: a nice number above the 99.9th percentile of |error|")
       ->check(cli::real_in(0.0, 1e6));
@@ -306,19 +330,22 @@ int main(int argc, char** argv) {
       ->transform(cli::integer_in(1, cli::kMaxThreads));
   app.add_option("--timing_repetitions", options.timing_options.repetitions, "timed passes per method")
       ->transform(cli::integer_in(1, 1000));
-  app.add_option("--timing_warmup_passes", options.timing_options.warmup_passes, "untimed passes per method first")
+  app.add_option("--timing_warmup_passes", options.timing_options.warmup_passes,
+                 "untimed passes per method first")
       ->transform(cli::integer_in(0, 100));
 
   return cli::run(app, argc, argv, [&]() -> int {
     // 2. Mode and threads; no output may be an input, and a report directory is replaced only if it holds
     //    nothing but an earlier report (both checked before any work).
     const bool report_mode_asked = !paths.data.empty() || !paths.pairs.empty();
-    CONTACTNN_REQUIRE_AS(InvalidArgument, !paths.input.empty() || (report_mode_asked && !paths.report.empty()),
-                         "give either --data DATASET.h5 and/or --pairs PAIRS.csv with --report DIR (report mode), or "
-                         "--input RAW.csv --output PRED.csv (input mode)");
+    CONTACTNN_REQUIRE_AS(
+        InvalidArgument, !paths.input.empty() || (report_mode_asked && !paths.report.empty()),
+        "give either --data DATASET.h5 and/or --pairs PAIRS.csv with --report DIR (report mode), or "
+        "--input RAW.csv --output PRED.csv (input mode)");
     CONTACTNN_REQUIRE_AS(InvalidArgument, paths.report.empty() || report_mode_asked,
                          "--report needs --data or --pairs");
-    CONTACTNN_REQUIRE_AS(InvalidArgument, paths.input.empty() || paths.weights.size() == 1 || !paths.plan.empty(),
+    CONTACTNN_REQUIRE_AS(InvalidArgument,
+                         paths.input.empty() || paths.weights.size() == 1 || !paths.plan.empty(),
                          "input mode applies one network or a plan: give exactly one --weights (got "
                              << paths.weights.size() << ") or --plan");
     if (threads > 0) omp_set_num_threads(threads);
@@ -326,8 +353,8 @@ int main(int argc, char** argv) {
     const std::string effective = cli::effective_config(app, "evaluate-net");
     std::vector<io::OutputDirectory> directories;
     if (!paths.report.empty()) directories.push_back({"--report", paths.report, kReportFiles, true});
-    std::vector<io::NamedPath> inputs = {{"--input", paths.input}, {"--config", cli::config_path(app)},
-                                         {"--plan", paths.plan}};
+    std::vector<io::NamedPath> inputs = {
+        {"--input", paths.input}, {"--config", cli::config_path(app)}, {"--plan", paths.plan}};
     for (const auto& w : paths.weights) inputs.push_back({"--weights", w});
     for (const auto& d : paths.data) inputs.push_back({"--data", d});
     for (const auto& p : paths.pairs) inputs.push_back({"--pairs", p});
@@ -337,7 +364,8 @@ int main(int argc, char** argv) {
       report_directory = std::make_unique<io::AtomicDirectory>(paths.report, kReportFiles, "--report");
     }
 
-    // 3. A plan: its method, and its network (a path relative to the plan) read in the precision it was trained
+    // 3. A plan: its method, and its network (a path relative to the plan) read in the precision it was
+    // trained
     //    in; input mode.
     if (!paths.plan.empty()) {
       const study::ScenePlan scene_plan = study::read_plan(paths.plan);
@@ -347,8 +375,8 @@ int main(int argc, char** argv) {
         network = load_network(network_path.string());
         CONTACTNN_REQUIRE_AS(FormatError, network->model->surface() == scene_plan.surface,
                              "'" << network_path.string() << "' is a " << to_string(network->model->surface())
-                                 << " network, the plan '" << paths.plan << "' is for " << to_string(scene_plan.surface)
-                                 << " surfaces");
+                                 << " network, the plan '" << paths.plan << "' is for "
+                                 << to_string(scene_plan.surface) << " surfaces");
       }
       return input_mode(scene_plan.surface, search::Method::parse(scene_plan.method),
                         network ? network->model.get() : nullptr, paths);
@@ -360,11 +388,12 @@ int main(int argc, char** argv) {
       networks.push_back(load_network(w));
       for (std::size_t k = 0; k + 1 < networks.size(); ++k) {
         CONTACTNN_REQUIRE_AS(InvalidArgument, networks[k].name != networks.back().name,
-                             "two networks named '" << networks.back().name << "' (" << networks[k].path << ", " << w
-                                                    << "): their methods would share names");
+                             "two networks named '" << networks.back().name << "' (" << networks[k].path
+                                                    << ", " << w << "): their methods would share names");
         CONTACTNN_REQUIRE_AS(FormatError, networks[k].model->surface() == networks.back().model->surface(),
-                             "'" << w << "' is a " << to_string(networks.back().model->surface()) << " network, '"
-                                 << networks[k].path << "' a " << to_string(networks[k].model->surface()) << " one");
+                             "'" << w << "' is a " << to_string(networks.back().model->surface())
+                                 << " network, '" << networks[k].path << "' a "
+                                 << to_string(networks[k].model->surface()) << " one");
       }
     }
     if (!paths.input.empty()) {
@@ -377,11 +406,10 @@ int main(int argc, char** argv) {
     sets.insert(sets.end(), paths.pairs.begin(), paths.pairs.end());
     for (std::size_t i = 0; i < sets.size(); ++i) {
       for (std::size_t k = 0; k < i; ++k) {
-        CONTACTNN_REQUIRE_AS(InvalidArgument,
-                             std::filesystem::path(sets[k]).stem() != std::filesystem::path(sets[i]).stem(),
-                             "two sets named '" << std::filesystem::path(sets[i]).stem().string() << "' (" << sets[k]
-                                                << ", " << sets[i]
-                                                << "): their rows in the report would share a name");
+        CONTACTNN_REQUIRE_AS(
+            InvalidArgument, std::filesystem::path(sets[k]).stem() != std::filesystem::path(sets[i]).stem(),
+            "two sets named '" << std::filesystem::path(sets[i]).stem().string() << "' (" << sets[k] << ", "
+                               << sets[i] << "): their rows in the report would share a name");
       }
     }
     return report_mode(networks, paths, options, effective, *report_directory);

@@ -12,13 +12,15 @@
 //   gen-configs --surface bilinear --input data/examples/raw-bilinear.csv --output /tmp/labels.csv
 //   gen-configs --scene build/scenes/hertz.inp --surface gregory --output /tmp/hertz-pairs.csv
 //   gen-configs --scene build/scenes/hertz.inp --search nearest_node --output /tmp/hertz-paper-pairs.csv
-//   gen-configs --scene run/hertz-slide.inp --results run/hertz-slide.frd --increment all --output /tmp/history.csv
-//   gen-configs --scene build/scenes/hertz.inp --surface gregory --sampling random --count 20000 --output /tmp/h.h5
-//   gen-configs --config configs/gregory-paper.toml --sampling random --count 100000 --seed 2 --output /tmp/g.h5
+//   gen-configs --scene run/hertz-slide.inp --results run/hertz-slide.frd --increment all --output
+//   /tmp/history.csv gen-configs --scene build/scenes/hertz.inp --surface gregory --sampling random --count
+//   20000 --output /tmp/h.h5 gen-configs --config configs/gregory-paper.toml --sampling random --count 100000
+//   --seed 2 --output /tmp/g.h5
 //
 // Writes:
-//   enumeration: OUTPUT (.h5), OUTPUT.config.toml (effective config), a summary on stdout, progress on stderr.
-//   label mode:  OUTPUT (.csv): the input columns, then xi,eta (u,v for Gregory),status,gap,iterations; one row
+//   enumeration: OUTPUT (.h5), OUTPUT.config.toml (effective config), a summary on stdout, progress on
+//   stderr. label mode:  OUTPUT (.csv): the input columns, then xi,eta (u,v for
+//   Gregory),status,gap,iterations; one row
 //                per input row, in input order. xi, eta and gap are empty unless status is ok or outside.
 //                Rows are streamed in chunks (bounded memory for any number of rows).
 //   scene mode:  OUTPUT (.csv): one row per slave node of contact pair K of an .inp deck (SPEC 7), in
@@ -26,8 +28,8 @@
 //                label mode's columns; with the surface search (the default, SPEC 9) then
 //                location,px,py,pz,face_type,nodes: face_type quad4, quad8, tri3 or tri6, nodes the face's
 //                nodes in its own order (corners, then a quadratic face's mid-side nodes); a face that is not
-//                a quad4 leaves a,b,c,d and the raw columns empty and puts its own local coordinates ((xi, eta)
-//                of a quad8, (r, s) of a triangle) in the coordinate columns, under either --surface (a
+//                a quad4 leaves a,b,c,d and the raw columns empty and puts its own local coordinates ((xi,
+//                eta) of a quad8, (r, s) of a triangle) in the coordinate columns, under either --surface (a
 //                quadratic face is its own surface under gregory too). The surface search's slave nodes are
 //                every node of the slave faces, mid-side nodes included (SPEC 9); --search nearest_node keeps
 //                SPEC 7's corner nodes. With --results RUN.frd the deck's nodes are moved to
@@ -96,7 +98,8 @@ void label_chunk(std::span<const geometry::Configuration> configs, SurfaceKind s
   const auto n = static_cast<std::int64_t>(configs.size());
 #pragma omp parallel for schedule(dynamic, 64)
   for (std::int64_t i = 0; i < n; ++i) {
-    labels[static_cast<std::size_t>(i)] = dataset::label_configuration(configs[static_cast<std::size_t>(i)], surface, options);
+    labels[static_cast<std::size_t>(i)] =
+        dataset::label_configuration(configs[static_cast<std::size_t>(i)], surface, options);
   }
 }
 
@@ -115,7 +118,8 @@ std::vector<std::string> label_fields(const dataset::Label& l) {
 int label_mode(SurfaceKind surface, const std::string& input, const std::string& output,
                const projection::ProjectionOptions& options) {
   const auto names = coordinate_names(surface);
-  const std::vector<std::string> header = {std::string(names[0]), std::string(names[1]), "status", "gap", "iterations"};
+  const std::vector<std::string> header = {std::string(names[0]), std::string(names[1]), "status", "gap",
+                                           "iterations"};
   std::vector<std::string> replaced;
   std::vector<dataset::Label> labels;
   const std::size_t n = io::map_raw_configurations(
@@ -136,7 +140,8 @@ int label_mode(SurfaceKind surface, const std::string& input, const std::string&
 /// Faces skipped by element type, e.g. "CPE4R face 1, C3D4 face 12", or "none".
 std::string faces(const std::map<std::string, int>& skipped) {
   std::string text;
-  for (const auto& [kind, count] : skipped) text += (text.empty() ? "" : ", ") + kind + " " + std::to_string(count);
+  for (const auto& [kind, count] : skipped)
+    text += (text.empty() ? "" : ", ") + kind + " " + std::to_string(count);
   return text.empty() ? std::string("none") : text;
 }
 
@@ -172,8 +177,9 @@ BeyondCapture beyond_capture(const contact::Scene& scene, const contact::SceneRe
 }
 
 /// The scene's summary: counts, skipped faces and the shape statistics (min / median / max).
-void print_scene_summary(const std::string& deck, const contact::Scene& scene, const contact::SceneResult& result,
-                         SurfaceKind surface, const std::string& output, double seconds) {
+void print_scene_summary(const std::string& deck, const contact::Scene& scene,
+                         const contact::SceneResult& result, SurfaceKind surface, const std::string& output,
+                         double seconds) {
   const auto spread = [](const char* name, const contact::Spread& s) {
     if (s.count == 0) {
       std::printf("    %-34s -\n", name);
@@ -183,17 +189,19 @@ void print_scene_summary(const std::string& deck, const contact::Scene& scene, c
   };
   std::printf("gen-configs --scene summary\n");
   std::printf("  deck                 %s\n", deck.c_str());
-  std::printf("  pair                 %d: slave '%s' -> master '%s' (%s)\n", scene.pair, scene.slave_name.c_str(),
-              scene.master_name.c_str(), scene.where.c_str());
+  std::printf("  pair                 %d: slave '%s' -> master '%s' (%s)\n", scene.pair,
+              scene.slave_name.c_str(), scene.master_name.c_str(), scene.where.c_str());
   std::printf("  surface              %s\n", std::string(to_string(surface)).c_str());
-  std::printf("  master segments      %zu (%d nodes)\n", scene.master.segments.size(), scene.master.node_count());
+  std::printf("  master segments      %zu (%d nodes)\n", scene.master.segments.size(),
+              scene.master.node_count());
   if (scene.cyclic_sectors > 0) {
     std::printf("  cyclic symmetry      %d sectors (%s)\n", scene.cyclic_sectors, scene.cyclic_where.c_str());
-    std::printf("                       master segments: the sector's and its two neighbours' (+-360/%d deg)\n",
-                scene.cyclic_sectors);
+    std::printf(
+        "                       master segments: the sector's and its two neighbours' (+-360/%d deg)\n",
+        scene.cyclic_sectors);
   }
-  std::printf("  slave nodes          %zu (%d also on the master surface, left out)\n", scene.slave_ids.size(),
-              scene.slaves.shared_with_master);
+  std::printf("  slave nodes          %zu (%d also on the master surface, left out)\n",
+              scene.slave_ids.size(), scene.slaves.shared_with_master);
   std::printf("  pairs found          %ld\n", result.found);
   std::printf("  no_segment           %ld\n", result.no_segment);
   std::string statuses;
@@ -232,7 +240,9 @@ contact::Scene scene_of(const mesh::ContactModel& model, const std::string& deck
   }
 }
 
-contact::Scene read_scene(const std::string& deck, int pair) { return scene_of(io::read_inp_deck(deck), deck, pair); }
+contact::Scene read_scene(const std::string& deck, int pair) {
+  return scene_of(io::read_inp_deck(deck), deck, pair);
+}
 
 /// The paper's nearest-node search keeps SPEC 7's slave nodes: an element surface's face corners, without the
 /// mid-side nodes of quadratic faces that the surface search adds (SPEC 9; mesh::SlaveNodes).
@@ -259,22 +269,23 @@ std::vector<std::size_t> increments_named(const io::FrdResults& results, const s
   if (increment == "last") return {io::increment_index(results, io::kLastIncrement)};
   int number = 0;
   const auto [end, error] = std::from_chars(increment.data(), increment.data() + increment.size(), number);
-  CONTACTNN_REQUIRE_AS(InvalidArgument, error == std::errc() && end == increment.data() + increment.size() && number >= 1,
-                       "--increment: expected a number from 1, 'last' or 'all', got " << quote_text(increment));
+  CONTACTNN_REQUIRE_AS(
+      InvalidArgument, error == std::errc() && end == increment.data() + increment.size() && number >= 1,
+      "--increment: expected a number from 1, 'last' or 'all', got " << quote_text(increment));
   return {io::increment_index(results, number)};
 }
 
 /// Where a scene's state comes from: the deck alone, or the deck moved to increments of a results file.
 struct SceneHistory {
-  std::string results;    ///< --results RUN.frd, empty for the deck's own state
-  std::string increment;  ///< --increment N|last|all
+  std::string results;       ///< --results RUN.frd, empty for the deck's own state
+  std::string increment;     ///< --increment N|last|all
   bool trust_nodes = false;  ///< --trust-results-nodes: the node block is not checked against the deck
 };
 
-/// Scene mode (SPEC 7, 9, 10): the pairs of one *CONTACT PAIR of a deck, labelled, as a RAW.csv with node ids;
-/// with --results, at one or every increment of a CalculiX run.
-int scene_mode(const std::string& deck, int pair, const contact::SearchOptions& options, const std::string& output,
-               const SceneHistory& history) {
+/// Scene mode (SPEC 7, 9, 10): the pairs of one *CONTACT PAIR of a deck, labelled, as a RAW.csv with node
+/// ids; with --results, at one or every increment of a CalculiX run.
+int scene_mode(const std::string& deck, int pair, const contact::SearchOptions& options,
+               const std::string& output, const SceneHistory& history) {
   const auto start = std::chrono::steady_clock::now();
   // 1. Read the deck (and the results file, whose node ids must be the deck's).
   mesh::ContactModel model = io::read_inp_deck(deck);
@@ -299,7 +310,8 @@ int scene_mode(const std::string& deck, int pair, const contact::SearchOptions& 
     for (auto name : kRawNormalColumns) header.emplace_back(name);
   }
   const auto names = coordinate_names(options.surface);
-  for (const char* name : {names[0].data(), names[1].data(), "status", "gap", "iterations"}) header.emplace_back(name);
+  for (const char* name : {names[0].data(), names[1].data(), "status", "gap", "iterations"})
+    header.emplace_back(name);
   const std::size_t status_column = header.size() - 3;
   if (surface_search) {
     for (const char* name : {"location", "px", "py", "pz", "face_type", "nodes"}) header.emplace_back(name);
@@ -328,7 +340,8 @@ int scene_mode(const std::string& deck, int pair, const contact::SearchOptions& 
         io::append_csv_row(text, row);
         continue;
       }
-      // The nearest-node search pairs every slave with a segment by its 4 corners (SPEC 7), whatever its type.
+      // The nearest-node search pairs every slave with a segment by its 4 corners (SPEC 7), whatever its
+      // type.
       const mesh::FaceNodes face = scene->master.face_nodes(p.segment);
       if (!surface_search || face.type == mesh::FaceType::kQuad4) {
         for (int n : p.nodes) row[c++] = std::to_string(scene->master.node_ids[static_cast<std::size_t>(n)]);
@@ -342,8 +355,8 @@ int scene_mode(const std::string& deck, int pair, const contact::SearchOptions& 
           }
         }
       } else {
-        // SPEC 9: a face that is not a quad4 has no SPEC 7 configuration; its own local coordinates ((xi, eta)
-        // of a quad8, (r, s) of a triangle, in the face's own node order) go in the coordinate columns.
+        // SPEC 9: a face that is not a quad4 has no SPEC 7 configuration; its own local coordinates ((xi,
+        // eta) of a quad8, (r, s) of a triangle, in the face's own node order) go in the coordinate columns.
         c += 4 + kRawPointColumns.size() + (gregory ? kRawNormalColumns.size() : 0);
       }
       for (std::string& field : label_fields(p.label)) row[c++] = std::move(field);
@@ -354,7 +367,8 @@ int scene_mode(const std::string& deck, int pair, const contact::SearchOptions& 
         row[c++] = std::string(mesh::to_string(face.type));
         std::string face_nodes;  // corners, then a quadratic face's mid-side nodes (SPEC 9)
         for (int n : face) {
-          face_nodes += (face_nodes.empty() ? "" : " ") + std::to_string(scene->master.node_ids[static_cast<std::size_t>(n)]);
+          face_nodes += (face_nodes.empty() ? "" : " ") +
+                        std::to_string(scene->master.node_ids[static_cast<std::size_t>(n)]);
         }
         row[c++] = std::move(face_nodes);
       }
@@ -384,8 +398,8 @@ int scene_mode(const std::string& deck, int pair, const contact::SearchOptions& 
           "does not find (no_segment); give --capture_distance larger than the deepest penetration\n",
           beyond.behind, scene->pair, capture);
     }
-    std::printf("  closest points       face %ld, edge %ld, vertex %ld%s\n", locations[0], locations[1], locations[2],
-                all ? " (every increment)" : "");
+    std::printf("  closest points       face %ld, edge %ld, vertex %ld%s\n", locations[0], locations[1],
+                locations[2], all ? " (every increment)" : "");
   } else {
     std::printf("  search               nearest_node\n");
   }
@@ -395,20 +409,22 @@ int scene_mode(const std::string& deck, int pair, const contact::SearchOptions& 
   if (results) {
     const io::FrdIncrement& last = results->increments[increments.back()];
     std::printf("  results              %s: %zu increment%s read (last: %d, step %d, time %.6g)\n",
-                history.results.c_str(), increments.size(), increments.size() == 1 ? "" : "s", last.number, last.step,
-                last.time);
+                history.results.c_str(), increments.size(), increments.size() == 1 ? "" : "s", last.number,
+                last.step, last.time);
   }
-  // A pair with nothing to search is valid input but almost certainly not what the user meant (a 2-D deck, shell
-  // or tetrahedral surfaces, a set that names no element): say so where a script will see it.
-  // (The surface search also has the master's other faces: triangles, wedge and quadratic faces.)
-  const std::size_t searched = surface_search ? static_cast<std::size_t>(scene->master.face_count())
-                                              : scene->master.segments.size();
+  // A pair with nothing to search is valid input but almost certainly not what the user meant (a 2-D deck,
+  // shell or tetrahedral surfaces, a set that names no element): say so where a script will see it. (The
+  // surface search also has the master's other faces: triangles, wedge and quadratic faces.)
+  const std::size_t searched =
+      surface_search ? static_cast<std::size_t>(scene->master.face_count()) : scene->master.segments.size();
   if (searched == 0 || scene->slave_ids.empty()) {
-    std::fprintf(stderr,
-                 "gen-configs: warning: contact pair %d of %s has %zu master segments and %zu slave nodes (faces "
-                 "skipped, master: %s; slave: %s); %s has no pair\n",
-                 scene->pair, deck.c_str(), scene->master.segments.size(), scene->slave_ids.size(),
-                 faces(scene->master.skipped_faces).c_str(), faces(scene->slaves.skipped_faces).c_str(), output.c_str());
+    std::fprintf(
+        stderr,
+        "gen-configs: warning: contact pair %d of %s has %zu master segments and %zu slave nodes (faces "
+        "skipped, master: %s; slave: %s); %s has no pair\n",
+        scene->pair, deck.c_str(), scene->master.segments.size(), scene->slave_ids.size(),
+        faces(scene->master.skipped_faces).c_str(), faces(scene->slaves.skipped_faces).c_str(),
+        output.c_str());
   }
   return 0;
 }
@@ -429,7 +445,8 @@ dataset::LabelledSet scene_domain(const std::string& deck, int pair, dataset::Sc
   search.projection = options.projection;
   const double offset = contact::largest_relative_offset(contact::search_scene(scene, search));
   if (1.25 * offset > domain.capture) {
-    std::fprintf(stderr, "gen-configs: capture %g -> %g of the shortest edge, to cover the deck's own slave nodes\n",
+    std::fprintf(stderr,
+                 "gen-configs: capture %g -> %g of the shortest edge, to cover the deck's own slave nodes\n",
                  domain.capture, 1.25 * offset);
     domain.capture = 1.25 * offset;
   }
@@ -463,8 +480,10 @@ int main(int argc, char** argv) {
   int threads = 0;
   bool quiet = false;
   auto& f = options.filters;
-  app.add_option("--surface", surface_name, "bilinear or gregory")->check(CLI::IsMember({"bilinear", "gregory"}));
-  app.add_option("--input", input, "label mode: RAW.csv of world configurations (SPEC 6)")->check(CLI::ExistingFile);
+  app.add_option("--surface", surface_name, "bilinear or gregory")
+      ->check(CLI::IsMember({"bilinear", "gregory"}));
+  app.add_option("--input", input, "label mode: RAW.csv of world configurations (SPEC 6)")
+      ->check(CLI::ExistingFile);
   auto* input_option = app.get_option("--input");
   auto* scene_option = app.add_option("--scene", scene, "scene mode: an Abaqus/CalculiX .inp deck (SPEC 7)")
                            ->check(CLI::ExistingFile);
@@ -476,31 +495,35 @@ int main(int argc, char** argv) {
       ->needs(scene_option)
       ->default_str("");
   std::string search_name = "surface";
-  app.add_option("--search", search_name,
-                 "scene mode: surface (the closest point of every master face within the capture distance, SPEC 9) "
-                 "or nearest_node (the paper's search, SPEC 7)")
+  app.add_option(
+         "--search", search_name,
+         "scene mode: surface (the closest point of every master face within the capture distance, SPEC 9) "
+         "or nearest_node (the paper's search, SPEC 7)")
       ->check(CLI::IsMember({"surface", "nearest_node"}))
       ->needs(scene_option)
       ->default_str("");
   contact::SearchOptions search;
-  app.add_option("--capture_distance", search.capture_distance,
-                 "surface search: faces within this distance of a slave node (world units; default: the largest "
-                 "master face size)")
+  app.add_option(
+         "--capture_distance", search.capture_distance,
+         "surface search: faces within this distance of a slave node (world units; default: the largest "
+         "master face size)")
       ->check(cli::kPositive)
       ->needs(scene_option);
   std::string narrow_name = "certified";
-  app.add_option("--narrow", narrow_name,
-                 "surface search: how each face's closest point is found: certified (one Newton run where a "
-                 "certificate proves it the face's nearest, the reference elsewhere) or reference (the grid of "
-                 "starts on every face, as before the certificate); the same answers")
+  app.add_option(
+         "--narrow", narrow_name,
+         "surface search: how each face's closest point is found: certified (one Newton run where a "
+         "certificate proves it the face's nearest, the reference elsewhere) or reference (the grid of "
+         "starts on every face, as before the certificate); the same answers")
       ->check(CLI::IsMember({"certified", "reference"}))
       ->needs(scene_option)
       ->default_str("");
   SceneHistory history;
-  auto* results_option = app.add_option("--results", history.results,
-                                        "scene mode: a CalculiX .frd; the scene at --increment of it (SPEC 10)")
-                             ->check(CLI::ExistingFile)
-                             ->needs(scene_option);
+  auto* results_option =
+      app.add_option("--results", history.results,
+                     "scene mode: a CalculiX .frd; the scene at --increment of it (SPEC 10)")
+          ->check(CLI::ExistingFile)
+          ->needs(scene_option);
   app.add_option("--increment", history.increment, "with --results: N (from 1), last or all (default last)")
       ->needs(results_option);
   app.add_flag(
@@ -508,37 +531,48 @@ int main(int argc, char** argv) {
          "with --results: take the .frd's node coordinates even where they are not the deck's (another mesh "
          "with the same node ids is refused otherwise)")
       ->needs(results_option);
-  app.add_option("--output", output, "dataset .h5 (enumeration), labels .csv (label mode) or pairs .csv (scene mode)")
+  app.add_option("--output", output,
+                 "dataset .h5 (enumeration), labels .csv (label mode) or pairs .csv (scene mode)")
       ->required();
-  app.add_option("--threads", threads, "OpenMP threads (0: OpenMP's default)")->transform(cli::integer_in(0, cli::kMaxThreads));
+  app.add_option("--threads", threads, "OpenMP threads (0: OpenMP's default)")
+      ->transform(cli::integer_in(0, cli::kMaxThreads));
   app.add_flag("--quiet", quiet, "no progress line");
-  app.add_option("--seed", options.seed, "seed of the Gregory node-normal sampling")->transform(cli::integer_in(0, cli::kMaxSeed));
-  app.add_option("--d_xy_points", options.d_xy_points, "grid points per axis, x and y of D")->transform(cli::integer_in(1, 400));
-  app.add_option("--c_xy_points", options.c_xy_points, "grid points per axis, x and y of C")->transform(cli::integer_in(1, 400));
-  app.add_option("--c_z_points", options.c_z_points, "grid points, z of C")->transform(cli::integer_in(1, 400));
-  app.add_option("--s_xy_points", options.s_xy_points, "grid points per axis, x and y of S")->transform(cli::integer_in(1, 400));
-  app.add_option("--s_z_points", options.s_z_points, "grid points, z of S")->transform(cli::integer_in(1, 400));
+  app.add_option("--seed", options.seed, "seed of the Gregory node-normal sampling")
+      ->transform(cli::integer_in(0, cli::kMaxSeed));
+  app.add_option("--d_xy_points", options.d_xy_points, "grid points per axis, x and y of D")
+      ->transform(cli::integer_in(1, 400));
+  app.add_option("--c_xy_points", options.c_xy_points, "grid points per axis, x and y of C")
+      ->transform(cli::integer_in(1, 400));
+  app.add_option("--c_z_points", options.c_z_points, "grid points, z of C")
+      ->transform(cli::integer_in(1, 400));
+  app.add_option("--s_xy_points", options.s_xy_points, "grid points per axis, x and y of S")
+      ->transform(cli::integer_in(1, 400));
+  app.add_option("--s_z_points", options.s_z_points, "grid points, z of S")
+      ->transform(cli::integer_in(1, 400));
   app.add_option("--normal_sets", options.normal_sets, "Gregory: node-normal sets per configuration")
       ->transform(cli::integer_in(1, 1000));
   dataset::SceneDomainOptions scene_options;
   app.add_option("--deformation", scene_options.deformation,
                  "scene domain: node displacement, fraction of each segment's shortest edge")
       ->check(cli::real_in(0.0, 0.49));
-  app.add_option("--capture", scene_options.capture,
-                 "scene domain: slave offset along the normal, fraction of the shortest edge, either side (at "
-                 "least 1.25 x the deck's own largest)")
+  app.add_option(
+         "--capture", scene_options.capture,
+         "scene domain: slave offset along the normal, fraction of the shortest edge, either side (at "
+         "least 1.25 x the deck's own largest)")
       ->check(cli::kPositive);
-  app.add_option("--boundary_fraction", scene_options.boundary_fraction,
-                 "scene domain: fraction of slave foot points on the segment's nodes and edges (matching meshes)")
+  app.add_option(
+         "--boundary_fraction", scene_options.boundary_fraction,
+         "scene domain: fraction of slave foot points on the segment's nodes and edges (matching meshes)")
       ->check(cli::real_in(0.0, 1.0));
   app.add_option("--normal_tilt_tangent", scene_options.normal_tilt_tangent,
                  "scene domain, Gregory: node normals tilted from the scene's by up to this tangent")
       ->check(cli::kNonNegative);
   std::string sampling = "grid";
   std::int64_t count = 0;
-  app.add_option("--sampling", sampling,
-                 "grid: the paper's enumeration on the grid below; random: --count configurations drawn uniformly "
-                 "from the same domain (stream --seed)")
+  app.add_option(
+         "--sampling", sampling,
+         "grid: the paper's enumeration on the grid below; random: --count configurations drawn uniformly "
+         "from the same domain (stream --seed)")
       ->check(CLI::IsMember({"grid", "random"}));
   app.add_option("--count", count, "random sampling: configurations to draw (0: none; required with random)")
       ->transform(cli::integer_in(0, 1'000'000'000));
@@ -550,9 +584,12 @@ int main(int argc, char** argv) {
   app.add_option("--nearest_node_a", f.nearest_node_a, "A is the master node nearest S");
   app.add_option("--segment_test_a", f.segment_test_a, "S passes the segment test (Eqs 3-6) at A");
   app.add_option("--convex", f.convex, "the segment is strictly convex");
-  app.add_option("--min_angle_degrees", f.min_angle_degrees, "smallest interior angle")->check(CLI::Range(0.0, 180.0));
-  app.add_option("--max_angle_degrees", f.max_angle_degrees, "largest interior angle")->check(CLI::Range(0.0, 180.0));
-  app.add_option("--max_normal_tilt_tangent", f.max_normal_tilt_tangent, "Gregory: tangent of the largest normal tilt")
+  app.add_option("--min_angle_degrees", f.min_angle_degrees, "smallest interior angle")
+      ->check(CLI::Range(0.0, 180.0));
+  app.add_option("--max_angle_degrees", f.max_angle_degrees, "largest interior angle")
+      ->check(CLI::Range(0.0, 180.0));
+  app.add_option("--max_normal_tilt_tangent", f.max_normal_tilt_tangent,
+                 "Gregory: tangent of the largest normal tilt")
       ->check(cli::kPositive);
   app.add_option("--max_iterations", options.projection.max_iterations, "Newton iterations per start")
       ->transform(cli::integer_in(1, 10000));
@@ -589,7 +626,8 @@ int main(int argc, char** argv) {
     //     random: the scene's domain as a dataset, below).
     search.surface = options.surface;
     search.projection = options.projection;
-    search.narrow = narrow_name == "reference" ? contact::NarrowPhase::kReference : contact::NarrowPhase::kCertified;
+    search.narrow =
+        narrow_name == "reference" ? contact::NarrowPhase::kReference : contact::NarrowPhase::kCertified;
     search.search = search_name == "nearest_node" ? contact::GlobalSearchKind::kNearestNode
                                                   : contact::GlobalSearchKind::kSurface;
     // --increment '' is no increment (it was taken as `last`): refused like any other bad value.

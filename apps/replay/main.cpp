@@ -30,8 +30,9 @@
 
 int main(int argc, char** argv) {
   using namespace contactnn;
-  CLI::App app{"replay: a CalculiX history replayed increment by increment: surface search fresh and tracked, "
-               "local search, warm starts, CalculiX's contact output"};
+  CLI::App app{
+      "replay: a CalculiX history replayed increment by increment: surface search fresh and tracked, "
+      "local search, warm starts, CalculiX's contact output"};
   cli::add_exit_code_footer(app);
   cli::add_config_option(app, "replay");
 
@@ -40,31 +41,38 @@ int main(int argc, char** argv) {
   std::string deck, results_path, report, surface_name = "bilinear", methods, warm_steps, weights;
   bool quiet = false;
   app.add_option("--scene", deck, "the deck (.inp, SPEC 7)")->required()->check(CLI::ExistingFile);
-  app.add_option("--pair", options.pair, "the *CONTACT PAIR data line, from 0")->transform(cli::integer_in(0, 1000000));
+  app.add_option("--pair", options.pair, "the *CONTACT PAIR data line, from 0")
+      ->transform(cli::integer_in(0, 1000000));
   app.add_option("--results", results_path, "CalculiX's .frd of a run of the deck (SPEC 10)")
       ->required()
       ->check(CLI::ExistingFile);
   app.add_option("--report", report, "folder for report.md, increments.csv and the plots")->required();
-  app.add_option("--surface", surface_name, "bilinear or gregory")->check(CLI::IsMember({"bilinear", "gregory"}));
-  app.add_option("--methods", methods, "cold local-search methods, comma-separated (default newton:3,newton:5,"
-                                       "closed_form,closed_form+newton:2)");
-  app.add_option("--warm_steps", warm_steps, "K of start+newton:K from the previous increment, comma-separated "
-                                             "(default 0,1,2,3)");
+  app.add_option("--surface", surface_name, "bilinear or gregory")
+      ->check(CLI::IsMember({"bilinear", "gregory"}));
+  app.add_option("--methods", methods,
+                 "cold local-search methods, comma-separated (default newton:3,newton:5,"
+                 "closed_form,closed_form+newton:2)");
+  app.add_option("--warm_steps", warm_steps,
+                 "K of start+newton:K from the previous increment, comma-separated "
+                 "(default 0,1,2,3)");
   app.add_option("--weights", weights, "a network file, for network methods")->check(CLI::ExistingFile);
   app.add_option("--capture_distance", options.search.capture_distance,
                  "surface search: faces within this distance (default: the largest master face size)")
       ->check(cli::kPositive);
   std::string narrow_name = "certified";
-  app.add_option("--narrow", narrow_name,
-                 "surface search: certified (one Newton run where a certificate proves it the face's nearest, the "
-                 "reference elsewhere; the reference search is also run beside it) or reference (the grid of "
-                 "starts on every face, as before the certificate)")
+  app.add_option(
+         "--narrow", narrow_name,
+         "surface search: certified (one Newton run where a certificate proves it the face's nearest, the "
+         "reference elsewhere; the reference search is also run beside it) or reference (the grid of "
+         "starts on every face, as before the certificate)")
       ->check(CLI::IsMember({"certified", "reference"}));
   app.add_option("--margin", options.tracking.margin_relative,
                  "tracking: list margin in units of the capture distance")
       ->check(cli::real_in(0.0, 100.0));
-  app.add_option("--repeats", options.repeats, "timings: the fastest of this many runs")->transform(cli::integer_in(1, 100));
-  app.add_option("--threads", options.threads, "OpenMP threads of every phase")->transform(cli::integer_in(1, cli::kMaxThreads));
+  app.add_option("--repeats", options.repeats, "timings: the fastest of this many runs")
+      ->transform(cli::integer_in(1, 100));
+  app.add_option("--threads", options.threads, "OpenMP threads of every phase")
+      ->transform(cli::integer_in(1, cli::kMaxThreads));
   bool trust_nodes = false;
   app.add_flag(
       "--trust-results-nodes", trust_nodes,
@@ -85,7 +93,8 @@ int main(int argc, char** argv) {
     io::AtomicDirectory report_directory(report, report_files, "--report");
     // 2. Settings: surface, methods, the network.
     options.search.surface = surface_from_string(surface_name);
-    options.search.narrow = narrow_name == "reference" ? contact::NarrowPhase::kReference : contact::NarrowPhase::kCertified;
+    options.search.narrow =
+        narrow_name == "reference" ? contact::NarrowPhase::kReference : contact::NarrowPhase::kCertified;
     const auto split = [](const std::string& text) {
       std::vector<std::string> parts;
       std::stringstream in(text);

@@ -124,7 +124,6 @@ void write_plan_network(const fs::path& path, const study::SceneNetwork& n, cons
   io::write_network(path, *n.network, n.domain, p);
 }
 
-
 /// --face's --sizes: comma-separated sizes, each one hidden layer (48) or two (48x48).
 std::vector<std::vector<int>> parse_face_sizes(const std::string& text) {
   std::vector<std::vector<int>> sizes;
@@ -138,16 +137,17 @@ std::vector<std::vector<int>> parse_face_sizes(const std::string& text) {
       const std::vector<int> one = parse_sizes(layer);
       layers.insert(layers.end(), one.begin(), one.end());
     }
-    CONTACTNN_REQUIRE_AS(InvalidArgument, layers.size() == 1 || layers.size() == 2,
-                         "--sizes with --face: each size is one layer (48) or two (48x48), got " << quote_text(text));
+    CONTACTNN_REQUIRE_AS(
+        InvalidArgument, layers.size() == 1 || layers.size() == 2,
+        "--sizes with --face: each size is one layer (48) or two (48x48), got " << quote_text(text));
     sizes.push_back(layers);
   }
   CONTACTNN_REQUIRE_AS(InvalidArgument, !sizes.empty(), "--sizes: no size in " << quote_text(text));
   return sizes;
 }
 
-/// scene-study --face: the study of the pair's quadratic faces (lib/study/face_study.hpp). Writes report.md and,
-/// when the chosen method uses one, face-network.h5 (io::write_face_network).
+/// scene-study --face: the study of the pair's quadratic faces (lib/study/face_study.hpp). Writes report.md
+/// and, when the chosen method uses one, face-network.h5 (io::write_face_network).
 int run_face_mode(const std::string& scene_path, int pair, search::FaceKind kind,
                   const study::FaceStudyOptions& f, const std::string& output,
                   const std::vector<io::NamedPath>& inputs, bool check_only, bool quiet,
@@ -164,28 +164,34 @@ int run_face_mode(const std::string& scene_path, int pair, search::FaceKind kind
     if (!quiet) std::printf("scene-study: general %s domain\n", std::string(search::to_string(kind)).c_str());
     const study::FaceStudy st = study::run_general_face_study(kind, f, general_curvature, say);
     std::string report = study::face_study_markdown(st, "", 0) + "\nCommand: `" + command_line + "`\n";
-    const auto best = std::min_element(st.networks.begin(), st.networks.end(), [](const auto& a, const auto& b) {
-      return a.heldout_error < b.heldout_error;
-    });
+    const auto best =
+        std::min_element(st.networks.begin(), st.networks.end(),
+                         [](const auto& a, const auto& b) { return a.heldout_error < b.heldout_error; });
     io::make_output_directory("--output", dir);
-    io::write_face_network(dir / "face-network.h5", kind, *best->network, best->feature_min, best->feature_max,
-                           "scene-study --face " + std::string(search::to_string(kind)) + " --general --curvature " +
-                               std::to_string(general_curvature) + ": " + best->name + ", " +
-                               std::to_string(best->epochs) + " epochs, held-out mean |error| " +
-                               std::to_string(best->heldout_error));
+    io::write_face_network(
+        dir / "face-network.h5", kind, *best->network, best->feature_min, best->feature_max,
+        "scene-study --face " + std::string(search::to_string(kind)) + " --general --curvature " +
+            std::to_string(general_curvature) + ": " + best->name + ", " + std::to_string(best->epochs) +
+            " epochs, held-out mean |error| " + std::to_string(best->heldout_error));
     io::write_text_atomically(dir / "report.md", report);
     std::printf("scene-study: general %s network %s, held-out mean |error| %.4g; %.1f s\n",
-                std::string(search::to_string(kind)).c_str(), best->name.c_str(), best->heldout_error, st.seconds);
+                std::string(search::to_string(kind)).c_str(), best->name.c_str(), best->heldout_error,
+                st.seconds);
     return 0;
   }
-  if (!quiet) std::printf("scene-study: %s pair %d, %s faces\n", scene_path.c_str(), pair, std::string(search::to_string(kind)).c_str());
+  if (!quiet)
+    std::printf("scene-study: %s pair %d, %s faces\n", scene_path.c_str(), pair,
+                std::string(search::to_string(kind)).c_str());
   const mesh::ContactModel model = io::read_inp_deck(scene_path);
   (void)cli::warn_unapplied_geometry("scene-study", scene_path);
   const contact::Scene scene = contact::make_scene(model, pair);
   const study::FacePairs probe = study::face_pairs(scene, kind);
   if (probe.faces == 0 || probe.pairs.size() == 0) {
-    std::fprintf(stderr, "scene-study: pair %d of %s has %d %s faces and %zu slave nodes inside them: nothing to study\n",
-                 pair, scene_path.c_str(), probe.faces, std::string(search::to_string(kind)).c_str(), probe.pairs.size());
+    std::fprintf(
+        stderr,
+        "scene-study: pair %d of %s has %d %s faces and %zu slave nodes inside them: nothing to study\n",
+        pair, scene_path.c_str(), probe.faces, std::string(search::to_string(kind)).c_str(),
+        probe.pairs.size());
     return 1;
   }
   const study::FaceStudy st = study::run_face_study(scene, kind, f, say);
@@ -197,20 +203,23 @@ int run_face_mode(const std::string& scene_path, int pair, search::FaceKind kind
   if (network >= 0) {
     const study::FaceNetworkResult& n = st.networks[static_cast<std::size_t>(network)];
     io::write_face_network(network_file, kind, *n.network, n.feature_min, n.feature_max,
-                           "scene-study --face " + std::string(search::to_string(kind)) + ": pair " + std::to_string(pair) +
-                               " of " + scene_path + ", " + n.name + ", " + std::to_string(n.epochs) + " epochs");
+                           "scene-study --face " + std::string(search::to_string(kind)) + ": pair " +
+                               std::to_string(pair) + " of " + scene_path + ", " + n.name + ", " +
+                               std::to_string(n.epochs) + " epochs");
   } else {
     fs::remove(network_file);  // an earlier run's: this choice uses none
   }
   io::write_text_atomically(dir / "report.md", report);
   if (st.chosen >= 0) {
     const study::FaceMethodResult& c = st.methods[static_cast<std::size_t>(st.chosen)];
-    std::printf("scene-study: %s faces: %s, held-out effective mean |error| %.4g (target %g), pairs %.4g, %.1f ns/query; %.1f s\n",
-                std::string(search::to_string(kind)).c_str(), c.name.c_str(), c.heldout_effective, f.target, c.pairs_mean,
-                c.batched_ns, st.seconds);
+    std::printf(
+        "scene-study: %s faces: %s, held-out effective mean |error| %.4g (target %g), pairs %.4g, %.1f "
+        "ns/query; %.1f s\n",
+        std::string(search::to_string(kind)).c_str(), c.name.c_str(), c.heldout_effective, f.target,
+        c.pairs_mean, c.batched_ns, st.seconds);
   } else {
-    std::printf("scene-study: %s faces: no method reaches the target %g; %.1f s\n", std::string(search::to_string(kind)).c_str(),
-                f.target, st.seconds);
+    std::printf("scene-study: %s faces: no method reaches the target %g; %.1f s\n",
+                std::string(search::to_string(kind)).c_str(), f.target, st.seconds);
   }
   return 0;
 }
@@ -237,16 +246,19 @@ int main(int argc, char** argv) {
       ->transform(cli::integer_in(0, 1000000));
   app.add_option("--surface", surface_name, "bilinear or gregory (required unless --face)")
       ->check(CLI::IsMember({"bilinear", "gregory"}));
-  app.add_option("--face", face_name,
-                 "tri6 or quad8: study the pair's quadratic master faces of that type instead (FaceSearch's "
-                 "methods, face networks; lib/study/face_study.hpp); --sizes then takes layers as 48 or 48x48")
+  app.add_option(
+         "--face", face_name,
+         "tri6 or quad8: study the pair's quadratic master faces of that type instead (FaceSearch's "
+         "methods, face networks; lib/study/face_study.hpp); --sizes then takes layers as 48 or 48x48")
       ->check(CLI::IsMember({"tri6", "quad8"}));
   bool general = false;
   double curvature = 0.1;
-  app.add_flag("--general", general,
-               "with --face: no deck; the paper-like general domain of the face type (how data/weights' face networks "
-               "are made)");
-  app.add_option("--curvature", curvature, "with --general: mid-side nodes off their chords' midpoints, x the edge")
+  app.add_flag(
+      "--general", general,
+      "with --face: no deck; the paper-like general domain of the face type (how data/weights' face networks "
+      "are made)");
+  app.add_option("--curvature", curvature,
+                 "with --general: mid-side nodes off their chords' midpoints, x the edge")
       ->check(cli::real_in(0.0, 0.49));
   app.add_option("--output", output, "directory of the plan, the network, the pairs and the report")
       ->required();
@@ -257,9 +269,10 @@ int main(int argc, char** argv) {
                  "the states the scene's domain is drawn from: rest (the deck), history (the deck and every "
                  "increment of --results) or auto (history with --results, rest without)")
       ->check(CLI::IsMember({"auto", "rest", "history"}));
-  app.add_option("--segment-test", o.segment_test,
-                 "scene domain: slave nodes pass the segment test of Eqs 3-6 (on), or not necessarily (off: as the "
-                 "surface search pairs them); auto: off with --results, on without")
+  app.add_option(
+         "--segment-test", o.segment_test,
+         "scene domain: slave nodes pass the segment test of Eqs 3-6 (on), or not necessarily (off: as the "
+         "surface search pairs them); auto: off with --results, on without")
       ->check(CLI::IsMember({"auto", "on", "off"}));
   app.add_option("--count", o.count,
                  "configurations of the scene's domain to train from (held out: count / 4)")
@@ -351,13 +364,16 @@ int main(int argc, char** argv) {
       if (!o.methods.empty()) f.methods = o.methods;
       if (app.count("--network-methods") > 0) f.network_methods = o.network_methods;
       if (!sizes.empty()) f.sizes = parse_face_sizes(sizes);
-      CONTACTNN_REQUIRE_AS(InvalidArgument, general != !scene_path.empty(),
-                           "--face: give --scene DECK (the deck's faces) or --general (the paper-like domain), not both");
+      CONTACTNN_REQUIRE_AS(
+          InvalidArgument, general != !scene_path.empty(),
+          "--face: give --scene DECK (the deck's faces) or --general (the paper-like domain), not both");
       return run_face_mode(scene_path, pair, search::face_kind_from_string(face_name), f, output, inputs,
                            check_only, quiet, join_command_line(argc, argv), general ? curvature : -1.0);
     }
-    CONTACTNN_REQUIRE_AS(InvalidArgument, !surface_name.empty(), "--surface (bilinear or gregory) or --face is required");
-    CONTACTNN_REQUIRE_AS(InvalidArgument, !scene_path.empty() && !general, "--scene is required (--general goes with --face)");
+    CONTACTNN_REQUIRE_AS(InvalidArgument, !surface_name.empty(),
+                         "--surface (bilinear or gregory) or --face is required");
+    CONTACTNN_REQUIRE_AS(InvalidArgument, !scene_path.empty() && !general,
+                         "--scene is required (--general goes with --face)");
     const SurfaceKind surface = surface_from_string(surface_name);
     if (!sizes.empty()) o.sizes = parse_sizes(sizes);
     o.train_networks = study::train_networks_from_string(train_networks);

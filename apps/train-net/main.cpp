@@ -8,9 +8,10 @@
 //   Checkpoints are written every N epochs and --resume continues one bit-identically.
 //
 // Sample runs:
-//   train-net --config configs/bilinear-paper.toml --data data/bilinear.h5 --output data/weights/bilinear-8.h5
-//   train-net --config configs/bilinear-paper.toml --data data/bilinear.h5 --output /tmp/b.h5 --hidden 32,16
-//   train-net --config configs/bilinear-paper.toml --data data/bilinear.h5 --output /tmp/b.h5
+//   train-net --config configs/bilinear-paper.toml --data data/bilinear.h5 --output
+//   data/weights/bilinear-8.h5 train-net --config configs/bilinear-paper.toml --data data/bilinear.h5
+//   --output /tmp/b.h5 --hidden 32,16 train-net --config configs/bilinear-paper.toml --data data/bilinear.h5
+//   --output /tmp/b.h5
 //             --checkpoint-every 500 --resume --export-header /tmp/bilinear_8.h   (one line)
 //
 // Writes:
@@ -49,16 +50,17 @@ using namespace contactnn;
 using Clock = std::chrono::steady_clock;
 using mlp::MatrixRM;
 
-/// What the app decides beyond mlp::TrainOptions (every default here is documented in --help and docs/tools.md).
+/// What the app decides beyond mlp::TrainOptions (every default here is documented in --help and
+/// docs/tools.md).
 struct NetSettings {
-  std::string hidden = "8";          ///< hidden layer sizes, comma-separated
-  double u0 = 2.0;                   ///< U0 of Eq 12
-  std::string precision = "float";   ///< float or double
-  std::size_t train_count = 1000;    ///< training patterns drawn from the ok rows
-  double validation_fraction = 0.2;  ///< validation patterns = this * train_count, disjoint from training
-  double target_low = 0.1;           ///< sigmoid value of the domain's lower end
-  double target_high = 0.9;          ///< sigmoid value of the domain's upper end
-  double input_quantile = 0.0;       ///< inputs' q .. 1-q order statistics map to [-1, 1] (0: min .. max)
+  std::string hidden = "8";              ///< hidden layer sizes, comma-separated
+  double u0 = 2.0;                       ///< U0 of Eq 12
+  std::string precision = "float";       ///< float or double
+  std::size_t train_count = 1000;        ///< training patterns drawn from the ok rows
+  double validation_fraction = 0.2;      ///< validation patterns = this * train_count, disjoint from training
+  double target_low = 0.1;               ///< sigmoid value of the domain's lower end
+  double target_high = 0.9;              ///< sigmoid value of the domain's upper end
+  double input_quantile = 0.0;           ///< inputs' q .. 1-q order statistics map to [-1, 1] (0: min .. max)
   std::string input_features = "paper";  ///< the input map: paper (SPEC 4 as is) or affine
 };
 
@@ -74,8 +76,9 @@ std::vector<int> parse_hidden(const std::string& text) {
     } catch (const std::exception&) {
       used = 0;
     }
-    CONTACTNN_REQUIRE_AS(InvalidArgument, used == item.size() && n >= 1 && n <= 4096,
-                         "--hidden: expected comma-separated layer sizes in 1..4096, got " << io::quote_text(text));
+    CONTACTNN_REQUIRE_AS(
+        InvalidArgument, used == item.size() && n >= 1 && n <= 4096,
+        "--hidden: expected comma-separated layer sizes in 1..4096, got " << io::quote_text(text));
     sizes.push_back(n);
   }
   CONTACTNN_REQUIRE_AS(InvalidArgument, !sizes.empty(), "--hidden: at least one hidden layer size is needed");
@@ -106,7 +109,8 @@ void check_outputs(const CLI::App& app, const std::string& data_path, const std:
   const bool in_place = io::written_in_place(output);
   CONTACTNN_REQUIRE_AS(InvalidArgument, !(checkpoints && in_place),
                        "--checkpoint-every and --resume need --output to name a file: '"
-                           << output.string() << "' is not a regular file (the checkpoint is OUTPUT.checkpoint.h5)");
+                           << output.string()
+                           << "' is not a regular file (the checkpoint is OUTPUT.checkpoint.h5)");
   io::require_outputs(
       {{"--output", output},
        {"the checkpoint", checkpoints ? checkpoint_path : std::filesystem::path()},
@@ -116,9 +120,9 @@ void check_outputs(const CLI::App& app, const std::string& data_path, const std:
 }
 
 template <class Real>
-int train(const CLI::App& app, const NetSettings& net_settings, mlp::TrainOptions options, const std::string& data_path,
-          const std::filesystem::path& output, int checkpoint_every, bool resume, const std::string& header_path,
-          bool quiet, const std::string& config_toml) {
+int train(const CLI::App& app, const NetSettings& net_settings, mlp::TrainOptions options,
+          const std::string& data_path, const std::filesystem::path& output, int checkpoint_every,
+          bool resume, const std::string& header_path, bool quiet, const std::string& config_toml) {
   // 3. Outputs checked now, not after the training; then the data: the dataset, its rows with status ok, the
   //    training and validation draw.
   std::filesystem::path checkpoint_path = output;
@@ -128,21 +132,25 @@ int train(const CLI::App& app, const NetSettings& net_settings, mlp::TrainOption
   const std::string checksum = io::file_checksum(data_path);
   std::vector<std::uint32_t> ok_rows;
   for (Eigen::Index r = 0; r < set.size(); ++r) {
-    if (set.status[static_cast<std::size_t>(r)] == Status::kOk) ok_rows.push_back(static_cast<std::uint32_t>(r));
+    if (set.status[static_cast<std::size_t>(r)] == Status::kOk)
+      ok_rows.push_back(static_cast<std::uint32_t>(r));
   }
-  const auto validation_count =
-      static_cast<std::size_t>(std::llround(net_settings.validation_fraction * static_cast<double>(net_settings.train_count)));
+  const auto validation_count = static_cast<std::size_t>(
+      std::llround(net_settings.validation_fraction * static_cast<double>(net_settings.train_count)));
   CONTACTNN_REQUIRE_AS(InvalidArgument, net_settings.train_count + validation_count <= ok_rows.size(),
                        "--train_count " << net_settings.train_count << " and --validation_fraction "
                                         << net_settings.validation_fraction << " need "
-                                        << net_settings.train_count + validation_count << " rows with status ok; '"
-                                        << data_path << "' has " << ok_rows.size());
-  const mlp::PatternSelection selection = mlp::select_patterns(ok_rows, net_settings.train_count, validation_count,
-                                                               mlp::Rng::derive_seed(options.seed, 1));
+                                        << net_settings.train_count + validation_count
+                                        << " rows with status ok; '" << data_path << "' has "
+                                        << ok_rows.size());
+  const mlp::PatternSelection selection = mlp::select_patterns(
+      ok_rows, net_settings.train_count, validation_count, mlp::Rng::derive_seed(options.seed, 1));
   if (validation_count == 0 && options.patience > 0) {
-    std::fprintf(stderr, "warning: no validation patterns (--validation_fraction %g x --train_count %zu rounds to 0): "
-                         "--patience has nothing to act on\n",
-                 net_settings.validation_fraction, net_settings.train_count);
+    std::fprintf(
+        stderr,
+        "warning: no validation patterns (--validation_fraction %g x --train_count %zu rounds to 0): "
+        "--patience has nothing to act on\n",
+        net_settings.validation_fraction, net_settings.train_count);
   }
   const int n_features = feature_count(set.surface);
   // The network's inputs: the features through the chosen input map (core/input_features.hpp).
@@ -159,8 +167,8 @@ int train(const CLI::App& app, const NetSettings& net_settings, mlp::TrainOption
   for (int n : parse_hidden(net_settings.hidden)) sizes.push_back(n);
   sizes.push_back(2);
   const ParamDomain domain_range = param_domain(set.surface);
-  mlp::Scaling scaling = mlp::Scaling::from_inputs(train_raw, 2, domain_range.lo, domain_range.hi,
-                                                       net_settings.input_quantile);
+  mlp::Scaling scaling =
+      mlp::Scaling::from_inputs(train_raw, 2, domain_range.lo, domain_range.hi, net_settings.input_quantile);
   scaling.input_features = input_map;
   scaling.target_low = net_settings.target_low;
   scaling.target_high = net_settings.target_high;
@@ -171,8 +179,10 @@ int train(const CLI::App& app, const NetSettings& net_settings, mlp::TrainOption
     x.resize(static_cast<Eigen::Index>(rows.size()), n_features);
     t.resize(static_cast<Eigen::Index>(rows.size()), 2);
     for (Eigen::Index r = 0; r < x.rows(); ++r) {
-      for (int i = 0; i < n_features; ++i) x(r, i) = static_cast<Real>(scaling.scale_input(i, inputs(rows[r], i)));
-      for (int k = 0; k < 2; ++k) t(r, k) = static_cast<Real>(scaling.scale_target(k, set.labels(rows[r], k)));
+      for (int i = 0; i < n_features; ++i)
+        x(r, i) = static_cast<Real>(scaling.scale_input(i, inputs(rows[r], i)));
+      for (int k = 0; k < 2; ++k)
+        t(r, k) = static_cast<Real>(scaling.scale_target(k, set.labels(rows[r], k)));
     }
   };
   MatrixRM<Real> train_x, train_t, val_x, val_t;
@@ -194,26 +204,31 @@ int train(const CLI::App& app, const NetSettings& net_settings, mlp::TrainOption
   mlp::Trainer<Real> trainer(network, options, train_x, train_t, val_x, val_t);
   if (resume) {
     const io::TrainedNetwork<Real> saved = io::read_network<Real>(checkpoint_path);
-    CONTACTNN_REQUIRE_AS(FormatError, saved.network.layer_sizes() == sizes && saved.network.u0() == network.u0(),
+    CONTACTNN_REQUIRE_AS(FormatError,
+                         saved.network.layer_sizes() == sizes && saved.network.u0() == network.u0(),
                          "checkpoint '" << checkpoint_path.string()
                                         << "' holds another architecture or U0 than this run asks for");
-    CONTACTNN_REQUIRE_AS(FormatError,
-                         saved.provenance.seed == options.seed && saved.provenance.dataset_checksum == checksum,
-                         "checkpoint '" << checkpoint_path.string() << "' was written for seed "
-                                        << saved.provenance.seed << " and dataset " << saved.provenance.dataset_checksum
-                                        << ", this run has seed " << options.seed << " and dataset " << checksum);
+    CONTACTNN_REQUIRE_AS(
+        FormatError, saved.provenance.seed == options.seed && saved.provenance.dataset_checksum == checksum,
+        "checkpoint '" << checkpoint_path.string() << "' was written for seed " << saved.provenance.seed
+                       << " and dataset " << saved.provenance.dataset_checksum << ", this run has seed "
+                       << options.seed << " and dataset " << checksum);
     // Everything else that shapes the run (scaling, pattern counts, learning rate, mode...) must match too;
     // only the number of epochs may grow. Compared as values, so a checkpoint whose config an earlier
     // version spelled differently (xy_limit=2.0 for 2) still resumes.
-    const std::string differences = cli::config_differences(saved.provenance.config_toml, config_toml, {"epochs"});
+    const std::string differences =
+        cli::config_differences(saved.provenance.config_toml, config_toml, {"epochs"});
     CONTACTNN_REQUIRE_AS(FormatError, differences.empty(),
-                         "checkpoint '" << checkpoint_path.string()
-                                        << "' was written with another configuration; only epochs may change on "
-                                           "--resume.\n(checkpoint vs this run)\n"
-                                        << differences.substr(0, differences.size() - 1));
+                         "checkpoint '"
+                             << checkpoint_path.string()
+                             << "' was written with another configuration; only epochs may change on "
+                                "--resume.\n(checkpoint vs this run)\n"
+                             << differences.substr(0, differences.size() - 1));
     network.parameters() = saved.network.parameters();
     trainer.restore(io::read_training_state<Real>(checkpoint_path, network));
-    if (!quiet) std::fprintf(stderr, "resuming from %s at epoch %d\n", checkpoint_path.string().c_str(), trainer.state().epoch);
+    if (!quiet)
+      std::fprintf(stderr, "resuming from %s at epoch %d\n", checkpoint_path.string().c_str(),
+                   trainer.state().epoch);
   }
 
   // 6. Epochs: progress line, checkpoints.
@@ -260,16 +275,18 @@ int train(const CLI::App& app, const NetSettings& net_settings, mlp::TrainOption
   provenance.epochs_run = state.epoch;
   provenance.best_epoch = options.restore_best && val_x.rows() > 0 ? state.best_epoch : 0;
   provenance.training_loss = state.training_loss;
-  provenance.validation_loss = val_x.rows() > 0 && options.restore_best ? state.best_validation_loss : state.validation_loss;
+  provenance.validation_loss =
+      val_x.rows() > 0 && options.restore_best ? state.best_validation_loss : state.validation_loss;
   const auto network_file = io::write_network_uncommitted(output, network, domain, provenance);
   const auto config_file = cli::write_effective_config(app, "train-net", output);
   std::unique_ptr<io::AtomicOutput> header_file;
   if (!header_path.empty()) {
     search::CHeaderOptions h;
     h.prefix = c_prefix(header_path);
-    h.description = "network " + output.filename().string() + ", dataset " + data_path + " (" + checksum + "), seed " +
-                    std::to_string(options.seed);
-    header_file = io::write_text_uncommitted(header_path, search::export_c_header(search::NetworkModel(network, domain), h));
+    h.description = "network " + output.filename().string() + ", dataset " + data_path + " (" + checksum +
+                    "), seed " + std::to_string(options.seed);
+    header_file = io::write_text_uncommitted(
+        header_path, search::export_c_header(search::NetworkModel(network, domain), h));
   }
   io::commit_together({network_file.get(), config_file.get(), header_file.get()});
 
@@ -292,7 +309,8 @@ int train(const CLI::App& app, const NetSettings& net_settings, mlp::TrainOption
   // The training error is the last epoch's; the validation error the kept parameters' (the best epoch's with
   // restore_best), so each is labelled.
   if (selection.validation.empty()) {
-    std::printf("  mean E_p         training %.4e (last epoch), no validation set\n", provenance.training_loss);
+    std::printf("  mean E_p         training %.4e (last epoch), no validation set\n",
+                provenance.training_loss);
   } else {
     std::printf("  mean E_p         training %.4e (last epoch), validation %.4e (epoch %lld)\n",
                 provenance.training_loss, provenance.validation_loss,
@@ -300,7 +318,8 @@ int train(const CLI::App& app, const NetSettings& net_settings, mlp::TrainOption
   }
   std::printf("  all ok rows      mean |%s error| %.5f, mean |%s error| %.5f  (%zu rows)\n",
               std::string(names[0]).c_str(), abs_error[0] / static_cast<double>(ok_rows.size()),
-              std::string(names[1]).c_str(), abs_error[1] / static_cast<double>(ok_rows.size()), ok_rows.size());
+              std::string(names[1]).c_str(), abs_error[1] / static_cast<double>(ok_rows.size()),
+              ok_rows.size());
   std::printf("  written          %s\n", output.string().c_str());
   return 0;
 }
@@ -323,37 +342,48 @@ int main(int argc, char** argv) {
   app.add_option("--output", output, "network file (.h5) to write")->required();
   app.add_option("--hidden", net.hidden, "hidden layer sizes, comma-separated (8 or 32,16)");
   app.add_option("--u0", net.u0, "U0 of the sigmoid O = 1/(1+exp(-2U/U0))")->check(cli::kPositive);
-  app.add_option("--precision", net.precision, "float or double arithmetic")->check(CLI::IsMember({"float", "double"}));
-  app.add_option("--mode", mode, "online (one update per pattern) or batch")->check(CLI::IsMember({"online", "batch"}));
+  app.add_option("--precision", net.precision, "float or double arithmetic")
+      ->check(CLI::IsMember({"float", "double"}));
+  app.add_option("--mode", mode, "online (one update per pattern) or batch")
+      ->check(CLI::IsMember({"online", "batch"}));
   app.add_option("--batch_size", options.batch_size, "batch mode: patterns per update, 0 = all (full batch)")
       ->transform(cli::integer_in(0, std::int64_t{1} << 32));
-  app.add_option("--learning_rate", options.learning_rate, "eta of dw = momentum dw - eta dE/dw")->check(cli::kPositive);
+  app.add_option("--learning_rate", options.learning_rate, "eta of dw = momentum dw - eta dE/dw")
+      ->check(cli::kPositive);
   app.add_option("--learning_rate_final", options.learning_rate_final,
                  "eta of the last epoch: eta decays geometrically from --learning_rate to this (0: constant)")
       ->check(cli::kNonNegative);
-  app.add_option("--momentum", options.momentum, "momentum (alpha) in [0, 1)")->check(CLI::Range(0.0, 0.999999));
+  app.add_option("--momentum", options.momentum, "momentum (alpha) in [0, 1)")
+      ->check(CLI::Range(0.0, 0.999999));
   app.add_option("--epochs", options.epochs, "maximum epochs (the paper's training iterations)")
       ->transform(cli::integer_in(1, 100000000));
-  app.add_option("--patience", options.patience, "stop after this many epochs without a better validation error; 0 = never")
+  app.add_option("--patience", options.patience,
+                 "stop after this many epochs without a better validation error; 0 = never")
       ->transform(cli::integer_in(0, 100000000));
   app.add_option("--restore_best", options.restore_best, "keep the parameters of the best validation error");
   app.add_option("--train_count", net.train_count, "training patterns drawn from the rows with status ok")
       ->transform(cli::integer_in(1, (std::int64_t{1} << 32) - 1));
   app.add_option("--validation_fraction", net.validation_fraction, "validation patterns per training pattern")
       ->check(CLI::Range(0.0, 10.0));
-  app.add_option("--input_features", net.input_features,
-                 "what the network sees: paper (the SPEC 4 features) or affine (the slave and C in the affine frame "
-                 "of AB and AD, the metric as separate inputs: thin segments stay well conditioned)")
+  app.add_option(
+         "--input_features", net.input_features,
+         "what the network sees: paper (the SPEC 4 features) or affine (the slave and C in the affine frame "
+         "of AB and AD, the metric as separate inputs: thin segments stay well conditioned)")
       ->check(CLI::IsMember({"paper", "affine"}));
-  app.add_option("--input_quantile", net.input_quantile,
-                 "each input's q and 1-q order statistics over the training patterns map to -1 and 1 (0: min, max)")
+  app.add_option(
+         "--input_quantile", net.input_quantile,
+         "each input's q and 1-q order statistics over the training patterns map to -1 and 1 (0: min, max)")
       ->check(CLI::Range(0.0, 0.49));
-  app.add_option("--target_low", net.target_low, "sigmoid value the domain's lower end maps to")->check(CLI::Range(0.0, 1.0));
-  app.add_option("--target_high", net.target_high, "sigmoid value the domain's upper end maps to")->check(CLI::Range(0.0, 1.0));
+  app.add_option("--target_low", net.target_low, "sigmoid value the domain's lower end maps to")
+      ->check(CLI::Range(0.0, 1.0));
+  app.add_option("--target_high", net.target_high, "sigmoid value the domain's upper end maps to")
+      ->check(CLI::Range(0.0, 1.0));
   app.add_option("--seed", options.seed, "seed of the pattern draw, the initial weights and the shuffles")
       ->transform(cli::integer_in(0, cli::kMaxSeed));
-  app.add_option("--threads", threads, "OpenMP threads (0: OpenMP's default)")->transform(cli::integer_in(0, cli::kMaxThreads));
-  app.add_option("--checkpoint-every", checkpoint_every, "write OUTPUT.checkpoint.h5 every N epochs (0: never)")
+  app.add_option("--threads", threads, "OpenMP threads (0: OpenMP's default)")
+      ->transform(cli::integer_in(0, cli::kMaxThreads));
+  app.add_option("--checkpoint-every", checkpoint_every,
+                 "write OUTPUT.checkpoint.h5 every N epochs (0: never)")
       ->transform(cli::integer_in(0, 100000000));
   app.add_flag("--resume", resume, "continue from OUTPUT.checkpoint.h5");
   app.add_option("--export-header", header, "also write the network as a C99 header FILE.h");
@@ -364,16 +394,19 @@ int main(int argc, char** argv) {
     if (threads > 0) omp_set_num_threads(threads);
     options.threads = threads;
     options.mode = mlp::training_mode_from_string(mode);
-    CONTACTNN_REQUIRE_AS(InvalidArgument, 0.0 < net.target_low && net.target_low < net.target_high && net.target_high < 1.0,
+    CONTACTNN_REQUIRE_AS(InvalidArgument,
+                         0.0 < net.target_low && net.target_low < net.target_high && net.target_high < 1.0,
                          "--target_low " << net.target_low << " and --target_high " << net.target_high
                                          << ": expected 0 < target_low < target_high < 1");
     (void)parse_hidden(net.hidden);  // a bad --hidden is reported before the dataset is read
     // Provenance without the keys that do not change the network (paths, threads, checkpointing), so a
     // resumed run records the same config as an uninterrupted one.
     const std::string config = cli::effective_config(
-        app, "train-net", {"data", "output", "threads", "quiet", "resume", "checkpoint-every", "export-header"});
-    return net.precision == "double"
-               ? train<double>(app, net, options, data, output, checkpoint_every, resume, header, quiet, config)
-               : train<float>(app, net, options, data, output, checkpoint_every, resume, header, quiet, config);
+        app, "train-net",
+        {"data", "output", "threads", "quiet", "resume", "checkpoint-every", "export-header"});
+    return net.precision == "double" ? train<double>(app, net, options, data, output, checkpoint_every,
+                                                     resume, header, quiet, config)
+                                     : train<float>(app, net, options, data, output, checkpoint_every, resume,
+                                                    header, quiet, config);
   });
 }

@@ -69,8 +69,8 @@ struct contactnn_search {
   std::unique_ptr<const search::NetworkModel> network;
   std::optional<search::LocalSearch> search;  ///< CONTACTNN_SURFACE_BILINEAR, _GREGORY
   std::unique_ptr<const search::FaceNetwork> face_network;
-  std::optional<search::FaceSearch> face;     ///< CONTACTNN_SURFACE_TRI3, _TRI6, _QUAD8
-  int surface = 0;                            ///< the CONTACTNN_SURFACE_* it was created for
+  std::optional<search::FaceSearch> face;  ///< CONTACTNN_SURFACE_TRI3, _TRI6, _QUAD8
+  int surface = 0;                         ///< the CONTACTNN_SURFACE_* it was created for
   int threads = 0;
 };
 
@@ -91,8 +91,8 @@ int record_error(int code, const char* message) noexcept {
   return code;
 }
 
-/// Runs `body`: exceptions to return codes and this thread's message (capi_internal.hpp, shared with the contact
-/// search handle's entry points).
+/// Runs `body`: exceptions to return codes and this thread's message (capi_internal.hpp, shared with the
+/// contact search handle's entry points).
 using capi::guarded;
 
 /// HDF5 as Debian builds it is not thread-safe: one network file read at a time.
@@ -103,8 +103,8 @@ std::unique_ptr<const search::NetworkModel> load_network(const std::string& path
   return io::read_network_model(path);
 }
 
-/// Whether `handle` points to a live search: its check value, read as bytes (a pointer that is not a handle may
-/// point to anything readable, aligned or not).
+/// Whether `handle` points to a live search: its check value, read as bytes (a pointer that is not a handle
+/// may point to anything readable, aligned or not).
 bool is_live(const contactnn_search* handle) noexcept {
   if (handle == nullptr) return false;
   std::uint64_t check = 0;
@@ -121,8 +121,9 @@ const contactnn_search& live_handle(const char* function, const contactnn_search
   return *handle;
 }
 
-/// The team of a run: the handle's thread count, or OpenMP's default (OMP_NUM_THREADS, which may say anything)
-/// capped at CONTACTNN_MAX_THREADS: libgomp fails inside the parallel region when it cannot start the team.
+/// The team of a run: the handle's thread count, or OpenMP's default (OMP_NUM_THREADS, which may say
+/// anything) capped at CONTACTNN_MAX_THREADS: libgomp fails inside the parallel region when it cannot start
+/// the team.
 int run_threads(const contactnn_search& handle) {
   if (handle.threads > 0) return handle.threads;
   return std::clamp(omp_get_max_threads(), 1, static_cast<int>(CONTACTNN_MAX_THREADS));
@@ -169,8 +170,8 @@ int run(const char* function, const contactnn_search* handle, std::size_t count,
     CONTACTNN_REQUIRE_AS(
         InvalidArgument, count <= std::numeric_limits<std::size_t>::max() / (columns * sizeof(Real)),
         function << ": count = " << count << " queries of " << columns << " values overflow size_t");
-    // LocalSearch writes one byte per status; the C caller gets ints. A few queries (an FE code's one pair per
-    // call) keep theirs on the stack, with no heap allocation, and never ask OpenMP for a team: below
+    // LocalSearch writes one byte per status; the C caller gets ints. A few queries (an FE code's one pair
+    // per call) keep theirs on the stack, with no heap allocation, and never ask OpenMP for a team: below
     // min_parallel_count the search runs on the calling thread whatever the thread count.
     const search::SearchOptions& options = live.face ? live.face->options() : live.search->options();
     const int threads = count < options.min_parallel_count ? 1 : run_threads(live);
@@ -248,11 +249,12 @@ int contactnn_search_create(contactnn_search** out, int surface, const char* met
     CONTACTNN_REQUIRE_AS(InvalidArgument, out != nullptr,
                          "contactnn_search_create: search (where the handle goes) is NULL");
     *out = nullptr;
-    CONTACTNN_REQUIRE_AS(InvalidArgument, contactnn_raw_columns(surface) > 0,
-                         "contactnn_search_create: surface = "
-                             << surface
-                             << ", expected CONTACTNN_SURFACE_BILINEAR (0), _GREGORY (1), _TRI3 (2), _TRI6 (3) or "
-                                "_QUAD8 (4)");
+    CONTACTNN_REQUIRE_AS(
+        InvalidArgument, contactnn_raw_columns(surface) > 0,
+        "contactnn_search_create: surface = "
+            << surface
+            << ", expected CONTACTNN_SURFACE_BILINEAR (0), _GREGORY (1), _TRI3 (2), _TRI6 (3) or "
+               "_QUAD8 (4)");
     CONTACTNN_REQUIRE_AS(InvalidArgument, method != nullptr, "contactnn_search_create: method is NULL");
     const search::Method parsed = parse_method(method);
     const bool has_file = network_file != nullptr && network_file[0] != '\0';
@@ -261,9 +263,9 @@ int contactnn_search_create(contactnn_search** out, int surface, const char* met
                                                             << " needs a network file; network_file is "
                                                             << (network_file == nullptr ? "NULL" : "empty"));
     CONTACTNN_REQUIRE_AS(InvalidArgument, !has_file || std::strlen(network_file) <= kMaxPathBytes,
-                         "contactnn_search_create: network_file " << quote_text(network_file)
-                                                                  << " is longer than any path ("
-                                                                  << kMaxPathBytes << " bytes)");
+                         "contactnn_search_create: network_file "
+                             << quote_text(network_file) << " is longer than any path (" << kMaxPathBytes
+                             << " bytes)");
     contactnn_options defaults{};
     if (options == nullptr) {
       contactnn_options_init(&defaults);
@@ -278,19 +280,21 @@ int contactnn_search_create(contactnn_search** out, int surface, const char* met
     handle->threads = options->threads;
     handle->surface = surface;
     if (surface >= CONTACTNN_SURFACE_TRI3) {
-      // FaceSearch (search/face_search.hpp): a face network file (io/face_network_file.hpp) of the same face type.
+      // FaceSearch (search/face_search.hpp): a face network file (io/face_network_file.hpp) of the same face
+      // type.
       const auto face = static_cast<search::FaceKind>(surface - CONTACTNN_SURFACE_TRI3);
       CONTACTNN_REQUIRE_AS(InvalidArgument, face != search::FaceKind::kTri3 || !parsed.needs_network(),
-                           "contactnn_search_create: method " << quote_text(method)
-                                                              << " on tri3 faces: a flat triangle's closed form is "
-                                                                 "exact (method closed_form), no network is made for it");
+                           "contactnn_search_create: method "
+                               << quote_text(method)
+                               << " on tri3 faces: a flat triangle's closed form is "
+                                  "exact (method closed_form), no network is made for it");
       if (has_file) {
         handle->face_network = io::load_face_network(network_file);
         CONTACTNN_REQUIRE_AS(InvalidArgument, handle->face_network->face() == face,
                              "contactnn_search_create: '" << network_file << "' is a "
                                                           << search::to_string(handle->face_network->face())
-                                                          << " network, the search is for " << search::to_string(face)
-                                                          << " faces");
+                                                          << " network, the search is for "
+                                                          << search::to_string(face) << " faces");
       }
       handle->face.emplace(face, parsed, to_search_options(*options), handle->face_network.get());
       *out = handle.release();
@@ -333,19 +337,23 @@ int contactnn_search_run_float(const contactnn_search* handle, size_t count, con
   return run("contactnn_search_run_float", handle, count, raw, param, gap, status, iterations);
 }
 
-int contactnn_search_surface(const contactnn_search* handle) { return is_live(handle) ? handle->surface : -1; }
+int contactnn_search_surface(const contactnn_search* handle) {
+  return is_live(handle) ? handle->surface : -1;
+}
 
-int contactnn_search_create_from_plan(contactnn_search** out, const char* plan_file, const contactnn_options* options) {
+int contactnn_search_create_from_plan(contactnn_search** out, const char* plan_file,
+                                      const contactnn_options* options) {
   return guarded("contactnn_search_create_from_plan", [&] {
     CONTACTNN_REQUIRE_AS(InvalidArgument, out != nullptr,
                          "contactnn_search_create_from_plan: search (where the handle goes) is NULL");
     *out = nullptr;
-    CONTACTNN_REQUIRE_AS(InvalidArgument, plan_file != nullptr && plan_file[0] != '\0',
-                         "contactnn_search_create_from_plan: plan_file is " << (plan_file == nullptr ? "NULL" : "empty"));
+    CONTACTNN_REQUIRE_AS(
+        InvalidArgument, plan_file != nullptr && plan_file[0] != '\0',
+        "contactnn_search_create_from_plan: plan_file is " << (plan_file == nullptr ? "NULL" : "empty"));
     CONTACTNN_REQUIRE_AS(InvalidArgument, std::strlen(plan_file) <= kMaxPathBytes,
-                         "contactnn_search_create_from_plan: plan_file " << quote_text(plan_file)
-                                                                         << " is longer than any path (" << kMaxPathBytes
-                                                                         << " bytes)");
+                         "contactnn_search_create_from_plan: plan_file "
+                             << quote_text(plan_file) << " is longer than any path (" << kMaxPathBytes
+                             << " bytes)");
     contactnn_options defaults{};
     if (options == nullptr) {
       contactnn_options_init(&defaults);
@@ -365,10 +373,10 @@ int contactnn_search_create_from_plan(contactnn_search** out, const char* plan_f
     if (!network_file.empty()) {
       handle->network = load_network(network_file.string());
       CONTACTNN_REQUIRE_AS(FormatError, handle->network->surface() == plan.surface,
-                           "contactnn_search_create_from_plan: '" << network_file.string() << "' is a "
-                                                                  << to_string(handle->network->surface())
-                                                                  << " network, the plan '" << plan_file << "' is for "
-                                                                  << to_string(plan.surface) << " surfaces");
+                           "contactnn_search_create_from_plan: '"
+                               << network_file.string() << "' is a " << to_string(handle->network->surface())
+                               << " network, the plan '" << plan_file << "' is for "
+                               << to_string(plan.surface) << " surfaces");
     }
     handle->search.emplace(plan.surface, search::Method::parse(plan.method), to_search_options(*options),
                            handle->network.get());
@@ -379,7 +387,9 @@ int contactnn_search_create_from_plan(contactnn_search** out, const char* plan_f
 const char* contactnn_search_method(const contactnn_search* handle) {
   thread_local std::string name;
   try {
-    name = !is_live(handle) ? std::string() : (handle->face ? handle->face->method().name() : handle->search->method().name());
+    name = !is_live(handle)
+               ? std::string()
+               : (handle->face ? handle->face->method().name() : handle->search->method().name());
   } catch (...) {
     name.clear();
   }

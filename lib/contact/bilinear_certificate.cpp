@@ -97,8 +97,8 @@ std::optional<projection::FaceClosestPoint> BilinearCertificate::closest_point(
 
   // 2. As projection::closest_point_on_face: the interior point (clamped), then the edges, the nearest wins.
   bool from_interior = false;
-  projection::FaceClosestPoint out =
-      projection::nearest_of_interior_and_edges(patch, relative, interior ? &p : nullptr, iterations, &from_interior);
+  projection::FaceClosestPoint out = projection::nearest_of_interior_and_edges(
+      patch, relative, interior ? &p : nullptr, iterations, &from_interior);
   if (out.status != Status::kOk) return std::nullopt;
 
   // 3. The certificate of a boundary answer: no descent into the square (Karush-Kuhn-Tucker). Otherwise the

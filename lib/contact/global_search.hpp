@@ -57,7 +57,8 @@ enum class NarrowPhase { kCertified, kReference };
 
 struct SearchOptions {
   SurfaceKind surface = SurfaceKind::kBilinear;
-  GlobalSearchKind search = GlobalSearchKind::kSurface;  ///< search_scene's choice; global_search is nearest-node
+  GlobalSearchKind search =
+      GlobalSearchKind::kSurface;  ///< search_scene's choice; global_search is nearest-node
   /// Surface search: a face is a candidate when its closest point may lie within the capture distance of S.
   /// capture_distance > 0 sets it in world units; otherwise it is capture_relative x the master surface's
   /// largest face size (its longest node distance), so that every slave within about one element of the
@@ -79,17 +80,17 @@ enum class PairStatus { kFound, kNoSegment };
 struct NodeSegmentPair {
   long slave_id = 0;
   PairStatus status = PairStatus::kNoSegment;
-  int nearest_node = -1;              ///< master surface node nearest S (= nodes[0] when found)
-  int segment = -1;                   ///< index into SurfaceMesh::segments
+  int nearest_node = -1;                     ///< master surface node nearest S (= nodes[0] when found)
+  int segment = -1;                          ///< index into SurfaceMesh::segments
   std::array<int, 4> nodes{-1, -1, -1, -1};  ///< master surface nodes A, B, C, D (A = nearest_node)
-  int candidates = 0;                 ///< segments at the nearest node that passed the segment test
+  int candidates = 0;                        ///< segments at the nearest node that passed the segment test
   /// Surface search: faces whose closest point needed the reference (no certificate; NarrowPhase)
   int reference_faces = 0;
-  geometry::Configuration config;     ///< world coordinates in the order A, B, C, D; unit node normals (Gregory)
-  dataset::Label label;               ///< the reference projection of `config` (status ok..invalid)
+  geometry::Configuration config;  ///< world coordinates in the order A, B, C, D; unit node normals (Gregory)
+  dataset::Label label;            ///< the reference projection of `config` (status ok..invalid)
   // The surface search's closest point (SPEC 9); the nearest-node search leaves these at their defaults.
-  Location location = Location::kFace;  ///< where the point lies on its face
-  Vec3 point = Vec3::Zero();            ///< the closest point P, world coordinates
+  Location location = Location::kFace;         ///< where the point lies on its face
+  Vec3 point = Vec3::Zero();                   ///< the closest point P, world coordinates
   std::array<double, 2> face_param{0.0, 0.0};  ///< P's local coordinates in the face's own node order
 };
 
@@ -98,7 +99,8 @@ struct NodeSegmentPair {
 ///                        empty) for bilinear
 [[nodiscard]] NodeSegmentPair pair_at_nearest_node(const mesh::SurfaceMesh& master,
                                                    std::span<const Vec3> master_normals, long slave_id,
-                                                   const Vec3& slave, int nearest_node, const SearchOptions& options);
+                                                   const Vec3& slave, int nearest_node,
+                                                   const SearchOptions& options);
 
 /// Steps 1-5 for every slave node, in parallel (OpenMP); result i belongs to slave i. Deterministic for
 /// any thread count. InvalidArgument if the spans' sizes disagree or Gregory normals are missing.

@@ -73,8 +73,8 @@ struct NearCandidates {
 }  // namespace
 
 struct NearestPointTree::Index {
-  using Tree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, PointCloud>, PointCloud, 3,
-                                                   std::uint32_t>;
+  using Tree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, PointCloud>,
+                                                   PointCloud, 3, std::uint32_t>;
   PointCloud cloud;
   Tree tree;
   explicit Index(const std::vector<Vec3>* points)

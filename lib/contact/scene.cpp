@@ -1,14 +1,13 @@
 #include "contact/scene.hpp"
 
-#include "contact/surface_search.hpp"
-
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <numbers>
 #include <string>
 
-#include <Eigen/Geometry>
+#include "contact/surface_search.hpp"
 
 namespace contactnn::contact {
 
@@ -23,7 +22,8 @@ std::string upper_trimmed(std::string s) {
 }
 
 /// The cyclic symmetry model whose tie joins the pair's two surfaces, or null.
-const mesh::CyclicSymmetry* cyclic_model_of(const mesh::ContactModel& model, const mesh::ContactPairDefinition& pair) {
+const mesh::CyclicSymmetry* cyclic_model_of(const mesh::ContactModel& model,
+                                            const mesh::ContactPairDefinition& pair) {
   const std::string slave = upper_trimmed(pair.slave_name), master = upper_trimmed(pair.master_name);
   for (const mesh::CyclicSymmetry& c : model.cyclic) {
     const std::string dep = upper_trimmed(c.dependent), ind = upper_trimmed(c.independent);
@@ -33,7 +33,8 @@ const mesh::CyclicSymmetry* cyclic_model_of(const mesh::ContactModel& model, con
 }
 
 /// `surface` and its copies rotated by +-2 pi / N about the model's axis; `normals` likewise.
-void add_neighbour_sectors(const mesh::CyclicSymmetry& c, mesh::SurfaceMesh& surface, std::vector<Vec3>& normals) {
+void add_neighbour_sectors(const mesh::CyclicSymmetry& c, mesh::SurfaceMesh& surface,
+                           std::vector<Vec3>& normals) {
   const Vec3 a = c.axis_a;
   const Vec3 axis = (c.axis_b - c.axis_a).normalized();
   const double angle = 2.0 * std::numbers::pi / c.sectors;
@@ -79,7 +80,8 @@ void add_neighbour_sectors(const mesh::CyclicSymmetry& c, mesh::SurfaceMesh& sur
     // adjacency_offsets has nodes + 1 entries: the copy's last entry replaces the end of the one before.
     surface.adjacency_offsets.pop_back();
     for (int i = 0; i <= nodes; ++i) {
-      surface.adjacency_offsets.push_back(sector.adjacency_offsets[static_cast<std::size_t>(i)] + copy * links);
+      surface.adjacency_offsets.push_back(sector.adjacency_offsets[static_cast<std::size_t>(i)] +
+                                          copy * links);
     }
     for (int s : sector.adjacency) surface.adjacency.push_back(s + copy * segments);
   }
@@ -112,8 +114,10 @@ Scene make_scene(const mesh::ContactModel& model, int k) {
 SceneResult search_scene(const Scene& scene, const SearchOptions& options) {
   SceneResult result;
   result.pairs = options.search == GlobalSearchKind::kSurface
-                     ? surface_search(scene.master, scene.master_normals, scene.slave_ids, scene.slave_positions, options)
-                     : global_search(scene.master, scene.master_normals, scene.slave_ids, scene.slave_positions, options);
+                     ? surface_search(scene.master, scene.master_normals, scene.slave_ids,
+                                      scene.slave_positions, options)
+                     : global_search(scene.master, scene.master_normals, scene.slave_ids,
+                                     scene.slave_positions, options);
   for (const NodeSegmentPair& p : result.pairs) {
     if (p.status == PairStatus::kFound) {
       ++result.found;
@@ -132,7 +136,8 @@ double largest_relative_offset(const SceneResult& result) {
     if (p.status != PairStatus::kFound || p.nodes[0] < 0) continue;  // no quad4 configuration
     if (p.label.status != Status::kOk && p.label.status != Status::kOutside) continue;
     double shortest = std::numeric_limits<double>::infinity();
-    for (int i = 0; i < 4; ++i) shortest = std::min(shortest, (p.config.nodes[(i + 1) % 4] - p.config.nodes[i]).norm());
+    for (int i = 0; i < 4; ++i)
+      shortest = std::min(shortest, (p.config.nodes[(i + 1) % 4] - p.config.nodes[i]).norm());
     if (shortest > 0.0) largest = std::max(largest, std::abs(p.label.gap) / shortest);
   }
   return largest;

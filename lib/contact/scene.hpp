@@ -13,18 +13,18 @@
 namespace contactnn::contact {
 
 struct Scene {
-  int pair = 0;                       ///< K, the *CONTACT PAIR data line (from 0)
+  int pair = 0;  ///< K, the *CONTACT PAIR data line (from 0)
   std::string slave_name, master_name;
-  std::string where;                  ///< "'file':line" of the pair's data line
+  std::string where;  ///< "'file':line" of the pair's data line
   /// Segments oriented outward. For a pair between the two cut faces of a cyclic symmetry model: the master
   /// surface of the sector and its copies rotated one sector either way (nodes and segments in that order,
   /// node ids repeated in each copy), so that a slave node finds the neighbouring sector's face it touches.
   mesh::SurfaceMesh master;
-  int cyclic_sectors = 0;             ///< N of the cyclic symmetry model applied, 0 when none
-  std::string cyclic_where;           ///< its "'file':line"
-  std::vector<Vec3> master_normals;   ///< unit node normals of Eq 26 (zero where a node has none)
-  mesh::SlaveNodes slaves;            ///< slave nodes in increasing id, skipped slave faces
-  std::vector<long> slave_ids;        ///< deck ids of slaves.nodes
+  int cyclic_sectors = 0;            ///< N of the cyclic symmetry model applied, 0 when none
+  std::string cyclic_where;          ///< its "'file':line"
+  std::vector<Vec3> master_normals;  ///< unit node normals of Eq 26 (zero where a node has none)
+  mesh::SlaveNodes slaves;           ///< slave nodes in increasing id, skipped slave faces
+  std::vector<long> slave_ids;       ///< deck ids of slaves.nodes
   std::vector<Vec3> slave_positions;
 };
 
@@ -35,11 +35,11 @@ struct Scene {
 [[nodiscard]] Scene make_scene(const mesh::ContactModel& model, int k);
 
 struct SceneResult {
-  std::vector<NodeSegmentPair> pairs;  ///< one per slave node, in increasing slave id
-  long found = 0;                      ///< pairs with status kFound
-  long no_segment = 0;                 ///< pairs with status kNoSegment
+  std::vector<NodeSegmentPair> pairs;                    ///< one per slave node, in increasing slave id
+  long found = 0;                                        ///< pairs with status kFound
+  long no_segment = 0;                                   ///< pairs with status kNoSegment
   std::array<long, kStatusCount> label_status_counts{};  ///< labels of the found pairs, by Status
-  ShapeStatistics statistics;          ///< over the found pairs
+  ShapeStatistics statistics;                            ///< over the found pairs
 };
 
 /// The global search options.search chooses (surface or nearest node) over every slave node of the scene,

@@ -59,7 +59,8 @@ double normal_tilt_tangent(const Vec3& node, const Vec3& next, const Vec3& prev,
 ShapeStatistics shape_statistics(std::span<const NodeSegmentPair> pairs, SurfaceKind surface) {
   std::vector<double> angles, aspects, warps, offsets, tilts;
   for (const NodeSegmentPair& p : pairs) {
-    // Faces other than quad4 (the surface search's triangles and quadratic faces) have no SPEC 7 configuration.
+    // Faces other than quad4 (the surface search's triangles and quadratic faces) have no SPEC 7
+    // configuration.
     if (p.status != PairStatus::kFound || p.nodes[0] < 0) continue;
     const auto& nodes = p.config.nodes;
     for (double a : geometry::interior_angles_degrees(nodes)) angles.push_back(a);
@@ -71,7 +72,8 @@ ShapeStatistics shape_statistics(std::span<const NodeSegmentPair> pairs, Surface
     }
     if (surface == SurfaceKind::kGregory) {
       for (std::size_t i = 0; i < 4; ++i) {
-        const double t = normal_tilt_tangent(nodes[i], nodes[(i + 1) % 4], nodes[(i + 3) % 4], p.config.normals[i]);
+        const double t =
+            normal_tilt_tangent(nodes[i], nodes[(i + 1) % 4], nodes[(i + 3) % 4], p.config.normals[i]);
         if (t >= 0.0) tilts.push_back(t);
       }
     }

@@ -34,7 +34,8 @@ struct Spread {
 /// tan of the angle between a node normal and the segment's corner normal (next - X) x (prev - X) there,
 /// as in the paper's Section 6 filter; +infinity at 90 degrees or more; NaN never: a zero normal or a
 /// collapsed corner gives -1 (no tilt to report).
-[[nodiscard]] double normal_tilt_tangent(const Vec3& node, const Vec3& next, const Vec3& prev, const Vec3& normal);
+[[nodiscard]] double normal_tilt_tangent(const Vec3& node, const Vec3& next, const Vec3& prev,
+                                         const Vec3& normal);
 
 struct ShapeStatistics {
   Spread interior_angle_degrees;  ///< four per pair (geometry::interior_angles_degrees)

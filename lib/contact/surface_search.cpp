@@ -5,8 +5,8 @@
 #include <cstdint>
 #include <limits>
 #include <memory>
-#include <nanoflann.hpp>
 #include <mutex>
+#include <nanoflann.hpp>
 #include <utility>
 
 #include "contact/bilinear_certificate.hpp"
@@ -38,8 +38,8 @@ struct Centres {
     return false;
   }
 };
-using CentreTree =
-    nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, Centres>, Centres, 3, std::uint32_t>;
+using CentreTree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, Centres>, Centres,
+                                                       3, std::uint32_t>;
 
 /// The surface kind a quad4 face f is searched on: the segments (C3D8) on the search's own surface, the extra
 /// faces (wedge quadrilaterals) always as bilinear facets (their nodes need not have Eq 26 normals).
@@ -79,11 +79,13 @@ std::array<Vec3, N> face_positions(const mesh::SurfaceMesh& master, const mesh::
 /// --surface, a quadratic face is its own surface). `fallback` where a Gregory patch does not exist (its
 /// defect, e.g. a zero node normal).
 template <class R, class Fn>
-R with_face_surface(const mesh::SurfaceMesh& master, std::span<const Vec3> normals, const SearchOptions& options,
-                    int f, const R& fallback, Fn&& fn) {
+R with_face_surface(const mesh::SurfaceMesh& master, std::span<const Vec3> normals,
+                    const SearchOptions& options, int f, const R& fallback, Fn&& fn) {
   const mesh::FaceNodes nodes = master.face_nodes(f);
-  if (nodes.type == mesh::FaceType::kQuad8) return fn(geometry::SerendipityQuad(face_positions<8>(master, nodes)));
-  if (nodes.type == mesh::FaceType::kTri6) return fn(geometry::QuadraticTriangle(face_positions<6>(master, nodes)));
+  if (nodes.type == mesh::FaceType::kQuad8)
+    return fn(geometry::SerendipityQuad(face_positions<8>(master, nodes)));
+  if (nodes.type == mesh::FaceType::kTri6)
+    return fn(geometry::QuadraticTriangle(face_positions<6>(master, nodes)));
   const SurfaceKind kind = kind_of(master, options, f);
   const geometry::Configuration config = face_configuration(master, normals, kind, f);
   if (geometry::surface_defect(config, kind)) return fallback;
@@ -93,28 +95,30 @@ R with_face_surface(const mesh::SurfaceMesh& master, std::span<const Vec3> norma
 /// Everything the search needs of the faces, built once: centres, bounding radii, sizes, adjacency.
 struct FaceIndex {
   std::vector<Vec3> centres;
-  std::vector<double> radii;  ///< bounding-sphere radius about the centre
+  std::vector<double> radii;         ///< bounding-sphere radius about the centre
   std::vector<Vec3> box_lo, box_hi;  ///< bounding box of the same points
-  std::vector<double> sizes;  ///< longest corner distance
+  std::vector<double> sizes;         ///< longest corner distance
   /// The faces at each surface node (as a corner), increasing: node i's are node_faces[node_offsets[i] ..
-  /// node_offsets[i + 1]) (one flat list: a list per node cost 1e5 allocations per state of a large master). The
-  /// faces sharing an edge are those of its first corner that have it (faces_on_edge).
+  /// node_offsets[i + 1]) (one flat list: a list per node cost 1e5 allocations per state of a large master).
+  /// The faces sharing an edge are those of its first corner that have it (faces_on_edge).
   std::vector<int> node_offsets, node_faces;
   /// 1 for a quad4 face on a bilinear facet that passes projection::closest_point_on_face's checks (finite,
   /// not degenerate, on its nodes relative to the first): its projections skip them
   /// (ProjectionOptions::face_checked; the same answers, computed once per face instead of once per slave).
   std::vector<std::uint8_t> checked;
-  /// The certificates of the checked quad4 bilinear faces (lambda_floor 0 for every other face): their closest
-  /// points in one Newton run where the certificate holds (NarrowPhase::kCertified).
+  /// The certificates of the checked quad4 bilinear faces (lambda_floor 0 for every other face): their
+  /// closest points in one Newton run where the certificate holds (NarrowPhase::kCertified).
   std::vector<BilinearCertificate> bilinear;
 
   [[nodiscard]] std::span<const int> faces_at(int node) const {
     const auto n = static_cast<std::size_t>(node);
-    return {node_faces.data() + node_offsets[n], static_cast<std::size_t>(node_offsets[n + 1] - node_offsets[n])};
+    return {node_faces.data() + node_offsets[n],
+            static_cast<std::size_t>(node_offsets[n + 1] - node_offsets[n])};
   }
 };
 
-FaceIndex index_faces(const mesh::SurfaceMesh& master, std::span<const Vec3> normals, const SearchOptions& options) {
+FaceIndex index_faces(const mesh::SurfaceMesh& master, std::span<const Vec3> normals,
+                      const SearchOptions& options) {
   FaceIndex index;
   const auto n = static_cast<std::size_t>(master.face_count());
   index.centres.resize(n);
@@ -127,9 +131,11 @@ FaceIndex index_faces(const mesh::SurfaceMesh& master, std::span<const Vec3> nor
   // The faces at each node, counted, then filled in face order.
   index.node_offsets.assign(master.positions.size() + 1, 0);
   for (std::size_t f = 0; f < n; ++f) {
-    for (const int c : master.face_corners(static_cast<int>(f))) ++index.node_offsets[static_cast<std::size_t>(c) + 1];
+    for (const int c : master.face_corners(static_cast<int>(f)))
+      ++index.node_offsets[static_cast<std::size_t>(c) + 1];
   }
-  for (std::size_t i = 1; i < index.node_offsets.size(); ++i) index.node_offsets[i] += index.node_offsets[i - 1];
+  for (std::size_t i = 1; i < index.node_offsets.size(); ++i)
+    index.node_offsets[i] += index.node_offsets[i - 1];
   index.node_faces.resize(static_cast<std::size_t>(index.node_offsets.back()));
   {
     std::vector<int> at(index.node_offsets.begin(), index.node_offsets.end() - 1);
@@ -150,9 +156,13 @@ FaceIndex index_faces(const mesh::SurfaceMesh& master, std::span<const Vec3> nor
       if (origin.allFinite()) {
         for (Vec3& x : config.nodes) x -= origin;
         const geometry::BilinearPatch patch(config.nodes);
-        index.checked[f] = std::isfinite(patch.characteristic_length()) && !geometry::is_degenerate_segment(patch.nodes()) ? 1 : 0;
+        index.checked[f] =
+            std::isfinite(patch.characteristic_length()) && !geometry::is_degenerate_segment(patch.nodes())
+                ? 1
+                : 0;
         if (index.checked[f] != 0 && !index.bilinear.empty()) {
-          index.bilinear[f] = BilinearCertificate::prepare(face_configuration(master, normals, SurfaceKind::kBilinear, face).nodes);
+          index.bilinear[f] = BilinearCertificate::prepare(
+              face_configuration(master, normals, SurfaceKind::kBilinear, face).nodes);
         }
       }
     }
@@ -175,11 +185,13 @@ FaceIndex index_faces(const mesh::SurfaceMesh& master, std::span<const Vec3> nor
     }
     // A curved face lies in the convex hull of its control points, not of its nodes: the sphere holds those.
     if (nodes.type == mesh::FaceType::kQuad8) {
-      for (const Vec3& x : geometry::SerendipityQuad(face_positions<8>(master, nodes)).bezier_control_points()) {
+      for (const Vec3& x :
+           geometry::SerendipityQuad(face_positions<8>(master, nodes)).bezier_control_points()) {
         include(x);
       }
     } else if (nodes.type == mesh::FaceType::kTri6) {
-      for (const Vec3& x : geometry::QuadraticTriangle(face_positions<6>(master, nodes)).bezier_control_points()) {
+      for (const Vec3& x :
+           geometry::QuadraticTriangle(face_positions<6>(master, nodes)).bezier_control_points()) {
         include(x);
       }
     } else if (corners.size() == 4 && kind_of(master, options, face) == SurfaceKind::kGregory) {
@@ -201,7 +213,8 @@ FaceIndex index_faces(const mesh::SurfaceMesh& master, std::span<const Vec3> nor
 
 /// The closest point of a face's surface (the overloads pick the projection of each face type).
 template <geometry::Surface SurfaceT>
-projection::FaceClosestPoint closest_on(const SurfaceT& surface, const Vec3& slave, const SearchOptions& options) {
+projection::FaceClosestPoint closest_on(const SurfaceT& surface, const Vec3& slave,
+                                        const SearchOptions& options) {
   return projection::closest_point_on_face(surface, slave, options.projection);
 }
 projection::FaceClosestPoint closest_on(const geometry::SerendipityQuad& face, const Vec3& slave,
@@ -213,7 +226,8 @@ projection::FaceClosestPoint closest_on(const geometry::QuadraticTriangle& face,
   return projection::closest_point_on_quadratic_triangle(face, slave, options.projection);
 }
 
-/// The nearest point of a face's edge (the overloads: straight or cubic edges of quad4 faces, quadratic ones).
+/// The nearest point of a face's edge (the overloads: straight or cubic edges of quad4 faces, quadratic
+/// ones).
 template <geometry::Surface SurfaceT>
 projection::EdgePoint edge_point_on(const SurfaceT& surface, int edge, const Vec3& p) {
   return projection::closest_point_on_edge(surface, edge, p);
@@ -247,7 +261,8 @@ projection::FaceClosestPoint closest_on_face(const mesh::SurfaceMesh& master, st
   const auto project = [&](const auto& surface, const Vec3& at) { return closest_on(surface, at, options); };
   projection::FaceClosestPoint none;
   if (master.face_type(f) != mesh::FaceType::kQuad4) {
-    return with_face_surface(master, normals, options, f, none, [&](const auto& surface) { return project(surface, slave); });
+    return with_face_surface(master, normals, options, f, none,
+                             [&](const auto& surface) { return project(surface, slave); });
   }
   // A quad4: its configuration built and checked once, and its patch built relative to its first node, as
   // projection::closest_point_on_face would rebuild it (the same bits: it then has nothing to shift).
@@ -272,10 +287,14 @@ projection::FaceClosestPoint closest_on_face(const mesh::SurfaceMesh& master, st
 /// Parameters of corner k (A, B, C, D) of a quadrilateral face.
 std::array<double, 2> corner_param(int k, ParamDomain d) {
   switch (k) {
-    case 0: return {d.lo, d.lo};
-    case 1: return {d.hi, d.lo};
-    case 2: return {d.hi, d.hi};
-    default: return {d.lo, d.hi};
+    case 0:
+      return {d.lo, d.lo};
+    case 1:
+      return {d.hi, d.lo};
+    case 2:
+      return {d.hi, d.hi};
+    default:
+      return {d.lo, d.hi};
   }
 }
 
@@ -285,8 +304,8 @@ Vec3 unit_or_zero(const Vec3& n) {
 }
 
 /// Face f's unit normal at the point of its edge `edge` nearest `p` (a point of that edge).
-Vec3 normal_on_edge(const mesh::SurfaceMesh& master, std::span<const Vec3> normals, const SearchOptions& options,
-                    int f, int edge, const Vec3& p) {
+Vec3 normal_on_edge(const mesh::SurfaceMesh& master, std::span<const Vec3> normals,
+                    const SearchOptions& options, int f, int edge, const Vec3& p) {
   if (master.face_type(f) == mesh::FaceType::kTri3) {
     const auto x = triangle_nodes(master, f);
     return unit_or_zero((x[1] - x[0]).cross(x[2] - x[0]));
@@ -303,8 +322,8 @@ Vec3 angle_weighted(const Vec3& t1, const Vec3& t2, const Vec3& normal) {
   return std::atan2(t1.cross(t2).norm(), t1.dot(t2)) * unit_or_zero(normal);
 }
 
-/// Face f's corner angle at its corner k times its unit normal there (a vertex pseudo-normal's term). The angle
-/// is between the tangents of the face's two edges at the corner (curved edges: their tangents there).
+/// Face f's corner angle at its corner k times its unit normal there (a vertex pseudo-normal's term). The
+/// angle is between the tangents of the face's two edges at the corner (curved edges: their tangents there).
 Vec3 weighted_corner_normal(const mesh::SurfaceMesh& master, std::span<const Vec3> normals,
                             const SearchOptions& options, int f, int k) {
   const mesh::FaceType type = master.face_type(f);
@@ -318,13 +337,15 @@ Vec3 weighted_corner_normal(const mesh::SurfaceMesh& master, std::span<const Vec
     const geometry::QuadraticTriangle face(face_positions<6>(master, master.face_nodes(f)));
     // Corners (0,0), (1,0), (0,1); the directions in (r, s) of the two edges leaving each.
     static constexpr std::array<std::array<double, 2>, 3> kCorner = {{{0, 0}, {1, 0}, {0, 1}}};
-    static constexpr std::array<std::array<double, 4>, 3> kDirections = {{{1, 0, 0, 1}, {-1, 1, -1, 0}, {0, -1, 1, -1}}};
+    static constexpr std::array<std::array<double, 4>, 3> kDirections = {
+        {{1, 0, 0, 1}, {-1, 1, -1, 0}, {0, -1, 1, -1}}};
     const auto& c = kCorner[static_cast<std::size_t>(k)];
     const auto& d = kDirections[static_cast<std::size_t>(k)];
     const geometry::SurfacePoint sp = face.evaluate(c[0], c[1]);
     return angle_weighted(d[0] * sp.d_s + d[1] * sp.d_t, d[2] * sp.d_s + d[3] * sp.d_t, sp.d_s.cross(sp.d_t));
   }
-  const ParamDomain d = param_domain(type == mesh::FaceType::kQuad8 ? SurfaceKind::kBilinear : kind_of(master, options, f));
+  const ParamDomain d =
+      param_domain(type == mesh::FaceType::kQuad8 ? SurfaceKind::kBilinear : kind_of(master, options, f));
   return with_face_surface(master, normals, options, f, Vec3(Vec3::Zero()), [&](const auto& surface) -> Vec3 {
     const auto corner = corner_param(k, d);
     const geometry::SurfacePoint sp = surface.evaluate(corner[0], corner[1]);
@@ -336,8 +357,9 @@ Vec3 weighted_corner_normal(const mesh::SurfaceMesh& master, std::span<const Vec
 }
 
 /// The pseudo-normal direction (not normalised) at the closest point `p` of face f (header, step 4).
-Vec3 pseudo_normal(const mesh::SurfaceMesh& master, std::span<const Vec3> normals, const SearchOptions& options,
-                   const FaceIndex& index, int f, const projection::FaceClosestPoint& p) {
+Vec3 pseudo_normal(const mesh::SurfaceMesh& master, std::span<const Vec3> normals,
+                   const SearchOptions& options, const FaceIndex& index, int f,
+                   const projection::FaceClosestPoint& p) {
   if (p.location == Location::kFace) return p.normal;
   const std::span<const int> corners = master.face_corners(f);
   const auto k = corners.size();
@@ -355,7 +377,8 @@ Vec3 pseudo_normal(const mesh::SurfaceMesh& master, std::span<const Vec3> normal
       for (std::size_t g = 0; g < m; ++g) {
         const int x = other[g], y = other[(g + 1) % m];
         if ((x == a && y == b) || (x == b && y == a)) {
-          sum += face == f ? p.normal : normal_on_edge(master, normals, options, face, static_cast<int>(g), p.point);
+          sum += face == f ? p.normal
+                           : normal_on_edge(master, normals, options, face, static_cast<int>(g), p.point);
         }
       }
     }
@@ -375,11 +398,13 @@ Vec3 pseudo_normal(const mesh::SurfaceMesh& master, std::span<const Vec3> normal
 /// (A' = old corner k, then on counter-clockwise): k cyclic steps of (s, t) -> (t, -s) about the centre.
 std::array<double, 2> rotate_param(std::array<double, 2> p, int k, SurfaceKind kind) {
   const bool bilinear = kind == SurfaceKind::kBilinear;
-  for (int i = 0; i < k; ++i) p = bilinear ? std::array<double, 2>{p[1], -p[0]} : std::array<double, 2>{p[1], 1.0 - p[0]};
+  for (int i = 0; i < k; ++i)
+    p = bilinear ? std::array<double, 2>{p[1], -p[0]} : std::array<double, 2>{p[1], 1.0 - p[0]};
   return p;
 }
 
-/// Face f's certificate, or null where it has none (NarrowPhase::kReference, or not a checked bilinear quad4).
+/// Face f's certificate, or null where it has none (NarrowPhase::kReference, or not a checked bilinear
+/// quad4).
 const BilinearCertificate* certificate_of(const FaceIndex& index, int face) {
   if (index.bilinear.empty()) return nullptr;
   const BilinearCertificate& c = index.bilinear[static_cast<std::size_t>(face)];
@@ -388,12 +413,13 @@ const BilinearCertificate* certificate_of(const FaceIndex& index, int face) {
 
 /// closest_on_face for face f of an indexed state: `checked` (the options with face_checked) where the index
 /// checked the face, and its certificate where it has one.
-projection::FaceClosestPoint closest_on_indexed_face(const mesh::SurfaceMesh& master, std::span<const Vec3> normals,
-                                                     const SearchOptions& options, const SearchOptions& checked,
-                                                     const FaceIndex& index, int f, const Vec3& slave,
-                                                     const std::array<double, 2>* start, int* reference_count) {
+projection::FaceClosestPoint closest_on_indexed_face(
+    const mesh::SurfaceMesh& master, std::span<const Vec3> normals, const SearchOptions& options,
+    const SearchOptions& checked, const FaceIndex& index, int f, const Vec3& slave,
+    const std::array<double, 2>* start, int* reference_count) {
   const SearchOptions& face_options = index.checked[static_cast<std::size_t>(f)] != 0 ? checked : options;
-  return closest_on_face(master, normals, face_options, f, slave, certificate_of(index, f), start, reference_count);
+  return closest_on_face(master, normals, face_options, f, slave, certificate_of(index, f), start,
+                         reference_count);
 }
 
 /// |S - c_f| - r_f and the distance to face f's box, the larger (SurfaceSearcher::lower_bound).
@@ -418,9 +444,9 @@ struct KnownPoint {
 /// `known`: a face's closest point already computed, taken where the scan reaches that face.
 NodeSegmentPair search_one(const mesh::SurfaceMesh& master, std::span<const Vec3> normals,
                            const SearchOptions& options, const SearchOptions& checked, const FaceIndex& index,
-                           double capture, long slave_id,
-                           const Vec3& slave, std::vector<std::pair<double, int>>& candidates,
-                           const FaceHint* hint, bool loose, const KnownPoint* known = nullptr) {
+                           double capture, long slave_id, const Vec3& slave,
+                           std::vector<std::pair<double, int>>& candidates, const FaceHint* hint, bool loose,
+                           const KnownPoint* known = nullptr) {
   NodeSegmentPair best;
   best.slave_id = slave_id;
   if (known != nullptr) best.reference_faces = known->reference_faces;
@@ -463,7 +489,8 @@ NodeSegmentPair search_one(const mesh::SurfaceMesh& master, std::span<const Vec3
       // The face's own bound, now that it may matter (a loose bound is at most it: no face the exact
       // bounds would project is skipped, and none they skip is projected).
       const double exact = face_lower_bound(index, slave, f);
-      if (exact > capture || exact > best_distance + kTieTolerance * index.sizes[static_cast<std::size_t>(f)]) continue;
+      if (exact > capture || exact > best_distance + kTieTolerance * index.sizes[static_cast<std::size_t>(f)])
+        continue;
     }
     const projection::FaceClosestPoint p =
         known != nullptr && f == known->face
@@ -498,19 +525,23 @@ NodeSegmentPair search_one(const mesh::SurfaceMesh& master, std::span<const Vec3
   const std::span<const int> corners = master.face_corners(best.segment);
   const mesh::FaceType type = master.face_type(best.segment);
   if (type == mesh::FaceType::kQuad8) {
-    for (std::size_t i = 0; i < 4; ++i) best.config.nodes[i] = master.positions[static_cast<std::size_t>(corners[i])];
+    for (std::size_t i = 0; i < 4; ++i)
+      best.config.nodes[i] = master.positions[static_cast<std::size_t>(corners[i])];
   }
   if (type != mesh::FaceType::kQuad4) return best;
   int k = 0;
   double nearest = std::numeric_limits<double>::infinity();
   for (int i = 0; i < 4; ++i) {
-    const double d2 = (master.positions[static_cast<std::size_t>(corners[static_cast<std::size_t>(i)])] - slave).squaredNorm();
+    const double d2 =
+        (master.positions[static_cast<std::size_t>(corners[static_cast<std::size_t>(i)])] - slave)
+            .squaredNorm();
     if (d2 < nearest) {
       nearest = d2;
       k = i;
     }
   }
-  for (int i = 0; i < 4; ++i) best.nodes[static_cast<std::size_t>(i)] = corners[static_cast<std::size_t>((k + i) % 4)];
+  for (int i = 0; i < 4; ++i)
+    best.nodes[static_cast<std::size_t>(i)] = corners[static_cast<std::size_t>((k + i) % 4)];
   best.nearest_node = best.nodes[0];
   const SurfaceKind kind = kind_of(master, options, best.segment);
   const geometry::Configuration own = face_configuration(master, normals, kind, best.segment);
@@ -560,7 +591,9 @@ double capture_distance(const mesh::SurfaceMesh& master, const SearchOptions& op
   for (int f = 0; f < master.face_count(); ++f) {
     for (int a : master.face_corners(f)) {
       for (int b : master.face_corners(f)) {
-        largest = std::max(largest, (master.positions[static_cast<std::size_t>(a)] - master.positions[static_cast<std::size_t>(b)]).norm());
+        largest = std::max(largest, (master.positions[static_cast<std::size_t>(a)] -
+                                     master.positions[static_cast<std::size_t>(b)])
+                                        .norm());
       }
     }
   }
@@ -602,7 +635,8 @@ struct SurfaceSearcher::Impl {
                std::vector<std::pair<std::uint32_t, double>>& scratch, bool spheres_only) const {
     const auto bound_of = [&](int face) {
       const auto f = static_cast<std::size_t>(face);
-      return spheres_only ? (slave - index.centres[f]).norm() - index.radii[f] : face_lower_bound(index, slave, face);
+      return spheres_only ? (slave - index.centres[f]).norm() - index.radii[f]
+                          : face_lower_bound(index, slave, face);
     };
     if (options.brute_force_faces) {
       for (std::size_t s = 0; s < index.centres.size(); ++s) {
@@ -615,7 +649,8 @@ struct SurfaceSearcher::Impl {
     const double radius = reach + largest_radius;
     const double q[3] = {slave.x(), slave.y(), slave.z()};
     scratch.clear();
-    centre_tree().radiusSearch(q, radius * radius * (1.0 + 1e-12), scratch, nanoflann::SearchParams(32, 0.0F, false));
+    centre_tree().radiusSearch(q, radius * radius * (1.0 + 1e-12), scratch,
+                               nanoflann::SearchParams(32, 0.0F, false));
     for (const auto& item : scratch) {
       const double bound = bound_of(static_cast<int>(item.first));
       if (bound <= reach) out.emplace_back(bound, static_cast<int>(item.first));
@@ -644,15 +679,17 @@ SurfaceSearcher::SurfaceSearcher(const mesh::SurfaceMesh& master, std::span<cons
                                  const SearchOptions& options) {
   const bool gregory = options.surface == SurfaceKind::kGregory;
   CONTACTNN_REQUIRE(!gregory || master_normals.size() == master.positions.size(),
-                    "Gregory search needs one node normal per master node: " << master_normals.size() << " for "
-                                                                              << master.positions.size());
+                    "Gregory search needs one node normal per master node: "
+                        << master_normals.size() << " for " << master.positions.size());
   CONTACTNN_REQUIRE(master.segment_element_ids.size() == master.segments.size() &&
                         master.extra_face_element_ids.size() == master.extra_faces.size(),
-                    master.segment_element_ids.size() << " element ids for " << master.segments.size() << " faces");
+                    master.segment_element_ids.size()
+                        << " element ids for " << master.segments.size() << " faces");
   CONTACTNN_REQUIRE(master.midsides_consistent(),
-                    "mid-side nodes for " << master.segment_midsides.size() << " of " << master.segments.size()
-                                          << " segments and " << master.extra_face_midsides.size() << " of "
-                                          << master.extra_faces.size() << " extra faces (each list: none or all)");
+                    "mid-side nodes for "
+                        << master.segment_midsides.size() << " of " << master.segments.size()
+                        << " segments and " << master.extra_face_midsides.size() << " of "
+                        << master.extra_faces.size() << " extra faces (each list: none or all)");
   impl_ = std::make_unique<Impl>(master, master_normals, options);
 }
 
@@ -680,8 +717,10 @@ const std::vector<double>& SurfaceSearcher::radii() const {
   return impl_->unit == 1.0 ? impl_->index.radii : impl_->world_radii;
 }
 
-void SurfaceSearcher::faces_within(const Vec3& world_slave, double world_reach, std::vector<std::pair<double, int>>& out,
-                                   std::vector<std::pair<std::uint32_t, double>>& scratch, bool spheres_only) const {
+void SurfaceSearcher::faces_within(const Vec3& world_slave, double world_reach,
+                                   std::vector<std::pair<double, int>>& out,
+                                   std::vector<std::pair<std::uint32_t, double>>& scratch,
+                                   bool spheres_only) const {
   const double unit = impl_->unit;
   const Vec3 slave = world_slave / unit;
   if (!slave.allFinite() || impl_->index.centres.empty()) return;
@@ -711,8 +750,9 @@ NodeSegmentPair SurfaceSearcher::nearest_fresh(long slave_id, const Vec3& world_
   std::uint32_t index_of = 0;
   one.init(&index_of, &squared);
   const double q[3] = {slave.x(), slave.y(), slave.z()};
-  // Any face would do (the answer does not depend on it; a nearer one gathers fewer candidates): an approximate
-  // search, which prunes every branch unless it may hold a centre 5 times nearer, costs a descent.
+  // Any face would do (the answer does not depend on it; a nearer one gathers fewer candidates): an
+  // approximate search, which prunes every branch unless it may hold a centre 5 times nearer, costs a
+  // descent.
   m.centre_tree().findNeighbors(one, q, nanoflann::SearchParams(32, 4.0F));
   const int nearest = static_cast<int>(index_of);
   // Its distance d bounds the answer's: where the face has a certificate (or is a flat triangle), its closest
@@ -723,8 +763,8 @@ NodeSegmentPair SurfaceSearcher::nearest_fresh(long slave_id, const Vec3& world_
   double reach = m.capture;
   if (certificate_of(m.index, nearest) != nullptr || m.master.face_type(nearest) == mesh::FaceType::kTri3) {
     known.face = nearest;
-    known.point = closest_on_indexed_face(m.master, m.normals, m.options, m.checked_options, m.index, nearest, slave,
-                                          nullptr, &known.reference_faces);
+    known.point = closest_on_indexed_face(m.master, m.normals, m.options, m.checked_options, m.index, nearest,
+                                          slave, nullptr, &known.reference_faces);
     first = &known;
     if (known.point.status == Status::kOk) reach = std::min(reach, known.point.distance);
   } else {
@@ -735,17 +775,17 @@ NodeSegmentPair SurfaceSearcher::nearest_fresh(long slave_id, const Vec3& world_
   }
   // The scan over the faces within `reach` makes the same choices as over every face within the capture
   // distance as long as it reaches none of the faces left out: its final best B (and B's tie band) must stay
-  // within `reach`. Then every face left out has a bound beyond B and its band, where the full scan stops. Where
-  // that does not hold (no point, or a best beyond), the scan runs again over the capture distance.
+  // within `reach`. Then every face left out has a bound beyond B and its band, where the full scan stops.
+  // Where that does not hold (no point, or a best beyond), the scan runs again over the capture distance.
   const double band = kTieTolerance * m.largest_size;
   reach = std::min(m.capture, reach + 4.0 * band);
   m.collect(slave, reach, candidates, scratch, false);
-  NodeSegmentPair pair = search_one(m.master, m.normals, m.options, m.checked_options, m.index, m.capture, slave_id,
-                                    slave, candidates, nullptr, false, first);
-  // |gap| is the scan's own distance of the best, bit for bit (a distance recomputed from the point may differ
-  // by the rounding of the face's origin, as much as the band itself far from the origin).
-  const bool complete = reach >= m.capture ||
-                        (pair.status == PairStatus::kFound && std::abs(pair.label.gap) + band <= reach);
+  NodeSegmentPair pair = search_one(m.master, m.normals, m.options, m.checked_options, m.index, m.capture,
+                                    slave_id, slave, candidates, nullptr, false, first);
+  // |gap| is the scan's own distance of the best, bit for bit (a distance recomputed from the point may
+  // differ by the rounding of the face's origin, as much as the band itself far from the origin).
+  const bool complete =
+      reach >= m.capture || (pair.status == PairStatus::kFound && std::abs(pair.label.gap) + band <= reach);
   if (!complete) {
     const int spent = pair.reference_faces - (first != nullptr ? first->reference_faces : 0);
     candidates.clear();
@@ -759,23 +799,26 @@ NodeSegmentPair SurfaceSearcher::nearest_fresh(long slave_id, const Vec3& world_
 }
 
 NodeSegmentPair SurfaceSearcher::nearest(long slave_id, const Vec3& slave,
-                                         std::vector<std::pair<double, int>>& candidates, const FaceHint* hint,
-                                         Bounds bounds) const {
+                                         std::vector<std::pair<double, int>>& candidates,
+                                         const FaceHint* hint, Bounds bounds) const {
   const double unit = impl_->unit;
   if (unit == 1.0) {
-    return search_one(impl_->master, impl_->normals, impl_->options, impl_->checked_options, impl_->index, impl_->capture, slave_id, slave,
-                      candidates, hint, bounds == Bounds::kLooseSorted);
+    return search_one(impl_->master, impl_->normals, impl_->options, impl_->checked_options, impl_->index,
+                      impl_->capture, slave_id, slave, candidates, hint, bounds == Bounds::kLooseSorted);
   }
   for (auto& c : candidates) c.first /= unit;
-  NodeSegmentPair pair = search_one(impl_->master, impl_->normals, impl_->options, impl_->checked_options, impl_->index, impl_->capture,
-                                    slave_id, slave / unit, candidates, hint, bounds == Bounds::kLooseSorted);
+  NodeSegmentPair pair =
+      search_one(impl_->master, impl_->normals, impl_->options, impl_->checked_options, impl_->index,
+                 impl_->capture, slave_id, slave / unit, candidates, hint, bounds == Bounds::kLooseSorted);
   for (auto& c : candidates) c.first *= unit;
   to_world(pair, unit, slave);
   return pair;
 }
 
-std::vector<NodeSegmentPair> surface_search(const mesh::SurfaceMesh& master, std::span<const Vec3> master_normals,
-                                            std::span<const long> slave_ids, std::span<const Vec3> slave_positions,
+std::vector<NodeSegmentPair> surface_search(const mesh::SurfaceMesh& master,
+                                            std::span<const Vec3> master_normals,
+                                            std::span<const long> slave_ids,
+                                            std::span<const Vec3> slave_positions,
                                             const SearchOptions& options) {
   std::vector<NodeSegmentPair> pairs;
   surface_search(master, master_normals, slave_ids, slave_positions, options, pairs);

@@ -4,8 +4,10 @@
 // The faces are SurfaceMesh::face_count(), each by its type (SurfaceMesh::face_nodes):
 //  - quad4: C3D8* segments, bilinear facets or, with --surface gregory, Gregory patches; C3D6 quadrilaterals,
 //    bilinear facets under either surface (their nodes need not carry Eq 26 normals);
-//  - quad8: C3D20/C3D20R segments and C3D15 quadrilaterals, the 8-node serendipity surface through all 8 nodes
-//    (geometry::SerendipityQuad; projection::closest_point_on_serendipity_quad), not the facet of the corners;
+//  - quad8: C3D20/C3D20R segments and C3D15 quadrilaterals, the 8-node serendipity surface through all 8
+//  nodes
+//    (geometry::SerendipityQuad; projection::closest_point_on_serendipity_quad), not the facet of the
+//    corners;
 //  - tri3: C3D4 and C3D6 triangles, exact flat triangles (projection::closest_point_on_triangle);
 //  - tri6: C3D10 and C3D15 triangles, the 6-node quadratic surface (geometry::QuadraticTriangle;
 //    projection::closest_point_on_quadratic_triangle).
@@ -14,9 +16,10 @@
 //
 // For a slave node S:
 //  1. Candidates: the faces whose bounding sphere (centre: the mean of the corner nodes; radius: the largest
-//     distance from it to a node, to a Gregory control point, or to a Bezier control point of a quadratic face,
-//     which bound the patch: a quadratic face may bulge beyond its nodes) comes within the capture distance of
-//     S. A k-d tree over the centres (nanoflann) finds them; brute_force_faces tries every face (the oracle).
+//     distance from it to a node, to a Gregory control point, or to a Bezier control point of a quadratic
+//     face, which bound the patch: a quadratic face may bulge beyond its nodes) comes within the capture
+//     distance of S. A k-d tree over the centres (nanoflann) finds them; brute_force_faces tries every face
+//     (the oracle).
 //  2. Candidates in increasing order of their sphere's distance; the closest point on each (by its type, as
 //     above: the references of lib/projection; a bilinear quad4 by one Newton run where a convexity
 //     certificate proves its answer is the face's nearest, bilinear_certificate.hpp, NarrowPhase); a face
@@ -61,9 +64,9 @@ namespace contactnn::contact {
 
 /// The unit of length the searches work in: 1, or where the master's largest coordinate lies beyond 2^+-40,
 /// the power of two at most it (every conversion exact). The closest points, the segment test's products and
-/// the trees' squared radii need lengths whose fourth powers stay in the double range: a deck scaled by 1e-100
-/// found no point for any slave node, one scaled by 1e100 put every point on an edge. Both searches answer in
-/// world units.
+/// the trees' squared radii need lengths whose fourth powers stay in the double range: a deck scaled by
+/// 1e-100 found no point for any slave node, one scaled by 1e100 put every point on an edge. Both searches
+/// answer in world units.
 [[nodiscard]] double working_unit(const mesh::SurfaceMesh& master);
 /// The working unit's conversions, exact for a power of two: the master's positions and the options' absolute
 /// lengths divided by `unit`, and an answer found in that unit back in world units (its point, gap and
@@ -78,7 +81,7 @@ void to_world(NodeSegmentPair& pair, double unit, const Vec3& slave);
 
 /// A face to try first and the start of its projection (an FE code's previous point: tracking.hpp).
 struct FaceHint {
-  int face = -1;                         ///< index of SurfaceMesh::face_corners
+  int face = -1;                          ///< index of SurfaceMesh::face_corners
   std::array<double, 2> param{0.0, 0.0};  ///< local coordinates in the face's own node order
 };
 
@@ -88,7 +91,8 @@ struct FaceHint {
 class SurfaceSearcher {
  public:
   /// InvalidArgument if Gregory normals are missing or the surface's element ids do not match its faces.
-  SurfaceSearcher(const mesh::SurfaceMesh& master, std::span<const Vec3> master_normals, const SearchOptions& options);
+  SurfaceSearcher(const mesh::SurfaceMesh& master, std::span<const Vec3> master_normals,
+                  const SearchOptions& options);
   ~SurfaceSearcher();
   SurfaceSearcher(const SurfaceSearcher&) = delete;
   SurfaceSearcher& operator=(const SurfaceSearcher&) = delete;
@@ -118,9 +122,9 @@ class SurfaceSearcher {
                                         std::vector<std::pair<double, int>>& candidates,
                                         const FaceHint* hint = nullptr, Bounds bounds = Bounds::kExact) const;
   /// Steps 1-4 for one slave node, fresh: faces_within(capture) and nearest, gathering fewer candidates: only
-  /// the faces whose bound is within the distance of the face whose centre is nearest S (its certified closest
-  /// point, or its nearest corner); where the scan's answer is not within that reach (and its tie band), the
-  /// scan runs again over the capture distance. The same answer.
+  /// the faces whose bound is within the distance of the face whose centre is nearest S (its certified
+  /// closest point, or its nearest corner); where the scan's answer is not within that reach (and its tie
+  /// band), the scan runs again over the capture distance. The same answer.
   [[nodiscard]] NodeSegmentPair nearest_fresh(long slave_id, const Vec3& slave,
                                               std::vector<std::pair<double, int>>& candidates,
                                               std::vector<std::pair<std::uint32_t, double>>& scratch) const;
@@ -132,12 +136,13 @@ class SurfaceSearcher {
   std::unique_ptr<Impl> impl_;
 };
 
-/// The indices of `points` in Morton order (the Z curve through their bounding box in cubic cells, 2^10 along its
-/// longest side; a two-pass radix sort; non-finite points in the first cell), so that consecutive queries meet the same faces
-/// and tree nodes: the searches take their slave nodes in this order (the answers do not depend on it), and a
-/// random node order costs about what a mesh's own does. An order whose consecutive points lie a few spacings
-/// apart on average (a mesh's own, at most 8 extent / sqrt(n) a step) is kept as it is: measured on the large
-/// history's grid order, the Z curve was slower. `order` and `scratch` are resized and reused.
+/// The indices of `points` in Morton order (the Z curve through their bounding box in cubic cells, 2^10 along
+/// its longest side; a two-pass radix sort; non-finite points in the first cell), so that consecutive queries
+/// meet the same faces and tree nodes: the searches take their slave nodes in this order (the answers do not
+/// depend on it), and a random node order costs about what a mesh's own does. An order whose consecutive
+/// points lie a few spacings apart on average (a mesh's own, at most 8 extent / sqrt(n) a step) is kept as it
+/// is: measured on the large history's grid order, the Z curve was slower. `order` and `scratch` are resized
+/// and reused.
 void spatial_order(std::span<const Vec3> points, std::vector<std::uint32_t>& order,
                    std::vector<std::uint64_t>& scratch);
 

@@ -25,9 +25,11 @@ void SurfaceTracker::reset() {
   drift_ = 0.0;
 }
 
-std::vector<NodeSegmentPair> SurfaceTracker::step(const mesh::SurfaceMesh& master, std::span<const Vec3> master_normals,
+std::vector<NodeSegmentPair> SurfaceTracker::step(const mesh::SurfaceMesh& master,
+                                                  std::span<const Vec3> master_normals,
                                                   std::span<const long> slave_ids,
-                                                  std::span<const Vec3> slave_positions, TrackingCounts* counts) {
+                                                  std::span<const Vec3> slave_positions,
+                                                  TrackingCounts* counts) {
   std::vector<NodeSegmentPair> pairs;
   step(master, master_normals, slave_ids, slave_positions, pairs, counts);
   return pairs;
@@ -45,7 +47,8 @@ void SurfaceTracker::step(const mesh::SurfaceMesh& master, std::span<const Vec3>
   const std::size_t n = slave_ids.size();
 
   // Step 2's drift; a new surface or new slave nodes start over.
-  const bool same = centres.size() == centres_.size() && std::equal(slave_ids.begin(), slave_ids.end(), ids_.begin(), ids_.end());
+  const bool same = centres.size() == centres_.size() &&
+                    std::equal(slave_ids.begin(), slave_ids.end(), ids_.begin(), ids_.end());
   if (!same) {
     reset();
     ids_.assign(slave_ids.begin(), slave_ids.end());
@@ -58,7 +61,8 @@ void SurfaceTracker::step(const mesh::SurfaceMesh& master, std::span<const Vec3>
     // and a list stayed valid however far its faces had moved.
     double largest = 0.0;
     for (std::size_t f = 0; f < centres.size(); ++f) {
-      largest = std::max(largest, ((centres[f] - centres_[f]) / unit).norm() + std::abs(radii[f] - radii_[f]) / unit);
+      largest = std::max(largest,
+                         ((centres[f] - centres_[f]) / unit).norm() + std::abs(radii[f] - radii_[f]) / unit);
     }
     drift_ += largest * unit;
   }
@@ -114,7 +118,8 @@ void SurfaceTracker::step(const mesh::SurfaceMesh& master, std::span<const Vec3>
       const FaceHint* hint = hints_[i].face >= 0 ? &hints_[i] : nullptr;
       warm += hint != nullptr;
       pairs[i] = searcher.nearest(slave_ids[i], slave, candidates, hint, bounds);
-      hints_[i] = pairs[i].status == PairStatus::kFound ? FaceHint{pairs[i].segment, pairs[i].face_param} : FaceHint{};
+      hints_[i] = pairs[i].status == PairStatus::kFound ? FaceHint{pairs[i].segment, pairs[i].face_param}
+                                                        : FaceHint{};
     }
   }
   if (counts != nullptr) *counts = {fresh, tracked, warm, list_faces};

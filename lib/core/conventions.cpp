@@ -18,13 +18,18 @@ std::optional<Status> status_from_string(std::string_view name) {
   return std::nullopt;
 }
 
-std::string_view to_string(SurfaceKind kind) { return kind == SurfaceKind::kBilinear ? "bilinear" : "gregory"; }
+std::string_view to_string(SurfaceKind kind) {
+  return kind == SurfaceKind::kBilinear ? "bilinear" : "gregory";
+}
 
 std::string_view to_string(Location location) {
   switch (location) {
-    case Location::kFace: return "face";
-    case Location::kEdge: return "edge";
-    case Location::kVertex: return "vertex";
+    case Location::kFace:
+      return "face";
+    case Location::kEdge:
+      return "edge";
+    case Location::kVertex:
+      return "vertex";
   }
   return "face";
 }

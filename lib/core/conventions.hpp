@@ -76,9 +76,10 @@ inline constexpr std::array<std::string_view, 12> kRawNormalColumns = {
 /// Normalised network inputs (SPEC 4). Bilinear: the first 8; Gregory: all 16
 /// (node normals rotated into the frame, entered as n_x/n_z and n_y/n_z for A, B, C, D).
 inline constexpr std::array<std::string_view, 16> kFeatureNames = {
-    "xc", "yc", "zc", "xd", "yd", "xs", "ys", "zs",
-    "pa", "qa", "pb", "qb", "pc", "qc", "pd", "qd"};
-[[nodiscard]] constexpr int feature_count(SurfaceKind kind) { return kind == SurfaceKind::kBilinear ? 8 : 16; }
+    "xc", "yc", "zc", "xd", "yd", "xs", "ys", "zs", "pa", "qa", "pb", "qb", "pc", "qc", "pd", "qd"};
+[[nodiscard]] constexpr int feature_count(SurfaceKind kind) {
+  return kind == SurfaceKind::kBilinear ? 8 : 16;
+}
 
 /// Version of the HDF5 dataset and network schemas (docs/files.md). Bumped on any
 /// incompatible change; readers reject other versions with a message naming both.

@@ -70,22 +70,22 @@ class NumericalError : public Error {
 /// Throws contactnn::InvalidArgument naming the failed condition, the message and the source location: for
 /// an internal invariant. A caller's bad argument that users see (a method name, an option of the C
 /// interface) takes REQUIRE_AS(InvalidArgument, ...), whose message is the user's alone.
-#define CONTACTNN_REQUIRE(cond, msg)                                                          \
-  do {                                                                                        \
-    if (!(cond)) {                                                                            \
-      std::ostringstream contactnn_require_os_;                                               \
-      contactnn_require_os_ << msg << " [requirement '" #cond "' failed at " << __FILE__ << ":" \
-                            << __LINE__ << "]";                                               \
-      throw ::contactnn::InvalidArgument(contactnn_require_os_.str());                        \
-    }                                                                                         \
+#define CONTACTNN_REQUIRE(cond, msg)                                                                        \
+  do {                                                                                                      \
+    if (!(cond)) {                                                                                          \
+      std::ostringstream contactnn_require_os_;                                                             \
+      contactnn_require_os_ << msg << " [requirement '" #cond "' failed at " << __FILE__ << ":" << __LINE__ \
+                            << "]";                                                                         \
+      throw ::contactnn::InvalidArgument(contactnn_require_os_.str());                                      \
+    }                                                                                                       \
   } while (false)
 
 /// Same, throwing a chosen contactnn exception type: REQUIRE_AS(FormatError, ok, "...").
-#define CONTACTNN_REQUIRE_AS(ExceptionType, cond, msg)         \
-  do {                                                         \
-    if (!(cond)) {                                             \
-      std::ostringstream contactnn_require_os_;                \
-      contactnn_require_os_ << msg;                            \
-      throw ExceptionType(contactnn_require_os_.str());        \
-    }                                                          \
+#define CONTACTNN_REQUIRE_AS(ExceptionType, cond, msg)  \
+  do {                                                  \
+    if (!(cond)) {                                      \
+      std::ostringstream contactnn_require_os_;         \
+      contactnn_require_os_ << msg;                     \
+      throw ExceptionType(contactnn_require_os_.str()); \
+    }                                                   \
   } while (false)

@@ -8,7 +8,9 @@
 
 namespace contactnn {
 
-std::string_view to_string(InputFeatures features) { return features == InputFeatures::kPaper ? "paper" : "affine"; }
+std::string_view to_string(InputFeatures features) {
+  return features == InputFeatures::kPaper ? "paper" : "affine";
+}
 
 InputFeatures input_features_from_string(std::string_view name) {
   if (name == "paper") return InputFeatures::kPaper;

@@ -5,7 +5,8 @@
 // p2 = (1,1), p3 = (-1,1). A symmetry relabels them: canonical node i is caller node caller_node(i).
 //  - rotation r (0..3): canonical node i = caller node (i + r) mod 4, so canonical A is caller node r;
 //  - mirror: after the rotation, the order A, D, C, B (the paper's |AD| <= |AB| step). With a reflection of
-//    space it keeps the front side of the segment (SPEC 4); the projection's gap sign is handled by the frame.
+//    space it keeps the front side of the segment (SPEC 4); the projection's gap sign is handled by the
+//    frame.
 // A point's coordinates follow: caller (xi, eta) = rot^r(m(s, t)), with rot(x, y) = (-y, x) (the map
 // p_i -> p_{i+1}) and m the swap (x, y) -> (y, x) when mirrored (the map p_i -> p_{(4-i) mod 4}).
 #pragma once
@@ -28,7 +29,8 @@ struct SquareSymmetry {
   }
 
   /// Canonical local coordinates -> the caller's, in `kind`'s own parameters ((xi, eta) or (u, v)). Exact for
-  /// (xi, eta) (sign changes and swaps); for (u, v) the reflections about 1/2 (u -> 1 - u) round in the last bit.
+  /// (xi, eta) (sign changes and swaps); for (u, v) the reflections about 1/2 (u -> 1 - u) round in the last
+  /// bit.
   [[nodiscard]] constexpr std::array<double, 2> to_caller(std::array<double, 2> p, SurfaceKind kind) const {
     const double c = kind == SurfaceKind::kBilinear ? 0.0 : 0.5;  // centre of the parameter domain
     double x = p[0] - c, y = p[1] - c;
@@ -46,7 +48,8 @@ struct SquareSymmetry {
   }
 
   /// The caller's local coordinates -> canonical ones (the inverse of to_caller).
-  [[nodiscard]] constexpr std::array<double, 2> to_canonical(std::array<double, 2> p, SurfaceKind kind) const {
+  [[nodiscard]] constexpr std::array<double, 2> to_canonical(std::array<double, 2> p,
+                                                             SurfaceKind kind) const {
     const double c = kind == SurfaceKind::kBilinear ? 0.0 : 0.5;
     double x = p[0] - c, y = p[1] - c;
     for (int k = 0; k < rotation; ++k) {
@@ -71,8 +74,9 @@ struct SquareSymmetry {
 
 /// All 8 symmetries, identity first (for tests and for callers that enumerate node orders).
 [[nodiscard]] constexpr std::array<SquareSymmetry, 8> all_square_symmetries() {
-  return {SquareSymmetry{0, false}, SquareSymmetry{1, false}, SquareSymmetry{2, false}, SquareSymmetry{3, false},
-          SquareSymmetry{0, true},  SquareSymmetry{1, true},  SquareSymmetry{2, true},  SquareSymmetry{3, true}};
+  return {SquareSymmetry{0, false}, SquareSymmetry{1, false}, SquareSymmetry{2, false},
+          SquareSymmetry{3, false}, SquareSymmetry{0, true},  SquareSymmetry{1, true},
+          SquareSymmetry{2, true},  SquareSymmetry{3, true}};
 }
 
 }  // namespace contactnn

@@ -22,7 +22,8 @@ std::vector<double> grid_values(double limit, int points) {
   std::vector<double> values(static_cast<std::size_t>(points));
   // limit (2k + 1 - n) / n: symmetric about 0 to the last bit, and exactly 0 at the middle of an odd grid.
   for (int k = 0; k < points; ++k) {
-    values[static_cast<std::size_t>(k)] = limit * static_cast<double>(2 * k + 1 - points) / static_cast<double>(points);
+    values[static_cast<std::size_t>(k)] =
+        limit * static_cast<double>(2 * k + 1 - points) / static_cast<double>(points);
   }
   return values;
 }
@@ -78,7 +79,8 @@ LabelledSet enumerate_configurations(const EnumerationOptions& options, Enumerat
         Configuration config{{a, b, c_nodes[ic], d}, s, {}};
         // The full filter (C's checks; S's again, cheaply). Normals are drawn later so as to pass.
         if (!filters.accepts(config, SurfaceKind::kBilinear)) continue;
-        candidates.push_back({static_cast<std::int32_t>(id), static_cast<std::int32_t>(ic), static_cast<std::int32_t>(is)});
+        candidates.push_back(
+            {static_cast<std::int32_t>(id), static_cast<std::int32_t>(ic), static_cast<std::int32_t>(is)});
       }
     }
   }
@@ -94,9 +96,10 @@ LabelledSet enumerate_configurations(const EnumerationOptions& options, Enumerat
 #pragma omp parallel for schedule(dynamic, 1024)
   for (std::int64_t row = 0; row < total; ++row) {
     const Candidate& cand = candidates[static_cast<std::size_t>(row / sets)];
-    Configuration config{{a, b, c_nodes[static_cast<std::size_t>(cand.c)], d_nodes[static_cast<std::size_t>(cand.d)]},
-                         s_nodes[static_cast<std::size_t>(cand.s)],
-                         {}};
+    Configuration config{
+        {a, b, c_nodes[static_cast<std::size_t>(cand.c)], d_nodes[static_cast<std::size_t>(cand.d)]},
+        s_nodes[static_cast<std::size_t>(cand.s)],
+        {}};
     if (kind == SurfaceKind::kGregory) {
       RandomStream random(options.seed, static_cast<std::uint64_t>(row));
       config.normals = random_node_normals(config.nodes, filters.max_normal_tilt_tangent, random);

@@ -7,8 +7,8 @@
 #include <functional>
 #include <string>
 
-#include "geometry/domain.hpp"
 #include "dataset/labelled_set.hpp"
+#include "geometry/domain.hpp"
 #include "projection/newton_projection.hpp"
 
 namespace contactnn::dataset {
@@ -35,9 +35,9 @@ struct EnumerationOptions {
 
 /// What an enumeration did, for the summary gen-configs prints.
 struct EnumerationSummary {
-  std::int64_t grid_points = 0;      ///< D x C x S grid candidates before any filter
-  std::int64_t geometric_kept = 0;   ///< candidates passing the geometric filters (times normal_sets)
-  std::int64_t kept = 0;             ///< rows in the dataset
+  std::int64_t grid_points = 0;     ///< D x C x S grid candidates before any filter
+  std::int64_t geometric_kept = 0;  ///< candidates passing the geometric filters (times normal_sets)
+  std::int64_t kept = 0;            ///< rows in the dataset
   std::array<std::int64_t, kStatusCount> status_counts{};  ///< over all labelled candidates
   std::array<std::int64_t, 64> iteration_histogram{};      ///< over kept rows; last bin is ">= 63"
   double seconds = 0.0;
@@ -48,7 +48,8 @@ using ProgressFn = std::function<void(std::int64_t done, std::int64_t total)>;
 
 /// Enumerates, filters and labels. Runs the labelling in parallel (OpenMP); the result is identical for
 /// any thread count (rows in grid order, per-row work independent).
-[[nodiscard]] LabelledSet enumerate_configurations(const EnumerationOptions& options, EnumerationSummary& summary,
+[[nodiscard]] LabelledSet enumerate_configurations(const EnumerationOptions& options,
+                                                   EnumerationSummary& summary,
                                                    const ProgressFn& progress = {});
 
 /// The grid values for `points` cell centres over (-limit, limit).

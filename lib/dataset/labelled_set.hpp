@@ -17,15 +17,15 @@ using MatrixRM = Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajo
 /// Row i of every member belongs to configuration i.
 struct LabelledSet {
   SurfaceKind surface = SurfaceKind::kBilinear;
-  MatrixRM<double> features;       ///< N x feature_count(surface): normalised inputs (SPEC 4, kFeatureNames order)
-  MatrixRM<double> labels;         ///< N x 2: (xi, eta) for bilinear, (u, v) for Gregory; Newton reference, in
-                                   ///< the canonical configuration the features describe (SPEC 4)
-  Eigen::VectorXd gap;             ///< N: signed gap n.(S - P) in normalised units (negative: penetration), canonical
-  Eigen::VectorXi iterations;      ///< N: Newton iterations of the reported solution's start
-  std::vector<Status> status;      ///< N: projection status (SPEC 2)
-  Eigen::VectorXd scale;           ///< N: raw-to-normalised scale 1/|AB| (1 for enumerated configurations)
-  std::string config_toml;         ///< effective generator config
-  geometry::DomainFilters filters;           ///< the geometric filters the configurations satisfy
+  MatrixRM<double> features;  ///< N x feature_count(surface): normalised inputs (SPEC 4, kFeatureNames order)
+  MatrixRM<double> labels;    ///< N x 2: (xi, eta) for bilinear, (u, v) for Gregory; Newton reference, in
+                              ///< the canonical configuration the features describe (SPEC 4)
+  Eigen::VectorXd gap;  ///< N: signed gap n.(S - P) in normalised units (negative: penetration), canonical
+  Eigen::VectorXi iterations;       ///< N: Newton iterations of the reported solution's start
+  std::vector<Status> status;       ///< N: projection status (SPEC 2)
+  Eigen::VectorXd scale;            ///< N: raw-to-normalised scale 1/|AB| (1 for enumerated configurations)
+  std::string config_toml;          ///< effective generator config
+  geometry::DomainFilters filters;  ///< the geometric filters the configurations satisfy
 
   [[nodiscard]] Eigen::Index size() const { return features.rows(); }
   /// Allocates every member for n rows of `surface` (values unset).

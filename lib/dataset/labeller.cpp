@@ -25,8 +25,8 @@ Label label_configuration(const geometry::Configuration& world, SurfaceKind kind
   label.canonical_param = label.param;
   const auto normalised = geometry::normalise(world, kind);
   if (!normalised.value) {
-    label.status = normalised.failure == geometry::NormaliseFailure::kNonFinite ? Status::kInvalid
-                                                                                 : Status::kDegenerate;
+    label.status =
+        normalised.failure == geometry::NormaliseFailure::kNonFinite ? Status::kInvalid : Status::kDegenerate;
     return label;
   }
   label.features = normalised.value->features;
@@ -48,7 +48,8 @@ Label label_configuration(const geometry::Configuration& world, SurfaceKind kind
 }
 
 void store_label(const Label& label, Eigen::Index row, LabelledSet& set) {
-  for (int f = 0; f < feature_count(set.surface); ++f) set.features(row, f) = label.features[static_cast<std::size_t>(f)];
+  for (int f = 0; f < feature_count(set.surface); ++f)
+    set.features(row, f) = label.features[static_cast<std::size_t>(f)];
   set.labels(row, 0) = label.canonical_param[0];
   set.labels(row, 1) = label.canonical_param[1];
   set.gap[row] = label.canonical_gap;

@@ -33,6 +33,6 @@ class RandomStream {
 /// (next - X) x (prev - X), tilted in a uniformly random direction by an angle whose tangent is uniform in
 /// [0, max_tangent) (the paper's Section 6.3.1: "the tangent of the angle ... is below 0.2"). Unit length.
 [[nodiscard]] std::array<geometry::Vec3, 4> random_node_normals(const std::array<geometry::Vec3, 4>& nodes,
-                                                               double max_tangent, RandomStream& random);
+                                                                double max_tangent, RandomStream& random);
 
 }  // namespace contactnn::dataset

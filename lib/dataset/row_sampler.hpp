@@ -1,6 +1,6 @@
-// Internal to lib/dataset: the loop every random dataset shares. Row i draws from its own counter-based stream
-// (seed, i) until an attempt gives a label worth keeping, so the set is the same for any thread count; draws
-// and labelled candidates are tallied per row and summed after the loop (integer sums: order-free).
+// Internal to lib/dataset: the loop every random dataset shares. Row i draws from its own counter-based
+// stream (seed, i) until an attempt gives a label worth keeping, so the set is the same for any thread count;
+// draws and labelled candidates are tallied per row and summed after the loop (integer sums: order-free).
 #pragma once
 
 #include <omp.h>
@@ -14,8 +14,8 @@
 
 #include "core/error.hpp"
 #include "dataset/enumeration.hpp"
-#include "dataset/labeller.hpp"
 #include "dataset/labelled_set.hpp"
+#include "dataset/labeller.hpp"
 #include "dataset/random_stream.hpp"
 
 namespace contactnn::dataset::detail {
@@ -27,9 +27,9 @@ struct Attempt {
 };
 
 /// Fills `count` rows of a `kind` set: for row i, `attempt(random)` with random = RandomStream(seed, i) until
-/// one is kept (its canonical features, label and gap go in the row); more than `max_draws` attempts for a row
-/// is InvalidArgument with `hopeless_message`. `summary`: grid_points = attempts, geometric_kept = labelled
-/// candidates, status counts over those, the kept rows' iteration histogram, time.
+/// one is kept (its canonical features, label and gap go in the row); more than `max_draws` attempts for a
+/// row is InvalidArgument with `hopeless_message`. `summary`: grid_points = attempts, geometric_kept =
+/// labelled candidates, status counts over those, the kept rows' iteration histogram, time.
 template <class AttemptFn>
 LabelledSet sample_rows(SurfaceKind kind, std::int64_t count, std::uint64_t seed, std::int64_t max_draws,
                         const AttemptFn& attempt, EnumerationSummary& summary, const ProgressFn& progress,
@@ -82,7 +82,8 @@ LabelledSet sample_rows(SurfaceKind kind, std::int64_t count, std::uint64_t seed
   for (const RowTally& t : tally) {
     summary.grid_points += t.drawn;
     summary.geometric_kept += t.labelled;
-    for (int s = 0; s < kStatusCount; ++s) summary.status_counts[static_cast<std::size_t>(s)] += t.status[static_cast<std::size_t>(s)];
+    for (int s = 0; s < kStatusCount; ++s)
+      summary.status_counts[static_cast<std::size_t>(s)] += t.status[static_cast<std::size_t>(s)];
   }
   for (std::int64_t row = 0; row < count; ++row) {
     ++summary.iteration_histogram[static_cast<std::size_t>(std::min(set.iterations[row], 63))];

@@ -40,13 +40,13 @@ std::optional<Configuration> draw_candidate(const EnumerationOptions& options, R
   return c;
 }
 
-LabelledSet sample_configurations(const EnumerationOptions& options, std::int64_t count, EnumerationSummary& summary,
-                                  const ProgressFn& progress) {
+LabelledSet sample_configurations(const EnumerationOptions& options, std::int64_t count,
+                                  EnumerationSummary& summary, const ProgressFn& progress) {
   const SurfaceKind kind = options.surface;
   const geometry::DomainFilters& filters = options.filters;
   std::ostringstream hopeless;
-  hopeless << "no configuration of the " << to_string(kind) << " domain passed the filters in " << kMaxDrawsPerRow
-           << " draws: the filters exclude everything?\n"
+  hopeless << "no configuration of the " << to_string(kind) << " domain passed the filters in "
+           << kMaxDrawsPerRow << " draws: the filters exclude everything?\n"
            << filters.describe();
   LabelledSet set = detail::sample_rows(
       kind, count, options.seed, kMaxDrawsPerRow,

@@ -4,7 +4,6 @@
 #pragma once
 
 #include <cstdint>
-
 #include <optional>
 
 #include "dataset/enumeration.hpp"

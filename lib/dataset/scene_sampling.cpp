@@ -38,7 +38,8 @@ Vec3 in_unit_ball(RandomStream& random) {
   }
 }
 
-/// `n` (unit) tilted in a uniformly random direction by an angle whose tangent is uniform in [0, max_tangent).
+/// `n` (unit) tilted in a uniformly random direction by an angle whose tangent is uniform in [0,
+/// max_tangent).
 Vec3 tilted(const Vec3& n, double max_tangent, RandomStream& random) {
   const Vec3 t1 = n.unitOrthogonal();
   const Vec3 t2 = n.cross(t1);
@@ -71,7 +72,8 @@ LabelledSet sample_scene(const std::vector<SceneSegment>& segments, const SceneD
   CONTACTNN_REQUIRE(domain.capture > 0.0, "capture must be > 0, got " << domain.capture);
   CONTACTNN_REQUIRE(domain.boundary_fraction >= 0.0 && domain.boundary_fraction <= 1.0,
                     "boundary_fraction must be in [0, 1], got " << domain.boundary_fraction);
-  CONTACTNN_REQUIRE(domain.normal_tilt_tangent >= 0.0, "normal_tilt_tangent must be >= 0, got " << domain.normal_tilt_tangent);
+  CONTACTNN_REQUIRE(domain.normal_tilt_tangent >= 0.0,
+                    "normal_tilt_tangent must be >= 0, got " << domain.normal_tilt_tangent);
   const SurfaceKind kind = options.surface;
   const bool gregory = kind == SurfaceKind::kGregory;
 
@@ -91,16 +93,17 @@ LabelledSet sample_scene(const std::vector<SceneSegment>& segments, const SceneD
         detail::Attempt attempt;
         // 1. A segment, deformed.
         const double pick = random.uniform01() * total_area;
-        const auto k = static_cast<std::size_t>(
-            std::min<std::ptrdiff_t>(std::lower_bound(cumulative_area.begin(), cumulative_area.end(), pick) -
-                                         cumulative_area.begin(),
-                                     static_cast<std::ptrdiff_t>(segments.size()) - 1));
+        const auto k = static_cast<std::size_t>(std::min<std::ptrdiff_t>(
+            std::lower_bound(cumulative_area.begin(), cumulative_area.end(), pick) - cumulative_area.begin(),
+            static_cast<std::ptrdiff_t>(segments.size()) - 1));
         const SceneSegment& segment = segments[k];
         const double e = shortest_edge(segment.nodes);
         Configuration c{};
-        for (int i = 0; i < 4; ++i) c.nodes[i] = segment.nodes[i] + domain.deformation * e * in_unit_ball(random);
+        for (int i = 0; i < 4; ++i)
+          c.nodes[i] = segment.nodes[i] + domain.deformation * e * in_unit_ball(random);
         for (int i = 0; i < 4; ++i) {
-          c.normals[i] = gregory ? tilted(segment.normals[i], domain.normal_tilt_tangent, random) : Vec3::Zero();
+          c.normals[i] =
+              gregory ? tilted(segment.normals[i], domain.normal_tilt_tangent, random) : Vec3::Zero();
         }
         // 2. The slave along the facet's normal over a foot point.
         double xi = random.uniform(-1.0, 1.0);
@@ -120,7 +123,8 @@ LabelledSet sample_scene(const std::vector<SceneSegment>& segments, const SceneD
         const Vec3 normal = foot.d_s.cross(foot.d_t);
         if (!(normal.norm() > 0.0)) return attempt;
         c.slave = foot.position + random.uniform(-domain.capture, domain.capture) * e * normal.normalized();
-        // 3. A pair the global search could make: the segment's node nearest S, and (domain.segment_test) S passes
+        // 3. A pair the global search could make: the segment's node nearest S, and (domain.segment_test) S
+        // passes
         //    the segment test of Eqs 3-6 there, as the paper's pairs; the surface search's need not.
         const int a = geometry::canonical_symmetry(c.nodes, c.slave).rotation;
         if (domain.segment_test &&
@@ -133,7 +137,8 @@ LabelledSet sample_scene(const std::vector<SceneSegment>& segments, const SceneD
         attempt.keep = attempt.label->status == Status::kOk;
         return attempt;
       },
-      summary, progress, "no configuration of the scene's domain was accepted in " + std::to_string(kMaxDrawsPerRow) + " draws");
+      summary, progress,
+      "no configuration of the scene's domain was accepted in " + std::to_string(kMaxDrawsPerRow) + " draws");
 
   // The domain drawn, as filters: the accepted rows' extremes, widened.
   geometry::DomainFilters& f = set.filters;
@@ -172,7 +177,8 @@ LabelledSet sample_scene(const std::vector<SceneSegment>& segments, const SceneD
   f.segment_test_a = domain.segment_test;
   f.min_angle_degrees = std::max(0.0, f.min_angle_degrees - 180.0 * kWidening);
   f.max_angle_degrees = std::min(180.0, f.max_angle_degrees + 180.0 * kWidening);
-  f.max_normal_tilt_tangent = gregory ? f.max_normal_tilt_tangent * (1.0 + kWidening) : geometry::DomainFilters{}.max_normal_tilt_tangent;
+  f.max_normal_tilt_tangent = gregory ? f.max_normal_tilt_tangent * (1.0 + kWidening)
+                                      : geometry::DomainFilters{}.max_normal_tilt_tangent;
 
   return set;
 }

@@ -38,24 +38,26 @@ struct SceneDomainOptions {
   /// (the other coordinate uniform). Matching meshes put slave nodes exactly there (on a master node, over a
   /// master edge), where the coordinates are extreme and a uniform sample seldom goes. 0.2.
   double boundary_fraction = 0.2;
-  /// S passes the segment test of Eqs 3-6 at the segment's node nearest it, as the paper's nearest-node pairs do
-  /// (SPEC 7); the domain's filters then require it. Off: S anywhere over the facet within the capture, as the
-  /// surface search (SPEC 9) pairs a slave node with a face: a pair inside a curved Gregory face need not pass
-  /// the test (on forming-stroke's history 3 to 6 of 57 to 66 such pairs did not, every one of them out of a
-  /// domain drawn with the test). scene-study turns it off for a history study (--segment-test auto).
+  /// S passes the segment test of Eqs 3-6 at the segment's node nearest it, as the paper's nearest-node pairs
+  /// do (SPEC 7); the domain's filters then require it. Off: S anywhere over the facet within the capture, as
+  /// the surface search (SPEC 9) pairs a slave node with a face: a pair inside a curved Gregory face need not
+  /// pass the test (on forming-stroke's history 3 to 6 of 57 to 66 such pairs did not, every one of them out
+  /// of a domain drawn with the test). scene-study turns it off for a history study (--segment-test auto).
   bool segment_test = true;
 };
 
 /// `count` configurations of the scene's domain: row i draws (stream (seed, i)) a segment with probability
 /// proportional to its area, deforms it (SceneDomainOptions), places S along the facet normal over a foot
-/// point uniform in (xi, eta) (or on the boundary, boundary_fraction), keeps it when it could be a pair of the global search (SPEC 7): S passes the
-/// segment test of Eqs 3-6 at the segment's node nearest it (domain.segment_test; else any S); labels it with options.projection (kind
-/// options.surface) and keeps it when the projection lies inside (status ok), as the paper's sets. The
-/// features and labels are canonical (SPEC 4). The set's `filters` describe the domain drawn: limits, interior angles and
-/// node-normal tilts of the accepted rows, widened by 1%. options.filters and the grid sizes are not used.
-/// Throws InvalidArgument for no segment, count < 1, or a domain no draw lands in.
-[[nodiscard]] LabelledSet sample_scene(const std::vector<SceneSegment>& segments, const SceneDomainOptions& domain,
-                                       const EnumerationOptions& options, std::int64_t count,
-                                       EnumerationSummary& summary, const ProgressFn& progress = {});
+/// point uniform in (xi, eta) (or on the boundary, boundary_fraction), keeps it when it could be a pair of
+/// the global search (SPEC 7): S passes the segment test of Eqs 3-6 at the segment's node nearest it
+/// (domain.segment_test; else any S); labels it with options.projection (kind options.surface) and keeps it
+/// when the projection lies inside (status ok), as the paper's sets. The features and labels are canonical
+/// (SPEC 4). The set's `filters` describe the domain drawn: limits, interior angles and node-normal tilts of
+/// the accepted rows, widened by 1%. options.filters and the grid sizes are not used. Throws InvalidArgument
+/// for no segment, count < 1, or a domain no draw lands in.
+[[nodiscard]] LabelledSet sample_scene(const std::vector<SceneSegment>& segments,
+                                       const SceneDomainOptions& domain, const EnumerationOptions& options,
+                                       std::int64_t count, EnumerationSummary& summary,
+                                       const ProgressFn& progress = {});
 
 }  // namespace contactnn::dataset

@@ -12,16 +12,19 @@ namespace contactnn::eval {
 Estimates run_on_set(const search::LocalSearch& search, const EvaluationSet& set, int threads,
                      const std::vector<double>* start) {
   CONTACTNN_REQUIRE(search.surface() == set.surface, "a " << to_string(search.surface()) << " search on the "
-                                                          << to_string(set.surface) << " set '" << set.name << "'");
+                                                          << to_string(set.surface) << " set '" << set.name
+                                                          << "'");
   Estimates e;
   const auto n = static_cast<std::size_t>(set.rows());
-  CONTACTNN_REQUIRE(start == nullptr || start->size() == 2 * n,
-                    "run_on_set: " << start->size() / 2 << " starts for the " << n << " rows of '" << set.name << "'");
+  CONTACTNN_REQUIRE(
+      start == nullptr || start->size() == 2 * n,
+      "run_on_set: " << start->size() / 2 << " starts for the " << n << " rows of '" << set.name << "'");
   e.param = start != nullptr ? *start : std::vector<double>(2 * n);
   e.gap.resize(n);
   e.status.resize(n);
   e.iterations.resize(n);
-  search.run(n, set.raw.data(), search::Results<double>{e.param.data(), e.gap.data(), e.status.data(), e.iterations.data()},
+  search.run(n, set.raw.data(),
+             search::Results<double>{e.param.data(), e.gap.data(), e.status.data(), e.iterations.data()},
              threads);
   return e;
 }
@@ -51,8 +54,9 @@ bool inside_domain(const double* p, SurfaceKind kind, double margin) {
 MethodErrors compare_with_labels(std::string method, const Estimates& estimates, const EvaluationSet& set,
                                  double failure_box_margin, bool keep_rows) {
   const std::size_t n = estimates.size();
-  CONTACTNN_REQUIRE(static_cast<std::int64_t>(n) == set.rows(),
-                    "compare_with_labels: " << n << " estimates for the " << set.rows() << " rows of '" << set.name << "'");
+  CONTACTNN_REQUIRE(
+      static_cast<std::int64_t>(n) == set.rows(),
+      "compare_with_labels: " << n << " estimates for the " << set.rows() << " rows of '" << set.name << "'");
   const ParamDomain d = param_domain(set.surface);
   const double box = failure_box_margin * (d.hi - d.lo);
   constexpr double kInsideMargin = 1e-10;  // the reference solver's domain_margin: ok versus outside
@@ -87,9 +91,9 @@ MethodErrors compare_with_labels(std::string method, const Estimates& estimates,
     if (s == Status::kOutOfDomain) ++m.out_of_domain;
     const bool inside = inside_domain(p, set.surface, kInsideMargin);
     if (!inside) ++m.outside_domain;
-    // The method's own verdict where it gives one: a hybrid on a Gregory patch holds a node whose nearest point
-    // lies beyond an edge on that edge (coordinates inside, status outside), where the reference reports the
-    // stationary point beyond it. A network reports no outside: its coordinates decide.
+    // The method's own verdict where it gives one: a hybrid on a Gregory patch holds a node whose nearest
+    // point lies beyond an edge on that edge (coordinates inside, status outside), where the reference
+    // reports the stationary point beyond it. A network reports no outside: its coordinates decide.
     const bool says_inside = inside && s != Status::kOutside;
     ++m.inside_compared;
     if (says_inside == (label == Status::kOk)) ++m.inside_agree;

@@ -17,9 +17,11 @@ double percentile(std::span<const double> sorted, double p) {
   return sorted[lo] + fraction * (sorted[lo + 1] - sorted[lo]);
 }
 
-ErrorStatistics summarize_errors(std::span<const double> signed_errors, std::span<const std::uint8_t> failed) {
-  CONTACTNN_REQUIRE(signed_errors.size() == failed.size(),
-                    "summarize_errors: " << signed_errors.size() << " errors but " << failed.size() << " failure flags");
+ErrorStatistics summarize_errors(std::span<const double> signed_errors,
+                                 std::span<const std::uint8_t> failed) {
+  CONTACTNN_REQUIRE(
+      signed_errors.size() == failed.size(),
+      "summarize_errors: " << signed_errors.size() << " errors but " << failed.size() << " failure flags");
   ErrorStatistics s;
   s.rows = static_cast<std::int64_t>(signed_errors.size());
   std::vector<double> abs_errors;

@@ -17,11 +17,11 @@ struct ErrorStatistics {
   /// Standard deviation of |e| (population, divide by n). The paper's Table 1 gives a "standard deviation"
   /// below the mean |e| for u, which fits the spread of |e| rather than of e; both are reported.
   double std_abs = 0.0;
-  double mean_signed = 0.0;   ///< mean e (bias)
-  double std_signed = 0.0;    ///< standard deviation of e (population, divide by n)
-  double median_abs = 0.0;    ///< 50th percentile of |e| (percentile() below)
-  double p99_abs = 0.0;       ///< 99th percentile of |e|
-  double max_abs = 0.0;       ///< largest |e|
+  double mean_signed = 0.0;  ///< mean e (bias)
+  double std_signed = 0.0;   ///< standard deviation of e (population, divide by n)
+  double median_abs = 0.0;   ///< 50th percentile of |e| (percentile() below)
+  double p99_abs = 0.0;      ///< 99th percentile of |e|
+  double max_abs = 0.0;      ///< largest |e|
 };
 
 /// Statistics of `signed_errors` over the rows where `failed[i]` is 0. Both spans have the same length
@@ -32,9 +32,9 @@ struct ErrorStatistics {
                                                std::span<const std::uint8_t> failed);
 
 /// The p-th percentile (p in [0, 100]) of `sorted` (ascending, non-empty) by linear interpolation between
-/// order statistics: position h = (n - 1) p / 100, value x[floor h] + (h - floor h)(x[floor h + 1] - x[floor h])
-/// (Hyndman & Fan 1996 definition 7; numpy's default). p = 50 of an even count is the mean of the middle two.
-/// InvalidArgument for an empty input or p outside [0, 100].
+/// order statistics: position h = (n - 1) p / 100, value x[floor h] + (h - floor h)(x[floor h + 1] - x[floor
+/// h]) (Hyndman & Fan 1996 definition 7; numpy's default). p = 50 of an even count is the mean of the middle
+/// two. InvalidArgument for an empty input or p outside [0, 100].
 [[nodiscard]] double percentile(std::span<const double> sorted, double p);
 
 }  // namespace contactnn::eval

@@ -72,7 +72,8 @@ EvaluationSet set_from_labelled_csv(const std::filesystem::path& path, SurfaceKi
                              << "': a labelled RAW.csv (gen-configs --input or --scene output) is expected");
     return *found;
   };
-  const std::size_t c0 = column(names[0]), c1 = column(names[1]), c_status = column("status"), c_gap = column("gap");
+  const std::size_t c0 = column(names[0]), c1 = column(names[1]), c_status = column("status"),
+                    c_gap = column("gap");
   std::vector<double> labels;
   io::RawChunk chunk;
   while (reader.next_chunk(chunk, io::kRawChunkRows)) {
@@ -80,9 +81,10 @@ EvaluationSet set_from_labelled_csv(const std::filesystem::path& path, SurfaceKi
       const io::CsvRecord& fields = chunk.records[i];
       const std::size_t line = chunk.line_numbers[i];
       const auto status = status_from_string(fields[c_status]);
-      CONTACTNN_REQUIRE_AS(FormatError, status.has_value(),
-                           "'" << path.string() << "':" << line << ": column 'status': '" << fields[c_status]
-                               << "' is not a status (ok, outside, no_convergence, degenerate, invalid, no_segment)");
+      CONTACTNN_REQUIRE_AS(
+          FormatError, status.has_value(),
+          "'" << path.string() << "':" << line << ": column 'status': '" << fields[c_status]
+              << "' is not a status (ok, outside, no_convergence, degenerate, invalid, no_segment)");
       if (chunk.no_segment[i] != 0 || *status == Status::kNoSegment) {
         ++out.skipped_no_segment;
         continue;

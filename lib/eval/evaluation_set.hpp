@@ -15,8 +15,8 @@
 namespace contactnn::eval {
 
 struct EvaluationSet {
-  std::string name;                  ///< shown in reports: the file's stem, e.g. "bilinear", "hueeber1-pairs"
-  std::string source;                ///< the file it was read from
+  std::string name;    ///< shown in reports: the file's stem, e.g. "bilinear", "hueeber1-pairs"
+  std::string source;  ///< the file it was read from
   SurfaceKind surface = SurfaceKind::kBilinear;
   /// rows x raw_columns(surface): ax ay az ... sz (then nax ... ndz for Gregory), SPEC 6 order, world units.
   std::vector<double> raw;
@@ -30,15 +30,17 @@ struct EvaluationSet {
   std::int64_t skipped_no_segment = 0;  ///< pairs-file rows without a segment (SPEC 7), not queries
 
   [[nodiscard]] std::int64_t rows() const { return static_cast<std::int64_t>(label_status.size()); }
-  [[nodiscard]] static constexpr int raw_columns(SurfaceKind kind) { return kind == SurfaceKind::kBilinear ? 15 : 27; }
+  [[nodiscard]] static constexpr int raw_columns(SurfaceKind kind) {
+    return kind == SurfaceKind::kBilinear ? 15 : 27;
+  }
 };
 
 /// The rows of a gen-configs dataset as world queries: each row's canonical configuration
 /// (configuration_from_features) in the dataset's own frame, or (random_placement) moved by
 /// random_placement(seed, row), a similarity that leaves the local coordinates unchanged and scales the gap.
 /// Labels are the dataset's (canonical = caller order for these configurations).
-[[nodiscard]] EvaluationSet set_from_dataset(const dataset::LabelledSet& set, std::string name, std::string source,
-                                             bool random_placement, std::uint64_t seed);
+[[nodiscard]] EvaluationSet set_from_dataset(const dataset::LabelledSet& set, std::string name,
+                                             std::string source, bool random_placement, std::uint64_t seed);
 
 /// The rows of a labelled RAW.csv (SPEC 6 columns, then xi,eta or u,v, status and gap as gen-configs writes
 /// them: label mode or --scene). Rows with status no_segment are not queries: skipped and counted. Errors:

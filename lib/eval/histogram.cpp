@@ -32,12 +32,13 @@ std::int64_t Histogram::total() const {
   return sum;
 }
 
-Histogram make_histogram(std::span<const double> values, std::span<const std::uint8_t> failed, double lo, double hi,
-                         int bins) {
-  CONTACTNN_REQUIRE(values.size() == failed.size(),
-                    "make_histogram: " << values.size() << " values but " << failed.size() << " failure flags");
-  CONTACTNN_REQUIRE(std::isfinite(lo) && std::isfinite(hi) && lo < hi,
-                    "make_histogram: range [" << lo << ", " << hi << "] is not a finite interval with lo < hi");
+Histogram make_histogram(std::span<const double> values, std::span<const std::uint8_t> failed, double lo,
+                         double hi, int bins) {
+  CONTACTNN_REQUIRE(values.size() == failed.size(), "make_histogram: " << values.size() << " values but "
+                                                                       << failed.size() << " failure flags");
+  CONTACTNN_REQUIRE(
+      std::isfinite(lo) && std::isfinite(hi) && lo < hi,
+      "make_histogram: range [" << lo << ", " << hi << "] is not a finite interval with lo < hi");
   CONTACTNN_REQUIRE(bins >= 1, "make_histogram: bins = " << bins << ", expected >= 1");
   Histogram h;
   h.lo = lo;
@@ -78,8 +79,9 @@ std::string histogram_csv(const Histogram& h) {
   std::string out;
   io::append_csv_row(out, {"bin", "lower_edge", "upper_edge", "count"});
   for (int k = 0; k < h.bins(); ++k) {
-    io::append_csv_row(out, {std::to_string(k), io::format_double(h.edge(k)), io::format_double(h.edge(k + 1)),
-                             std::to_string(h.counts[static_cast<std::size_t>(k)])});
+    io::append_csv_row(out,
+                       {std::to_string(k), io::format_double(h.edge(k)), io::format_double(h.edge(k + 1)),
+                        std::to_string(h.counts[static_cast<std::size_t>(k)])});
   }
   io::append_csv_row(out, {"underflow", "-inf", io::format_double(h.lo), std::to_string(h.underflow)});
   io::append_csv_row(out, {"overflow", io::format_double(h.hi), "inf", std::to_string(h.overflow)});

@@ -33,8 +33,8 @@ struct Histogram {
 /// Histogram of `values` over the rows where `failed[i]` is 0 (failed rows are counted in `excluded`).
 /// InvalidArgument unless lo < hi (both finite), bins >= 1 and the spans have equal length; NumericalError
 /// for a non-finite value in a row that is not failed.
-[[nodiscard]] Histogram make_histogram(std::span<const double> values, std::span<const std::uint8_t> failed, double lo,
-                                       double hi, int bins);
+[[nodiscard]] Histogram make_histogram(std::span<const double> values, std::span<const std::uint8_t> failed,
+                                       double lo, double hi, int bins);
 
 /// The smallest "nice" number (1, 2 or 5 times a power of ten) that is >= x, for x > 0; 1 for x <= 0 or
 /// non-finite x. Used for automatic symmetric ranges [-r, r] and axis ticks.

@@ -19,7 +19,8 @@ Configuration configuration_from_features(SurfaceKind kind, const double* f) {
   c.nodes[3] = Vec3(f[3], f[4], 0.0);
   c.slave = Vec3(f[5], f[6], f[7]);
   for (int i = 0; i < 4; ++i) {
-    c.normals[i] = kind == SurfaceKind::kGregory ? Vec3(f[8 + 2 * i], f[9 + 2 * i], 1.0).normalized() : Vec3::Zero();
+    c.normals[i] =
+        kind == SurfaceKind::kGregory ? Vec3(f[8 + 2 * i], f[9 + 2 * i], 1.0).normalized() : Vec3::Zero();
   }
   return c;
 }

@@ -13,13 +13,13 @@ namespace contactnn::eval {
 /// Where and how a study ran: what report.md states about provenance.
 struct RunInfo {
   std::string command_line;
-  std::string cpu_model;        ///< cpu_model()
+  std::string cpu_model;  ///< cpu_model()
   int hardware_threads = 0;
-  int accuracy_threads = 0;     ///< OpenMP threads of the accuracy part
+  int accuracy_threads = 0;  ///< OpenMP threads of the accuracy part
   std::string compiler;
   std::string build_type;
-  std::string cxx_flags;        ///< CMAKE_CXX_FLAGS and the build type's flags, plus contactnn::flags
-  std::string effective_config; ///< the [evaluate-net] TOML the run used
+  std::string cxx_flags;         ///< CMAKE_CXX_FLAGS and the build type's flags, plus contactnn::flags
+  std::string effective_config;  ///< the [evaluate-net] TOML the run used
 };
 
 /// "model name" of the first processor in /proc/cpuinfo ("unknown" if not readable).
@@ -48,7 +48,8 @@ struct RunInfo {
 [[nodiscard]] const MethodErrors* fastest_within(const SetResult& set, SurfaceKind kind, double level);
 
 /// report.md text.
-[[nodiscard]] std::string report_markdown(const StudyResult& result, const RunInfo& info, const StudyOptions& options);
+[[nodiscard]] std::string report_markdown(const StudyResult& result, const RunInfo& info,
+                                          const StudyOptions& options);
 
 /// Writes every file of the report into `directory` (created if missing), each atomically: errors.csv,
 /// speed.csv (when timed), hist_<c>.csv and hist_<c>.svg for each coordinate name c (with a network),

@@ -34,8 +34,8 @@ std::string trim(std::string s) {
   return s.substr(first, s.find_last_not_of(" \t") - first + 1);
 }
 
-std::vector<StudyMethod> expand_methods(const std::string& list, const std::vector<EvaluatedNetwork>& networks,
-                                        double start_offset) {
+std::vector<StudyMethod> expand_methods(const std::string& list,
+                                        const std::vector<EvaluatedNetwork>& networks, double start_offset) {
   std::vector<StudyMethod> methods;
   std::stringstream in(list);
   std::string item;
@@ -44,10 +44,12 @@ std::vector<StudyMethod> expand_methods(const std::string& list, const std::vect
     if (item.empty()) continue;
     const search::Method m = search::Method::parse(item);
     if (m.needs_start()) {
-      CONTACTNN_REQUIRE(start_offset >= 0.0, "method '" << item << "' refines the caller's own starts (an FE code's "
-                                                         "previous time step); an evaluation set has none to give it: "
-                                                         "give --start_offset D to start from each reference point "
-                                                         "moved D");
+      CONTACTNN_REQUIRE(start_offset >= 0.0,
+                        "method '" << item
+                                   << "' refines the caller's own starts (an FE code's "
+                                      "previous time step); an evaluation set has none to give it: "
+                                      "give --start_offset D to start from each reference point "
+                                      "moved D");
       std::ostringstream name;
       name << m.name() << "[" << start_offset << " off]";
       methods.push_back({name.str(), m, -1});
@@ -65,7 +67,8 @@ std::vector<StudyMethod> expand_methods(const std::string& list, const std::vect
   CONTACTNN_REQUIRE(!methods.empty(), "no method to evaluate in '" << list << "'");
   for (std::size_t i = 0; i < methods.size(); ++i) {
     for (std::size_t j = 0; j < i; ++j) {
-      CONTACTNN_REQUIRE(methods[i].name != methods[j].name, "method '" << methods[i].name << "' is listed twice");
+      CONTACTNN_REQUIRE(methods[i].name != methods[j].name,
+                        "method '" << methods[i].name << "' is listed twice");
     }
   }
   return methods;
@@ -78,7 +81,8 @@ std::vector<std::size_t> timing_rows(const EvaluationSet& set, std::int64_t coun
   for (std::size_t r = 0; r < set.label_status.size(); ++r) {
     if (set.label_status[r] == Status::kOk || set.label_status[r] == Status::kOutside) rows.push_back(r);
   }
-  CONTACTNN_REQUIRE_AS(FormatError, !rows.empty(), "'" << set.source << "' has no row with a reference point to time on");
+  CONTACTNN_REQUIRE_AS(FormatError, !rows.empty(),
+                       "'" << set.source << "' has no row with a reference point to time on");
   mlp::Rng rng(mlp::Rng::derive_seed(seed, 0x7173ULL));
   const std::size_t take = std::min<std::size_t>(rows.size(), static_cast<std::size_t>(count));
   for (std::size_t i = 0; i < take; ++i) {
@@ -103,7 +107,12 @@ struct Runner {
 
   Runner(search::LocalSearch s, const std::vector<double>& queries, std::size_t count, std::size_t cols,
          std::vector<double> starts = {})
-      : search(std::move(s)), raw(&queries), param(2 * count), status(count), n(count), columns(cols),
+      : search(std::move(s)),
+        raw(&queries),
+        param(2 * count),
+        status(count),
+        n(count),
+        columns(cols),
         start(std::move(starts)) {}
 
   double checksum() const {
@@ -114,7 +123,8 @@ struct Runner {
   /// Every query in one call (lib/search's blocks), on `threads` threads.
   double batched(int threads) {
     if (!start.empty()) std::copy(start.begin(), start.end(), param.begin());
-    search.run(n, raw->data(), search::Results<double>{param.data(), nullptr, status.data(), nullptr}, threads);
+    search.run(n, raw->data(), search::Results<double>{param.data(), nullptr, status.data(), nullptr},
+               threads);
     return checksum();
   }
   /// One call per query, as a code that searches query by query.
@@ -124,8 +134,8 @@ struct Runner {
         param[2 * i] = start[2 * i];
         param[2 * i + 1] = start[2 * i + 1];
       }
-      search.run(1, raw->data() + i * columns, search::Results<double>{param.data() + 2 * i, nullptr, status.data() + i, nullptr},
-                 1);
+      search.run(1, raw->data() + i * columns,
+                 search::Results<double>{param.data() + 2 * i, nullptr, status.data() + i, nullptr}, 1);
     }
     return checksum();
   }
@@ -136,8 +146,9 @@ std::vector<double> gather_raw(const EvaluationSet& set, const std::vector<std::
   const auto cols = static_cast<std::size_t>(EvaluationSet::raw_columns(set.surface));
   std::vector<double> out;
   out.reserve(rows.size() * cols);
-  for (const std::size_t r : rows) out.insert(out.end(), set.raw.begin() + static_cast<std::ptrdiff_t>(r * cols),
-                                               set.raw.begin() + static_cast<std::ptrdiff_t>((r + 1) * cols));
+  for (const std::size_t r : rows)
+    out.insert(out.end(), set.raw.begin() + static_cast<std::ptrdiff_t>(r * cols),
+               set.raw.begin() + static_cast<std::ptrdiff_t>((r + 1) * cols));
   return out;
 }
 
@@ -149,18 +160,20 @@ const MethodTiming* find_timing(const SetResult& set, const std::string& method)
 }
 
 /// `starts`: the set's starts for start+newton:K (starts_near_reference; empty when no method reads them).
-void time_set(const EvaluationSet& set, const std::vector<StudyMethod>& methods, const std::vector<search::LocalSearch>& searches,
-              const std::vector<double>& starts, const StudyOptions& options, SetResult& result, const StudyLog& log) {
+void time_set(const EvaluationSet& set, const std::vector<StudyMethod>& methods,
+              const std::vector<search::LocalSearch>& searches, const std::vector<double>& starts,
+              const StudyOptions& options, SetResult& result, const StudyLog& log) {
   const std::vector<std::size_t> rows = timing_rows(set, options.timing_queries, options.seed);
   const std::vector<double> raw = gather_raw(set, rows);
   const auto cols = static_cast<std::size_t>(EvaluationSet::raw_columns(set.surface));
   const auto n = static_cast<std::int64_t>(rows.size());
   result.timed = true;
   result.timing_queries = n;
-  result.timing_distinct = std::min<std::int64_t>(n, static_cast<std::int64_t>(std::count_if(
-                                                        set.label_status.begin(), set.label_status.end(), [](Status s) {
-                                                          return s == Status::kOk || s == Status::kOutside;
-                                                        })));
+  result.timing_distinct = std::min<std::int64_t>(
+      n,
+      static_cast<std::int64_t>(std::count_if(set.label_status.begin(), set.label_status.end(), [](Status s) {
+        return s == Status::kOk || s == Status::kOutside;
+      })));
   std::vector<std::unique_ptr<Runner>> runners;
   std::vector<TimedMethod> timed;
   const int threads = std::max(1, options.timing_threads);
@@ -169,8 +182,9 @@ void time_set(const EvaluationSet& set, const std::vector<StudyMethod>& methods,
     for (const std::size_t r : rows) start.insert(start.end(), {starts[2 * r], starts[2 * r + 1]});
   }
   for (std::size_t m = 0; m < methods.size(); ++m) {
-    runners.push_back(std::make_unique<Runner>(searches[m], raw, rows.size(), cols,
-                                               methods[m].method.needs_start() ? start : std::vector<double>{}));
+    runners.push_back(
+        std::make_unique<Runner>(searches[m], raw, rows.size(), cols,
+                                 methods[m].method.needs_start() ? start : std::vector<double>{}));
     Runner* r = runners.back().get();
     timed.push_back({methods[m].name + " one", "", n, [r] { return r->one_at_a_time(); }});
     timed.push_back({methods[m].name + " batched", "", n, [r] { return r->batched(1); }});
@@ -199,14 +213,17 @@ void time_set(const EvaluationSet& set, const std::vector<StudyMethod>& methods,
   const auto first_network = std::find_if(methods.begin(), methods.end(), [](const StudyMethod& m) {
     return m.method.needs_network() && !m.method.is_hybrid();
   });
-  const auto newton = std::find_if(methods.begin(), methods.end(), [](const StudyMethod& m) { return m.name == "newton"; });
+  const auto newton =
+      std::find_if(methods.begin(), methods.end(), [](const StudyMethod& m) { return m.name == "newton"; });
   if (first_network == methods.end() || newton == methods.end()) return;
   const search::LocalSearch& newton_search = searches[static_cast<std::size_t>(newton - methods.begin())];
-  const search::LocalSearch& network_search = searches[static_cast<std::size_t>(first_network - methods.begin())];
+  const search::LocalSearch& network_search =
+      searches[static_cast<std::size_t>(first_network - methods.begin())];
   std::vector<Status> status(rows.size());
   std::vector<std::int32_t> steps(rows.size());
   std::vector<double> param(2 * rows.size());
-  newton_search.run(rows.size(), raw.data(), search::Results<double>{param.data(), nullptr, status.data(), steps.data()});
+  newton_search.run(rows.size(), raw.data(),
+                    search::Results<double>{param.data(), nullptr, status.data(), steps.data()});
   std::array<std::vector<std::size_t>, kClassLabels.size()> classes;
   for (std::size_t i = 0; i < rows.size() && i < static_cast<std::size_t>(result.timing_distinct); ++i) {
     const bool converged = status[i] == Status::kOk || status[i] == Status::kOutside;
@@ -222,19 +239,21 @@ void time_set(const EvaluationSet& set, const std::vector<StudyMethod>& methods,
   for (std::size_t c = 0; c < classes.size(); ++c) {
     if (classes[c].empty()) continue;
     std::vector<std::size_t> cycled;
-    for (std::size_t i = 0; cycled.size() < rows.size(); ++i) cycled.push_back(classes[c][i % classes[c].size()]);
+    for (std::size_t i = 0; cycled.size() < rows.size(); ++i)
+      cycled.push_back(classes[c][i % classes[c].size()]);
     std::vector<double> class_raw;
     class_raw.reserve(cycled.size() * cols);
     for (const std::size_t i : cycled) {
       class_raw.insert(class_raw.end(), raw.begin() + static_cast<std::ptrdiff_t>(i * cols),
                        raw.begin() + static_cast<std::ptrdiff_t>((i + 1) * cols));
     }
-    Runner net(network_search, class_raw, cycled.size(), cols), plain(newton_search, class_raw, cycled.size(), cols);
-    const std::vector<Timing> ct =
-        time_methods({{"network", "", n, [&net] { return net.batched(1); }}, {"newton", "", n, [&plain] { return plain.batched(1); }}},
-                     options.timing_options);
-    result.class_timings.push_back({kClassLabels[c], static_cast<std::int64_t>(classes[c].size()), ct[0].median_ns,
-                                    ct[1].median_ns});
+    Runner net(network_search, class_raw, cycled.size(), cols),
+        plain(newton_search, class_raw, cycled.size(), cols);
+    const std::vector<Timing> ct = time_methods({{"network", "", n, [&net] { return net.batched(1); }},
+                                                 {"newton", "", n, [&plain] { return plain.batched(1); }}},
+                                                options.timing_options);
+    result.class_timings.push_back(
+        {kClassLabels[c], static_cast<std::int64_t>(classes[c].size()), ct[0].median_ns, ct[1].median_ns});
   }
 }
 
@@ -267,8 +286,9 @@ StudyResult run_study(const std::vector<EvaluationSet>& sets, const std::vector<
   result.timing_threads = std::max(1, options.timing_threads);
   for (const EvaluationSet& s : sets) {
     CONTACTNN_REQUIRE_AS(FormatError, s.surface == result.surface,
-                         "'" << s.source << "' is a " << to_string(s.surface) << " set, '" << sets.front().source
-                             << "' a " << to_string(result.surface) << " one: a study is of one surface");
+                         "'" << s.source << "' is a " << to_string(s.surface) << " set, '"
+                             << sets.front().source << "' a " << to_string(result.surface)
+                             << " one: a study is of one surface");
   }
   for (const EvaluatedNetwork& n : networks) {
     CONTACTNN_REQUIRE_AS(FormatError, n.model != nullptr && n.model->surface() == result.surface,
@@ -278,8 +298,8 @@ StudyResult run_study(const std::vector<EvaluationSet>& sets, const std::vector<
                                ? default_methods(options.max_fixed_iterations, !networks.empty())
                                : options.methods;
   const std::vector<StudyMethod> methods = expand_methods(list, networks, options.start_offset);
-  const bool any_start =
-      std::any_of(methods.begin(), methods.end(), [](const StudyMethod& m) { return m.method.needs_start(); });
+  const bool any_start = std::any_of(methods.begin(), methods.end(),
+                                     [](const StudyMethod& m) { return m.method.needs_start(); });
   std::vector<search::LocalSearch> searches;
   for (const StudyMethod& m : methods) {
     searches.emplace_back(result.surface, m.method, options.search,
@@ -297,7 +317,8 @@ StudyResult run_study(const std::vector<EvaluationSet>& sets, const std::vector<
     for (const Status st : set.label_status) ++r.label_status_counts[static_cast<std::size_t>(st)];
     std::vector<std::int32_t> label_iterations;
     for (std::size_t i = 0; i < set.label_iterations.size(); ++i) {
-      if (set.label_status[i] == Status::kOk && set.label_iterations[i] >= 0) label_iterations.push_back(set.label_iterations[i]);
+      if (set.label_status[i] == Status::kOk && set.label_iterations[i] >= 0)
+        label_iterations.push_back(set.label_iterations[i]);
     }
     r.label_rows_ok = r.label_status_counts[static_cast<std::size_t>(Status::kOk)];
     if (!label_iterations.empty()) r.label_iterations = count_values(label_iterations, kIterationBins);
@@ -307,13 +328,16 @@ StudyResult run_study(const std::vector<EvaluationSet>& sets, const std::vector<
     if (any_start) starts = starts_near_reference(set, options.start_offset, options.seed);
     for (std::size_t m = 0; m < methods.size(); ++m) {
       say("accuracy: " + set.name + ": " + methods[m].name);
-      const Estimates e = run_on_set(searches[m], set, 0, methods[m].method.needs_start() ? &starts : nullptr);
+      const Estimates e =
+          run_on_set(searches[m], set, 0, methods[m].method.needs_start() ? &starts : nullptr);
       const bool histogram = s == 0 && result.histogram_method.empty() && methods[m].method.needs_network() &&
                              !methods[m].method.is_hybrid();
-      MethodErrors errors = compare_with_labels(methods[m].name, e, set, options.failure_box_margin, histogram);
+      MethodErrors errors =
+          compare_with_labels(methods[m].name, e, set, options.failure_box_margin, histogram);
       if (methods[m].name == "newton") {
         r.newton_iterations = count_values(errors.converged_iterations, kIterationBins);
-        r.newton_failures = std::count(errors.converged_iterations.begin(), errors.converged_iterations.end(), -1);
+        r.newton_failures =
+            std::count(errors.converged_iterations.begin(), errors.converged_iterations.end(), -1);
       }
       std::vector<std::int32_t>().swap(errors.converged_iterations);
       if (histogram) {
@@ -330,7 +354,8 @@ StudyResult run_study(const std::vector<EvaluationSet>& sets, const std::vector<
           range = abs_errors.empty() ? 1.0 : nice_ceil(percentile(abs_errors, 99.9));
         }
         for (std::size_t c = 0; c < 2; ++c) {
-          result.histograms[c] = make_histogram(errors.errors[c], errors.failed, -range, range, options.hist_bins);
+          result.histograms[c] =
+              make_histogram(errors.errors[c], errors.failed, -range, range, options.hist_bins);
         }
         for (auto& v : errors.errors) std::vector<double>().swap(v);
         std::vector<std::uint8_t>().swap(errors.failed);

@@ -36,12 +36,23 @@ std::string xml_escape(std::string_view text) {
   out.reserve(text.size());
   for (const char c : text) {
     switch (c) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      case '\'': out += "&apos;"; break;
-      default: out += c;
+      case '&':
+        out += "&amp;";
+        break;
+      case '<':
+        out += "&lt;";
+        break;
+      case '>':
+        out += "&gt;";
+        break;
+      case '"':
+        out += "&quot;";
+        break;
+      case '\'':
+        out += "&apos;";
+        break;
+      default:
+        out += c;
     }
   }
   return out;
@@ -49,23 +60,29 @@ std::string xml_escape(std::string_view text) {
 
 namespace {
 
-/// The document's opening: the XML declaration, the <svg> element, its title, a white page and the title text.
+/// The document's opening: the XML declaration, the <svg> element, its title, a white page and the title
+/// text.
 std::string svg_opening(const std::string& title) {
   std::string s;
   s += "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n";
-  s += "<svg xmlns=\"http://www.w3.org/2000/svg\" version=\"1.1\" width=\"" + number(kWidth) + "\" height=\"" +
-       number(kHeight) + "\" viewBox=\"0 0 " + number(kWidth) + " " + number(kHeight) + "\">\n";
+  s += "<svg xmlns=\"http://www.w3.org/2000/svg\" version=\"1.1\" width=\"" + number(kWidth) +
+       "\" height=\"" + number(kHeight) + "\" viewBox=\"0 0 " + number(kWidth) + " " + number(kHeight) +
+       "\">\n";
   s += "  <title>" + xml_escape(title) + "</title>\n";
-  s += "  <rect x=\"0\" y=\"0\" width=\"" + number(kWidth) + "\" height=\"" + number(kHeight) + "\" fill=\"white\"/>\n";
-  s += "  <text x=\"" + number(kWidth / 2) + "\" y=\"28\" text-anchor=\"middle\" font-family=\"sans-serif\" "
-       "font-size=\"15\">" + xml_escape(title) + "</text>\n";
+  s += "  <rect x=\"0\" y=\"0\" width=\"" + number(kWidth) + "\" height=\"" + number(kHeight) +
+       "\" fill=\"white\"/>\n";
+  s += "  <text x=\"" + number(kWidth / 2) +
+       "\" y=\"28\" text-anchor=\"middle\" font-family=\"sans-serif\" "
+       "font-size=\"15\">" +
+       xml_escape(title) + "</text>\n";
   return s;
 }
 
 }  // namespace
 
 std::vector<double> nice_ticks(double lo, double hi, int target) {
-  CONTACTNN_REQUIRE(std::isfinite(lo) && std::isfinite(hi) && lo < hi, "nice_ticks: bad range [" << lo << ", " << hi << "]");
+  CONTACTNN_REQUIRE(std::isfinite(lo) && std::isfinite(hi) && lo < hi,
+                    "nice_ticks: bad range [" << lo << ", " << hi << "]");
   const double step = nice_ceil((hi - lo) / std::max(target, 1));
   std::vector<double> ticks;
   const double first = std::ceil(lo / step - 1e-9);
@@ -92,7 +109,8 @@ std::string histogram_svg(const Histogram& h, const PlotLabels& labels) {
   const double plot_w = kWidth - kLeft - kRight;
   const double plot_h = kHeight - kTop - kBottom;
   // At least 5 on the count axis, so that its ticks are whole numbers.
-  const std::int64_t max_count = std::max<std::int64_t>(5, *std::max_element(h.counts.begin(), h.counts.end()));
+  const std::int64_t max_count =
+      std::max<std::int64_t>(5, *std::max_element(h.counts.begin(), h.counts.end()));
   std::vector<double> y_ticks = nice_ticks(0.0, static_cast<double>(max_count), 5);
   const double y_step = y_ticks.size() >= 2 ? y_ticks[1] - y_ticks[0] : 1.0;
   // The y axis ends at the first tick at or above the largest count, and that tick is labelled.
@@ -111,21 +129,21 @@ std::string histogram_svg(const Histogram& h, const PlotLabels& labels) {
     const double x0 = x_of(h.edge(k));
     const double x1 = x_of(h.edge(k + 1));
     const double y = y_of(static_cast<double>(c));
-    s += "    <rect x=\"" + number(x0) + "\" y=\"" + number(y) + "\" width=\"" + number(std::max(x1 - x0, 0.5)) +
-         "\" height=\"" + number(kTop + plot_h - y) + "\"/>\n";
+    s += "    <rect x=\"" + number(x0) + "\" y=\"" + number(y) + "\" width=\"" +
+         number(std::max(x1 - x0, 0.5)) + "\" height=\"" + number(kTop + plot_h - y) + "\"/>\n";
   }
   s += "  </g>\n";
 
   // Axes, ticks and tick labels.
   s += "  <g stroke=\"black\" stroke-width=\"1\" fill=\"none\">\n";
-  s += "    <line x1=\"" + number(kLeft) + "\" y1=\"" + number(kTop + plot_h) + "\" x2=\"" + number(kLeft + plot_w) +
+  s += "    <line x1=\"" + number(kLeft) + "\" y1=\"" + number(kTop + plot_h) + "\" x2=\"" +
+       number(kLeft + plot_w) + "\" y2=\"" + number(kTop + plot_h) + "\"/>\n";
+  s += "    <line x1=\"" + number(kLeft) + "\" y1=\"" + number(kTop) + "\" x2=\"" + number(kLeft) +
        "\" y2=\"" + number(kTop + plot_h) + "\"/>\n";
-  s += "    <line x1=\"" + number(kLeft) + "\" y1=\"" + number(kTop) + "\" x2=\"" + number(kLeft) + "\" y2=\"" +
-       number(kTop + plot_h) + "\"/>\n";
   const std::vector<double> x_ticks = nice_ticks(h.lo, h.hi, 8);
   for (const double t : x_ticks) {
-    s += "    <line x1=\"" + number(x_of(t)) + "\" y1=\"" + number(kTop + plot_h) + "\" x2=\"" + number(x_of(t)) +
-         "\" y2=\"" + number(kTop + plot_h + 5) + "\"/>\n";
+    s += "    <line x1=\"" + number(x_of(t)) + "\" y1=\"" + number(kTop + plot_h) + "\" x2=\"" +
+         number(x_of(t)) + "\" y2=\"" + number(kTop + plot_h + 5) + "\"/>\n";
   }
   for (const double t : y_ticks) {
     s += "    <line x1=\"" + number(kLeft - 5) + "\" y1=\"" + number(y_of(t)) + "\" x2=\"" + number(kLeft) +
@@ -135,8 +153,8 @@ std::string histogram_svg(const Histogram& h, const PlotLabels& labels) {
   s += "  <g font-family=\"sans-serif\" font-size=\"11\" fill=\"black\">\n";
   const double x_step = x_ticks.size() >= 2 ? x_ticks[1] - x_ticks[0] : h.hi - h.lo;
   for (const double t : x_ticks) {
-    s += "    <text x=\"" + number(x_of(t)) + "\" y=\"" + number(kTop + plot_h + 18) + "\" text-anchor=\"middle\">" +
-         xml_escape(tick_label(t, x_step)) + "</text>\n";
+    s += "    <text x=\"" + number(x_of(t)) + "\" y=\"" + number(kTop + plot_h + 18) +
+         "\" text-anchor=\"middle\">" + xml_escape(tick_label(t, x_step)) + "</text>\n";
   }
   for (const double t : y_ticks) {
     // Counts are whole numbers: written in full, not in exponent form.
@@ -150,9 +168,10 @@ std::string histogram_svg(const Histogram& h, const PlotLabels& labels) {
   s += "  <text x=\"" + number(kLeft + plot_w / 2) + "\" y=\"" + number(kTop + plot_h + 42) +
        "\" text-anchor=\"middle\" font-family=\"sans-serif\" font-size=\"13\">" + xml_escape(labels.x_label) +
        "</text>\n";
-  s += "  <text x=\"20\" y=\"" + number(kTop + plot_h / 2) + "\" text-anchor=\"middle\" font-family=\"sans-serif\" "
-       "font-size=\"13\" transform=\"rotate(-90 20 " + number(kTop + plot_h / 2) + ")\">" +
-       xml_escape(labels.y_label) + "</text>\n";
+  s += "  <text x=\"20\" y=\"" + number(kTop + plot_h / 2) +
+       "\" text-anchor=\"middle\" font-family=\"sans-serif\" "
+       "font-size=\"13\" transform=\"rotate(-90 20 " +
+       number(kTop + plot_h / 2) + ")\">" + xml_escape(labels.y_label) + "</text>\n";
   s += "  <text x=\"" + number(kLeft) + "\" y=\"" + number(kHeight - 14) +
        "\" font-family=\"sans-serif\" font-size=\"11\" fill=\"#444444\">" +
        xml_escape(std::to_string(h.bins()) + " bins over [" + tick_label(h.lo, x_step) + ", " +
@@ -167,7 +186,8 @@ std::string line_plot_svg(const std::vector<double>& x, const std::vector<LineSe
                           const PlotLabels& labels, bool log_y) {
   for (const LineSeries& l : series) {
     CONTACTNN_REQUIRE(l.y.size() == x.size(), "line_plot_svg: series '" << l.name << "' has " << l.y.size()
-                                                                         << " values for " << x.size() << " x values");
+                                                                        << " values for " << x.size()
+                                                                        << " x values");
   }
   const auto usable = [&](double y) { return std::isfinite(y) && (!log_y || y > 0.0); };
   const auto transform = [&](double y) { return log_y ? std::log10(y) : y; };
@@ -198,21 +218,22 @@ std::string line_plot_svg(const std::vector<double>& x, const std::vector<LineSe
   const double plot_h = kHeight - kTop - kBottom;
   const auto x_of = [&](double v) { return kLeft + (v - x_lo) / (x_hi - x_lo) * plot_w; };
   const auto y_of = [&](double v) { return kTop + plot_h - (v - y_lo) / (y_hi - y_lo) * plot_h; };
-  static const char* const kColours[] = {"#4a74b0", "#d9742b", "#3a9a4a", "#b03a3a", "#7a5ab0", "#7a6a4a",
-                                         "#c05aa0", "#5a5a5a", "#a0a030", "#30a0a0"};
+  static const char* const kColours[] = {"#4a74b0", "#d9742b", "#3a9a4a", "#b03a3a", "#7a5ab0",
+                                         "#7a6a4a", "#c05aa0", "#5a5a5a", "#a0a030", "#30a0a0"};
 
   std::string s = svg_opening(labels.title);
   // Axes and ticks.
   s += "  <g stroke=\"black\" stroke-width=\"1\" fill=\"none\">\n";
-  s += "    <line x1=\"" + number(kLeft) + "\" y1=\"" + number(kTop + plot_h) + "\" x2=\"" + number(kLeft + plot_w) +
+  s += "    <line x1=\"" + number(kLeft) + "\" y1=\"" + number(kTop + plot_h) + "\" x2=\"" +
+       number(kLeft + plot_w) + "\" y2=\"" + number(kTop + plot_h) + "\"/>\n";
+  s += "    <line x1=\"" + number(kLeft) + "\" y1=\"" + number(kTop) + "\" x2=\"" + number(kLeft) +
        "\" y2=\"" + number(kTop + plot_h) + "\"/>\n";
-  s += "    <line x1=\"" + number(kLeft) + "\" y1=\"" + number(kTop) + "\" x2=\"" + number(kLeft) + "\" y2=\"" +
-       number(kTop + plot_h) + "\"/>\n";
   s += "  </g>\n";
   const std::vector<double> x_ticks = nice_ticks(x_lo, x_hi, 8);
   std::vector<double> y_ticks;
   if (log_y) {
-    for (double d = y_lo; d <= y_hi + 1e-9; d += std::max(1.0, std::ceil((y_hi - y_lo) / 8.0))) y_ticks.push_back(d);
+    for (double d = y_lo; d <= y_hi + 1e-9; d += std::max(1.0, std::ceil((y_hi - y_lo) / 8.0)))
+      y_ticks.push_back(d);
   } else {
     y_ticks = nice_ticks(y_lo, y_hi, 6);
   }
@@ -220,19 +241,22 @@ std::string line_plot_svg(const std::vector<double>& x, const std::vector<LineSe
   const double y_step = y_ticks.size() >= 2 ? y_ticks[1] - y_ticks[0] : y_hi - y_lo;
   s += "  <g font-family=\"sans-serif\" font-size=\"11\" fill=\"black\">\n";
   for (const double t : x_ticks) {
-    s += "    <text x=\"" + number(x_of(t)) + "\" y=\"" + number(kTop + plot_h + 18) + "\" text-anchor=\"middle\">" +
-         xml_escape(tick_label(t, x_step)) + "</text>\n";
+    s += "    <text x=\"" + number(x_of(t)) + "\" y=\"" + number(kTop + plot_h + 18) +
+         "\" text-anchor=\"middle\">" + xml_escape(tick_label(t, x_step)) + "</text>\n";
   }
   for (const double t : y_ticks) {
-    const std::string label = log_y ? "1e" + std::to_string(static_cast<int>(std::lround(t))) : tick_label(t, y_step);
+    const std::string label =
+        log_y ? "1e" + std::to_string(static_cast<int>(std::lround(t))) : tick_label(t, y_step);
     s += "    <text x=\"" + number(kLeft - 8) + "\" y=\"" + number(y_of(t) + 4) + "\" text-anchor=\"end\">" +
          xml_escape(label) + "</text>\n";
   }
   s += "    <text x=\"" + number(kLeft + plot_w / 2) + "\" y=\"" + number(kHeight - 40) +
        "\" text-anchor=\"middle\" font-size=\"13\">" + xml_escape(labels.x_label) + "</text>\n";
-  s += "    <text x=\"20\" y=\"" + number(kTop + plot_h / 2) + "\" text-anchor=\"middle\" font-size=\"13\" "
-       "transform=\"rotate(-90 20 " + number(kTop + plot_h / 2) + ")\">" +
-       xml_escape(labels.y_label + (log_y ? " (log scale)" : "")) + "</text>\n";
+  s += "    <text x=\"20\" y=\"" + number(kTop + plot_h / 2) +
+       "\" text-anchor=\"middle\" font-size=\"13\" "
+       "transform=\"rotate(-90 20 " +
+       number(kTop + plot_h / 2) + ")\">" + xml_escape(labels.y_label + (log_y ? " (log scale)" : "")) +
+       "</text>\n";
   s += "  </g>\n";
   // Lines (a gap where a value cannot be drawn) and the legend.
   for (std::size_t k = 0; k < series.size(); ++k) {
@@ -240,8 +264,8 @@ std::string line_plot_svg(const std::vector<double>& x, const std::vector<LineSe
     std::string points;
     const auto flush = [&]() {
       if (!points.empty()) {
-        s += "  <polyline fill=\"none\" stroke=\"" + std::string(colour) + "\" stroke-width=\"1.5\" points=\"" +
-             points + "\"/>\n";
+        s += "  <polyline fill=\"none\" stroke=\"" + std::string(colour) +
+             "\" stroke-width=\"1.5\" points=\"" + points + "\"/>\n";
       }
       points.clear();
     };
@@ -256,7 +280,8 @@ std::string line_plot_svg(const std::vector<double>& x, const std::vector<LineSe
     flush();
     const double ly = kTop + 12.0 + 18.0 * static_cast<double>(k);
     s += "  <line x1=\"" + number(kLeft + plot_w + 15) + "\" y1=\"" + number(ly - 4) + "\" x2=\"" +
-         number(kLeft + plot_w + 35) + "\" y2=\"" + number(ly - 4) + "\" stroke=\"" + colour + "\" stroke-width=\"2\"/>\n";
+         number(kLeft + plot_w + 35) + "\" y2=\"" + number(ly - 4) + "\" stroke=\"" + colour +
+         "\" stroke-width=\"2\"/>\n";
     s += "  <text x=\"" + number(kLeft + plot_w + 40) + "\" y=\"" + number(ly) +
          "\" font-family=\"sans-serif\" font-size=\"11\">" + xml_escape(series[k].name) + "</text>\n";
   }

@@ -21,10 +21,13 @@ double median_of(std::vector<double> v) {
 }  // namespace
 
 std::vector<Timing> time_methods(const std::vector<TimedMethod>& methods, const TimingOptions& options) {
-  CONTACTNN_REQUIRE(options.repetitions >= 1, "timing repetitions = " << options.repetitions << ", expected >= 1");
-  CONTACTNN_REQUIRE(options.warmup_passes >= 0, "warm-up passes = " << options.warmup_passes << ", expected >= 0");
+  CONTACTNN_REQUIRE(options.repetitions >= 1,
+                    "timing repetitions = " << options.repetitions << ", expected >= 1");
+  CONTACTNN_REQUIRE(options.warmup_passes >= 0,
+                    "warm-up passes = " << options.warmup_passes << ", expected >= 0");
   for (const TimedMethod& m : methods) {
-    CONTACTNN_REQUIRE(m.queries >= 1 && m.run, "timed method '" << m.name << "' has no batch (" << m.queries << " queries)");
+    CONTACTNN_REQUIRE(m.queries >= 1 && m.run,
+                      "timed method '" << m.name << "' has no batch (" << m.queries << " queries)");
   }
   std::vector<Timing> out(methods.size());
   for (std::size_t i = 0; i < methods.size(); ++i) {
@@ -54,8 +57,9 @@ std::vector<Timing> time_methods(const std::vector<TimedMethod>& methods, const 
 }
 
 LinearFit fit_line(std::span<const double> x, std::span<const double> y) {
-  CONTACTNN_REQUIRE(x.size() == y.size() && x.size() >= 2,
-                    "fit_line: " << x.size() << " x values and " << y.size() << " y values, expected >= 2 of each");
+  CONTACTNN_REQUIRE(
+      x.size() == y.size() && x.size() >= 2,
+      "fit_line: " << x.size() << " x values and " << y.size() << " y values, expected >= 2 of each");
   const auto n = static_cast<double>(x.size());
   double mx = 0.0, my = 0.0;
   for (std::size_t i = 0; i < x.size(); ++i) {

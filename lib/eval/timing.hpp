@@ -49,7 +49,8 @@ struct Timing {
 
 /// Times every method as described in the header comment. InvalidArgument for repetitions < 1,
 /// warmup_passes < 0 or a method with queries < 1.
-[[nodiscard]] std::vector<Timing> time_methods(const std::vector<TimedMethod>& methods, const TimingOptions& options);
+[[nodiscard]] std::vector<Timing> time_methods(const std::vector<TimedMethod>& methods,
+                                               const TimingOptions& options);
 
 /// A BatchRunner that calls `query(item)` for every item of `batch` (which must outlive the runner) and
 /// sums param[0] + 0.5 param[1] of the returned std::array<double, 2>. `query` is copied into the runner

@@ -57,7 +57,9 @@ CanonicalSymmetries canonical_symmetries(const std::array<Vec3, 4>& world_nodes,
   if (largest > 0.0 && std::isfinite(largest)) (void)std::frexp(largest, &exponent);
   std::array<Vec3, 4> nodes;
   for (int i = 0; i < 4; ++i) {
-    for (int c = 0; c < 3; ++c) nodes[static_cast<std::size_t>(i)][c] = std::ldexp(world_nodes[static_cast<std::size_t>(i)][c], -exponent);
+    for (int c = 0; c < 3; ++c)
+      nodes[static_cast<std::size_t>(i)][c] =
+          std::ldexp(world_nodes[static_cast<std::size_t>(i)][c], -exponent);
   }
   Vec3 slave;
   for (int c = 0; c < 3; ++c) slave[c] = std::ldexp(world_slave[c], -exponent);
@@ -71,7 +73,8 @@ CanonicalSymmetries canonical_symmetries(const std::array<Vec3, 4>& world_nodes,
 
   CanonicalSymmetries result;
   std::array<double, 4> distance{};
-  for (int i = 0; i < 4; ++i) distance[static_cast<std::size_t>(i)] = length_of(slave - nodes[static_cast<std::size_t>(i)]);
+  for (int i = 0; i < 4; ++i)
+    distance[static_cast<std::size_t>(i)] = length_of(slave - nodes[static_cast<std::size_t>(i)]);
   const double nearest = *std::min_element(distance.begin(), distance.end());
   for (int r = 0; r < 4; ++r) {
     if (!tie(distance[r], nearest)) continue;  // the nearest nodes, in the caller's order (SPEC 4: the first)
@@ -84,8 +87,8 @@ CanonicalSymmetries canonical_symmetries(const std::array<Vec3, 4>& world_nodes,
       out[static_cast<std::size_t>(result.count++)] = SquareSymmetry{r, length_ad > length_ab};
       continue;
     }
-    // |AB| = |AD|: mirror when S is nearer the line AD than the line AB. The same numbers in either node order;
-    // on the diagonal itself both orders are canonical.
+    // |AB| = |AD|: mirror when S is nearer the line AD than the line AB. The same numbers in either node
+    // order; on the diagonal itself both orders are canonical.
     const Vec3 as = slave - a;
     const double to_ab = length_of(as.cross(ab)) / length_ab, to_ad = length_of(as.cross(ad)) / length_ad;
     if (!tie(to_ad, to_ab)) {
@@ -136,7 +139,8 @@ NormaliseOutcome normalise_as(const Configuration& world, SurfaceKind kind, cons
   //    its nodes must not be oriented by the rounding of its placement.
   double largest_all = world.slave.cwiseAbs().maxCoeff();
   for (const Vec3& node : world.nodes) largest_all = std::max(largest_all, node.cwiseAbs().maxCoeff());
-  const double z_tolerance = 1e-12 + 16.0 * std::numeric_limits<double>::epsilon() * largest_all * frame->scale();
+  const double z_tolerance =
+      1e-12 + 16.0 * std::numeric_limits<double>::epsilon() * largest_all * frame->scale();
   const bool s_on_plane = std::abs(local.slave.z()) <= z_tolerance;
   const bool z_tie = s_on_plane && std::abs(local.nodes[2].z()) <= z_tolerance;
   const bool flip = z_tie ? other_z : (s_on_plane ? local.nodes[2].z() < 0.0 : local.slave.z() < 0.0);
@@ -231,7 +235,8 @@ CanonicalForms canonical_forms(const Configuration& world, SurfaceKind kind) {
   for (int k = 0; k < tied.count; ++k) {
     for (int other_z = 0; other_z <= (z_ties ? 1 : 0); ++other_z) {
       if (k == 0 && other_z == 0) continue;  // the first form
-      NormaliseOutcome o = normalise_as(world, kind, tied.symmetries[static_cast<std::size_t>(k)], other_z != 0);
+      NormaliseOutcome o =
+          normalise_as(world, kind, tied.symmetries[static_cast<std::size_t>(k)], other_z != 0);
       if (o.value) forms.form[static_cast<std::size_t>(forms.count++)] = *o.value;
     }
   }

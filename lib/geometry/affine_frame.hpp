@@ -74,21 +74,24 @@ struct CanonicalSymmetries {
 ///
 /// Canonical means: the nodes relabelled by `symmetry` (A nearest S, |AD| <= |AB|), then the frame of SPEC 4
 /// built on them, and then one choice SPEC 4 leaves open, the orientation of the frame's z axis: z_S >= 0
-/// (with z_S = 0, up to 1e-12 plus the inputs' rounding: z_C >= 0; both 0: a tie, see canonical_forms). Reflecting a whole configuration through the plane of A, B, D changes no
-/// local coordinate (an isometry; for Gregory the reflected node normals are then all reversed, which leaves
-/// the patch unchanged, SPEC 3), so this is a symmetry of the problem like the 8 of the square. It makes the
-/// network input the same for a segment given in either orientation (node order A, B, C, D or A, D, C, B,
-/// with or without a reflection of space) and halves the domain a network must learn. The caller's gap sign
-/// (its own orientation, SPEC 2) is restored by `orientation`.
+/// (with z_S = 0, up to 1e-12 plus the inputs' rounding: z_C >= 0; both 0: a tie, see canonical_forms).
+/// Reflecting a whole configuration through the plane of A, B, D changes no local coordinate (an isometry;
+/// for Gregory the reflected node normals are then all reversed, which leaves the patch unchanged, SPEC 3),
+/// so this is a symmetry of the problem like the 8 of the square. It makes the network input the same for a
+/// segment given in either orientation (node order A, B, C, D or A, D, C, B, with or without a reflection of
+/// space) and halves the domain a network must learn. The caller's gap sign (its own orientation, SPEC 2) is
+/// restored by `orientation`.
 struct NormalisedConfiguration {
-  Configuration config{};            ///< canonical nodes, slave and (rotated, unit) normals in the frame
+  Configuration config{};             ///< canonical nodes, slave and (rotated, unit) normals in the frame
   std::array<double, 16> features{};  ///< xc yc zc xd yd xs ys zs, then (Gregory) n_x/n_z, n_y/n_z for A..D
-  AffineFrame frame;                 ///< world -> canonical normalised frame (a rotation or a reflection)
-  SquareSymmetry symmetry;           ///< canonical node i is the caller's node symmetry.caller_node(i)
-  /// +1 or -1: the caller's gap (along its own P_xi x P_eta) is orientation * (canonical gap) / frame.scale().
+  AffineFrame frame;                  ///< world -> canonical normalised frame (a rotation or a reflection)
+  SquareSymmetry symmetry;            ///< canonical node i is the caller's node symmetry.caller_node(i)
+  /// +1 or -1: the caller's gap (along its own P_xi x P_eta) is orientation * (canonical gap) /
+  /// frame.scale().
   double orientation = 1.0;
-  /// False when the canonical corner A has no frame (B, A, D collinear: a straight angle) and another corner's
-  /// frame was taken: the projection is still right, but the features are not those a network was trained on.
+  /// False when the canonical corner A has no frame (B, A, D collinear: a straight angle) and another
+  /// corner's frame was taken: the projection is still right, but the features are not those a network was
+  /// trained on.
   bool canonical = true;
   /// z_S = z_C = 0 (to the tolerance above): the other orientation of z is canonical too (for Gregory the
   /// features differ: slopes).
@@ -100,7 +103,9 @@ struct NormalisedConfiguration {
   }
   /// A gap in the canonical frame (normalised units, along the canonical P_s x P_t) -> the caller's gap in
   /// world units.
-  [[nodiscard]] double gap_to_caller(double canonical_gap) const { return orientation * canonical_gap / frame.scale(); }
+  [[nodiscard]] double gap_to_caller(double canonical_gap) const {
+    return orientation * canonical_gap / frame.scale();
+  }
 };
 
 /// Why a configuration could not be normalised.

@@ -22,7 +22,9 @@ class BilinearPatch {
         a2_(0.25 * (-nodes[0] - nodes[1] + nodes[2] + nodes[3])),
         a3_(0.25 * (nodes[0] - nodes[1] + nodes[2] - nodes[3])) {}
 
-  [[nodiscard]] Vec3 position(double xi, double eta) const { return a0_ + xi * a1_ + eta * a2_ + (xi * eta) * a3_; }
+  [[nodiscard]] Vec3 position(double xi, double eta) const {
+    return a0_ + xi * a1_ + eta * a2_ + (xi * eta) * a3_;
+  }
 
   /// Position and derivatives; d_ss = d_tt = 0, d_st = (A - B + C - D)/4.
   [[nodiscard]] SurfacePoint evaluate(double xi, double eta) const {

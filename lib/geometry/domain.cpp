@@ -10,8 +10,6 @@
 
 namespace contactnn::geometry {
 
-
-
 bool DomainFilters::accepts(const geometry::Configuration& c, SurfaceKind kind, double relative_tolerance,
                             double segment_test_tolerance) const {
   const double tol = relative_tolerance;
@@ -32,7 +30,8 @@ bool DomainFilters::accepts(const geometry::Configuration& c, SurfaceKind kind, 
   if (min_angle_degrees > 0.0 || max_angle_degrees < 180.0) {
     const double slack_degrees = 180.0 * tol;
     for (const double angle : geometry::interior_angles_degrees(c.nodes)) {
-      if (!(angle >= min_angle_degrees - slack_degrees && angle <= max_angle_degrees + slack_degrees)) return false;
+      if (!(angle >= min_angle_degrees - slack_degrees && angle <= max_angle_degrees + slack_degrees))
+        return false;
     }
   }
   if (kind == SurfaceKind::kGregory) {
@@ -64,7 +63,8 @@ std::string DomainFilters::describe() const {
 }
 
 TrainingDomain TrainingDomain::from_features(SurfaceKind kind, const double* features, long rows,
-                                             const std::vector<Status>& status, const DomainFilters& filters) {
+                                             const std::vector<Status>& status,
+                                             const DomainFilters& filters) {
   const int n_features = feature_count(kind);
   CONTACTNN_REQUIRE(static_cast<long>(status.size()) == rows,
                     "status has " << status.size() << " rows, features have " << rows);

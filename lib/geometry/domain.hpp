@@ -14,14 +14,14 @@ namespace contactnn::geometry {
 /// B = (1,0,0), D in the xy-plane). Defaults are the paper's bilinear study. Every field is a key of the
 /// [gen-configs] config section with the same name.
 struct DomainFilters {
-  double xy_limit = 2.0;            ///< |x|, |y| of C, D and S below this ("in the range of (-2.0, 2.0)")
-  double z_limit = 0.3;             ///< |z| of C and S below this ("in the range of (-0.3, 0.3)")
-  bool ad_not_longer_than_ab = true;   ///< |AD| <= |AB| = 1
-  bool nearest_node_a = true;          ///< A is a nearest master node to S
-  bool segment_test_a = true;          ///< S passes the segment test of Eqs 3-6 at A
-  bool convex = true;                  ///< the segment is strictly convex (seen along the normal at A)
-  double min_angle_degrees = 0.0;      ///< every interior angle >= this (Gregory study: 60)
-  double max_angle_degrees = 180.0;    ///< every interior angle <= this (Gregory study: 120)
+  double xy_limit = 2.0;              ///< |x|, |y| of C, D and S below this ("in the range of (-2.0, 2.0)")
+  double z_limit = 0.3;               ///< |z| of C and S below this ("in the range of (-0.3, 0.3)")
+  bool ad_not_longer_than_ab = true;  ///< |AD| <= |AB| = 1
+  bool nearest_node_a = true;         ///< A is a nearest master node to S
+  bool segment_test_a = true;         ///< S passes the segment test of Eqs 3-6 at A
+  bool convex = true;                 ///< the segment is strictly convex (seen along the normal at A)
+  double min_angle_degrees = 0.0;     ///< every interior angle >= this (Gregory study: 60)
+  double max_angle_degrees = 180.0;   ///< every interior angle <= this (Gregory study: 120)
   double max_normal_tilt_tangent = 0.2;  ///< Gregory: tan(angle(node normal, segment's corner normal)) < this
 
   /// True when the normalised configuration satisfies every filter above. `kind` says whether the node
@@ -46,11 +46,13 @@ struct TrainingDomain {
 
   /// Per-feature range over the rows of `features` (N x F, row-major, contiguous) with status ok, widened
   /// by half the grid step for a feature that takes few distinct values (at most 10000, and each on two
-  /// rows or more on average: an enumerated grid, where each value stands for its cell; e.g. y_D in 0.1..0.9 step 0.2 gives [0, 1], so a square
-  /// segment is in the domain), and by kContinuousWidening of its range for a continuous one (random
-  /// sampling, random node normals), whose sample extremes fall just short of the domain drawn from.
+  /// rows or more on average: an enumerated grid, where each value stands for its cell; e.g. y_D in 0.1..0.9
+  /// step 0.2 gives [0, 1], so a square segment is in the domain), and by kContinuousWidening of its range
+  /// for a continuous one (random sampling, random node normals), whose sample extremes fall just short of
+  /// the domain drawn from.
   [[nodiscard]] static TrainingDomain from_features(SurfaceKind kind, const double* features, long rows,
-                                                    const std::vector<Status>& status, const DomainFilters& filters);
+                                                    const std::vector<Status>& status,
+                                                    const DomainFilters& filters);
   /// Relative slack of contains(): far above the rounding of raw coordinates mapped into the frame
   /// (~1e-12 for translations of 1e4 element sizes), far below any distance a network could resolve.
   static constexpr double kRelativeTolerance = 1e-9;

@@ -48,7 +48,8 @@ bool passes_segment_test(const Vec3& m, const Vec3& next, const Vec3& prev, cons
   if (r_length <= relative_tolerance * std::min(c1_length, c2_length)) return true;  // S on the corner
   // Relaxing alpha and beta, not the products of Eqs 3-4, keeps S on the backward extension of an edge
   // (c1 x r = 0 with alpha < 0) outside.
-  return alpha * c1_length > -relative_tolerance * r_length && beta * c2_length > -relative_tolerance * r_length;
+  return alpha * c1_length > -relative_tolerance * r_length &&
+         beta * c2_length > -relative_tolerance * r_length;
 }
 
 bool first_node_is_nearest(const std::array<Vec3, 4>& nodes, const Vec3& s, double relative_tolerance) {
@@ -108,7 +109,8 @@ bool is_degenerate_segment(const std::array<Vec3, 4>& nodes, double coordinate_n
   for (int i = 0; i < 4; ++i) {
     const Vec3 next = nodes[(i + 1) % 4] - nodes[i];
     const Vec3 prev = nodes[(i + 3) % 4] - nodes[i];
-    if (next.dot(prev) > 0.0 && !(next.cross(prev).norm() > std::max(1e-12 * longest, noise) * longest)) return true;
+    if (next.dot(prev) > 0.0 && !(next.cross(prev).norm() > std::max(1e-12 * longest, noise) * longest))
+      return true;
   }
   return false;
 }

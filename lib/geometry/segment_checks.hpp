@@ -43,9 +43,9 @@ inline constexpr double kSegmentTestTolerance = 1e-6;
 namespace contactnn::geometry {
 
 /// True when the segment cannot carry a projection: two nodes closer than 1e-10 of the longest node
-/// distance (coincident), the area |AC x BD|/2 below 1e-12 of its square (collinear or collapsed), or a corner
-/// of zero angle (its two edges along one ray: the segment folds onto itself; |next x prev| below 1e-12 of
-/// the longest distance squared). A straight angle (180 degrees, a triangle) is not degenerate.
+/// distance (coincident), the area |AC x BD|/2 below 1e-12 of its square (collinear or collapsed), or a
+/// corner of zero angle (its two edges along one ray: the segment folds onto itself; |next x prev| below
+/// 1e-12 of the longest distance squared). A straight angle (180 degrees, a triangle) is not degenerate.
 /// `coordinate_noise` (>= 0, in the nodes' units) is the rounding each node coordinate already carries,
 /// e.g. eps * max|x| of world coordinates far from the origin: a node distance below 16 * noise or an area
 /// below 16 * noise * longest cannot be told from zero, so it counts as zero too.

@@ -18,8 +18,8 @@
 namespace contactnn::history {
 
 struct ReplayOptions {
-  int pair = 0;                                   ///< SPEC 7's K
-  contact::SearchOptions search;                  ///< surface, capture distance (the surface search's)
+  int pair = 0;                   ///< SPEC 7's K
+  contact::SearchOptions search;  ///< surface, capture distance (the surface search's)
   contact::TrackingOptions tracking;
   /// Cold local-search methods timed and judged on the pairs inside a segment face (lib/search names).
   std::vector<std::string> methods = {"newton:3", "newton:5", "closed_form", "closed_form+newton:2"};
@@ -38,15 +38,15 @@ struct ReplayOptions {
 struct MethodRow {
   std::string method;
   long queries = 0;
-  double ns_per_query = 0.0;     ///< batched, the fastest of `repeats`
-  double mean_error = 0.0;       ///< mean of max(|d xi|, |d eta|) against the surface search's point (local units)
+  double ns_per_query = 0.0;  ///< batched, the fastest of `repeats`
+  double mean_error = 0.0;  ///< mean of max(|d xi|, |d eta|) against the surface search's point (local units)
   double max_error = 0.0;
-  long failures = 0;             ///< status not ok / outside
+  long failures = 0;  ///< status not ok / outside
 };
 
 /// Everything measured at one increment.
 struct IncrementRow {
-  int increment = 0;                ///< SPEC 10's N
+  int increment = 0;  ///< SPEC 10's N
   int step = 0;
   double time = 0.0;
   long slaves = 0;
@@ -56,18 +56,18 @@ struct IncrementRow {
   long tracking_differences = 0;    ///< nodes whose tracked face, point (1e-12 of its face) or gap differs
   std::vector<std::string> differences;  ///< the first few of them, each a Markdown table row (report.md)
   contact::TrackingCounts tracking;
-  double ns_scene = 0.0;            ///< per slave node: nodes moved, faces, node normals, slave positions
-  double ns_fresh = 0.0;            ///< per slave node: the fresh surface search
-  double ns_tracked = 0.0;          ///< per slave node: the tracked search
-  long reference_faces = 0;         ///< faces whose closest point needed the reference (no certificate)
+  double ns_scene = 0.0;     ///< per slave node: nodes moved, faces, node normals, slave positions
+  double ns_fresh = 0.0;     ///< per slave node: the fresh surface search
+  double ns_tracked = 0.0;   ///< per slave node: the tracked search
+  long reference_faces = 0;  ///< faces whose closest point needed the reference (no certificate)
   /// ReplayOptions::beside_reference: the reference search's times (0 when not run), and the nodes whose
   /// fresh answer differs from it (status, face, location; point or gap by more than 1e-10 of the face size).
   double ns_fresh_reference = 0.0;
   double ns_tracked_reference = 0.0;
   long reference_differences = 0;
-  std::vector<MethodRow> methods;   ///< cold methods, then start+newton:K (warm, the kept faces only)
-  long calculix_contacts = 0;       ///< the pair's slave nodes with COPEN < 0 in the file (-1: no CONTACT block)
-  long calculix_found = 0;          ///< of those, with a point
+  std::vector<MethodRow> methods;  ///< cold methods, then start+newton:K (warm, the kept faces only)
+  long calculix_contacts = 0;  ///< the pair's slave nodes with COPEN < 0 in the file (-1: no CONTACT block)
+  long calculix_found = 0;     ///< of those, with a point
   double calculix_largest_difference = 0.0;  ///< max |gap - COPEN| over those found
 };
 
@@ -77,9 +77,10 @@ struct IncrementRow {
                                                const ReplayOptions& options,
                                                const std::function<void(int, int)>& progress = {});
 
-/// report.md (summary and per-increment tables), increments.csv, and the SVG plots time.svg (ns per slave node
-/// of each phase), error.svg (mean |error| of each method, log scale) and locations.svg (contacts by location)
-/// in `directory` (created), each written atomically. `title` names the run (deck, pair, results file).
+/// report.md (summary and per-increment tables), increments.csv, and the SVG plots time.svg (ns per slave
+/// node of each phase), error.svg (mean |error| of each method, log scale) and locations.svg (contacts by
+/// location) in `directory` (created), each written atomically. `title` names the run (deck, pair, results
+/// file).
 void write_replay_report(const std::string& directory, const std::string& title, const ReplayOptions& options,
                          const std::vector<IncrementRow>& rows);
 

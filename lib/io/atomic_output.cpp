@@ -39,7 +39,8 @@ std::filesystem::path follow_links(const std::filesystem::path& path, bool& desc
   descriptor = false;
   for (int depth = 0; depth < 40; ++depth) {
     const std::string text = current.lexically_normal().string();
-    if (text.rfind("/dev/fd/", 0) == 0 || (text.rfind("/proc/", 0) == 0 && text.find("/fd/") != std::string::npos)) {
+    if (text.rfind("/dev/fd/", 0) == 0 ||
+        (text.rfind("/proc/", 0) == 0 && text.find("/fd/") != std::string::npos)) {
       descriptor = true;
       return current;
     }
@@ -47,7 +48,8 @@ std::filesystem::path follow_links(const std::filesystem::path& path, bool& desc
     const auto status = std::filesystem::symlink_status(current, ec);
     if (ec || status.type() != std::filesystem::file_type::symlink) return current;
     const std::filesystem::path target = std::filesystem::read_symlink(current, ec);
-    CONTACTNN_REQUIRE_AS(IoError, !ec, "cannot read the symbolic link " << in_quotes(current) << ": " << ec.message());
+    CONTACTNN_REQUIRE_AS(IoError, !ec,
+                         "cannot read the symbolic link " << in_quotes(current) << ": " << ec.message());
     current = target.is_absolute() ? target : current.parent_path() / target;
   }
   throw IoError("cannot write " + in_quotes(path) + ": too many levels of symbolic links");
@@ -59,7 +61,8 @@ std::filesystem::path directory_of(const std::filesystem::path& path) {
 }
 
 /// Copies the bytes of `from` into the existing non-regular file `to` (a device or FIFO), in place.
-void copy_into(const std::filesystem::path& from, const std::filesystem::path& to, const std::filesystem::path& shown) {
+void copy_into(const std::filesystem::path& from, const std::filesystem::path& to,
+               const std::filesystem::path& shown) {
   const int in = ::open(from.c_str(), O_RDONLY | O_CLOEXEC);
   CONTACTNN_REQUIRE_AS(IoError, in >= 0, "cannot reopen " << in_quotes(from) << ": " << std::strerror(errno));
   const int out = ::open(to.c_str(), O_WRONLY | O_TRUNC | O_CLOEXEC);
@@ -87,7 +90,8 @@ void copy_into(const std::filesystem::path& from, const std::filesystem::path& t
   }
   ::close(in);
   if (::close(out) != 0 && error == 0) error = errno;
-  CONTACTNN_REQUIRE_AS(IoError, error == 0, "cannot write " << in_quotes(shown) << ": " << std::strerror(error));
+  CONTACTNN_REQUIRE_AS(IoError, error == 0,
+                       "cannot write " << in_quotes(shown) << ": " << std::strerror(error));
 }
 
 void sync_directory(const std::filesystem::path& dir) {
@@ -100,8 +104,10 @@ void sync_directory(const std::filesystem::path& dir) {
 
 }  // namespace
 
-AtomicOutput::AtomicOutput(std::filesystem::path final_path, Access access) : final_path_(std::move(final_path)) {
-  CONTACTNN_REQUIRE_AS(IoError, !final_path_.filename().empty(), "output path " << in_quotes(final_path_) << " names no file");
+AtomicOutput::AtomicOutput(std::filesystem::path final_path, Access access)
+    : final_path_(std::move(final_path)) {
+  CONTACTNN_REQUIRE_AS(IoError, !final_path_.filename().empty(),
+                       "output path " << in_quotes(final_path_) << " names no file");
   std::error_code ec;
   // The type of what the path finally names (status follows every link, /proc's descriptor links included).
   const auto status = std::filesystem::status(final_path_, ec);
@@ -110,7 +116,8 @@ AtomicOutput::AtomicOutput(std::filesystem::path final_path, Access access) : fi
                        "cannot write " << in_quotes(final_path_) << ": it is a directory");
   bool descriptor = false;
   target_ = follow_links(final_path_, descriptor);
-  in_place_ = type != std::filesystem::file_type::not_found && (type != std::filesystem::file_type::regular || descriptor);
+  in_place_ = type != std::filesystem::file_type::not_found &&
+              (type != std::filesystem::file_type::regular || descriptor);
   if (in_place_) target_ = final_path_;  // opened through the links
   if (in_place_ && access == Access::kSequential) {
     write_path_ = target_;
@@ -119,12 +126,15 @@ AtomicOutput::AtomicOutput(std::filesystem::path final_path, Access access) : fi
   std::filesystem::path dir;
   if (in_place_) {
     dir = std::filesystem::temp_directory_path(ec);
-    CONTACTNN_REQUIRE_AS(IoError, !ec, "cannot write " << in_quotes(final_path_) << ": no temporary directory: " << ec.message());
+    CONTACTNN_REQUIRE_AS(
+        IoError, !ec,
+        "cannot write " << in_quotes(final_path_) << ": no temporary directory: " << ec.message());
     write_path_ = dir / temporary_name(target_, "contactnn-");
   } else {
     dir = directory_of(target_);
-    CONTACTNN_REQUIRE_AS(IoError, std::filesystem::is_directory(dir, ec),
-                         "cannot write " << in_quotes(final_path_) << ": directory " << in_quotes(dir) << " does not exist");
+    CONTACTNN_REQUIRE_AS(
+        IoError, std::filesystem::is_directory(dir, ec),
+        "cannot write " << in_quotes(final_path_) << ": directory " << in_quotes(dir) << " does not exist");
     write_path_ = dir / temporary_name(target_, "");
   }
   registration_ = std::make_unique<TemporaryRegistration>(write_path_);
@@ -159,8 +169,9 @@ void AtomicOutput::commit_unguarded() {
   }
   // fsync before rename: after a crash the final name holds either the old file or the whole new one.
   const int fd = ::open(write_path_.c_str(), O_RDONLY | O_CLOEXEC);
-  CONTACTNN_REQUIRE_AS(IoError, fd >= 0,
-                       "cannot reopen " << in_quotes(write_path_) << " to flush it: " << std::strerror(errno));
+  CONTACTNN_REQUIRE_AS(
+      IoError, fd >= 0,
+      "cannot reopen " << in_quotes(write_path_) << " to flush it: " << std::strerror(errno));
   struct stat existing {};
   if (::stat(target_.c_str(), &existing) == 0 && S_ISREG(existing.st_mode)) {
     ::fchmod(fd, existing.st_mode & 07777);  // a replaced file keeps its permissions (best effort)
@@ -172,8 +183,9 @@ void AtomicOutput::commit_unguarded() {
                        "cannot flush " << in_quotes(write_path_) << ": " << std::strerror(sync_errno));
   std::error_code ec;
   std::filesystem::rename(write_path_, target_, ec);
-  CONTACTNN_REQUIRE_AS(IoError, !ec,
-                       "cannot rename " << in_quotes(write_path_) << " to " << in_quotes(final_path_) << ": " << ec.message());
+  CONTACTNN_REQUIRE_AS(
+      IoError, !ec,
+      "cannot rename " << in_quotes(write_path_) << " to " << in_quotes(final_path_) << ": " << ec.message());
   committed_ = true;
   registration_.reset();
   sync_directory(directory_of(target_));
@@ -223,16 +235,19 @@ void require_writable(const std::filesystem::path& path) {
   const int fd = ::open(probe.write_path().c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0600);
   CONTACTNN_REQUIRE_AS(IoError, fd >= 0,
                        "cannot write " << in_quotes(path) << ": cannot create a file in directory "
-                                       << in_quotes(directory_of(probe.write_path())) << ": " << std::strerror(errno));
+                                       << in_quotes(directory_of(probe.write_path())) << ": "
+                                       << std::strerror(errno));
   ::close(fd);  // the probe's destructor removes it
 }
 
-AtomicDirectory::AtomicDirectory(std::filesystem::path final_path, std::initializer_list<std::string> owned_names,
+AtomicDirectory::AtomicDirectory(std::filesystem::path final_path,
+                                 std::initializer_list<std::string> owned_names,
                                  const std::string& option_name)
     : final_path_(std::move(final_path)) {
   std::error_code ec;
   target_ = std::filesystem::weakly_canonical(std::filesystem::absolute(final_path_), ec);
-  CONTACTNN_REQUIRE_AS(IoError, !ec, "cannot use " << in_quotes(final_path_) << " as a directory: " << ec.message());
+  CONTACTNN_REQUIRE_AS(IoError, !ec,
+                       "cannot use " << in_quotes(final_path_) << " as a directory: " << ec.message());
   if (!target_.has_filename()) target_ = target_.parent_path();
   CONTACTNN_REQUIRE_AS(IoError, target_.has_parent_path() && target_ != target_.root_path(),
                        "cannot use " << in_quotes(final_path_) << " as an output directory: it is the root");
@@ -246,15 +261,16 @@ AtomicDirectory::AtomicDirectory(std::filesystem::path final_path, std::initiali
       const bool stale_temporary = name.size() > 5 && name.front() == '.' && name.ends_with(".tmp");
       const bool ours = (owned.count(name) > 0 && entry.is_regular_file(ec)) || stale_temporary;
       CONTACTNN_REQUIRE_AS(InvalidArgument, ours,
-                           option_name << " " << in_quotes(final_path_) << " holds " << in_quotes(name)
-                                       << ", which is not part of a report: the directory is replaced whole, so it "
-                                          "must hold nothing else (choose a new or empty directory)");
+                           option_name
+                               << " " << in_quotes(final_path_) << " holds " << in_quotes(name)
+                               << ", which is not part of a report: the directory is replaced whole, so it "
+                                  "must hold nothing else (choose a new or empty directory)");
     }
     CONTACTNN_REQUIRE_AS(IoError, !ec, "cannot list " << in_quotes(final_path_) << ": " << ec.message());
   } else {
     std::filesystem::create_directories(target_.parent_path(), ec);
-    CONTACTNN_REQUIRE_AS(IoError, !ec,
-                         "cannot create directory " << in_quotes(target_.parent_path()) << ": " << ec.message());
+    CONTACTNN_REQUIRE_AS(
+        IoError, !ec, "cannot create directory " << in_quotes(target_.parent_path()) << ": " << ec.message());
   }
   write_path_ = target_.parent_path() / temporary_name(target_, "");
   registration_ = std::make_unique<TemporaryRegistration>(write_path_, true);
@@ -276,22 +292,25 @@ void AtomicDirectory::commit() {
   const bool replacing = std::filesystem::exists(target_, ec);
   if (!replacing) {
     std::filesystem::rename(write_path_, target_, ec);
-    CONTACTNN_REQUIRE_AS(IoError, !ec, "cannot rename " << in_quotes(write_path_) << " to " << in_quotes(final_path_) << ": "
-                                                        << ec.message());
+    CONTACTNN_REQUIRE_AS(IoError, !ec,
+                         "cannot rename " << in_quotes(write_path_) << " to " << in_quotes(final_path_)
+                                          << ": " << ec.message());
   } else if (::renameat2(AT_FDCWD, write_path_.c_str(), AT_FDCWD, target_.c_str(), RENAME_EXCHANGE) != 0) {
     // No atomic exchange on this file system: move the old directory aside, then the new one in.
     CONTACTNN_REQUIRE_AS(IoError, errno == EINVAL || errno == ENOSYS || errno == ENOTSUP,
-                         "cannot exchange " << in_quotes(write_path_) << " and " << in_quotes(final_path_) << ": "
-                                            << std::strerror(errno));
+                         "cannot exchange " << in_quotes(write_path_) << " and " << in_quotes(final_path_)
+                                            << ": " << std::strerror(errno));
     const std::filesystem::path aside = target_.parent_path() / temporary_name(target_, "old-");
     const TemporaryRegistration aside_registration(aside, true);
     std::filesystem::rename(target_, aside, ec);
-    CONTACTNN_REQUIRE_AS(IoError, !ec, "cannot move " << in_quotes(final_path_) << " aside: " << ec.message());
+    CONTACTNN_REQUIRE_AS(IoError, !ec,
+                         "cannot move " << in_quotes(final_path_) << " aside: " << ec.message());
     std::filesystem::rename(write_path_, target_, ec);
     if (ec) {
       std::error_code ignored;
       std::filesystem::rename(aside, target_, ignored);
-      throw IoError("cannot rename " + in_quotes(write_path_) + " to " + in_quotes(final_path_) + ": " + ec.message());
+      throw IoError("cannot rename " + in_quotes(write_path_) + " to " + in_quotes(final_path_) + ": " +
+                    ec.message());
     }
     std::filesystem::remove_all(aside, ec);
   } else {

@@ -50,9 +50,9 @@ bool parse_double(std::string_view field, double& value) {
 }
 
 std::string not_a_number_message(const std::filesystem::path& file, std::size_t line, std::string_view column,
-                                  std::string_view text) {
-  return file_label(file) + ":" + std::to_string(line) + ": column " + quote_text(column) + ": " + quote_text(text) +
-         " is not a number";
+                                 std::string_view text) {
+  return file_label(file) + ":" + std::to_string(line) + ": column " + quote_text(column) + ": " +
+         quote_text(text) + " is not a number";
 }
 
 // ---------------------------------------------------------------------------------------------------------
@@ -121,16 +121,18 @@ void CsvReader::start(DataRows rows) {
   std::size_t line = 0;
   CsvRecord record;
   const bool got_header = read_record(record, line);
-  CONTACTNN_REQUIRE_AS(FormatError, got_header, file_label(path_) << ": empty file: expected a header row and data rows");
+  CONTACTNN_REQUIRE_AS(FormatError, got_header,
+                       file_label(path_) << ": empty file: expected a header row and data rows");
   std::vector<std::string> fields = record.strings();
   for (auto& column : fields) {
     CONTACTNN_REQUIRE_AS(FormatError, column.find('\0') == std::string::npos,
-                         file_label(path_) << ":1: the header holds NUL bytes: UTF-16 text without a byte-order mark, "
-                                              "or not a text file; save it as UTF-8 or ASCII");
+                         file_label(path_)
+                             << ":1: the header holds NUL bytes: UTF-16 text without a byte-order mark, "
+                                "or not a text file; save it as UTF-8 or ASCII");
     column = std::string(trim(column));
   }
-  // An empty or repeated name is a column like any other (pandas writes its index as a column named ""; SPEC 6
-  // copies columns it does not read): only looking one up by a name the header holds twice is an error
+  // An empty or repeated name is a column like any other (pandas writes its index as a column named ""; SPEC
+  // 6 copies columns it does not read): only looking one up by a name the header holds twice is an error
   // (column_index).
   header_ = std::move(fields);
   have_lookahead_ = next(lookahead_, lookahead_line_);
@@ -176,9 +178,10 @@ bool CsvReader::read_record(CsvRecord& record, std::size_t& record_line) {
         // reader would otherwise merge into one record: CR-only (classic Mac OS) files.
         const int next = peek();
         CONTACTNN_REQUIRE_AS(FormatError, next == '\n' || next < 0,
-                             file_label(path_) << ":" << line_
-                                               << ": carriage return without a line feed (a file with CR-only line "
-                                                  "ends?): save it with LF or CRLF line ends");
+                             file_label(path_)
+                                 << ":" << line_
+                                 << ": carriage return without a line feed (a file with CR-only line "
+                                    "ends?): save it with LF or CRLF line ends");
       } else {
         record.append(static_cast<char>(c));
         if (c != ' ' && c != '\t') record_has_content = true;
@@ -210,18 +213,17 @@ bool CsvReader::next(CsvRecord& record, std::size_t& line) {
   }
   std::size_t record_line = 0;
   if (!read_record(record, record_line)) return false;
-  // A ragged row names the first column it lacks, or the first field beyond the header (SPEC 6: file, line and
-  // column).
+  // A ragged row names the first column it lacks, or the first field beyond the header (SPEC 6: file, line
+  // and column).
   CONTACTNN_REQUIRE_AS(FormatError, header_.empty() || record.size() == header_.size(),
-                       file_label(path_) << ":" << record_line << ": ragged row: " << record.size()
-                                         << " fields, the header has " << header_.size() << " ("
-                                         << (record.size() < header_.size()
-                                                 ? "column " + std::to_string(record.size() + 1) + ", " +
-                                                       quote_text(header_[record.size()]) +
-                                                       ", missing"
-                                                 : "column " + std::to_string(header_.size() + 1) +
-                                                       " is beyond the header")
-                                         << ")");
+                       file_label(path_)
+                           << ":" << record_line << ": ragged row: " << record.size()
+                           << " fields, the header has " << header_.size() << " ("
+                           << (record.size() < header_.size()
+                                   ? "column " + std::to_string(record.size() + 1) + ", " +
+                                         quote_text(header_[record.size()]) + ", missing"
+                                   : "column " + std::to_string(header_.size() + 1) + " is beyond the header")
+                           << ")");
   line = record_line;
   return true;
 }
@@ -238,8 +240,8 @@ std::optional<std::size_t> find_column(const std::vector<std::string>& header, s
   const auto found = std::find(header.begin(), header.end(), name);
   if (found == header.end()) return std::nullopt;
   CONTACTNN_REQUIRE_AS(FormatError, std::find(found + 1, header.end(), name) == header.end(),
-                       file_label(path) << ":1: duplicate column " << quote_text(std::string(name))
-                                        << " in the header");
+                       file_label(path)
+                           << ":1: duplicate column " << quote_text(std::string(name)) << " in the header");
   return static_cast<std::size_t>(found - header.begin());
 }
 
@@ -375,16 +377,19 @@ void CsvWriter::commit() {
   output_.commit();
 }
 
-std::unique_ptr<AtomicOutput> write_text_uncommitted(const std::filesystem::path& path, std::string_view text) {
+std::unique_ptr<AtomicOutput> write_text_uncommitted(const std::filesystem::path& path,
+                                                     std::string_view text) {
   auto output = std::make_unique<AtomicOutput>(path, AtomicOutput::Access::kSequential);
   std::ofstream out(output->write_path(), std::ios::binary | std::ios::trunc);
   CONTACTNN_REQUIRE_AS(IoError, out.good(),
                        "cannot create " << file_label(output->write_path()) << ": " << std::strerror(errno));
   out.write(text.data(), static_cast<std::streamsize>(text.size()));
   out.flush();
-  CONTACTNN_REQUIRE_AS(IoError, out.good(), "cannot write " << file_label(path) << ": " << std::strerror(errno));
+  CONTACTNN_REQUIRE_AS(IoError, out.good(),
+                       "cannot write " << file_label(path) << ": " << std::strerror(errno));
   out.close();
-  CONTACTNN_REQUIRE_AS(IoError, !out.fail(), "cannot write " << file_label(path) << ": " << std::strerror(errno));
+  CONTACTNN_REQUIRE_AS(IoError, !out.fail(),
+                       "cannot write " << file_label(path) << ": " << std::strerror(errno));
   return output;
 }
 

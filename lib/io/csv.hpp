@@ -16,13 +16,15 @@
 
 namespace contactnn::io {
 
-/// User text quoted in a message, at most kQuotedBytes of it (core/quote_text.hpp: one helper for every module).
+/// User text quoted in a message, at most kQuotedBytes of it (core/quote_text.hpp: one helper for every
+/// module).
 using contactnn::kQuotedBytes;
 using contactnn::quote_text;
 
 /// The index of the one column of `header` called `name`; std::nullopt when there is none; FormatError naming
 /// `path` when there are several (a header may hold repeated names: only looking one up is an error).
-[[nodiscard]] std::optional<std::size_t> find_column(const std::vector<std::string>& header, std::string_view name,
+[[nodiscard]] std::optional<std::size_t> find_column(const std::vector<std::string>& header,
+                                                     std::string_view name,
                                                      const std::filesystem::path& path);
 
 /// One CSV record held compactly: the fields' text back to back and where each ends (a row of 17 numbers
@@ -62,10 +64,10 @@ enum class DataRows { kRequired, kMayBeNone };
 /// Format: comma-separated, RFC 4180 double quotes (a quoted field may hold commas, quotes as "" and line
 /// breaks), LF or CRLF line ends, blank lines skipped, a leading UTF-8 byte-order mark ignored, blanks
 /// around column names ignored. FormatError naming the file and line for: an empty file, a header without
-/// data rows (unless DataRows::kMayBeNone), a row whose field count differs from the header's, an unterminated
-/// quote (and the column it opens in), a carriage return not followed by a line feed (CR-only line ends),
-/// UTF-16 or UTF-32 text (by its byte-order mark, or NUL bytes in the header).
-/// IoError if the file cannot be opened or read.
+/// data rows (unless DataRows::kMayBeNone), a row whose field count differs from the header's, an
+/// unterminated quote (and the column it opens in), a carriage return not followed by a line feed (CR-only
+/// line ends), UTF-16 or UTF-32 text (by its byte-order mark, or NUL bytes in the header). IoError if the
+/// file cannot be opened or read.
 class CsvReader {
  public:
   /// Streams the file at `path`. Reads the header and looks ahead to the first data row (so an empty file

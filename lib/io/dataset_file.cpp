@@ -33,8 +33,8 @@ std::unique_ptr<AtomicOutput> write_dataset_uncommitted(const std::filesystem::p
     file.write_matrix("features", set.features);
     file.write_matrix("labels", set.labels);
     file.write_vector("gap", std::vector<double>(set.gap.data(), set.gap.data() + set.gap.size()));
-    file.write_vector("iterations",
-                      std::vector<std::int32_t>(set.iterations.data(), set.iterations.data() + set.iterations.size()));
+    file.write_vector("iterations", std::vector<std::int32_t>(set.iterations.data(),
+                                                              set.iterations.data() + set.iterations.size()));
     std::vector<std::uint8_t> status(set.status.size());
     for (std::size_t i = 0; i < status.size(); ++i) status[i] = static_cast<std::uint8_t>(set.status[i]);
     file.write_vector("status", status);
@@ -62,7 +62,8 @@ dataset::LabelledSet read_dataset(const std::filesystem::path& path) {
   const auto status = file.read_vector<std::uint8_t>("status");
   const auto scale = file.read_vector<double>("scale");
   set.gap = Eigen::Map<const Eigen::VectorXd>(gap.data(), static_cast<Eigen::Index>(gap.size()));
-  set.iterations = Eigen::Map<const Eigen::VectorXi>(iterations.data(), static_cast<Eigen::Index>(iterations.size()));
+  set.iterations =
+      Eigen::Map<const Eigen::VectorXi>(iterations.data(), static_cast<Eigen::Index>(iterations.size()));
   set.scale = Eigen::Map<const Eigen::VectorXd>(scale.data(), static_cast<Eigen::Index>(scale.size()));
   set.status.resize(status.size());
   for (std::size_t i = 0; i < status.size(); ++i) {
@@ -74,8 +75,8 @@ dataset::LabelledSet read_dataset(const std::filesystem::path& path) {
   set.filters = read_filters(file, "domain");
   const auto count = file.read_int_attribute("/", "count");
   CONTACTNN_REQUIRE_AS(FormatError, count == set.size(),
-                       "'" << path.string() << "': attribute count = " << count << " but /features has " << set.size()
-                           << " rows");
+                       "'" << path.string() << "': attribute count = " << count << " but /features has "
+                           << set.size() << " rows");
   set.validate("'" + path.string() + "'");
   return set;
 }

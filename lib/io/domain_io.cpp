@@ -47,10 +47,11 @@ geometry::TrainingDomain read_domain(const Hdf5File& file, const std::string& gr
   domain.feature_min = file.read_vector<double>(group + "/feature_min");
   domain.feature_max = file.read_vector<double>(group + "/feature_max");
   const auto expected = static_cast<std::size_t>(feature_count(domain.surface));
-  CONTACTNN_REQUIRE_AS(FormatError, domain.feature_min.size() == expected && domain.feature_max.size() == expected,
-                       "'" << file.path().string() << "', '" << group << "': domain has " << domain.feature_min.size()
-                           << "/" << domain.feature_max.size() << " feature bounds, expected " << expected << " for "
-                           << to_string(domain.surface));
+  CONTACTNN_REQUIRE_AS(
+      FormatError, domain.feature_min.size() == expected && domain.feature_max.size() == expected,
+      "'" << file.path().string() << "', '" << group << "': domain has " << domain.feature_min.size() << "/"
+          << domain.feature_max.size() << " feature bounds, expected " << expected << " for "
+          << to_string(domain.surface));
   domain.filters = read_filters(file, group);
   return domain;
 }

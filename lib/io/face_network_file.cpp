@@ -11,12 +11,13 @@
 
 namespace contactnn::io {
 
-void write_face_network(const std::filesystem::path& path, search::FaceKind face, const mlp::Network<float>& network,
-                        const std::vector<double>& feature_min, const std::vector<double>& feature_max,
-                        const std::string& provenance) {
+void write_face_network(const std::filesystem::path& path, search::FaceKind face,
+                        const mlp::Network<float>& network, const std::vector<double>& feature_min,
+                        const std::vector<double>& feature_max, const std::string& provenance) {
   for (float p : network.parameters()) {
-    CONTACTNN_REQUIRE_AS(NumericalError, std::isfinite(p),
-                         "refusing to write a network with a non-finite parameter to '" << path.string() << "'");
+    CONTACTNN_REQUIRE_AS(
+        NumericalError, std::isfinite(p),
+        "refusing to write a network with a non-finite parameter to '" << path.string() << "'");
   }
   // The same checks as a FaceNetwork's (face type, inputs, bounds) before anything is written.
   (void)search::FaceNetwork(face, network, feature_min, feature_max);
@@ -55,7 +56,8 @@ FaceNetworkFile read_face_network(const std::filesystem::path& path) {
   CONTACTNN_REQUIRE_AS(FormatError, real_type == "float32",
                        "'" << name << "': real_type is " << quote_text(real_type) << ", expected 'float32'");
   FaceNetworkFile out{search::face_kind_from_string(face), read_network_layers<float>(file, name),
-                      file.read_vector<double>("domain/feature_min"), file.read_vector<double>("domain/feature_max"),
+                      file.read_vector<double>("domain/feature_min"),
+                      file.read_vector<double>("domain/feature_max"),
                       file.read_string_attribute("/", "provenance")};
   try {
     (void)search::FaceNetwork(out.face, out.network, out.feature_min, out.feature_max);

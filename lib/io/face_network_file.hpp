@@ -1,6 +1,6 @@
 // The file of a face network (search::FaceNetwork: tri6 or quad8 faces; docs/files.md "Face network file"):
-// the network as in the network file (write_network_layers), the face type, the training domain's feature box,
-// and where it came from.
+// the network as in the network file (write_network_layers), the face type, the training domain's feature
+// box, and where it came from.
 #pragma once
 
 #include <filesystem>
@@ -30,9 +30,9 @@ struct FaceNetworkFile {
 ///   /architecture, /layers, /scaling   as in the network file
 ///   /domain/feature_min, /domain/feature_max   float64 [face_feature_count]
 /// Throws IoError if it cannot be written, NumericalError for a non-finite parameter.
-void write_face_network(const std::filesystem::path& path, search::FaceKind face, const mlp::Network<float>& network,
-                        const std::vector<double>& feature_min, const std::vector<double>& feature_max,
-                        const std::string& provenance);
+void write_face_network(const std::filesystem::path& path, search::FaceKind face,
+                        const mlp::Network<float>& network, const std::vector<double>& feature_min,
+                        const std::vector<double>& feature_max, const std::string& provenance);
 
 /// Reads a file write_face_network wrote; FormatError naming the file for another kind or version, a face
 /// type other than tri6 or quad8, or inputs or bounds that do not match the face type.

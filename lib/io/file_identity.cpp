@@ -20,7 +20,8 @@ std::filesystem::path resolved(const std::filesystem::path& p) {
 }  // namespace
 
 bool same_file(const std::filesystem::path& a, const std::filesystem::path& b) {
-  struct stat sa {}, sb {};
+  struct stat sa {
+  }, sb{};
   const bool a_exists = ::stat(a.c_str(), &sa) == 0;
   const bool b_exists = ::stat(b.c_str(), &sb) == 0;
   if (a_exists && b_exists) {
@@ -36,14 +37,15 @@ void require_distinct(const std::vector<NamedPath>& outputs, const std::vector<N
     if (out.path.empty()) continue;
     for (const NamedPath& in : inputs) {
       if (in.path.empty() || !same_file(out.path, in.path)) continue;
-      throw InvalidArgument(out.option + " '" + out.path.string() + "' and " + in.option + " '" + in.path.string() +
-                            "' are the same file: refusing to overwrite an input");
+      throw InvalidArgument(out.option + " '" + out.path.string() + "' and " + in.option + " '" +
+                            in.path.string() + "' are the same file: refusing to overwrite an input");
     }
     for (std::size_t j = i + 1; j < outputs.size(); ++j) {
       const NamedPath& other = outputs[j];
       if (other.path.empty() || !same_file(out.path, other.path)) continue;
       throw InvalidArgument(out.option + " '" + out.path.string() + "' and " + other.option + " '" +
-                            other.path.string() + "' are the same file: one output would overwrite the other");
+                            other.path.string() +
+                            "' are the same file: one output would overwrite the other");
     }
   }
 }

@@ -51,7 +51,12 @@ herr_t close_file(hid_t file) {
 /// The system's reason for the last failed write, when it names one a user can act on.
 std::string system_reason(int error) {
   switch (error) {
-    case ENOSPC: case EDQUOT: case EFBIG: case EIO: case EROFS: case EACCES:
+    case ENOSPC:
+    case EDQUOT:
+    case EFBIG:
+    case EIO:
+    case EROFS:
+    case EACCES:
       return std::string(": ") + std::strerror(error);
     default:
       return "";
@@ -61,15 +66,25 @@ std::string system_reason(int error) {
 template <class T>
 hid_t native_type();
 template <>
-hid_t native_type<float>() { return H5T_NATIVE_FLOAT; }
+hid_t native_type<float>() {
+  return H5T_NATIVE_FLOAT;
+}
 template <>
-hid_t native_type<double>() { return H5T_NATIVE_DOUBLE; }
+hid_t native_type<double>() {
+  return H5T_NATIVE_DOUBLE;
+}
 template <>
-hid_t native_type<std::int32_t>() { return H5T_NATIVE_INT32; }
+hid_t native_type<std::int32_t>() {
+  return H5T_NATIVE_INT32;
+}
 template <>
-hid_t native_type<std::uint8_t>() { return H5T_NATIVE_UINT8; }
+hid_t native_type<std::uint8_t>() {
+  return H5T_NATIVE_UINT8;
+}
 template <>
-hid_t native_type<std::int64_t>() { return H5T_NATIVE_INT64; }
+hid_t native_type<std::int64_t>() {
+  return H5T_NATIVE_INT64;
+}
 
 /// Closes an HDF5 handle with the matching close function when it leaves scope.
 class Handle {
@@ -119,8 +134,8 @@ Handle create_dataset(hid_t file, const std::string& shown, const std::string& n
   Handle dataset(
       H5Dcreate2(file, name.c_str(), type, space.get(), link_props.get(), create_props.get(), H5P_DEFAULT),
       H5Dclose);
-  CONTACTNN_REQUIRE_AS(IoError, dataset.valid(), "cannot create dataset '" << shown << "', '" << name << "'"
-                                                                           << system_reason(errno));
+  CONTACTNN_REQUIRE_AS(IoError, dataset.valid(),
+                       "cannot create dataset '" << shown << "', '" << name << "'" << system_reason(errno));
   return Handle(H5Dopen2(file, name.c_str(), H5P_DEFAULT), H5Dclose);
 }
 
@@ -160,22 +175,21 @@ void require_stored(hid_t dataset, const std::filesystem::path& path, const std:
     unsigned flags = 0;
     std::size_t values = 0;
     char filter_name[64] = {};
-    const H5Z_filter_t filter =
-        H5Pget_filter2(create_props.get(), static_cast<unsigned>(f), &flags, &values, nullptr, sizeof filter_name,
-                       filter_name, nullptr);
-    CONTACTNN_REQUIRE_AS(FormatError, filter >= 0 && H5Zfilter_avail(filter) > 0,
-                         "dataset " << where(path, name) << " is stored with HDF5 filter " << filter << " ('"
-                                    << filter_name
-                                    << "'), which this HDF5 library does not have (gzip, shuffle and fletcher32 "
-                                       "are built in: save it with compression='gzip')");
+    const H5Z_filter_t filter = H5Pget_filter2(create_props.get(), static_cast<unsigned>(f), &flags, &values,
+                                               nullptr, sizeof filter_name, filter_name, nullptr);
+    CONTACTNN_REQUIRE_AS(
+        FormatError, filter >= 0 && H5Zfilter_avail(filter) > 0,
+        "dataset " << where(path, name) << " is stored with HDF5 filter " << filter << " ('" << filter_name
+                   << "'), which this HDF5 library does not have (gzip, shuffle and fletcher32 "
+                      "are built in: save it with compression='gzip')");
   }
   if (H5Pget_layout(create_props.get()) != H5D_CONTIGUOUS) return;
   const hsize_t stored = H5Dget_storage_size(dataset);
   std::ostringstream shape;
   for (std::size_t i = 0; i < dims.size(); ++i) shape << (i > 0 ? "x" : "") << dims[i];
   CONTACTNN_REQUIRE_AS(FormatError, !overflow && element > 0 && count <= stored / element,
-                       "dataset " << where(path, name) << " claims " << shape.str() << " elements of " << element
-                                  << " bytes but the file stores " << stored
+                       "dataset " << where(path, name) << " claims " << shape.str() << " elements of "
+                                  << element << " bytes but the file stores " << stored
                                   << " bytes for it (the file is truncated or corrupt)");
 }
 
@@ -184,22 +198,32 @@ std::string type_text(hid_t type) {
   const H5T_class_t type_class = H5Tget_class(type);
   const std::size_t bits = 8 * H5Tget_size(type);
   switch (type_class) {
-    case H5T_FLOAT: return "float" + std::to_string(bits);
-    case H5T_INTEGER: return (H5Tget_sign(type) == H5T_SGN_NONE ? "uint" : "int") + std::to_string(bits);
-    case H5T_STRING: return H5Tis_variable_str(type) > 0 ? "variable-length string" : "fixed-length string";
-    case H5T_ENUM: return "enum";
-    case H5T_COMPOUND: return "compound";
-    case H5T_ARRAY: return "array";
-    case H5T_VLEN: return "variable-length sequence";
-    default: return "another HDF5 type";
+    case H5T_FLOAT:
+      return "float" + std::to_string(bits);
+    case H5T_INTEGER:
+      return (H5Tget_sign(type) == H5T_SGN_NONE ? "uint" : "int") + std::to_string(bits);
+    case H5T_STRING:
+      return H5Tis_variable_str(type) > 0 ? "variable-length string" : "fixed-length string";
+    case H5T_ENUM:
+      return "enum";
+    case H5T_COMPOUND:
+      return "compound";
+    case H5T_ARRAY:
+      return "array";
+    case H5T_VLEN:
+      return "variable-length sequence";
+    default:
+      return "another HDF5 type";
   }
 }
 
 Handle open_attribute(hid_t file, const std::filesystem::path& path, const std::string& object,
                       const std::string& name) {
   const std::string label = object + "@" + name;
-  CONTACTNN_REQUIRE_AS(FormatError, link_exists(file, object) && H5Aexists_by_name(file, object.c_str(), name.c_str(), H5P_DEFAULT) > 0,
-                       "attribute " << where(path, label) << " does not exist");
+  CONTACTNN_REQUIRE_AS(
+      FormatError,
+      link_exists(file, object) && H5Aexists_by_name(file, object.c_str(), name.c_str(), H5P_DEFAULT) > 0,
+      "attribute " << where(path, label) << " does not exist");
   Handle attribute(H5Aopen_by_name(file, object.c_str(), name.c_str(), H5P_DEFAULT, H5P_DEFAULT), H5Aclose);
   CONTACTNN_REQUIRE_AS(FormatError, attribute.valid(), "cannot open attribute " << where(path, label));
   // One value: a scalar, or (as some writers store it) an array of one element. Reading a longer array into
@@ -211,8 +235,8 @@ Handle open_attribute(hid_t file, const std::filesystem::path& path, const std::
   return attribute;
 }
 
-void write_scalar_attribute(hid_t file, const std::string& shown, const std::string& object, const std::string& name,
-                            hid_t type, const void* value) {
+void write_scalar_attribute(hid_t file, const std::string& shown, const std::string& object,
+                            const std::string& name, hid_t type, const void* value) {
   if (H5Aexists_by_name(file, object.c_str(), name.c_str(), H5P_DEFAULT) > 0) {
     H5Adelete_by_name(file, object.c_str(), name.c_str(), H5P_DEFAULT);
   }
@@ -221,9 +245,9 @@ void write_scalar_attribute(hid_t file, const std::string& shown, const std::str
   Handle attribute(H5Acreate_by_name(file, object.c_str(), name.c_str(), type, space.get(), H5P_DEFAULT,
                                      H5P_DEFAULT, H5P_DEFAULT),
                    H5Aclose);
-  CONTACTNN_REQUIRE_AS(IoError, attribute.valid() && H5Awrite(attribute.get(), type, value) >= 0,
-                       "cannot write attribute '" << shown << "', '" << object << "@" << name << "'"
-                                                  << system_reason(errno));
+  CONTACTNN_REQUIRE_AS(
+      IoError, attribute.valid() && H5Awrite(attribute.get(), type, value) >= 0,
+      "cannot write attribute '" << shown << "', '" << object << "@" << name << "'" << system_reason(errno));
 }
 
 /// Reads a numeric dataset of any integer width and signedness as int64 (every such value fits, except
@@ -231,8 +255,8 @@ void write_scalar_attribute(hid_t file, const std::string& shown, const std::str
 /// floating-point width as double. Integers where reals are expected, and the reverse, are an error
 /// naming both types: a guess would hide a file that is not what it claims.
 template <class T>
-void read_numbers(hid_t dataset, const std::filesystem::path& path, const std::string& name, std::size_t count,
-                  T* out) {
+void read_numbers(hid_t dataset, const std::filesystem::path& path, const std::string& name,
+                  std::size_t count, T* out) {
   const Handle type(H5Dget_type(dataset), H5Tclose);
   const H5T_class_t stored = H5Tget_class(type.get());
   const std::string read_error = "cannot read dataset " + where(path, name) + " (truncated or corrupt)";
@@ -240,9 +264,10 @@ void read_numbers(hid_t dataset, const std::filesystem::path& path, const std::s
     CONTACTNN_REQUIRE_AS(FormatError, stored == H5T_FLOAT,
                          "dataset " << where(path, name) << " is " << type_text(type.get())
                                     << ", expected floating point (float32 or float64)");
-    CONTACTNN_REQUIRE_AS(FormatError,
-                         count == 0 || H5Dread(dataset, native_type<T>(), H5S_ALL, H5S_ALL, H5P_DEFAULT, out) >= 0,
-                         read_error);
+    CONTACTNN_REQUIRE_AS(
+        FormatError,
+        count == 0 || H5Dread(dataset, native_type<T>(), H5S_ALL, H5S_ALL, H5P_DEFAULT, out) >= 0,
+        read_error);
   } else {
     CONTACTNN_REQUIRE_AS(FormatError, stored == H5T_INTEGER,
                          "dataset " << where(path, name) << " is " << type_text(type.get())
@@ -254,9 +279,10 @@ void read_numbers(hid_t dataset, const std::filesystem::path& path, const std::s
       throw FormatError("dataset " + where(path, name) + " claims " + std::to_string(count) +
                         " elements: more than memory holds (corrupt?)");
     }
-    CONTACTNN_REQUIRE_AS(FormatError,
-                         count == 0 || H5Dread(dataset, H5T_NATIVE_INT64, H5S_ALL, H5S_ALL, H5P_DEFAULT, wide.data()) >= 0,
-                         read_error);
+    CONTACTNN_REQUIRE_AS(
+        FormatError,
+        count == 0 || H5Dread(dataset, H5T_NATIVE_INT64, H5S_ALL, H5S_ALL, H5P_DEFAULT, wide.data()) >= 0,
+        read_error);
     const bool unsigned_64 = H5Tget_sign(type.get()) == H5T_SGN_NONE && H5Tget_size(type.get()) >= 8;
     for (std::size_t i = 0; i < count; ++i) {
       const std::int64_t v = wide[i];
@@ -283,7 +309,8 @@ Hdf5File::Hdf5File(const std::filesystem::path& path, Mode mode, std::filesystem
   if (mode == Mode::kCreate) {
     errno = 0;
     file_id_ = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
-    CONTACTNN_REQUIRE_AS(IoError, file_id_ >= 0, "cannot create HDF5 file '" << shown_ << "'" << system_reason(errno));
+    CONTACTNN_REQUIRE_AS(IoError, file_id_ >= 0,
+                         "cannot create HDF5 file '" << shown_ << "'" << system_reason(errno));
     return;
   }
   std::error_code ec;
@@ -293,7 +320,8 @@ Hdf5File::Hdf5File(const std::filesystem::path& path, Mode mode, std::filesystem
                        "cannot open '" << path.string() << "': it is a directory");
   // HDF5 reads by seeking: a FIFO or a device would block or mislead it.
   CONTACTNN_REQUIRE_AS(IoError, std::filesystem::is_regular_file(path, ec),
-                       "cannot open '" << path.string() << "' as HDF5: it is not a regular file (HDF5 needs a "
+                       "cannot open '" << path.string()
+                                       << "' as HDF5: it is not a regular file (HDF5 needs a "
                                           "seekable file)");
   CONTACTNN_REQUIRE_AS(FormatError, H5Fis_hdf5(path.c_str()) > 0,
                        "'" << path.string() << "' is not an HDF5 file, or it is truncated or corrupt");
@@ -315,7 +343,8 @@ void Hdf5File::close() {
   const int close_errno = errno;
   file_id_ = -1;
   CONTACTNN_REQUIRE_AS(IoError, flushed >= 0 && closed >= 0,
-                       "cannot flush and close '" << shown_ << "'" << system_reason(flush_errno != 0 ? flush_errno : close_errno));
+                       "cannot flush and close '"
+                           << shown_ << "'" << system_reason(flush_errno != 0 ? flush_errno : close_errno));
 }
 
 template <class T>
@@ -324,8 +353,8 @@ void Hdf5File::write_matrix(const std::string& name, const MatrixRM<T>& matrix) 
   Handle dataset = create_dataset(file_id_, shown_, name, native_type<T>(), 2, dims);
   errno = 0;
   CONTACTNN_REQUIRE_AS(IoError,
-                       matrix.size() == 0 ||
-                           H5Dwrite(dataset.get(), native_type<T>(), H5S_ALL, H5S_ALL, H5P_DEFAULT, matrix.data()) >= 0,
+                       matrix.size() == 0 || H5Dwrite(dataset.get(), native_type<T>(), H5S_ALL, H5S_ALL,
+                                                      H5P_DEFAULT, matrix.data()) >= 0,
                        "cannot write dataset '" << shown_ << "', '" << name << "'" << system_reason(errno));
 }
 
@@ -335,8 +364,8 @@ void Hdf5File::write_vector(const std::string& name, const std::vector<T>& value
   Handle dataset = create_dataset(file_id_, shown_, name, native_type<T>(), 1, dims);
   errno = 0;
   CONTACTNN_REQUIRE_AS(IoError,
-                       values.empty() ||
-                           H5Dwrite(dataset.get(), native_type<T>(), H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()) >= 0,
+                       values.empty() || H5Dwrite(dataset.get(), native_type<T>(), H5S_ALL, H5S_ALL,
+                                                  H5P_DEFAULT, values.data()) >= 0,
                        "cannot write dataset '" << shown_ << "', '" << name << "'" << system_reason(errno));
 }
 
@@ -344,8 +373,9 @@ template <class T>
 MatrixRM<T> Hdf5File::read_matrix(const std::string& name) const {
   Handle dataset = open_dataset(file_id_, path_, name);
   const auto dims = dataset_dims(dataset.get());
-  CONTACTNN_REQUIRE_AS(FormatError, dims.size() == 2,
-                       "dataset " << where(path_, name) << " has rank " << dims.size() << ", expected a 2-D matrix");
+  CONTACTNN_REQUIRE_AS(
+      FormatError, dims.size() == 2,
+      "dataset " << where(path_, name) << " has rank " << dims.size() << ", expected a 2-D matrix");
   require_stored(dataset.get(), path_, name, dims);
   MatrixRM<T> matrix;
   try {
@@ -362,8 +392,9 @@ template <class T>
 std::vector<T> Hdf5File::read_vector(const std::string& name) const {
   Handle dataset = open_dataset(file_id_, path_, name);
   const auto dims = dataset_dims(dataset.get());
-  CONTACTNN_REQUIRE_AS(FormatError, dims.size() == 1,
-                       "dataset " << where(path_, name) << " has rank " << dims.size() << ", expected a 1-D vector");
+  CONTACTNN_REQUIRE_AS(
+      FormatError, dims.size() == 1,
+      "dataset " << where(path_, name) << " has rank " << dims.size() << ", expected a 1-D vector");
   require_stored(dataset.get(), path_, name, dims);
   std::vector<T> values;
   try {
@@ -406,7 +437,8 @@ void Hdf5File::write_attribute(const std::string& object, const std::string& nam
 }
 
 bool Hdf5File::has_attribute(const std::string& object, const std::string& name) const {
-  return link_exists(file_id_, object) && H5Aexists_by_name(file_id_, object.c_str(), name.c_str(), H5P_DEFAULT) > 0;
+  return link_exists(file_id_, object) &&
+         H5Aexists_by_name(file_id_, object.c_str(), name.c_str(), H5P_DEFAULT) > 0;
 }
 
 std::string Hdf5File::read_string_attribute(const std::string& object, const std::string& name) const {
@@ -432,8 +464,9 @@ std::string Hdf5File::read_string_attribute(const std::string& object, const std
   hsize_t file_size = 0;
   H5Fget_filesize(file_id_, &file_size);
   const std::size_t size = H5Tget_size(type.get());
-  CONTACTNN_REQUIRE_AS(FormatError, size <= file_size,
-                       "attribute " << label << " claims " << size << " bytes in a file of " << file_size << " (corrupt)");
+  CONTACTNN_REQUIRE_AS(
+      FormatError, size <= file_size,
+      "attribute " << label << " claims " << size << " bytes in a file of " << file_size << " (corrupt)");
   std::string value(size, '\0');
   CONTACTNN_REQUIRE_AS(FormatError, H5Aread(attribute.get(), type.get(), value.data()) >= 0,
                        "cannot read attribute " << label);
@@ -447,7 +480,8 @@ std::string Hdf5File::read_string_attribute(const std::string& object, const std
 double Hdf5File::read_double_attribute(const std::string& object, const std::string& name) const {
   Handle attribute = open_attribute(file_id_, path_, object, name);
   Handle type(H5Aget_type(attribute.get()), H5Tclose);
-  CONTACTNN_REQUIRE_AS(FormatError, H5Tget_class(type.get()) == H5T_FLOAT || H5Tget_class(type.get()) == H5T_INTEGER,
+  CONTACTNN_REQUIRE_AS(FormatError,
+                       H5Tget_class(type.get()) == H5T_FLOAT || H5Tget_class(type.get()) == H5T_INTEGER,
                        "attribute " << where(path_, object + "@" + name) << " is " << type_text(type.get())
                                     << ", expected a number");
   double value = 0.0;
@@ -466,17 +500,40 @@ std::int64_t Hdf5File::read_int_attribute(const std::string& object, const std::
     const Handle base(H5Tget_super(type.get()), H5Tclose);
     const Handle memory_type(H5Tget_native_type(type.get(), H5T_DIR_ASCEND), H5Tclose);
     const std::size_t size = memory_type.valid() ? H5Tget_size(memory_type.get()) : 0;
-    CONTACTNN_REQUIRE_AS(FormatError, base.valid() && H5Tget_class(base.get()) == H5T_INTEGER && size >= 1 && size <= 8,
+    CONTACTNN_REQUIRE_AS(FormatError,
+                         base.valid() && H5Tget_class(base.get()) == H5T_INTEGER && size >= 1 && size <= 8,
                          "attribute " << label << " is an enum that is not over an integer");
     unsigned char raw[8] = {};
     CONTACTNN_REQUIRE_AS(FormatError, H5Aread(attribute.get(), memory_type.get(), raw) >= 0,
                          "cannot read attribute " << label);
     const bool is_signed = H5Tget_sign(base.get()) != H5T_SGN_NONE;
     switch (size) {
-      case 1: { std::int8_t s8; std::uint8_t u8; std::memcpy(&s8, raw, 1); std::memcpy(&u8, raw, 1); return is_signed ? s8 : u8; }
-      case 2: { std::int16_t s16; std::uint16_t u16; std::memcpy(&s16, raw, 2); std::memcpy(&u16, raw, 2); return is_signed ? s16 : u16; }
-      case 4: { std::int32_t s32; std::uint32_t u32; std::memcpy(&s32, raw, 4); std::memcpy(&u32, raw, 4); return is_signed ? s32 : static_cast<std::int64_t>(u32); }
-      default: { std::int64_t s64; std::memcpy(&s64, raw, 8); return s64; }
+      case 1: {
+        std::int8_t s8;
+        std::uint8_t u8;
+        std::memcpy(&s8, raw, 1);
+        std::memcpy(&u8, raw, 1);
+        return is_signed ? s8 : u8;
+      }
+      case 2: {
+        std::int16_t s16;
+        std::uint16_t u16;
+        std::memcpy(&s16, raw, 2);
+        std::memcpy(&u16, raw, 2);
+        return is_signed ? s16 : u16;
+      }
+      case 4: {
+        std::int32_t s32;
+        std::uint32_t u32;
+        std::memcpy(&s32, raw, 4);
+        std::memcpy(&u32, raw, 4);
+        return is_signed ? s32 : static_cast<std::int64_t>(u32);
+      }
+      default: {
+        std::int64_t s64;
+        std::memcpy(&s64, raw, 8);
+        return s64;
+      }
     }
   }
   CONTACTNN_REQUIRE_AS(FormatError, H5Tget_class(type.get()) == H5T_INTEGER,
@@ -490,17 +547,19 @@ std::int64_t Hdf5File::read_int_attribute(const std::string& object, const std::
 void require_file_kind(const Hdf5File& file, std::string_view expected_kind, std::int64_t expected_version) {
   const std::string path = file.path().string();
   CONTACTNN_REQUIRE_AS(FormatError, file.has_attribute("/", "kind"),
-                       "'" << path << "' is not a contactnn file: root attribute 'kind' is missing (expected '"
+                       "'" << path
+                           << "' is not a contactnn file: root attribute 'kind' is missing (expected '"
                            << expected_kind << "')");
   const std::string kind = file.read_string_attribute("/", "kind");
   CONTACTNN_REQUIRE_AS(FormatError, kind == expected_kind,
                        "'" << path << "' is a " << kind << " file, expected a " << expected_kind << " file");
-  CONTACTNN_REQUIRE_AS(FormatError, file.has_attribute("/", "schema_version"),
-                       "'" << path << "': root attribute 'schema_version' is missing (expected " << expected_version << ")");
+  CONTACTNN_REQUIRE_AS(
+      FormatError, file.has_attribute("/", "schema_version"),
+      "'" << path << "': root attribute 'schema_version' is missing (expected " << expected_version << ")");
   const std::int64_t version = file.read_int_attribute("/", "schema_version");
   CONTACTNN_REQUIRE_AS(FormatError, version == expected_version,
-                       "'" << path << "' has " << expected_kind << " schema version " << version << ", expected "
-                           << expected_version);
+                       "'" << path << "' has " << expected_kind << " schema version " << version
+                           << ", expected " << expected_version);
 }
 
 SurfaceKind read_surface_attribute(const Hdf5File& file, const std::string& object, const std::string& name) {

@@ -30,8 +30,8 @@ namespace fs = std::filesystem;
 
 // A GENERATE line expanding to more ids than this is taken for a typo, not for a mesh.
 constexpr long kMaxGeneratedIds = 100'000'000;
-// The longest line a deck may hold: Abaqus reads 256 characters a line, CalculiX 132. Anything longer is not a
-// deck (a binary file, CR-only line ends read as one line) and is refused before it fills memory.
+// The longest line a deck may hold: Abaqus reads 256 characters a line, CalculiX 132. Anything longer is not
+// a deck (a binary file, CR-only line ends read as one line) and is refused before it fills memory.
 constexpr std::size_t kMaxLineBytes = std::size_t{64} << 10;
 // Files are read this many bytes at a time.
 constexpr std::size_t kChunkBytes = std::size_t{1} << 20;
@@ -81,8 +81,8 @@ struct OpenedFile {
   std::string other_kind;
 };
 
-/// Opens `path` for reading and says what it is. A directory reads as an empty file and /dev/zero as an endless
-/// one; a FIFO is opened without waiting for a writer (O_NONBLOCK, cleared again for a regular file).
+/// Opens `path` for reading and says what it is. A directory reads as an empty file and /dev/zero as an
+/// endless one; a FIFO is opened without waiting for a writer (O_NONBLOCK, cleared again for a regular file).
 OpenedFile open_regular_file(const fs::path& path) {
   OpenedFile out;
   const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK);
@@ -221,7 +221,7 @@ struct NamedSet {
 
 struct PendingElement {
   long id = 0;
-  int type = 0;                  // index into Reader::types_
+  int type = 0;                    // index into Reader::types_
   std::size_t begin = 0, end = 0;  // node ids in Reader::element_node_ids_
   Location where;
 };
@@ -285,15 +285,15 @@ class DeckReader {
 
  private:
   // ---- Sources: the deck and its includes, a stack of files read line by line ----------------------------
-  // A file is streamed in chunks of kChunkBytes (a deck given as text is one chunk): the reader holds one chunk
-  // and one line per open file, whatever the file's size.
+  // A file is streamed in chunks of kChunkBytes (a deck given as text is one chunk): the reader holds one
+  // chunk and one line per open file, whatever the file's size.
   struct Source {
     InputFile input;    // not open for a deck given as text
     std::string chunk;  // bytes read; those from `pos` on are not consumed yet
     std::size_t pos = 0;
-    std::string text;   // the current line, without its line end
-    long line = 0;      // its number, from 1
-    int file = 0;       // index into file_names_
+    std::string text;  // the current line, without its line end
+    long line = 0;     // its number, from 1
+    int file = 0;      // index into file_names_
     fs::path canonical;
   };
   std::vector<std::unique_ptr<Source>> stack_;
@@ -318,19 +318,21 @@ class DeckReader {
   /// Opens the file `input` (INPUT= of the line at `loc`) and makes it the current source.
   void push_file(const std::string& input, Location loc, std::string_view keyword_name) {
     if (input.size() > kMaxPathBytes) {
-      fail(loc, keyword_name, "INPUT=" + quote_text(input) + " is longer than any path (" +
-                                  std::to_string(kMaxPathBytes) + " bytes)");
+      fail(loc, keyword_name,
+           "INPUT=" + quote_text(input) + " is longer than any path (" + std::to_string(kMaxPathBytes) +
+               " bytes)");
     }
     fs::path target(input);
-    if (target.is_relative()) target = fs::path(file_names_[static_cast<std::size_t>(loc.file)]).parent_path() / target;
+    if (target.is_relative())
+      target = fs::path(file_names_[static_cast<std::size_t>(loc.file)]).parent_path() / target;
     target = target.lexically_normal();
     const fs::path canonical = canonical_or_empty(target);
     for (const auto& source : stack_) {
       if (!canonical.empty() && source->canonical == canonical) {
         std::string chain;
         for (const auto& s : stack_) chain += file_names_[static_cast<std::size_t>(s->file)] + " -> ";
-        fail(loc, keyword_name, "'" + input + "' is already being read (an include loop: " + chain +
-                                    target.string() + ")");
+        fail(loc, keyword_name,
+             "'" + input + "' is already being read (an include loop: " + chain + target.string() + ")");
       }
     }
     OpenedFile opened = open_regular_file(target);
@@ -339,8 +341,9 @@ class DeckReader {
                     target.string() + "): " + std::generic_category().message(opened.error));
     }
     if (!opened.other_kind.empty()) {
-      fail(loc, keyword_name, "INPUT='" + input + "' (" + target.string() + ") is " + opened.other_kind +
-                                  ", not a regular file");
+      fail(
+          loc, keyword_name,
+          "INPUT='" + input + "' (" + target.string() + ") is " + opened.other_kind + ", not a regular file");
     }
     push_source(std::move(opened.file), std::string(), target, canonical);
   }
@@ -362,7 +365,8 @@ class DeckReader {
   }
 
   /// The next line of `s` into s.text, without its line end; false when the file holds no more. A line
-  /// longer than kMaxLineBytes is an error (checked as it grows: a file of one endless line is not read whole).
+  /// longer than kMaxLineBytes is an error (checked as it grows: a file of one endless line is not read
+  /// whole).
   bool read_line(Source& s) const {
     s.text.clear();
     bool any = false;
@@ -408,7 +412,8 @@ class DeckReader {
         encoding = "UTF-16 (big-endian)";
       }
       if (!encoding.empty()) {
-        say("the file is " + std::string(encoding) + " text (by its byte-order mark); save the deck as UTF-8 or ASCII");
+        say("the file is " + std::string(encoding) +
+            " text (by its byte-order mark); save the deck as UTF-8 or ASCII");
       }
     }
     for (std::size_t i = 0; i < text.size(); ++i) {
@@ -416,12 +421,14 @@ class DeckReader {
       if (c >= 0x20 || c == '\t') continue;
       const std::string column = "column " + std::to_string(i + 1) + ": ";
       if (c == 0) {
-        say(column + "a NUL byte: UTF-16 or UTF-32 text without a byte-order mark, or a binary file, not a deck "
-                     "(save the deck as UTF-8 or ASCII)");
+        say(column +
+            "a NUL byte: UTF-16 or UTF-32 text without a byte-order mark, or a binary file, not a deck "
+            "(save the deck as UTF-8 or ASCII)");
       }
       if (c == '\r') {
-        say(column + "a carriage return without a line feed (a file with CR-only line ends?): save the deck with "
-                     "LF or CRLF line ends");
+        say(column +
+            "a carriage return without a line feed (a file with CR-only line ends?): save the deck with "
+            "LF or CRLF line ends");
       }
       if (c != '\f' && c != '\v') {
         char code[8];
@@ -441,7 +448,8 @@ class DeckReader {
       loc = {s.file, ++s.line};
       line = s.text;
       if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
-      if (loc.line == 1 && line.substr(0, 3) == "\xEF\xBB\xBF") line.remove_prefix(3);  // a UTF-8 byte-order mark
+      if (loc.line == 1 && line.substr(0, 3) == "\xEF\xBB\xBF")
+        line.remove_prefix(3);  // a UTF-8 byte-order mark
       check_text(line, loc);
       return true;
     }
@@ -458,8 +466,8 @@ class DeckReader {
 
   // ---- Keyword lines ------------------------------------------------------------------------------------
   Block block_ = Block::kSkip;
-  std::string keyword_;       // "*NODE", for messages
-  std::string target_set_;    // NSET= / ELSET= of *NODE, *ELEMENT, *NSET, *ELSET (keyword_form), or ""
+  std::string keyword_;     // "*NODE", for messages
+  std::string target_set_;  // NSET= / ELSET= of *NODE, *ELEMENT, *NSET, *ELSET (keyword_form), or ""
   bool generate_ = false;
   int element_type_ = -1;
   int surface_ = -1;
@@ -509,7 +517,8 @@ class DeckReader {
     if (name == "NODE") {
       block_ = Block::kNode;
       if (const auto system = params.get("SYSTEM"); system && keyword_form(*system) != "R") {
-        fail(loc, shown, "SYSTEM=" + quote_text(*system) + " is not supported (only rectangular coordinates, SYSTEM=R)");
+        fail(loc, shown,
+             "SYSTEM=" + quote_text(*system) + " is not supported (only rectangular coordinates, SYSTEM=R)");
       }
       if (const auto set = params.get("NSET")) target_set_ = define_set(nsets_, *set, loc);
     } else if (name == "ELEMENT") {
@@ -546,8 +555,8 @@ class DeckReader {
       c.where = loc;
       cyclic_.push_back(std::move(c));
     }
-    if (block_ != Block::kSkip && block_ != Block::kSurface && block_ != Block::kContactPair && block_ != Block::kTie &&
-        block_ != Block::kCyclic) {
+    if (block_ != Block::kSkip && block_ != Block::kSurface && block_ != Block::kContactPair &&
+        block_ != Block::kTie && block_ != Block::kCyclic) {
       if (const auto input = params.get("INPUT")) push_file(*input, loc, shown);
     }
   }
@@ -555,23 +564,33 @@ class DeckReader {
   // ---- Data lines ---------------------------------------------------------------------------------------
   void data(std::string_view line, Location loc) {
     switch (block_) {
-      case Block::kSkip: return;
-      case Block::kNode: return node_line(line, loc);
-      case Block::kElement: return element_line(line, loc);
-      case Block::kNset: return set_line(nsets_, "node", line, loc);
-      case Block::kElset: return set_line(elsets_, "element", line, loc);
-      case Block::kSurface: return surface_line(line, loc);
-      case Block::kContactPair: return pair_line(line, loc);
-      case Block::kTie: return tie_line(line, loc);
-      case Block::kCyclic: return cyclic_line(line, loc);
+      case Block::kSkip:
+        return;
+      case Block::kNode:
+        return node_line(line, loc);
+      case Block::kElement:
+        return element_line(line, loc);
+      case Block::kNset:
+        return set_line(nsets_, "node", line, loc);
+      case Block::kElset:
+        return set_line(elsets_, "element", line, loc);
+      case Block::kSurface:
+        return surface_line(line, loc);
+      case Block::kContactPair:
+        return pair_line(line, loc);
+      case Block::kTie:
+        return tie_line(line, loc);
+      case Block::kCyclic:
+        return cyclic_line(line, loc);
     }
   }
 
   long id_field(std::string_view field, std::size_t index, Location loc, std::string_view what) const {
     long id = 0;
     if (!parse_id(field, id) || id <= 0) {
-      fail(loc, keyword_, "field " + std::to_string(index + 1) + ": " + quote_text(field) + " is not a " +
-                              std::string(what) + " (a positive integer)");
+      fail(loc, keyword_,
+           "field " + std::to_string(index + 1) + ": " + quote_text(field) + " is not a " +
+               std::string(what) + " (a positive integer)");
     }
     return id;
   }
@@ -589,16 +608,18 @@ class DeckReader {
       if (f[k].empty()) continue;  // a blank coordinate is 0, as in Abaqus
       double value = 0.0;
       if (!parse_coordinate(f[k], value)) {
-        fail(loc, keyword_, "node " + std::to_string(id) + ": field " + std::to_string(k + 1) + ": " +
-                                quote_text(f[k]) + " is not a finite number");
+        fail(loc, keyword_,
+             "node " + std::to_string(id) + ": field " + std::to_string(k + 1) + ": " + quote_text(f[k]) +
+                 " is not a finite number");
       }
       x[static_cast<Eigen::Index>(k - 1)] = value;
     }
     const int existing = model_.mesh.find_node(id);
     if (existing >= 0) {
       if (model_.mesh.position(existing) != x) {
-        fail(loc, keyword_, "node " + std::to_string(id) + " is defined again with other coordinates (first at " +
-                                where(node_where_[static_cast<std::size_t>(existing)]) + ")");
+        fail(loc, keyword_,
+             "node " + std::to_string(id) + " is defined again with other coordinates (first at " +
+                 where(node_where_[static_cast<std::size_t>(existing)]) + ")");
       }
     } else {
       model_.mesh.add_node(id, x);
@@ -645,8 +666,9 @@ class DeckReader {
     const auto count = static_cast<int>(current_.end - current_.begin);
     if (type.node_count > 0) {
       if (count > type.node_count) {
-        fail(loc, keyword_, "element " + std::to_string(current_.id) + " (" + type.name + ") has " +
-                                std::to_string(count) + " node ids, expected " + std::to_string(type.node_count));
+        fail(loc, keyword_,
+             "element " + std::to_string(current_.id) + " (" + type.name + ") has " + std::to_string(count) +
+                 " node ids, expected " + std::to_string(type.node_count));
       }
       if (count == type.node_count) finish_element(false);
     } else if (line.back() != ',') {
@@ -665,7 +687,8 @@ class DeckReader {
            "element " + std::to_string(current_.id) + " (" + type.name + ") has " + std::to_string(count) +
                " node ids before the next keyword, expected " + std::to_string(type.node_count));
     }
-    if (count == 0) fail(current_.where, "*ELEMENT", "element " + std::to_string(current_.id) + " has no nodes");
+    if (count == 0)
+      fail(current_.where, "*ELEMENT", "element " + std::to_string(current_.id) + " has no nodes");
     const auto [it, inserted] = element_by_id_.emplace(current_.id, elements_.size());
     if (!inserted) {
       const PendingElement& old = elements_[it->second];
@@ -674,8 +697,9 @@ class DeckReader {
                                    element_node_ids_.begin() + static_cast<long>(old.end),
                                    element_node_ids_.begin() + static_cast<long>(current_.begin));
       if (!same) {
-        fail(current_.where, "*ELEMENT", "element " + std::to_string(current_.id) +
-                                             " is defined again differently (first at " + where(old.where) + ")");
+        fail(current_.where, "*ELEMENT",
+             "element " + std::to_string(current_.id) + " is defined again differently (first at " +
+                 where(old.where) + ")");
       }
       element_node_ids_.resize(current_.begin);
     } else {
@@ -701,14 +725,16 @@ class DeckReader {
     std::vector<long>& ids = sets[target_set_].ids;
     if (generate_) {
       if (f.size() < 2 || f.size() > 3) {
-        fail(loc, keyword_, "GENERATE needs 'first, last[, increment]', got " + std::to_string(f.size()) + " fields");
+        fail(loc, keyword_,
+             "GENERATE needs 'first, last[, increment]', got " + std::to_string(f.size()) + " fields");
       }
       const long first = id_field(f[0], 0, loc, std::string(kind) + " id");
       const long last = id_field(f[1], 1, loc, std::string(kind) + " id");
       const long step = f.size() == 3 ? id_field(f[2], 2, loc, "increment") : 1;
       if (last < first || (last - first) / step >= kMaxGeneratedIds) {
-        fail(loc, keyword_, "GENERATE range " + std::to_string(first) + ".." + std::to_string(last) + " step " +
-                                std::to_string(step) + " is empty or too long");
+        fail(loc, keyword_,
+             "GENERATE range " + std::to_string(first) + ".." + std::to_string(last) + " step " +
+                 std::to_string(step) + " is empty or too long");
       }
       for (long id = first; id <= last; id += step) ids.push_back(id);
       return;
@@ -722,8 +748,9 @@ class DeckReader {
       }
       const auto it = sets.find(upper(f[i]));
       if (it == sets.end()) {
-        fail(loc, keyword_, "field " + std::to_string(i + 1) + ": unknown " + std::string(kind) + " set " +
-                                quote_text(f[i]));
+        fail(
+            loc, keyword_,
+            "field " + std::to_string(i + 1) + ": unknown " + std::string(kind) + " set " + quote_text(f[i]));
       }
       const std::vector<long> copy = it->second.ids;  // the set may be the one being extended
       ids.insert(ids.end(), copy.begin(), copy.end());
@@ -737,8 +764,8 @@ class DeckReader {
     for (long e : it->second.ids) {
       const auto el = element_by_id_.find(e);
       if (el == element_by_id_.end()) {
-        fail(loc, keyword_, "ELSET=" + quote_text(elset) + " holds element " + std::to_string(e) +
-                                ", which is not defined");
+        fail(loc, keyword_,
+             "ELSET=" + quote_text(elset) + " holds element " + std::to_string(e) + ", which is not defined");
       }
       const PendingElement& p = elements_[el->second];
       ids.insert(ids.end(), element_node_ids_.begin() + static_cast<long>(p.begin),
@@ -757,7 +784,8 @@ class DeckReader {
     if (type_key == "ELEMENT") type = mesh::SurfaceType::kElement;
     if (type_key == "NODE") type = mesh::SurfaceType::kNode;
     const std::string name(trim(raw_name));
-    const std::string key = upper(name) + "\n" + (type == mesh::SurfaceType::kUnsupported ? "OTHER" : type_key);
+    const std::string key =
+        upper(name) + "\n" + (type == mesh::SurfaceType::kUnsupported ? "OTHER" : type_key);
     const auto [it, inserted] = surface_by_key_.emplace(key, static_cast<int>(surfaces_.size()));
     if (inserted) surfaces_.push_back({name, type, type_text, {}, loc});
     return it->second;
@@ -771,13 +799,15 @@ class DeckReader {
     SurfaceEntry entry{std::string(f[0]), 0, loc};
     if (s.type == mesh::SurfaceType::kElement) {
       if (f.size() < 2) {
-        fail(loc, keyword_, "surface " + quote_text(s.name) + ": " + quote_text(f[0]) +
-                                " needs a face label (S1..S6) in field 2");
+        fail(loc, keyword_,
+             "surface " + quote_text(s.name) + ": " + quote_text(f[0]) +
+                 " needs a face label (S1..S6) in field 2");
       }
       entry.face = parse_face_label(f[1]);
       if (entry.face == 0) {
-        fail(loc, keyword_, "surface " + quote_text(s.name) + ": field 2: " + quote_text(f[1]) +
-                                " is not a face label (S1..S6)");
+        fail(loc, keyword_,
+             "surface " + quote_text(s.name) + ": field 2: " + quote_text(f[1]) +
+                 " is not a face label (S1..S6)");
       }
     }
     s.entries.push_back(std::move(entry));
@@ -786,7 +816,8 @@ class DeckReader {
   void pair_line(std::string_view line, Location loc) {
     const std::vector<std::string_view> f = non_empty(split_fields(line));
     if (f.size() != 2) {
-      fail(loc, keyword_, "expected 'slave surface, master surface', got " + std::to_string(f.size()) + " fields");
+      fail(loc, keyword_,
+           "expected 'slave surface, master surface', got " + std::to_string(f.size()) + " fields");
     }
     pairs_.push_back({std::string(f[0]), std::string(f[1]), node_to_surface_, loc});
   }
@@ -797,11 +828,12 @@ class DeckReader {
 
   void tie_line(std::string_view line, Location loc) {
     PendingTie& tie = ties_.back();
-    if (!tie.dependent.empty()) fail(loc, keyword_, "tie " + quote_text(tie.name) + " has a second data line");
+    if (!tie.dependent.empty())
+      fail(loc, keyword_, "tie " + quote_text(tie.name) + " has a second data line");
     const std::vector<std::string_view> f = non_empty(split_fields(line));
     if (f.size() != 2) {
-      fail(loc, keyword_, "expected 'dependent surface, independent surface', got " + std::to_string(f.size()) +
-                              " fields");
+      fail(loc, keyword_,
+           "expected 'dependent surface, independent surface', got " + std::to_string(f.size()) + " fields");
     }
     tie.dependent = std::string(f[0]);
     tie.independent = std::string(f[1]);
@@ -812,11 +844,13 @@ class DeckReader {
     if (c.has_axis) fail(loc, keyword_, "a second data line (the axis is one line: ax, ay, az, bx, by, bz)");
     const std::vector<std::string_view> f = non_empty(split_fields(line));
     if (f.size() != 6) {
-      fail(loc, keyword_, "expected the axis 'ax, ay, az, bx, by, bz', got " + std::to_string(f.size()) + " fields");
+      fail(loc, keyword_,
+           "expected the axis 'ax, ay, az, bx, by, bz', got " + std::to_string(f.size()) + " fields");
     }
     for (std::size_t k = 0; k < 6; ++k) {
       if (!parse_coordinate(f[k], c.axis[k])) {
-        fail(loc, keyword_, "field " + std::to_string(k + 1) + ": " + quote_text(f[k]) + " is not a finite number");
+        fail(loc, keyword_,
+             "field " + std::to_string(k + 1) + ": " + quote_text(f[k]) + " is not a finite number");
       }
     }
     const mesh::Vec3 a(c.axis[0], c.axis[1], c.axis[2]), b(c.axis[3], c.axis[4], c.axis[5]);
@@ -827,7 +861,8 @@ class DeckReader {
   void resolve_cyclic() {
     std::vector<const PendingTie*> cyclic_ties;
     for (const PendingTie& t : ties_) {
-      if (t.dependent.empty()) fail(t.where, "*TIE", "tie " + quote_text(t.name) + " has no 'dependent, independent' line");
+      if (t.dependent.empty())
+        fail(t.where, "*TIE", "tie " + quote_text(t.name) + " has no 'dependent, independent' line");
       cyclic_ties.push_back(&t);
     }
     for (const PendingCyclic& c : cyclic_) {
@@ -836,7 +871,8 @@ class DeckReader {
       if (c.tie.empty()) {
         if (cyclic_ties.size() != 1) {
           fail(c.where, "*CYCLIC SYMMETRY MODEL",
-               "TIE= is needed: the deck has " + std::to_string(cyclic_ties.size()) + " *TIE, CYCLIC SYMMETRY cards");
+               "TIE= is needed: the deck has " + std::to_string(cyclic_ties.size()) +
+                   " *TIE, CYCLIC SYMMETRY cards");
         }
         tie = cyclic_ties.front();
       } else {
@@ -844,7 +880,8 @@ class DeckReader {
           if (upper(trim(t->name)) == upper(trim(c.tie))) tie = t;
         }
         if (tie == nullptr) {
-          fail(c.where, "*CYCLIC SYMMETRY MODEL", "TIE=" + quote_text(c.tie) + ": no *TIE, CYCLIC SYMMETRY of that name");
+          fail(c.where, "*CYCLIC SYMMETRY MODEL",
+               "TIE=" + quote_text(c.tie) + ": no *TIE, CYCLIC SYMMETRY of that name");
         }
       }
       mesh::CyclicSymmetry s;
@@ -868,9 +905,9 @@ class DeckReader {
       for (std::size_t i = e.begin; i < e.end; ++i) {
         const int n = mesh.find_node(element_node_ids_[i]);
         if (n < 0) {
-          fail(e.where, "*ELEMENT", "element " + std::to_string(e.id) + ": node " +
-                                        std::to_string(element_node_ids_[i]) + " (node " +
-                                        std::to_string(i - e.begin + 1) + " of the element) is not defined");
+          fail(e.where, "*ELEMENT",
+               "element " + std::to_string(e.id) + ": node " + std::to_string(element_node_ids_[i]) +
+                   " (node " + std::to_string(i - e.begin + 1) + " of the element) is not defined");
         }
         nodes.push_back(n);
       }
@@ -889,12 +926,16 @@ class DeckReader {
       const int master_element = find_surface(p.master, "ELEMENT");
       const int master_node = find_surface(p.master, "NODE");
       pair.slave = p.node_to_surface && slave_node >= 0 ? slave_node
-                   : slave_element >= 0                  ? slave_element
-                   : slave_node >= 0                     ? slave_node
-                                                         : find_surface(p.slave, "OTHER");
-      pair.master = master_element >= 0 ? master_element : master_node >= 0 ? master_node : find_surface(p.master, "OTHER");
-      if (pair.slave < 0) fail(p.where, "*CONTACT PAIR", "unknown slave surface " + quote_text(p.slave) + " (field 1)");
-      if (pair.master < 0) fail(p.where, "*CONTACT PAIR", "unknown master surface " + quote_text(p.master) + " (field 2)");
+                   : slave_element >= 0                 ? slave_element
+                   : slave_node >= 0                    ? slave_node
+                                                        : find_surface(p.slave, "OTHER");
+      pair.master = master_element >= 0 ? master_element
+                    : master_node >= 0  ? master_node
+                                        : find_surface(p.master, "OTHER");
+      if (pair.slave < 0)
+        fail(p.where, "*CONTACT PAIR", "unknown slave surface " + quote_text(p.slave) + " (field 1)");
+      if (pair.master < 0)
+        fail(p.where, "*CONTACT PAIR", "unknown master surface " + quote_text(p.master) + " (field 2)");
       model_.pairs.push_back(std::move(pair));
     }
     return std::move(model_);
@@ -923,9 +964,9 @@ class DeckReader {
         const auto& sets = s.type == mesh::SurfaceType::kNode ? nsets_ : elsets_;
         const auto it = sets.find(upper(entry.reference));
         if (it == sets.end()) {
-          fail(entry.where, "*SURFACE", context + ": field 1: unknown " +
-                                            (s.type == mesh::SurfaceType::kNode ? "node" : "element") + " set " +
-                                            quote_text(entry.reference));
+          fail(entry.where, "*SURFACE",
+               context + ": field 1: unknown " + (s.type == mesh::SurfaceType::kNode ? "node" : "element") +
+                   " set " + quote_text(entry.reference));
         }
         ids = it->second.ids;
         from_set = " (in set " + quote_text(it->second.name) + ", " + where(it->second.where) + ")";
@@ -933,20 +974,24 @@ class DeckReader {
       for (long i : ids) {
         if (s.type == mesh::SurfaceType::kNode) {
           const int n = mesh.find_node(i);
-          if (n < 0) fail(entry.where, "*SURFACE", context + ": node " + std::to_string(i) + from_set + " is not defined");
+          if (n < 0)
+            fail(entry.where, "*SURFACE",
+                 context + ": node " + std::to_string(i) + from_set + " is not defined");
           out.nodes.push_back(n);
           continue;
         }
         const int e = mesh.find_element(i);
-        if (e < 0) fail(entry.where, "*SURFACE", context + ": element " + std::to_string(i) + from_set + " is not defined");
+        if (e < 0)
+          fail(entry.where, "*SURFACE",
+               context + ": element " + std::to_string(i) + from_set + " is not defined");
         const mesh::ElementType& type = mesh.element_type(e);
         const bool shell_label = entry.face < 0;
         if (type.face_count > 0 && (shell_label || entry.face > type.face_count)) {
-          fail(entry.where, "*SURFACE", context + ": element " + std::to_string(i) + from_set + " is a " + type.name +
-                                            ", whose faces are S1..S" + std::to_string(type.face_count) +
-                                            "; the face label says " +
-                                            (shell_label ? std::string(entry.face == -1 ? "SPOS" : "SNEG")
-                                                         : "S" + std::to_string(entry.face)));
+          fail(entry.where, "*SURFACE",
+               context + ": element " + std::to_string(i) + from_set + " is a " + type.name +
+                   ", whose faces are S1..S" + std::to_string(type.face_count) + "; the face label says " +
+                   (shell_label ? std::string(entry.face == -1 ? "SPOS" : "SNEG")
+                                : "S" + std::to_string(entry.face)));
         }
         out.faces.push_back({e, entry.face});
       }
@@ -960,7 +1005,8 @@ class DeckReader {
 mesh::ContactModel read_inp_deck(const std::filesystem::path& path) {
   OpenedFile opened = open_regular_file(path);
   if (opened.error != 0) {
-    throw IoError("cannot open deck '" + path.string() + "': " + std::generic_category().message(opened.error));
+    throw IoError("cannot open deck '" + path.string() +
+                  "': " + std::generic_category().message(opened.error));
   }
   if (!opened.other_kind.empty()) {
     throw FormatError("'" + path.string() + "' is " + opened.other_kind +

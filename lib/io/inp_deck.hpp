@@ -54,12 +54,12 @@ namespace contactnn::io {
 /// Same, from text in memory; `name` stands for the file in messages and its directory resolves includes.
 [[nodiscard]] mesh::ContactModel parse_inp_deck(std::string_view text, const std::filesystem::path& name);
 
-/// The keywords of the deck at `path` (and of the files it includes, *INCLUDE, INPUT=) that change the contact
-/// geometry CalculiX uses and that the project does not apply (the reader skips them): *CLEARANCE (a gap set
-/// in place of the mesh's), *CONTACT PAIR with ADJUST= (slave nodes moved onto the master), *CONTACT
-/// INTERFERENCE (an overclosure), *SHELL SECTION with OFFSET= (a shell's surface moved off its nodes). One entry
-/// per keyword line, "'FILE':LINE: *KEYWORD ..." with the line's text escaped and cut at 80 bytes, in file
-/// order. A file that cannot be read is skipped (read_inp_deck reports it).
+/// The keywords of the deck at `path` (and of the files it includes, *INCLUDE, INPUT=) that change the
+/// contact geometry CalculiX uses and that the project does not apply (the reader skips them): *CLEARANCE (a
+/// gap set in place of the mesh's), *CONTACT PAIR with ADJUST= (slave nodes moved onto the master), *CONTACT
+/// INTERFERENCE (an overclosure), *SHELL SECTION with OFFSET= (a shell's surface moved off its nodes). One
+/// entry per keyword line, "'FILE':LINE: *KEYWORD ..." with the line's text escaped and cut at 80 bytes, in
+/// file order. A file that cannot be read is skipped (read_inp_deck reports it).
 [[nodiscard]] std::vector<std::string> unapplied_geometry_keywords(const std::filesystem::path& path);
 
 }  // namespace contactnn::io

@@ -61,7 +61,8 @@ void write_network_layers(Hdf5File& file, const mlp::Network<Real>& network) {
     MatrixRM<double> w(sizes[l + 1], sizes[l]);
     for (Eigen::Index k = 0; k < w.size(); ++k) w.data()[k] = static_cast<double>(network.weights(l)[k]);
     file.write_matrix(group + "/weights", w);
-    file.write_vector(group + "/thresholds", to_double(network.thresholds(l), static_cast<std::size_t>(sizes[l + 1])));
+    file.write_vector(group + "/thresholds",
+                      to_double(network.thresholds(l), static_cast<std::size_t>(sizes[l + 1])));
   }
   const mlp::Scaling& s = network.scaling();
   file.write_attribute("/", "input_features", std::string(to_string(s.input_features)));
@@ -121,12 +122,12 @@ mlp::Network<Real> read_network_layers(const Hdf5File& file, const std::string& 
     const std::string group = "layers/" + std::to_string(l);
     const MatrixRM<double> w = file.read_matrix<double>(group + "/weights");
     CONTACTNN_REQUIRE_AS(FormatError, w.rows() == sizes[l + 1] && w.cols() == sizes[l],
-                         "'" << name << "': dataset " << group << "/weights is " << w.rows() << " x " << w.cols()
-                             << ", expected " << sizes[l + 1] << " x " << sizes[l] << " (layer sizes " << arch
-                             << ")");
+                         "'" << name << "': dataset " << group << "/weights is " << w.rows() << " x "
+                             << w.cols() << ", expected " << sizes[l + 1] << " x " << sizes[l]
+                             << " (layer sizes " << arch << ")");
     for (Eigen::Index k = 0; k < w.size(); ++k) network.weights(l)[k] = static_cast<Real>(w.data()[k]);
-    const std::vector<double> theta =
-        read_sized(file, group + "/thresholds", static_cast<std::size_t>(sizes[l + 1]), "layer sizes " + arch);
+    const std::vector<double> theta = read_sized(
+        file, group + "/thresholds", static_cast<std::size_t>(sizes[l + 1]), "layer sizes " + arch);
     from_double(theta, network.thresholds(l));
   }
   for (Real p : network.parameters()) {
@@ -136,14 +137,16 @@ mlp::Network<Real> read_network_layers(const Hdf5File& file, const std::string& 
   return network;
 }
 
-
 template <class Real>
-std::unique_ptr<AtomicOutput> write_network_uncommitted(const std::filesystem::path& path, const mlp::Network<Real>& network,
-                   const geometry::TrainingDomain& domain, const NetworkProvenance& provenance,
-                   const mlp::TrainingState<Real>* checkpoint) {
+std::unique_ptr<AtomicOutput> write_network_uncommitted(const std::filesystem::path& path,
+                                                        const mlp::Network<Real>& network,
+                                                        const geometry::TrainingDomain& domain,
+                                                        const NetworkProvenance& provenance,
+                                                        const mlp::TrainingState<Real>* checkpoint) {
   for (Real p : network.parameters()) {
-    CONTACTNN_REQUIRE_AS(NumericalError, std::isfinite(static_cast<double>(p)),
-                         "refusing to write a network with a non-finite parameter to '" << path.string() << "'");
+    CONTACTNN_REQUIRE_AS(
+        NumericalError, std::isfinite(static_cast<double>(p)),
+        "refusing to write a network with a non-finite parameter to '" << path.string() << "'");
   }
   auto out = std::make_unique<AtomicOutput>(path);
   {
@@ -265,13 +268,15 @@ TrainedNetwork<Real> read_network(const std::filesystem::path& path) {
 }
 
 template <class Real>
-mlp::TrainingState<Real> read_training_state(const std::filesystem::path& path, const mlp::Network<Real>& network) {
+mlp::TrainingState<Real> read_training_state(const std::filesystem::path& path,
+                                             const mlp::Network<Real>& network) {
   const Hdf5File file(path, Hdf5File::Mode::kRead);
   const std::string name = path.string();
   require_file_kind(file, kNetworkFileKind, kNetworkSchemaVersion);
   CONTACTNN_REQUIRE_AS(FormatError, file.has_dataset("checkpoint/velocity"),
-                       "'" << name << "' is a network file without a checkpoint (no /checkpoint group): "
-                                      "it cannot be resumed");
+                       "'" << name
+                           << "' is a network file without a checkpoint (no /checkpoint group): "
+                              "it cannot be resumed");
   const std::size_t n = network.parameter_count();
   const std::string why = "one per parameter of the network";
   mlp::TrainingState<Real> state;
@@ -300,9 +305,10 @@ mlp::TrainingState<Real> read_training_state(const std::filesystem::path& path, 
   };
   require_finite(state.velocity, "velocity");
   require_finite(state.best_parameters, "best_parameters");
-  CONTACTNN_REQUIRE_AS(FormatError, state.epoch >= 0 && state.best_epoch >= 0 && state.best_epoch <= state.epoch,
-                       "'" << name << "': checkpoint epoch " << state.epoch << ", best epoch " << state.best_epoch
-                           << ": the checkpoint is corrupt");
+  CONTACTNN_REQUIRE_AS(FormatError,
+                       state.epoch >= 0 && state.best_epoch >= 0 && state.best_epoch <= state.epoch,
+                       "'" << name << "': checkpoint epoch " << state.epoch << ", best epoch "
+                           << state.best_epoch << ": the checkpoint is corrupt");
   return state;
 }
 
@@ -335,14 +341,18 @@ template std::unique_ptr<AtomicOutput> write_network_uncommitted(const std::file
                                                                  const geometry::TrainingDomain&,
                                                                  const NetworkProvenance&,
                                                                  const mlp::TrainingState<double>*);
-template void write_network(const std::filesystem::path&, const mlp::Network<float>&, const geometry::TrainingDomain&,
-                            const NetworkProvenance&, const mlp::TrainingState<float>*);
-template void write_network(const std::filesystem::path&, const mlp::Network<double>&, const geometry::TrainingDomain&,
-                            const NetworkProvenance&, const mlp::TrainingState<double>*);
+template void write_network(const std::filesystem::path&, const mlp::Network<float>&,
+                            const geometry::TrainingDomain&, const NetworkProvenance&,
+                            const mlp::TrainingState<float>*);
+template void write_network(const std::filesystem::path&, const mlp::Network<double>&,
+                            const geometry::TrainingDomain&, const NetworkProvenance&,
+                            const mlp::TrainingState<double>*);
 template TrainedNetwork<float> read_network(const std::filesystem::path&);
 template TrainedNetwork<double> read_network(const std::filesystem::path&);
-template mlp::TrainingState<float> read_training_state(const std::filesystem::path&, const mlp::Network<float>&);
-template mlp::TrainingState<double> read_training_state(const std::filesystem::path&, const mlp::Network<double>&);
+template mlp::TrainingState<float> read_training_state(const std::filesystem::path&,
+                                                       const mlp::Network<float>&);
+template mlp::TrainingState<double> read_training_state(const std::filesystem::path&,
+                                                        const mlp::Network<double>&);
 
 }  // namespace contactnn::io
 

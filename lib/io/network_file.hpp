@@ -1,5 +1,5 @@
-// The frozen network file of train-net (docs/files.md, "Network file"): architecture, U0, weights, scaling, the
-// training domain and provenance; a checkpoint is the same file plus the trainer's state.
+// The frozen network file of train-net (docs/files.md, "Network file"): architecture, U0, weights, scaling,
+// the training domain and provenance; a checkpoint is the same file plus the trainer's state.
 #pragma once
 
 #include <cstdint>
@@ -18,8 +18,8 @@ namespace contactnn::io {
 class Hdf5File;
 
 /// The network itself in an open file (u0, activation, /architecture, /layers, /scaling, input_features): the
-/// part of the network file above shared with other files of networks (face_network_file.hpp). Reading refuses
-/// (FormatError naming `name`) another activation, inconsistent sizes and non-finite parameters.
+/// part of the network file above shared with other files of networks (face_network_file.hpp). Reading
+/// refuses (FormatError naming `name`) another activation, inconsistent sizes and non-finite parameters.
 template <class Real>
 void write_network_layers(Hdf5File& file, const mlp::Network<Real>& network);
 template <class Real>
@@ -73,8 +73,9 @@ void write_network(const std::filesystem::path& path, const mlp::Network<Real>& 
 /// The same, leaving the commit to the caller (io::commit_together with the effective config).
 template <class Real>
 [[nodiscard]] std::unique_ptr<AtomicOutput> write_network_uncommitted(
-    const std::filesystem::path& path, const mlp::Network<Real>& network, const geometry::TrainingDomain& domain,
-    const NetworkProvenance& provenance, const mlp::TrainingState<Real>* checkpoint = nullptr);
+    const std::filesystem::path& path, const mlp::Network<Real>& network,
+    const geometry::TrainingDomain& domain, const NetworkProvenance& provenance,
+    const mlp::TrainingState<Real>* checkpoint = nullptr);
 
 /// The root attribute real_type of a network file: "float32" or "float64". FormatError for any other value
 /// (and the errors of opening a network file).

@@ -7,7 +7,8 @@
 
 namespace contactnn::io {
 
-RawConfigurationReader::RawConfigurationReader(const std::filesystem::path& path, SurfaceKind kind, DataRows rows)
+RawConfigurationReader::RawConfigurationReader(const std::filesystem::path& path, SurfaceKind kind,
+                                               DataRows rows)
     : csv_(path, rows), kind_(kind) {
   locate_columns();
 }
@@ -19,9 +20,11 @@ RawConfigurationReader::RawConfigurationReader(std::string_view text, const std:
 }
 
 void RawConfigurationReader::locate_columns() {
-  for (std::size_t i = 0; i < kRawPointColumns.size(); ++i) point_columns_[i] = csv_.column(kRawPointColumns[i]);
+  for (std::size_t i = 0; i < kRawPointColumns.size(); ++i)
+    point_columns_[i] = csv_.column(kRawPointColumns[i]);
   if (kind_ == SurfaceKind::kGregory) {
-    for (std::size_t i = 0; i < kRawNormalColumns.size(); ++i) normal_columns_[i] = csv_.column(kRawNormalColumns[i]);
+    for (std::size_t i = 0; i < kRawNormalColumns.size(); ++i)
+      normal_columns_[i] = csv_.column(kRawNormalColumns[i]);
   }
 }
 
@@ -54,7 +57,8 @@ bool RawConfigurationReader::next_chunk(RawChunk& chunk, std::size_t max_rows) {
     const auto number = [&](std::size_t column) {
       double value = 0.0;
       if (!parse_double(fields[column], value)) {
-        throw FormatError(not_a_number_message(csv_.path(), chunk.line_numbers[n], csv_.header()[column], fields[column]));
+        throw FormatError(
+            not_a_number_message(csv_.path(), chunk.line_numbers[n], csv_.header()[column], fields[column]));
       }
       return value;
     };
@@ -119,7 +123,8 @@ std::size_t map_raw_configurations(const std::filesystem::path& input, const std
   while (reader.next_chunk(chunk, chunk_rows)) {
     rows.assign(chunk.size(), {});
     compute(chunk, rows);
-    CONTACTNN_REQUIRE(rows.size() == chunk.size(), "computed " << rows.size() << " rows for a chunk of " << chunk.size());
+    CONTACTNN_REQUIRE(rows.size() == chunk.size(),
+                      "computed " << rows.size() << " rows for a chunk of " << chunk.size());
     for (std::size_t r = 0; r < chunk.size(); ++r) {
       CONTACTNN_REQUIRE(rows[r].size() == extra_header.size(),
                         "computed " << rows[r].size() << " fields for " << extra_header.size() << " columns");

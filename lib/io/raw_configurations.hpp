@@ -40,7 +40,8 @@ struct RawChunk {
 /// CsvReader. Memory: one chunk, however long the file.
 class RawConfigurationReader {
  public:
-  RawConfigurationReader(const std::filesystem::path& path, SurfaceKind kind, DataRows rows = DataRows::kRequired);
+  RawConfigurationReader(const std::filesystem::path& path, SurfaceKind kind,
+                         DataRows rows = DataRows::kRequired);
   /// From CSV text in memory (`name` stands for the file in messages); `text` must outlive the reader.
   RawConfigurationReader(std::string_view text, const std::filesystem::path& name, SurfaceKind kind,
                          DataRows rows = DataRows::kRequired);
@@ -66,12 +67,13 @@ struct RawConfigurations {
   CsvTable table;
   std::vector<geometry::Configuration> configs;
 };
-[[nodiscard]] RawConfigurations parse_raw_configurations(std::string_view text, const std::filesystem::path& name,
-                                                         SurfaceKind kind);
+[[nodiscard]] RawConfigurations parse_raw_configurations(std::string_view text,
+                                                         const std::filesystem::path& name, SurfaceKind kind);
 
 /// The result columns a tool computes for one chunk: `rows[i]` holds the extra fields of the chunk's row i
 /// (its configuration, line number for messages, and no_segment flag are the chunk's).
-using ChunkComputation = std::function<void(const RawChunk& chunk, std::vector<std::vector<std::string>>& rows)>;
+using ChunkComputation =
+    std::function<void(const RawChunk& chunk, std::vector<std::vector<std::string>>& rows)>;
 
 /// Streams `input` (RAW.csv) to `output`: chunk by chunk of `chunk_rows` rows, `compute` gives each row's
 /// `extra_header` fields, and the output gets the input's header and rows followed by those columns, in

@@ -8,18 +8,21 @@ namespace contactnn::mesh {
 
 namespace {
 
-const SurfaceDefinition& surface_of(const ContactModel& model, const ContactPairDefinition& pair, bool master) {
+const SurfaceDefinition& surface_of(const ContactModel& model, const ContactPairDefinition& pair,
+                                    bool master) {
   const int index = master ? pair.master : pair.slave;
-  CONTACTNN_REQUIRE(index >= 0 && index < static_cast<int>(model.surfaces.size()),
-                    "contact pair at " << pair.where << " has no resolved " << (master ? "master" : "slave")
-                                       << " surface");
+  CONTACTNN_REQUIRE(
+      index >= 0 && index < static_cast<int>(model.surfaces.size()),
+      "contact pair at " << pair.where << " has no resolved " << (master ? "master" : "slave") << " surface");
   const SurfaceDefinition& surface = model.surfaces[static_cast<std::size_t>(index)];
   CONTACTNN_REQUIRE_AS(FormatError, surface.type != SurfaceType::kUnsupported,
                        pair.where << ": *CONTACT PAIR: " << (master ? "master" : "slave") << " surface '"
-                                  << surface.name << "' (" << surface.where << ") has TYPE=" << surface.type_text
+                                  << surface.name << "' (" << surface.where
+                                  << ") has TYPE=" << surface.type_text
                                   << ", which contactnn does not read (SPEC 7: ELEMENT or NODE)");
   CONTACTNN_REQUIRE_AS(FormatError, !master || surface.type == SurfaceType::kElement,
-                       pair.where << ": *CONTACT PAIR: master surface '" << surface.name << "' (" << surface.where
+                       pair.where << ": *CONTACT PAIR: master surface '" << surface.name << "' ("
+                                  << surface.where
                                   << ") is a node surface; a master surface needs faces (TYPE=ELEMENT)");
   return surface;
 }
@@ -31,7 +34,8 @@ const ContactPairDefinition& contact_pair(const ContactModel& model, int k) {
   CONTACTNN_REQUIRE_AS(InvalidArgument, count > 0, "the deck has no *CONTACT PAIR");
   CONTACTNN_REQUIRE_AS(InvalidArgument, k >= 0 && k < count,
                        "contact pair " << k << " does not exist: the deck has " << count
-                                       << " (*CONTACT PAIR data lines, counted from 0: 0.." << count - 1 << ")");
+                                       << " (*CONTACT PAIR data lines, counted from 0: 0.." << count - 1
+                                       << ")");
   return model.pairs[static_cast<std::size_t>(k)];
 }
 
@@ -55,7 +59,8 @@ SlaveNodes slave_nodes(const ContactModel& model, int k, const SurfaceMesh& mast
     nodes = slave_surface.mesh_nodes;
     slaves.skipped_faces = slave_surface.skipped_faces;
     for (int f = 0; f < slave_surface.face_count(); ++f) {
-      for (int n : slave_surface.face_corners(f)) corners.push_back(slave_surface.mesh_nodes[static_cast<std::size_t>(n)]);
+      for (int n : slave_surface.face_corners(f))
+        corners.push_back(slave_surface.mesh_nodes[static_cast<std::size_t>(n)]);
     }
     // A node merged into another of a collapsed face is a slave node too, a corner where that one is.
     std::sort(corners.begin(), corners.end());
@@ -81,7 +86,8 @@ SlaveNodes slave_nodes(const ContactModel& model, int k, const SurfaceMesh& mast
       ++slaves.shared_with_master;
     } else {
       slaves.nodes.push_back(n);
-      const bool corner = surface.type == SurfaceType::kNode || std::binary_search(corners.begin(), corners.end(), n);
+      const bool corner =
+          surface.type == SurfaceType::kNode || std::binary_search(corners.begin(), corners.end(), n);
       slaves.midside.push_back(corner ? 0 : 1);
     }
   }

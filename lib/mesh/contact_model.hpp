@@ -17,12 +17,12 @@ namespace contactnn::mesh {
 enum class SurfaceType { kElement, kNode, kUnsupported };
 
 struct SurfaceDefinition {
-  std::string name;                 ///< as first spelled in the deck
+  std::string name;  ///< as first spelled in the deck
   SurfaceType type = SurfaceType::kElement;
-  std::string type_text;            ///< the TYPE= value as written (for messages)
-  std::vector<ElementFace> faces;   ///< kElement: element faces, in deck order
-  std::vector<int> nodes;           ///< kNode: node indices, in deck order (repeats possible)
-  std::string where;                ///< "'file':line" of its first *SURFACE line
+  std::string type_text;           ///< the TYPE= value as written (for messages)
+  std::vector<ElementFace> faces;  ///< kElement: element faces, in deck order
+  std::vector<int> nodes;          ///< kNode: node indices, in deck order (repeats possible)
+  std::string where;               ///< "'file':line" of its first *SURFACE line
 };
 
 /// One data line of a *CONTACT PAIR block: "slave, master" (the role is the position, never the name).
@@ -69,18 +69,18 @@ struct ContactModel {
 /// is 0 (corner_slaves). A node that is a corner of one slave face and a mid-side node of another counts as a
 /// corner.
 struct SlaveNodes {
-  std::vector<int> nodes;                  ///< SolidMesh node indices, in increasing node id, each once
+  std::vector<int> nodes;  ///< SolidMesh node indices, in increasing node id, each once
   /// One per node: 1 for a mid-side node of the element surface's quadratic faces that is a corner of none of
   /// them (SPEC 9 only), 0 otherwise (always 0 for a node surface).
   std::vector<std::uint8_t> midside;
   std::map<std::string, int> skipped_faces;  ///< an element surface's faces that have no segment, by kind
-  int shared_with_master = 0;              ///< nodes left out because they are also master nodes
+  int shared_with_master = 0;                ///< nodes left out because they are also master nodes
 };
 /// FormatError naming the pair's line if the slave surface's TYPE is unsupported.
 [[nodiscard]] SlaveNodes slave_nodes(const ContactModel& model, int k, const SurfaceMesh& master);
 
-/// SPEC 7's slave nodes of the nearest-node search: `slaves` without its mid-side nodes (midside == 1), in the
-/// same order; skipped_faces and shared_with_master as in `slaves`.
+/// SPEC 7's slave nodes of the nearest-node search: `slaves` without its mid-side nodes (midside == 1), in
+/// the same order; skipped_faces and shared_with_master as in `slaves`.
 [[nodiscard]] SlaveNodes corner_slaves(const SlaveNodes& slaves);
 
 }  // namespace contactnn::mesh

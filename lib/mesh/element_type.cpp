@@ -8,10 +8,10 @@ namespace contactnn::mesh {
 namespace {
 
 // The manuals' tables (header comment), minus one on every node number.
-constexpr std::array<std::array<int, 4>, 6> kHexFaces = {{
-    {0, 1, 2, 3}, {4, 7, 6, 5}, {0, 4, 5, 1}, {1, 5, 6, 2}, {2, 6, 7, 3}, {3, 7, 4, 0}}};
-constexpr std::array<std::array<int, 4>, 5> kWedgeFaces = {{
-    {0, 1, 2, -1}, {3, 5, 4, -1}, {0, 3, 4, 1}, {1, 4, 5, 2}, {2, 5, 3, 0}}};
+constexpr std::array<std::array<int, 4>, 6> kHexFaces = {
+    {{0, 1, 2, 3}, {4, 7, 6, 5}, {0, 4, 5, 1}, {1, 5, 6, 2}, {2, 6, 7, 3}, {3, 7, 4, 0}}};
+constexpr std::array<std::array<int, 4>, 5> kWedgeFaces = {
+    {{0, 1, 2, -1}, {3, 5, 4, -1}, {0, 3, 4, 1}, {1, 4, 5, 2}, {2, 5, 3, 0}}};
 constexpr std::array<std::array<int, 3>, 4> kTetFaces = {{{0, 1, 2}, {0, 3, 1}, {1, 3, 2}, {2, 3, 0}}};
 // The edges of the header's mid-side tables, in the order of the mid-side nodes (0-based corners).
 constexpr std::array<std::array<int, 2>, 12> kHexEdges = {
@@ -78,30 +78,42 @@ std::span<const int> face_corner_indices(ElementShape shape, int face) {
 
 int quadratic_node_count(ElementShape shape) {
   switch (shape) {
-    case ElementShape::kHexahedron: return 20;
-    case ElementShape::kWedge: return 15;
-    case ElementShape::kTetrahedron: return 10;
-    case ElementShape::kOther: break;
+    case ElementShape::kHexahedron:
+      return 20;
+    case ElementShape::kWedge:
+      return 15;
+    case ElementShape::kTetrahedron:
+      return 10;
+    case ElementShape::kOther:
+      break;
   }
   return 0;
 }
 
 int corner_node_count(ElementShape shape) {
   switch (shape) {
-    case ElementShape::kHexahedron: return 8;
-    case ElementShape::kWedge: return 6;
-    case ElementShape::kTetrahedron: return 4;
-    case ElementShape::kOther: break;
+    case ElementShape::kHexahedron:
+      return 8;
+    case ElementShape::kWedge:
+      return 6;
+    case ElementShape::kTetrahedron:
+      return 4;
+    case ElementShape::kOther:
+      break;
   }
   return 0;
 }
 
 int midside_node_index(ElementShape shape, int a, int b) {
   switch (shape) {
-    case ElementShape::kHexahedron: return find_edge(kHexEdges, 8, a, b);
-    case ElementShape::kWedge: return find_edge(kWedgeEdges, 6, a, b);
-    case ElementShape::kTetrahedron: return find_edge(kTetEdges, 4, a, b);
-    case ElementShape::kOther: break;
+    case ElementShape::kHexahedron:
+      return find_edge(kHexEdges, 8, a, b);
+    case ElementShape::kWedge:
+      return find_edge(kWedgeEdges, 6, a, b);
+    case ElementShape::kTetrahedron:
+      return find_edge(kTetEdges, 4, a, b);
+    case ElementShape::kOther:
+      break;
   }
   return -1;
 }

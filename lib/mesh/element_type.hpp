@@ -22,10 +22,10 @@ enum class ElementShape { kHexahedron, kWedge, kTetrahedron, kOther };
 
 /// What the reader and the surface builder need to know of an element type.
 struct ElementType {
-  std::string name;                         ///< as in the deck, upper case ("C3D20R")
+  std::string name;  ///< as in the deck, upper case ("C3D20R")
   ElementShape shape = ElementShape::kOther;
-  int node_count = 0;                       ///< nodes per element; 0 when the type is not known here
-  int face_count = 0;                       ///< faces S1..S<face_count>; 0 when not known
+  int node_count = 0;  ///< nodes per element; 0 when the type is not known here
+  int face_count = 0;  ///< faces S1..S<face_count>; 0 when not known
   /// True for the types whose quadrilateral faces become master segments: exactly C3D8, C3D8R, C3D8I,
   /// C3D20 and C3D20R (SPEC 7). Faces of every other type are skipped and counted.
   bool has_segment_faces = false;

@@ -52,9 +52,10 @@ class SolidMesh {
   std::vector<Vec3> deck_positions_;  ///< a copy of positions_ made by the first set_position; empty before
   std::unordered_map<long, int> node_index_;
   std::vector<long> element_ids_;
-  std::vector<int> element_type_;          ///< index into types_
-  std::vector<ElementType> types_;         ///< each distinct type once
-  std::vector<std::size_t> node_offsets_{0};  ///< element e's nodes: element_nodes_[offsets[e] .. offsets[e+1])
+  std::vector<int> element_type_;   ///< index into types_
+  std::vector<ElementType> types_;  ///< each distinct type once
+  std::vector<std::size_t> node_offsets_{
+      0};  ///< element e's nodes: element_nodes_[offsets[e] .. offsets[e+1])
   std::vector<int> element_nodes_;
   std::unordered_map<long, int> element_index_;
 };

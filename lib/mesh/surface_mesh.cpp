@@ -98,10 +98,14 @@ std::array<int, 4> outward_triangle_corners(const SolidMesh& mesh, ElementFace f
 
 std::string_view to_string(FaceType type) {
   switch (type) {
-    case FaceType::kQuad4: return "quad4";
-    case FaceType::kQuad8: return "quad8";
-    case FaceType::kTri3: return "tri3";
-    case FaceType::kTri6: return "tri6";
+    case FaceType::kQuad4:
+      return "quad4";
+    case FaceType::kQuad8:
+      return "quad8";
+    case FaceType::kTri3:
+      return "tri3";
+    case FaceType::kTri6:
+      return "tri6";
   }
   return "quad4";
 }
@@ -142,7 +146,7 @@ std::array<int, 4> local_midsides(const SolidMesh& mesh, int element, const std:
   for (std::size_t k = 0; k < count; ++k) {
     const int m = midside_node_index(type.shape, local[k], local[(k + 1) % count]);
     CONTACTNN_REQUIRE(m >= 0, "element " << mesh.element_id(element) << " (" << type.name
-                                          << "): no mid-side node between face corners");
+                                         << "): no mid-side node between face corners");
     mids[k] = m;
   }
   return mids;
@@ -310,9 +314,9 @@ SurfaceMesh build_surface_mesh(const SolidMesh& mesh, std::span<const ElementFac
     CONTACTNN_REQUIRE(face.element >= 0 && face.element < mesh.element_count(),
                       "element index " << face.element << " outside [0, " << mesh.element_count() << ")");
     const ElementType& type = mesh.element_type(face.element);
-    CONTACTNN_REQUIRE(type.face_count == 0 || (face.face >= 1 && face.face <= type.face_count),
-                      "element " << mesh.element_id(face.element) << " (" << type.name << ") has no face S"
-                                 << face.face);
+    CONTACTNN_REQUIRE(
+        type.face_count == 0 || (face.face >= 1 && face.face <= type.face_count),
+        "element " << mesh.element_id(face.element) << " (" << type.name << ") has no face S" << face.face);
     if (!seen.emplace(face.element, face.face).second) {
       ++surface.repeated_faces;
       continue;
@@ -451,8 +455,10 @@ std::vector<Vec3> node_normals(const SurfaceMesh& surface) {
       for (int k = 0; k < 4; ++k) {
         if (quad[static_cast<std::size_t>(k)] != node) continue;
         const Vec3& x = surface.positions[static_cast<std::size_t>(node)];
-        Vec3 to_next = surface.positions[static_cast<std::size_t>(quad[static_cast<std::size_t>((k + 1) % 4)])] - x;
-        Vec3 to_prev = surface.positions[static_cast<std::size_t>(quad[static_cast<std::size_t>((k + 3) % 4)])] - x;
+        Vec3 to_next =
+            surface.positions[static_cast<std::size_t>(quad[static_cast<std::size_t>((k + 1) % 4)])] - x;
+        Vec3 to_prev =
+            surface.positions[static_cast<std::size_t>(quad[static_cast<std::size_t>((k + 3) % 4)])] - x;
         // In units of the corner's size, a power of two (exact: the same bits wherever nothing under- or
         // overflowed): the cross product is a square of the size and vanished below 1e-154 (a deck scaled by
         // 1e-200 had no normals, and its Gregory patches none either).
@@ -471,7 +477,8 @@ std::vector<Vec3> node_normals(const SurfaceMesh& surface) {
       }
     }
     const double length = sum.norm();
-    if (corners > 0 && length > kMinSumPerCorner * corners) normals[static_cast<std::size_t>(node)] = sum / length;
+    if (corners > 0 && length > kMinSumPerCorner * corners)
+      normals[static_cast<std::size_t>(node)] = sum / length;
   }
   return normals;
 }

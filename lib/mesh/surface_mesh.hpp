@@ -41,8 +41,9 @@ enum class FaceType : std::uint8_t { kQuad4, kQuad8, kTri3, kTri6 };
 /// "quad4", "quad8", "tri3" or "tri6" (the `face_type` column of SPEC 9).
 [[nodiscard]] std::string_view to_string(FaceType type);
 
-/// A face's nodes in its own outward order (SPEC 9): the corners, then for a quadratic face the mid-side nodes
-/// of the edges corner 1-2, 2-3, ... (quad8: A-B, B-C, C-D, D-A; tri6: A-B, B-C, C-A). Surface node indices.
+/// A face's nodes in its own outward order (SPEC 9): the corners, then for a quadratic face the mid-side
+/// nodes of the edges corner 1-2, 2-3, ... (quad8: A-B, B-C, C-D, D-A; tri6: A-B, B-C, C-A). Surface node
+/// indices.
 struct FaceNodes {
   FaceType type = FaceType::kQuad4;
   std::array<int, 8> nodes{-1, -1, -1, -1, -1, -1, -1, -1};
@@ -50,45 +51,48 @@ struct FaceNodes {
   [[nodiscard]] const int* begin() const { return nodes.data(); }
   [[nodiscard]] const int* end() const { return nodes.data() + count; }
   [[nodiscard]] int operator[](int i) const { return nodes[static_cast<std::size_t>(i)]; }
-  [[nodiscard]] int corner_count() const { return type == FaceType::kQuad4 || type == FaceType::kQuad8 ? 4 : 3; }
+  [[nodiscard]] int corner_count() const {
+    return type == FaceType::kQuad4 || type == FaceType::kQuad8 ? 4 : 3;
+  }
   [[nodiscard]] bool quadratic() const { return type == FaceType::kQuad8 || type == FaceType::kTri6; }
 };
 
 /// Segments of a surface, indexed locally: node i of the surface is SolidMesh node mesh_nodes[i].
 ///
 /// Faces (SPEC 9). The paper's nearest-node search pairs with `segments`, the quadrilaterals of C3D8* and
-/// C3D20/C3D20R elements by their 4 corners (SPEC 7); the surface search counts every face: the segments, then
-/// `extra_faces`. A quadratic face (C3D20/C3D20R and C3D15 quadrilaterals: quad8; C3D10 and C3D15 triangles:
-/// tri6) keeps its corners in `segments` / `extra_faces` and its mid-side nodes beside them, in
+/// C3D20/C3D20R elements by their 4 corners (SPEC 7); the surface search counts every face: the segments,
+/// then `extra_faces`. A quadratic face (C3D20/C3D20R and C3D15 quadrilaterals: quad8; C3D10 and C3D15
+/// triangles: tri6) keeps its corners in `segments` / `extra_faces` and its mid-side nodes beside them, in
 /// `segment_midsides` / `extra_face_midsides`: face_corners stays corners-only (what the paper's search, the
 /// node normals of Eq 26, the adjacency and the edge keys of the surface search use), face_nodes gives all of
 /// a face's nodes in SPEC 9's order. The surface's nodes are every node of its faces, mid-side nodes included
 /// (in increasing id like the rest); a mid-side node belongs to no segment (segments_of is empty), so the
 /// nearest-node search, which takes its nearest node among the nodes of segments, never sees one.
 struct SurfaceMesh {
-  std::vector<int> mesh_nodes;             ///< SolidMesh node index of each surface node, in increasing id
-  std::vector<long> node_ids;              ///< deck id of each surface node (increasing)
-  std::vector<Vec3> positions;             ///< position of each surface node
+  std::vector<int> mesh_nodes;               ///< SolidMesh node index of each surface node, in increasing id
+  std::vector<long> node_ids;                ///< deck id of each surface node (increasing)
+  std::vector<Vec3> positions;               ///< position of each surface node
   std::vector<std::array<int, 4>> segments;  ///< surface node indices A, B, C, D; (B-A) x (D-A) outward
-  std::vector<ElementFace> segment_faces;  ///< the element face of each segment
-  std::vector<long> segment_element_ids;   ///< the deck id of each segment's element (SPEC 9's tie rule)
-  /// Mid-side nodes of the segments: empty when no segment is quadratic, else one entry per segment: the surface
-  /// node indices of the mid-side nodes of its edges A-B, B-C, C-D, D-A (C3D20/C3D20R faces), or four -1 (a
-  /// linear segment). Code that copies segments must copy these alongside (or leave both lists consistent).
+  std::vector<ElementFace> segment_faces;    ///< the element face of each segment
+  std::vector<long> segment_element_ids;     ///< the deck id of each segment's element (SPEC 9's tie rule)
+  /// Mid-side nodes of the segments: empty when no segment is quadratic, else one entry per segment: the
+  /// surface node indices of the mid-side nodes of its edges A-B, B-C, C-D, D-A (C3D20/C3D20R faces), or four
+  /// -1 (a linear segment). Code that copies segments must copy these alongside (or leave both lists
+  /// consistent).
   std::vector<std::array<int, 4>> segment_midsides;
   /// The faces the paper's search does not pair with but SPEC 9's surface search counts: the triangles of
   /// C3D4, C3D10, C3D6 and C3D15 elements and the quadrilaterals of C3D6 and C3D15 (and of hexahedra of types
-  /// that are not SPEC 7's: C3D8H, C3D20RH, ...), by their corners, outward ((B-A) x (C-A), resp. (B-A) x (D-A),
-  /// points out of the element), surface node indices; a triangle's fourth entry is -1. They are still counted
-  /// in skipped_faces (they are not segments).
+  /// that are not SPEC 7's: C3D8H, C3D20RH, ...), by their corners, outward ((B-A) x (C-A), resp. (B-A) x
+  /// (D-A), points out of the element), surface node indices; a triangle's fourth entry is -1. They are still
+  /// counted in skipped_faces (they are not segments).
   std::vector<std::array<int, 4>> extra_faces;
   std::vector<ElementFace> extra_face_faces;  ///< the element face of each extra face
   std::vector<long> extra_face_element_ids;   ///< the deck id of its element
   /// Mid-side nodes of the extra faces, as segment_midsides: empty when none is quadratic, else one entry per
   /// extra face (edges corner 1-2, 2-3, 3-4 or 3-1, 4-1; -1 where there is none).
   std::vector<std::array<int, 4>> extra_face_midsides;
-  std::vector<int> adjacency_offsets;      ///< segments of node i: adjacency[offsets[i] .. offsets[i+1])
-  std::vector<int> adjacency;              ///< segment indices, increasing, for each node in turn
+  std::vector<int> adjacency_offsets;  ///< segments of node i: adjacency[offsets[i] .. offsets[i+1])
+  std::vector<int> adjacency;          ///< segment indices, increasing, for each node in turn
   /// Faces that gave no segment, by kind: "C3D6 triangle", "C3D6 quadrilateral", "C3D4 triangle",
   /// "<TYPE> face" (a type without a face table), and the collapsed faces of build_surface_mesh: "<TYPE> face
   /// collapsed to a triangle" and "... to a flat triangle" (extra faces), "... to a line", "... to a point"

@@ -31,9 +31,9 @@ constexpr int kRowBlock = kRegisters >= 32 ? 6 : 2;
 constexpr int kGradRows = kRegisters >= 32 ? 4 : 2;
 constexpr int kGradCols = kRegisters >= 32 ? 4 : 3;
 
-// Unit rows r0 .. r0+JB-1 of one panel: acc[r] = init(r) + sum_idx W(r, idx) src[idx][:], then finish(r, acc).
-// Forward (Eq 13): W(r, idx) = W_l[r][idx], src = the layer below. Back-propagation: W(r, idx) = W_l[idx][r]
-// (the transpose), src = the deltas of the layer above. Strides select which.
+// Unit rows r0 .. r0+JB-1 of one panel: acc[r] = init(r) + sum_idx W(r, idx) src[idx][:], then finish(r,
+// acc). Forward (Eq 13): W(r, idx) = W_l[r][idx], src = the layer below. Back-propagation: W(r, idx) =
+// W_l[idx][r] (the transpose), src = the deltas of the layer above. Strides select which.
 template <class Real, int JB, class Init, class Finish>
 inline void unit_rows(const Real* w, std::size_t stride_r, std::size_t stride_idx, int count, const Real* src,
                       int r0, const Init& init, const Finish& finish) {
@@ -62,8 +62,8 @@ inline void unit_rows(const Real* w, std::size_t stride_r, std::size_t stride_id
 }
 
 template <class Real, int JB, class Init, class Finish>
-inline void unit_rows_remainder(int rem, const Real* w, std::size_t stride_r, std::size_t stride_idx, int count,
-                                const Real* src, int r0, const Init& init, const Finish& finish) {
+inline void unit_rows_remainder(int rem, const Real* w, std::size_t stride_r, std::size_t stride_idx,
+                                int count, const Real* src, int r0, const Init& init, const Finish& finish) {
   if constexpr (JB > 0) {
     if (rem == JB) {
       unit_rows<Real, JB>(w, stride_r, stride_idx, count, src, r0, init, finish);
@@ -87,8 +87,8 @@ inline void all_unit_rows(int rows, const Real* w, std::size_t stride_r, std::si
 // Per-lane weight-gradient sums over a tile: G[j][i] += sum_panels delta[j][:] * act[i][:] for a block of
 // JB x IB (j, i), accumulators in registers for the whole tile.
 template <class Real, int JB, int IB>
-inline void gradient_block(const Real* delta, const Real* act, int n_out, int n_in, int j0, int i0, int panels,
-                           bool first, Real* lane_gradient) {
+inline void gradient_block(const Real* delta, const Real* act, int n_out, int n_in, int j0, int i0,
+                           int panels, bool first, Real* lane_gradient) {
   using P = PacketOf<Real>;
   constexpr int L = kLanes<Real>;
   constexpr int PW = kPanelWidth<Real>;
@@ -114,8 +114,8 @@ inline void gradient_block(const Real* delta, const Real* act, int n_out, int n_
 }
 
 template <class Real, int JB, int IB>
-inline void gradient_block_cols(int ib, const Real* delta, const Real* act, int n_out, int n_in, int j0, int i0,
-                                int panels, bool first, Real* g) {
+inline void gradient_block_cols(int ib, const Real* delta, const Real* act, int n_out, int n_in, int j0,
+                                int i0, int panels, bool first, Real* g) {
   if constexpr (IB > 0) {
     if (ib == IB) {
       gradient_block<Real, JB, IB>(delta, act, n_out, n_in, j0, i0, panels, first, g);
@@ -126,8 +126,8 @@ inline void gradient_block_cols(int ib, const Real* delta, const Real* act, int 
 }
 
 template <class Real, int JB>
-inline void gradient_block_any(int jb, int ib, const Real* delta, const Real* act, int n_out, int n_in, int j0,
-                               int i0, int panels, bool first, Real* g) {
+inline void gradient_block_any(int jb, int ib, const Real* delta, const Real* act, int n_out, int n_in,
+                               int j0, int i0, int panels, bool first, Real* g) {
   if constexpr (JB > 0) {
     if (jb == JB) {
       gradient_block_cols<Real, JB, kGradCols>(ib, delta, act, n_out, n_in, j0, i0, panels, first, g);
@@ -140,7 +140,8 @@ inline void gradient_block_any(int jb, int ib, const Real* delta, const Real* ac
 }  // namespace
 
 template <class Real>
-PanelPatterns<Real>::PanelPatterns(int input_count, int output_count) : n_in_(input_count), n_out_(output_count) {
+PanelPatterns<Real>::PanelPatterns(int input_count, int output_count)
+    : n_in_(input_count), n_out_(output_count) {
   CONTACTNN_REQUIRE(input_count >= 1 && output_count >= 1,
                     "panel layout needs inputs and outputs, got " << input_count << " and " << output_count);
 }
@@ -154,9 +155,9 @@ void PanelPatterns<Real>::assign(const MatrixRM<Real>& inputs, const MatrixRM<Re
                     "panel layout: expected N x " << n_in_ << " inputs and N x " << n_out_ << " targets, got "
                                                   << inputs.rows() << " x " << inputs.cols() << " and "
                                                   << targets.rows() << " x " << targets.cols());
-  CONTACTNN_REQUIRE(count >= 1 && segment_size >= 1,
-                    "panel layout needs patterns and a positive segment size, got " << count << " and "
-                                                                                    << segment_size);
+  CONTACTNN_REQUIRE(
+      count >= 1 && segment_size >= 1,
+      "panel layout needs patterns and a positive segment size, got " << count << " and " << segment_size);
   segments_.clear();
   std::size_t panels = 0;
   for (std::size_t start = 0; start < count; start += segment_size) {
@@ -189,7 +190,8 @@ void PanelPatterns<Real>::assign(const MatrixRM<Real>& inputs, const MatrixRM<Re
         }
         const bool real = (p - seg.panel_begin) * PW + lane < seg.pattern_count;
         const Real* x = real ? inputs.data() + static_cast<std::size_t>(order[base + lane]) * n_in_ : nullptr;
-        const Real* t = real ? targets.data() + static_cast<std::size_t>(order[base + lane]) * n_out_ : nullptr;
+        const Real* t =
+            real ? targets.data() + static_cast<std::size_t>(order[base + lane]) * n_out_ : nullptr;
         for (int i = 0; i < n_in_; ++i) in[i * PW + lane] = real ? x[i] : Real(0);
         for (int k = 0; k < n_out_; ++k) tg[k * PW + lane] = real ? t[k] : Real(0);
         m[lane] = real ? Real(1) : Real(0);
@@ -263,7 +265,8 @@ double BatchGradient<Real>::run(const Network<Real>& network, const PanelPattern
   constexpr int L = kLanes<Real>;
   // No more threads than tiles: a small segment (a validation set, a mini-batch) does not pay for waking
   // threads with nothing to do. The slots, and so the result, do not depend on it.
-  const int active = static_cast<int>(std::min<std::size_t>(static_cast<std::size_t>(threads_), std::max<std::size_t>(n_tiles, 1)));
+  const int active = static_cast<int>(
+      std::min<std::size_t>(static_cast<std::size_t>(threads_), std::max<std::size_t>(n_tiles, 1)));
 #pragma omp parallel for num_threads(active) schedule(static)
   for (int s = 0; s < kSlots; ++s) {
     const ScopedFlushDenormals flush;  // per thread: MXCSR is thread state
@@ -276,7 +279,8 @@ double BatchGradient<Real>::run(const Network<Real>& network, const PanelPattern
       const std::size_t panel = seg.panel_begin + t * kTilePanels;
       const std::size_t count = std::min<std::size_t>(kTilePanels, seg.panel_end - panel);
       // The slot's first tile starts the per-lane sums at zero: no separate clearing pass.
-      slot_loss += static_cast<double>(run_tile<kBackward>(network, patterns, panel, count, t == tile_begin, ws));
+      slot_loss +=
+          static_cast<double>(run_tile<kBackward>(network, patterns, panel, count, t == tile_begin, ws));
     }
     slot_loss_[s] = slot_loss;
     if (kBackward && slot_used_[s]) {
@@ -307,7 +311,8 @@ double BatchGradient<Real>::run(const Network<Real>& network, const PanelPattern
 template <class Real>
 template <bool kBackward>
 Real BatchGradient<Real>::run_tile(const Network<Real>& network, const PanelPatterns<Real>& patterns,
-                                   std::size_t panel_begin, std::size_t panel_count, bool first, Workspace& ws) {
+                                   std::size_t panel_begin, std::size_t panel_count, bool first,
+                                   Workspace& ws) {
   using P = PacketOf<Real>;
   constexpr int L = kLanes<Real>;
   constexpr int PW = kPanelWidth<Real>;
@@ -378,8 +383,8 @@ Real BatchGradient<Real>::run_tile(const Network<Real>& network, const PanelPatt
       for (int j0 = 0; j0 < n_out; j0 += kGradRows) {
         const int jb = std::min(kGradRows, n_out - j0);
         for (int i0 = 0; i0 < n_in; i0 += kGradCols) {
-          gradient_block_any<Real, kGradRows>(jb, std::min(kGradCols, n_in - i0), d, below, n_out, n_in, j0, i0,
-                                              panels, first, g);
+          gradient_block_any<Real, kGradRows>(jb, std::min(kGradCols, n_in - i0), d, below, n_out, n_in, j0,
+                                              i0, panels, first, g);
         }
       }
       Real* gt = ws.lane_gradient.data() + network.threshold_offset(l) * L;
@@ -387,7 +392,8 @@ Real BatchGradient<Real>::run_tile(const Network<Real>& network, const PanelPatt
         P acc = first ? pset1<P>(Real(0)) : pload<P>(gt + j * L);
         for (int kk = 0; kk < panels; ++kk) {
           const Real* dj = d + static_cast<std::size_t>(kk) * n_out * PW + j * PW;
-          acc = padd(acc, padd(padd(pload<P>(dj), pload<P>(dj + L)), padd(pload<P>(dj + 2 * L), pload<P>(dj + 3 * L))));
+          acc = padd(acc, padd(padd(pload<P>(dj), pload<P>(dj + L)),
+                               padd(pload<P>(dj + 2 * L), pload<P>(dj + 3 * L))));
         }
         pstore(gt + j * L, acc);
       }

@@ -47,7 +47,9 @@ class PanelPatterns {
   [[nodiscard]] const std::vector<Segment>& segments() const { return segments_; }
   /// Panel p: n_in x kPanelWidth inputs, n_out x kPanelWidth targets, kPanelWidth mask values (1 or 0).
   /// Consecutive panels are adjacent in memory.
-  [[nodiscard]] const Real* inputs(std::size_t panel) const { return inputs_.data() + panel * n_in_ * kPanelWidth<Real>; }
+  [[nodiscard]] const Real* inputs(std::size_t panel) const {
+    return inputs_.data() + panel * n_in_ * kPanelWidth<Real>;
+  }
   [[nodiscard]] const Real* targets(std::size_t panel) const {
     return targets_.data() + panel * n_out_ * kPanelWidth<Real>;
   }
@@ -83,8 +85,8 @@ class BatchGradient {
 
  private:
   struct Workspace {
-    AlignedVector<Real> activations;  // layers 1..L, tile-sized
-    AlignedVector<Real> deltas;       // layers 1..L, tile-sized
+    AlignedVector<Real> activations;    // layers 1..L, tile-sized
+    AlignedVector<Real> deltas;         // layers 1..L, tile-sized
     AlignedVector<Real> lane_gradient;  // parameter_count * kLanes: per-lane gradient sums
   };
   template <bool kBackward>

@@ -44,7 +44,8 @@ void Network<Real>::initialize(std::uint64_t seed) {
       w[p] = static_cast<Real>(rng.uniform(-limit, limit));
     }
     Real* theta = thresholds(l);
-    for (int j = 0; j < sizes_[l + 1]; ++j) theta[j] = static_cast<Real>(rng.uniform(-0.1 * stretch, 0.1 * stretch));
+    for (int j = 0; j < sizes_[l + 1]; ++j)
+      theta[j] = static_cast<Real>(rng.uniform(-0.1 * stretch, 0.1 * stretch));
   }
 }
 
@@ -56,7 +57,8 @@ ForwardPass<Real>::ForwardPass(const Network<Real>& network) {
 template <class Real>
 const Real* ForwardPass<Real>::run(const Network<Real>& network, const Real* scaled_input) {
   const auto& sizes = network.layer_sizes();
-  if (scaled_input != activations_[0].data()) std::copy(scaled_input, scaled_input + sizes[0], activations_[0].data());
+  if (scaled_input != activations_[0].data())
+    std::copy(scaled_input, scaled_input + sizes[0], activations_[0].data());
   const Real gain = network.gain();
   for (int l = 0; l < network.layer_count(); ++l) {
     // Eqs 13, 12, in packets no wider than the layer (an 8-wide layer in 8-float packets under AVX-512).
@@ -67,7 +69,8 @@ const Real* ForwardPass<Real>::run(const Network<Real>& network, const Real* sca
 }
 
 template <class Real>
-void predict(const Network<Real>& network, const double* raw_input, double* raw_output, ForwardPass<Real>& pass) {
+void predict(const Network<Real>& network, const double* raw_input, double* raw_output,
+             ForwardPass<Real>& pass) {
   const Scaling& s = network.scaling();
   const double* input_gain = network.input_gains().data();
   const double* output_gain = network.output_gains().data();
@@ -79,8 +82,9 @@ void predict(const Network<Real>& network, const double* raw_input, double* raw_
   double mapped[16];
   const double* features = raw_input;
   if (s.input_features != InputFeatures::kPaper) {
-    map_input_features(s.input_features, network.input_count() == 8 ? SurfaceKind::kBilinear : SurfaceKind::kGregory,
-                       raw_input, mapped);
+    map_input_features(s.input_features,
+                       network.input_count() == 8 ? SurfaceKind::kBilinear : SurfaceKind::kGregory, raw_input,
+                       mapped);
     features = mapped;
   }
   for (int i = 0; i < network.input_count(); ++i) {
@@ -96,8 +100,9 @@ void predict(const Network<Real>& network, const double* raw_input, double* raw_
 
 template <class Real>
 MatrixRM<double> predict(const Network<Real>& network, const MatrixRM<double>& raw_inputs) {
-  CONTACTNN_REQUIRE(raw_inputs.cols() == network.input_count(),
-                    "predict: expected " << network.input_count() << " input columns, got " << raw_inputs.cols());
+  CONTACTNN_REQUIRE(raw_inputs.cols() == network.input_count(), "predict: expected " << network.input_count()
+                                                                                     << " input columns, got "
+                                                                                     << raw_inputs.cols());
   MatrixRM<double> out(raw_inputs.rows(), network.output_count());
   const Eigen::Index n = raw_inputs.rows();
 #pragma omp parallel

@@ -100,7 +100,8 @@ class ForwardPass {
 /// scaling, forward pass, inverse output scaling. No allocation. Scaled inputs are clamped to [-1e6, 1e6],
 /// so any finite input gives a finite output (far outside the training range it is an extrapolation).
 template <class Real>
-void predict(const Network<Real>& network, const double* raw_input, double* raw_output, ForwardPass<Real>& pass);
+void predict(const Network<Real>& network, const double* raw_input, double* raw_output,
+             ForwardPass<Real>& pass);
 
 /// Every row of `raw_inputs` (N x n_0) -> N x n_L raw outputs, rows in parallel (OpenMP).
 template <class Real>

@@ -12,7 +12,8 @@ OnlineBackprop<Real>::OnlineBackprop(const Network<Real>& network) {
   w0t_.assign(static_cast<std::size_t>(sizes[0]) * sizes[1], Real(0));
   v0t_.assign(w0t_.size(), Real(0));
   for (int n : sizes) activations_.emplace_back(static_cast<std::size_t>(n), Real(0));
-  for (std::size_t l = 1; l < sizes.size(); ++l) deltas_.emplace_back(static_cast<std::size_t>(sizes[l]), Real(0));
+  for (std::size_t l = 1; l < sizes.size(); ++l)
+    deltas_.emplace_back(static_cast<std::size_t>(sizes[l]), Real(0));
 }
 
 template <class Real>
@@ -57,8 +58,8 @@ Real OnlineBackprop<Real>::train_pattern(Network<Real>& network, Real* velocity,
     simd::sigmoid_inplace(u, n_out, gain);
   }
   for (int l = 1; l < n_layers; ++l) {
-    simd::sigmoid_rows(network.weights(l), network.thresholds(l), activations_[l].data(), sizes[l + 1], sizes[l],
-                       gain, activations_[l + 1].data());
+    simd::sigmoid_rows(network.weights(l), network.thresholds(l), activations_[l].data(), sizes[l + 1],
+                       sizes[l], gain, activations_[l + 1].data());
   }
   // Output deltas (O - T) gain O (1 - O) and E_p (Eq 14).
   const Real* o = activations_[n_layers].data();
@@ -76,7 +77,8 @@ Real OnlineBackprop<Real>::train_pattern(Network<Real>& network, Real* velocity,
     const Real* d_above = deltas_[l].data();
     Real* d_here = deltas_[l - 1].data();
     std::fill(d_here, d_here + n_here, Real(0));
-    for (int j = 0; j < sizes[l + 1]; ++j) simd::axpy(d_above[j], w + static_cast<std::size_t>(j) * n_here, d_here, n_here);
+    for (int j = 0; j < sizes[l + 1]; ++j)
+      simd::axpy(d_above[j], w + static_cast<std::size_t>(j) * n_here, d_here, n_here);
     const Real* a = activations_[l].data();
     for (int i = 0; i < n_here; ++i) d_here[i] *= gain * a[i] * (Real(1) - a[i]);
   }

@@ -26,7 +26,7 @@ class OnlineBackprop {
                      Real momentum);
 
  private:
-  AlignedVector<Real> w0t_, v0t_;                  // n_0 x n_1
+  AlignedVector<Real> w0t_, v0t_;                 // n_0 x n_1
   std::vector<AlignedVector<Real>> activations_;  // per layer
   std::vector<AlignedVector<Real>> deltas_;       // dE/dU of layers 1..L
 };

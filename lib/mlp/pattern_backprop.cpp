@@ -32,7 +32,8 @@ Real PatternBackprop<Real>::backpropagate(const Network<Real>& network, const Re
     const Real* d_above = deltas_[l].data();
     Real* d_here = deltas_[l - 1].data();
     for (int i = 0; i < n_in; ++i) d_here[i] = 0;
-    for (int j = 0; j < sizes[l + 1]; ++j) simd::axpy(d_above[j], w + static_cast<std::size_t>(j) * n_in, d_here, n_in);
+    for (int j = 0; j < sizes[l + 1]; ++j)
+      simd::axpy(d_above[j], w + static_cast<std::size_t>(j) * n_in, d_here, n_in);
     const Real* a = pass_.activation(l);
     for (int i = 0; i < n_in; ++i) d_here[i] *= gain * a[i] * (Real(1) - a[i]);
   }
@@ -68,7 +69,8 @@ void PatternBackprop<Real>::momentum_step(Network<Real>& network, Real learning_
     Real* vw = velocity + network.weight_offset(l);
     for (int j = 0; j < sizes[l + 1]; ++j) {
       const std::size_t row = static_cast<std::size_t>(j) * n_in;
-      simd::momentum_row(momentum, learning_rate * d[j], a, vw + row, w + row, n_in);  // dE/dW_ji = delta_j I_i
+      simd::momentum_row(momentum, learning_rate * d[j], a, vw + row, w + row,
+                         n_in);  // dE/dW_ji = delta_j I_i
     }
     // dE/dtheta_j = -delta_j: the same update with input -1.
     Real* theta = network.thresholds(l);

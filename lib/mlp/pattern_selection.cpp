@@ -11,10 +11,9 @@ PatternSelection select_patterns(const std::vector<std::uint32_t>& candidates, s
                                  std::size_t validation_count, std::uint64_t seed) {
   const std::size_t wanted = training_count + validation_count;
   CONTACTNN_REQUIRE(training_count >= 1, "at least one training pattern is needed");
-  CONTACTNN_REQUIRE(wanted <= candidates.size(), "cannot select " << training_count << " training and "
-                                                                  << validation_count
-                                                                  << " validation patterns from "
-                                                                  << candidates.size() << " candidates");
+  CONTACTNN_REQUIRE(wanted <= candidates.size(),
+                    "cannot select " << training_count << " training and " << validation_count
+                                     << " validation patterns from " << candidates.size() << " candidates");
   std::vector<std::uint32_t> pool = candidates;
   Rng rng(seed);
   for (std::size_t i = 0; i < wanted; ++i) {

@@ -12,7 +12,8 @@ namespace contactnn::mlp {
 /// Features f -> inputs x = map_input_features(input_features, f), then
 /// Input i:   x_s = (x - input_min[i]) * input_gain(i) - 1, input_gain = 2 / (input_max - input_min)
 ///            (0 for a constant input, which then always enters as -1).
-/// Output k:  t_s = target_low + (t - output_min[k]) * (target_high - target_low) / (output_max - output_min),
+/// Output k:  t_s = target_low + (t - output_min[k]) * (target_high - target_low) / (output_max -
+/// output_min),
 ///            and its inverse for predictions. All in double; the network computes in its own Real.
 struct Scaling {
   /// The features (SPEC 4) first go through this map (core/input_features.hpp); the ranges below are those
@@ -30,9 +31,9 @@ struct Scaling {
   /// rest into a sliver of the units' input range. Values beyond reach past +-1 (linearly).
   /// Throws InvalidArgument for an empty or non-finite input, output_min >= output_max or a quantile
   /// outside [0, 0.5).
-  static Scaling from_inputs(const Eigen::Ref<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic,
-                                                                  Eigen::RowMajor>>& inputs,
-                             int output_count, double output_min, double output_max, double quantile = 0.0);
+  static Scaling from_inputs(
+      const Eigen::Ref<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>& inputs,
+      int output_count, double output_min, double output_max, double quantile = 0.0);
 
   [[nodiscard]] int input_count() const { return static_cast<int>(input_min.size()); }
   [[nodiscard]] int output_count() const { return static_cast<int>(output_min.size()); }

@@ -75,7 +75,8 @@ inline void affine_rows(const Real* w, const Real* theta, const Real* x, int row
 /// on the widest packets only: the online trainer's kernel (its rounding is what the shipped weights were
 /// trained with; a row shorter than a packet is summed in scalars).
 template <class Real>
-inline void sigmoid_rows(const Real* w, const Real* theta, const Real* x, int rows, int cols, Real gain, Real* out) {
+inline void sigmoid_rows(const Real* w, const Real* theta, const Real* x, int rows, int cols, Real gain,
+                         Real* out) {
   affine_rows<Real, Packet<Real>>(w, theta, x, rows, cols, out);
   sigmoid_inplace(out, rows, gain);
 }
@@ -106,7 +107,8 @@ inline void sigmoid_inplace_fitted(Real* u, int n, Real gain) {
 
 /// The widest packet type no wider than `cols` (or the narrowest there is) runs affine_rows.
 template <class Real, class P>
-inline void affine_rows_fitted(const Real* w, const Real* theta, const Real* x, int rows, int cols, Real* out) {
+inline void affine_rows_fitted(const Real* w, const Real* theta, const Real* x, int rows, int cols,
+                               Real* out) {
   if constexpr (kHasHalf<P>) {
     if (cols < Eigen::internal::unpacket_traits<P>::size) {
       affine_rows_fitted<Real, HalfPacket<P>>(w, theta, x, rows, cols, out);
@@ -121,8 +123,8 @@ inline void affine_rows_fitted(const Real* w, const Real* theta, const Real* x, 
 /// where sigmoid_rows runs scalars. Results agree with sigmoid_rows to float rounding (the order of the
 /// sums differs), not bit for bit.
 template <class Real>
-inline void sigmoid_rows_fitted(const Real* w, const Real* theta, const Real* x, int rows, int cols, Real gain,
-                                Real* out) {
+inline void sigmoid_rows_fitted(const Real* w, const Real* theta, const Real* x, int rows, int cols,
+                                Real gain, Real* out) {
   affine_rows_fitted<Real, Packet<Real>>(w, theta, x, rows, cols, out);
   sigmoid_inplace_fitted<Real, Packet<Real>>(out, rows, gain);
 }
@@ -152,10 +154,20 @@ inline void add_transposed_product(const Real* wt, const Real* x, int rows, int 
   int j = 0;
   for (; j + 4 * L <= cols; j += 4 * L) add_transposed_block<Real, 4>(wt, x, rows, cols, j, u);
   switch ((cols - j) / L) {
-    case 3: add_transposed_block<Real, 3>(wt, x, rows, cols, j, u); j += 3 * L; break;
-    case 2: add_transposed_block<Real, 2>(wt, x, rows, cols, j, u); j += 2 * L; break;
-    case 1: add_transposed_block<Real, 1>(wt, x, rows, cols, j, u); j += L; break;
-    default: break;
+    case 3:
+      add_transposed_block<Real, 3>(wt, x, rows, cols, j, u);
+      j += 3 * L;
+      break;
+    case 2:
+      add_transposed_block<Real, 2>(wt, x, rows, cols, j, u);
+      j += 2 * L;
+      break;
+    case 1:
+      add_transposed_block<Real, 1>(wt, x, rows, cols, j, u);
+      j += L;
+      break;
+    default:
+      break;
   }
   for (; j < cols; ++j) {
     Real a = u[j];

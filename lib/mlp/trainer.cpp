@@ -17,9 +17,9 @@ TrainingMode training_mode_from_string(std::string_view name) {
 }
 
 template <class Real>
-Trainer<Real>::Trainer(Network<Real>& network, const TrainOptions& options, const MatrixRM<Real>& train_inputs,
-                       const MatrixRM<Real>& train_targets, const MatrixRM<Real>& validation_inputs,
-                       const MatrixRM<Real>& validation_targets)
+Trainer<Real>::Trainer(Network<Real>& network, const TrainOptions& options,
+                       const MatrixRM<Real>& train_inputs, const MatrixRM<Real>& train_targets,
+                       const MatrixRM<Real>& validation_inputs, const MatrixRM<Real>& validation_targets)
     : network_(network),
       options_(options),
       train_inputs_(train_inputs),
@@ -31,29 +31,30 @@ Trainer<Real>::Trainer(Network<Real>& network, const TrainOptions& options, cons
       validation_panels_(network.input_count(), network.output_count()) {
   CONTACTNN_REQUIRE(options.learning_rate > 0.0 && std::isfinite(options.learning_rate),
                     "learning rate must be positive, got " << options.learning_rate);
-  CONTACTNN_REQUIRE(options.learning_rate_final >= 0.0 && options.learning_rate_final <= options.learning_rate,
-                    "final learning rate must be in [0, learning rate " << options.learning_rate << "], got "
-                                                                        << options.learning_rate_final);
+  CONTACTNN_REQUIRE(
+      options.learning_rate_final >= 0.0 && options.learning_rate_final <= options.learning_rate,
+      "final learning rate must be in [0, learning rate " << options.learning_rate << "], got "
+                                                          << options.learning_rate_final);
   CONTACTNN_REQUIRE(options.momentum >= 0.0 && options.momentum < 1.0,
                     "momentum must be in [0, 1), got " << options.momentum);
   CONTACTNN_REQUIRE(options.epochs >= 1, "epochs must be at least 1, got " << options.epochs);
   CONTACTNN_REQUIRE(options.patience >= 0, "patience must be >= 0, got " << options.patience);
   CONTACTNN_REQUIRE(train_count_ >= 1, "the training set is empty");
-  CONTACTNN_REQUIRE(train_count_ < (std::size_t{1} << 32), "at most 2^32 - 1 training patterns, got " << train_count_);
-  CONTACTNN_REQUIRE(train_inputs.cols() == network.input_count() && train_targets.cols() == network.output_count() &&
-                        train_targets.rows() == train_inputs.rows(),
-                    "training set: expected N x " << network.input_count() << " inputs and N x "
-                                                  << network.output_count() << " targets, got "
-                                                  << train_inputs.rows() << " x " << train_inputs.cols() << " and "
-                                                  << train_targets.rows() << " x " << train_targets.cols());
+  CONTACTNN_REQUIRE(train_count_ < (std::size_t{1} << 32),
+                    "at most 2^32 - 1 training patterns, got " << train_count_);
+  CONTACTNN_REQUIRE(
+      train_inputs.cols() == network.input_count() && train_targets.cols() == network.output_count() &&
+          train_targets.rows() == train_inputs.rows(),
+      "training set: expected N x " << network.input_count() << " inputs and N x " << network.output_count()
+                                    << " targets, got " << train_inputs.rows() << " x " << train_inputs.cols()
+                                    << " and " << train_targets.rows() << " x " << train_targets.cols());
   CONTACTNN_REQUIRE(validation_inputs.rows() == validation_targets.rows() &&
                         (validation_count_ == 0 || (validation_inputs.cols() == network.input_count() &&
                                                     validation_targets.cols() == network.output_count())),
-                    "validation set: expected N x " << network.input_count() << " inputs and N x "
-                                                    << network.output_count() << " targets, got "
-                                                    << validation_inputs.rows() << " x " << validation_inputs.cols()
-                                                    << " and " << validation_targets.rows() << " x "
-                                                    << validation_targets.cols());
+                    "validation set: expected N x "
+                        << network.input_count() << " inputs and N x " << network.output_count()
+                        << " targets, got " << validation_inputs.rows() << " x " << validation_inputs.cols()
+                        << " and " << validation_targets.rows() << " x " << validation_targets.cols());
   CONTACTNN_REQUIRE(train_inputs.allFinite() && train_targets.allFinite(),
                     "the training set contains a non-finite value");
   state_.rng = Rng(options.seed).state();
@@ -81,9 +82,9 @@ template <class Real>
 void Trainer<Real>::restore(TrainingState<Real> state) {
   CONTACTNN_REQUIRE(state.velocity.size() == network_.parameter_count() &&
                         state.best_parameters.size() == network_.parameter_count(),
-                    "training state holds " << state.velocity.size() << " momentum and "
-                                            << state.best_parameters.size() << " best values, the network has "
-                                            << network_.parameter_count() << " parameters");
+                    "training state holds "
+                        << state.velocity.size() << " momentum and " << state.best_parameters.size()
+                        << " best values, the network has " << network_.parameter_count() << " parameters");
   CONTACTNN_REQUIRE(state.epoch >= 0, "training state epoch " << state.epoch);
   state_ = std::move(state);
 }
@@ -178,7 +179,8 @@ EpochReport Trainer<Real>::train_epoch() {
                                                      << " (try a smaller learning rate or momentum)");
   report.validation_loss = std::numeric_limits<double>::quiet_NaN();
   if (validation_count_ > 0) {
-    report.validation_loss = batch_->loss(network_, validation_panels_, 0) / static_cast<double>(validation_count_);
+    report.validation_loss =
+        batch_->loss(network_, validation_panels_, 0) / static_cast<double>(validation_count_);
     CONTACTNN_REQUIRE_AS(NumericalError, std::isfinite(report.validation_loss),
                          "training diverged at epoch " << state_.epoch << ": mean validation error is "
                                                        << report.validation_loss);

@@ -33,14 +33,15 @@ struct TrainOptions {
   std::size_t batch_size = 0;  ///< batch mode: patterns per update; 0 = all (full batch)
   double learning_rate = 0.1;  ///< eta, > 0 (of the first epoch)
   /// eta of the last epoch; eta decays geometrically from learning_rate to this over the epochs (a constant
-  /// step leaves SGD at the noise floor its step sets; decaying it lets the last epochs settle). 0 = constant.
+  /// step leaves SGD at the noise floor its step sets; decaying it lets the last epochs settle). 0 =
+  /// constant.
   double learning_rate_final = 0.0;
-  double momentum = 0.9;       ///< alpha, in [0, 1)
-  int epochs = 10000;          ///< maximum epochs (passes over the training set), >= 1
-  int patience = 0;            ///< stop after this many epochs without a new best validation error; 0 = never
-  bool restore_best = true;    ///< with a validation set, end on the parameters of the best validation error
-  std::uint64_t seed = 1;      ///< seeds the per-epoch shuffles
-  int threads = 0;             ///< OpenMP threads for batch mode and validation; 0 = OpenMP's default
+  double momentum = 0.9;     ///< alpha, in [0, 1)
+  int epochs = 10000;        ///< maximum epochs (passes over the training set), >= 1
+  int patience = 0;          ///< stop after this many epochs without a new best validation error; 0 = never
+  bool restore_best = true;  ///< with a validation set, end on the parameters of the best validation error
+  std::uint64_t seed = 1;    ///< seeds the per-epoch shuffles
+  int threads = 0;           ///< OpenMP threads for batch mode and validation; 0 = OpenMP's default
 };
 
 /// One epoch's outcome. Losses are mean E_p (Eq 14) per pattern in the scaled (sigmoid) units: the training
@@ -70,7 +71,8 @@ class Trainer {
 
   /// One epoch; throws NumericalError naming the epoch when a loss is not finite.
   EpochReport train_epoch();
-  /// eta of (0-based) epoch `epoch`: learning_rate * (learning_rate_final / learning_rate)^(epoch / (epochs - 1)).
+  /// eta of (0-based) epoch `epoch`: learning_rate * (learning_rate_final / learning_rate)^(epoch / (epochs -
+  /// 1)).
   [[nodiscard]] double learning_rate_at(int epoch) const;
   /// True once options.epochs epochs are done or early stopping fired.
   [[nodiscard]] bool finished() const;

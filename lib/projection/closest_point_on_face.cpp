@@ -16,10 +16,14 @@ namespace {
 /// edge's direction in the node order: the nearest point does not depend on it).
 std::array<double, 2> edge_param(int edge, double t, ParamDomain d) {
   switch (edge) {
-    case 0: return {t, d.lo};
-    case 1: return {d.hi, t};
-    case 2: return {t, d.hi};
-    default: return {d.lo, t};
+    case 0:
+      return {t, d.lo};
+    case 1:
+      return {d.hi, t};
+    case 2:
+      return {t, d.hi};
+    default:
+      return {d.lo, t};
   }
 }
 
@@ -80,7 +84,8 @@ double refine_on_edge(const EdgeFunction<SurfaceT>& fn, double t, double a, doub
       if (next == t) break;
       const double f_next = fn.value(next);
       if (f_next <= f) {
-        moved = std::abs(next - t) > 4.0 * std::numeric_limits<double>::epsilon() * std::max(1.0, std::abs(t));
+        moved =
+            std::abs(next - t) > 4.0 * std::numeric_limits<double>::epsilon() * std::max(1.0, std::abs(t));
         t = next;
         f = f_next;
         break;
@@ -142,7 +147,8 @@ EdgePoint closest_point_on_edge(const SurfaceT& surface, int edge, const Vec3& s
 }
 
 template <geometry::Surface SurfaceT>
-FaceClosestPoint closest_point_on_face(const SurfaceT& surface, const Vec3& slave, const ProjectionOptions& options) {
+FaceClosestPoint closest_point_on_face(const SurfaceT& surface, const Vec3& slave,
+                                       const ProjectionOptions& options) {
   FaceClosestPoint out;
   if (!finite(slave)) return out;  // invalid
   // Relative to the face's first node: the projection's residual tolerance is relative to the face's size,
@@ -154,7 +160,8 @@ FaceClosestPoint closest_point_on_face(const SurfaceT& surface, const Vec3& slav
     for (Vec3& x : nodes) x -= origin;
     FaceClosestPoint shifted;
     if constexpr (SurfaceT::kKind == SurfaceKind::kGregory) {
-      shifted = closest_point_on_face(geometry::GregoryPatch(nodes, surface.normals()), slave - origin, options);
+      shifted =
+          closest_point_on_face(geometry::GregoryPatch(nodes, surface.normals()), slave - origin, options);
     } else {
       shifted = closest_point_on_face(geometry::BilinearPatch(nodes), slave - origin, options);
     }
@@ -173,8 +180,8 @@ FaceClosestPoint closest_point_on_face(const SurfaceT& surface, const Vec3& slav
   //    the projection reports degenerate; the boundary then holds the answer.
   const ProjectionResult interior = project_point(surface, slave, options);
   if (interior.status == Status::kInvalid) return out;
-  return nearest_of_interior_and_edges(surface, slave, interior.status == Status::kOk ? &interior.param : nullptr,
-                                       interior.iterations);
+  return nearest_of_interior_and_edges(
+      surface, slave, interior.status == Status::kOk ? &interior.param : nullptr, interior.iterations);
 }
 
 template <geometry::Surface SurfaceT>
@@ -295,12 +302,12 @@ FaceClosestPoint closest_point_on_triangle(const std::array<Vec3, 3>& nodes, con
   return out;
 }
 
-#define CONTACTNN_INSTANTIATE(SurfaceT)                                                                        \
-  template FaceClosestPoint closest_point_on_face<SurfaceT>(const SurfaceT&, const Vec3&,                      \
-                                                            const ProjectionOptions&);                         \
-  template EdgePoint closest_point_on_edge<SurfaceT>(const SurfaceT&, int, const Vec3&);                     \
-  template FaceClosestPoint nearest_of_interior_and_edges<SurfaceT>(const SurfaceT&, const Vec3&,             \
-                                                                    const std::array<double, 2>*, int, bool*);
+#define CONTACTNN_INSTANTIATE(SurfaceT)                                                   \
+  template FaceClosestPoint closest_point_on_face<SurfaceT>(const SurfaceT&, const Vec3&, \
+                                                            const ProjectionOptions&);    \
+  template EdgePoint closest_point_on_edge<SurfaceT>(const SurfaceT&, int, const Vec3&);  \
+  template FaceClosestPoint nearest_of_interior_and_edges<SurfaceT>(                      \
+      const SurfaceT&, const Vec3&, const std::array<double, 2>*, int, bool*);
 CONTACTNN_INSTANTIATE(geometry::BilinearPatch)
 CONTACTNN_INSTANTIATE(geometry::GregoryPatch)
 #undef CONTACTNN_INSTANTIATE

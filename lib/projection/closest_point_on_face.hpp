@@ -22,9 +22,9 @@ struct [[nodiscard]] FaceClosestPoint {
   Vec3 normal = Vec3::Zero();             ///< unit P_s x P_t at P (zero where it vanishes)
   double distance = 0.0;                  ///< |S - P|
   Location location = Location::kFace;    ///< where P lies: face interior, an edge, a vertex
-  int feature = -1;                       ///< the edge (0..3) or vertex (0..3) for kEdge / kVertex; -1 for kFace
-  int iterations = 0;                     ///< Newton iterations of the interior projection
-  Status status = Status::kInvalid;       ///< ok (a point was found), degenerate or invalid (no point)
+  int feature = -1;                  ///< the edge (0..3) or vertex (0..3) for kEdge / kVertex; -1 for kFace
+  int iterations = 0;                ///< Newton iterations of the interior projection
+  Status status = Status::kInvalid;  ///< ok (a point was found), degenerate or invalid (no point)
 };
 
 /// How far from the boundary, in parameter units, a point still counts as on it (relative to the domain's
@@ -33,7 +33,8 @@ struct [[nodiscard]] FaceClosestPoint {
 inline constexpr double kOnBoundaryTolerance = 1e-10;
 
 /// Sets out.location and out.feature from out.param, a point of the quadrilateral domain [d.lo, d.hi]^2: a
-/// coordinate within kOnBoundaryTolerance x the width of a bound is on it; none: face, one: edge, two: vertex.
+/// coordinate within kOnBoundaryTolerance x the width of a bound is on it; none: face, one: edge, two:
+/// vertex.
 void locate_on_quad(ParamDomain d, FaceClosestPoint& out);
 /// Sets out.location and out.feature from out.param = (r, s) of a triangle (edges A->B, B->C, C->A; vertices
 /// A, B, C): on an edge where s, 1 - r - s or r is within kOnBoundaryTolerance of 0.
@@ -56,16 +57,16 @@ template <geometry::Surface SurfaceT>
 [[nodiscard]] FaceClosestPoint closest_point_on_face(const SurfaceT& surface, const Vec3& slave,
                                                      const ProjectionOptions& options = {});
 
-/// Steps 2 and 3 above, given step 1's answer: `interior` the interior stationary point's parameters (clamped to
-/// the closed domain here; null: none) and `iterations` its Newton iterations. The nearest of it and the four edge
-/// points (strictly nearer replaces), located and reported as closest_point_on_face does; status invalid where a
-/// surface value is not finite. `from_interior` (optional): whether the interior point won. For
-/// closest_point_on_face and for faster interior solvers that must answer as it does (lib/contact's
+/// Steps 2 and 3 above, given step 1's answer: `interior` the interior stationary point's parameters (clamped
+/// to the closed domain here; null: none) and `iterations` its Newton iterations. The nearest of it and the
+/// four edge points (strictly nearer replaces), located and reported as closest_point_on_face does; status
+/// invalid where a surface value is not finite. `from_interior` (optional): whether the interior point won.
+/// For closest_point_on_face and for faster interior solvers that must answer as it does (lib/contact's
 /// BilinearCertificate).
 template <geometry::Surface SurfaceT>
 [[nodiscard]] FaceClosestPoint nearest_of_interior_and_edges(const SurfaceT& surface, const Vec3& slave,
-                                                             const std::array<double, 2>* interior, int iterations,
-                                                             bool* from_interior = nullptr);
+                                                             const std::array<double, 2>* interior,
+                                                             int iterations, bool* from_interior = nullptr);
 
 /// The nearest point of edge `edge` (0..3) of `surface` to `slave` (step 2 above): its parameters on the
 /// face and |S - P|. For tests and the surface search's own use.
@@ -78,9 +79,9 @@ template <geometry::Surface SurfaceT>
 
 /// The closest point of the flat triangle A, B, C (tri3, SPEC 9) to `slave`, exact (no iteration): the
 /// projection onto the plane where it lies inside, else the nearest of the three clamped edge points.
-/// param = (r, s) with P = A + r (B - A) + s (C - A); edges 0 = A->B, 1 = B->C, 2 = C->A, vertices 0..2 = A, B, C;
-/// location as for quadrilaterals with kOnBoundaryTolerance on r, s and 1 - r - s. Status: invalid for a
-/// non-finite input; degenerate when |(B - A) x (C - A)| is at most 1e-12 of its longest edge squared.
+/// param = (r, s) with P = A + r (B - A) + s (C - A); edges 0 = A->B, 1 = B->C, 2 = C->A, vertices 0..2 = A,
+/// B, C; location as for quadrilaterals with kOnBoundaryTolerance on r, s and 1 - r - s. Status: invalid for
+/// a non-finite input; degenerate when |(B - A) x (C - A)| is at most 1e-12 of its longest edge squared.
 [[nodiscard]] FaceClosestPoint closest_point_on_triangle(const std::array<Vec3, 3>& nodes, const Vec3& slave);
 
 }  // namespace contactnn::projection

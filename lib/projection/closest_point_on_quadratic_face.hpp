@@ -31,10 +31,10 @@ inline constexpr int kTriangleEdges = 3;
 ///     (kOnBoundaryTolerance x the domain width from a bound).
 /// Status: invalid for a non-finite slave or node; degenerate when the corners' bilinear facet is
 /// (geometry::is_degenerate_segment); ok otherwise. `normal` is the unit P_xi x P_eta at the point.
-/// Limits: the interior search is a local method from sampled starts. On strongly curved faces (mid-side nodes
-/// 0.3 of their edge off its chord) an interior minimum within a sample spacing of an edge was missed for about
-/// 1 slave node in 10^4 of the tests' random ones (Newton from the nearest sample pinned at the edge); with
-/// mid-side nodes up to 0.1 off their chords, none in 24000.
+/// Limits: the interior search is a local method from sampled starts. On strongly curved faces (mid-side
+/// nodes 0.3 of their edge off its chord) an interior minimum within a sample spacing of an edge was missed
+/// for about 1 slave node in 10^4 of the tests' random ones (Newton from the nearest sample pinned at the
+/// edge); with mid-side nodes up to 0.1 off their chords, none in 24000.
 [[nodiscard]] FaceClosestPoint closest_point_on_serendipity_quad(const geometry::SerendipityQuad& face,
                                                                  const Vec3& slave,
                                                                  const ProjectionOptions& options = {});

@@ -73,7 +73,8 @@ RunResult damped_newton(const SurfaceT& surface, const Vec3& slave, std::array<d
       return {p, it, false, false, true};
     }
     const NewtonSystem s = newton_system(point, slave);
-    if (std::abs(s.r0) <= residual_floor && std::abs(s.r1) <= residual_floor) return {p, it - 1, true, false, false};
+    if (std::abs(s.r0) <= residual_floor && std::abs(s.r1) <= residual_floor)
+      return {p, it - 1, true, false, false};
 
     std::array<double, 2> step{};
     const bool positive_definite = s.h00 > 0.0 && s.h00 * s.h11 - s.h01 * s.h01 > det_floor;
@@ -94,7 +95,8 @@ RunResult damped_newton(const SurfaceT& surface, const Vec3& slave, std::array<d
     double alpha = 1.0;
     std::array<double, 2> next{};
     for (int halvings = 0;; ++halvings) {
-      next = {clamp_to(p[0] + alpha * step[0], box_lo, box_hi), clamp_to(p[1] + alpha * step[1], box_lo, box_hi)};
+      next = {clamp_to(p[0] + alpha * step[0], box_lo, box_hi),
+              clamp_to(p[1] + alpha * step[1], box_lo, box_hi)};
       if (step_length * alpha < 1e-6 || halvings >= 30) break;
       const double f1 = 0.5 * (slave - surface.position(next[0], next[1])).squaredNorm();
       if (f1 <= f0 + 1e-4 * alpha * slope) break;
@@ -163,8 +165,9 @@ ProjectionResult project_point(const SurfaceT& surface, const Vec3& slave, const
       // Starts at the centres of an n x n grid of cells: n = 1 is the domain centre.
       const double width = domain.hi - domain.lo;
       const std::array<double, 2> start =
-          options.warm_start ? options.start
-                             : std::array<double, 2>{domain.lo + width * (i + 0.5) / n, domain.lo + width * (j + 0.5) / n};
+          options.warm_start
+              ? options.start
+              : std::array<double, 2>{domain.lo + width * (i + 0.5) / n, domain.lo + width * (j + 0.5) / n};
       const RunResult run = damped_newton(surface, slave, start, options, length);
       max_iterations_seen = std::max(max_iterations_seen, run.iterations);
       any_invalid = any_invalid || run.invalid;
@@ -183,8 +186,8 @@ ProjectionResult project_point(const SurfaceT& surface, const Vec3& slave, const
       candidate.status = candidate_inside ? Status::kOk : Status::kOutside;
       // Inside beats outside; among equals the nearer wins; ties keep the earlier start (determinism).
       const bool better = (candidate_inside && !have_inside) ||
-                          (candidate_inside == have_inside && (!(have_inside || have_outside) ||
-                                                               candidate.sqr_distance < best.sqr_distance));
+                          (candidate_inside == have_inside &&
+                           (!(have_inside || have_outside) || candidate.sqr_distance < best.sqr_distance));
       if (better) {
         best = candidate;
         have_inside = have_inside || candidate_inside;
@@ -196,7 +199,9 @@ ProjectionResult project_point(const SurfaceT& surface, const Vec3& slave, const
   best = ProjectionResult{};
   best.param = domain_centre(SurfaceT::kKind);
   best.iterations = max_iterations_seen;
-  best.status = any_invalid ? Status::kInvalid : any_degenerate ? Status::kDegenerate : Status::kNoConvergence;
+  best.status = any_invalid      ? Status::kInvalid
+                : any_degenerate ? Status::kDegenerate
+                                 : Status::kNoConvergence;
   return best;
 }
 
@@ -254,12 +259,12 @@ ProjectionResult newton_until_converged(const SurfaceT& surface, const Vec3& sla
   return result;
 }
 
-#define CONTACTNN_INSTANTIATE_PROJECTION(SurfaceT)                                                             \
-  template ProjectionResult project_point<SurfaceT>(const SurfaceT&, const Vec3&, const ProjectionOptions&);   \
-  template std::array<double, 2> newton_fixed_iterations<SurfaceT>(const SurfaceT&, const Vec3&, int,          \
-                                                                   std::array<double, 2>);                     \
-  template ProjectionResult newton_until_converged<SurfaceT>(const SurfaceT&, const Vec3&, std::array<double, 2>, \
-                                                             int, double);
+#define CONTACTNN_INSTANTIATE_PROJECTION(SurfaceT)                                                           \
+  template ProjectionResult project_point<SurfaceT>(const SurfaceT&, const Vec3&, const ProjectionOptions&); \
+  template std::array<double, 2> newton_fixed_iterations<SurfaceT>(const SurfaceT&, const Vec3&, int,        \
+                                                                   std::array<double, 2>);                   \
+  template ProjectionResult newton_until_converged<SurfaceT>(const SurfaceT&, const Vec3&,                   \
+                                                             std::array<double, 2>, int, double);
 CONTACTNN_INSTANTIATE_PROJECTION(geometry::BilinearPatch)
 CONTACTNN_INSTANTIATE_PROJECTION(geometry::GregoryPatch)
 #undef CONTACTNN_INSTANTIATE_PROJECTION

@@ -12,8 +12,8 @@ using geometry::Vec3;
 
 /// Settings of the reference (label) solver. Defaults are what gen-configs uses.
 struct ProjectionOptions {
-  int max_iterations = 50;      ///< per start; quadratic convergence needs < 10 on the paper's domain
-  double tol_param = 1e-13;     ///< converged when the Newton step (max norm, parameter units) is below this
+  int max_iterations = 50;   ///< per start; quadratic convergence needs < 10 on the paper's domain
+  double tol_param = 1e-13;  ///< converged when the Newton step (max norm, parameter units) is below this
   /// Converged also when |P_s.(S-P)| and |P_t.(S-P)| are below tol_residual * L^2 (L the segment's longest
   /// node distance): the residual can sit at rounding level before the step does.
   double tol_residual = 1e-15;
@@ -36,9 +36,10 @@ struct ProjectionOptions {
   bool warm_start = false;
   std::array<double, 2> start{0.0, 0.0};
   /// closest_point_on_face: the caller has checked the face as that function would (its nodes finite, its
-  /// characteristic length finite, geometry::is_degenerate_segment false, on the nodes relative to the first):
-  /// the checks are skipped. lib/contact's surface search checks each face once per state of the master, where
-  /// every slave node's projection repeated them (9% of a tracked increment at 1e6 slave nodes).
+  /// characteristic length finite, geometry::is_degenerate_segment false, on the nodes relative to the
+  /// first): the checks are skipped. lib/contact's surface search checks each face once per state of the
+  /// master, where every slave node's projection repeated them (9% of a tracked increment at 1e6 slave
+  /// nodes).
   bool face_checked = false;
 };
 
@@ -46,9 +47,9 @@ struct ProjectionOptions {
 /// other statuses they hold the start point and 0 (never NaN), and must not be used as a projection.
 struct [[nodiscard]] ProjectionResult {
   std::array<double, 2> param{0.0, 0.0};  ///< (xi, eta) or (u, v)
-  double gap = 0.0;            ///< n.(S - P), n the unit normal P_s x P_t at the solution; < 0: penetration
-  double sqr_distance = 0.0;   ///< |S - P|^2
-  int iterations = 0;          ///< Newton iterations of the start that produced the reported solution
+  double gap = 0.0;           ///< n.(S - P), n the unit normal P_s x P_t at the solution; < 0: penetration
+  double sqr_distance = 0.0;  ///< |S - P|^2
+  int iterations = 0;         ///< Newton iterations of the start that produced the reported solution
   Status status = Status::kInvalid;
 };
 
@@ -74,8 +75,8 @@ template <geometry::Surface SurfaceT>
 /// exactly `iterations` undamped steps H dp = r from `start`, no line search, no convergence test, no
 /// safeguard except that a singular H stops early. Returns the last iterate, which may be anywhere.
 template <geometry::Surface SurfaceT>
-[[nodiscard]] std::array<double, 2> newton_fixed_iterations(const SurfaceT& surface, const Vec3& slave, int iterations,
-                                                            std::array<double, 2> start);
+[[nodiscard]] std::array<double, 2> newton_fixed_iterations(const SurfaceT& surface, const Vec3& slave,
+                                                            int iterations, std::array<double, 2> start);
 
 /// Plain undamped Newton from `start` until the step is below tol_param (or max_iterations): an FE code's
 /// "Newton to convergence". status is ok/outside if it converged, no_convergence otherwise, degenerate on

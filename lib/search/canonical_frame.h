@@ -4,22 +4,23 @@
  * One source for the network's inputs: lib/search compiles it into its network methods, and the exported
  * C header of a network embeds this text verbatim. Self-contained (only <math.h> and <string.h>); the include
  * guard is fixed, so two exported headers in one translation unit share one copy. A float network on bilinear
- * segments takes the float pass at the end of this file (cnn_canonicalise_domain_block_f): the same decisions,
- * features in float.
+ * segments takes the float pass at the end of this file (cnn_canonicalise_domain_block_f): the same
+ * decisions, features in float.
  *
  * What it computes is geometry::normalise (lib/geometry/affine_frame.hpp), the reference, written branch-free
  * per lane so that a compiler vectorises the loop over the lanes of a block:
  *  - invalid (status 4) when a coordinate (or, Gregory, a normal component) is not finite;
  *  - the symmetry of the square: canonical A is the first node nearest S (distances within 1e-12 relative
- *    plus 16 eps max|x| are a tie), then the mirror when |AD| > |AB| (on a tie: when S is nearer the line AD);
+ *    plus 16 eps max|x| are a tie), then the mirror when |AD| > |AB| (on a tie: when S is nearer the line
+ * AD);
  *  - the frame of SPEC 4 on the canonical A, B, D; z oriented so that z_S > 0 (with S on the plane: z_C > 0),
  *    a height within 1e-12 + 16 eps max|x| / |AB| counting as 0 (both on the plane: a z tie, no flip);
- *  - a flag for the lanes on a tie (another node as near S, |AB| = |AD| with S on the diagonal, a z tie), whose
- *    other canonical forms cnn_cf_forms lists afterwards (the scalar path of ties, below);
+ *  - a flag for the lanes on a tie (another node as near S, |AB| = |AD| with S on the diagonal, a z tie),
+ * whose other canonical forms cnn_cf_forms lists afterwards (the scalar path of ties, below);
  *  - degenerate (status 3) when that frame does not exist, when the segment is collapsed
  *    (geometry::is_degenerate_segment with the coordinates' own rounding as noise), or when a Gregory node
- *    normal is zero, in the segment plane, or the normals lie on both sides. Where the reference falls back to
- *    another corner (a straight angle at the canonical A), the features are not those a network was trained
+ *    normal is zero, in the segment plane, or the normals lie on both sides. Where the reference falls back
+ * to another corner (a straight angle at the canonical A), the features are not those a network was trained
  *    on: that is degenerate here too, as it is for the reference's network methods.
  * Differences from the reference, all at the rounding level: lengths are compared through their squares
  * (two square roots per query instead of seventeen), divisions by a length are multiplications by its
@@ -38,8 +39,8 @@
  *   f:     features xc yc zc xd yd xs ys zs (+ Gregory pa qa pb qb pc qc pd qd), 8 or 16 rows;
  *   nrm:   Gregory only (else may be 0): the canonical node normals A..D in the canonical frame, 12 rows,
  *          oriented to the +z side but not normalised;
- *   info:  CNN_CF_INFO_ROWS = 6 rows: status (0 ok, 3 degenerate, 4 invalid), symmetry (rotation + 4 * mirror:
- *          canonical node i is the caller's node ((mirror ? (4 - i) % 4 : i) + rotation) % 4), orientation (+1
+ *   info:  CNN_CF_INFO_ROWS = 6 rows: status (0 ok, 3 degenerate, 4 invalid), symmetry (rotation + 4 *
+ * mirror: canonical node i is the caller's node ((mirror ? (4 - i) % 4 : i) + rotation) % 4), orientation (+1
  *          or -1: the caller's gap is orientation * canonical gap / scale), scale (1 / |AB|, canonical AB),
  *          a work row, and the tie code (1: a symmetry tie, + 2: a z tie; cnn_cf_needs_forms reads it).
  * Where the status is not 0, f and nrm hold unspecified finite or non-finite values.
@@ -67,7 +68,8 @@
 #define CNN_CF_INLINE static inline
 #endif
 
-/* Code off the hot path: kept out of the callers (a caller's loops are otherwise compiled around its arrays). */
+/* Code off the hot path: kept out of the callers (a caller's loops are otherwise compiled around its arrays).
+ */
 #if defined(__GNUC__)
 #define CNN_CF_OUTLINE static __attribute__((noinline, unused))
 #else
@@ -110,9 +112,9 @@ CNN_CF_INLINE double cnn_cf_min(double a, double b) { return b < a ? b : a; }
  * rows; row 4 receives 1 when the lane must be redone by cnn_cf_lane_scaled). `forced` 0: the canonical form
  * (form 0); 1: the form of symmetry `forced_sym` (rotation + 4 * mirror) with the other orientation of z on a
  * z tie when `other_z` (cnn_cf_forms). The loops over lanes pass forced = 0, a constant. */
-CNN_CF_INLINE void cnn_cf_lane(const double* CNN_CF_RESTRICT in, int is, int gregory, int forced, int forced_sym,
-                               int other_z, double* CNN_CF_RESTRICT f, double* CNN_CF_RESTRICT nrm,
-                               double* CNN_CF_RESTRICT info, int os) {
+CNN_CF_INLINE void cnn_cf_lane(const double* CNN_CF_RESTRICT in, int is, int gregory, int forced,
+                               int forced_sym, int other_z, double* CNN_CF_RESTRICT f,
+                               double* CNN_CF_RESTRICT nrm, double* CNN_CF_RESTRICT info, int os) {
   const double eps = 2.220446049250313e-16;
   const double ax = in[0 * is], ay = in[1 * is], az = in[2 * is];
   const double bx = in[3 * is], by = in[4 * is], bz = in[5 * is];
@@ -123,20 +125,30 @@ CNN_CF_INLINE void cnn_cf_lane(const double* CNN_CF_RESTRICT in, int is, int gre
   double ncx = 0.0, ncy = 0.0, ncz = 1.0, ndx = 0.0, ndy = 0.0, ndz = 1.0;
   double finite, big_nodes, big, bad, rescale;
   if (gregory) {
-    nax = in[15 * is]; nay = in[16 * is]; naz = in[17 * is];
-    nbx = in[18 * is]; nby = in[19 * is]; nbz = in[20 * is];
-    ncx = in[21 * is]; ncy = in[22 * is]; ncz = in[23 * is];
-    ndx = in[24 * is]; ndy = in[25 * is]; ndz = in[26 * is];
+    nax = in[15 * is];
+    nay = in[16 * is];
+    naz = in[17 * is];
+    nbx = in[18 * is];
+    nby = in[19 * is];
+    nbz = in[20 * is];
+    ncx = in[21 * is];
+    ncy = in[22 * is];
+    ncz = in[23 * is];
+    ndx = in[24 * is];
+    ndy = in[25 * is];
+    ndz = in[26 * is];
   }
 
   /* 1. Finite: the sum of the values is finite exactly when every value is, as long as no sum overflows; a
    *    lane with a magnitude beyond 1e50 (coordinates) or a normal beyond it goes through cnn_cf_lane_scaled,
    *    whose values are scaled first, so the sum cannot overflow here. `finite` is 0 when finite. */
-  finite = (ax + ay + az + bx + by + bz + cx + cy + cz + dx + dy + dz + sx + sy + sz + nax + nay + naz + nbx + nby +
-            nbz + ncx + ncy + ncz + ndx + ndy + ndz) * 0.0;
+  finite = (ax + ay + az + bx + by + bz + cx + cy + cz + dx + dy + dz + sx + sy + sz + nax + nay + naz + nbx +
+            nby + nbz + ncx + ncy + ncz + ndx + ndy + ndz) *
+           0.0;
   big_nodes = cnn_cf_max(cnn_cf_max(cnn_cf_max(fabs(ax), fabs(ay)), cnn_cf_max(fabs(az), fabs(bx))),
                          cnn_cf_max(cnn_cf_max(fabs(by), fabs(bz)), cnn_cf_max(fabs(cx), fabs(cy))));
-  big_nodes = cnn_cf_max(big_nodes, cnn_cf_max(cnn_cf_max(fabs(cz), fabs(dx)), cnn_cf_max(fabs(dy), fabs(dz))));
+  big_nodes =
+      cnn_cf_max(big_nodes, cnn_cf_max(cnn_cf_max(fabs(cz), fabs(dx)), cnn_cf_max(fabs(dy), fabs(dz))));
   big = cnn_cf_max(big_nodes, cnn_cf_max(fabs(sx), cnn_cf_max(fabs(sy), fabs(sz))));
   rescale = ((big > 1e50) | (big < 1e-50)) ? 1.0 : 0.0;
 
@@ -159,16 +171,66 @@ CNN_CF_INLINE void cnn_cf_lane(const double* CNN_CF_RESTRICT in, int is, int gre
     const int t0 = forced ? fr == 0 : n0, t1 = forced ? fr == 1 : n1, t2 = forced ? fr == 2 : n2;
     /* Canonical A, and the caller's nodes that follow it counter-clockwise (rotation r: A = node r). */
     const double rot = t0 ? 0.0 : t1 ? 1.0 : t2 ? 2.0 : 3.0;
-    const double pax = t0 ? ax : t1 ? bx : t2 ? cx : dx, pay = t0 ? ay : t1 ? by : t2 ? cy : dy,
-                 paz = t0 ? az : t1 ? bz : t2 ? cz : dz;
-    const double p1x = t0 ? bx : t1 ? cx : t2 ? dx : ax, p1y = t0 ? by : t1 ? cy : t2 ? dy : ay,
-                 p1z = t0 ? bz : t1 ? cz : t2 ? dz : az;
-    const double p2x = t0 ? cx : t1 ? dx : t2 ? ax : bx, p2y = t0 ? cy : t1 ? dy : t2 ? ay : by,
-                 p2z = t0 ? cz : t1 ? dz : t2 ? az : bz;
-    const double p3x = t0 ? dx : t1 ? ax : t2 ? bx : cx, p3y = t0 ? dy : t1 ? ay : t2 ? by : cy,
-                 p3z = t0 ? dz : t1 ? az : t2 ? bz : cz;
-    const double sax = t0 ? s0x : t1 ? s1x : t2 ? s2x : s3x, say = t0 ? s0y : t1 ? s1y : t2 ? s2y : s3y,
-                 saz = t0 ? s0z : t1 ? s1z : t2 ? s2z : s3z;
+    const double pax = t0   ? ax
+                       : t1 ? bx
+                       : t2 ? cx
+                            : dx,
+                 pay = t0   ? ay
+                       : t1 ? by
+                       : t2 ? cy
+                            : dy,
+                 paz = t0   ? az
+                       : t1 ? bz
+                       : t2 ? cz
+                            : dz;
+    const double p1x = t0   ? bx
+                       : t1 ? cx
+                       : t2 ? dx
+                            : ax,
+                 p1y = t0   ? by
+                       : t1 ? cy
+                       : t2 ? dy
+                            : ay,
+                 p1z = t0   ? bz
+                       : t1 ? cz
+                       : t2 ? dz
+                            : az;
+    const double p2x = t0   ? cx
+                       : t1 ? dx
+                       : t2 ? ax
+                            : bx,
+                 p2y = t0   ? cy
+                       : t1 ? dy
+                       : t2 ? ay
+                            : by,
+                 p2z = t0   ? cz
+                       : t1 ? dz
+                       : t2 ? az
+                            : bz;
+    const double p3x = t0   ? dx
+                       : t1 ? ax
+                       : t2 ? bx
+                            : cx,
+                 p3y = t0   ? dy
+                       : t1 ? ay
+                       : t2 ? by
+                            : cy,
+                 p3z = t0   ? dz
+                       : t1 ? az
+                       : t2 ? bz
+                            : cz;
+    const double sax = t0   ? s0x
+                       : t1 ? s1x
+                       : t2 ? s2x
+                            : s3x,
+                 say = t0   ? s0y
+                       : t1 ? s1y
+                       : t2 ? s2y
+                            : s3y,
+                 saz = t0   ? s0z
+                       : t1 ? s1z
+                       : t2 ? s2z
+                            : s3z;
     /* Its two edges; the mirror when |AD| > |AB| (a tie: S nearer the line AD than the line AB). */
     const double e_bx = p1x - pax, e_by = p1y - pay, e_bz = p1z - paz;
     const double e_dx = p3x - pax, e_dy = p3y - pay, e_dz = p3z - paz;
@@ -181,13 +243,15 @@ CNN_CF_INLINE void cnn_cf_lane(const double* CNN_CF_RESTRICT in, int is, int gre
     const double to_b = sqrt(xbx * xbx + xby * xby + xbz * xbz) * inv_b;
     const double to_d = sqrt(xdx * xdx + xdy * xdy + xdz * xdz) * inv_d;
     const int line_tie = fabs(to_d - to_b) <= 1e-12 * cnn_cf_max(to_d, to_b) + tie_noise;
-    const double mirror = forced ? (double)(forced_sym >> 2)
-                                 : lengths_tie ? ((!line_tie & (to_d < to_b)) ? 1.0 : 0.0) : (len_d > len_b ? 1.0 : 0.0);
+    const double mirror = forced        ? (double)(forced_sym >> 2)
+                          : lengths_tie ? ((!line_tie & (to_d < to_b)) ? 1.0 : 0.0)
+                                        : (len_d > len_b ? 1.0 : 0.0);
     const int mir = mirror != 0.0;
     /* Another canonical form exists: another node as near S, or |AD| = |AB| with S on the diagonal. */
     const int sym_tie = (n0 + n1 + n2 + n3 > 1) | (lengths_tie & line_tie);
 
-    /* 3. The frame on the canonical A, B, D (geometry::AffineFrame::from_nodes): B and D swap under the mirror. */
+    /* 3. The frame on the canonical A, B, D (geometry::AffineFrame::from_nodes): B and D swap under the
+     * mirror. */
     const double abx = mir ? e_dx : e_bx, aby = mir ? e_dy : e_by, abz = mir ? e_dz : e_bz;
     const double adx = mir ? e_bx : e_dx, ady = mir ? e_by : e_dy, adz = mir ? e_bz : e_dz;
     const double length_ab = mir ? len_d : len_b, length_ad = mir ? len_b : len_d;
@@ -231,8 +295,10 @@ CNN_CF_INLINE void cnn_cf_lane(const double* CNN_CF_RESTRICT in, int is, int gre
     const double n01 = 1.0, n02 = xc * xc + yc * yc + zc * zc, n03 = xd * xd + yd * yd;
     const double n12 = (xc - 1.0) * (xc - 1.0) + yc * yc + zc * zc, n13 = (xd - 1.0) * (xd - 1.0) + yd * yd;
     const double n23 = (xc - xd) * (xc - xd) + (yc - yd) * (yc - yd) + zc * zc;
-    const double longest_sq = cnn_cf_max(cnn_cf_max(cnn_cf_max(n01, n02), cnn_cf_max(n03, n12)), cnn_cf_max(n13, n23));
-    const double shortest_sq = cnn_cf_min(cnn_cf_min(cnn_cf_min(n01, n02), cnn_cf_min(n03, n12)), cnn_cf_min(n13, n23));
+    const double longest_sq =
+        cnn_cf_max(cnn_cf_max(cnn_cf_max(n01, n02), cnn_cf_max(n03, n12)), cnn_cf_max(n13, n23));
+    const double shortest_sq =
+        cnn_cf_min(cnn_cf_min(cnn_cf_min(n01, n02), cnn_cf_min(n03, n12)), cnn_cf_min(n13, n23));
     const double noise_sq = noise16 * noise16;
     const double coincident_sq = cnn_cf_max(1e-20 * longest_sq, noise_sq);
     const double flat_sq = cnn_cf_max(1e-24 * longest_sq, noise_sq) * longest_sq;
@@ -244,14 +310,17 @@ CNN_CF_INLINE void cnn_cf_lane(const double* CNN_CF_RESTRICT in, int is, int gre
     const int fold_b = (-(xc - 1.0) > 0.0) & !(zc * zc + yc * yc > flat_sq);
     /* At C: next D - C, prev B - C. */
     const double ncdx = xd - xc, ncdy = yd - yc, ncdz = -zc, pcbx = 1.0 - xc, pcby = -yc, pcbz = -zc;
-    const double kcx = ncdy * pcbz - ncdz * pcby, kcy = ncdz * pcbx - ncdx * pcbz, kcz = ncdx * pcby - ncdy * pcbx;
-    const int fold_c = (ncdx * pcbx + ncdy * pcby + ncdz * pcbz > 0.0) & !(kcx * kcx + kcy * kcy + kcz * kcz > flat_sq);
+    const double kcx = ncdy * pcbz - ncdz * pcby, kcy = ncdz * pcbx - ncdx * pcbz,
+                 kcz = ncdx * pcby - ncdy * pcbx;
+    const int fold_c =
+        (ncdx * pcbx + ncdy * pcby + ncdz * pcbz > 0.0) & !(kcx * kcx + kcy * kcy + kcz * kcz > flat_sq);
     /* At D: next A - D = -D, prev C - D. */
     const double pdcx = xc - xd, pdcy = yc - yd, pdcz = zc;
     const double kdx = -yd * pdcz, kdy = xd * pdcz, kdz = -xd * pdcy + yd * pdcx;
     const int fold_d = (-xd * pdcx - yd * pdcy > 0.0) & !(kdx * kdx + kdy * kdy + kdz * kdz > flat_sq);
     const int collapsed = !(longest_sq > 0.0) | !(shortest_sq > coincident_sq) |
-                          !(0.25 * (wx * wx + wy * wy + wz * wz) > flat_sq) | fold_a | fold_b | fold_c | fold_d;
+                          !(0.25 * (wx * wx + wy * wy + wz * wz) > flat_sq) | fold_a | fold_b | fold_c |
+                          fold_d;
 
     double status;
     bad = (frame_ok & !collapsed) ? 0.0 : 1.0;
@@ -264,19 +333,60 @@ CNN_CF_INLINE void cnn_cf_lane(const double* CNN_CF_RESTRICT in, int is, int gre
     f[6 * os] = ys;
     f[7 * os] = zs;
     if (gregory) {
-      /* 6. Node normals in the canonical order, rotated into the (oriented) frame. Front: n_z > max(1e-12, noise)
-       *    for the unit normal, i.e. w_z > min_nz |n| for the rotated one; all on the back side: all reversed. */
+      /* 6. Node normals in the canonical order, rotated into the (oriented) frame. Front: n_z > max(1e-12,
+       * noise) for the unit normal, i.e. w_z > min_nz |n| for the rotated one; all on the back side: all
+       * reversed. */
       const double min_nz = cnn_cf_max(1e-12, noise16);
       const double m_nz = min_nz * min_nz;
       const double f3x = zsign * e3x, f3y = zsign * e3y, f3z = zsign * e3z;
-      const double c0x = t0 ? nax : t1 ? nbx : t2 ? ncx : ndx, c0y = t0 ? nay : t1 ? nby : t2 ? ncy : ndy,
-                   c0z = t0 ? naz : t1 ? nbz : t2 ? ncz : ndz;
-      const double r1x = t0 ? nbx : t1 ? ncx : t2 ? ndx : nax, r1y = t0 ? nby : t1 ? ncy : t2 ? ndy : nay,
-                   r1z = t0 ? nbz : t1 ? ncz : t2 ? ndz : naz;
-      const double c2x = t0 ? ncx : t1 ? ndx : t2 ? nax : nbx, c2y = t0 ? ncy : t1 ? ndy : t2 ? nay : nby,
-                   c2z = t0 ? ncz : t1 ? ndz : t2 ? naz : nbz;
-      const double r3x = t0 ? ndx : t1 ? nax : t2 ? nbx : ncx, r3y = t0 ? ndy : t1 ? nay : t2 ? nby : ncy,
-                   r3z = t0 ? ndz : t1 ? naz : t2 ? nbz : ncz;
+      const double c0x = t0   ? nax
+                         : t1 ? nbx
+                         : t2 ? ncx
+                              : ndx,
+                   c0y = t0   ? nay
+                         : t1 ? nby
+                         : t2 ? ncy
+                              : ndy,
+                   c0z = t0   ? naz
+                         : t1 ? nbz
+                         : t2 ? ncz
+                              : ndz;
+      const double r1x = t0   ? nbx
+                         : t1 ? ncx
+                         : t2 ? ndx
+                              : nax,
+                   r1y = t0   ? nby
+                         : t1 ? ncy
+                         : t2 ? ndy
+                              : nay,
+                   r1z = t0   ? nbz
+                         : t1 ? ncz
+                         : t2 ? ndz
+                              : naz;
+      const double c2x = t0   ? ncx
+                         : t1 ? ndx
+                         : t2 ? nax
+                              : nbx,
+                   c2y = t0   ? ncy
+                         : t1 ? ndy
+                         : t2 ? nay
+                              : nby,
+                   c2z = t0   ? ncz
+                         : t1 ? ndz
+                         : t2 ? naz
+                              : nbz;
+      const double r3x = t0   ? ndx
+                         : t1 ? nax
+                         : t2 ? nbx
+                              : ncx,
+                   r3y = t0   ? ndy
+                         : t1 ? nay
+                         : t2 ? nby
+                              : ncy,
+                   r3z = t0   ? ndz
+                         : t1 ? naz
+                         : t2 ? nbz
+                              : ncz;
       const double c1x = mir ? r3x : r1x, c1y = mir ? r3y : r1y, c1z = mir ? r3z : r1z;
       const double c3x = mir ? r1x : r3x, c3y = mir ? r1y : r3y, c3z = mir ? r1z : r3z;
       const double l0 = c0x * c0x + c0y * c0y + c0z * c0z, l1 = c1x * c1x + c1y * c1y + c1z * c1z;
@@ -298,7 +408,9 @@ CNN_CF_INLINE void cnn_cf_lane(const double* CNN_CF_RESTRICT in, int is, int gre
       bad = (front | back) ? bad : 1.0;
       bad = ((l0 > 0.0) & (l1 > 0.0) & (l2 > 0.0) & (l3 > 0.0)) ? bad : 1.0;
       rescale = ((l0 > 1e-100) & (l0 < 1e100) & (l1 > 1e-100) & (l1 < 1e100) & (l2 > 1e-100) & (l2 < 1e100) &
-                 (l3 > 1e-100) & (l3 < 1e100)) ? rescale : 1.0;
+                 (l3 > 1e-100) & (l3 < 1e100))
+                    ? rescale
+                    : 1.0;
       f[8 * os] = w0x * i0;
       f[9 * os] = w0y * i0;
       f[10 * os] = w1x * i1;
@@ -333,9 +445,9 @@ CNN_CF_INLINE void cnn_cf_lane(const double* CNN_CF_RESTRICT in, int is, int gre
 
 /* A lane whose magnitudes are extreme: the coordinates scaled by one power of two (exact), each normal by its
  * own, then cnn_cf_lane. A difference of two world coordinates that overflows makes the lane degenerate. */
-static inline void cnn_cf_lane_scaled(const double* CNN_CF_RESTRICT in, int is, int gregory, int forced, int forced_sym,
-                                      int other_z, double* CNN_CF_RESTRICT f, double* CNN_CF_RESTRICT nrm,
-                                      double* CNN_CF_RESTRICT info, int os) {
+static inline void cnn_cf_lane_scaled(const double* CNN_CF_RESTRICT in, int is, int gregory, int forced,
+                                      int forced_sym, int other_z, double* CNN_CF_RESTRICT f,
+                                      double* CNN_CF_RESTRICT nrm, double* CNN_CF_RESTRICT info, int os) {
   double x[27], m = 0.0;
   int k, i, j, e = 0, overflow = 0;
   const int count = gregory ? 27 : 15;
@@ -365,8 +477,9 @@ static inline void cnn_cf_lane_scaled(const double* CNN_CF_RESTRICT in, int is, 
  * CNN_CF_INFO_ROWS rows. Always inlined, as cnn_domain_block: GCC 12 otherwise makes a clone for the constant
  * arguments of one caller (a constant domain, n = 1) whose lane loop it does not vectorise, and uses it for
  * the block calls too (an exported header's batch ran its domain test scalar: 2.6x the library's time). */
-CNN_CF_INLINE void cnn_canonicalise_block(int n, int gregory, const double* CNN_CF_RESTRICT in, double* CNN_CF_RESTRICT f,
-                                          double* CNN_CF_RESTRICT nrm, double* CNN_CF_RESTRICT info) {
+CNN_CF_INLINE void cnn_canonicalise_block(int n, int gregory, const double* CNN_CF_RESTRICT in,
+                                          double* CNN_CF_RESTRICT f, double* CNN_CF_RESTRICT nrm,
+                                          double* CNN_CF_RESTRICT info) {
   int l;
   CNN_CF_IVDEP
   for (l = 0; l < n; ++l) cnn_cf_lane(in + l, n, gregory, 0, 0, 0, f + l, nrm + l, info + l, n);
@@ -394,11 +507,11 @@ CNN_CF_INLINE int cnn_cf_needs_forms(double tie, int gregory) {
   return (code & 1) | (gregory & (code >> 1));
 }
 
-/* The symmetries geometry::canonical_symmetries lists for query `x` (15 or more values, SPEC 6 order): one per
- * node tied for nearest, in the caller's order, two (no mirror, mirror) for such a node with |AB| = |AD| and S
- * on the diagonal. The arithmetic of cnn_cf_lane's symmetry step on the query scaled by the power of two that
- * brings its largest coordinate into [0.5, 1) (exact; nothing under- or overflows). sym[k] = rotation + 4 *
- * mirror; returns the count (1 to 8). */
+/* The symmetries geometry::canonical_symmetries lists for query `x` (15 or more values, SPEC 6 order): one
+ * per node tied for nearest, in the caller's order, two (no mirror, mirror) for such a node with |AB| = |AD|
+ * and S on the diagonal. The arithmetic of cnn_cf_lane's symmetry step on the query scaled by the power of
+ * two that brings its largest coordinate into [0.5, 1) (exact; nothing under- or overflows). sym[k] =
+ * rotation + 4 * mirror; returns the count (1 to 8). */
 static inline int cnn_cf_symmetries(const double* CNN_CF_RESTRICT x_in, int* CNN_CF_RESTRICT sym) {
   const double eps = 2.220446049250313e-16;
   const double shrink = (1.0 - 1e-12) * (1.0 - 1e-12);
@@ -426,7 +539,8 @@ static inline int cnn_cf_symmetries(const double* CNN_CF_RESTRICT x_in, int* CNN
     const double* a = x + 3 * r;
     const double* b = x + 3 * ((r + 1) % 4);
     const double* d = x + 3 * ((r + 3) % 4);
-    double sax, say, saz, e_bx, e_by, e_bz, e_dx, e_dy, e_dz, len_b, len_d, xbx, xby, xbz, xdx, xdy, xdz, to_b, to_d;
+    double sax, say, saz, e_bx, e_by, e_bz, e_dx, e_dy, e_dz, len_b, len_d, xbx, xby, xbz, xdx, xdy, xdz,
+        to_b, to_d;
     if (!(q[r] * shrink <= reach)) continue;
     sax = x[12] - a[0];
     say = x[13] - a[1];
@@ -464,14 +578,15 @@ static inline int cnn_cf_symmetries(const double* CNN_CF_RESTRICT x_in, int* CNN
 /* One form of query `x` (contiguous, 15 or 27 values): cnn_cf_lane (forced or not), redone scaled where the
  * lane needs it. f: 16 values, nrm: 12, info: CNN_CF_INFO_ROWS. */
 static inline void cnn_cf_form(const double* CNN_CF_RESTRICT x, int gregory, int forced, int sym, int other_z,
-                               double* CNN_CF_RESTRICT f, double* CNN_CF_RESTRICT nrm, double* CNN_CF_RESTRICT info) {
+                               double* CNN_CF_RESTRICT f, double* CNN_CF_RESTRICT nrm,
+                               double* CNN_CF_RESTRICT info) {
   cnn_cf_lane(x, 1, gregory, forced, sym, other_z, f, nrm, info, 1);
   if (info[4] != 0.0) cnn_cf_lane_scaled(x, 1, gregory, forced, sym, other_z, f, nrm, info, 1);
 }
 
-/* Every canonical form of query `x` (contiguous, 15 or 27 values), in geometry::canonical_forms' order: form 0
- * is the block pass's (cnn_cf_lane unforced), then for each symmetry of cnn_cf_symmetries and, Gregory on a z
- * tie of form 0, each orientation of z, the forms that exist (status ok). Form k's features are at f[16 k],
+/* Every canonical form of query `x` (contiguous, 15 or 27 values), in geometry::canonical_forms' order: form
+ * 0 is the block pass's (cnn_cf_lane unforced), then for each symmetry of cnn_cf_symmetries and, Gregory on a
+ * z tie of form 0, each orientation of z, the forms that exist (status ok). Form k's features are at f[16 k],
  * its normals at nrm[12 k], its info rows at info[CNN_CF_INFO_ROWS k]. Returns the count (1 to
  * CNN_CF_MAX_FORMS); only form 0 when its status is not ok. */
 static inline int cnn_cf_forms(const double* CNN_CF_RESTRICT x, int gregory, double* CNN_CF_RESTRICT f,
@@ -497,7 +612,8 @@ static inline int cnn_cf_forms(const double* CNN_CF_RESTRICT x, int gregory, dou
 
 /* Canonical local coordinates (x, y) -> the caller's for symmetry code `sym` (info row 1): the inverse of the
  * relabelling (SquareSymmetry::to_caller). `centre`: 0 for (xi, eta), 0.5 for (u, v). Branch-free. */
-CNN_CF_INLINE void cnn_cf_to_caller(double sym, double centre, double* CNN_CF_RESTRICT px, double* CNN_CF_RESTRICT py) {
+CNN_CF_INLINE void cnn_cf_to_caller(double sym, double centre, double* CNN_CF_RESTRICT px,
+                                    double* CNN_CF_RESTRICT py) {
   const int mirror = sym >= 4.0;
   const double rotation = mirror ? sym - 4.0 : sym;
   const double x = *px - centre, y = *py - centre;
@@ -517,19 +633,19 @@ struct cnn_domain {
   double ad_bound;         /* 1 + tol: |AD|^2 <= (1 + tol) |AB|^2, |AB| = 1 */
   double inv_one_plus_tol; /* 1 / (1 + tol) */
   double tol;
-  double cos_lo, cos_hi;   /* cosines of the relaxed angle bounds */
-  double tilt;             /* max_normal_tilt_tangent */
-  int features;            /* 8 or 16 */
+  double cos_lo, cos_hi; /* cosines of the relaxed angle bounds */
+  double tilt;           /* max_normal_tilt_tangent */
+  int features;          /* 8 or 16 */
   int ad_not_longer, nearest_a, segment_test, convex;
-  int check_lo, check_hi;  /* angle bounds to test: 0 when the relaxed bound is outside (0, 180) degrees */
+  int check_lo, check_hi; /* angle bounds to test: 0 when the relaxed bound is outside (0, 180) degrees */
 };
 
 /* One lane: the status row code[0] becomes out_of_domain (5) where it is ok (0) and the configuration lies
  * outside the domain. Every test is written as a violation, gathered by max into `loose` (the configuration
- * fails when it is > 0: a non-strict inequality of the reference) or `strict` (fails when >= 0: a strict one),
- * so that the lane is straight-line floating-point code. `angles` (0 or 1) says whether the domain bounds the
- * interior angles (cnn_domain_block passes it as a constant). Angles are compared through their cosines,
- * which agrees with the reference's atan2 form except within a few ulps of the relaxed bound. */
+ * fails when it is > 0: a non-strict inequality of the reference) or `strict` (fails when >= 0: a strict
+ * one), so that the lane is straight-line floating-point code. `angles` (0 or 1) says whether the domain
+ * bounds the interior angles (cnn_domain_block passes it as a constant). Angles are compared through their
+ * cosines, which agrees with the reference's atan2 form except within a few ulps of the relaxed bound. */
 CNN_CF_INLINE void cnn_domain_lane(const struct cnn_domain* CNN_CF_RESTRICT d, int gregory, int angles,
                                    const double* CNN_CF_RESTRICT f, const double* CNN_CF_RESTRICT nrm, int s,
                                    double* CNN_CF_RESTRICT code) {
@@ -551,7 +667,8 @@ CNN_CF_INLINE void cnn_domain_lane(const struct cnn_domain* CNN_CF_RESTRICT d, i
     for (k = 8; k < 16; ++k) loose = cnn_cf_max(loose, cnn_cf_max(d->lo[k] - f[k * s], f[k * s] - d->hi[k]));
   }
   /* |x|, |y| of C, D, S below xy_limit (1 + tol); |z| of C and S below z_limit (1 + tol): strict. */
-  strict = cnn_cf_max(strict, cnn_cf_max(cnn_cf_max(fabs(xc), fabs(yc)), cnn_cf_max(fabs(xd), fabs(yd))) - xy);
+  strict =
+      cnn_cf_max(strict, cnn_cf_max(cnn_cf_max(fabs(xc), fabs(yc)), cnn_cf_max(fabs(xd), fabs(yd))) - xy);
   strict = cnn_cf_max(strict, cnn_cf_max(fabs(xs), fabs(ys)) - xy);
   strict = cnn_cf_max(strict, cnn_cf_max(fabs(zc), fabs(zs)) - zl);
   /* |AD|^2 <= (1 + tol) |AB|^2 = 1 + tol. */
@@ -565,7 +682,8 @@ CNN_CF_INLINE void cnn_domain_lane(const struct cnn_domain* CNN_CF_RESTRICT d, i
     loose = cnn_cf_max(loose, (to_a - cnn_cf_min(cnn_cf_min(to_b, to_c), to_d)) + nearest_off);
   }
   {
-    /* Eqs 3-6 at A with c1 = B - A = (1,0,0), c2 = D - A = (xd, yd, 0): r = (xs, ys, 0); strict (> -slack). */
+    /* Eqs 3-6 at A with c1 = B - A = (1,0,0), c2 = D - A = (xd, yd, 0): r = (xs, ys, 0); strict (> -slack).
+     */
     const double r_len = sqrt(xs * xs + ys * ys);
     const double lengths = r_len * sqrt(xd * xd + yd * yd);
     strict = cnn_cf_max(strict, -fabs(yd) + segment_off);
@@ -574,8 +692,10 @@ CNN_CF_INLINE void cnn_domain_lane(const struct cnn_domain* CNN_CF_RESTRICT d, i
   }
   {
     /* Corners of A (0,0,0), B (1,0,0), C, D (z = 0): next - X and prev - X. */
-    const double nx_[4] = {1.0, xc - 1.0, xd - xc, -xd}, ny_[4] = {0.0, yc, yd - yc, -yd}, nz_[4] = {0.0, zc, -zc, 0.0};
-    const double px_[4] = {xd, -1.0, 1.0 - xc, xc - xd}, py_[4] = {yd, 0.0, -yc, yc - yd}, pz_[4] = {0.0, 0.0, -zc, zc};
+    const double nx_[4] = {1.0, xc - 1.0, xd - xc, -xd}, ny_[4] = {0.0, yc, yd - yc, -yd},
+                 nz_[4] = {0.0, zc, -zc, 0.0};
+    const double px_[4] = {xd, -1.0, 1.0 - xc, xc - xd}, py_[4] = {yd, 0.0, -yc, yc - yd},
+                 pz_[4] = {0.0, 0.0, -zc, zc};
     const double ref_sq = yd * yd; /* (B - A) x (D - A) = (0, 0, yd) */
     int i;
     CNN_CF_UNROLL
@@ -589,29 +709,32 @@ CNN_CF_INLINE void cnn_domain_lane(const struct cnn_domain* CNN_CF_RESTRICT d, i
         /* (next x prev) . reference > -tol |next| |prev| |reference|: fails when along <= 0 and along^2 >=
          * the slack squared. */
         const double along = kz * yd;
-        strict = cnn_cf_max(strict, cnn_cf_min(-along, along * along - tol * tol * next_sq * prev_sq * ref_sq) + convex_off);
+        strict = cnn_cf_max(
+            strict, cnn_cf_min(-along, along * along - tol * tol * next_sq * prev_sq * ref_sq) + convex_off);
       }
       if (angles) {
-        /* cos(angle) = dot / h, h = |next| |prev| = sqrt(cross^2 + dot^2): angle >= lo <=> dot <= cos_lo h and
-         * angle <= hi <=> dot >= cos_hi h. */
+        /* cos(angle) = dot / h, h = |next| |prev| = sqrt(cross^2 + dot^2): angle >= lo <=> dot <= cos_lo h
+         * and angle <= hi <=> dot >= cos_hi h. */
         const double dot = nx_[i] * px_[i] + ny_[i] * py_[i] + nz_[i] * pz_[i];
         const double h = sqrt(cross_sq + dot * dot);
         loose = cnn_cf_max(loose, (dot - cos_lo * h) + lo_off);
         loose = cnn_cf_max(loose, (cos_hi * h - dot) + hi_off);
       }
       if (gregory) {
-        /* tan(angle(node normal, corner normal)) < tilt: corner . n > 0 and |corner x n| < tilt (corner . n) +
-         * tol |corner| |n|. */
+        /* tan(angle(node normal, corner normal)) < tilt: corner . n > 0 and |corner x n| < tilt (corner . n)
+         * + tol |corner| |n|. */
         const double mx = nrm[(3 * i) * s], my = nrm[(3 * i + 1) * s], mz = nrm[(3 * i + 2) * s];
         const double cos_part = kx * mx + ky * my + kz * mz;
         const double sx_ = ky * mz - kz * my, sy_ = kz * mx - kx * mz, sz_ = kx * my - ky * mx;
         const double bound = tilt * cos_part + tol * sqrt(cross_sq * (mx * mx + my * my + mz * mz));
-        strict = cnn_cf_max(strict, cnn_cf_max(-cos_part, (sx_ * sx_ + sy_ * sy_ + sz_ * sz_) - bound * bound));
+        strict =
+            cnn_cf_max(strict, cnn_cf_max(-cos_part, (sx_ * sx_ + sy_ * sy_ + sz_ * sz_) - bound * bound));
       }
     }
   }
-  code[0] = (code[0] == (double)CNN_CF_STATUS_OK && !(loose <= 0.0 && strict < 0.0)) ? (double)CNN_CF_STATUS_OUT_OF_DOMAIN
-                                                                                      : code[0];
+  code[0] = (code[0] == (double)CNN_CF_STATUS_OK && !(loose <= 0.0 && strict < 0.0))
+                ? (double)CNN_CF_STATUS_OUT_OF_DOMAIN
+                : code[0];
 }
 
 /* The block: status row `code` (n lanes) updated for every lane. */
@@ -628,54 +751,58 @@ CNN_CF_INLINE void cnn_domain_block(int n, int gregory, const struct cnn_domain*
   }
 }
 
-/* ---- The frame and the domain test in float, for a bilinear float network (cnn_canonicalise_domain_block_f) ----
+/* ---- The frame and the domain test in float, for a bilinear float network (cnn_canonicalise_domain_block_f)
+ * ----
  *
  * A float network reads its inputs in float, yet the frame and the domain test above run in double: they
  * decide ties and thresholds at 1e-12. This pass computes the features in float (16 lanes per 512-bit vector
  * instead of 8) and keeps every decision exact: a lane whose float arithmetic cannot decide one of them is
  * left to the double pass (cnn_canonicalise_block and cnn_domain_block on the gathered lanes), so status,
  * symmetry, orientation, tie code and domain verdict are those of the double pass on every lane, and only the
- * features of the lanes decided in float differ, by float rounding: within delta = 32 u (1 + R) / sin(angle at
- * A) of the double pass's, u = 2^-24, R the query's extent over |AB| (measured on random lanes up to 15
- * u (1 + F) / sin(angle at A), F the largest feature).
+ * features of the lanes decided in float differ, by float rounding: within delta = 32 u (1 + R) / sin(angle
+ * at A) of the double pass's, u = 2^-24, R the query's extent over |AB| (measured on random lanes up to 15 u
+ * (1 + F) / sin(angle at A), F the largest feature).
  *
- * Each query's nodes are taken relative to its slave node S and scaled by the power of two that brings max |S|
- * into [0.5, 1) (exact), so the pass gives the same bits in every node order and at every power-of-two scale, as
- * the double pass does. A lane is decided in float when (else it goes to the double pass):
- *  - its values are finite, max |S| lies in [1e-290, 1e290] (a slave at the origin goes to the double pass), the
- *    scaled nodes lie within [1e-12, 1e12] of S, |AB| is at least 1e-6 of the query's distance from the origin
- *    (so that the double pass's noise terms, 16 eps max|x|, stay far below the margins below), and the extent R
- *    is below 1e4;
- *  - one node is nearer S than the others by a margin (256 u max|x - A|^2 in the squared distances), |AB|^2 and
- *    |AD|^2 differ by that margin, |AD|^2 >= 1e-6 |AB|^2 and sin^2(angle at A) >= 1e-4: no tie, the mirror
+ * Each query's nodes are taken relative to its slave node S and scaled by the power of two that brings max
+ * |S| into [0.5, 1) (exact), so the pass gives the same bits in every node order and at every power-of-two
+ * scale, as the double pass does. A lane is decided in float when (else it goes to the double pass):
+ *  - its values are finite, max |S| lies in [1e-290, 1e290] (a slave at the origin goes to the double pass),
+ * the scaled nodes lie within [1e-12, 1e12] of S, |AB| is at least 1e-6 of the query's distance from the
+ * origin (so that the double pass's noise terms, 16 eps max|x|, stay far below the margins below), and the
+ * extent R is below 1e4;
+ *  - one node is nearer S than the others by a margin (256 u max|x - A|^2 in the squared distances), |AB|^2
+ * and |AD|^2 differ by that margin, |AD|^2 >= 1e-6 |AB|^2 and sin^2(angle at A) >= 1e-4: no tie, the mirror
  *    decided, the frame well conditioned (so square elements, |AB| = |AD|, go to the double pass);
- *  - |z_S| exceeds 2 delta plus the double pass's z tolerance: S off the plane on a known side (a slave node on
- *    the master's plane, touching contact, goes to the double pass);
- *  - the segment is far from collapsed: every side and diagonal squared above 1e-6 of the longest plus its error
- *    bound, every corner's cross product above 1e-7 of the longest squared plus its error bound;
+ *  - |z_S| exceeds 2 delta plus the double pass's z tolerance: S off the plane on a known side (a slave node
+ * on the master's plane, touching contact, goes to the double pass);
+ *  - the segment is far from collapsed: every side and diagonal squared above 1e-6 of the longest plus its
+ * error bound, every corner's cross product above 1e-7 of the longest squared plus its error bound;
  *  - with the domain: every test of cnn_domain_lane decided beyond its error bound (from the test's partial
  *    derivatives times delta, twice over, plus rounding), or one failed beyond it.
- * A domain with angle bounds (a Gregory study's) is not decided in float: the whole block takes the double pass.
- * Lanes left to the double pass get their bits from it alone, as in a block of any width; lanes decided in float
- * get theirs from their own values alone: a query gives the same bits alone and in a block. On random queries of
- * the paper's bilinear domain, placed at random, with bilinear-8's domain, 2 lanes in 100 go to the double pass
- * (mostly corners at A of under a degree); lib/search gathers them from many blocks (LocalSearch::run), an
- * exported header redoes them in each block (cnn_canonicalise_domain_block_f). */
+ * A domain with angle bounds (a Gregory study's) is not decided in float: the whole block takes the double
+ * pass. Lanes left to the double pass get their bits from it alone, as in a block of any width; lanes decided
+ * in float get theirs from their own values alone: a query gives the same bits alone and in a block. On
+ * random queries of the paper's bilinear domain, placed at random, with bilinear-8's domain, 2 lanes in 100
+ * go to the double pass (mostly corners at A of under a degree); lib/search gathers them from many blocks
+ * (LocalSearch::run), an exported header redoes them in each block (cnn_canonicalise_domain_block_f). */
 
 #define CNN_CFF_MAX_LANES 64
 
-/* cnn_cf_max and cnn_cf_min in float (fmaxf and fminf do not vectorise: their NaN rule is not the instruction's). */
+/* cnn_cf_max and cnn_cf_min in float (fmaxf and fminf do not vectorise: their NaN rule is not the
+ * instruction's). */
 CNN_CF_INLINE float cnn_cff_max(float a, float b) { return a < b ? b : a; }
 CNN_CF_INLINE float cnn_cff_min(float a, float b) { return b < a ? b : a; }
 
 /* One lane. rel: 12 rows at rel[k * s]: A - S, B - S, C - S, D - S (x, y, z each), scaled by a power of two.
- * Writes ff[k * s], 8 feature rows, and fi[k * s]: 0 symmetry code, 1 orientation, 2 scale (1 / |AB|), 3 status
- * (0 or 5), 4 redo (1: the double pass decides this lane). `domain` 0: no domain test (d unused). */
-CNN_CF_INLINE void cnn_cff_lane(const float* CNN_CF_RESTRICT rel, int s, const struct cnn_domain* CNN_CF_RESTRICT d,
-                                int domain, float* CNN_CF_RESTRICT ff, float* CNN_CF_RESTRICT fi) {
+ * Writes ff[k * s], 8 feature rows, and fi[k * s]: 0 symmetry code, 1 orientation, 2 scale (1 / |AB|), 3
+ * status (0 or 5), 4 redo (1: the double pass decides this lane). `domain` 0: no domain test (d unused). */
+CNN_CF_INLINE void cnn_cff_lane(const float* CNN_CF_RESTRICT rel, int s,
+                                const struct cnn_domain* CNN_CF_RESTRICT d, int domain,
+                                float* CNN_CF_RESTRICT ff, float* CNN_CF_RESTRICT fi) {
   const float u = 5.9604645e-8f; /* 2^-24 */
-  /* The nodes relative to S: the same values whatever the caller's node order, so the lane's arithmetic (which
-   * takes differences of these after the canonical relabelling) gives the same bits for all 8 orders. */
+  /* The nodes relative to S: the same values whatever the caller's node order, so the lane's arithmetic
+   * (which takes differences of these after the canonical relabelling) gives the same bits for all 8 orders.
+   */
   const float ax = rel[0 * s], ay = rel[1 * s], az = rel[2 * s];
   const float bx = rel[3 * s], by = rel[4 * s], bz = rel[5 * s];
   const float cx = rel[6 * s], cy = rel[7 * s], cz = rel[8 * s];
@@ -697,14 +824,54 @@ CNN_CF_INLINE void cnn_cff_lane(const float* CNN_CF_RESTRICT rel, int s, const s
     const float reach = cnn_cff_min(cnn_cff_min(q0, q1), cnn_cff_min(q2, q3)) + mq;
     const int t0 = q0 <= reach, t1 = q1 <= reach, t2 = q2 <= reach, t3 = q3 <= reach;
     const float rot = t0 ? 0.0f : t1 ? 1.0f : t2 ? 2.0f : 3.0f;
-    const float pax = t0 ? ax : t1 ? bx : t2 ? cx : dx, pay = t0 ? ay : t1 ? by : t2 ? cy : dy,
-                paz = t0 ? az : t1 ? bz : t2 ? cz : dz;
-    const float p1x = t0 ? bx : t1 ? cx : t2 ? dx : ax, p1y = t0 ? by : t1 ? cy : t2 ? dy : ay,
-                p1z = t0 ? bz : t1 ? cz : t2 ? dz : az;
-    const float p2x = t0 ? cx : t1 ? dx : t2 ? ax : bx, p2y = t0 ? cy : t1 ? dy : t2 ? ay : by,
-                p2z = t0 ? cz : t1 ? dz : t2 ? az : bz;
-    const float p3x = t0 ? dx : t1 ? ax : t2 ? bx : cx, p3y = t0 ? dy : t1 ? ay : t2 ? by : cy,
-                p3z = t0 ? dz : t1 ? az : t2 ? bz : cz;
+    const float pax = t0   ? ax
+                      : t1 ? bx
+                      : t2 ? cx
+                           : dx,
+                pay = t0   ? ay
+                      : t1 ? by
+                      : t2 ? cy
+                           : dy,
+                paz = t0   ? az
+                      : t1 ? bz
+                      : t2 ? cz
+                           : dz;
+    const float p1x = t0   ? bx
+                      : t1 ? cx
+                      : t2 ? dx
+                           : ax,
+                p1y = t0   ? by
+                      : t1 ? cy
+                      : t2 ? dy
+                           : ay,
+                p1z = t0   ? bz
+                      : t1 ? cz
+                      : t2 ? dz
+                           : az;
+    const float p2x = t0   ? cx
+                      : t1 ? dx
+                      : t2 ? ax
+                           : bx,
+                p2y = t0   ? cy
+                      : t1 ? dy
+                      : t2 ? ay
+                           : by,
+                p2z = t0   ? cz
+                      : t1 ? dz
+                      : t2 ? az
+                           : bz;
+    const float p3x = t0   ? dx
+                      : t1 ? ax
+                      : t2 ? bx
+                           : cx,
+                p3y = t0   ? dy
+                      : t1 ? ay
+                      : t2 ? by
+                           : cy,
+                p3z = t0   ? dz
+                      : t1 ? az
+                      : t2 ? bz
+                           : cz;
     const float sax = -pax, say = -pay, saz = -paz; /* S - A */
     const float e_bx = p1x - pax, e_by = p1y - pay, e_bz = p1z - paz;
     const float e_dx = p3x - pax, e_dy = p3y - pay, e_dz = p3z - paz;
@@ -732,8 +899,8 @@ CNN_CF_INLINE void cnn_cff_lane(const float* CNN_CF_RESTRICT rel, int s, const s
     const float xs = scale * (e1x * sax + e1y * say + e1z * saz);
     const float ys = scale * (e2x * sax + e2y * say + e2z * saz);
     const float zs0 = scale * (e3x * sax + e3y * say + e3z * saz);
-    /* The features' error bound delta: 32 u (1 + R) over sin(angle at A) (its square >= 1e-4 is required below),
-     * R the query's extent over |AB| (every node within m of S, so within 2 m of A). */
+    /* The features' error bound delta: 32 u (1 + R) over sin(angle at A) (its square >= 1e-4 is required
+     * below), R the query's extent over |AB| (every node within m of S, so within 2 m of A). */
     const float extent = 2.0f * m * scale;
     const float amp = sqrtf(lad2 / cnn_cff_max(normal_sq, 1e-30f));
     const float delta = 32.0f * u * (1.0f + extent) * amp;
@@ -743,7 +910,8 @@ CNN_CF_INLINE void cnn_cff_lane(const float* CNN_CF_RESTRICT rel, int s, const s
     /* The segment far from collapsed: sides and diagonals (squared, canonical units), and each corner's cross
      * product, beyond the error bound. */
     const float n02 = xc * xc + yc * yc + zc * zc, n03 = xd * xd + yd * yd;
-    const float n12 = (xc - 1.0f) * (xc - 1.0f) + yc * yc + zc * zc, n13 = (xd - 1.0f) * (xd - 1.0f) + yd * yd;
+    const float n12 = (xc - 1.0f) * (xc - 1.0f) + yc * yc + zc * zc,
+                n13 = (xd - 1.0f) * (xd - 1.0f) + yd * yd;
     const float n23 = (xc - xd) * (xc - xd) + (yc - yd) * (yc - yd) + zc * zc;
     const float longest =
         cnn_cff_max(cnn_cff_max(cnn_cff_max(1.0f, n02), cnn_cff_max(n03, n12)), cnn_cff_max(n13, n23));
@@ -757,14 +925,17 @@ CNN_CF_INLINE void cnn_cff_lane(const float* CNN_CF_RESTRICT rel, int s, const s
     /* Corner cross products (next - X) x (prev - X): A (0, 0, yd); B; C; D (as cnn_cf_lane's fold tests). */
     const float kb_sq = zc * zc + yc * yc; /* at B: (0, -z_C, y_C) */
     const float ncdx = xd - xc, ncdy = yd - yc, ncdz = -zc, pcbx = 1.0f - xc, pcby = -yc, pcbz = -zc;
-    const float kcx = ncdy * pcbz - ncdz * pcby, kcy = ncdz * pcbx - ncdx * pcbz, kcz = ncdx * pcby - ncdy * pcbx;
+    const float kcx = ncdy * pcbz - ncdz * pcby, kcy = ncdz * pcbx - ncdx * pcbz,
+                kcz = ncdx * pcby - ncdy * pcbx;
     const float pdcx = xc - xd, pdcy = yc - yd, pdcz = zc;
     const float kdx = -yd * pdcz, kdy = xd * pdcz, kdz = -xd * pdcy + yd * pdcx;
     const float wz = xc * yd - yc * (xd - 1.0f);
     const float fold_ab = fold0 + 4.0f * delta;
     const float fold_c =
-        fold0 + 4.0f * delta * (fabsf(ncdx) + fabsf(ncdy) + fabsf(ncdz) + fabsf(pcbx) + fabsf(pcby) + fabsf(pcbz));
-    const float fold_d = fold0 + 4.0f * delta * (fabsf(xd) + fabsf(yd) + fabsf(pdcx) + fabsf(pdcy) + fabsf(pdcz));
+        fold0 +
+        4.0f * delta * (fabsf(ncdx) + fabsf(ncdy) + fabsf(ncdz) + fabsf(pcbx) + fabsf(pcby) + fabsf(pcbz));
+    const float fold_d =
+        fold0 + 4.0f * delta * (fabsf(xd) + fabsf(yd) + fabsf(pdcx) + fabsf(pdcy) + fabsf(pdcz));
     const float fold_w = fold0 + 4.0f * delta * (fabsf(xc) + fabsf(yc) + fabsf(xd - 1.0f) + fabsf(yd));
     const int unfolded = (yd > fold_ab) & (kb_sq > fold_ab * fold_ab) &
                          (kcx * kcx + kcy * kcy + kcz * kcz > fold_c * fold_c) &
@@ -795,9 +966,11 @@ CNN_CF_INLINE void cnn_cff_lane(const float* CNN_CF_RESTRICT rel, int s, const s
       const float xy = (float)d->xy, zl = (float)d->z, adb = (float)d->ad_bound;
       const float inv_1tol = (float)d->inv_one_plus_tol, tol = (float)d->tol;
       const float big =
-          1.0f + cnn_cff_max(cnn_cff_max(cnn_cff_max(fabsf(xc), fabsf(yc)), cnn_cff_max(fabsf(zc), fabsf(xd))),
-                             cnn_cff_max(cnn_cff_max(fabsf(yd), fabsf(xs)), cnn_cff_max(fabsf(ys), fabsf(zs))));
-      /* Error bounds, twice the sum of the test's partial derivatives (in `big`) times delta, plus rounding. */
+          1.0f +
+          cnn_cff_max(cnn_cff_max(cnn_cff_max(fabsf(xc), fabsf(yc)), cnn_cff_max(fabsf(zc), fabsf(xd))),
+                      cnn_cff_max(cnn_cff_max(fabsf(yd), fabsf(xs)), cnn_cff_max(fabsf(ys), fabsf(zs))));
+      /* Error bounds, twice the sum of the test's partial derivatives (in `big`) times delta, plus rounding.
+       */
       const float m1 = 2.0f * delta + 8.0f * u * big;
       const float m_ad = 8.0f * big * delta + 8.0f * u * big * big;
       const float off_ad = d->ad_not_longer ? 0.0f : -1e30f, off_near = d->nearest_a ? 0.0f : -1e30f;
@@ -814,8 +987,10 @@ CNN_CF_INLINE void cnn_cff_lane(const float* CNN_CF_RESTRICT rel, int s, const s
         unsure = cnn_cff_max(unsure, v + mk);
       }
       {
-        const float vxy = cnn_cff_max(cnn_cff_max(cnn_cff_max(fabsf(xc), fabsf(yc)), cnn_cff_max(fabsf(xd), fabsf(yd))),
-                                cnn_cff_max(fabsf(xs), fabsf(ys))) - xy;
+        const float vxy =
+            cnn_cff_max(cnn_cff_max(cnn_cff_max(fabsf(xc), fabsf(yc)), cnn_cff_max(fabsf(xd), fabsf(yd))),
+                        cnn_cff_max(fabsf(xs), fabsf(ys))) -
+            xy;
         const float vz = cnn_cff_max(fabsf(zc), fabsf(zs)) - zl;
         const float mxy = m1 + 4.0f * u * xy, mz = m1 + 4.0f * u * zl;
         const float vad = (xd * xd + yd * yd - adb) + off_ad;
@@ -829,16 +1004,20 @@ CNN_CF_INLINE void cnn_cff_lane(const float* CNN_CF_RESTRICT rel, int s, const s
         /* Error bounds of the segment and nearest tests from their partial derivatives. */
         const float m_seg2 = 2.0f * (fabsf(ys) + fabsf(yd)) * delta + 8.0f * u * big * big;
         const float m_seg3 =
-            2.0f * (fabsf(xs * yd) + 2.0f * fabsf(ys * xd) + fabsf(ys * yd) + fabsf(ys * xs) + ys * ys) * delta +
+            2.0f * (fabsf(xs * yd) + 2.0f * fabsf(ys * xd) + fabsf(ys * yd) + fabsf(ys * xs) + ys * ys) *
+                delta +
             16.0f * u * big * big * big;
-        const float m_near = 4.0f * delta * (2.0f * (fabsf(xs) + fabsf(ys) + fabsf(zs)) + 2.0f + fabsf(xc) + fabsf(yc) +
-                                              fabsf(zc) + fabsf(xd) + fabsf(yd)) + 16.0f * u * big * big;
+        const float m_near = 4.0f * delta *
+                                 (2.0f * (fabsf(xs) + fabsf(ys) + fabsf(zs)) + 2.0f + fabsf(xc) + fabsf(yc) +
+                                  fabsf(zc) + fabsf(xd) + fabsf(yd)) +
+                             16.0f * u * big * big;
         const float vseg1 = -fabsf(yd) + off_seg;
         const float vseg2 = (-(ys * yd) - tol * lengths) + off_seg;
         const float vseg3 = (-(ys * (xs * yd - ys * xd)) - tol * lengths * sqrtf(r_sq)) + off_seg;
-        fail = cnn_cff_max(fail, cnn_cff_max(cnn_cff_max(vxy - mxy, vz - mz), cnn_cff_max(vad - m_ad, vnear - m_near)));
-        unsure =
-            cnn_cff_max(unsure, cnn_cff_max(cnn_cff_max(vxy + mxy, vz + mz), cnn_cff_max(vad + m_ad, vnear + m_near)));
+        fail = cnn_cff_max(
+            fail, cnn_cff_max(cnn_cff_max(vxy - mxy, vz - mz), cnn_cff_max(vad - m_ad, vnear - m_near)));
+        unsure = cnn_cff_max(
+            unsure, cnn_cff_max(cnn_cff_max(vxy + mxy, vz + mz), cnn_cff_max(vad + m_ad, vnear + m_near)));
         fail = cnn_cff_max(fail, cnn_cff_max(vseg1 - m1, cnn_cff_max(vseg2 - m_seg2, vseg3 - m_seg3)));
         unsure = cnn_cff_max(unsure, cnn_cff_max(vseg1 + m1, cnn_cff_max(vseg2 + m_seg2, vseg3 + m_seg3)));
       }
@@ -847,7 +1026,8 @@ CNN_CF_INLINE void cnn_cff_lane(const float* CNN_CF_RESTRICT rel, int s, const s
          * the frame) when the cross product's z, kz, is <= -tol |next| |prev|: kz = yd, yc, kcz, kdz at A, B,
          * C, D, each with the error bound of its fold test (tol's term, below 2 tol longest, added). */
         const float mt = 8.0f * u * longest + 2.0f * tol * longest;
-        const float va = -yd + off_convex, vb = -yc + off_convex, vc = -kcz + off_convex, vd = -kdz + off_convex;
+        const float va = -yd + off_convex, vb = -yc + off_convex, vc = -kcz + off_convex,
+                    vd = -kdz + off_convex;
         fail = cnn_cff_max(fail, cnn_cff_max(cnn_cff_max(va - fold_ab - mt, vb - fold_ab - mt),
                                              cnn_cff_max(vc - fold_c - mt, vd - fold_d - mt)));
         unsure = cnn_cff_max(unsure, cnn_cff_max(cnn_cff_max(va + fold_ab + mt, vb + fold_ab + mt),
@@ -861,20 +1041,21 @@ CNN_CF_INLINE void cnn_cff_lane(const float* CNN_CF_RESTRICT rel, int s, const s
 }
 
 /* The float pass of a block of n <= CNN_CFF_MAX_LANES bilinear lanes, d without angle bounds (or null): f (8
- * rows) and info as cnn_canonicalise_block and (d not null) cnn_domain_block give them, for the lanes decided in
- * float; the others get info row 4 = 1 and unspecified values (cnn_cff_redo, or a later double pass, decides
- * them). Returns how many lanes float did not decide. */
-CNN_CF_INLINE int cnn_cff_block(int n, const struct cnn_domain* CNN_CF_RESTRICT d, const double* CNN_CF_RESTRICT in,
-                                double* CNN_CF_RESTRICT f, double* CNN_CF_RESTRICT info) {
+ * rows) and info as cnn_canonicalise_block and (d not null) cnn_domain_block give them, for the lanes decided
+ * in float; the others get info row 4 = 1 and unspecified values (cnn_cff_redo, or a later double pass,
+ * decides them). Returns how many lanes float did not decide. */
+CNN_CF_INLINE int cnn_cff_block(int n, const struct cnn_domain* CNN_CF_RESTRICT d,
+                                const double* CNN_CF_RESTRICT in, double* CNN_CF_RESTRICT f,
+                                double* CNN_CF_RESTRICT info) {
   float rel[12 * CNN_CFF_MAX_LANES], ff[8 * CNN_CFF_MAX_LANES], fi[5 * CNN_CFF_MAX_LANES];
   double power[CNN_CFF_MAX_LANES];
   int k, l, undecided = 0;
   CNN_CF_IVDEP
   for (l = 0; l < n; ++l) {
-    /* The power of two that brings max |S| (a coordinate of the slave node, the same in every node order) into
-     * [0.5, 1), from its exponent bits: the float pass sees the same values at every power-of-two scale of the
-     * query, so it gives the same answer there, as the double pass does. NaN (the double pass) when |S| is
-     * outside [1e-290, 1e290] or not finite (a slave node at the origin takes the double pass). */
+    /* The power of two that brings max |S| (a coordinate of the slave node, the same in every node order)
+     * into [0.5, 1), from its exponent bits: the float pass sees the same values at every power-of-two scale
+     * of the query, so it gives the same answer there, as the double pass does. NaN (the double pass) when
+     * |S| is outside [1e-290, 1e290] or not finite (a slave node at the origin takes the double pass). */
     const double m = cnn_cf_max(fabs(in[12 * n + l]), cnn_cf_max(fabs(in[13 * n + l]), fabs(in[14 * n + l])));
     double bits_as_double;
     unsigned long long bits;
@@ -922,10 +1103,11 @@ CNN_CF_INLINE void cnn_cff_double_pass(int n, const struct cnn_domain* CNN_CF_RE
   if (d != 0) cnn_domain_block(n, 0, d, f, 0, info);
 }
 
-/* The lanes of a block that cnn_cff_block left undecided (info row 4 not 0): the double pass on them, gathered
- * into a block of their own, its f rows and info rows written back. */
-CNN_CF_INLINE void cnn_cff_redo(int n, const struct cnn_domain* CNN_CF_RESTRICT d, const double* CNN_CF_RESTRICT in,
-                                double* CNN_CF_RESTRICT f, double* CNN_CF_RESTRICT info) {
+/* The lanes of a block that cnn_cff_block left undecided (info row 4 not 0): the double pass on them,
+ * gathered into a block of their own, its f rows and info rows written back. */
+CNN_CF_INLINE void cnn_cff_redo(int n, const struct cnn_domain* CNN_CF_RESTRICT d,
+                                const double* CNN_CF_RESTRICT in, double* CNN_CF_RESTRICT f,
+                                double* CNN_CF_RESTRICT info) {
   double in2[15 * CNN_CFF_MAX_LANES], f2[8 * CNN_CFF_MAX_LANES], info2[CNN_CF_INFO_ROWS * CNN_CFF_MAX_LANES];
   int redo[CNN_CFF_MAX_LANES];
   int k, l, r, nr = 0;
@@ -943,18 +1125,20 @@ CNN_CF_INLINE void cnn_cff_redo(int n, const struct cnn_domain* CNN_CF_RESTRICT 
   }
 }
 
-/* True when the float pass would leave lane l of a block undecided, read from the double pass's outputs for the
- * block (f: 8 rows, info: CNN_CF_INFO_ROWS rows, cnn_canonicalise_block and cnn_domain_block, n lanes): a status
- * the float pass never decides (degenerate, invalid), a tie, |z_S| at most half the float features' error
- * bound delta (the float pass needs |z_S| above 2 delta; delta = 32 u (1 + R) / sin(angle at A) with R >= 2 /
- * sqrt(3) max |X - S|, X a node, in canonical units), or |AD| within 4 u of |AB| (the mirror test needs
- * |AD|^2 - |AB|^2 beyond 256 u max|x - S|^2, at least 21 u |AB|^2, and the float rounding of the two squares
- * stays within 168 u max|x - S|^2). Touching contact (slaves on the master's plane) and square elements meet it
- * on every lane: a caller that expects them can run the double pass first and skip the float pass where every
- * lane of the block meets it, with the same result as the float pass first. */
-CNN_CF_INLINE int cnn_cff_leaves(int n, int l, const double* CNN_CF_RESTRICT f, const double* CNN_CF_RESTRICT info) {
+/* True when the float pass would leave lane l of a block undecided, read from the double pass's outputs for
+ * the block (f: 8 rows, info: CNN_CF_INFO_ROWS rows, cnn_canonicalise_block and cnn_domain_block, n lanes): a
+ * status the float pass never decides (degenerate, invalid), a tie, |z_S| at most half the float features'
+ * error bound delta (the float pass needs |z_S| above 2 delta; delta = 32 u (1 + R) / sin(angle at A) with R
+ * >= 2 / sqrt(3) max |X - S|, X a node, in canonical units), or |AD| within 4 u of |AB| (the mirror test
+ * needs |AD|^2 - |AB|^2 beyond 256 u max|x - S|^2, at least 21 u |AB|^2, and the float rounding of the two
+ * squares stays within 168 u max|x - S|^2). Touching contact (slaves on the master's plane) and square
+ * elements meet it on every lane: a caller that expects them can run the double pass first and skip the float
+ * pass where every lane of the block meets it, with the same result as the float pass first. */
+CNN_CF_INLINE int cnn_cff_leaves(int n, int l, const double* CNN_CF_RESTRICT f,
+                                 const double* CNN_CF_RESTRICT info) {
   const double u = 5.9604644775390625e-8; /* 2^-24 */
-  const double status = info[l], xc = f[l], yc = f[n + l], zc = f[2 * n + l], xd = f[3 * n + l], yd = f[4 * n + l];
+  const double status = info[l], xc = f[l], yc = f[n + l], zc = f[2 * n + l], xd = f[3 * n + l],
+               yd = f[4 * n + l];
   const double xs = f[5 * n + l], ys = f[6 * n + l], zs = f[7 * n + l];
   const double to_a = xs * xs + ys * ys + zs * zs, to_b = (xs - 1.0) * (xs - 1.0) + ys * ys + zs * zs;
   const double to_c = (xs - xc) * (xs - xc) + (ys - yc) * (ys - yc) + (zs - zc) * (zs - zc);
@@ -967,12 +1151,12 @@ CNN_CF_INLINE int cnn_cff_leaves(int n, int l, const double* CNN_CF_RESTRICT f, 
          (info[5 * n + l] != 0.0) | on_plane | (fabs(ad_sq - 1.0) <= 4.0 * u);
 }
 
-/* A block that left at least 1 / CNN_CFF_MANY_UNDECIDED of its lanes undecided redoes them at once rather than
- * gathering them from many blocks (lib/search's choice; measured there). */
+/* A block that left at least 1 / CNN_CFF_MANY_UNDECIDED of its lanes undecided redoes them at once rather
+ * than gathering them from many blocks (lib/search's choice; measured there). */
 #define CNN_CFF_MANY_UNDECIDED 4
 
-/* cnn_cff_block_expecting with *expect set, a block of n > 1 lanes: the double pass, then the float pass unless
- * cnn_cff_leaves names every lane, its decided lanes replacing the double pass's. */
+/* cnn_cff_block_expecting with *expect set, a block of n > 1 lanes: the double pass, then the float pass
+ * unless cnn_cff_leaves names every lane, its decided lanes replacing the double pass's. */
 CNN_CF_OUTLINE void cnn_cff_double_first(int n, const struct cnn_domain* CNN_CF_RESTRICT d,
                                          const double* CNN_CF_RESTRICT in, double* CNN_CF_RESTRICT f,
                                          double* CNN_CF_RESTRICT info, int* CNN_CF_RESTRICT expect) {
@@ -990,17 +1174,17 @@ CNN_CF_OUTLINE void cnn_cff_double_first(int n, const struct cnn_domain* CNN_CF_
   *expect = 4 * leaves >= 3 * n;
 }
 
-/* The float pass of a block (n <= CNN_CFF_MAX_LANES lanes, d as cnn_cff_block) for a caller that runs blocks in
- * sequence and keeps *expect between them (0 to start with): what cnn_cff_block gives (the caller redoes or
- * defers the lanes left undecided), except that lanes it would leave undecided may come back decided by the
- * double pass (info row 4 = 0, as cnn_cff_redo leaves them); returns how many lanes are still undecided. Real
- * decks' contact pairs leave every lane to the double pass (slaves on the master's plane, square elements), and a
- * block of them paid the float pass for nothing. So: after a block that leaves 3 lanes in 4 or more undecided
- * *expect is 1; while it is 1 the double pass runs first, the float pass only where cnn_cff_leaves does not name
- * every lane (its lanes then replace the double pass's), and *expect stays 1 while cnn_cff_leaves names 3 lanes
- * in 4 or more (where fewer are, a block pays both passes: mixed data, such as the paper's grid with 4 lanes in 10
- * undecided, goes back to the float pass first). Each lane gets the bits it gets from cnn_cff_block and
- * cnn_cff_redo: *expect changes the speed, never a result. */
+/* The float pass of a block (n <= CNN_CFF_MAX_LANES lanes, d as cnn_cff_block) for a caller that runs blocks
+ * in sequence and keeps *expect between them (0 to start with): what cnn_cff_block gives (the caller redoes
+ * or defers the lanes left undecided), except that lanes it would leave undecided may come back decided by
+ * the double pass (info row 4 = 0, as cnn_cff_redo leaves them); returns how many lanes are still undecided.
+ * Real decks' contact pairs leave every lane to the double pass (slaves on the master's plane, square
+ * elements), and a block of them paid the float pass for nothing. So: after a block that leaves 3 lanes in 4
+ * or more undecided *expect is 1; while it is 1 the double pass runs first, the float pass only where
+ * cnn_cff_leaves does not name every lane (its lanes then replace the double pass's), and *expect stays 1
+ * while cnn_cff_leaves names 3 lanes in 4 or more (where fewer are, a block pays both passes: mixed data,
+ * such as the paper's grid with 4 lanes in 10 undecided, goes back to the float pass first). Each lane gets
+ * the bits it gets from cnn_cff_block and cnn_cff_redo: *expect changes the speed, never a result. */
 CNN_CF_INLINE int cnn_cff_block_expecting(int n, const struct cnn_domain* CNN_CF_RESTRICT d,
                                           const double* CNN_CF_RESTRICT in, double* CNN_CF_RESTRICT f,
                                           double* CNN_CF_RESTRICT info, int* CNN_CF_RESTRICT expect) {
@@ -1020,10 +1204,10 @@ CNN_CF_INLINE int cnn_cff_block_expecting(int n, const struct cnn_domain* CNN_CF
   return undecided;
 }
 
-/* A cheap guess that the float pass will leave one query (15 values at in[k * is], SPEC 6 order) undecided: the
- * slave within 1e-5 of the plane of the caller's A, B, D, relative to its distance from A (touching contact; a
- * slave on node A too), or |AB|^2 and |AD|^2 equal to 1e-6 (a square element). A caller that runs one query at
- * a time and so carries no expectation from block to block can set *expect from it for
+/* A cheap guess that the float pass will leave one query (15 values at in[k * is], SPEC 6 order) undecided:
+ * the slave within 1e-5 of the plane of the caller's A, B, D, relative to its distance from A (touching
+ * contact; a slave on node A too), or |AB|^2 and |AD|^2 equal to 1e-6 (a square element). A caller that runs
+ * one query at a time and so carries no expectation from block to block can set *expect from it for
  * cnn_cff_block_expecting: only the order of the two passes depends on it, never a result. */
 CNN_CF_INLINE int cnn_cff_looks_undecided(const double* CNN_CF_RESTRICT in, int is) {
   const double abx = in[3 * is] - in[0], aby = in[4 * is] - in[is], abz = in[5 * is] - in[2 * is];
@@ -1036,32 +1220,36 @@ CNN_CF_INLINE int cnn_cff_looks_undecided(const double* CNN_CF_RESTRICT in, int 
          (fabs(ab2 - ad2) <= 1e-6 * ab2);
 }
 
-/* True when a float network's bilinear block can take the float pass: n <= CNN_CFF_MAX_LANES and no angle bounds. */
+/* True when a float network's bilinear block can take the float pass: n <= CNN_CFF_MAX_LANES and no angle
+ * bounds. */
 CNN_CF_INLINE int cnn_cff_applies(int n, const struct cnn_domain* CNN_CF_RESTRICT d) {
   return n <= CNN_CFF_MAX_LANES && (d == 0 || !(d->check_lo || d->check_hi));
 }
 
 /* The block: what cnn_canonicalise_block and then (d not null) cnn_domain_block give for n bilinear lanes (f:
- * 8 rows; info: CNN_CF_INFO_ROWS rows, tie code 0 and row 4 = 0 on the lanes decided in float), the features of
- * the lanes decided in float in float precision, the others redone in double within the block. Where the float
- * pass does not apply (cnn_cff_applies), the double pass for every lane. `expect` not null: blocks in sequence,
- * *expect kept between them (cnn_cff_block_expecting; the same result, faster on touching contact). */
+ * 8 rows; info: CNN_CF_INFO_ROWS rows, tie code 0 and row 4 = 0 on the lanes decided in float), the features
+ * of the lanes decided in float in float precision, the others redone in double within the block. Where the
+ * float pass does not apply (cnn_cff_applies), the double pass for every lane. `expect` not null: blocks in
+ * sequence, *expect kept between them (cnn_cff_block_expecting; the same result, faster on touching contact).
+ */
 CNN_CF_INLINE void cnn_canonicalise_domain_block_fe(int n, const struct cnn_domain* CNN_CF_RESTRICT d,
-                                                    const double* CNN_CF_RESTRICT in, double* CNN_CF_RESTRICT f,
-                                                    double* CNN_CF_RESTRICT info, int* CNN_CF_RESTRICT expect) {
+                                                    const double* CNN_CF_RESTRICT in,
+                                                    double* CNN_CF_RESTRICT f, double* CNN_CF_RESTRICT info,
+                                                    int* CNN_CF_RESTRICT expect) {
   if (!cnn_cff_applies(n, d)) {
     cnn_cff_double_pass(n, d, in, f, info);
     return;
   }
-  if ((expect == 0 ? cnn_cff_block(n, d, in, f, info) : cnn_cff_block_expecting(n, d, in, f, info, expect)) > 0) {
+  if ((expect == 0 ? cnn_cff_block(n, d, in, f, info) : cnn_cff_block_expecting(n, d, in, f, info, expect)) >
+      0) {
     cnn_cff_redo(n, d, in, f, info);
   }
 }
 
 /* cnn_canonicalise_domain_block_fe for a block on its own (no expectation carried from block to block). */
 CNN_CF_INLINE void cnn_canonicalise_domain_block_f(int n, const struct cnn_domain* CNN_CF_RESTRICT d,
-                                                   const double* CNN_CF_RESTRICT in, double* CNN_CF_RESTRICT f,
-                                                   double* CNN_CF_RESTRICT info) {
+                                                   const double* CNN_CF_RESTRICT in,
+                                                   double* CNN_CF_RESTRICT f, double* CNN_CF_RESTRICT info) {
   cnn_canonicalise_domain_block_fe(n, d, in, f, info, 0);
 }
 

@@ -1,23 +1,24 @@
 // Internal to lib/search: the closed-form estimate on a bilinear facet, for the W lanes of a block.
 //
 // S is projected onto the plane through the facet's centre a0 spanned by its centre tangents a1 = P_xi(0,0)
-// and a2 = P_eta(0,0), whose normal n = a1 x a2 is parallel to the diagonals' cross product (C - A) x (D - B).
-// That plane, rather than the plane of A, B, D, treats the four nodes alike (the estimate does not depend on
-// the node order) and stays well defined when the angle at A is near 0 or 180 degrees; for a flat facet both
-// are the facet's own plane and the estimate is exact.
-// In the plane, q = xi a1 + eta a2 + xi eta a3 (q = S - a0, every vector projected along n) is solved as the
-// inverse bilinear map: with [x, y] = n . (x x y), which is the same for a vector and its projection,
+// and a2 = P_eta(0,0), whose normal n = a1 x a2 is parallel to the diagonals' cross product (C - A) x (D -
+// B). That plane, rather than the plane of A, B, D, treats the four nodes alike (the estimate does not depend
+// on the node order) and stays well defined when the angle at A is near 0 or 180 degrees; for a flat facet
+// both are the facet's own plane and the estimate is exact. In the plane, q = xi a1 + eta a2 + xi eta a3 (q =
+// S - a0, every vector projected along n) is solved as the inverse bilinear map: with [x, y] = n . (x x y),
+// which is the same for a vector and its projection,
 //   k2 eta^2 + k1 eta + k0 = 0,  k2 = [a3, a2],  k1 = [q, a3] + [a1, a2],  k0 = [q, a1],
 // then xi by least squares along w = a1 + eta a3. The roots come from the stable form Q = -(k1 + sign(k1)
 // sqrt(disc)) / 2, eta = k0 / Q and Q / k2: a parallelogram (k2 = 0) gives the linear root k0 / Q without a
 // division by ~0, the other root being infinite and rejected. Of the two, the one nearer the domain (smaller
 // max(|xi|, |eta|)) is taken: inside the domain when either is.
 // The facet is the block's canonical one (LaneSwap): the estimate is the same for each of the caller's node
-// orders, mapped to the caller's (xi, eta) exactly (every step is odd in xi and in eta with their coefficients).
-// Statuses: ok or outside by the domain; no_convergence when the discriminant is negative (the projected
-// point lies beyond the fold of the map: the discriminant is taken as 0 and the nearer of the two roots
-// above reported, a finite estimate that Newton can refine; as the start of a hybrid solved both ways, eta
-// first and xi first, the estimate nearer S: closed_form_beyond_fold); degenerate when the facet has no plane
+// orders, mapped to the caller's (xi, eta) exactly (every step is odd in xi and in eta with their
+// coefficients). Statuses: ok or outside by the domain; no_convergence when the discriminant is negative (the
+// projected point lies beyond the fold of the map: the discriminant is taken as 0 and the nearer of the two
+// roots above reported, a finite estimate that Newton can refine; as the start of a hybrid solved both ways,
+// eta first and xi first, the estimate nearer S: closed_form_beyond_fold); degenerate when the facet has no
+// plane
 // (|a1 x a2| <= 1e-12 |a1| |a2|) or no root is finite.
 #pragma once
 
@@ -29,13 +30,16 @@ namespace contactnn::search::detail {
 
 /// The closed form for one facet a0..a3 (S at the origin): (xi, eta), whether the point lies beyond the fold
 /// (`fold`) and whether the facet has no plane or no root is finite (`degenerate`).
-CONTACTNN_SEARCH_INLINE void closed_form_lane(const double* a0, const double* a1, const double* a2, const double* a3,
-                                              double& xi_out, double& eta_out, bool& fold, bool& degenerate) {
+CONTACTNN_SEARCH_INLINE void closed_form_lane(const double* a0, const double* a1, const double* a2,
+                                              const double* a3, double& xi_out, double& eta_out, bool& fold,
+                                              bool& degenerate) {
   const double q[3] = {-a0[0], -a0[1], -a0[2]};
-  const double n[3] = {a1[1] * a2[2] - a1[2] * a2[1], a1[2] * a2[0] - a1[0] * a2[2], a1[0] * a2[1] - a1[1] * a2[0]};
+  const double n[3] = {a1[1] * a2[2] - a1[2] * a2[1], a1[2] * a2[0] - a1[0] * a2[2],
+                       a1[0] * a2[1] - a1[1] * a2[0]};
   const double nn = n[0] * n[0] + n[1] * n[1] + n[2] * n[2];
   const auto triple = [&n](const double* x, const double* y) {
-    return n[0] * (x[1] * y[2] - x[2] * y[1]) + n[1] * (x[2] * y[0] - x[0] * y[2]) + n[2] * (x[0] * y[1] - x[1] * y[0]);
+    return n[0] * (x[1] * y[2] - x[2] * y[1]) + n[1] * (x[2] * y[0] - x[0] * y[2]) +
+           n[2] * (x[0] * y[1] - x[1] * y[0]);
   };
   // Divided by nn (~ size^4): the discriminant would be ~ size^8 and leave the double range beyond sizes of
   // 1e+-38 (at 1e+-60 the estimate was another point, or no_convergence).
@@ -76,16 +80,18 @@ CONTACTNN_SEARCH_INLINE void closed_form_lane(const double* a0, const double* a1
 
 /// For the lanes beyond the fold (`fold`, still their canonical estimate in xi, eta): the closed form solved
 /// the other way round too (xi from the quadratic, then eta), and of the two estimates the one nearer S kept,
-/// in the caller's coordinates in s. Beyond the fold each is only a point near the fold's image, and which one
-/// a facet gave depended on its parametrisation (the caller's node order, now the canonical one): the nearer is
-/// the same in any, and a better start for Newton (of 2000 random bilinear queries of the paper's domain, the
-/// one whose closed_form+newton:3 went from an error of 0.14 to 0.88 in the canonical parametrisation came
-/// back). Out of line and cold: 0.6% of such queries, whose one or two lanes in a block cost the closed form 6% (a
-/// scalar solve of long latency): done for the hybrids' start only. The closed form alone reports such a lane
-/// no_convergence, with its first estimate (the canonical parametrisation's, the same in every node order).
+/// in the caller's coordinates in s. Beyond the fold each is only a point near the fold's image, and which
+/// one a facet gave depended on its parametrisation (the caller's node order, now the canonical one): the
+/// nearer is the same in any, and a better start for Newton (of 2000 random bilinear queries of the paper's
+/// domain, the one whose closed_form+newton:3 went from an error of 0.14 to 0.88 in the canonical
+/// parametrisation came back). Out of line and cold: 0.6% of such queries, whose one or two lanes in a block
+/// cost the closed form 6% (a scalar solve of long latency): done for the hybrids' start only. The closed
+/// form alone reports such a lane no_convergence, with its first estimate (the canonical parametrisation's,
+/// the same in every node order).
 template <int W>
-[[gnu::noinline, gnu::cold]] static void closed_form_beyond_fold(const BilinearBlock<W>& b, const double* fold,
-                                                                 const double* xi, const double* eta, LaneState<W>& s) {
+[[gnu::noinline, gnu::cold]] static void closed_form_beyond_fold(const BilinearBlock<W>& b,
+                                                                 const double* fold, const double* xi,
+                                                                 const double* eta, LaneState<W>& s) {
   for (int l = 0; l < W; ++l) {
     if (fold[l] == 0.0) continue;
     double a[4][3];

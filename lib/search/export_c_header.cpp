@@ -60,11 +60,12 @@ std::string macro_value(std::string_view text, const std::string& name) {
 }
 
 template <class Real>
-void table(std::ostringstream& o, const std::string& type, const std::string& name, const Real* v, std::size_t n,
-           std::size_t per_line) {
+void table(std::ostringstream& o, const std::string& type, const std::string& name, const Real* v,
+           std::size_t n, std::size_t per_line) {
   o << "static const " << type << " " << name << "[" << n << "] = {";
   for (std::size_t i = 0; i < n; ++i) {
-    CONTACTNN_REQUIRE(std::isfinite(v[i]), "the C header's table " << name << "[" << i << "] is not finite: " << v[i]);
+    CONTACTNN_REQUIRE(std::isfinite(v[i]),
+                      "the C header's table " << name << "[" << i << "] is not finite: " << v[i]);
     o << (i == 0 ? "" : ",") << (i % per_line == 0 ? "\n  " : " ") << literal(v[i]);
   }
   o << "};\n";
@@ -86,22 +87,30 @@ void forward_pass(std::ostringstream& o, const NetworkModel& m, const std::strin
   const int n_features = sizes[0];
   const bool gregory = m.surface() == SurfaceKind::kGregory;
   if (one) {
-    o << "/* The network on one query's canonical features f[k] (n = 1 of " << p << "_forward, the same bits):\n"
+    o << "/* The network on one query's canonical features f[k] (n = 1 of " << p
+      << "_forward, the same bits):\n"
       << " * canonical local coordinates est[c]. Each layer runs across its units. */\n"
-      << "CNN_CF_INLINE void " << p << "_forward_one(const double* CNN_CF_RESTRICT f, double* CNN_CF_RESTRICT est) {\n"
+      << "CNN_CF_INLINE void " << p
+      << "_forward_one(const double* CNN_CF_RESTRICT f, double* CNN_CF_RESTRICT est) {\n"
       << "  const int n = 1;\n";
   } else {
-    o << "/* The network on n <= " << block << " lanes of canonical features f[k n + l] (cnn_canonicalise_block's\n"
-      << " * layout): canonical local coordinates est[c n + l]. lib/search's forward pass (network_block.hpp) in the\n"
-      << " * same operations and order: input map, input scaling clamped to +-1e6, each layer's sums (Eq 13) from\n"
+    o << "/* The network on n <= " << block
+      << " lanes of canonical features f[k n + l] (cnn_canonicalise_block's\n"
+      << " * layout): canonical local coordinates est[c n + l]. lib/search's forward pass "
+         "(network_block.hpp) in the\n"
+      << " * same operations and order: input map, input scaling clamped to +-1e6, each layer's sums (Eq 13) "
+         "from\n"
       << " * -theta in input order, the sigmoid of Eq 12, output scaling. */\n"
-      << "CNN_CF_INLINE void " << p << "_forward(int n, const double* CNN_CF_RESTRICT f, double* CNN_CF_RESTRICT est) {\n";
+      << "CNN_CF_INLINE void " << p
+      << "_forward(int n, const double* CNN_CF_RESTRICT f, double* CNN_CF_RESTRICT est) {\n";
   }
-  for (std::size_t l = 0; l < sizes.size(); ++l) o << "  " << net << " a" << l << "[" << sizes[l] << " * " << block << "];\n";
+  for (std::size_t l = 0; l < sizes.size(); ++l)
+    o << "  " << net << " a" << l << "[" << sizes[l] << " * " << block << "];\n";
   o << "  const double* in = f;\n  int i, l;\n";
   if (m.input_features() == InputFeatures::kAffine) {
     o << "  double g[" << n_features << " * " << block << "];\n"
-      << "  /* The affine input features (core/input_features: x = alpha + beta xd, y = beta yd; heights / sqrt(yd)). */\n"
+      << "  /* The affine input features (core/input_features: x = alpha + beta xd, y = beta yd; heights / "
+         "sqrt(yd)). */\n"
       << "  CNN_CF_IVDEP\n"
       << "  for (l = 0; l < n; ++l) {\n"
       << "    const double xd = f[3 * n + l], y = f[4 * n + l];\n"
@@ -147,7 +156,8 @@ void forward_pass(std::ostringstream& o, const NetworkModel& m, const std::strin
     << "    }\n"
     << "  }\n";
   for (int layer = 0; layer < m.layer_count(); ++layer) {
-    const int n_in = sizes[static_cast<std::size_t>(layer)], n_out = sizes[static_cast<std::size_t>(layer) + 1];
+    const int n_in = sizes[static_cast<std::size_t>(layer)],
+              n_out = sizes[static_cast<std::size_t>(layer) + 1];
     const std::string w = p + "_w" + std::to_string(layer), theta = p + "_theta" + std::to_string(layer);
     const std::string x = "a" + std::to_string(layer), y = "a" + std::to_string(layer + 1);
     o << "  { /* layer " << layer + 1 << ": " << n_out << " units of " << n_in << " inputs */\n"
@@ -162,12 +172,14 @@ void forward_pass(std::ostringstream& o, const NetworkModel& m, const std::strin
         << "      for (j = 0; j < " << n_out << "; ++j) s[j] += w[j] * x;\n"
         << "    }\n"
         << "    CNN_CF_IVDEP\n"
-        << "    for (j = 0; j < " << n_out << "; ++j) " << y << "[j] = " << sigmoid << "(s[j], " << p << "_gain);\n"
+        << "    for (j = 0; j < " << n_out << "; ++j) " << y << "[j] = " << sigmoid << "(s[j], " << p
+        << "_gain);\n"
         << "  }\n";
       continue;
     }
     // Groups of kUnitsTogether units, then single units; each unit's sum is the same chain either way. The
-    // bounds are constants (a loop that starts where another ended trips GCC's -Waggressive-loop-optimizations).
+    // bounds are constants (a loop that starts where another ended trips GCC's
+    // -Waggressive-loop-optimizations).
     const int grouped = n_out - n_out % kUnitsTogether;
     for (const int units : {kUnitsTogether, 1}) {
       const int first = units == 1 ? grouped : 0, end = units == 1 ? n_out : grouped;
@@ -183,7 +195,8 @@ void forward_pass(std::ostringstream& o, const NetworkModel& m, const std::strin
         << "      for (i = 0; i < " << n_in << "; ++i) {\n"
         << "        const " << net << "* CNN_CF_RESTRICT x = " << x << " + i * n;\n";
       for (int u = 0; u < units; ++u) {
-        o << "        const " << net << " w" << u << " = " << w << "[(j + " << u << ") * " << n_in << " + i];\n";
+        o << "        const " << net << " w" << u << " = " << w << "[(j + " << u << ") * " << n_in
+          << " + i];\n";
       }
       o << "        CNN_CF_IVDEP\n"
         << "        for (l = 0; l < n; ++l) {\n";
@@ -193,7 +206,8 @@ void forward_pass(std::ostringstream& o, const NetworkModel& m, const std::strin
         << "      CNN_CF_IVDEP\n"
         << "      for (l = 0; l < n; ++l) {\n";
       for (int u = 0; u < units; ++u) {
-        o << "        " << y << "[(j + " << u << ") * n + l] = " << sigmoid << "(s" << u << "[l], " << p << "_gain);\n";
+        o << "        " << y << "[(j + " << u << ") * n + l] = " << sigmoid << "(s" << u << "[l], " << p
+          << "_gain);\n";
       }
       o << "      }\n"
         << "    }\n";
@@ -204,8 +218,8 @@ void forward_pass(std::ostringstream& o, const NetworkModel& m, const std::strin
   o << "  for (i = 0; i < 2; ++i) {\n"
     << "    const double lo = " << p << "_output_min[i], inverse_gain = " << p << "_output_inverse_gain[i];\n"
     << "    CNN_CF_IVDEP\n"
-    << "    for (l = 0; l < n; ++l) est[i * n + l] = lo + ((double)" << last << "[i * n + l] - " << literal(m.target_low())
-    << ") * inverse_gain;\n"
+    << "    for (l = 0; l < n; ++l) est[i * n + l] = lo + ((double)" << last << "[i * n + l] - "
+    << literal(m.target_low()) << ") * inverse_gain;\n"
     << "  }\n"
     << "}\n\n";
 }
@@ -217,7 +231,8 @@ void parameter_tables(std::ostringstream& o, const NetworkModel& m, const std::s
   for (int l = 0; l < m.layer_count(); ++l) {
     const auto n_in = static_cast<std::size_t>(sizes[static_cast<std::size_t>(l)]);
     const auto n_out = static_cast<std::size_t>(sizes[static_cast<std::size_t>(l) + 1]);
-    o << "/* Layer " << l + 1 << ": W (" << n_out << " units x " << n_in << " inputs, row-major) and theta. */\n";
+    o << "/* Layer " << l + 1 << ": W (" << n_out << " units x " << n_in
+      << " inputs, row-major) and theta. */\n";
     table(o, net, p + "_w" + std::to_string(l), m.weights<Net>(l), n_out * n_in, n_in);
     // NetworkModel's transposed copy (the library's one-query pass), without its padding units.
     const Net* padded = m.transposed_weights<Net>(l);
@@ -226,7 +241,8 @@ void parameter_tables(std::ostringstream& o, const NetworkModel& m, const std::s
     for (std::size_t i = 0; i < n_in; ++i) {
       transposed.insert(transposed.end(), padded + i * stride, padded + i * stride + n_out);
     }
-    o << "/* The same W transposed (" << n_in << " inputs x " << n_out << " units), for the one-query pass. */\n";
+    o << "/* The same W transposed (" << n_in << " inputs x " << n_out
+      << " units), for the one-query pass. */\n";
     table(o, net, p + "_w" + std::to_string(l) + "t", transposed.data(), n_out * n_in, n_out);
     table(o, net, p + "_theta" + std::to_string(l), m.thresholds<Net>(l), n_out, 8);
   }
@@ -257,44 +273,58 @@ std::string export_c_header(const NetworkModel& m, const CHeaderOptions& options
 
   std::ostringstream o;
   // 1. What it is and how to call it.
-  o << "/* Generated by contactnn (search::export_c_header; train-net --export-header). Do not edit: regenerate\n"
+  o << "/* Generated by contactnn (search::export_c_header; train-net --export-header). Do not edit: "
+       "regenerate\n"
     << " * from the network file.\n"
     << " * " << (options.description.empty() ? std::string("contactnn network") : options.description) << "\n"
     << " * " << to_string(m.surface()) << " segment; sigmoid network";
   for (std::size_t l = 0; l < m.layer_sizes().size(); ++l) o << (l ? "-" : " ") << m.layer_sizes()[l];
-  o << ", computed in " << real << ", "
-    << (m.input_features() == InputFeatures::kAffine ? "affine" : "paper") << " input features; training domain "
-    << (options.check_domain ? "checked" : "not checked") << ".\n"
+  o << ", computed in " << real << ", " << (m.input_features() == InputFeatures::kAffine ? "affine" : "paper")
+    << " input features; training domain " << (options.check_domain ? "checked" : "not checked") << ".\n"
     << " *\n"
     << " *   int " << p << "_local_coordinates(const double raw[" << n_raw << "], double out[2]);\n"
-    << " *   void " << p << "_local_coordinates_batch(size_t n, const double* raw, double* out, int* status);\n"
+    << " *   void " << p
+    << "_local_coordinates_batch(size_t n, const double* raw, double* out, int* status);\n"
     << " *\n"
-    << " * raw: ax ay az bx by bz cx cy cz dx dy dz sx sy sz (world coordinates of the segment's nodes A, B, C, D\n"
-    << " * counter-clockwise, and of the slave node S" << (gregory ? "), then the node normals nax nay naz ... ndz (any\n"
-                                                              " * positive length"
-                                                            : "")
+    << " * raw: ax ay az bx by bz cx cy cz dx dy dz sx sy sz (world coordinates of the segment's nodes A, B, "
+       "C, D\n"
+    << " * counter-clockwise, and of the slave node S"
+    << (gregory ? "), then the node normals nax nay naz ... ndz (any\n"
+                  " * positive length"
+                : "")
     << "), in any node order.\n"
     << " * out: " << (gregory ? "(u, v) in [0, 1]^2" : "(xi, eta) in [-1, 1]^2")
     << ", the network's estimate of the closest point, in the caller's node order.\n"
-    << " * Returns 0 on success, 1 for a non-finite input or a degenerate segment (out untouched), 2 when the\n"
+    << " * Returns 0 on success, 1 for a non-finite input or a degenerate segment (out untouched), 2 when "
+       "the\n"
     << " * canonical configuration lies outside the network's training domain (out is written, but it is an\n"
-    << " * extrapolation). The batch: n queries, raw n x " << n_raw << " and out n x 2 row-major, status[i] the\n"
+    << " * extrapolation). The batch: n queries, raw n x " << n_raw
+    << " and out n x 2 row-major, status[i] the\n"
     << " * code query i would return alone (rows of status 1 untouched).\n"
     << " *\n"
-    << " * Each query is contactnn's LocalSearch method \"network\", computed by the same C99 kernels (embedded\n"
-    << " * below, verbatim): the canonical configuration of SPEC 4 (relabelling, frame, z orientation); on a tie\n"
-    << " * (a slave as near two nodes, ...) the mean over every tied canonical form, so that the answer does not\n"
+    << " * Each query is contactnn's LocalSearch method \"network\", computed by the same C99 kernels "
+       "(embedded\n"
+    << " * below, verbatim): the canonical configuration of SPEC 4 (relabelling, frame, z orientation); on a "
+       "tie\n"
+    << " * (a slave as near two nodes, ...) the mean over every tied canonical form, so that the answer does "
+       "not\n"
     << " * depend on the node order; the input scaling; the forward pass; the domain test of\n"
     << " * TrainingDomain::contains (feature ranges and the generator's filters).\n"
-    << " * The batch runs blocks of " << kBlockLanes << " queries through loops over the queries that GCC and Clang vectorise at\n"
-    << " * -O3 given -fno-math-errno -fno-trapping-math (neither changes a result; without them the same code runs\n"
+    << " * The batch runs blocks of " << kBlockLanes
+    << " queries through loops over the queries that GCC and Clang vectorise at\n"
+    << " * -O3 given -fno-math-errno -fno-trapping-math (neither changes a result; without them the same "
+       "code runs\n"
     << " * scalar). Its results are those of the one-query function bit for bit where the compiler does not\n"
-    << " * contract multiply-adds (ISO C modes such as -std=c99, or -ffp-contract=off); with contraction (GNU\n"
-    << " * modes, C++) the vectorised and the one-query code contract differently: the same to the rounding of\n"
+    << " * contract multiply-adds (ISO C modes such as -std=c99, or -ffp-contract=off); with contraction "
+       "(GNU\n"
+    << " * modes, C++) the vectorised and the one-query code contract differently: the same to the rounding "
+       "of\n"
     << " * the network's precision (" << real << ").\n";
   if (!gregory && m.is_float()) {
-    o << " * After a block whose lanes the float frame mostly cannot decide (touching contact: slaves on the\n"
-      << " * master's plane; square elements), the batch runs the frame in double first for the next (the same\n"
+    o << " * After a block whose lanes the float frame mostly cannot decide (touching contact: slaves on "
+         "the\n"
+      << " * master's plane; square elements), the batch runs the frame in double first for the next (the "
+         "same\n"
       << " * results, faster on real decks); the one-query function guesses the order from the query itself\n"
       << " * (cnn_cff_looks_undecided: a slave on the plane of A, B, D or a square corner at A).\n";
   }
@@ -306,11 +336,13 @@ std::string export_c_header(const NetworkModel& m, const CHeaderOptions& options
     << "#ifndef " << guard << "\n#define " << guard << "\n\n#include <math.h>\n#include <stddef.h>\n\n";
 
   // 2. lib/search's kernels, verbatim.
-  o << "/* ======== lib/search/canonical_frame.h, verbatim ======== */\n" << frame
-    << "\n/* ======== lib/search/vector_sigmoid.h, verbatim ======== */\n" << sigmoid << "\n"
+  o << "/* ======== lib/search/canonical_frame.h, verbatim ======== */\n"
+    << frame << "\n/* ======== lib/search/vector_sigmoid.h, verbatim ======== */\n"
+    << sigmoid << "\n"
     << "/* ======== the network ======== */\n"
-    << "#if CNN_CANONICAL_FRAME_VERSION != " << frame_version << " || CNN_VECTOR_SIGMOID_VERSION != " << sigmoid_version
-    << "\n#error \"" << p << ": a header included earlier in this translation unit brought other versions of canonical_frame.h or "
+    << "#if CNN_CANONICAL_FRAME_VERSION != " << frame_version
+    << " || CNN_VECTOR_SIGMOID_VERSION != " << sigmoid_version << "\n#error \"" << p
+    << ": a header included earlier in this translation unit brought other versions of canonical_frame.h or "
     << "vector_sigmoid.h; regenerate the exported headers with one contactnn\"\n#endif\n\n";
 
   // 3. Tables: parameters, scaling, domain.
@@ -319,11 +351,13 @@ std::string export_c_header(const NetworkModel& m, const CHeaderOptions& options
   } else {
     parameter_tables<double>(o, m, p);
   }
-  o << "/* Input scaling x_s = (x - min) gain - 1, output t = min + (o - target_low) inverse_gain (mlp::Scaling). */\n";
+  o << "/* Input scaling x_s = (x - min) gain - 1, output t = min + (o - target_low) inverse_gain "
+       "(mlp::Scaling). */\n";
   table(o, "double", p + "_input_min", m.input_min().data(), m.input_min().size(), 4);
   table(o, "double", p + "_input_gain", m.input_gain().data(), m.input_gain().size(), 4);
   table(o, "double", p + "_output_min", m.output_min().data(), m.output_min().size(), 4);
-  table(o, "double", p + "_output_inverse_gain", m.output_inverse_gain().data(), m.output_inverse_gain().size(), 4);
+  table(o, "double", p + "_output_inverse_gain", m.output_inverse_gain().data(),
+        m.output_inverse_gain().size(), 4);
   if (options.check_domain) {
     o << "/* The training domain as cnn_domain_lane tests it (search::domain_bounds). */\n"
       << "static const struct cnn_domain " << p << "_domain = {\n";
@@ -339,12 +373,13 @@ std::string export_c_header(const NetworkModel& m, const CHeaderOptions& options
     };
     row("lo", d.lo, 16);
     row("hi", d.hi, 16);
-    o << "  /* xy */ " << literal(d.xy) << ", /* z */ " << literal(d.z) << ", /* ad_bound */ " << literal(d.ad_bound)
-      << ", /* inv_one_plus_tol */ " << literal(d.inv_one_plus_tol) << ",\n"
+    o << "  /* xy */ " << literal(d.xy) << ", /* z */ " << literal(d.z) << ", /* ad_bound */ "
+      << literal(d.ad_bound) << ", /* inv_one_plus_tol */ " << literal(d.inv_one_plus_tol) << ",\n"
       << "  /* tol */ " << literal(d.tol) << ", /* cos_lo */ " << literal(d.cos_lo) << ", /* cos_hi */ "
       << literal(d.cos_hi) << ", /* tilt */ " << literal(d.tilt) << ",\n"
-      << "  /* features */ " << d.features << ", /* ad_not_longer */ " << d.ad_not_longer << ", /* nearest_a */ "
-      << d.nearest_a << ", /* segment_test */ " << d.segment_test << ", /* convex */ " << d.convex << ",\n"
+      << "  /* features */ " << d.features << ", /* ad_not_longer */ " << d.ad_not_longer
+      << ", /* nearest_a */ " << d.nearest_a << ", /* segment_test */ " << d.segment_test << ", /* convex */ "
+      << d.convex << ",\n"
       << "  /* check_lo */ " << d.check_lo << ", /* check_hi */ " << d.check_hi << "};\n";
   }
   o << "\nenum { " << block << " = " << kBlockLanes << " };\n\n";
@@ -360,10 +395,13 @@ std::string export_c_header(const NetworkModel& m, const CHeaderOptions& options
 
   // 5. Ties: lib/search's tie_estimate (kernels_single.cpp).
   o << "/* A query on a tie: the mean over its canonical forms in the domain (cnn_cf_forms, in\n"
-    << " * geometry::canonical_forms' order) of the network's estimate in the caller's node order; when no form is\n"
+    << " * geometry::canonical_forms' order) of the network's estimate in the caller's node order; when no "
+       "form is\n"
     << " * in the domain, the mean over every form, out of the domain. */\n"
-    << "static inline void " << p << "_tie(const double* CNN_CF_RESTRICT x, double* u, double* v, double* code) {\n"
-    << "  double f[16 * CNN_CF_MAX_FORMS], nrm[12 * CNN_CF_MAX_FORMS], info[CNN_CF_INFO_ROWS * CNN_CF_MAX_FORMS];\n"
+    << "static inline void " << p
+    << "_tie(const double* CNN_CF_RESTRICT x, double* u, double* v, double* code) {\n"
+    << "  double f[16 * CNN_CF_MAX_FORMS], nrm[12 * CNN_CF_MAX_FORMS], info[CNN_CF_INFO_ROWS * "
+       "CNN_CF_MAX_FORMS];\n"
     << "  double all_u = 0.0, all_v = 0.0, in_u = 0.0, in_v = 0.0, inside = 0.0;\n"
     << "  int k;\n"
     << "  const int count = cnn_cf_forms(x, " << g << ", f, nrm, info);\n"
@@ -371,7 +409,8 @@ std::string export_c_header(const NetworkModel& m, const CHeaderOptions& options
     << "  for (k = 0; k < count; ++k) {\n"
     << "    double e[2], c = (double)CNN_CF_STATUS_OK;\n";
   if (options.check_domain) {
-    o << "    cnn_domain_lane(&" << p << "_domain, " << g << ", " << (angles ? 1 : 0) << ", f + 16 * k, nrm + 12 * k, 1, &c);\n";
+    o << "    cnn_domain_lane(&" << p << "_domain, " << g << ", " << (angles ? 1 : 0)
+      << ", f + 16 * k, nrm + 12 * k, 1, &c);\n";
   }
   o << "    " << p << "_forward_one(f + 16 * k, e);\n"
     << "    cnn_cf_to_caller(info[CNN_CF_INFO_ROWS * k + 1], " << centre << ", &e[0], &e[1]);\n"
@@ -388,25 +427,34 @@ std::string export_c_header(const NetworkModel& m, const CHeaderOptions& options
     << "  *code = inside > 0.0 ? (double)CNN_CF_STATUS_OK : (double)CNN_CF_STATUS_OUT_OF_DOMAIN;\n"
     << "}\n\n";
 
-  // 5b. The tie lanes of a block: lib/search's tie_estimates_block (the forms of all tie lanes, a block at a time).
+  // 5b. The tie lanes of a block: lib/search's tie_estimates_block (the forms of all tie lanes, a block at a
+  // time).
   const std::string domain_arg = options.check_domain ? "&" + p + "_domain" : std::string();
-  o << "/* count <= " << kBlockLanes << " forms (rows in `in`, " << kBlockLanes << " lanes, the empty slots copies of the first) with\n"
-    << " * symmetry sym and z orientation zo forced: each form's estimate in the caller's order, whether it exists,\n"
+  o << "/* count <= " << kBlockLanes << " forms (rows in `in`, " << kBlockLanes
+    << " lanes, the empty slots copies of the first) with\n"
+    << " * symmetry sym and z orientation zo forced: each form's estimate in the caller's order, whether it "
+       "exists,\n"
     << " * whether it lies in the domain. */\n"
-    << "static void " << p << "_forms(int count, const double* CNN_CF_RESTRICT in, const int* CNN_CF_RESTRICT sym,\n"
-    << "                        const int* CNN_CF_RESTRICT zo, double* CNN_CF_RESTRICT x, double* CNN_CF_RESTRICT y,\n"
+    << "static void " << p
+    << "_forms(int count, const double* CNN_CF_RESTRICT in, const int* CNN_CF_RESTRICT sym,\n"
+    << "                        const int* CNN_CF_RESTRICT zo, double* CNN_CF_RESTRICT x, double* "
+       "CNN_CF_RESTRICT y,\n"
     << "                        int* CNN_CF_RESTRICT valid, int* CNN_CF_RESTRICT inside) {\n"
-    << "  double f[16 * " << block << "], nrm[12 * " << block << "], info[CNN_CF_INFO_ROWS * " << block << "], e[2 * " << block << "];\n"
+    << "  double f[16 * " << block << "], nrm[12 * " << block << "], info[CNN_CF_INFO_ROWS * " << block
+    << "], e[2 * " << block << "];\n"
     << "  int s;\n"
     << "  CNN_CF_IVDEP\n"
-    << "  for (s = 0; s < " << block << "; ++s) cnn_cf_lane(in + s, " << block << ", " << g << ", 1, sym[s], zo[s], f + s, nrm + s, info + s, " << block << ");\n"
+    << "  for (s = 0; s < " << block << "; ++s) cnn_cf_lane(in + s, " << block << ", " << g
+    << ", 1, sym[s], zo[s], f + s, nrm + s, info + s, " << block << ");\n"
     << "  for (s = 0; s < count; ++s) {\n"
     << "    if (info[4 * " << block << " + s] != 0.0) {\n"
-    << "      cnn_cf_lane_scaled(in + s, " << block << ", " << g << ", 1, sym[s], zo[s], f + s, nrm + s, info + s, " << block << ");\n"
+    << "      cnn_cf_lane_scaled(in + s, " << block << ", " << g
+    << ", 1, sym[s], zo[s], f + s, nrm + s, info + s, " << block << ");\n"
     << "    }\n"
     << "    valid[s] = info[s] == (double)CNN_CF_STATUS_OK;\n"
     << "  }\n";
-  if (options.check_domain) o << "  cnn_domain_block(" << block << ", " << g << ", " << domain_arg << ", f, nrm, info);\n";
+  if (options.check_domain)
+    o << "  cnn_domain_block(" << block << ", " << g << ", " << domain_arg << ", f, nrm, info);\n";
   o << "  " << p << "_forward(" << block << ", f, e);\n"
     << "  for (s = 0; s < count; ++s) {\n"
     << "    x[s] = e[s];\n"
@@ -415,17 +463,23 @@ std::string export_c_header(const NetworkModel& m, const CHeaderOptions& options
     << "    inside[s] = info[s] == (double)CNN_CF_STATUS_OK;\n"
     << "  }\n"
     << "}\n\n"
-    << "/* The tie lanes of a block of n > 1 lanes (lanes[0 .. n_ties - 1]; raw: the block's rows; info: its info\n"
-    << " * rows): what " << p << "_tie gives each, with form 0 the block's own estimate (u, v, code of the lane) and\n"
-    << " * the other forms (cnn_cf_symmetries, and on a Gregory z tie each orientation of z, in cnn_cf_forms' order)\n"
-    << " * computed " << kBlockLanes << " at a time through the batch's forward pass, summed in the order " << p << "_tie sums\n"
+    << "/* The tie lanes of a block of n > 1 lanes (lanes[0 .. n_ties - 1]; raw: the block's rows; info: its "
+       "info\n"
+    << " * rows): what " << p
+    << "_tie gives each, with form 0 the block's own estimate (u, v, code of the lane) and\n"
+    << " * the other forms (cnn_cf_symmetries, and on a Gregory z tie each orientation of z, in "
+       "cnn_cf_forms' order)\n"
+    << " * computed " << kBlockLanes << " at a time through the batch's forward pass, summed in the order "
+    << p << "_tie sums\n"
     << " * them. */\n"
-    << "static void " << p << "_ties(int n, const double* CNN_CF_RESTRICT raw, const double* CNN_CF_RESTRICT info,\n"
+    << "static void " << p
+    << "_ties(int n, const double* CNN_CF_RESTRICT raw, const double* CNN_CF_RESTRICT info,\n"
     << "                       const int* CNN_CF_RESTRICT lanes, int n_ties, double* CNN_CF_RESTRICT u,\n"
     << "                       double* CNN_CF_RESTRICT v, double* CNN_CF_RESTRICT code) {\n"
     << "  enum { max_forms = CNN_CF_MAX_FORMS * " << block << " };\n"
     << "  double in[" << n_raw << " * " << block << "], x[max_forms], y[max_forms];\n"
-    << "  double all_u[" << block << "], all_v[" << block << "], forms[" << block << "], in_u[" << block << "], in_v[" << block << "], inside[" << block << "];\n"
+    << "  double all_u[" << block << "], all_v[" << block << "], forms[" << block << "], in_u[" << block
+    << "], in_v[" << block << "], inside[" << block << "];\n"
     << "  int owner[max_forms], sym[max_forms], zo[max_forms], valid[max_forms], in_domain[max_forms];\n"
     << "  int count = 0, done, t, k, z, c, s;\n"
     << "  for (t = 0; t < n_ties; ++t) {\n"
@@ -485,12 +539,15 @@ std::string export_c_header(const NetworkModel& m, const CHeaderOptions& options
 
   // 6. A block of n lanes: lib/search's network_estimate.
   const bool float_frame = !gregory && m.is_float();
-  o << "/* n <= " << block << " queries (rows of " << n_raw << "): canonical frame, domain test, forward pass for all lanes\n"
+  o << "/* n <= " << block << " queries (rows of " << n_raw
+    << "): canonical frame, domain test, forward pass for all lanes\n"
     << " * at once, then each lane mapped back to the caller's order (ties through " << p << "_tie). */\n"
-    << "CNN_CF_INLINE void " << p << "_block(int n, const double* CNN_CF_RESTRICT raw, double* CNN_CF_RESTRICT out,\n"
+    << "CNN_CF_INLINE void " << p
+    << "_block(int n, const double* CNN_CF_RESTRICT raw, double* CNN_CF_RESTRICT out,\n"
     << "                                  int* CNN_CF_RESTRICT status, int* CNN_CF_RESTRICT expect) {\n"
     << "  double in[" << n_raw << " * " << block << "], f[16 * " << block << "], "
-    << (float_frame ? std::string() : "nrm[12 * " + block + "], ") << "info[CNN_CF_INFO_ROWS * " << block << "];\n"
+    << (float_frame ? std::string() : "nrm[12 * " + block + "], ") << "info[CNN_CF_INFO_ROWS * " << block
+    << "];\n"
     << "  double est[2 * " << block << "];\n"
     << "  int k, l;\n"
     << "  for (l = 0; l < n; ++l) {\n"
@@ -501,8 +558,8 @@ std::string export_c_header(const NetworkModel& m, const CHeaderOptions& options
     // decides them, the other lanes in double (canonical_frame.h), so that the header agrees bit for bit.
     // The batch keeps *expect from block to block (cnn_cff_block_expecting: the double pass first on touching
     // contact; the same bits).
-    o << "  cnn_canonicalise_domain_block_fe(n, " << (options.check_domain ? "&" + p + "_domain" : std::string("0"))
-      << ", in, f, info, expect);\n";
+    o << "  cnn_canonicalise_domain_block_fe(n, "
+      << (options.check_domain ? "&" + p + "_domain" : std::string("0")) << ", in, f, info, expect);\n";
   } else {
     o << "  (void)expect;\n";
     o << "  cnn_canonicalise_block(n, " << g << ", in, f, nrm, info);\n";
@@ -514,14 +571,16 @@ std::string export_c_header(const NetworkModel& m, const CHeaderOptions& options
     << "    " << p << "_forward(n, f, est);\n"
     << "  }\n"
     << "  {\n"
-    << "    /* The lanes mapped to the caller's order; those on a tie then get the mean over their forms. */\n"
+    << "    /* The lanes mapped to the caller's order; those on a tie then get the mean over their forms. "
+       "*/\n"
     << "    double u[" << block << "], v[" << block << "], code[" << block << "];\n"
     << "    int ties[" << block << "], n_ties = 0;\n"
     << "    for (l = 0; l < n; ++l) {\n"
     << "      code[l] = info[l];\n"
     << "      u[l] = est[l];\n"
     << "      v[l] = est[n + l];\n"
-    << "      if (code[l] != (double)CNN_CF_STATUS_OK && code[l] != (double)CNN_CF_STATUS_OUT_OF_DOMAIN) continue;\n"
+    << "      if (code[l] != (double)CNN_CF_STATUS_OK && code[l] != (double)CNN_CF_STATUS_OUT_OF_DOMAIN) "
+       "continue;\n"
     << "      cnn_cf_to_caller(info[n + l], " << centre << ", &u[l], &v[l]);\n"
     << "      if (cnn_cf_needs_forms(info[5 * n + l], " << g << ")) ties[n_ties++] = l;\n"
     << "    }\n"
@@ -550,12 +609,15 @@ std::string export_c_header(const NetworkModel& m, const CHeaderOptions& options
     << "  " << p << "_block(1, raw, out, &status, " << (float_frame ? "&expect" : "0") << ");\n"
     << "  return status;\n"
     << "}\n\n"
-    << "/* Blocks of " << block << " queries; the last, partial block padded with copies of its last query. */\n"
-    << "static inline void " << p << "_local_coordinates_batch(size_t n, const double* raw, double* out, int* status) {\n"
+    << "/* Blocks of " << block
+    << " queries; the last, partial block padded with copies of its last query. */\n"
+    << "static inline void " << p
+    << "_local_coordinates_batch(size_t n, const double* raw, double* out, int* status) {\n"
     << "  size_t i = 0;\n"
     << "  int expect = 0;\n"
     << "  for (; i + " << block << " <= n; i += " << block << ") {\n"
-    << "    " << p << "_block(" << block << ", raw + i * " << n_raw << ", out + 2 * i, status + i, &expect);\n"
+    << "    " << p << "_block(" << block << ", raw + i * " << n_raw
+    << ", out + 2 * i, status + i, &expect);\n"
     << "  }\n"
     << "  if (i < n) {\n"
     << "    double pad[" << block << " * " << n_raw << "], pad_out[2 * " << block << "];\n"

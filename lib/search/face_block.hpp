@@ -7,9 +7,9 @@
 //   tri3   P = c0 + c1 r + c2 s
 //   tri6   P = c0 + c1 r + c2 s + c3 r^2 + c4 r s + c5 s^2
 //   quad8  P = c0 + c1 x + c2 y + c3 x^2 + c4 x y + c5 y^2 + c6 x^2 y + c7 x y^2      (x = xi, y = eta)
-// from the nodes by the shape functions of geometry::QuadraticTriangle and geometry::SerendipityQuad (the same
-// expressions; the tests compare both). Eqs 7-8 and their exact Jacobian follow from the monomials: a step
-// costs the point, two tangents and three second derivatives.
+// from the nodes by the shape functions of geometry::QuadraticTriangle and geometry::SerendipityQuad (the
+// same expressions; the tests compare both). Eqs 7-8 and their exact Jacobian follow from the monomials: a
+// step costs the point, two tangents and three second derivatives.
 #pragma once
 
 #include <cmath>
@@ -29,7 +29,8 @@ class FaceNetwork;
 namespace contactnn::search::detail {
 
 template <class Real>
-using FaceBlockFn = void (*)(const FacePlan& plan, const Real* raw, const Results<Real>& out, std::size_t first);
+using FaceBlockFn = void (*)(const FacePlan& plan, const Real* raw, const Results<Real>& out,
+                             std::size_t first);
 
 /// What a FaceSearch fixed at construction, and its kernels (one variant's).
 struct FacePlan {
@@ -38,8 +39,8 @@ struct FacePlan {
   Method method;
   SearchOptions options;
   const FaceNetwork* network = nullptr;
-  double box_margin = 0.0;     ///< hybrids: iterates stay in the domain enlarged by this (parameter units)
-  double max_step = 0.0;       ///< hybrids: the longest step (max norm, parameter units)
+  double box_margin = 0.0;  ///< hybrids: iterates stay in the domain enlarged by this (parameter units)
+  double max_step = 0.0;    ///< hybrids: the longest step (max norm, parameter units)
   int block_size = 32;
   FaceBlockFn<float> block_f = nullptr, single_f = nullptr;
   FaceBlockFn<double> block_d = nullptr, single_d = nullptr;
@@ -81,12 +82,12 @@ struct FaceBlock {
   /// S's distance to the face's nearest node, in the block's units: a gap's cap.
   double nearest[W];
 
-  /// From raw[k][l] (the rows of SPEC 9 nodes, then S). A lane with a non-finite value gets status kInvalid and
-  /// a unit face one below S in its place (no NaN in the other lanes' vector operations).
+  /// From raw[k][l] (the rows of SPEC 9 nodes, then S). A lane with a non-finite value gets status kInvalid
+  /// and a unit face one below S in its place (no NaN in the other lanes' vector operations).
   CONTACTNN_SEARCH_INLINE void build(const double (*raw)[W]) {
     constexpr int kN = T::kNodes;
-    // Loops over the values outside and the lanes inside: each vectorises across the lanes (a lane loop around
-    // the 21 to 27 values ran them as one scalar chain per lane: 38% of a tri6 query's time).
+    // Loops over the values outside and the lanes inside: each vectorises across the lanes (a lane loop
+    // around the 21 to 27 values ran them as one scalar chain per lane: 38% of a tri6 query's time).
     double x[3 * kN][W], check[W], largest[W], inv[W], finite[W];
     for (int l = 0; l < W; ++l) check[l] = largest[l] = 0.0;
     for (int k = 0; k < T::kStride; ++k) {
@@ -121,7 +122,8 @@ struct FaceBlock {
     for (int i = 0; i < kN; ++i) {
 #pragma omp simd
       for (int l = 0; l < W; ++l) {
-        near[l] = min_of(near[l], x[3 * i][l] * x[3 * i][l] + x[3 * i + 1][l] * x[3 * i + 1][l] + x[3 * i + 2][l] * x[3 * i + 2][l]);
+        near[l] = min_of(near[l], x[3 * i][l] * x[3 * i][l] + x[3 * i + 1][l] * x[3 * i + 1][l] +
+                                      x[3 * i + 2][l] * x[3 * i + 2][l]);
       }
     }
 #pragma omp simd
@@ -188,7 +190,8 @@ struct FaceBlock {
         e[comp] = corner[3 * p + comp][l] - corner[3 * q + comp][l];
         f[comp] = corner[3 * r + comp][l] - corner[3 * s + comp][l];
       }
-      const double x = e[1] * f[2] - e[2] * f[1], y = e[2] * f[0] - e[0] * f[2], z = e[0] * f[1] - e[1] * f[0];
+      const double x = e[1] * f[2] - e[2] * f[1], y = e[2] * f[0] - e[0] * f[2],
+                   z = e[0] * f[1] - e[1] * f[0];
       return x * x + y * y + z * z;
     };
     const double l4 = longest * longest;
@@ -217,7 +220,7 @@ struct FaceBlock {
     // tri: (0,0), (1,0), (0,1), mid-sides; quad: (-1,-1), (1,-1), (1,1), (-1,1), mid-sides.
     constexpr double kTri[18] = {0, 0, -1, 1, 0, -1, 0, 1, -1, 0.5, 0, -1, 0.5, 0.5, -1, 0, 0.5, -1};
     constexpr double kQuad[24] = {-1, -1, -1, 1, -1, -1, 1, 1, -1, -1, 1, -1,
-                                  0, -1, -1, 1, 0, -1, 0, 1, -1, -1, 0, -1};
+                                  0,  -1, -1, 1, 0,  -1, 0, 1, -1, -1, 0, -1};
     return T::kTriangle ? kTri[k] : kQuad[k];
   }
 
@@ -380,8 +383,8 @@ CONTACTNN_SEARCH_INLINE FaceStep face_newton_step(const FaceBlock<kFace, W>& f, 
 
 /// Plain Newton from the lanes' iterates: `steps` undamped steps (to_convergence false), or until the step is
 /// at most tol (max norm) within `steps` (to_convergence true: a lane still running after them gets
-/// no_convergence). A lane stops with degenerate where det H = 0 and with no_convergence where the step is not
-/// finite, keeping its last iterate.
+/// no_convergence). A lane stops with degenerate where det H = 0 and with no_convergence where the step is
+/// not finite, keeping its last iterate.
 template <int kFace, int W>
 static void face_plain_newton(const FaceBlock<kFace, W>& f, int steps, bool to_convergence, double tol,
                               LaneState<W>& s) {
@@ -397,7 +400,8 @@ static void face_plain_newton(const FaceBlock<kFace, W>& f, int steps, bool to_c
       s.u[l] = move ? s.u[l] + step.ds : s.u[l];
       s.v[l] = move ? s.v[l] + step.dt : s.v[l];
       s.iterations[l] += move ? 1.0 : 0.0;
-      s.status[l] = !run ? s.status[l] : (step.singular ? kDegenerate : (!finite ? kNoConvergence : s.status[l]));
+      s.status[l] =
+          !run ? s.status[l] : (step.singular ? kDegenerate : (!finite ? kNoConvergence : s.status[l]));
       const bool converged = to_convergence & (max_of(std::fabs(step.ds), std::fabs(step.dt)) <= tol);
       running[l] = move & !converged ? 1.0 : 0.0;
     }
@@ -408,14 +412,14 @@ static void face_plain_newton(const FaceBlock<kFace, W>& f, int steps, bool to_c
   }
 }
 
-/// Safeguarded Newton from an estimate (the hybrids, as LocalSearch's): the Gauss-Newton system where the exact
-/// Jacobian is not positive definite, the step shortened to plan.max_step, the iterate held in the domain
-/// enlarged by plan.box_margin, and a step that does not reduce |S - P| halved up to max_halvings times; still
-/// not reducing it, the lane stops on its previous iterate: outside where that lies beyond the face, else
-/// no_convergence. A step at most tol_param ends
-/// the lane (converged).
+/// Safeguarded Newton from an estimate (the hybrids, as LocalSearch's): the Gauss-Newton system where the
+/// exact Jacobian is not positive definite, the step shortened to plan.max_step, the iterate held in the
+/// domain enlarged by plan.box_margin, and a step that does not reduce |S - P| halved up to max_halvings
+/// times; still not reducing it, the lane stops on its previous iterate: outside where that lies beyond the
+/// face, else no_convergence. A step at most tol_param ends the lane (converged).
 template <int kFace, int W>
-static void face_safeguarded_newton(const FaceBlock<kFace, W>& f, const FacePlan& plan, int steps, LaneState<W>& s) {
+static void face_safeguarded_newton(const FaceBlock<kFace, W>& f, const FacePlan& plan, int steps,
+                                    LaneState<W>& s) {
   double running[W];
   for (int l = 0; l < W; ++l) running[l] = s.status[l] == kOk ? 1.0 : 0.0;
   const double cap = plan.max_step, box = plan.box_margin, tol = plan.options.tol_param;
@@ -434,8 +438,8 @@ static void face_safeguarded_newton(const FaceBlock<kFace, W>& f, const FacePlan
       face_clamp<kFace>(u, v, box);
       u1[l] = u;
       v1[l] = v;
-      // |S - P| may grow by the rounding of P (32 eps of the block's unit size, the nodes' offsets from S being
-      // below 2) without counting as an increase: |S - P|^2 up to (|S - P| + noise)^2.
+      // |S - P| may grow by the rounding of P (32 eps of the block's unit size, the nodes' offsets from S
+      // being below 2) without counting as an increase: |S - P|^2 up to (|S - P| + noise)^2.
       constexpr double noise = 32.0 * std::numeric_limits<double>::epsilon();
       allowed[l] = step.dist_sq + noise * (2.0 * std::sqrt(step.dist_sq) + noise);
       d1[l] = f.distance_sq(l, u, v);
@@ -462,8 +466,9 @@ static void face_safeguarded_newton(const FaceBlock<kFace, W>& f, const FacePlan
       s.u[l] = move ? u1[l] : u0;
       s.v[l] = move ? v1[l] : v0;
       s.iterations[l] += run ? 1.0 : 0.0;
-      s.status[l] = !run ? s.status[l] : (!finite ? (singular[l] != 0.0 ? kDegenerate : kNoConvergence)
-                                                  : (!reduced ? kNoConvergence : s.status[l]));
+      s.status[l] = !run ? s.status[l]
+                         : (!finite ? (singular[l] != 0.0 ? kDegenerate : kNoConvergence)
+                                    : (!reduced ? kNoConvergence : s.status[l]));
       const double moved = max_of(std::fabs(u1[l] - u0), std::fabs(v1[l] - v0));
       running[l] = move & (moved > tol) ? 1.0 : 0.0;
     }

@@ -22,8 +22,10 @@ bool face_canonical_form(FaceKind kind, const double* raw, double* features, int
       for (int c = 0; c < 3; ++c) x[18 + c] = raw[9 + c];
       return detail::face_canonical_lane<1>(x, features, order, base);
     }
-    case FaceKind::kTri6: return detail::face_canonical_lane<1>(raw, features, order, base);
-    case FaceKind::kQuad8: return detail::face_canonical_lane<2>(raw, features, order, base);
+    case FaceKind::kTri6:
+      return detail::face_canonical_lane<1>(raw, features, order, base);
+    case FaceKind::kQuad8:
+      return detail::face_canonical_lane<2>(raw, features, order, base);
   }
   return false;
 }
@@ -64,8 +66,10 @@ FaceNetwork::FaceNetwork(FaceKind kind, const mlp::Network<Real>& network, std::
   check_bounds();
 }
 
-template FaceNetwork::FaceNetwork(FaceKind, const mlp::Network<float>&, std::vector<double>, std::vector<double>);
-template FaceNetwork::FaceNetwork(FaceKind, const mlp::Network<double>&, std::vector<double>, std::vector<double>);
+template FaceNetwork::FaceNetwork(FaceKind, const mlp::Network<float>&, std::vector<double>,
+                                  std::vector<double>);
+template FaceNetwork::FaceNetwork(FaceKind, const mlp::Network<double>&, std::vector<double>,
+                                  std::vector<double>);
 
 void FaceNetwork::check_bounds() {
   const auto n = static_cast<std::size_t>(face_feature_count(kind_));
@@ -75,7 +79,8 @@ void FaceNetwork::check_bounds() {
   lo_.resize(n);
   hi_.resize(n);
   for (std::size_t k = 0; k < n; ++k) {
-    CONTACTNN_REQUIRE_AS(InvalidArgument, std::isfinite(min_[k]) && std::isfinite(max_[k]) && min_[k] <= max_[k],
+    CONTACTNN_REQUIRE_AS(InvalidArgument,
+                         std::isfinite(min_[k]) && std::isfinite(max_[k]) && min_[k] <= max_[k],
                          "feature " << k << " of the domain: [" << min_[k] << ", " << max_[k]
                                     << "], expected finite bounds with min <= max");
     const double slack = 1e-9 * std::max(1.0, max_[k] - min_[k]);

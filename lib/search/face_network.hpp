@@ -1,20 +1,21 @@
 // A network for FaceSearch on the quadratic faces (tri6, quad8), in the paper's manner (Section 4, SPEC 4)
-// extended to the face's nodes: the face brought to its canonical node order (the corner nearest S first, then
-// the mirror when the edge to the last corner is longer than the edge to the second: 6 symmetries of a
-// triangle, 8 of a quad) and its normalised frame (A at the origin, B on +x at distance 1, the third corner of a
-// triangle or D of a quad in the xy-plane with y > 0). What the network sees (its features):
-//   tri6   x_C, y_C; each mid-side node's offset from its chord's midpoint (x, y, z; edges A-B, B-C, C-A); the
+// extended to the face's nodes: the face brought to its canonical node order (the corner nearest S first,
+// then the mirror when the edge to the last corner is longer than the edge to the second: 6 symmetries of a
+// triangle, 8 of a quad) and its normalised frame (A at the origin, B on +x at distance 1, the third corner
+// of a triangle or D of a quad in the xy-plane with y > 0). What the network sees (its features):
+//   tri6   x_C, y_C; each mid-side node's offset from its chord's midpoint (x, y, z; edges A-B, B-C, C-A);
+//   the
 //          corner triangle's (r0, s0) of S; z_S                                                   (14 inputs)
 //   quad8  x_C, y_C, z_C, x_D, y_D; the mid-side offsets (edges A-B, B-C, C-D, D-A); the corners' bilinear
 //          closed form (xi0, eta0) of S (LocalSearch's closed form); z_S                          (20 inputs)
 // and what it gives: the correction to that closed form, (r - r0, s - s0) or (xi - xi0, eta - eta0), in the
-// canonical parametrisation; the estimate, the closed form plus the correction, is mapped back to the caller's
-// node order by the inverse symmetry. The closed form is exact on a face whose mid-side nodes sit at their
-// chords' midpoints (and, for the quad, whose corners are flat): the network learns only what the curvature
-// adds, a small quantity (on tet-press's tri6 faces the closed form is off by 0.02 of the domain, the full
-// coordinates by up to 1), so the same output accuracy is a far smaller error (docs/library.md "Faces").
-// Ties (two corners equally near S) take the first in the caller's order. The training domain is a box of the
-// features (each between the training set's extremes).
+// canonical parametrisation; the estimate, the closed form plus the correction, is mapped back to the
+// caller's node order by the inverse symmetry. The closed form is exact on a face whose mid-side nodes sit at
+// their chords' midpoints (and, for the quad, whose corners are flat): the network learns only what the
+// curvature adds, a small quantity (on tet-press's tri6 faces the closed form is off by 0.02 of the domain,
+// the full coordinates by up to 1), so the same output accuracy is a far smaller error (docs/library.md
+// "Faces"). Ties (two corners equally near S) take the first in the caller's order. The training domain is a
+// box of the features (each between the training set's extremes).
 #pragma once
 
 #include <vector>
@@ -43,9 +44,9 @@ void face_param_to_caller(FaceKind kind, const int* order, double& s, double& t)
 class FaceNetwork {
  public:
   /// `feature_min`, `feature_max`: the training domain (face_feature_count values each, min <= max). Throws
-  /// InvalidArgument for tri3, a network whose input count is not face_feature_count(kind) or without 2 outputs,
-  /// or bounds of the wrong size or order.
-  /// Real: float or double (the network's own precision; instantiated for both).
+  /// InvalidArgument for tri3, a network whose input count is not face_feature_count(kind) or without 2
+  /// outputs, or bounds of the wrong size or order. Real: float or double (the network's own precision;
+  /// instantiated for both).
   template <class Real>
   FaceNetwork(FaceKind kind, const mlp::Network<Real>& network, std::vector<double> feature_min,
               std::vector<double> feature_max);

@@ -13,11 +13,12 @@
 namespace contactnn::search::detail {
 
 /// The canonical form of one query: x holds its raw values (nodes in the caller's order, then S). Writes the
-/// features, the caller's corner at each canonical slot and `base`, the corner facet's closed form of S in the
-/// canonical parametrisation (what the network corrects); false where there is no frame (see
+/// features, the caller's corner at each canonical slot and `base`, the corner facet's closed form of S in
+/// the canonical parametrisation (what the network corrects); false where there is no frame (see
 /// face_canonical_form).
 template <int kFace>
-CONTACTNN_SEARCH_INLINE bool face_canonical_lane(const double* x, double* features, int* order, double* base) {
+CONTACTNN_SEARCH_INLINE bool face_canonical_lane(const double* x, double* features, int* order,
+                                                 double* base) {
   using T = FaceTraits<kFace>;
   constexpr int kC = T::kTriangle ? 3 : 4;
   const double* s = x + 3 * T::kNodes;
@@ -49,7 +50,8 @@ CONTACTNN_SEARCH_INLINE bool face_canonical_lane(const double* x, double* featur
     e1[c] = node(order[1], c) - a[c];
     e3[c] = node(order[kC - 1], c) - a[c];
   }
-  const double n[3] = {e1[1] * e3[2] - e1[2] * e3[1], e1[2] * e3[0] - e1[0] * e3[2], e1[0] * e3[1] - e1[1] * e3[0]};
+  const double n[3] = {e1[1] * e3[2] - e1[2] * e3[1], e1[2] * e3[0] - e1[0] * e3[2],
+                       e1[0] * e3[1] - e1[1] * e3[0]};
   const double len1 = std::sqrt(e1[0] * e1[0] + e1[1] * e1[1] + e1[2] * e1[2]);
   const double len3 = std::sqrt(e3[0] * e3[0] + e3[1] * e3[1] + e3[2] * e3[2]);
   const double len_n = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
@@ -106,7 +108,8 @@ CONTACTNN_SEARCH_INLINE bool face_canonical_lane(const double* x, double* featur
     features[at++] = corner[3][1];
   }
   for (int j = 0; j < kC; ++j) {
-    for (int c = 0; c < 3; ++c) features[at++] = middle[j][c] - 0.5 * (corner[j][c] + corner[(j + 1) % kC][c]);
+    for (int c = 0; c < 3; ++c)
+      features[at++] = middle[j][c] - 0.5 * (corner[j][c] + corner[(j + 1) % kC][c]);
   }
   features[at++] = base[0];
   features[at++] = base[1];
@@ -158,27 +161,29 @@ CONTACTNN_SEARCH_INLINE void face_to_canonical(const int* order, double& s, doub
   }
 }
 
-/// face_canonical_lane for the per-lane loop of face_network_estimate: out of line, with internal linkage (a copy
-/// in every kernel file, none shared across instruction sets) and never vectorised, in the block kernels as in
-/// the one-lane kernel (which is compiled without auto-vectorisation): GCC contracted the frame's multiply-adds
-/// differently when it vectorised that loop, and a quad8 network query's last bits depended on its place in
-/// the batch (test_lane_bits, each kernel variant in a process of its own).
+/// face_canonical_lane for the per-lane loop of face_network_estimate: out of line, with internal linkage (a
+/// copy in every kernel file, none shared across instruction sets) and never vectorised, in the block kernels
+/// as in the one-lane kernel (which is compiled without auto-vectorisation): GCC contracted the frame's
+/// multiply-adds differently when it vectorised that loop, and a quad8 network query's last bits depended on
+/// its place in the batch (test_lane_bits, each kernel variant in a process of its own).
 #if defined(__GNUC__) && !defined(__clang__)
 #define CONTACTNN_SCALAR_LANE [[gnu::noinline, gnu::optimize("no-tree-vectorize", "no-tree-slp-vectorize")]]
 #else
-#define CONTACTNN_SCALAR_LANE [[gnu::noinline]]  // Clang has no optimize attribute (GCC builds the kernels here)
+#define CONTACTNN_SCALAR_LANE \
+  [[gnu::noinline]]  // Clang has no optimize attribute (GCC builds the kernels here)
 #endif
 template <int kFace>
-CONTACTNN_SCALAR_LANE static bool face_canonical_scalar(
-    const double* x, double* features, int* order, double* base) {
+CONTACTNN_SCALAR_LANE static bool face_canonical_scalar(const double* x, double* features, int* order,
+                                                        double* base) {
   return face_canonical_lane<kFace>(x, features, order, base);
 }
 
 /// The network's estimate for the lanes still ok: status degenerate where the face has no frame (centre
-/// reported), out_of_domain where a feature lies outside the network's box (check_domain; the estimate is still
-/// reported), ok otherwise.
+/// reported), out_of_domain where a feature lies outside the network's box (check_domain; the estimate is
+/// still reported), ok otherwise.
 template <int kFace, int W>
-static void face_network_estimate(const FaceNetwork& net, bool check_domain, const double (*raw)[W], LaneState<W>& s) {
+static void face_network_estimate(const FaceNetwork& net, bool check_domain, const double (*raw)[W],
+                                  LaneState<W>& s) {
   using T = FaceTraits<kFace>;
   constexpr int kF = kFace == 1 ? 14 : 20;
   alignas(64) double f[kF * W];
@@ -199,7 +204,8 @@ static void face_network_estimate(const FaceNetwork& net, bool check_domain, con
       inside = inside && v >= lo[k] && v <= hi[k];
     }
     const bool active = s.status[l] == kOk;
-    s.status[l] = !active ? s.status[l] : (!ok ? kDegenerate : (check_domain && !inside ? kOutOfDomain : kOk));
+    s.status[l] =
+        !active ? s.status[l] : (!ok ? kDegenerate : (check_domain && !inside ? kOutOfDomain : kOk));
   }
   if (net.model().is_float()) {
     forward_pass<float, W>(net.model(), f, out);

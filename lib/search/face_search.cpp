@@ -22,9 +22,12 @@ namespace contactnn::search {
 
 std::string_view to_string(FaceKind kind) {
   switch (kind) {
-    case FaceKind::kTri3: return "tri3";
-    case FaceKind::kTri6: return "tri6";
-    case FaceKind::kQuad8: return "quad8";
+    case FaceKind::kTri3:
+      return "tri3";
+    case FaceKind::kTri6:
+      return "tri6";
+    case FaceKind::kQuad8:
+      return "quad8";
   }
   return "?";
 }
@@ -42,17 +45,19 @@ FaceSearch::FaceSearch(FaceKind kind, Method method, SearchOptions options, cons
   CONTACTNN_REQUIRE_AS(InvalidArgument, method.newton_steps >= 0 && method.newton_steps <= Method::kMaxSteps,
                        "method " << method.name() << ": newton_steps = " << method.newton_steps
                                  << ", expected 0 to " << Method::kMaxSteps);
-  CONTACTNN_REQUIRE_AS(InvalidArgument, method.start != Method::Start::kFourTriangles,
-                       "method four_triangles splits a 4-node quad; it has no form for " << to_string(kind)
-                                                                                          << " faces");
+  CONTACTNN_REQUIRE_AS(
+      InvalidArgument, method.start != Method::Start::kFourTriangles,
+      "method four_triangles splits a 4-node quad; it has no form for " << to_string(kind) << " faces");
   CONTACTNN_REQUIRE_AS(InvalidArgument, !method.to_convergence || method.start == Method::Start::kCentre,
                        "Newton to convergence starts from the centre; got start " << method.name());
   if (method.needs_network()) {
-    CONTACTNN_REQUIRE_AS(InvalidArgument, kind != FaceKind::kTri3,
-                         "method " << method.name()
-                                   << " on tri3 faces: a flat triangle's closed form is exact (method closed_form), "
-                                      "no network is made for it");
-    CONTACTNN_REQUIRE_AS(InvalidArgument, network != nullptr, "method " << method.name() << " needs a network");
+    CONTACTNN_REQUIRE_AS(
+        InvalidArgument, kind != FaceKind::kTri3,
+        "method " << method.name()
+                  << " on tri3 faces: a flat triangle's closed form is exact (method closed_form), "
+                     "no network is made for it");
+    CONTACTNN_REQUIRE_AS(InvalidArgument, network != nullptr,
+                         "method " << method.name() << " needs a network");
     CONTACTNN_REQUIRE_AS(InvalidArgument, network->face() == kind,
                          "method " << method.name() << " on " << to_string(kind) << " faces got a "
                                    << to_string(network->face()) << " network");
@@ -63,8 +68,9 @@ FaceSearch::FaceSearch(FaceKind kind, Method method, SearchOptions options, cons
   plan->method = method;
   plan->options = options;
   plan->network = method.needs_network() ? network : nullptr;
-  // Widths: 1 for a triangle's (r, s), 2 for the quad's (xi, eta). The hybrids' box is the quads' (SearchOptions::
-  // bilinear_box_margin widths beyond the face): a face's closest point beyond that is no contact on it.
+  // Widths: 1 for a triangle's (r, s), 2 for the quad's (xi, eta). The hybrids' box is the quads'
+  // (SearchOptions:: bilinear_box_margin widths beyond the face): a face's closest point beyond that is no
+  // contact on it.
   const double width = kind == FaceKind::kQuad8 ? 2.0 : 1.0;
   plan->box_margin = options.bilinear_box_margin * width;
   plan->max_step = options.max_step_widths * width;
@@ -81,13 +87,15 @@ int FaceSearch::block_size() const { return plan_->block_size; }
 
 namespace {
 
-/// An answer outside the face moved to the nearest point of its boundary (SearchOptions::closest_point_on_face):
-/// the straight edges of tri3 (projection::closest_point_on_triangle), the quadratic curves of tri6 and quad8
+/// An answer outside the face moved to the nearest point of its boundary
+/// (SearchOptions::closest_point_on_face): the straight edges of tri3
+/// (projection::closest_point_on_triangle), the quadratic curves of tri6 and quad8
 /// (projection::closest_point_on_quadratic_edge), ends included. Gap +-|S - P| by the face normal at P.
 using geometry::Vec3;
 
 template <class Real>
-void move_to_boundary(FaceKind kind, const Real* raw, Real* param, Real* gap, Status* status, Location* location) {
+void move_to_boundary(FaceKind kind, const Real* raw, Real* param, Real* gap, Status* status,
+                      Location* location) {
   const int nodes = face_node_count(kind);
   // Relative to the face's first node: the projection then rounds at the face's size, not at its distance
   // from the origin (issue 39: 2e6 face sizes away, the boundary point was 1e-5 off in the parameters).
@@ -145,7 +153,8 @@ void move_to_boundary(FaceKind kind, const Real* raw, Real* param, Real* gap, St
     constexpr double kTol = projection::kOnBoundaryTolerance;
     int bounds = 0;
     if (kind == FaceKind::kQuad8) {
-      bounds = (std::fabs(std::fabs(p[0]) - 1.0) <= 2.0 * kTol) + (std::fabs(std::fabs(p[1]) - 1.0) <= 2.0 * kTol);
+      bounds =
+          (std::fabs(std::fabs(p[0]) - 1.0) <= 2.0 * kTol) + (std::fabs(std::fabs(p[1]) - 1.0) <= 2.0 * kTol);
     } else {
       bounds = (std::fabs(p[0]) <= kTol) + (std::fabs(p[1]) <= kTol) + (std::fabs(1.0 - p[0] - p[1]) <= kTol);
     }
@@ -189,9 +198,11 @@ void FaceSearch::run(std::size_t count, const Real* raw, const Results<Real>& ou
   if (plan.options.closest_point_on_face) {
     const auto columns = static_cast<std::size_t>(face_raw_columns(plan.kind));
     for (std::size_t i = 0; i < count; ++i) {
-      if (out.status[i] != Status::kOutside) [[likely]] continue;
-      move_to_boundary(plan.kind, raw + i * columns, out.param + 2 * i, out.gap != nullptr ? out.gap + i : nullptr,
-                       out.status + i, out.location != nullptr ? out.location + i : nullptr);
+      if (out.status[i] != Status::kOutside) [[likely]]
+        continue;
+      move_to_boundary(plan.kind, raw + i * columns, out.param + 2 * i,
+                       out.gap != nullptr ? out.gap + i : nullptr, out.status + i,
+                       out.location != nullptr ? out.location + i : nullptr);
     }
   }
 }

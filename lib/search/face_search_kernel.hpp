@@ -1,6 +1,7 @@
 // Internal to lib/search: one block of W queries of FaceSearch through its method, from the raw rows to the
 // Results. Included by face_kernels.cpp (the blocks, vectorised) and face_kernels_single.cpp (W = 1, compiled
-// without auto-vectorisation, so that a query alone rounds as a lane of a block: kernels_single.cpp's reason).
+// without auto-vectorisation, so that a query alone rounds as a lane of a block: kernels_single.cpp's
+// reason).
 #pragma once
 
 #include <algorithm>
@@ -31,7 +32,8 @@ static void face_block(const FacePlan& plan, const In* raw_rows, const Results<I
   // 1. The start, 2. Newton.
   switch (method.start) {
     case Method::Start::kCentre:
-      face_plain_newton<kFace, W>(f, method.to_convergence ? plan.options.max_iterations : method.newton_steps,
+      face_plain_newton<kFace, W>(f,
+                                  method.to_convergence ? plan.options.max_iterations : method.newton_steps,
                                   method.to_convergence, plan.options.tol_param, s);
       break;
     case Method::Start::kClosedForm:
@@ -85,7 +87,8 @@ static void face_block(const FacePlan& plan, const In* raw_rows, const Results<I
                            e.ps[0] * e.pt[1] - e.ps[1] * e.pt[0]};
       const double length = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
       const double g = -(n[0] * e.p[0] + n[1] * e.p[1] + n[2] * e.p[2]) / length;
-      const bool none = (s.status[l] == kInvalid) | (s.status[l] == kDegenerate) | !(length > 0.0) | !is_finite(g);
+      const bool none =
+          (s.status[l] == kInvalid) | (s.status[l] == kDegenerate) | !(length > 0.0) | !is_finite(g);
       const double capped = g > f.nearest[l] ? f.nearest[l] : (g < -f.nearest[l] ? -f.nearest[l] : g);
       gap[l] = none ? 0.0 : capped * f.unit[l];
     }

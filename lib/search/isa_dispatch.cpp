@@ -1,5 +1,5 @@
-// The choice of a kernel variant (isa_dispatch.hpp). Compiled like the rest of the library (any x86-64), with the
-// list of the variants this build holds (CONTACTNN_KERNELS_<NAME>, lib/search/CMakeLists.txt).
+// The choice of a kernel variant (isa_dispatch.hpp). Compiled like the rest of the library (any x86-64), with
+// the list of the variants this build holds (CONTACTNN_KERNELS_<NAME>, lib/search/CMakeLists.txt).
 #include "search/isa_dispatch.hpp"
 
 #include <array>
@@ -25,10 +25,11 @@ CONTACTNN_DECLARE_KERNEL_ISA(isa_native)
 namespace contactnn::search {
 namespace {
 
-#define CONTACTNN_KERNEL_ENTRIES(isa, ns)                                                                     \
-  detail::IsaKernels {                                                                                        \
-    isa, &detail::ns::select_bilinear_kernels, &detail::ns::select_gregory_kernels,                          \
-        &detail::ns::network_stages_bilinear, &detail::ns::network_stages_gregory, &detail::ns::select_face_kernels \
+#define CONTACTNN_KERNEL_ENTRIES(isa, ns)                                           \
+  detail::IsaKernels {                                                              \
+    isa, &detail::ns::select_bilinear_kernels, &detail::ns::select_gregory_kernels, \
+        &detail::ns::network_stages_bilinear, &detail::ns::network_stages_gregory,  \
+        &detail::ns::select_face_kernels                                            \
   }
 
 /// The variants this build holds, narrowest first.
@@ -48,7 +49,8 @@ const detail::IsaKernels kBuilt[] = {
 };
 #undef CONTACTNN_KERNEL_ENTRIES
 
-constexpr std::array kAllIsas = {KernelIsa::kBaseline, KernelIsa::kAvx2, KernelIsa::kAvx512, KernelIsa::kNative};
+constexpr std::array kAllIsas = {KernelIsa::kBaseline, KernelIsa::kAvx2, KernelIsa::kAvx512,
+                                 KernelIsa::kNative};
 
 const detail::IsaKernels* find_built(KernelIsa isa) {
   for (const detail::IsaKernels& k : kBuilt) {
@@ -90,10 +92,13 @@ bool cpu_has(KernelIsa isa) {
   constexpr bool avx2 = false, avx512 = false;
 #endif
   switch (isa) {
-    case KernelIsa::kAvx2: return avx2;
-    case KernelIsa::kAvx512: return avx512;
+    case KernelIsa::kAvx2:
+      return avx2;
+    case KernelIsa::kAvx512:
+      return avx512;
     case KernelIsa::kBaseline:
-    case KernelIsa::kNative: return true;  // a native build runs only where it was built
+    case KernelIsa::kNative:
+      return true;  // a native build runs only where it was built
   }
   return false;
 }
@@ -102,10 +107,14 @@ bool cpu_has(KernelIsa isa) {
 
 std::string_view to_string(KernelIsa isa) {
   switch (isa) {
-    case KernelIsa::kBaseline: return "baseline";
-    case KernelIsa::kAvx2: return "avx2";
-    case KernelIsa::kAvx512: return "avx512";
-    case KernelIsa::kNative: return "native";
+    case KernelIsa::kBaseline:
+      return "baseline";
+    case KernelIsa::kAvx2:
+      return "avx2";
+    case KernelIsa::kAvx512:
+      return "avx512";
+    case KernelIsa::kNative:
+      return "native";
   }
   return "unknown";
 }
@@ -125,7 +134,8 @@ KernelIsa kernel_isa() {
     for (const KernelIsa isa : kAllIsas) {
       if (forced != to_string(isa)) continue;
       CONTACTNN_REQUIRE_AS(InvalidArgument, find_built(isa) != nullptr,
-                           "CONTACTNN_ISA=" << forced << ": this build of contactnn has no such kernel variant (it has "
+                           "CONTACTNN_ISA=" << forced
+                                            << ": this build of contactnn has no such kernel variant (it has "
                                             << built_list() << ")");
       CONTACTNN_REQUIRE_AS(InvalidArgument, cpu_has(isa),
                            "CONTACTNN_ISA=" << forced << ": this CPU cannot run that kernel variant");
@@ -146,8 +156,9 @@ namespace detail {
 
 const IsaKernels& isa_kernels(KernelIsa isa) {
   const IsaKernels* k = find_built(isa);
-  CONTACTNN_REQUIRE_AS(InvalidArgument, k != nullptr,
-                       "no kernel variant " << to_string(isa) << " in this build (it has " << built_list() << ")");
+  CONTACTNN_REQUIRE_AS(
+      InvalidArgument, k != nullptr,
+      "no kernel variant " << to_string(isa) << " in this build (it has " << built_list() << ")");
   return *k;
 }
 

@@ -1,7 +1,5 @@
 #include "search/local_search.hpp"
 
-#include "search/face_boundary.hpp"
-
 #include <omp.h>
 
 #include <algorithm>
@@ -9,18 +7,20 @@
 #include <type_traits>
 
 #include "core/error.hpp"
+#include "search/face_boundary.hpp"
 #include "search/search_plan.hpp"
 
 namespace contactnn::search {
 
-LocalSearch::LocalSearch(SurfaceKind kind, Method method, SearchOptions options, const NetworkModel* network) {
+LocalSearch::LocalSearch(SurfaceKind kind, Method method, SearchOptions options,
+                         const NetworkModel* network) {
   CONTACTNN_REQUIRE_AS(InvalidArgument, method.newton_steps >= 0 && method.newton_steps <= Method::kMaxSteps,
                        "method " << method.name() << ": newton_steps = " << method.newton_steps
                                  << ", expected 0 to " << Method::kMaxSteps);
   if (method.start == Method::Start::kFourTriangles) {
     CONTACTNN_REQUIRE_AS(InvalidArgument, kind == SurfaceKind::kBilinear,
-                         "method four_triangles splits a bilinear segment; it has no form for " << to_string(kind)
-                                                                                                 << " segments");
+                         "method four_triangles splits a bilinear segment; it has no form for "
+                             << to_string(kind) << " segments");
     CONTACTNN_REQUIRE_AS(InvalidArgument, method.newton_steps == 0 && !method.to_convergence,
                          "method four_triangles takes no Newton steps; got " << method.name());
   }
@@ -45,9 +45,11 @@ LocalSearch::LocalSearch(SurfaceKind kind, Method method, SearchOptions options,
   const double box = kind == SurfaceKind::kGregory ? options.gregory_box_margin : options.bilinear_box_margin;
   plan->inside_lo = d.lo - options.domain_margin;
   plan->inside_hi = d.hi + options.domain_margin;
-  plan->guards = detail::Safeguards{d.lo - box * width, d.hi + box * width, options.max_step_widths * width,
-                                    options.tol_param, options.max_halvings, plan->inside_lo, plan->inside_hi};
-  // Every kernel of the plan from one variant (isa_dispatch.hpp): the block and the one-lane kernels round alike.
+  plan->guards = detail::Safeguards{d.lo - box * width, d.hi + box * width,   options.max_step_widths * width,
+                                    options.tol_param,  options.max_halvings, plan->inside_lo,
+                                    plan->inside_hi};
+  // Every kernel of the plan from one variant (isa_dispatch.hpp): the block and the one-lane kernels round
+  // alike.
   const detail::IsaKernels& kernels = detail::isa_kernels(kernel_isa());
   plan->isa = kernels.isa;
   if (kind == SurfaceKind::kGregory) {
@@ -125,19 +127,19 @@ void LocalSearch::run(std::size_t count, const Real* raw, const Results<Real>& o
   if (plan.defer_frame) {
     // A float network on bilinear segments: each block decides in float the lanes whose canonical frame float
     // decides (98 in 100 of random queries of the paper's domain) and leaves the others pending; those are
-    // computed again with the frame in double, gathered into blocks of such lanes (each thread its own), instead
-    // of a double pass in every block for its one or two. A lane's arithmetic does not depend on its block: the
-    // results are those of FramePass::kFloat, bit for bit.
+    // computed again with the frame in double, gathered into blocks of such lanes (each thread its own),
+    // instead of a double pass in every block for its one or two. A lane's arithmetic does not depend on its
+    // block: the results are those of FramePass::kFloat, bit for bit.
     per_thread([&](std::size_t b0, std::size_t b1) {
       for (std::size_t b = b0; b < b1; ++b) block(plan, raw, out, b * width);
       recompute_pending(b0, b1, detail::kDoubleFramePass);
     });
   } else if (rows != nullptr && plan.options.max_iterations > detail::kPassCaps[0]) {
-    // Newton to convergence: a block iterates until its slowest lane stops, and the iterations a lane needs are
-    // long-tailed (random bilinear queries: mean 8.5, but 28 for the slowest of 16, and 1.4% run to the limit
-    // of 50). So every block stops at the first pass's cap, and the lanes still running are computed again
-    // from the centre in blocks of such lanes (each thread its own), up to the next cap, and so on. A lane's
-    // arithmetic does not depend on its block, so the results are those of one pass, bit for bit.
+    // Newton to convergence: a block iterates until its slowest lane stops, and the iterations a lane needs
+    // are long-tailed (random bilinear queries: mean 8.5, but 28 for the slowest of 16, and 1.4% run to the
+    // limit of 50). So every block stops at the first pass's cap, and the lanes still running are computed
+    // again from the centre in blocks of such lanes (each thread its own), up to the next cap, and so on. A
+    // lane's arithmetic does not depend on its block, so the results are those of one pass, bit for bit.
     per_thread([&](std::size_t b0, std::size_t b1) {
       for (std::size_t b = b0; b < b1; ++b) rows(plan, raw, out, b * width, nullptr, detail::kPassCaps[0]);
       for (std::size_t p = 1; p < std::size(detail::kPassCaps) + 1; ++p) {
@@ -157,9 +159,9 @@ void LocalSearch::run(std::size_t count, const Real* raw, const Results<Real>& o
   }
   for (std::size_t i = blocks * width; i < count; ++i) single(plan, raw, out, i);
 
-  // The whole face (SearchOptions::closest_point_on_face): answers outside go to the boundary; the others pay a
-  // byte compare in a tight loop (the branch is rarely taken). Each query's own arithmetic: the same bits in any
-  // batch.
+  // The whole face (SearchOptions::closest_point_on_face): answers outside go to the boundary; the others pay
+  // a byte compare in a tight loop (the branch is rarely taken). Each query's own arithmetic: the same bits
+  // in any batch.
   if (out.location != nullptr) std::fill(out.location, out.location + count, Location::kFace);
   if (plan.options.closest_point_on_face) {
     const auto columns = static_cast<std::size_t>(raw_columns(plan.kind));
@@ -169,17 +171,20 @@ void LocalSearch::run(std::size_t count, const Real* raw, const Results<Real>& o
                                     out.location != nullptr ? out.location + i : nullptr);
     };
     for (std::size_t i = 0; i < count; ++i) {
-      if (out.status[i] == Status::kOutside) [[unlikely]] move(i);
+      if (out.status[i] == Status::kOutside) [[unlikely]]
+        move(i);
     }
   }
 }
 
 namespace detail {
 
-double network_stages(const NetworkModel& model, const double* raw, std::size_t count, int stage, std::size_t& done) {
+double network_stages(const NetworkModel& model, const double* raw, std::size_t count, int stage,
+                      std::size_t& done) {
   const IsaKernels& kernels = isa_kernels(kernel_isa());
-  return model.surface() == SurfaceKind::kGregory ? kernels.network_stages_gregory(model, raw, count, stage, done)
-                                                  : kernels.network_stages_bilinear(model, raw, count, stage, done);
+  return model.surface() == SurfaceKind::kGregory
+             ? kernels.network_stages_gregory(model, raw, count, stage, done)
+             : kernels.network_stages_bilinear(model, raw, count, stage, done);
 }
 
 }  // namespace detail

@@ -21,8 +21,9 @@ int parse_steps(std::string_view text, std::string_view whole) {
                        error == std::errc() && end == text.data() + text.size() && k >= 0 && !text.empty(),
                        "method '" << whole << "': '" << text << "' is not a step count >= 0; " << kForms);
   CONTACTNN_REQUIRE_AS(InvalidArgument, k <= Method::kMaxSteps,
-                       "method '" << whole << "': " << k << " steps, more than the limit of " << Method::kMaxSteps
-                                  << " (for Newton until it converges use 'newton'); " << kForms);
+                       "method '" << whole << "': " << k << " steps, more than the limit of "
+                                  << Method::kMaxSteps << " (for Newton until it converges use 'newton'); "
+                                  << kForms);
   return k;
 }
 
@@ -38,7 +39,8 @@ Method Method::parse(std::string_view name) {
   constexpr std::string_view kNetworkNewton = "network+newton:";
   constexpr std::string_view kClosedNewton = "closed_form+newton:";
   constexpr std::string_view kStartNewton = "start+newton:";
-  if (name.starts_with(kNewton)) return Method{Start::kCentre, parse_steps(name.substr(kNewton.size()), name), false};
+  if (name.starts_with(kNewton))
+    return Method{Start::kCentre, parse_steps(name.substr(kNewton.size()), name), false};
   if (name.starts_with(kNetworkNewton)) {
     return Method{Start::kNetwork, parse_steps(name.substr(kNetworkNewton.size()), name), false};
   }
@@ -54,12 +56,17 @@ Method Method::parse(std::string_view name) {
 std::string Method::name() const {
   const std::string k = std::to_string(newton_steps);
   switch (start) {
-    case Start::kCentre: return to_convergence ? "newton" : "newton:" + k;
-    case Start::kNetwork: return newton_steps == 0 ? "network" : "network+newton:" + k;
-    case Start::kClosedForm: return newton_steps == 0 ? "closed_form" : "closed_form+newton:" + k;
-    case Start::kGiven: return newton_steps == 0 ? "start" : "start+newton:" + k;
+    case Start::kCentre:
+      return to_convergence ? "newton" : "newton:" + k;
+    case Start::kNetwork:
+      return newton_steps == 0 ? "network" : "network+newton:" + k;
+    case Start::kClosedForm:
+      return newton_steps == 0 ? "closed_form" : "closed_form+newton:" + k;
+    case Start::kGiven:
+      return newton_steps == 0 ? "start" : "start+newton:" + k;
     // With steps (not a form parse gives; LocalSearch refuses it) the name says what was asked.
-    case Start::kFourTriangles: return newton_steps == 0 ? "four_triangles" : "four_triangles+newton:" + k;
+    case Start::kFourTriangles:
+      return newton_steps == 0 ? "four_triangles" : "four_triangles+newton:" + k;
   }
   return "unknown";
 }

@@ -111,9 +111,13 @@ NetworkModel::NetworkModel(const mlp::Network<double>& network, const geometry::
   init(network);
 }
 
-NetworkModel::NetworkModel(const mlp::Network<float>& network, OtherFrame frame) { init(network, frame.inputs); }
+NetworkModel::NetworkModel(const mlp::Network<float>& network, OtherFrame frame) {
+  init(network, frame.inputs);
+}
 
-NetworkModel::NetworkModel(const mlp::Network<double>& network, OtherFrame frame) { init(network, frame.inputs); }
+NetworkModel::NetworkModel(const mlp::Network<double>& network, OtherFrame frame) {
+  init(network, frame.inputs);
+}
 
 template <class Real>
 const Real* NetworkModel::weights(int layer) const {

@@ -15,10 +15,10 @@
 
 namespace contactnn::search {
 
-/// An inference-ready copy of an mlp::Network<float> or <double> and its geometry::TrainingDomain. The forward
-/// pass runs in the network's own real type (float or double); the input map, scaling and the canonical frame
-/// in double.
-/// Immutable after construction: one model serves any number of threads and LocalSearch objects.
+/// An inference-ready copy of an mlp::Network<float> or <double> and its geometry::TrainingDomain. The
+/// forward pass runs in the network's own real type (float or double); the input map, scaling and the
+/// canonical frame in double. Immutable after construction: one model serves any number of threads and
+/// LocalSearch objects.
 class NetworkModel {
  public:
   /// The widest layer the block forward pass supports (its buffers live on the stack, no allocation).
@@ -28,10 +28,10 @@ class NetworkModel {
   /// have 2 outputs, a layer is wider than kMaxWidth, or the domain's feature ranges have the wrong size.
   NetworkModel(const mlp::Network<float>& network, const geometry::TrainingDomain& domain);
   NetworkModel(const mlp::Network<double>& network, const geometry::TrainingDomain& domain);
-  /// A network of `inputs` features of another frame than SPEC 4's (FaceNetwork's faces): the weights, scaling
-  /// and forward pass alone; domain() and domain_bounds() are not set (the owner tests its own domain). Throws
-  /// InvalidArgument when the input count is not `inputs` (at most kMaxWidth), it does not have 2 outputs, or a
-  /// layer is wider than kMaxWidth.
+  /// A network of `inputs` features of another frame than SPEC 4's (FaceNetwork's faces): the weights,
+  /// scaling and forward pass alone; domain() and domain_bounds() are not set (the owner tests its own
+  /// domain). Throws InvalidArgument when the input count is not `inputs` (at most kMaxWidth), it does not
+  /// have 2 outputs, or a layer is wider than kMaxWidth.
   struct OtherFrame {
     int inputs;
   };
@@ -44,7 +44,9 @@ class NetworkModel {
   [[nodiscard]] const std::vector<int>& layer_sizes() const { return sizes_; }
   [[nodiscard]] int layer_count() const { return static_cast<int>(sizes_.size()) - 1; }
   /// Weights and thresholds (including the output layer's) of the network.
-  [[nodiscard]] std::size_t parameter_count() const { return is_float_ ? params_f_.size() : params_d_.size(); }
+  [[nodiscard]] std::size_t parameter_count() const {
+    return is_float_ ? params_f_.size() : params_d_.size();
+  }
 
   /// W_l (n_{l+1} x n_l, row-major) and theta_l in the network's real type: Real must be float when
   /// is_float() and double otherwise (InvalidArgument if not).
@@ -67,7 +69,8 @@ class NetworkModel {
   static_assert(kMaxWidth % kUnitGroup == 0, "the forward pass's buffers hold the padded units");
   /// For the one-query forward pass, which runs a layer across its units (each unit's sum in the same order
   /// as a lane of the block pass): W_l transposed (n_l rows of padded_units(l) values, input-major), then
-  /// theta_l, both padded with zeros to padded_units(l) units, a multiple of kUnitGroup. Real as parameters().
+  /// theta_l, both padded with zeros to padded_units(l) units, a multiple of kUnitGroup. Real as
+  /// parameters().
   template <class Real>
   [[nodiscard]] const Real* transposed_weights(int layer) const noexcept {
     const std::size_t at = transposed_offsets_[static_cast<std::size_t>(layer)];
@@ -82,15 +85,18 @@ class NetworkModel {
     return (n + kUnitGroup - 1) / kUnitGroup * kUnitGroup;
   }
   /// Offset of W_l in parameters(); theta_l follows W_l.
-  [[nodiscard]] std::size_t weight_offset(int layer) const noexcept { return offsets_[static_cast<std::size_t>(layer)]; }
+  [[nodiscard]] std::size_t weight_offset(int layer) const noexcept {
+    return offsets_[static_cast<std::size_t>(layer)];
+  }
   /// 2 / U0 in the network's real type.
   template <class Real>
   [[nodiscard]] Real gain() const {
     return static_cast<Real>(gain_);
   }
 
-  /// Input scaling x_s = (x - input_min) * input_gain - 1 and output scaling t = output_min + (o - target_low) *
-  /// output_inverse_gain, as mlp::predict computes them (the inverse gain instead of a division).
+  /// Input scaling x_s = (x - input_min) * input_gain - 1 and output scaling t = output_min + (o -
+  /// target_low) * output_inverse_gain, as mlp::predict computes them (the inverse gain instead of a
+  /// division).
   [[nodiscard]] const std::vector<double>& input_min() const { return input_min_; }
   [[nodiscard]] const std::vector<double>& input_gain() const { return input_gain_; }
   [[nodiscard]] const std::vector<double>& output_min() const { return output_min_; }
@@ -112,7 +118,7 @@ class NetworkModel {
   geometry::TrainingDomain domain_;
   bool is_float_ = true;
   std::vector<int> sizes_;
-  std::vector<std::size_t> offsets_;  ///< per layer: start of W_l; theta_l follows it
+  std::vector<std::size_t> offsets_;             ///< per layer: start of W_l; theta_l follows it
   std::vector<std::size_t> transposed_offsets_;  ///< per layer: start of W_l^T (padded) in transposed_*_
   std::vector<float> params_f_, transposed_f_;
   std::vector<double> params_d_, transposed_d_;
@@ -123,7 +129,8 @@ class NetworkModel {
   cnn_domain bounds_{};
 };
 
-/// Fills a cnn_domain from a TrainingDomain (used by NetworkModel; exposed for the exported C header and tests).
+/// Fills a cnn_domain from a TrainingDomain (used by NetworkModel; exposed for the exported C header and
+/// tests).
 [[nodiscard]] cnn_domain domain_bounds(const geometry::TrainingDomain& domain);
 
 }  // namespace contactnn::search

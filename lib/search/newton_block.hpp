@@ -5,10 +5,10 @@
 //  - safeguarded_newton: the hybrids' refinement of an estimate, kept in a box, with step control.
 // Each lane runs independently: a lane that stops keeps its iterate and status while the others go on, so a
 // lane's result is the same in any block, at any position, with any neighbours. Each runs in its surface's
-// canonical parametrisation (LaneSymmetry or LaneSwap, surface_block.hpp): the lanes' coordinates go in and come
-// out in the caller's, and in between the arithmetic is the same for each of the caller's 8 node orders of a
-// segment, so that no status, coordinate or gap depends on the node order (far slave nodes and folded segments
-// made them depend on it: there the rounding of the caller's own order decided).
+// canonical parametrisation (LaneSymmetry or LaneSwap, surface_block.hpp): the lanes' coordinates go in and
+// come out in the caller's, and in between the arithmetic is the same for each of the caller's 8 node orders
+// of a segment, so that no status, coordinate or gap depends on the node order (far slave nodes and folded
+// segments made them depend on it: there the rounding of the caller's own order decided).
 #pragma once
 
 #include <cmath>
@@ -27,8 +27,8 @@ struct LaneState {
   double iterations[W];
 };
 
-/// Residual r_i = P_i.(S - P) and the exact Jacobian H_ij = P_i.P_j - P_ij.(S - P) of Eqs 7-8 (Newton's update
-/// solves H dp = r), with S at the origin; G = P_i.P_j is the Gauss-Newton part.
+/// Residual r_i = P_i.(S - P) and the exact Jacobian H_ij = P_i.P_j - P_ij.(S - P) of Eqs 7-8 (Newton's
+/// update solves H dp = r), with S at the origin; G = P_i.P_j is the Gauss-Newton part.
 struct NewtonSystem {
   double r0, r1, g00, g01, g11, h00, h01, h11;
 };
@@ -83,7 +83,8 @@ struct PlainSystem<BilinearBlock<W>, W> {
     CONTACTNN_LANES
     for (int l = 0; l < W; ++l) {
       const auto dot = [&b, l](int i, int j) {
-        return b.a[3 * i][l] * b.a[3 * j][l] + b.a[3 * i + 1][l] * b.a[3 * j + 1][l] + b.a[3 * i + 2][l] * b.a[3 * j + 2][l];
+        return b.a[3 * i][l] * b.a[3 * j][l] + b.a[3 * i + 1][l] * b.a[3 * j + 1][l] +
+               b.a[3 * i + 2][l] * b.a[3 * j + 2][l];
       };
       d10[l] = dot(1, 0);
       d20[l] = dot(2, 0);
@@ -130,8 +131,8 @@ CONTACTNN_SEARCH_INLINE PlainStep plain_step(const NewtonSystem& q) {
   return p;
 }
 
-/// Lean Newton: `steps` undamped steps H dp = r from the lanes' iterates. A lane stops early, keeping its last
-/// iterate, with status degenerate when det H = 0 (as projection::newton_fixed_iterations stops) or
+/// Lean Newton: `steps` undamped steps H dp = r from the lanes' iterates. A lane stops early, keeping its
+/// last iterate, with status degenerate when det H = 0 (as projection::newton_fixed_iterations stops) or
 /// no_convergence when the step is not finite. No line search, no box, no convergence test.
 template <class Surf, int W>
 CONTACTNN_SEARCH_INLINE void lean_steps(const Surf& surf, int steps, LaneState<W>& s) {
@@ -147,7 +148,8 @@ CONTACTNN_SEARCH_INLINE void lean_steps(const Surf& surf, int steps, LaneState<W
       s.u[l] = take ? s.u[l] + du : s.u[l];
       s.v[l] = take ? s.v[l] + dv : s.v[l];
       s.iterations[l] += take ? 1.0 : 0.0;
-      s.status[l] = (active & singular) ? kDegenerate : ((active & !singular & !finite) ? kNoConvergence : s.status[l]);
+      s.status[l] =
+          (active & singular) ? kDegenerate : ((active & !singular & !finite) ? kNoConvergence : s.status[l]);
     }
   }
 }
@@ -166,11 +168,11 @@ CONTACTNN_SEARCH_INLINE void to_caller(Surf& surf, LaneState<W>& s) {
   for (int l = 0; l < W; ++l) surf.report(l, s.u[l], s.v[l]);
 }
 
-/// Lean Newton from the domain centre (search_rows starts every lane there; no symmetry moves it, so the lanes
-/// need no map into the canonical parametrisation), reported in the caller's. No fold test (converged_newton's,
-/// safeguarded_newton's): the K steps stop wherever they are, and their status says only whether a step could
-/// be taken; the test at the last iterate cost newton:5 5% (its gap's sign at a fold is the side the iterate
-/// is on, the same in every node order).
+/// Lean Newton from the domain centre (search_rows starts every lane there; no symmetry moves it, so the
+/// lanes need no map into the canonical parametrisation), reported in the caller's. No fold test
+/// (converged_newton's, safeguarded_newton's): the K steps stop wherever they are, and their status says only
+/// whether a step could be taken; the test at the last iterate cost newton:5 5% (its gap's sign at a fold is
+/// the side the iterate is on, the same in every node order).
 template <class Surf, int W>
 static void lean_newton(Surf& surf, int steps, LaneState<W>& s) {
   if constexpr (W == 1) {
@@ -230,7 +232,8 @@ static void converged_steps(const Surf& surf, int max_iterations, double tol, bo
       s.u[l] = take ? s.u[l] + du : s.u[l];
       s.v[l] = take ? s.v[l] + dv : s.v[l];
       s.iterations[l] += take ? 1.0 : 0.0;
-      s.status[l] = (active & singular) ? kDegenerate : ((active & !singular & !finite) ? kNoConvergence : s.status[l]);
+      s.status[l] =
+          (active & singular) ? kDegenerate : ((active & !singular & !finite) ? kNoConvergence : s.status[l]);
       running[l] = (take & !(size <= tol)) ? 1.0 : 0.0;
     }
     any = any_of<W>(running);
@@ -241,11 +244,11 @@ static void converged_steps(const Surf& surf, int max_iterations, double tol, bo
 }
 
 /// Undamped Newton until the step (max norm) is at most `tol` or `max_iterations` steps: statuses as
-/// lean_newton, and for a lane still moving after the last step no_convergence, or kPending when `pause`. A lane
-/// converged inside the domain (enlarged by tol) where the normal vanishes (normal_vanishes: the fold of a
-/// folded segment) is degenerate, as its label. (Beyond the domain such a point is left outside: the extended
-/// facet of a nearly collapsed segment, C and D 1e-9 apart, has one along the line through them, and the
-/// labels project there.)
+/// lean_newton, and for a lane still moving after the last step no_convergence, or kPending when `pause`. A
+/// lane converged inside the domain (enlarged by tol) where the normal vanishes (normal_vanishes: the fold of
+/// a folded segment) is degenerate, as its label. (Beyond the domain such a point is left outside: the
+/// extended facet of a nearly collapsed segment, C and D 1e-9 apart, has one along the line through them, and
+/// the labels project there.)
 template <class Surf, int W>
 static void converged_newton(Surf& surf, int max_iterations, double tol, bool pause, LaneState<W>& s) {
   // From the centre, as lean_newton: no map in.
@@ -254,21 +257,24 @@ static void converged_newton(Surf& surf, int max_iterations, double tol, bool pa
   for (int l = 0; l < W; ++l) {
     Eval e;
     surf.template eval_canonical<false>(l, s.u[l], s.v[l], e);
-    const bool fold = (s.status[l] == kOk) & in_domain<Surf>(s.u[l], s.v[l], tol) & normal_vanishes(e, surf.longest[l]);
+    const bool fold =
+        (s.status[l] == kOk) & in_domain<Surf>(s.u[l], s.v[l], tol) & normal_vanishes(e, surf.longest[l]);
     s.status[l] = fold ? kDegenerate : s.status[l];
   }
   to_caller<Surf, W>(surf, s);
 }
 
 /// Whether the iterates of the lanes marked in `candidate` (canonical: an answer inside the domain where the
-/// tangents are nearly parallel but the normal does not vanish yet) head for a fold: plain Newton from each to
-/// convergence (the labels' tolerance and iteration limit), which ends inside the domain where the normal
-/// vanishes. Out of line and cold: a hybrid whose few steps stop short of a fold's point (where S lies over the
-/// fold's image the distance is quartic there and Newton converges linearly: closed_form+newton:3 and
+/// tangents are nearly parallel but the normal does not vanish yet) head for a fold: plain Newton from each
+/// to convergence (the labels' tolerance and iteration limit), which ends inside the domain where the normal
+/// vanishes. Out of line and cold: a hybrid whose few steps stop short of a fold's point (where S lies over
+/// the fold's image the distance is quartic there and Newton converges linearly: closed_form+newton:3 and
 /// network+newton:3 stopped 0.007 to 0.014 from it, ok with a gap of +-0.2 where the label is degenerate);
-/// other lanes come here only where the tangents meet at less than 3 degrees, which a usable segment's do not.
+/// other lanes come here only where the tangents meet at less than 3 degrees, which a usable segment's do
+/// not.
 template <class Surf, int W>
-[[gnu::noinline, gnu::cold]] static void mark_folds(const Surf& surf, const double* candidate, LaneState<W>& s) {
+[[gnu::noinline, gnu::cold]] static void mark_folds(const Surf& surf, const double* candidate,
+                                                    LaneState<W>& s) {
   LaneState<W> t;
   for (int l = 0; l < W; ++l) {
     t.u[l] = s.u[l];
@@ -289,10 +295,10 @@ template <class Surf, int W>
 
 /// The box and step control of the hybrids (SearchOptions).
 struct Safeguards {
-  double lo, hi;       ///< iterates stay in [lo, hi]^2
-  double max_step;     ///< parameter units, max norm
-  double tol;          ///< a step this short ends the lane (converged)
-  int max_halvings;    ///< halvings of a step that does not reduce |S - P|
+  double lo, hi;                ///< iterates stay in [lo, hi]^2
+  double max_step;              ///< parameter units, max norm
+  double tol;                   ///< a step this short ends the lane (converged)
+  int max_halvings;             ///< halvings of a step that does not reduce |S - P|
   double inside_lo, inside_hi;  ///< the domain enlarged by domain_margin (ok versus outside)
 };
 
@@ -302,8 +308,8 @@ template <int W, bool kPureSecond>
 struct EvalStore {
   double p[3][W], ps[3][W], pt[3][W], pst[3][W];
   double pss[kPureSecond ? 3 : 1][W], ptt[kPureSecond ? 3 : 1][W];
-  double f[W];     ///< |S - P|^2
-  double dist[W];  ///< |S - P|
+  double f[W];                    ///< |S - P|^2
+  double dist[W];                 ///< |S - P|
   double orient[W], reach_sq[W];  ///< Eval::orient and Eval::reach_sq, for gap_at (set by safeguarded_newton)
 
   CONTACTNN_SEARCH_INLINE void load(int l, Eval& e) const {
@@ -362,13 +368,13 @@ CONTACTNN_SEARCH_INLINE double clamp_to(double x, double lo, double hi) {
 template <int W, bool kPureSecond>
 [[gnu::noinline]] static void classify_held_lanes(const Safeguards& g, LaneState<W>& s,
                                                   const EvalStore<W, kPureSecond>& store) {
-  // A lane held on the box's edge. Where the box is larger than the domain, the iterate is not at a stationary
-  // point in the box: no_convergence (a step pointing further out there follows a far stationary point or
-  // the fold of a warped bilinear map as often as the answer: on random bilinear configurations labelled
-  // inside, calling those outside gave wrong answers). Where the box's edge is the domain's (the Gregory
-  // default), the gradient of |S - P|^2 at the iterate (the surface is in `store`: no evaluation) says
-  // whether the nearest point of the segment is there: the distance still falling outward across the edge
-  // (by more than a step of tol) -> outside, reported at the edge; otherwise -> ok, a point of the edge.
+  // A lane held on the box's edge. Where the box is larger than the domain, the iterate is not at a
+  // stationary point in the box: no_convergence (a step pointing further out there follows a far stationary
+  // point or the fold of a warped bilinear map as often as the answer: on random bilinear configurations
+  // labelled inside, calling those outside gave wrong answers). Where the box's edge is the domain's (the
+  // Gregory default), the gradient of |S - P|^2 at the iterate (the surface is in `store`: no evaluation)
+  // says whether the nearest point of the segment is there: the distance still falling outward across the
+  // edge (by more than a step of tol) -> outside, reported at the edge; otherwise -> ok, a point of the edge.
   const double lo = g.lo, hi = g.hi, tol = g.tol;
   const double in_lo = g.inside_lo, in_hi = g.inside_hi;
   CONTACTNN_LANES
@@ -385,7 +391,8 @@ template <int W, bool kPureSecond>
       m1 += store.pt[c][l] * store.pt[c][l];
     }
     const double t0 = tol * m0, t1 = tol * m1;
-    const bool outward = (at_lo_u & (r0 < -t0)) | (at_hi_u & (r0 > t0)) | (at_lo_v & (r1 < -t1)) | (at_hi_v & (r1 > t1));
+    const bool outward =
+        (at_lo_u & (r0 < -t0)) | (at_hi_u & (r0 > t0)) | (at_lo_v & (r1 < -t1)) | (at_hi_v & (r1 > t1));
     const bool on_domain = (s.u[l] >= in_lo) & (s.u[l] <= in_hi) & (s.v[l] >= in_lo) & (s.v[l] <= in_hi);
     const bool held = (s.status[l] == kOk) & pinned;
     s.status[l] = (held & !on_domain) ? kNoConvergence : ((held & outward) ? kOutside : s.status[l]);
@@ -394,15 +401,15 @@ template <int W, bool kPureSecond>
 
 /// safeguarded_newton's steps, in the canonical parametrisation.
 template <class Surf, int W>
-static void safeguarded_steps(const Surf& surf, int steps, const Safeguards& g, const double* noise, LaneState<W>& s,
-                              EvalStore<W, Surf::kHasPureSecond>& store) {
-  // The settings as locals: a field read under a lane-dependent condition becomes a masked load of an invariant,
-  // which GCC 12 does not vectorise.
+static void safeguarded_steps(const Surf& surf, int steps, const Safeguards& g, const double* noise,
+                              LaneState<W>& s, EvalStore<W, Surf::kHasPureSecond>& store) {
+  // The settings as locals: a field read under a lane-dependent condition becomes a masked load of an
+  // invariant, which GCC 12 does not vectorise.
   const double lo = g.lo, hi = g.hi, max_step = g.max_step, tol = g.tol;
-  // On a bilinear facet the surface at an iterate (31 flops) is evaluated again where it is needed rather than
-  // kept: storing and reloading its 12 values per lane and step cost more (bench_search A/B, batched, 1 thread:
-  // closed_form+newton:3 41.0 -> 39.5 ns, network+newton:3[bilinear-8] 65.4 -> 63.9). A Gregory evaluation is
-  // 790 flops: kept.
+  // On a bilinear facet the surface at an iterate (31 flops) is evaluated again where it is needed rather
+  // than kept: storing and reloading its 12 values per lane and step cost more (bench_search A/B, batched, 1
+  // thread: closed_form+newton:3 41.0 -> 39.5 ns, network+newton:3[bilinear-8] 65.4 -> 63.9). A Gregory
+  // evaluation is 790 flops: kept.
   constexpr bool kEvaluateAgain = !Surf::kHasPureSecond;
   double running[W], pending[W], tu[W], tv[W], tiny[W], stalled[W];
   CONTACTNN_LANES
@@ -465,7 +472,9 @@ static void safeguarded_steps(const Surf& surf, int steps, const Safeguards& g, 
         // reaches it has left for a far stationary point, and sliding along the box's face brought some back
         // to wrong answers (closed_form+newton:3's mean error on the bilinear domain rose 1.5x).
         // A move by d from x on the box's edge that leaves the box.
-        const auto leaves = [lo, hi](double x, double d) { return ((x <= lo) & (d < 0.0)) | ((x >= hi) & (d > 0.0)); };
+        const auto leaves = [lo, hi](double x, double d) {
+          return ((x <= lo) & (d < 0.0)) | ((x >= hi) & (d > 0.0));
+        };
         const double du_face = q.r0 / (a > 0.0 ? a : 1.0), dv_face = q.r1 / (c > 0.0 ? c : 1.0);
         const bool out_u = leaves(s.u[l], du), out_v = leaves(s.v[l], dv);
         const bool hold_u = out_u | (out_v & leaves(s.u[l], du_face));
@@ -541,20 +550,20 @@ static void safeguarded_steps(const Surf& surf, int steps, const Safeguards& g, 
 /// positive definite (below), on a bilinear facet (and where the shift fails) the Gauss-Newton step
 /// (downhill on |S - P|^2); a step is shortened to max_step, clamped into the box, and accepted when |S - P|
 /// does not grow by more than the rounding of the positions (noise[l], a length); otherwise halved up to
-/// max_halvings times, after which the lane stops with status no_convergence and keeps its previous iterate. On
-/// a Gregory patch a lane on the box's edge whose step points out of the box steps along the edge instead. A
-/// step shorter than `tol` ends the lane (converged), and so does an accepted step that does not move the
+/// max_halvings times, after which the lane stops with status no_convergence and keeps its previous iterate.
+/// On a Gregory patch a lane on the box's edge whose step points out of the box steps along the edge instead.
+/// A step shorter than `tol` ends the lane (converged), and so does an accepted step that does not move the
 /// iterate (held in a corner of the box, every later step would be the same). Both systems singular:
 /// degenerate. A lane ending on the box's edge: no_convergence where that edge lies beyond the domain; on an
-/// edge of the domain, outside when |S - P| still falls outward across it, else ok (see the last loop). A lane
-/// ending inside the domain where the normal vanishes (normal_vanishes: the fold of a folded segment), or
-/// where it nearly does and plain Newton from there converges to such a point (mark_folds): degenerate, as its
-/// label. `store` holds the surface at each lane's final iterate (in the canonical parametrisation, with
-/// the orientation and the reach gap_at needs); the iterates come back in the caller's coordinates, a lane that
-/// never moved with its start's own bits.
+/// edge of the domain, outside when |S - P| still falls outward across it, else ok (see the last loop). A
+/// lane ending inside the domain where the normal vanishes (normal_vanishes: the fold of a folded segment),
+/// or where it nearly does and plain Newton from there converges to such a point (mark_folds): degenerate, as
+/// its label. `store` holds the surface at each lane's final iterate (in the canonical parametrisation, with
+/// the orientation and the reach gap_at needs); the iterates come back in the caller's coordinates, a lane
+/// that never moved with its start's own bits.
 template <class Surf, int W>
-static void safeguarded_newton(Surf& surf, int steps, const Safeguards& g, const double* noise, LaneState<W>& s,
-                               EvalStore<W, Surf::kHasPureSecond>& store) {
+static void safeguarded_newton(Surf& surf, int steps, const Safeguards& g, const double* noise,
+                               LaneState<W>& s, EvalStore<W, Surf::kHasPureSecond>& store) {
   double start_u[W], start_v[W], canonical_u[W], canonical_v[W];
   CONTACTNN_LANES
   for (int l = 0; l < W; ++l) {
@@ -575,7 +584,8 @@ static void safeguarded_newton(Surf& surf, int steps, const Safeguards& g, const
     const double n_sq = normal_sq(e), l4 = surf.longest[l] * surf.longest[l];
     const double ps_sq = e.ps[0] * e.ps[0] + e.ps[1] * e.ps[1] + e.ps[2] * e.ps[2];
     const double pt_sq = e.pt[0] * e.pt[0] + e.pt[1] * e.pt[1] + e.pt[2] * e.pt[2];
-    const bool inside = (s.status[l] == kOk) & (s.u[l] >= in_lo) & (s.u[l] <= in_hi) & (s.v[l] >= in_lo) & (s.v[l] <= in_hi);
+    const bool inside =
+        (s.status[l] == kOk) & (s.u[l] >= in_lo) & (s.u[l] <= in_hi) & (s.v[l] >= in_lo) & (s.v[l] <= in_hi);
     const bool vanishes = !(n_sq > 1e-24 * l4);  // normal_vanishes
     s.status[l] = inside & vanishes ? kDegenerate : s.status[l];
     // Near a fold the tangents turn parallel: the angle between them below 3 degrees (sin 0.05).
@@ -595,13 +605,13 @@ static void safeguarded_newton(Surf& surf, int steps, const Safeguards& g, const
 
 /// gap = n.(S - P) with n the caller's unit normal P_s x P_t (e.orient times the canonical one, whose
 /// arithmetic is the same in every node order), at most the distance to the segment's nearest node
-/// (sqrt(e.reach_sq)) in magnitude (issue 31; docs/conventions.md): no point of the segment is farther, so the
-/// cap changes no converged answer inside the domain, while beyond the domain a method's point can be far
-/// off (the Gregory closed form's estimate for a slave node 1e15 away is the patch's cubic extrapolation, 2e44
-/// away). 0 where the normal vanishes or a value is NaN. e is a surface's public eval or EvalStore::load. One
-/// square root, of the smaller of gap^2 = (n.p / |n|^2) (n.p) and the reach's square (n.p / |n|^2 overflows only
-/// where the gap exceeds the double range, or n.p itself for a slave node 1e154 element sizes away: then the
-/// cap is the gap).
+/// (sqrt(e.reach_sq)) in magnitude (issue 31; docs/conventions.md): no point of the segment is farther, so
+/// the cap changes no converged answer inside the domain, while beyond the domain a method's point can be far
+/// off (the Gregory closed form's estimate for a slave node 1e15 away is the patch's cubic extrapolation,
+/// 2e44 away). 0 where the normal vanishes or a value is NaN. e is a surface's public eval or
+/// EvalStore::load. One square root, of the smaller of gap^2 = (n.p / |n|^2) (n.p) and the reach's square
+/// (n.p / |n|^2 overflows only where the gap exceeds the double range, or n.p itself for a slave node 1e154
+/// element sizes away: then the cap is the gap).
 CONTACTNN_SEARCH_INLINE double gap_at(const Eval& e) {
   const double nx = e.ps[1] * e.pt[2] - e.ps[2] * e.pt[1];
   const double ny = e.ps[2] * e.pt[0] - e.ps[0] * e.pt[2];

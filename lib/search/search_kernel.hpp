@@ -2,13 +2,13 @@
 // by kernels_bilinear.cpp and kernels_gregory.cpp, which instantiate it per surface, input type, network type
 // and block width (W = 1 is the path of queries outside whole blocks).
 //
-// The kernels' function templates here and in the *_block.hpp headers are `static`: each translation unit keeps
-// the copies it compiled with its own flags (kernels_single.cpp without auto-vectorisation, the others with
-// it). With external linkage the linker keeps one copy of each instantiation for the whole program: a
+// The kernels' function templates here and in the *_block.hpp headers are `static`: each translation unit
+// keeps the copies it compiled with its own flags (kernels_single.cpp without auto-vectorisation, the others
+// with it). With external linkage the linker keeps one copy of each instantiation for the whole program: a
 // width-independent one such as sigmoid_all<float> came from whichever object it saw first, and a benchmark
-// that instantiated the block kernels in its own translation unit once replaced the library's (1.6-2x slower).
-// The surface blocks' member functions keep external linkage; they are keyed on W, which no two of the
-// kernel files share. tie_estimate is the one kernel meant to be shared (kernels_single.cpp).
+// that instantiated the block kernels in its own translation unit once replaced the library's (1.6-2x
+// slower). The surface blocks' member functions keep external linkage; they are keyed on W, which no two of
+// the kernel files share. tie_estimate is the one kernel meant to be shared (kernels_single.cpp).
 #pragma once
 
 #include <algorithm>
@@ -26,8 +26,8 @@
 namespace contactnn::search::detail {
 
 /// A gap as the caller's type: one beyond the type's range is its largest value of the gap's sign (a finite
-/// segment and slave node near FLT_MAX can be farther apart than FLT_MAX; a gap of a rescaled block, multiplied
-/// back, can overflow near DBL_MAX; outputs are never infinite).
+/// segment and slave node near FLT_MAX can be farther apart than FLT_MAX; a gap of a rescaled block,
+/// multiplied back, can overflow near DBL_MAX; outputs are never infinite).
 template <class In>
 CONTACTNN_SEARCH_INLINE In gap_out(double gap) {
   constexpr double kLargest = std::numeric_limits<In>::max();
@@ -38,16 +38,17 @@ CONTACTNN_SEARCH_INLINE In gap_out(double gap) {
 /// its queries in units of each lane's segment size (rescale_queries) and the surface built again. Out of
 /// line and cold: a real mesh's blocks come here only with a collapsed segment.
 template <class Surf, int W>
-[[gnu::noinline, gnu::cold]] static void rebuild_rescaled(Surf& surf, QueryBlock<W>& q, double* patch_status) {
+[[gnu::noinline, gnu::cold]] static void rebuild_rescaled(Surf& surf, QueryBlock<W>& q,
+                                                          double* patch_status) {
   rescale_queries<W>(q);
   for (int l = 0; l < W; ++l) patch_status[l] = kOk;
   (void)surf.build(q, patch_status);
 }
 
-/// One block of W queries: rows first .. first + W - 1 of raw_rows, or (rows not null) the rows rows[0 .. W - 1],
-/// in any order, repeats allowed. cap > 0 (Newton to convergence only): at most cap iterations, a lane still
-/// running then gets status kPending (LocalSearch::run computes it again, from the centre, in a block of such
-/// lanes with the next cap or none).
+/// One block of W queries: rows first .. first + W - 1 of raw_rows, or (rows not null) the rows rows[0 .. W -
+/// 1], in any order, repeats allowed. cap > 0 (Newton to convergence only): at most cap iterations, a lane
+/// still running then gets status kPending (LocalSearch::run computes it again, from the centre, in a block
+/// of such lanes with the next cap or none).
 template <bool kGregory, class Net, int W, class In>
 static void search_rows(const Plan& plan, const In* raw_rows, const Results<In>& out, std::size_t first,
                         const std::size_t* rows, int cap) {
@@ -98,32 +99,34 @@ static void search_rows(const Plan& plan, const In* raw_rows, const Results<In>&
   };
   const auto build_for_method = [&] {
     build();
-    for (int l = 0; l < W; ++l) s.status[l] = (s.status[l] == kOk) & (patch_status[l] != kOk) ? kDegenerate : s.status[l];
+    for (int l = 0; l < W; ++l)
+      s.status[l] = (s.status[l] == kOk) & (patch_status[l] != kOk) ? kDegenerate : s.status[l];
   };
   const bool hybrid = method.is_hybrid();
-  // Lanes whose refinement, if it fails, is retried from the centre: on a Gregory patch every lane that starts
-  // from an estimate; on a bilinear facet a network's estimate outside its training domain only (from the
-  // centre, plain Newton itself ends at another stationary point of a warped facet, inside the larger box, as
-  // often as not: on 100000 held-out configurations retrying every failure turned 62 failures of
+  // Lanes whose refinement, if it fails, is retried from the centre: on a Gregory patch every lane that
+  // starts from an estimate; on a bilinear facet a network's estimate outside its training domain only (from
+  // the centre, plain Newton itself ends at another stationary point of a warped facet, inside the larger
+  // box, as often as not: on 100000 held-out configurations retrying every failure turned 62 failures of
   // closed_form+newton:1 into answers, some of them wrong and reported ok).
   double retry_from_centre[W] = {};
   double triangles_gap[W] = {};  // four_triangles: its gap, in q's units
 
   // 1. The start.
   if (method.start == Method::Start::kNetwork) {
-    // A float network's bilinear block: lanes the float frame does not decide are left pending for LocalSearch::run
-    // (blocks of consecutive rows only; a one-lane kernel and a block of pending rows decide every lane itself).
-    const FramePass pass = cap == kDoubleFramePass                            ? FramePass::kDouble
+    // A float network's bilinear block: lanes the float frame does not decide are left pending for
+    // LocalSearch::run (blocks of consecutive rows only; a one-lane kernel and a block of pending rows decide
+    // every lane itself).
+    const FramePass pass = cap == kDoubleFramePass                          ? FramePass::kDouble
                            : (W > 1 && rows == nullptr && plan.defer_frame) ? FramePass::kFloatDeferred
                                                                             : FramePass::kFloat;
     network_estimate<Net, W, kGregory>(*plan.network, plan.options.check_domain, &raw[0][0], s, pass);
     if (hybrid) {
-      // Newton decides the status. Where the network has no canonical frame, the segment is degenerate when its
-      // label says so (degenerate_as_labelled: collapsed, or no frame at any corner; a collapsed segment refined
-      // from the centre came back ok); otherwise (a Gregory node normal on the far side of the canonical
-      // corner's plane, where another corner has a frame) the refinement starts from the domain centre.
-      // Outside its training domain the network extrapolates: its estimate is still the start (near the
-      // domain it is good), but a refinement from it that fails is retried from the centre (step 2).
+      // Newton decides the status. Where the network has no canonical frame, the segment is degenerate when
+      // its label says so (degenerate_as_labelled: collapsed, or no frame at any corner; a collapsed segment
+      // refined from the centre came back ok); otherwise (a Gregory node normal on the far side of the
+      // canonical corner's plane, where another corner has a frame) the refinement starts from the domain
+      // centre. Outside its training domain the network extrapolates: its estimate is still the start (near
+      // the domain it is good), but a refinement from it that fails is retried from the centre (step 2).
       for (int l = 0; l < W; ++l) {
         retry_from_centre[l] = s.status[l] == kOutOfDomain ? 1.0 : 0.0;
         bool none = false;
@@ -143,14 +146,14 @@ static void search_rows(const Plan& plan, const In* raw_rows, const Results<In>&
       closed_form<W>(surf, s, hybrid);
     } else {
       // A Gregory patch: the closed form on the bilinear facet of its corner nodes, (u, v) = ((xi + 1) / 2,
-      // (eta + 1) / 2), exact where the patch is that facet (a flat segment whose node normals are its normal,
-      // SPEC 1). A collapsed facet is degenerate, as the labels say: the patch's build tested it
+      // (eta + 1) / 2), exact where the patch is that facet (a flat segment whose node normals are its
+      // normal, SPEC 1). A collapsed facet is degenerate, as the labels say: the patch's build tested it
       // (collapsed_segment), and q's range (rescaled if it had to be).
-      // The estimate goes to the patch's canonical parametrisation (its LaneSymmetry, chosen from the same corner
-      // facet; exact in (xi, eta)), to (u, v) there, and is reported through the patch, which keeps it, so that
-      // the gap is evaluated at the same point in every node order (from the caller's u, the reflection 1 - u
-      // rounds, and a far slave's extrapolated gap moved by 1e-6 of itself with the node order). A lane the
-      // closed form did not answer (degenerate, invalid) keeps the centre.
+      // The estimate goes to the patch's canonical parametrisation (its LaneSymmetry, chosen from the same
+      // corner facet; exact in (xi, eta)), to (u, v) there, and is reported through the patch, which keeps
+      // it, so that the gap is evaluated at the same point in every node order (from the caller's u, the
+      // reflection 1 - u rounds, and a far slave's extrapolated gap moved by 1e-6 of itself with the node
+      // order). A lane the closed form did not answer (degenerate, invalid) keeps the centre.
       build_for_method();
       BilinearBlock<W> facet;
       (void)facet.template build<false>(q, nullptr);
@@ -159,7 +162,8 @@ static void search_rows(const Plan& plan, const In* raw_rows, const Results<In>&
       closed_form<W>(facet, s, hybrid);
       for (int l = 0; l < W; ++l) {
         double xi = s.u[l], eta = s.v[l];
-        surf.sym.template to_canonical<BilinearBlock<W>::kReflect>(l, xi, eta);  // the patch's: exact in (xi, eta)
+        surf.sym.template to_canonical<BilinearBlock<W>::kReflect>(l, xi,
+                                                                   eta);  // the patch's: exact in (xi, eta)
         double u = 0.5 * (xi + 1.0), v = 0.5 * (eta + 1.0);
         surf.report(l, u, v);
         const bool take = (answered[l] != 0.0) & (s.status[l] != kDegenerate);
@@ -220,10 +224,11 @@ static void search_rows(const Plan& plan, const In* raw_rows, const Results<In>&
       retry = retry || retry_from_centre[l] != 0.0;
     }
     if (retry) {
-      // A start in another basin: on a Gregory sliver a network estimate 0.5 off sends the descent to the edge
-      // of the segment, where it fails or stops at an edge point, while the reference's nearest local minimum
-      // lies inside (held-out sets of 100000: 1 such failure in 4 sets of network+newton:3, none after the
-      // retry). Only the retried lanes run (the others are held by a status other than ok); their steps add up.
+      // A start in another basin: on a Gregory sliver a network estimate 0.5 off sends the descent to the
+      // edge of the segment, where it fails or stops at an edge point, while the reference's nearest local
+      // minimum lies inside (held-out sets of 100000: 1 such failure in 4 sets of network+newton:3, none
+      // after the retry). Only the retried lanes run (the others are held by a status other than ok); their
+      // steps add up.
       LaneState<W> again;
       EvalStore<W, Surf::kHasPureSecond> again_store;
       for (int l = 0; l < W; ++l) {
@@ -234,8 +239,9 @@ static void search_rows(const Plan& plan, const In* raw_rows, const Results<In>&
       safeguarded_newton<Surf, W>(surf, method.newton_steps, plan.guards, noise, again, again_store);
       for (int l = 0; l < W; ++l) {
         if (retry_from_centre[l] == 0.0) continue;
-        // An answer at the edge stays unless the centre's is inside and nearer S (after few steps the centre's
-        // run may be on its way, not there: an interior point farther than the edge is no better answer).
+        // An answer at the edge stays unless the centre's is inside and nearer S (after few steps the
+        // centre's run may be on its way, not there: an interior point farther than the edge is no better
+        // answer).
         const bool edge_stays = (again.status[l] != kOk) | !(again_store.dist[l] < store.dist[l]);
         if (s.status[l] == kOutside && edge_stays) {  // the steps of both runs
           s.iterations[l] = again.iterations[l];
@@ -256,7 +262,8 @@ static void search_rows(const Plan& plan, const In* raw_rows, const Results<In>&
   } else if (method.start == Method::Start::kCentre) {
     build_for_method();
     if (method.to_convergence) {
-      converged_newton<Surf, W>(surf, cap > 0 ? cap : plan.options.max_iterations, plan.options.tol_param, cap > 0, s);
+      converged_newton<Surf, W>(surf, cap > 0 ? cap : plan.options.max_iterations, plan.options.tol_param,
+                                cap > 0, s);
     } else {
       lean_newton<Surf, W>(surf, method.newton_steps, s);
     }
@@ -302,7 +309,8 @@ static void search_rows(const Plan& plan, const In* raw_rows, const Results<In>&
     }
   }
 
-  // 5. Out, never a NaN: a non-finite estimate (only possible from a network fed extreme values) is the centre.
+  // 5. Out, never a NaN: a non-finite estimate (only possible from a network fed extreme values) is the
+  // centre.
   //    Computed over the lanes first, then stored: the stores of a whole block are loops GCC vectorises (the
   //    pairs interleaved, the status narrowed to a byte).
   alignas(64) In pu[W], pv[W];
@@ -350,11 +358,11 @@ static void search_block(const Plan& plan, const In* raw_rows, const Results<In>
 }
 
 /// The block kernels of one surface kind. Widths measured on AVX-512 (scripts/bench-search): wider blocks
-/// give each vector operation several independent vectors to overlap, up to the register file: a float network
-/// 32 lanes (its 8 accumulators of 32 floats fill 16 of the 32 vector registers), a double network 16; lean and
-/// safeguarded Newton and the closed form 32 (12.3 ns for newton:5 against 15.5 at 16 and 24.7 at 8); four_triangles
-/// 32 (its time over newton:5's 1.9 at 32 and at 16, within the noise); Newton to convergence 16, since a block iterates until
-/// its slowest lane has converged.
+/// give each vector operation several independent vectors to overlap, up to the register file: a float
+/// network 32 lanes (its 8 accumulators of 32 floats fill 16 of the 32 vector registers), a double network
+/// 16; lean and safeguarded Newton and the closed form 32 (12.3 ns for newton:5 against 15.5 at 16 and 24.7
+/// at 8); four_triangles 32 (its time over newton:5's 1.9 at 32 and at 16, within the noise); Newton to
+/// convergence 16, since a block iterates until its slowest lane has converged.
 template <bool kGregory>
 static void select_block_kernels(Plan& plan) {
   const bool network = plan.method.needs_network();
@@ -384,8 +392,8 @@ static void select_block_kernels(Plan& plan) {
 
 /// network_stages (search_plan.hpp) for one surface, network type and block width.
 template <bool kGregory, class Net, int W>
-static double network_stages_of(const NetworkModel& model, const double* raw_rows, std::size_t count, int stage,
-                         std::size_t& done) {
+static double network_stages_of(const NetworkModel& model, const double* raw_rows, std::size_t count,
+                                int stage, std::size_t& done) {
   constexpr int kStride = kGregory ? 27 : 15;
   constexpr int kG = kGregory ? 1 : 0;
   const std::size_t blocks = count / W;
@@ -401,7 +409,8 @@ static double network_stages_of(const NetworkModel& model, const double* raw_row
       sink += lanes.u[0] + lanes.v[W - 1];
     } else {
       alignas(64) double features[16 * W], normals[12 * W], info[CNN_CF_INFO_ROWS * W];
-      if constexpr (!kGregory && sizeof(Net) == sizeof(float)) {  // as network_estimate, the undecided lanes left
+      if constexpr (!kGregory &&
+                    sizeof(Net) == sizeof(float)) {  // as network_estimate, the undecided lanes left
         sink += cnn_cff_block(W, stage >= 3 ? &model.domain_bounds() : nullptr, &raw[0][0], features, info);
       } else {
         cnn_canonicalise_block(W, kG, &raw[0][0], features, normals, info);
@@ -415,7 +424,8 @@ static double network_stages_of(const NetworkModel& model, const double* raw_row
 }
 
 template <bool kGregory>
-static double network_stages_for(const NetworkModel& model, const double* raw, std::size_t count, int stage, std::size_t& done) {
+static double network_stages_for(const NetworkModel& model, const double* raw, std::size_t count, int stage,
+                                 std::size_t& done) {
   // The widths of select_block_kernels.
   return model.is_float() ? network_stages_of<kGregory, float, 32>(model, raw, count, stage, done)
                           : network_stages_of<kGregory, double, 16>(model, raw, count, stage, done);

@@ -49,8 +49,9 @@ struct SearchOptions {
   /// status no_convergence (keeping the previous iterate). Each halving costs one surface evaluation for the
   /// whole block, so only a few.
   int max_halvings = 3;
-  /// Network methods: test each query against the network's training domain (status out_of_domain). A query on a
-  /// tie averages the network over its canonical forms in the domain; without the test, over all of them.
+  /// Network methods: test each query against the network's training domain (status out_of_domain). A query
+  /// on a tie averages the network over its canonical forms in the domain; without the test, over all of
+  /// them.
   bool check_domain = true;
   /// The closest point of the whole face (SPEC 9): a query whose method answers `outside` is moved to the
   /// nearest point of its segment's boundary (edges and vertices), with status ok, its gap +-|S - P| and

@@ -53,8 +53,8 @@ namespace contactnn::search::detail {
 /// quantity of a vectorised loop has the same width.
 inline constexpr double kOk = 0.0, kOutside = 1.0, kNoConvergence = 2.0, kDegenerate = 3.0, kInvalid = 4.0,
                         kOutOfDomain = 5.0;
-/// Not a status of the interface: Newton to convergence stopped at a pass's cap (LocalSearch::run), the lane to
-/// be computed again. Written to the caller's status array only until a later pass.
+/// Not a status of the interface: Newton to convergence stopped at a pass's cap (LocalSearch::run), the lane
+/// to be computed again. Written to the caller's status array only until a later pass.
 inline constexpr double kPending = 255.0;
 inline constexpr Status kPendingStatus = static_cast<Status>(255);
 
@@ -68,8 +68,8 @@ struct Eval {
   double orient, reach_sq;
 };
 
-/// max and min as x86's vector instructions take them (b where either is NaN): one instruction in a vectorised
-/// loop, where std::fmax is a library call that stops vectorisation.
+/// max and min as x86's vector instructions take them (b where either is NaN): one instruction in a
+/// vectorised loop, where std::fmax is a library call that stops vectorisation.
 CONTACTNN_SEARCH_INLINE double max_of(double a, double b) { return a > b ? a : b; }
 CONTACTNN_SEARCH_INLINE double min_of(double a, double b) { return a < b ? a : b; }
 
@@ -105,19 +105,21 @@ template <int W, class In>
 CONTACTNN_SEARCH_INLINE void load_raw(const In* rows, int stride, double (*raw)[W]) {
   for (int k = 0; k < stride; ++k) {
 #pragma omp simd
-    for (int l = 0; l < W; ++l) raw[k][l] = static_cast<double>(rows[static_cast<std::size_t>(l) * static_cast<std::size_t>(stride) + static_cast<std::size_t>(k)]);
+    for (int l = 0; l < W; ++l)
+      raw[k][l] = static_cast<double>(
+          rows[static_cast<std::size_t>(l) * static_cast<std::size_t>(stride) + static_cast<std::size_t>(k)]);
   }
 }
 
-/// The queries of a raw block relative to their slave nodes. A lane with a non-finite input gets finite[l] = 0
-/// and a unit square 1 above S in place of its values, so that no NaN runs through the other lanes' arithmetic.
-/// Every loop runs over the lanes (vectorised).
+/// The queries of a raw block relative to their slave nodes. A lane with a non-finite input gets finite[l] =
+/// 0 and a unit square 1 above S in place of its values, so that no NaN runs through the other lanes'
+/// arithmetic. Every loop runs over the lanes (vectorised).
 template <int W>
 CONTACTNN_SEARCH_INLINE void relative_queries(const double (*raw)[W], bool gregory, QueryBlock<W>& q) {
   static constexpr double kSquare[12] = {-0.5, -0.5, -1, 0.5, -0.5, -1, 0.5, 0.5, -1, -0.5, 0.5, -1};
   const int stride = gregory ? 27 : 15;
-  // 0 * x summed over the values (NaN where one is not finite), in two chains of additions instead of one; the
-  // last value is added apart (both strides, 15 and 27, are odd).
+  // 0 * x summed over the values (NaN where one is not finite), in two chains of additions instead of one;
+  // the last value is added apart (both strides, 15 and 27, are odd).
   double check[W], odd[W];
   for (int l = 0; l < W; ++l) check[l] = odd[l] = 0.0;
   for (int k = 0; k + 1 < stride; k += 2) {
@@ -162,16 +164,17 @@ CONTACTNN_SEARCH_INLINE double any_of(const double* flags) {
 inline constexpr double kSaneLength = 0x1p64;
 
 /// Divides each lane's offsets by unit[l], the power of two at or below the segment's own size (its largest
-/// node coordinate difference; 1 where that is 0, subnormal or not finite), for a block whose surface reported
-/// a length out of range: the squares and fourth powers of lengths in the surfaces' degeneracy tests and
-/// Newton's systems left the double range beyond element sizes of about 1e+-77, and every method that builds
-/// the surface called a sound segment degenerate there (the labels hold from 1e-300 to 1e307). In units of the
-/// segment (not of the slave's offset, which for a slave far from a small segment would make the segment tiny
-/// again) every node distance is near 1. Division by a power of two is exact and every decision compares
-/// quantities of the same dimension, so the results have the same bits as unscaled wherever nothing under- or
-/// overflowed: a lane's answer does not depend on whether its block was scaled. Gaps are multiplied back by
-/// unit[l]. Run only for such blocks (found by the surface's build, which computes the lengths anyway): taking
-/// every block's largest offset up front made lean newton:5 4% slower (18.6 -> 19.3 ns batched).
+/// node coordinate difference; 1 where that is 0, subnormal or not finite), for a block whose surface
+/// reported a length out of range: the squares and fourth powers of lengths in the surfaces' degeneracy tests
+/// and Newton's systems left the double range beyond element sizes of about 1e+-77, and every method that
+/// builds the surface called a sound segment degenerate there (the labels hold from 1e-300 to 1e307). In
+/// units of the segment (not of the slave's offset, which for a slave far from a small segment would make the
+/// segment tiny again) every node distance is near 1. Division by a power of two is exact and every decision
+/// compares quantities of the same dimension, so the results have the same bits as unscaled wherever nothing
+/// under- or overflowed: a lane's answer does not depend on whether its block was scaled. Gaps are multiplied
+/// back by unit[l]. Run only for such blocks (found by the surface's build, which computes the lengths
+/// anyway): taking every block's largest offset up front made lean newton:5 4% slower (18.6 -> 19.3 ns
+/// batched).
 template <int W>
 void rescale_queries(QueryBlock<W>& q) {
   double size[W], inverse[W];
@@ -203,7 +206,8 @@ void rescale_queries(QueryBlock<W>& q) {
 template <int W>
 CONTACTNN_SEARCH_INLINE bool collapsed_segment(const QueryBlock<W>& q, int l, double& longest) {
   // Edges e_i = P_{i+1} - P_i (A B C D), the diagonals C - A and D - B. Corner i has next = e_i and prev =
-  // -e_{i-1}: next . prev = -(e_i . e_{i-1}), |next x prev| = |e_i x e_{i-1}|, as the reference computes them.
+  // -e_{i-1}: next . prev = -(e_i . e_{i-1}), |next x prev| = |e_i x e_{i-1}|, as the reference computes
+  // them.
   double e[4][3], g[2][3];
   CONTACTNN_UNROLL
   for (int c = 0; c < 3; ++c) {
@@ -237,8 +241,9 @@ CONTACTNN_SEARCH_INLINE bool collapsed_segment(const QueryBlock<W>& q, int l, do
   return collapsed;
 }
 
-/// |S - X|^2 for the segment's node X nearest S (lane l): no point of the segment is farther from S, so no gap
-/// is larger (gap_at caps it). From the squares of the same four offsets in any node order: the same bits.
+/// |S - X|^2 for the segment's node X nearest S (lane l): no point of the segment is farther from S, so no
+/// gap is larger (gap_at caps it). From the squares of the same four offsets in any node order: the same
+/// bits.
 template <int W>
 CONTACTNN_SEARCH_INLINE double nearest_node_distance_sq(const QueryBlock<W>& q, int l) {
   double d[4];
@@ -251,10 +256,10 @@ CONTACTNN_SEARCH_INLINE double nearest_node_distance_sq(const QueryBlock<W>& q, 
 }
 
 /// The facet coefficients of lane l in the caller's node order, a_k[c] (a0: centre - S, a1, a2, a3; SPEC 1:
-/// P = a0 + s a1 + t a2 + s t a3), from sums and differences of the diagonals' nodes: pa + pc, pb + pd, pc - pa,
-/// pb - pd. A symmetry of the square only permutes these and changes their signs, and addition is commutative,
-/// so for any node order of the segment the coefficients are the same bits, permuted, with signs changed
-/// (a1 and a2 swapped and negated, a3 negated): what LaneSymmetry::choose relies on.
+/// P = a0 + s a1 + t a2 + s t a3), from sums and differences of the diagonals' nodes: pa + pc, pb + pd, pc -
+/// pa, pb - pd. A symmetry of the square only permutes these and changes their signs, and addition is
+/// commutative, so for any node order of the segment the coefficients are the same bits, permuted, with signs
+/// changed (a1 and a2 swapped and negated, a3 negated): what LaneSymmetry::choose relies on.
 template <int W>
 CONTACTNN_SEARCH_INLINE void caller_facet(const QueryBlock<W>& q, int l, double (*coef)[3]) {
   CONTACTNN_UNROLL
@@ -276,23 +281,23 @@ CONTACTNN_SEARCH_INLINE double symmetry_key(const double* v) {
   return v[0] + 0.7390851332151607 * v[1] + 0.5671432904097838 * v[2];
 }
 
-/// For each lane, the symmetry of the square (SPEC 4's 8 node orders) from the caller's parametrisation to the
-/// block's canonical one: with F_s(x) = x, or R - x where sign_s = -1 (the reflection about the domain centre,
-/// R = 0 for (xi, eta), 1 for (u, v); likewise F_t),
+/// For each lane, the symmetry of the square (SPEC 4's 8 node orders) from the caller's parametrisation to
+/// the block's canonical one: with F_s(x) = x, or R - x where sign_s = -1 (the reflection about the domain
+/// centre, R = 0 for (xi, eta), 1 for (u, v); likewise F_t),
 ///   canonical (s', t') = (F_s(swap ? t : s), F_t(swap ? s : t)),
-/// and the caller's normal P_s x P_t is orient times the canonical one. The canonical facet's coefficients are
-/// a1' and a2', the caller's a1 and a2 each with the sign that makes its symmetry_key positive, the one of
-/// larger key first; a3' = +-a3. Every node order of one segment gives the same a1', a2', a3' (caller_facet's
-/// coefficients are permuted and negated exactly), so the canonical facet, and the node order built from it
-/// (GregoryBlock), are the same bits for all 8. The choice is unique unless a key is 0 or two keys are equal
-/// in magnitude: a1 = 0 or a2 = 0 or a1 = +-a2 (two nodes coincide or the diagonals are parallel: a collapsed
-/// segment, degenerate for every method that builds the surface), or (never for a real mesh) a vector on the
-/// key's plane; then the node orders can differ in the rounding, not more.
+/// and the caller's normal P_s x P_t is orient times the canonical one. The canonical facet's coefficients
+/// are a1' and a2', the caller's a1 and a2 each with the sign that makes its symmetry_key positive, the one
+/// of larger key first; a3' = +-a3. Every node order of one segment gives the same a1', a2', a3'
+/// (caller_facet's coefficients are permuted and negated exactly), so the canonical facet, and the node order
+/// built from it (GregoryBlock), are the same bits for all 8. The choice is unique unless a key is 0 or two
+/// keys are equal in magnitude: a1 = 0 or a2 = 0 or a1 = +-a2 (two nodes coincide or the diagonals are
+/// parallel: a collapsed segment, degenerate for every method that builds the surface), or (never for a real
+/// mesh) a vector on the key's plane; then the node orders can differ in the rounding, not more.
 template <int W>
 struct LaneSymmetry {
-  double swap[W];                ///< 1 or 0
-  double sign_s[W], sign_t[W];   ///< +1 or -1
-  double orient[W];              ///< +1 or -1
+  double swap[W];               ///< 1 or 0
+  double sign_s[W], sign_t[W];  ///< +1 or -1
+  double orient[W];             ///< +1 or -1
 
   /// Chooses lane l's symmetry from the caller's facet coefficients (caller_facet) and writes the canonical
   /// a1', a2', a3' to out[0..2]. (Signs and flags as doubles, compared where used: with bool values selected
@@ -340,8 +345,9 @@ struct LaneSymmetry {
     s = w ? y : x;
     t = w ? x : y;
   }
-  /// For canonical node i (A, B, C, D), where the caller's node in its place lies on the caller's square: s_pos
-  /// > 0 at s = +1, t_pos > 0 at t = +1 (the caller's node A at (-1, -1), B (1, -1), C (1, 1), D (-1, 1)).
+  /// For canonical node i (A, B, C, D), where the caller's node in its place lies on the caller's square:
+  /// s_pos > 0 at s = +1, t_pos > 0 at t = +1 (the caller's node A at (-1, -1), B (1, -1), C (1, 1), D (-1,
+  /// 1)).
   CONTACTNN_SEARCH_INLINE void caller_corner(int l, int i, double& s_pos, double& t_pos) const {
     const double x = (i == 1 || i == 2) ? 1.0 : -1.0, y = i >= 2 ? 1.0 : -1.0;  // canonical node i's corner
     const double fx = sign_s[l] * x, fy = sign_t[l] * y;
@@ -352,13 +358,13 @@ struct LaneSymmetry {
 };
 
 /// The bilinear facet's share of LaneSymmetry: whether to swap xi and eta, nothing more. A reflection of
-/// (xi, eta) needs no map: it negates a1 (or a2) and a3 exactly (caller_facet), and every method's arithmetic on
-/// the facet is odd in each coordinate with its coefficients (products, sums and fused products of negated
+/// (xi, eta) needs no map: it negates a1 (or a2) and a3 exactly (caller_facet), and every method's arithmetic
+/// on the facet is odd in each coordinate with its coefficients (products, sums and fused products of negated
 /// values are the negated results under round-to-nearest, and every box and domain is symmetric about 0), so
-/// a reflected node order gives the same bits with the signs changed. Only the order of xi and eta changes the
-/// arithmetic: the canonical facet has first the coefficient of larger |symmetry_key| (LaneSymmetry's choice
-/// without its signs), the same for all 8 node orders. The caller's normal P_s x P_t is orient times the
-/// canonical one (a swap negates it; a reflection negates P_s or P_t, and the canonical normal with it).
+/// a reflected node order gives the same bits with the signs changed. Only the order of xi and eta changes
+/// the arithmetic: the canonical facet has first the coefficient of larger |symmetry_key| (LaneSymmetry's
+/// choice without its signs), the same for all 8 node orders. The caller's normal P_s x P_t is orient times
+/// the canonical one (a swap negates it; a reflection negates P_s or P_t, and the canonical normal with it).
 template <int W>
 struct LaneSwap {
   double swap[W];    ///< 1 or 0
@@ -396,7 +402,8 @@ struct LaneSwap {
 
 /// The value of the caller's node at (s_pos, t_pos) of its square (caller_corner), among its nodes' values a,
 /// b, c, d.
-CONTACTNN_SEARCH_INLINE double caller_node_value(double s_pos, double t_pos, double a, double b, double c, double d) {
+CONTACTNN_SEARCH_INLINE double caller_node_value(double s_pos, double t_pos, double a, double b, double c,
+                                                 double d) {
   return s_pos > 0.0 ? (t_pos > 0.0 ? c : b) : (t_pos > 0.0 ? d : a);
 }
 
@@ -410,16 +417,16 @@ struct BilinearBlock {
   static constexpr int kReflect = 0;             // the reflections of (xi, eta): x -> -x
   double a[12][W];  // a0 xyz, a1 xyz, a2 xyz, a3 xyz, of the canonical facet (LaneSwap)
   LaneSwap<W> sym;
-  double longest[W];  ///< the longest node distance, squared (build with kCheck)
+  double longest[W];   ///< the longest node distance, squared (build with kCheck)
   double reach_sq[W];  ///< nearest_node_distance_sq (build with kCheck)
 
   /// Builds the facet of every lane in its canonical parametrisation (LaneSymmetry) and sets status[l] =
   /// kDegenerate where the segment is collapsed (collapsed_segment). The facet exists for any four nodes, and
-  /// Newton from the centre reported a point of such a segment ok (A = B: ok at K = 1 and 3). Returns whether a
-  /// lane's longest node distance lies outside [1 / kSaneLength, kSaneLength] (a degenerate lane's too): the
-  /// caller then rescales the block (rescale_queries) and builds it again, so that the fourth powers stay in
-  /// the double range. kCheck false: the facet alone (a Gregory patch's corner facet, whose patch has made both
-  /// tests), status not read.
+  /// Newton from the centre reported a point of such a segment ok (A = B: ok at K = 1 and 3). Returns whether
+  /// a lane's longest node distance lies outside [1 / kSaneLength, kSaneLength] (a degenerate lane's too):
+  /// the caller then rescales the block (rescale_queries) and builds it again, so that the fourth powers stay
+  /// in the double range. kCheck false: the facet alone (a Gregory patch's corner facet, whose patch has made
+  /// both tests), status not read.
   template <bool kCheck = true>
   [[nodiscard]] bool build(const QueryBlock<W>& q, double* status) {
     CONTACTNN_LANES
@@ -464,8 +471,8 @@ struct BilinearBlock {
     }
   }
 
-  /// At the caller's (s, t): the canonical point and derivatives there, with e.orient and e.reach_sq (build with
-  /// kCheck) for gap_at. The map is exact for (xi, eta).
+  /// At the caller's (s, t): the canonical point and derivatives there, with e.orient and e.reach_sq (build
+  /// with kCheck) for gap_at. The map is exact for (xi, eta).
   template <bool kSecond = true>
   CONTACTNN_SEARCH_INLINE void eval(int l, double s, double t, Eval& e) const {
     sym.template to_canonical<kReflect>(l, s, t);
@@ -474,7 +481,9 @@ struct BilinearBlock {
     e.reach_sq = reach_sq[l];
   }
   /// The methods report their canonical iterates through here (to_caller): exact for (xi, eta), nothing kept.
-  CONTACTNN_SEARCH_INLINE void report(int l, double& s, double& t) { sym.template to_caller<kReflect>(l, s, t); }
+  CONTACTNN_SEARCH_INLINE void report(int l, double& s, double& t) {
+    sym.template to_caller<kReflect>(l, s, t);
+  }
 };
 
 // ---------------------------------------------------------------------------------------------------------
@@ -496,13 +505,13 @@ struct GregoryBlock {
   static constexpr SurfaceKind kKind = SurfaceKind::kGregory;
   static constexpr bool kHasPureSecond = true;
   static constexpr int kReflect = 1;  // the reflections of (u, v): x -> 1 - x
-  /// P = sum B_i(u) B_j(v) base_ij + sum_interior B_i B_j w_ij delta_ij: base holds P_ij with P_ij1 in the four
-  /// interior slots, delta = P_ij0 - P_ij1 in the order 11, 21, 12, 22, w_ij = s / (s + t) (Eqs 28-31). Of the
-  /// patch in the lane's canonical node order (LaneSymmetry: that of its corner facet).
+  /// P = sum B_i(u) B_j(v) base_ij + sum_interior B_i B_j w_ij delta_ij: base holds P_ij with P_ij1 in the
+  /// four interior slots, delta = P_ij0 - P_ij1 in the order 11, 21, 12, 22, w_ij = s / (s + t) (Eqs 28-31).
+  /// Of the patch in the lane's canonical node order (LaneSymmetry: that of its corner facet).
   double base[48][W];   // point i + 4 j, coordinate c at [3 (i + 4 j) + c]
   double delta[12][W];  // interior k, coordinate c at [3 k + c]
   LaneSymmetry<W> sym;
-  double longest[W];  ///< the longest node distance, squared
+  double longest[W];   ///< the longest node distance, squared
   double reach_sq[W];  ///< nearest_node_distance_sq
   /// The last canonical iterate each lane reported (report) and the caller's coordinates it became: eval at
   /// those coordinates evaluates at that iterate, not at its reflection 1 - (1 - u), which may differ in the
@@ -511,14 +520,14 @@ struct GregoryBlock {
 
   /// Builds the patch of every lane and sets status[l] = kDegenerate where the labels refuse it: a collapsed
   /// segment (collapsed_segment), or where GregoryPatch::diagnose would refuse it: a node normal of zero
-  /// length, or an edge whose projection on an end's tangent plane is not longer than 1e-8 of the longest node
-  /// distance (coincident nodes, a normal along an edge). Returns whether a lane's longest node distance lies
-  /// outside [1 / kSaneLength, kSaneLength], as BilinearBlock::build.
+  /// length, or an edge whose projection on an end's tangent plane is not longer than 1e-8 of the longest
+  /// node distance (coincident nodes, a normal along an edge). Returns whether a lane's longest node distance
+  /// lies outside [1 / kSaneLength, kSaneLength], as BilinearBlock::build.
   [[nodiscard]] bool build(const QueryBlock<W>& q, double* status) {
     // One loop: each lane's symmetry (LaneSymmetry, from its corner facet), then its patch from its nodes and
-    // normals in the canonical order, selected where build_lane reads them, the same bits for every node order
-    // of the segment (copied first into arrays of canonical nodes, their stores, loads and spills cost the
-    // closed form and newton:1 2% more).
+    // normals in the canonical order, selected where build_lane reads them, the same bits for every node
+    // order of the segment (copied first into arrays of canonical nodes, their stores, loads and spills cost
+    // the closed form and newton:1 2% more).
     double out_of_range[W];
     CONTACTNN_LANES
     for (int l = 0; l < W; ++l) {
@@ -545,7 +554,8 @@ struct GregoryBlock {
       sym.caller_corner(l, i, s_pos, t_pos);
       CONTACTNN_UNROLL
       for (int c = 0; c < 3; ++c) {
-        x[i][c] = caller_node_value(s_pos, t_pos, q.node[c][l], q.node[3 + c][l], q.node[6 + c][l], q.node[9 + c][l]);
+        x[i][c] = caller_node_value(s_pos, t_pos, q.node[c][l], q.node[3 + c][l], q.node[6 + c][l],
+                                    q.node[9 + c][l]);
         n0[i][c] = caller_node_value(s_pos, t_pos, q.normal[c][l], q.normal[3 + c][l], q.normal[6 + c][l],
                                      q.normal[9 + c][l]);
       }
@@ -603,9 +613,9 @@ struct GregoryBlock {
 
     // Corners and edge points E(X->Y) = X + (1/3)(I - n n^T)(Y - X).
     constexpr double third = 1.0 / 3.0;
-    constexpr int corner[4] = {0, 3, 15, 12};         // A, B, C, D
-    constexpr int toward_next[4] = {1, 7, 14, 8};     // P10, P31, P23, P02: E(A->B), E(B->C), E(C->D), E(D->A)
-    constexpr int toward_prev[4] = {4, 2, 11, 13};    // P01, P20, P32, P13: E(A->D), E(B->A), E(C->B), E(D->C)
+    constexpr int corner[4] = {0, 3, 15, 12};       // A, B, C, D
+    constexpr int toward_next[4] = {1, 7, 14, 8};   // P10, P31, P23, P02: E(A->B), E(B->C), E(C->D), E(D->A)
+    constexpr int toward_prev[4] = {4, 2, 11, 13};  // P01, P20, P32, P13: E(A->D), E(B->A), E(C->B), E(D->C)
     // Interior points: edge k (X = k, Y = k + 1) gives the point near X and the one near Y (SPEC 3); the slot
     // is base (P_ij1) or delta's P_ij0 (stored first in `interior0`, combined below).
     double interior0[4][3], interior1[4][3];  // P_ij0 and P_ij1 in the order 11, 21, 12, 22
@@ -637,8 +647,8 @@ struct GregoryBlock {
         c0[c] = third * pn[k][c];   // y1 - y0
         c2[c] = -third * pp[y][c];  // y3 - y2
         c1[c] = chord[c] - c0[c] - c2[c];
-        b0[c] = third * pp[k][c];   // E(X->X') - X
-        b3[c] = third * pn[y][c];   // E(Y->Y') - Y
+        b0[c] = third * pp[k][c];  // E(X->X') - X
+        b3[c] = third * pn[y][c];  // E(Y->Y') - Y
       }
       const double k0 = a0[0] * b0[0] + a0[1] * b0[1] + a0[2] * b0[2];
       const double k1 = a3[0] * b3[0] + a3[1] * b3[1] + a3[2] * b3[2];
@@ -657,10 +667,22 @@ struct GregoryBlock {
       CONTACTNN_UNROLL
       for (int c = 0; c < 3; ++c) {
         switch (k) {
-          case 0: interior0[0][c] = near_x[c]; interior0[1][c] = near_y[c]; break;
-          case 1: interior1[1][c] = near_x[c]; interior1[3][c] = near_y[c]; break;
-          case 2: interior0[3][c] = near_x[c]; interior0[2][c] = near_y[c]; break;
-          default: interior1[2][c] = near_x[c]; interior1[0][c] = near_y[c]; break;
+          case 0:
+            interior0[0][c] = near_x[c];
+            interior0[1][c] = near_y[c];
+            break;
+          case 1:
+            interior1[1][c] = near_x[c];
+            interior1[3][c] = near_y[c];
+            break;
+          case 2:
+            interior0[3][c] = near_x[c];
+            interior0[2][c] = near_y[c];
+            break;
+          default:
+            interior1[2][c] = near_x[c];
+            interior1[0][c] = near_y[c];
+            break;
         }
       }
     }

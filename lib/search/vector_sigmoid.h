@@ -5,8 +5,8 @@
  *
  * Accuracy (tests/search/test_vector_sigmoid.cpp checks it against std::exp): cnn_exp within 2 ulp of exp on
  * [-700, 700]; cnn_expf within 2 ulp of expf on [-87, 88]. Inputs beyond are clamped to those ranges (so
- * nothing overflows). cnn_sigmoid / cnn_sigmoidf clamp gain U to +-700 / +-80: outputs are then exact to a few
- * ulps down to 1e-304 / 1.8e-35 and never below; above 1 - eps they are 1.
+ * nothing overflows). cnn_sigmoid / cnn_sigmoidf clamp gain U to +-700 / +-80: outputs are then exact to a
+ * few ulps down to 1e-304 / 1.8e-35 and never below; above 1 - eps they are 1.
  */
 #ifndef CONTACTNN_VECTOR_SIGMOID_H
 #define CONTACTNN_VECTOR_SIGMOID_H
@@ -60,7 +60,8 @@ CNN_VS_INLINE double cnn_exp_core(double x) {
 
 /* expf(x) for x already in [-87, 88] (cnn_expf clamps). */
 CNN_VS_INLINE float cnn_expf_core(float x) {
-  /* Cephes expf: ln2 = c1 + c2 with c1 exact in 9 bits; degree-6 polynomial, 4e-9 relative on |r| <= ln2/2. */
+  /* Cephes expf: ln2 = c1 + c2 with c1 exact in 9 bits; degree-6 polynomial, 4e-9 relative on |r| <= ln2/2.
+   */
   const float log2e = 1.44269504088896341f, c1 = 0.693359375f, c2 = -2.12194440e-4f;
   const float shifter = 12582912.0f; /* 1.5 * 2^23 */
   float t, n, r, p, two_n;
@@ -83,7 +84,8 @@ CNN_VS_INLINE float cnn_expf_core(float x) {
   return p * two_n;
 }
 
-/* The clamps are written as x86's min/max take them (a NaN passes through), so that each is one instruction. */
+/* The clamps are written as x86's min/max take them (a NaN passes through), so that each is one instruction.
+ */
 CNN_VS_INLINE double cnn_exp(double x) {
   x = x > 700.0 ? 700.0 : x;
   x = x < -700.0 ? -700.0 : x;

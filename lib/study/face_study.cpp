@@ -27,7 +27,8 @@ using search::FaceKind;
 namespace {
 
 mesh::FaceType mesh_type(FaceKind kind) {
-  return kind == FaceKind::kQuad8 ? mesh::FaceType::kQuad8 : (kind == FaceKind::kTri6 ? mesh::FaceType::kTri6 : mesh::FaceType::kTri3);
+  return kind == FaceKind::kQuad8 ? mesh::FaceType::kQuad8
+                                  : (kind == FaceKind::kTri6 ? mesh::FaceType::kTri6 : mesh::FaceType::kTri3);
 }
 
 double seconds_since(std::chrono::steady_clock::time_point t0) {
@@ -44,7 +45,8 @@ std::vector<Vec3> face_positions(const mesh::SurfaceMesh& m, int f) {
 
 double shortest_corner_edge(const std::vector<Vec3>& x, int corners) {
   double e = std::numeric_limits<double>::infinity();
-  for (int i = 0; i < corners; ++i) e = std::min(e, (x[static_cast<std::size_t>((i + 1) % corners)] - x[static_cast<std::size_t>(i)]).norm());
+  for (int i = 0; i < corners; ++i)
+    e = std::min(e, (x[static_cast<std::size_t>((i + 1) % corners)] - x[static_cast<std::size_t>(i)]).norm());
   return e;
 }
 
@@ -113,7 +115,8 @@ Errors errors_of(const std::vector<double>& param, const std::vector<Status>& st
       continue;
     }
     for (int k = 0; k < 2; ++k) {
-      const double d = std::fabs(param[2 * i + static_cast<std::size_t>(k)] - q.label[2 * i + static_cast<std::size_t>(k)]);
+      const double d = std::fabs(param[2 * i + static_cast<std::size_t>(k)] -
+                                 q.label[2 * i + static_cast<std::size_t>(k)]);
       sum[k] += d;
       e.max = std::max(e.max, d);
     }
@@ -128,7 +131,8 @@ void run_search(const search::FaceSearch& search, const FaceQueries& q, std::vec
                 std::vector<Status>& status, int threads) {
   param.assign(2 * q.size(), 0.0);
   status.assign(q.size(), Status::kOk);
-  search.run<double>(q.size(), q.raw.data(), search::Results<double>{param.data(), nullptr, status.data()}, threads);
+  search.run<double>(q.size(), q.raw.data(), search::Results<double>{param.data(), nullptr, status.data()},
+                     threads);
 }
 
 }  // namespace
@@ -194,13 +198,13 @@ std::array<double, 2> draw_foot(int corners, double boundary_fraction, std::mt19
   return {s, t};
 }
 
-/// `count` rows: each draws from the generator of (seed, row) a face (`draw_face(rng, nodes)` fills its nodes and
-/// returns the slave's largest offset along the normal) and a foot point, places S over it, labels it by the
-/// closest point on the true face and keeps it when that lies inside; up to 1000 draws a row, rows that kept none
-/// dropped (none on the decks tried). Any thread count gives the same set.
+/// `count` rows: each draws from the generator of (seed, row) a face (`draw_face(rng, nodes)` fills its nodes
+/// and returns the slave's largest offset along the normal) and a foot point, places S over it, labels it by
+/// the closest point on the true face and keeps it when that lies inside; up to 1000 draws a row, rows that
+/// kept none dropped (none on the decks tried). Any thread count gives the same set.
 template <class DrawFace>
-FaceQueries sample_rows(FaceKind kind, const FaceStudyOptions& options, std::int64_t count, std::uint64_t seed,
-                        std::uint64_t stream, const DrawFace& draw_face) {
+FaceQueries sample_rows(FaceKind kind, const FaceStudyOptions& options, std::int64_t count,
+                        std::uint64_t seed, std::uint64_t stream, const DrawFace& draw_face) {
   const int corners = kind == FaceKind::kQuad8 ? 4 : 3;
   FaceQueries out;
   out.kind = kind;
@@ -208,9 +212,11 @@ FaceQueries sample_rows(FaceKind kind, const FaceStudyOptions& options, std::int
   out.raw.assign(static_cast<std::size_t>(count) * static_cast<std::size_t>(stride), 0.0);
   out.label.assign(2 * static_cast<std::size_t>(count), 0.0);
   std::vector<char> kept(static_cast<std::size_t>(count), 0);
-#pragma omp parallel for schedule(dynamic, 256) num_threads(options.threads > 0 ? options.threads : omp_get_max_threads())
+#pragma omp parallel for schedule(dynamic, 256) \
+    num_threads(options.threads > 0 ? options.threads : omp_get_max_threads())
   for (std::int64_t row = 0; row < count; ++row) {
-    std::mt19937_64 rng(seed * 0x9E3779B97F4A7C15ULL + static_cast<std::uint64_t>(row) * 0xBF58476D1CE4E5B9ULL + stream);
+    std::mt19937_64 rng(seed * 0x9E3779B97F4A7C15ULL +
+                        static_cast<std::uint64_t>(row) * 0xBF58476D1CE4E5B9ULL + stream);
     std::uniform_real_distribution<double> unit(0.0, 1.0);
     std::vector<Vec3> x;
     for (int attempt = 0; attempt < 1000; ++attempt) {
@@ -258,7 +264,8 @@ FaceQueries sample_face_domain(const contact::Scene& scene, FaceKind kind, const
   for (int f = 0; f < scene.master.face_count(); ++f) {
     if (scene.master.face_type(f) != type) continue;
     std::vector<Vec3> x = face_positions(scene.master, f);
-    const double area = corners == 4 ? 0.5 * (x[2] - x[0]).cross(x[3] - x[1]).norm() : 0.5 * (x[1] - x[0]).cross(x[2] - x[0]).norm();
+    const double area = corners == 4 ? 0.5 * (x[2] - x[0]).cross(x[3] - x[1]).norm()
+                                     : 0.5 * (x[1] - x[0]).cross(x[2] - x[0]).norm();
     total += area;
     cumulative.push_back(total);
     faces.push_back(std::move(x));
@@ -268,7 +275,8 @@ FaceQueries sample_face_domain(const contact::Scene& scene, FaceKind kind, const
   return sample_rows(kind, options, count, seed, 1, [&](std::mt19937_64& rng, std::vector<Vec3>& x) {
     std::uniform_real_distribution<double> unit(0.0, 1.0);
     const double pick = unit(rng) * total;
-    const auto f = static_cast<std::size_t>(std::lower_bound(cumulative.begin(), cumulative.end(), pick) - cumulative.begin());
+    const auto f = static_cast<std::size_t>(std::lower_bound(cumulative.begin(), cumulative.end(), pick) -
+                                            cumulative.begin());
     x = faces[std::min(f, faces.size() - 1)];
     const double e = shortest_corner_edge(x, corners);
     for (Vec3& p : x) {
@@ -283,7 +291,7 @@ FaceQueries sample_face_domain(const contact::Scene& scene, FaceKind kind, const
 }
 
 FaceQueries sample_general_face_domain(FaceKind kind, const FaceStudyOptions& options, double curvature,
-                                      std::int64_t count, std::uint64_t seed) {
+                                       std::int64_t count, std::uint64_t seed) {
   CONTACTNN_REQUIRE_AS(InvalidArgument, kind != FaceKind::kTri3, "tri3 faces have no network domain");
   const int corners = kind == FaceKind::kQuad8 ? 4 : 3;
   return sample_rows(kind, options, count, seed, 7, [&](std::mt19937_64& rng, std::vector<Vec3>& x) {
@@ -330,8 +338,8 @@ void canonical_set(const FaceQueries& q, mlp::MatrixRM<double>& features, mlp::M
 }
 
 FaceNetworkResult train_one(FaceKind kind, const std::vector<int>& hidden, const mlp::MatrixRM<double>& x,
-                            const mlp::MatrixRM<double>& t, const FaceQueries& heldout, const FaceStudyOptions& o,
-                            const FaceStudyLog& log) {
+                            const mlp::MatrixRM<double>& t, const FaceQueries& heldout,
+                            const FaceStudyOptions& o, const FaceStudyLog& log) {
   const auto t0 = std::chrono::steady_clock::now();
   const int nf = search::face_feature_count(kind);
   const Eigen::Index n = x.rows();
@@ -345,7 +353,8 @@ FaceNetworkResult train_one(FaceKind kind, const std::vector<int>& hidden, const
   sizes.push_back(2);
   auto network = std::make_shared<mlp::Network<float>>(sizes, o.u0, scaling);
   network->initialize(o.seed);
-  const auto scaled = [&](Eigen::Index first, Eigen::Index rows, mlp::MatrixRM<float>& sx, mlp::MatrixRM<float>& st) {
+  const auto scaled = [&](Eigen::Index first, Eigen::Index rows, mlp::MatrixRM<float>& sx,
+                          mlp::MatrixRM<float>& st) {
     sx.resize(rows, nf);
     st.resize(rows, 2);
     for (Eigen::Index r = 0; r < rows; ++r) {
@@ -383,7 +392,8 @@ FaceNetworkResult train_one(FaceKind kind, const std::vector<int>& hidden, const
   r.hidden = hidden;
   r.network = network;
   // The training domain: each feature between its extremes over the training rows.
-  const Eigen::RowVectorXd lo = x.topRows(train).colwise().minCoeff(), hi = x.topRows(train).colwise().maxCoeff();
+  const Eigen::RowVectorXd lo = x.topRows(train).colwise().minCoeff(),
+                           hi = x.topRows(train).colwise().maxCoeff();
   r.feature_min.assign(lo.data(), lo.data() + nf);
   r.feature_max.assign(hi.data(), hi.data() + nf);
   r.model = std::make_shared<search::FaceNetwork>(kind, *network, r.feature_min, r.feature_max);
@@ -399,7 +409,8 @@ FaceNetworkResult train_one(FaceKind kind, const std::vector<int>& hidden, const
 }  // namespace
 
 FaceNetworkResult train_face_network(FaceKind kind, const std::vector<int>& hidden, const FaceQueries& train,
-                                     const FaceQueries& heldout, const FaceStudyOptions& options, const FaceStudyLog& log) {
+                                     const FaceQueries& heldout, const FaceStudyOptions& options,
+                                     const FaceStudyLog& log) {
   mlp::MatrixRM<double> x, t;
   canonical_set(train, x, t);
   return train_one(kind, hidden, x, t, heldout, options, log);
@@ -410,10 +421,12 @@ namespace {
 void check_options(FaceKind kind, const FaceStudyOptions& options) {
   CONTACTNN_REQUIRE_AS(InvalidArgument, kind != FaceKind::kTri3,
                        "tri3 faces need no study: their closed form (method closed_form) is exact");
-  CONTACTNN_REQUIRE_AS(InvalidArgument, options.count >= 100 && options.heldout >= 100,
-                       "count and heldout must be at least 100, got " << options.count << " and " << options.heldout);
-  CONTACTNN_REQUIRE_AS(InvalidArgument, options.target > 0.0 && options.margin > 0.0,
-                       "target and margin must be positive, got " << options.target << " and " << options.margin);
+  CONTACTNN_REQUIRE_AS(
+      InvalidArgument, options.count >= 100 && options.heldout >= 100,
+      "count and heldout must be at least 100, got " << options.count << " and " << options.heldout);
+  CONTACTNN_REQUIRE_AS(
+      InvalidArgument, options.target > 0.0 && options.margin > 0.0,
+      "target and margin must be positive, got " << options.target << " and " << options.margin);
   CONTACTNN_REQUIRE_AS(InvalidArgument, options.epochs >= 1 && !options.sizes.empty(),
                        "epochs must be at least 1 and sizes not empty");
 }
@@ -442,13 +455,16 @@ FaceStudy run_face_study(const contact::Scene& scene, FaceKind kind, const FaceS
   study.capture = std::max(options.capture, 1.25 * study.pairs.largest_offset);
   {
     std::ostringstream s;
-    s << "1. pairs: " << study.pairs.pairs.size() << " of " << study.pairs.slave_nodes << " slave nodes inside "
-      << study.pairs.faces << " " << search::to_string(kind) << " faces; capture " << study.capture << " e";
+    s << "1. pairs: " << study.pairs.pairs.size() << " of " << study.pairs.slave_nodes
+      << " slave nodes inside " << study.pairs.faces << " " << search::to_string(kind) << " faces; capture "
+      << study.capture << " e";
     say(s.str());
   }
   // 2.
-  const FaceQueries train = sample_face_domain(scene, kind, options, study.capture, options.count, options.seed);
-  const FaceQueries heldout = sample_face_domain(scene, kind, options, study.capture, options.heldout, options.seed + 1000);
+  const FaceQueries train =
+      sample_face_domain(scene, kind, options, study.capture, options.count, options.seed);
+  const FaceQueries heldout =
+      sample_face_domain(scene, kind, options, study.capture, options.heldout, options.seed + 1000);
   study.train_count = train.size();
   study.heldout_count = heldout.size();
   say("2. domain: " + std::to_string(train.size()) + " training and " + std::to_string(heldout.size()) +
@@ -467,11 +483,13 @@ FaceStudy run_general_face_study(FaceKind kind, const FaceStudyOptions& options,
   study.options = options;
   study.general_curvature = curvature;
   const FaceQueries train = sample_general_face_domain(kind, options, curvature, options.count, options.seed);
-  const FaceQueries heldout = sample_general_face_domain(kind, options, curvature, options.heldout, options.seed + 1000);
+  const FaceQueries heldout =
+      sample_general_face_domain(kind, options, curvature, options.heldout, options.seed + 1000);
   study.train_count = train.size();
   study.heldout_count = heldout.size();
-  if (log) log("2. general domain: " + std::to_string(train.size()) + " training and " + std::to_string(heldout.size()) +
-               " held-out configurations");
+  if (log)
+    log("2. general domain: " + std::to_string(train.size()) + " training and " +
+        std::to_string(heldout.size()) + " held-out configurations");
   train_and_measure(study, train, heldout, log);
   study.seconds = seconds_since(t0);
   return study;
@@ -515,8 +533,10 @@ void train_and_measure(FaceStudy& study, const FaceQueries& train, const FaceQue
   }
   std::vector<std::unique_ptr<search::FaceSearch>> searches;
   for (const Candidate& c : candidates) {
-    const search::FaceNetwork* net = c.network >= 0 ? study.networks[static_cast<std::size_t>(c.network)].model.get() : nullptr;
-    searches.push_back(std::make_unique<search::FaceSearch>(kind, search::Method::parse(c.method), search::SearchOptions{}, net));
+    const search::FaceNetwork* net =
+        c.network >= 0 ? study.networks[static_cast<std::size_t>(c.network)].model.get() : nullptr;
+    searches.push_back(std::make_unique<search::FaceSearch>(kind, search::Method::parse(c.method),
+                                                            search::SearchOptions{}, net));
   }
   const double width = kind == FaceKind::kQuad8 ? 2.0 : 1.0;
   std::vector<double> param;
@@ -532,26 +552,31 @@ void train_and_measure(FaceStudy& study, const FaceQueries& train, const FaceQue
     r.heldout_max = h.max;
     r.heldout_failures = h.failures;
     r.heldout_effective =
-        (h.mean * static_cast<double>(heldout.size() - static_cast<std::size_t>(h.failures)) + width * static_cast<double>(h.failures)) /
+        (h.mean * static_cast<double>(heldout.size() - static_cast<std::size_t>(h.failures)) +
+         width * static_cast<double>(h.failures)) /
         static_cast<double>(heldout.size());
-    const Errors p = study.pairs.pairs.size() > 0 ? (run_search(*searches[k], study.pairs.pairs, param, status, options.threads),
-                                                      errors_of(param, status, study.pairs.pairs))
-                                                   : Errors{};
+    const Errors p = study.pairs.pairs.size() > 0
+                         ? (run_search(*searches[k], study.pairs.pairs, param, status, options.threads),
+                            errors_of(param, status, study.pairs.pairs))
+                         : Errors{};
     r.pairs_mean = p.mean;
     r.pairs_max = p.max;
     r.pairs_failures = p.failures;
     r.reaches = r.heldout_effective <= options.margin * options.target;
     study.methods.push_back(r);
   }
-  // Time: round-robin passes over the first timing_queries held-out rows, batched, 1 thread; the fastest pass.
-  const std::size_t timed = std::min<std::size_t>(heldout.size(), static_cast<std::size_t>(options.timing_queries));
+  // Time: round-robin passes over the first timing_queries held-out rows, batched, 1 thread; the fastest
+  // pass.
+  const std::size_t timed =
+      std::min<std::size_t>(heldout.size(), static_cast<std::size_t>(options.timing_queries));
   std::vector<double> best(candidates.size(), std::numeric_limits<double>::infinity());
   std::vector<double> tp(2 * timed);
   std::vector<Status> ts(timed);
   for (int pass = 0; pass < options.timing_passes; ++pass) {
     for (std::size_t k = 0; k < candidates.size(); ++k) {
       const auto start = std::chrono::steady_clock::now();
-      searches[k]->run<double>(timed, heldout.raw.data(), search::Results<double>{tp.data(), nullptr, ts.data()}, 1);
+      searches[k]->run<double>(timed, heldout.raw.data(),
+                               search::Results<double>{tp.data(), nullptr, ts.data()}, 1);
       best[k] = std::min(best[k], seconds_since(start) * 1e9 / static_cast<double>(timed));
     }
   }
@@ -570,66 +595,77 @@ void train_and_measure(FaceStudy& study, const FaceQueries& train, const FaceQue
 std::string face_study_markdown(const FaceStudy& st, const std::string& deck, int pair) {
   std::ostringstream o;
   const std::string kind(search::to_string(st.kind));
-  const std::string units = st.kind == FaceKind::kQuad8 ? "(xi, eta) units, domain width 2" : "(r, s) units, domain width 1";
+  const std::string units =
+      st.kind == FaceKind::kQuad8 ? "(xi, eta) units, domain width 2" : "(r, s) units, domain width 1";
   const bool general = st.general_curvature >= 0.0;
   if (general) {
     o << "# General face network: " << kind << " faces of the paper-like domain\n\n";
-    o << "- Domain (lib/study/face_study.hpp, sample_general_face_domain): A = (0, 0, 0), B = (1, 0, 0), the last corner "
+    o << "- Domain (lib/study/face_study.hpp, sample_general_face_domain): A = (0, 0, 0), B = (1, 0, 0), the "
+         "last corner "
          "at 0.5 to 1 from A and 60 to 120 degrees from AB"
       << (st.kind == FaceKind::kQuad8 ? ", C at B + D moved by up to 0.3 in each coordinate" : "")
       << ", mid-side nodes up to " << st.general_curvature
       << " x their edge off its midpoint in each coordinate, S within 0.3 of the face over a foot in it; "
-      << st.train_count << " training and " << st.heldout_count << " held-out configurations (seeds " << st.options.seed
-      << ", " << st.options.seed + 1000 << "). No deck: no pairs.\n";
+      << st.train_count << " training and " << st.heldout_count << " held-out configurations (seeds "
+      << st.options.seed << ", " << st.options.seed + 1000 << "). No deck: no pairs.\n";
   } else {
     o << "# Face study: " << deck << ", pair " << pair << ", " << kind << " faces\n\n";
-    o << "- Pairs: " << st.pairs.pairs.size() << " of " << st.pairs.slave_nodes << " slave nodes lie inside one of the "
-      << st.pairs.faces << " " << kind << " master faces (" << st.pairs.on_kind
+    o << "- Pairs: " << st.pairs.pairs.size() << " of " << st.pairs.slave_nodes
+      << " slave nodes lie inside one of the " << st.pairs.faces << " " << kind << " master faces ("
+      << st.pairs.on_kind
       << " on such a face in all, the others on its edges or vertices: no local search needed).\n";
     o << "- Domain: the scene's " << kind << " faces, nodes moved by up to " << st.options.deformation
-      << " e, S within " << std::setprecision(3) << st.capture << " e of the face (e: the face's shortest corner edge); "
-      << st.train_count << " training and " << st.heldout_count << " held-out configurations (seeds "
-      << st.options.seed << ", " << st.options.seed + 1000 << ").\n";
+      << " e, S within " << std::setprecision(3) << st.capture
+      << " e of the face (e: the face's shortest corner edge); " << st.train_count << " training and "
+      << st.heldout_count << " held-out configurations (seeds " << st.options.seed << ", "
+      << st.options.seed + 1000 << ").\n";
   }
   o << "- Target: mean |error| " << st.options.target << " in " << units << "; a method reaches it at "
-    << st.options.margin << " x target on the held-out sample (effective mean: a failure counts as one domain width).\n";
+    << st.options.margin
+    << " x target on the held-out sample (effective mean: a failure counts as one domain width).\n";
   o << "- Whole study: " << std::setprecision(3) << st.seconds << " s.\n\n";
-  o << "## Scene networks\n\n| network | epochs (best) | held-out mean \\|error\\| | training s |\n|---|---|---|---|\n";
+  o << "## Scene networks\n\n| network | epochs (best) | held-out mean \\|error\\| | training s "
+       "|\n|---|---|---|---|\n";
   for (const FaceNetworkResult& n : st.networks) {
-    o << "| " << n.name << " | " << n.epochs << " (" << n.best_epoch << ") | " << std::setprecision(3) << n.heldout_error
-      << " | " << std::setprecision(3) << n.seconds << " |\n";
+    o << "| " << n.name << " | " << n.epochs << " (" << n.best_epoch << ") | " << std::setprecision(3)
+      << n.heldout_error << " | " << std::setprecision(3) << n.seconds << " |\n";
   }
   o << "\n## Every method\n\nHeld-out: the " << (general ? "general" : "scene's")
-    << " domain, never trained on." << (general ? "" : " Pairs: the deck's own, labelled by the surface search.")
+    << " domain, never trained on."
+    << (general ? "" : " Pairs: the deck's own, labelled by the surface search.")
     << " ns: batched, 1 thread, the fastest of " << st.options.timing_passes << " passes.\n\n";
   o << "| method | held-out mean | effective | max | failures |"
     << (general ? "" : " pairs mean | pairs max | pairs failures |") << " ns/query | reaches |\n";
   o << "|---|---|---|---|---|" << (general ? "" : "---|---|---|") << "---|---|\n";
   for (std::size_t k = 0; k < st.methods.size(); ++k) {
     const FaceMethodResult& m = st.methods[k];
-    o << "| " << (static_cast<int>(k) == st.chosen ? "**" + m.name + "**" : m.name) << " | " << std::setprecision(3)
-      << m.heldout_mean << " | " << m.heldout_effective << " | " << m.heldout_max << " | " << m.heldout_failures << " | ";
+    o << "| " << (static_cast<int>(k) == st.chosen ? "**" + m.name + "**" : m.name) << " | "
+      << std::setprecision(3) << m.heldout_mean << " | " << m.heldout_effective << " | " << m.heldout_max
+      << " | " << m.heldout_failures << " | ";
     if (!general) o << m.pairs_mean << " | " << m.pairs_max << " | " << m.pairs_failures << " | ";
     o << std::setprecision(3) << m.batched_ns << " | " << (m.reaches ? "yes" : "no") << " |\n";
   }
   o << "\n## The choice\n\n";
   if (st.chosen >= 0) {
     const FaceMethodResult& c = st.methods[static_cast<std::size_t>(st.chosen)];
-    o << "**" << c.name << "**: the fastest method that reaches the target on the held-out sample (" << std::setprecision(3)
-      << c.batched_ns << " ns per query; held-out " << c.heldout_effective;
+    o << "**" << c.name << "**: the fastest method that reaches the target on the held-out sample ("
+      << std::setprecision(3) << c.batched_ns << " ns per query; held-out " << c.heldout_effective;
     if (!general) o << ", the deck's pairs " << c.pairs_mean;
     o << ").\n";
   } else {
     o << "No method reaches the target on the held-out sample.\n";
   }
-  o << "\n## The fastest method at each accuracy level (held-out effective mean)\n\n| level | method | ns/query |\n|---|---|---|\n";
+  o << "\n## The fastest method at each accuracy level (held-out effective mean)\n\n| level | method | "
+       "ns/query |\n|---|---|---|\n";
   for (const double level : {1e-1, 1e-2, 5e-3, 1e-3, 1e-4, 1e-6, 1e-8, 1e-10}) {
     int best = -1;
     for (std::size_t k = 0; k < st.methods.size(); ++k) {
       if (st.methods[k].heldout_effective > level) continue;
-      if (best < 0 || st.methods[k].batched_ns < st.methods[static_cast<std::size_t>(best)].batched_ns) best = static_cast<int>(k);
+      if (best < 0 || st.methods[k].batched_ns < st.methods[static_cast<std::size_t>(best)].batched_ns)
+        best = static_cast<int>(k);
     }
-    o << "| " << level << " | " << (best >= 0 ? st.methods[static_cast<std::size_t>(best)].name : "none") << " | ";
+    o << "| " << level << " | " << (best >= 0 ? st.methods[static_cast<std::size_t>(best)].name : "none")
+      << " | ";
     if (best >= 0) o << std::setprecision(3) << st.methods[static_cast<std::size_t>(best)].batched_ns;
     o << " |\n";
   }

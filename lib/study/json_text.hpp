@@ -1,6 +1,6 @@
-// Text for the study's files: a string quoted and escaped (a JSON string and, the same text, a TOML basic string:
-// report.json, plan.toml), a number to 17 digits for JSON (null where it is not finite: JSON has no NaN or
-// infinity).
+// Text for the study's files: a string quoted and escaped (a JSON string and, the same text, a TOML basic
+// string: report.json, plan.toml), a number to 17 digits for JSON (null where it is not finite: JSON has no
+// NaN or infinity).
 #pragma once
 
 #include <cmath>

@@ -11,8 +11,8 @@
 #include <sstream>
 
 #include "core/error.hpp"
-#include "search/method.hpp"
 #include "core/quote_text.hpp"
+#include "search/method.hpp"
 #include "study/json_text.hpp"
 
 namespace contactnn::study {
@@ -22,9 +22,17 @@ namespace {
 using Keys = std::vector<std::string>;
 
 const Keys kPlanKeys = {"schema_version", "surface", "method", "network", "target", "margin", "reached"};
-const Keys kDomainKeys = {
-    "deck",          "pair",        "deformation", "capture", "normal_tilt_tangent", "boundary_fraction",
-    "heldout_count", "heldout_seed", "segment_test", "states", "results"};
+const Keys kDomainKeys = {"deck",
+                          "pair",
+                          "deformation",
+                          "capture",
+                          "normal_tilt_tangent",
+                          "boundary_fraction",
+                          "heldout_count",
+                          "heldout_seed",
+                          "segment_test",
+                          "states",
+                          "results"};
 const Keys kMeasurementKeys = {"method",   "mean_abs",   "effective_mean", "max_abs",
                                "failures", "batched_ns", "reaches_target"};
 

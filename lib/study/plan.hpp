@@ -28,8 +28,10 @@
 //   heldout_count = 15000                  configurations of the held-out sample, integer >= 1
 //   heldout_seed = 1001                    its seed, integer >= 0
 //   segment_test = true                    optional (default true): whether the domain's slave nodes pass the
-//                                          segment test of Eqs 3-6 (dataset::SceneDomainOptions::segment_test)
-//   states = "history"                     optional (default "rest"): the states the domain was drawn from, the
+//                                          segment test of Eqs 3-6
+//                                          (dataset::SceneDomainOptions::segment_test)
+//   states = "history"                     optional (default "rest"): the states the domain was drawn from,
+//   the
 //                                          deck ("rest") or the deck and every increment of `results`
 //   results = "run.frd"                    optional (default ""): the solver's results the study was given
 //                                          (scene-study --results), as given

@@ -30,8 +30,6 @@ std::string percent(double fraction) {
   return b;
 }
 
-
-
 const search::NetworkModel* model_of(const std::vector<const SceneNetwork*>& networks, int index) {
   return index >= 0 ? networks.at(static_cast<std::size_t>(index))->model.get() : nullptr;
 }

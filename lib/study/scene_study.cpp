@@ -682,8 +682,9 @@ class TrainingSchedule {
       (void)s.trainer->train_epoch();
     }
     s.seconds += seconds_since(start);
-    SceneNetwork n = snapshot(*s.network, s.trainer->state(), network_name(surface_, s.hidden, o_.second_layer), s.hidden,
-                              data_, domain_.heldout_set, o_);
+    SceneNetwork n =
+        snapshot(*s.network, s.trainer->state(), network_name(surface_, s.hidden, o_.second_layer), s.hidden,
+                 data_, domain_.heldout_set, o_);
     n.seconds = s.seconds;
     const std::lock_guard<std::mutex> lock(mutex_);
     char line[200];
@@ -720,8 +721,9 @@ class TrainingSchedule {
       (void)s.trainer->train_epoch();
     }
     s.seconds += seconds_since(start);
-    SceneNetwork n = snapshot(*s.network, s.trainer->state(), network_name(surface_, s.hidden, o_.second_layer) + "-long",
-                              s.hidden, data_, domain_.heldout_set, o_);
+    SceneNetwork n =
+        snapshot(*s.network, s.trainer->state(), network_name(surface_, s.hidden, o_.second_layer) + "-long",
+                 s.hidden, data_, domain_.heldout_set, o_);
     n.seconds = s.seconds;
     const std::lock_guard<std::mutex> lock(mutex_);
     char line[200];
@@ -1139,8 +1141,6 @@ std::string g4(double v) {
   return b;
 }
 
-
-
 double worse_mean(const eval::MethodErrors& e) { return std::max(e.stats[0].mean_abs, e.stats[1].mean_abs); }
 
 }  // namespace
@@ -1287,7 +1287,8 @@ std::string report_json(const SceneStudyResult& r) {
       << json_number(n.heldout_mean_abs[0]) << ", " << json_number(n.heldout_mean_abs[1])
       << "], \"train_seconds\": " << json_number(n.seconds) << "}";
   }
-  j << "],\n  \"network\": " << (scene ? json_string(network_name(r.surface, scene->hidden, r.options.second_layer)) : "null")
+  j << "],\n  \"network\": "
+    << (scene ? json_string(network_name(r.surface, scene->hidden, r.options.second_layer)) : "null")
     << ",\n  \"chosen_hidden\": " << (scene ? std::to_string(scene->hidden) : "null")
     << ",\n  \"chosen_epochs\": " << (scene ? std::to_string(scene->epochs) : "null")
     << ",\n  \"network_reached\": " << (r.training.reached ? "true" : "false")

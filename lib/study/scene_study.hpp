@@ -84,8 +84,9 @@ struct SceneStudyOptions {
   /// The states the domain covers (scene-study --domain); kAuto: the whole history with --results.
   DomainStates domain_states = DomainStates::kAuto;
   /// Whether the domain's slave nodes pass the segment test of Eqs 3-6 (domain.segment_test): "on", "off", or
-  /// "auto": off for a history study (--results: its networks are judged on the surface search's pairs of every
-  /// increment, some of which fail the test), on otherwise (the paper's pairs; the studies of results/scenes.md).
+  /// "auto": off for a history study (--results: its networks are judged on the surface search's pairs of
+  /// every increment, some of which fail the test), on otherwise (the paper's pairs; the studies of
+  /// results/scenes.md).
   std::string segment_test = "auto";
   /// Whose offsets the capture covers (1.25 x the largest |gap| / shortest edge, of every state drawn):
   /// "nearest_node" the paper's nearest-node pairs of every corner slave node, far ones too (as gen-configs

@@ -41,7 +41,8 @@ dataset::LabelledSet labelled_set() {
   set.resize(n, SurfaceKind::kBilinear);
   for (Eigen::Index i = 0; i < n; ++i) {
     dataset::store_label(
-        dataset::label_configuration(testing::random_paper_configuration(rng), SurfaceKind::kBilinear), i, set);
+        dataset::label_configuration(testing::random_paper_configuration(rng), SurfaceKind::kBilinear), i,
+        set);
   }
   set.config_toml = "[gen-configs]\n";
   return set;
@@ -77,7 +78,8 @@ void set_root_attribute(const std::filesystem::path& path, const std::string& na
   H5Fclose(file);
 }
 
-void set_root_attribute(const std::filesystem::path& path, const std::string& name, const std::string& value) {
+void set_root_attribute(const std::filesystem::path& path, const std::string& name,
+                        const std::string& value) {
   const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
   ASSERT_GE(file, 0);
   H5Adelete(file, name.c_str());
@@ -99,7 +101,8 @@ void replace_matrix(const std::filesystem::path& path, const std::string& name, 
   H5Ldelete(file, name.c_str(), H5P_DEFAULT);
   const hsize_t dims[2] = {rows, cols};
   const hid_t space = H5Screate_simple(cols > 0 ? 2 : 1, dims, nullptr);
-  const hid_t dataset = H5Dcreate2(file, name.c_str(), H5T_NATIVE_DOUBLE, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+  const hid_t dataset =
+      H5Dcreate2(file, name.c_str(), H5T_NATIVE_DOUBLE, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
   const std::vector<double> zeros(rows * std::max<hsize_t>(cols, 1), 0.0);
   H5Dwrite(dataset, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, zeros.data());
   H5Dclose(dataset);
@@ -134,7 +137,8 @@ TEST_F(BadDatasetFile, TruncatedAnywhereIsAFormatErrorNamingTheFile) {
   for (const std::size_t n : lengths) {
     write_bytes(path, bytes_.substr(0, n));
     const Outcome o = read_outcome(path);
-    ASSERT_FALSE(o.ok) << "a file truncated to " << n << " of " << bytes_.size() << " bytes was read as whole";
+    ASSERT_FALSE(o.ok) << "a file truncated to " << n << " of " << bytes_.size()
+                       << " bytes was read as whole";
     EXPECT_EQ(o.exit_code, static_cast<int>(ExitCode::kBadInput)) << n << ": " << o.message;
     EXPECT_NE(o.message.find(path.string()), std::string::npos) << n << ": " << o.message;
   }
@@ -197,10 +201,8 @@ TEST_F(BadDatasetFile, WrongShapesNameExpectedAndActual) {
     std::string expected_text;  ///< a piece of the message stating the mismatch
   };
   const std::vector<Spoil> spoils = {
-      {"features", 40, 7, "7 columns, expected 8"},
-      {"features", 40, 16, "16 columns, expected 8"},
-      {"labels", 39, 2, "39x2, expected 40x2"},
-      {"labels", 40, 3, "40x3, expected 40x2"},
+      {"features", 40, 7, "7 columns, expected 8"},    {"features", 40, 16, "16 columns, expected 8"},
+      {"labels", 39, 2, "39x2, expected 40x2"},        {"labels", 40, 3, "40x3, expected 40x2"},
       {"gap", 41, 0, "41/40/40/40 rows, expected 40"},
   };
   for (const Spoil& s : spoils) {

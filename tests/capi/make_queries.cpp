@@ -23,7 +23,8 @@ int main(int argc, char** argv) {
   const std::uint64_t seed = std::stoull(argv[3]);
   const std::size_t columns = kind == SurfaceKind::kGregory ? 27 : 15;
 
-  // Rows from the fourth on spoiled; tiny and huge within float's range (the float run must see the same values).
+  // Rows from the fourth on spoiled; tiny and huge within float's range (the float run must see the same
+  // values).
   testing::Spoiling spoiling;
   spoiling.first = 3;
   spoiling.tiny = 1e-20;

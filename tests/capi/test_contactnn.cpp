@@ -20,11 +20,11 @@
 namespace {
 
 using namespace contactnn;
+using contactnn::testing::methods_of;
+using contactnn::testing::mixed_queries;
 using search::LocalSearch;
 using search::Method;
 using search::SearchOptions;
-using contactnn::testing::methods_of;
-using contactnn::testing::mixed_queries;
 
 constexpr auto kBilinear = SurfaceKind::kBilinear;
 constexpr auto kGregory = SurfaceKind::kGregory;
@@ -200,7 +200,8 @@ TEST(CApi, StartPlusNewtonReadsEachQuerysStartFromParam) {
     // One step from other starts ends elsewhere: the starts were read.
     const Outputs<double> from_zero = run_c(c.search, raw, kCount);
     int differ = 0;
-    for (std::size_t i = 0; i < kCount; ++i) differ += from_start.param[2 * i] != from_zero.param[2 * i] ? 1 : 0;
+    for (std::size_t i = 0; i < kCount; ++i)
+      differ += from_start.param[2 * i] != from_zero.param[2 * i] ? 1 : 0;
     EXPECT_GT(differ, static_cast<int>(kCount / 2));
   }
 }
@@ -333,7 +334,8 @@ TEST(CApi, RefusesFourTrianglesOnGregoryAndStepCountsAboveTheLimit) {
                  {CONTACTNN_SURFACE_GREGORY, "closed_form+newton:100000000", "limit of 1000"}};
   for (const auto& r : refused) {
     contactnn_search* s = nullptr;
-    EXPECT_EQ(contactnn_search_create(&s, r.surface, r.method, nullptr, nullptr), CONTACTNN_ERROR_INVALID_ARGUMENT)
+    EXPECT_EQ(contactnn_search_create(&s, r.surface, r.method, nullptr, nullptr),
+              CONTACTNN_ERROR_INVALID_ARGUMENT)
         << r.method;
     EXPECT_EQ(s, nullptr) << r.method;
     EXPECT_NE(std::string(contactnn_last_error()).find(r.says), std::string::npos) << contactnn_last_error();

@@ -39,7 +39,8 @@ static void expect_create_fails(int surface, const char* method, const char* net
     ++failures;
   }
   /* The user's message alone: no internal condition or source path (those are for broken invariants). */
-  if (strstr(contactnn_last_error(), "[requirement") != NULL || strstr(contactnn_last_error(), ".cpp:") != NULL) {
+  if (strstr(contactnn_last_error(), "[requirement") != NULL ||
+      strstr(contactnn_last_error(), ".cpp:") != NULL) {
     printf("FAIL: %s: the message shows the library's source\n", what);
     ++failures;
   }
@@ -107,8 +108,9 @@ int main(int argc, char** argv) {
   expect_create_fails(CONTACTNN_SURFACE_GREGORY, "network", bilinear_net, NULL,
                       CONTACTNN_ERROR_INVALID_ARGUMENT, "bilinear network",
                       "a bilinear network for Gregory surfaces");
-  expect_create_fails(CONTACTNN_SURFACE_GREGORY, "closed_form+newton:", NULL, NULL, CONTACTNN_ERROR_INVALID_ARGUMENT,
-                      "closed_form+newton:K", "a hybrid without its step count");
+  expect_create_fails(CONTACTNN_SURFACE_GREGORY, "closed_form+newton:", NULL, NULL,
+                      CONTACTNN_ERROR_INVALID_ARGUMENT, "closed_form+newton:K",
+                      "a hybrid without its step count");
   expect(contactnn_options_init(&options) == CONTACTNN_SUCCESS, "options_init");
   options.max_iterations = 0;
   expect_create_fails(CONTACTNN_SURFACE_BILINEAR, "newton", NULL, &options, CONTACTNN_ERROR_INVALID_ARGUMENT,
@@ -223,13 +225,15 @@ int main(int argc, char** argv) {
   contactnn_search_destroy(search);
   contactnn_search_destroy(NULL);
 
-  /* 5. The handle's check value (contactnn.h, "Handles"): a destroyed search, or a pointer that is not a search,
-   *    answers INVALID_ARGUMENT instead of crashing, and a second destroy frees nothing. */
-  expect(contactnn_search_run(search, 1, raw, param, &gap, &status, NULL) == CONTACTNN_ERROR_INVALID_ARGUMENT &&
-             strstr(contactnn_last_error(), "not a live handle") != NULL,
-         "a run on a destroyed search");
-  expect(contactnn_search_run_float(search, 0, NULL, NULL, NULL, NULL, NULL) == CONTACTNN_ERROR_INVALID_ARGUMENT,
-         "a float run on a destroyed search, even of 0 queries");
+  /* 5. The handle's check value (contactnn.h, "Handles"): a destroyed search, or a pointer that is not a
+   * search, answers INVALID_ARGUMENT instead of crashing, and a second destroy frees nothing. */
+  expect(
+      contactnn_search_run(search, 1, raw, param, &gap, &status, NULL) == CONTACTNN_ERROR_INVALID_ARGUMENT &&
+          strstr(contactnn_last_error(), "not a live handle") != NULL,
+      "a run on a destroyed search");
+  expect(
+      contactnn_search_run_float(search, 0, NULL, NULL, NULL, NULL, NULL) == CONTACTNN_ERROR_INVALID_ARGUMENT,
+      "a float run on a destroyed search, even of 0 queries");
   expect(contactnn_search_surface(search) == -1, "the surface of a destroyed search is -1");
   contactnn_search_destroy(search);
   expect(strstr(contactnn_last_error(), "nothing was freed") != NULL, "a second destroy frees nothing");
@@ -247,7 +251,8 @@ int main(int argc, char** argv) {
   }
 
   /* 6. Limits: a method name of 10 MB is quoted short (not echoed whole, once per mention); a thread count
-   *    above CONTACTNN_MAX_THREADS is refused (libgomp fails inside the run when it cannot start the team). */
+   *    above CONTACTNN_MAX_THREADS is refused (libgomp fails inside the run when it cannot start the team).
+   */
   {
     const size_t digits = 10000000;
     char* huge = (char*)malloc(digits + 32);
@@ -258,14 +263,16 @@ int main(int argc, char** argv) {
       huge[7 + digits] = '\0';
       expect_create_fails(CONTACTNN_SURFACE_BILINEAR, huge, NULL, NULL, CONTACTNN_ERROR_INVALID_ARGUMENT,
                           "'newton:1111", "newton: and 10 MB of digits");
-      expect(strlen(contactnn_last_error()) < 400 && strstr(contactnn_last_error(), "(10000007 bytes)") != NULL,
-             "newton: and 10 MB of digits: the message quotes the method short");
+      expect(
+          strlen(contactnn_last_error()) < 400 && strstr(contactnn_last_error(), "(10000007 bytes)") != NULL,
+          "newton: and 10 MB of digits: the message quotes the method short");
       memset(huge, 'x', digits);
       huge[digits] = '\0';
       expect_create_fails(CONTACTNN_SURFACE_BILINEAR, huge, NULL, NULL, CONTACTNN_ERROR_INVALID_ARGUMENT,
                           "'xxxx", "a 10 MB method name");
-      expect(strlen(contactnn_last_error()) < 400 && strstr(contactnn_last_error(), "(10000000 bytes)") != NULL,
-             "a 10 MB method name: the message quotes it short");
+      expect(
+          strlen(contactnn_last_error()) < 400 && strstr(contactnn_last_error(), "(10000000 bytes)") != NULL,
+          "a 10 MB method name: the message quotes it short");
       memset(huge, 'n', 5000);
       huge[5000] = '\0';
       expect_create_fails(CONTACTNN_SURFACE_BILINEAR, "network", huge, NULL, CONTACTNN_ERROR_INVALID_ARGUMENT,
@@ -274,11 +281,12 @@ int main(int argc, char** argv) {
     }
     expect(contactnn_options_init(&options) == CONTACTNN_SUCCESS, "options_init");
     options.threads = CONTACTNN_MAX_THREADS + 1;
-    expect_create_fails(CONTACTNN_SURFACE_BILINEAR, "newton:2", NULL, &options, CONTACTNN_ERROR_INVALID_ARGUMENT,
-                        "options.threads = 1025", "threads above CONTACTNN_MAX_THREADS");
+    expect_create_fails(CONTACTNN_SURFACE_BILINEAR, "newton:2", NULL, &options,
+                        CONTACTNN_ERROR_INVALID_ARGUMENT, "options.threads = 1025",
+                        "threads above CONTACTNN_MAX_THREADS");
     options.threads = 100000;
-    expect_create_fails(CONTACTNN_SURFACE_BILINEAR, "newton:2", NULL, &options, CONTACTNN_ERROR_INVALID_ARGUMENT,
-                        "options.threads = 100000", "threads 100000");
+    expect_create_fails(CONTACTNN_SURFACE_BILINEAR, "newton:2", NULL, &options,
+                        CONTACTNN_ERROR_INVALID_ARGUMENT, "options.threads = 100000", "threads 100000");
     options.threads = CONTACTNN_MAX_THREADS;
     expect(contactnn_search_create(&search, CONTACTNN_SURFACE_BILINEAR, "newton:2", NULL, &options) ==
                CONTACTNN_SUCCESS,

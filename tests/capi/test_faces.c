@@ -1,7 +1,7 @@
-/* test_capi_faces: the faces of SPEC 9 beside the 4-node quads through the C interface (CONTACTNN_SURFACE_TRI3,
- * _TRI6, _QUAD8): answers known in closed form (flat faces: the projection; a curved quad8 symmetric about its
- * centre with S on the axis: the centre), the raw row sizes, and the refusals (a network on tri3, four_triangles,
- * a network file of another kind). Exit status 0 when every check holds. */
+/* test_capi_faces: the faces of SPEC 9 beside the 4-node quads through the C interface
+ * (CONTACTNN_SURFACE_TRI3, _TRI6, _QUAD8): answers known in closed form (flat faces: the projection; a curved
+ * quad8 symmetric about its centre with S on the axis: the centre), the raw row sizes, and the refusals (a
+ * network on tri3, four_triangles, a network file of another kind). Exit status 0 when every check holds. */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -17,7 +17,8 @@ static void expect(int condition, const char* what) {
   }
 }
 
-static void run_one(int surface, const char* method, const double* raw, double* param, double* gap, int* status) {
+static void run_one(int surface, const char* method, const double* raw, double* param, double* gap,
+                    int* status) {
   contactnn_search* s = NULL;
   char what[200];
   snprintf(what, sizeof what, "create surface %d, %s", surface, method);
@@ -62,10 +63,10 @@ int main(int argc, char** argv) {
   }
   {
     /* quad8 on the square [-1, 1]^2 with every mid-side node raised by 0.2: symmetric under the square's
-     * symmetries, so S on the axis (0, 0, 2) has its closest point at the centre, P(0, 0) = (0, 0, -0.25 * 0 +
-     * 0.5 * 4 * 0.2) = (0, 0, 0.4), gap 1.6. */
-    const double raw[27] = {-1, -1, 0, 1, -1, 0, 1, 1, 0, -1, 1, 0,
-                            0, -1, 0.2, 1, 0, 0.2, 0, 1, 0.2, -1, 0, 0.2, 0, 0, 2};
+     * symmetries, so S on the axis (0, 0, 2) has its closest point at the centre, P(0, 0) = (0, 0, -0.25 * 0
+     * + 0.5 * 4 * 0.2) = (0, 0, 0.4), gap 1.6. */
+    const double raw[27] = {-1,  -1, 0, 1,   -1, 0, 1,   1,  0, -1,  1, 0, 0, -1,
+                            0.2, 1,  0, 0.2, 0,  1, 0.2, -1, 0, 0.2, 0, 0, 2};
     const char* methods[] = {"newton", "newton:3", "closed_form+newton:2"};
     for (int m = 0; m < 3; ++m) {
       run_one(CONTACTNN_SURFACE_QUAD8, methods[m], raw, param, &gap, &status);
@@ -77,7 +78,8 @@ int main(int argc, char** argv) {
   {
     contactnn_search* s = NULL;
     expect(contactnn_search_create(&s, CONTACTNN_SURFACE_TRI3, "network", "x.h5", NULL) ==
-               CONTACTNN_ERROR_INVALID_ARGUMENT && s == NULL,
+                   CONTACTNN_ERROR_INVALID_ARGUMENT &&
+               s == NULL,
            "tri3 takes no network");
     expect(strstr(contactnn_last_error(), "closed form is exact") != NULL, "the message says why");
     expect(contactnn_search_create(&s, CONTACTNN_SURFACE_QUAD8, "four_triangles", NULL, NULL) ==

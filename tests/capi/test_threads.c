@@ -2,7 +2,8 @@
  * OMP_NUM_THREADS=100000, which libgomp accepts and then cannot start: before the cap, the first parallel run
  * ended the process inside libgomp ("Thread creation failed").
  *
- * Usage: test_capi_threads. Exit status 0 when a parallel run on every query succeeds with the right answer. */
+ * Usage: test_capi_threads. Exit status 0 when a parallel run on every query succeeds with the right answer.
+ */
 #include <contactnn/contactnn.h>
 #include <math.h>
 #include <stdio.h>
@@ -34,7 +35,8 @@ int main(void) {
   }
   if (contactnn_options_init(&options) != CONTACTNN_SUCCESS) return 1;
   options.min_parallel_count = 1; /* every batch in parallel */
-  if (contactnn_search_create(&search, CONTACTNN_SURFACE_BILINEAR, "newton:4", NULL, &options) != CONTACTNN_SUCCESS) {
+  if (contactnn_search_create(&search, CONTACTNN_SURFACE_BILINEAR, "newton:4", NULL, &options) !=
+      CONTACTNN_SUCCESS) {
     printf("FAIL: create: %s\n", contactnn_last_error());
     return 1;
   }

@@ -43,15 +43,18 @@ int main(int argc, char** argv) {
         const auto search = testing::compare_searches(tree.pairs, brute.pairs);
         const auto oracle = testing::compare_with_oracle(tree.pairs, kind, grid);
         const double tol = kind == SurfaceKind::kGregory ? 1e-8 : 1e-9;
-        const bool pass = search.differences == 0 && oracle.max_difference <= tol && oracle.nearer_than_label == 0;
+        const bool pass =
+            search.differences == 0 && oracle.max_difference <= tol && oracle.nearer_than_label == 0;
         ok = ok && pass;
-        std::printf("pair=%d surface=%s slaves=%zu found=%ld no_segment=%ld search_differences=%ld "
-                    "oracle_compared=%ld oracle_boundary=%ld oracle_max_difference=%.3g oracle_nearer=%ld %s\n",
-                    k, std::string(to_string(kind)).c_str(), tree.pairs.size(), tree.found, tree.no_segment,
-                    search.differences, oracle.compared, oracle.on_boundary, oracle.max_difference,
-                    oracle.nearer_than_label, pass ? "PASS" : "FAIL");
+        std::printf(
+            "pair=%d surface=%s slaves=%zu found=%ld no_segment=%ld search_differences=%ld "
+            "oracle_compared=%ld oracle_boundary=%ld oracle_max_difference=%.3g oracle_nearer=%ld %s\n",
+            k, std::string(to_string(kind)).c_str(), tree.pairs.size(), tree.found, tree.no_segment,
+            search.differences, oracle.compared, oracle.on_boundary, oracle.max_difference,
+            oracle.nearer_than_label, pass ? "PASS" : "FAIL");
         if (search.differences > 0) std::printf("  first search difference: %s\n", search.first.c_str());
-        if (oracle.max_difference > tol) std::printf("  worst oracle difference at slave %ld\n", oracle.worst_slave);
+        if (oracle.max_difference > tol)
+          std::printf("  worst oracle difference at slave %ld\n", oracle.worst_slave);
       }
     }
     return ok ? 0 : 1;

@@ -40,8 +40,8 @@ inline SearchComparison compare_searches(std::span<const contact::NodeSegmentPai
     if (!same) {
       if (c.differences == 0) {
         c.first = "slave " + std::to_string(p.slave_id) + ": nearest node " + std::to_string(p.nearest_node) +
-                  " vs " + std::to_string(q.nearest_node) + ", segment " + std::to_string(p.segment) + " vs " +
-                  std::to_string(q.segment);
+                  " vs " + std::to_string(q.nearest_node) + ", segment " + std::to_string(p.segment) +
+                  " vs " + std::to_string(q.segment);
       }
       ++c.differences;
     }
@@ -57,8 +57,8 @@ inline SearchComparison compare_searches(std::span<const contact::NodeSegmentPai
 struct OracleComparison {
   long compared = 0;
   long on_boundary = 0;
-  double max_difference = 0.0;   ///< max over compared pairs of max(|d param 0|, |d param 1|)
-  long nearer_than_label = 0;    ///< oracle points nearer S than the label's by more than rounding
+  double max_difference = 0.0;  ///< max over compared pairs of max(|d param 0|, |d param 1|)
+  long nearer_than_label = 0;   ///< oracle points nearer S than the label's by more than rounding
   long worst_slave = 0;
 };
 
@@ -84,7 +84,8 @@ inline OracleComparison compare_with_oracle(std::span<const contact::NodeSegment
         ++c.on_boundary;
         return;
       }
-      const double diff = std::max(std::abs(oracle[0] - p.label.param[0]), std::abs(oracle[1] - p.label.param[1]));
+      const double diff =
+          std::max(std::abs(oracle[0] - p.label.param[0]), std::abs(oracle[1] - p.label.param[1]));
       if (diff > c.max_difference) {
         c.max_difference = diff;
         c.worst_slave = p.slave_id;

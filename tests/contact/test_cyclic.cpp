@@ -1,9 +1,10 @@
 // A contact pair between the two cut faces of a cyclic symmetry model (*TIE, CYCLIC SYMMETRY + *CYCLIC
 // SYMMETRY MODEL): the slave face of the sector touches the master face of the neighbouring sector, which the
-// deck does not mesh. The deck is written here: one twisted annular sector about the x axis whose master face,
-// rotated one sector back, lies a small angle delta behind the slave face; every expected foot point and gap
-// is computed from that geometry, not by the library.
+// deck does not mesh. The deck is written here: one twisted annular sector about the x axis whose master
+// face, rotated one sector back, lies a small angle delta behind the slave face; every expected foot point
+// and gap is computed from that geometry, not by the library.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <filesystem>
@@ -11,8 +12,6 @@
 #include <numbers>
 #include <sstream>
 #include <string>
-
-#include <unistd.h>
 
 #include "contact/scene.hpp"
 #include "io/inp_deck.hpp"
@@ -25,8 +24,8 @@ namespace {
 constexpr int kSectors = 12;
 constexpr double kAlpha = 2.0 * std::numbers::pi / kSectors;  // one sector
 constexpr double kDelta = 0.01;                               // the gap angle between neighbours' faces
-constexpr double kR1 = 2.0, kR2 = 3.0, kLength = 2.0;          // radii and axial length
-constexpr int kNr = 3, kNt = 4, kNx = 4;                       // elements along r, theta, x
+constexpr double kR1 = 2.0, kR2 = 3.0, kLength = 2.0;         // radii and axial length
+constexpr int kNr = 3, kNt = 4, kNx = 4;                      // elements along r, theta, x
 constexpr double kHx = kLength / kNx;
 // The axial twist: the master face's nodes sit 0.37 of an element behind the slave face's (non-matching).
 constexpr double kShift = 0.37 * kHx;
@@ -65,8 +64,8 @@ std::string sector_deck(bool cyclic) {
       for (int i = 0; i < kNr; ++i) {
         d << element_id(i, j, k) << ", " << node_id(i, j, k) << ", " << node_id(i + 1, j, k) << ", "
           << node_id(i + 1, j + 1, k) << ", " << node_id(i, j + 1, k) << ", " << node_id(i, j, k + 1) << ", "
-          << node_id(i + 1, j, k + 1) << ", " << node_id(i + 1, j + 1, k + 1) << ", " << node_id(i, j + 1, k + 1)
-          << "\n";
+          << node_id(i + 1, j, k + 1) << ", " << node_id(i + 1, j + 1, k + 1) << ", "
+          << node_id(i, j + 1, k + 1) << "\n";
       }
     }
   }
@@ -80,15 +79,16 @@ std::string sector_deck(bool cyclic) {
   }
   if (cyclic) {
     d << "*TIE, NAME=T1, CYCLIC SYMMETRY\nSdep, Sind\n"
-      << "*CYCLIC SYMMETRY MODEL, N=" << kSectors << ", NGRAPH=1, TIE=T1, CONTACT, ELSET=EALL\n0., 0., 0., 1., 0., 0.\n";
+      << "*CYCLIC SYMMETRY MODEL, N=" << kSectors
+      << ", NGRAPH=1, TIE=T1, CONTACT, ELSET=EALL\n0., 0., 0., 1., 0., 0.\n";
   }
   d << "*CONTACT PAIR, INTERACTION=SI1, TYPE=SURFACE TO SURFACE\nSdep, Sind\n*STEP\n*STATIC\n*END STEP\n";
   return d.str();
 }
 
-/// The deck written and read back. ctest -j runs this file's cases as processes of their own at the same time,
-/// so each writes its own file (the process id in the name): with one shared name a case once read the deck
-/// while another was rewriting it ("the deck has no *CONTACT PAIR", CI).
+/// The deck written and read back. ctest -j runs this file's cases as processes of their own at the same
+/// time, so each writes its own file (the process id in the name): with one shared name a case once read the
+/// deck while another was rewriting it ("the deck has no *CONTACT PAIR", CI).
 mesh::ContactModel read_sector(bool cyclic) {
   const auto path = testing::test_output_dir("cyclic") /
                     ((cyclic ? "sector-cyclic-" : "sector-plain-") + std::to_string(::getpid()) + ".inp");
@@ -185,8 +185,11 @@ TEST_P(CyclicScene, WithoutTheCyclicModelTheSameSlavesOnlySeeTheirOwnSectorsFarF
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(Surfaces, CyclicScene, ::testing::Values(SurfaceKind::kBilinear, SurfaceKind::kGregory),
-                         [](const ::testing::TestParamInfo<SurfaceKind>& p) { return std::string(to_string(p.param)); });
+INSTANTIATE_TEST_SUITE_P(Surfaces, CyclicScene,
+                         ::testing::Values(SurfaceKind::kBilinear, SurfaceKind::kGregory),
+                         [](const ::testing::TestParamInfo<SurfaceKind>& p) {
+                           return std::string(to_string(p.param));
+                         });
 
 }  // namespace
 }  // namespace contactnn::contact

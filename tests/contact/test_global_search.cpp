@@ -11,8 +11,8 @@
 #include "contact/shape_statistics.hpp"
 #include "core/error.hpp"
 #include "geometry/segment_checks.hpp"
-#include "mesh/surface_mesh.hpp"
 #include "mesh/grid_surface.hpp"
+#include "mesh/surface_mesh.hpp"
 #include "test_support.hpp"
 
 namespace contactnn::contact {
@@ -26,10 +26,12 @@ constexpr double kShapeTol = 1e-12;
 /// An nx x ny grid of unit squares on z = height(x, y), counter-clockwise seen from +z (outward = up);
 /// node (i, j) has index and id i + (nx + 1) j (+1 for the id).
 mesh::SurfaceMesh grid(int nx, int ny, double (*height)(double, double) = nullptr) {
-  return testing::grid_surface(nx, ny, [&](double i, double j) { return geometry::Vec3(i, j, height ? height(i, j) : 0.0); });
+  return testing::grid_surface(
+      nx, ny, [&](double i, double j) { return geometry::Vec3(i, j, height ? height(i, j) : 0.0); });
 }
 
-NodeSegmentPair search_one(const mesh::SurfaceMesh& s, const Vec3& slave, SurfaceKind kind = SurfaceKind::kBilinear) {
+NodeSegmentPair search_one(const mesh::SurfaceMesh& s, const Vec3& slave,
+                           SurfaceKind kind = SurfaceKind::kBilinear) {
   SearchOptions options;
   options.surface = kind;
   const std::vector<Vec3> normals = mesh::node_normals(s);
@@ -127,7 +129,8 @@ TEST(ShapeStatistics, DefinitionsOnHandComputedShapes) {
   // A normal tilted by 0.1 rad from the corner normal +z.
   const Vec3 tilted(std::sin(0.1), 0, std::cos(0.1));
   EXPECT_NEAR(normal_tilt_tangent(square[0], square[1], square[3], tilted), std::tan(0.1), kShapeTol);
-  EXPECT_EQ(normal_tilt_tangent(square[0], square[1], square[3], Vec3(1, 0, -0.1)), std::numeric_limits<double>::infinity());
+  EXPECT_EQ(normal_tilt_tangent(square[0], square[1], square[3], Vec3(1, 0, -0.1)),
+            std::numeric_limits<double>::infinity());
   EXPECT_EQ(normal_tilt_tangent(square[0], square[1], square[3], Vec3::Zero()), -1.0);
   const Spread odd = spread_of({3, 1, 2});
   EXPECT_EQ(odd.count, 3);

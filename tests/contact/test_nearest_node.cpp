@@ -44,10 +44,12 @@ TEST(NearestPointTree, ExactTiesGoToTheLowestIndexInBoth) {
   const NearestPointTree tree(points);
   for (int i = 0; i < 8; ++i) {
     for (int j = 0; j < 8; ++j) {
-      for (const Vec3& query : {Vec3(i + 0.5, j + 0.5, 0.25), Vec3(i + 0.5, j, -1.0), Vec3(i, j + 0.5, 0.0)}) {
+      for (const Vec3& query :
+           {Vec3(i + 0.5, j + 0.5, 0.25), Vec3(i + 0.5, j, -1.0), Vec3(i, j + 0.5, 0.0)}) {
         int lowest = std::numeric_limits<int>::max();
         double best = std::numeric_limits<double>::infinity();
-        for (std::size_t k = 0; k < points.size(); ++k) best = std::min(best, squared_distance(points[k], query));
+        for (std::size_t k = 0; k < points.size(); ++k)
+          best = std::min(best, squared_distance(points[k], query));
         for (std::size_t k = 0; k < points.size(); ++k) {
           if (squared_distance(points[k], query) == best) lowest = std::min(lowest, static_cast<int>(k));
         }

@@ -2,7 +2,6 @@
 // the example_scenes ctest fixture): the k-d tree search equals the brute-force one, also after random
 // perturbations, and the labels agree with the independent oracle of test_support.hpp.
 #include <gtest/gtest.h>
-
 #include <omp.h>
 
 #include <filesystem>
@@ -41,7 +40,8 @@ class ExampleScene : public ::testing::TestWithParam<std::tuple<ScenePair, Surfa
     model_ = io::read_inp_deck(scenes_dir() / scene_pair.deck);
     scene_ = make_scene(model_, scene_pair.pair);
     options_.surface = kind;
-    options_.search = GlobalSearchKind::kNearestNode;  // the paper's search; the surface search's test is below
+    options_.search =
+        GlobalSearchKind::kNearestNode;  // the paper's search; the surface search's test is below
   }
   [[nodiscard]] std::vector<NodeSegmentPair> search(const Scene& scene, NearestNodeMethod method) const {
     SearchOptions options = options_;
@@ -69,12 +69,15 @@ TEST_P(ExampleScene, TreeSearchEqualsBruteForceAfterRandomPerturbations) {
   std::mt19937_64 rng(67);
   double edge = 0.0;
   for (const auto& q : scene_.master.segments) {
-    edge += (scene_.master.positions[static_cast<std::size_t>(q[1])] - scene_.master.positions[static_cast<std::size_t>(q[0])]).norm();
+    edge += (scene_.master.positions[static_cast<std::size_t>(q[1])] -
+             scene_.master.positions[static_cast<std::size_t>(q[0])])
+                .norm();
   }
   edge /= static_cast<double>(scene_.master.segments.size());
   for (int round = 0; round < 5; ++round) {
     Scene moved = scene_;
-    std::uniform_real_distribution<double> slave_shift(-0.5 * edge, 0.5 * edge), master_shift(-0.1 * edge, 0.1 * edge);
+    std::uniform_real_distribution<double> slave_shift(-0.5 * edge, 0.5 * edge),
+        master_shift(-0.1 * edge, 0.1 * edge);
     for (auto& p : moved.slave_positions) p += Vec3(slave_shift(rng), slave_shift(rng), slave_shift(rng));
     for (auto& p : moved.master.positions) p += Vec3(master_shift(rng), master_shift(rng), master_shift(rng));
     moved.master_normals = mesh::node_normals(moved.master);
@@ -113,7 +116,8 @@ TEST_P(ExampleScene, ReportedNodeOrderIsNearestNodeFirstThenCounterClockwiseAbou
     const auto& q = scene_.master.segments[static_cast<std::size_t>(p.segment)];
     int k = 0;
     while (q[static_cast<std::size_t>(k)] != p.nodes[0]) ++k;
-    for (int i = 0; i < 4; ++i) EXPECT_EQ(p.nodes[static_cast<std::size_t>(i)], q[static_cast<std::size_t>((k + i) % 4)]);
+    for (int i = 0; i < 4; ++i)
+      EXPECT_EQ(p.nodes[static_cast<std::size_t>(i)], q[static_cast<std::size_t>((k + i) % 4)]);
   }
 }
 
@@ -140,8 +144,8 @@ TEST_P(ExampleScene, SurfaceSearchTreeEqualsEveryFaceAndNeverMissesTheNearestNod
     if (tree[i].status != PairStatus::kFound) continue;
     EXPECT_EQ(tree[i].segment, every[i].segment) << "slave " << tree[i].slave_id;
     EXPECT_EQ(tree[i].label.gap, every[i].label.gap) << "slave " << tree[i].slave_id;
-    // The nearest point of the whole surface is never farther than the paper's pair's point inside its segment
-    // (where both search the same surfaces: the paper's search takes a quad8 by its corners).
+    // The nearest point of the whole surface is never farther than the paper's pair's point inside its
+    // segment (where both search the same surfaces: the paper's search takes a quad8 by its corners).
     if (paper[i].status == PairStatus::kFound && paper[i].label.status == Status::kOk &&
         scene_.master.face_type(tree[i].segment) != mesh::FaceType::kQuad8 &&
         scene_.master.face_type(paper[i].segment) != mesh::FaceType::kQuad8) {

@@ -1,8 +1,6 @@
 // contact::surface_search (SPEC 9): the closest point on the whole master surface, against a brute force
 // over every face and against the exact triangle oracle, on generated surfaces with convex and concave
 // edges, boundaries, slave nodes exactly on edges and vertices, and far away.
-#include "contact/surface_search.hpp"
-
 #include <gtest/gtest.h>
 #include <omp.h>
 
@@ -10,6 +8,7 @@
 #include <random>
 #include <string>
 
+#include "contact/surface_search.hpp"
 #include "contact/tracking.hpp"
 #include "geometry/bilinear_patch.hpp"
 #include "geometry/gregory_patch.hpp"
@@ -119,15 +118,15 @@ TEST(SurfaceSearch, GapSignFollowsThePseudoNormalAtConvexAndConcaveEdgesAndVerti
     bool penetrates;
   };
   const Case cases[] = {
-      {Vec3(3.0, 2.5, 1.7), Location::kEdge, false},    // above the ridge
-      {Vec3(3.0, 2.5, 1.3), Location::kFace, true},     // under the ridge: inside the body
+      {Vec3(3.0, 2.5, 1.7), Location::kEdge, false},  // above the ridge
+      {Vec3(3.0, 2.5, 1.3), Location::kFace, true},   // under the ridge: inside the body
       {Vec3(3.1, 2.3, 1.2), Location::kFace, true},
-      {Vec3(6.0, 2.5, 0.2), Location::kFace, false},    // over the valley, nearer a face than its line
-      {Vec3(6.0, 2.5, -0.2), Location::kEdge, true},    // below the valley line
-      {Vec3(3.0, -0.5, 1.7), Location::kVertex, false}, // beyond the ridge's end, above
-      {Vec3(3.0, 0.3, 1.2), Location::kFace, true},     // under the ridge's end
-      {Vec3(-0.5, 2.5, 0.3), Location::kEdge, false},   // beyond the boundary edge x = 0, above the plane
-      {Vec3(-0.5, -0.5, -0.3), Location::kVertex, true},// beyond the corner, below the plane
+      {Vec3(6.0, 2.5, 0.2), Location::kFace, false},      // over the valley, nearer a face than its line
+      {Vec3(6.0, 2.5, -0.2), Location::kEdge, true},      // below the valley line
+      {Vec3(3.0, -0.5, 1.7), Location::kVertex, false},   // beyond the ridge's end, above
+      {Vec3(3.0, 0.3, 1.2), Location::kFace, true},       // under the ridge's end
+      {Vec3(-0.5, 2.5, 0.3), Location::kEdge, false},     // beyond the boundary edge x = 0, above the plane
+      {Vec3(-0.5, -0.5, -0.3), Location::kVertex, true},  // beyond the corner, below the plane
   };
   std::vector<Vec3> slaves;
   for (const Case& c : cases) slaves.push_back(c.slave);
@@ -172,7 +171,8 @@ TEST(SurfaceSearch, FarSlavesHaveNoSegmentAndTheCaptureDistanceIsOneFaceSizeByDe
   SearchOptions options;
   const double capture = capture_distance(m, options);
   EXPECT_NEAR(capture, std::sqrt(1.0 + 1.0 + 0.25), kExact);  // the diagonal of a sloped face
-  const auto found = search(m, {Vec3(1.0, 2.0, 0.5 + 0.9 * capture), Vec3(1.0, 2.0, 50.0), Vec3(100.0, 100.0, 100.0)});
+  const auto found =
+      search(m, {Vec3(1.0, 2.0, 0.5 + 0.9 * capture), Vec3(1.0, 2.0, 50.0), Vec3(100.0, 100.0, 100.0)});
   EXPECT_EQ(found[0].status, PairStatus::kFound);
   EXPECT_EQ(found[1].status, PairStatus::kNoSegment);
   EXPECT_EQ(found[2].status, PairStatus::kNoSegment);
@@ -189,11 +189,13 @@ TEST(SurfaceSearch, PairIsInSpec7NodeOrderWithTheLabelInThatOrder) {
     const NodeSegmentPair& p = found[i];
     // A is the corner nearest S; the configuration is the face's corners from A on, in the face's cycle.
     for (int k = 1; k < 4; ++k) {
-      EXPECT_LE((p.config.nodes[0] - slaves[i]).squaredNorm(), (p.config.nodes[static_cast<std::size_t>(k)] - slaves[i]).squaredNorm());
+      EXPECT_LE((p.config.nodes[0] - slaves[i]).squaredNorm(),
+                (p.config.nodes[static_cast<std::size_t>(k)] - slaves[i]).squaredNorm());
     }
     const auto& quad = m.segments[static_cast<std::size_t>(p.segment)];
     const auto a = std::find(quad.begin(), quad.end(), p.nodes[0]) - quad.begin();
-    for (int k = 0; k < 4; ++k) EXPECT_EQ(p.nodes[static_cast<std::size_t>(k)], quad[static_cast<std::size_t>((a + k) % 4)]);
+    for (int k = 0; k < 4; ++k)
+      EXPECT_EQ(p.nodes[static_cast<std::size_t>(k)], quad[static_cast<std::size_t>((a + k) % 4)]);
     // The label's (xi, eta) in that order is the reported point.
     const geometry::BilinearPatch facet(p.config.nodes);
     EXPECT_LE((facet.position(p.label.param[0], p.label.param[1]) - p.point).norm(), kExact);
@@ -232,8 +234,8 @@ TEST(SurfaceSearch, GregorySurfaceTreeEqualsBruteForceAndNoPatchSampleIsNearer) 
         nodes[k] = m.positions[static_cast<std::size_t>(q[k])];
         node_normals[k] = normals[static_cast<std::size_t>(q[k])];
       }
-      sampled = std::min(sampled, testing::sampled_distance(geometry::GregoryPatch(nodes, node_normals), slaves[i],
-                                                           0.0, 1.0, 41));
+      sampled = std::min(sampled, testing::sampled_distance(geometry::GregoryPatch(nodes, node_normals),
+                                                            slaves[i], 0.0, 1.0, 41));
     }
     EXPECT_LE(std::abs(tree[i].label.gap), sampled + kExact) << slaves[i].transpose();
     // Outside the cylinder (radius > 4) is separated, inside penetrates.
@@ -273,9 +275,9 @@ TEST(SurfaceSearch, TrianglesCountAndMeetTheQuadsAtSharedEdges) {
     ASSERT_EQ(found[i].status, PairStatus::kFound);
     double best = (slaves[i] - oracle_point(m, slaves[i])).norm();
     for (const auto& t : m.extra_faces) {
-      const Vec3 p = testing::closest_point_on_triangle(slaves[i], m.positions[static_cast<std::size_t>(t[0])],
-                                                        m.positions[static_cast<std::size_t>(t[1])],
-                                                        m.positions[static_cast<std::size_t>(t[2])]);
+      const Vec3 p = testing::closest_point_on_triangle(
+          slaves[i], m.positions[static_cast<std::size_t>(t[0])], m.positions[static_cast<std::size_t>(t[1])],
+          m.positions[static_cast<std::size_t>(t[2])]);
       best = std::min(best, (slaves[i] - p).norm());
     }
     EXPECT_NEAR(std::abs(found[i].label.gap), best, kExact) << slaves[i].transpose();
@@ -289,9 +291,9 @@ TEST(SurfaceSearch, TrianglesCountAndMeetTheQuadsAtSharedEdges) {
 }
 
 TEST(SurfaceSearch, EverySearchGivesTheUnitScalesAnswerAtScalesFrom1eMinus200To1e200) {
-  // The closest points and the trees' squared radii need lengths whose fourth powers stay in the double range:
-  // scaled by 1e-100 the surface search found no point for any slave node, by 1e100 it put every point on an
-  // edge, and the nearest-node search lost its labels at 1e+-200. Both now work in a unit of their own
+  // The closest points and the trees' squared radii need lengths whose fourth powers stay in the double
+  // range: scaled by 1e-100 the surface search found no point for any slave node, by 1e100 it put every point
+  // on an edge, and the nearest-node search lost its labels at 1e+-200. Both now work in a unit of their own
   // (working_unit) and answer in world units: the same faces, locations and statuses, the points and gaps
   // scaled (to the rounding of the scaled inputs).
   const mesh::SurfaceMesh unit_mesh = surface_of(9, 4, [](double i, double j) -> Vec3 {
@@ -343,13 +345,17 @@ TEST(SurfaceSearch, EverySearchGivesTheUnitScalesAnswerAtScalesFrom1eMinus200To1
           ASSERT_EQ(third[i].status, fresh_moved[i].status) << "moved, scale " << scale << " slave " << i;
           if (third[i].status != PairStatus::kFound) continue;
           EXPECT_EQ(third[i].segment, fresh_moved[i].segment) << "moved, scale " << scale << " slave " << i;
-          EXPECT_LE(((third[i].point - fresh_moved[i].point) / scale).norm(), 1e-12) << "moved, scale " << scale << " slave " << i;
+          EXPECT_LE(((third[i].point - fresh_moved[i].point) / scale).norm(), 1e-12)
+              << "moved, scale " << scale << " slave " << i;
         }
       }
       for (std::size_t i = 0; i < reference.size(); ++i) {
-        const std::string where = std::string(to_string(kind.surface)) + (kind.search == GlobalSearchKind::kSurface ? " surface" : " nearest-node") +
-                                  " search, scale " + std::to_string(std::log10(scale)) + " (log10), slave " + std::to_string(i);
-        for (const std::vector<NodeSegmentPair>* answers : {&scaled, static_cast<const std::vector<NodeSegmentPair>*>(&tracked)}) {
+        const std::string where = std::string(to_string(kind.surface)) +
+                                  (kind.search == GlobalSearchKind::kSurface ? " surface" : " nearest-node") +
+                                  " search, scale " + std::to_string(std::log10(scale)) + " (log10), slave " +
+                                  std::to_string(i);
+        for (const std::vector<NodeSegmentPair>* answers :
+             {&scaled, static_cast<const std::vector<NodeSegmentPair>*>(&tracked)}) {
           if (answers->empty()) continue;
           const NodeSegmentPair& p = (*answers)[i];
           ASSERT_EQ(p.status, reference[i].status) << where << (answers == &scaled ? " search" : " tracker");

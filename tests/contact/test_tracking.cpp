@@ -1,7 +1,5 @@
 // contact::SurfaceTracker: over a moving history the tracked surface search gives the fresh search's faces,
 // points and gaps at every increment, and answers most nodes from their lists.
-#include "contact/tracking.hpp"
-
 #include <gtest/gtest.h>
 #include <omp.h>
 
@@ -9,6 +7,7 @@
 #include <numbers>
 #include <random>
 
+#include "contact/tracking.hpp"
 #include "mesh/grid_surface.hpp"
 
 namespace contactnn::contact {
@@ -46,13 +45,15 @@ History slaves(int n) {
   return h;
 }
 
-void expect_same(const std::vector<NodeSegmentPair>& a, const std::vector<NodeSegmentPair>& b, int increment) {
+void expect_same(const std::vector<NodeSegmentPair>& a, const std::vector<NodeSegmentPair>& b,
+                 int increment) {
   ASSERT_EQ(a.size(), b.size());
   for (std::size_t i = 0; i < a.size(); ++i) {
     ASSERT_EQ(a[i].status, b[i].status) << "increment " << increment << " slave " << a[i].slave_id;
     if (a[i].status != PairStatus::kFound) continue;
     ASSERT_EQ(a[i].segment, b[i].segment) << "increment " << increment << " slave " << a[i].slave_id;
-    ASSERT_LE((a[i].point - b[i].point).norm(), kSame) << "increment " << increment << " slave " << a[i].slave_id;
+    ASSERT_LE((a[i].point - b[i].point).norm(), kSame)
+        << "increment " << increment << " slave " << a[i].slave_id;
     ASSERT_NEAR(a[i].label.gap, b[i].label.gap, kSame);
     ASSERT_EQ(a[i].location, b[i].location);
   }
@@ -72,7 +73,8 @@ TEST_P(Tracking, GivesTheFreshSearchsFacesPointsAndGapsAtEveryIncrement) {
     const mesh::SurfaceMesh m = sheet(0.05 * increment);
     const std::vector<Vec3> normals = mesh::node_normals(m);
     std::vector<Vec3> positions;
-    for (std::size_t i = 0; i < h.ids.size(); ++i) positions.push_back(h.start[i] + increment * h.velocity[i]);
+    for (std::size_t i = 0; i < h.ids.size(); ++i)
+      positions.push_back(h.start[i] + increment * h.velocity[i]);
     TrackingCounts counts;
     const auto by_tracking = tracker.step(m, normals, h.ids, positions, &counts);
     const auto fresh = surface_search(m, normals, h.ids, positions, options);
@@ -103,7 +105,8 @@ TEST_P(Tracking, ANodeThatJumpsFarGetsAFreshListAndItsNewFace) {
   EXPECT_EQ(counts.fresh, 1);
   expect_same(jumped, surface_search(m, normals, ids, far, options), 1);
   // A surface with other faces starts over.
-  const mesh::SurfaceMesh smaller = testing::grid_surface(3, 3, [](double i, double j) { return Vec3(i, j, 0.0); });
+  const mesh::SurfaceMesh smaller =
+      testing::grid_surface(3, 3, [](double i, double j) { return Vec3(i, j, 0.0); });
   mesh::SurfaceMesh with_ids = smaller;
   for (std::size_t q = 0; q < with_ids.segments.size(); ++q) {
     with_ids.segment_faces.push_back({static_cast<int>(q), 1});
@@ -150,12 +153,13 @@ TEST(Tracking, AFaceTurningInPlaceIntoACandidateIsFound) {
 }
 
 TEST(Tracking, TwoWarmRunsEndingOnTheirSharedEdgeGetTheGrid) {
-  // Node 1021849 of make-large-history's 1e6-node history at increment 4: it lies over the edge x = 240 between
-  // its previous face (x 239..240, warm-started from its point of increment 3) and the next one, whose closest
-  // point is 5.4e-5 inside. Both warm runs ended on the shared edge at the same distance; the tie went to the
-  // previous face, whose grid confirmed its edge point, and the next face's interior point, 1.5e-7 nearer,
-  // was never found. A warm boundary answer within the tie band of the best now gets the grid as well.
-  // The node coordinates of the .frd (z = 0.2 sin(x / 5) cos(y / 7) to 6 digits) and the slave's (+ DISP).
+  // Node 1021849 of make-large-history's 1e6-node history at increment 4: it lies over the edge x = 240
+  // between its previous face (x 239..240, warm-started from its point of increment 3) and the next one,
+  // whose closest point is 5.4e-5 inside. Both warm runs ended on the shared edge at the same distance; the
+  // tie went to the previous face, whose grid confirmed its edge point, and the next face's interior
+  // point, 1.5e-7 nearer, was never found. A warm boundary answer within the tie band of the best now gets
+  // the grid as well. The node coordinates of the .frd (z = 0.2 sin(x / 5) cos(y / 7) to 6 digits) and the
+  // slave's (+ DISP).
   static constexpr double kZ[2][3] = {{-1.96176e-02, -2.40847e-02, -2.75916e-02},
                                       {-3.70158e-02, -4.54445e-02, -5.20615e-02}};
   mesh::SurfaceMesh m = testing::grid_surface(2, 1, [](double i, double j) -> Vec3 {
@@ -192,7 +196,8 @@ TEST(Tracking, SameResultsForAnyThreadCount) {
     for (int increment = 0; increment < 5; ++increment) {
       const mesh::SurfaceMesh m = sheet(0.05 * increment);
       std::vector<Vec3> positions;
-      for (std::size_t i = 0; i < h.ids.size(); ++i) positions.push_back(h.start[i] + increment * h.velocity[i]);
+      for (std::size_t i = 0; i < h.ids.size(); ++i)
+        positions.push_back(h.start[i] + increment * h.velocity[i]);
       last = tracker.step(m, mesh::node_normals(m), h.ids, positions);
     }
     runs.push_back(last);

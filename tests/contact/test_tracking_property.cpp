@@ -2,9 +2,9 @@
 // mix every face type. A block of cells, each a C3D8, a C3D20, two C3D6 or two C3D15 at random, gives every
 // face of every element to the master (the inner faces too: slave nodes inside closed elements see curved
 // faces on every side, where a warm start can end on another stationary point than the nearest); the block
-// bends, twists and turns from increment to increment, and slave nodes move through it and around it. At every
-// increment SurfaceTracker's answer must be surface_search's: the same face, location and status, the same
-// point and gap to 1e-12 of the cell, under both surfaces. Seeded; the same seeds every run.
+// bends, twists and turns from increment to increment, and slave nodes move through it and around it. At
+// every increment SurfaceTracker's answer must be surface_search's: the same face, location and status, the
+// same point and gap to 1e-12 of the cell, under both surfaces. Seeded; the same seeds every run.
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
@@ -55,7 +55,9 @@ class BlockBuilder {
     ids_.emplace(p, n);
     return n;
   }
-  static Point mid(const Point& p, const Point& q) { return {(p[0] + q[0]) / 2, (p[1] + q[1]) / 2, (p[2] + q[2]) / 2}; }
+  static Point mid(const Point& p, const Point& q) {
+    return {(p[0] + q[0]) / 2, (p[1] + q[1]) / 2, (p[2] + q[2]) / 2};
+  }
   static Point up(const Point& p) { return {p[0], p[1], p[2] + 2}; }
 
   void element(const char* type, const std::vector<int>& nodes) {
@@ -109,7 +111,8 @@ struct Motion {
   Vec3 axis, shift;
   [[nodiscard]] Vec3 at(const Vec3& x, int t) const {
     const double s = 0.04 * t;
-    const Vec3 y(x.x(), x.y(), x.z() + s * bend * (x.x() - 1) * (x.x() - 1) + s * twist * (x.x() - 1) * (x.y() - 1));
+    const Vec3 y(x.x(), x.y(),
+                 x.z() + s * bend * (x.x() - 1) * (x.x() - 1) + s * twist * (x.x() - 1) * (x.y() - 1));
     return Eigen::AngleAxisd(s * turn, axis) * y + s * shift;
   }
 };
@@ -143,7 +146,8 @@ TEST(TrackingProperty, EqualsTheFreshSearchOnRandomMixedFaceHistories) {
         const std::vector<Vec3> normals = mesh::node_normals(master);
         std::vector<Vec3> slaves;
         for (int i = 0; i < kSlaves; ++i) {
-          slaves.push_back(motion.at(start[static_cast<std::size_t>(i)] + t * velocity[static_cast<std::size_t>(i)], t));
+          slaves.push_back(
+              motion.at(start[static_cast<std::size_t>(i)] + t * velocity[static_cast<std::size_t>(i)], t));
         }
         const std::vector<NodeSegmentPair> fresh = surface_search(master, normals, ids, slaves, options);
         const std::vector<NodeSegmentPair> tracked = tracker.step(master, normals, ids, slaves);
@@ -153,14 +157,17 @@ TEST(TrackingProperty, EqualsTheFreshSearchOnRandomMixedFaceHistories) {
           const NodeSegmentPair& f = fresh[i];
           const NodeSegmentPair& k = tracked[i];
           ++compared;
-          if (f.status == PairStatus::kFound && master.face_type(f.segment) != mesh::FaceType::kTri3) ++on_curved;
+          if (f.status == PairStatus::kFound && master.face_type(f.segment) != mesh::FaceType::kTri3)
+            ++on_curved;
           const bool same = f.status == k.status && f.segment == k.segment && f.location == k.location &&
-                            (f.point - k.point).norm() <= 1e-12 && std::abs(f.label.gap - k.label.gap) <= 1e-12;
+                            (f.point - k.point).norm() <= 1e-12 &&
+                            std::abs(f.label.gap - k.label.gap) <= 1e-12;
           if (!same && ++differences <= 3) {
             ADD_FAILURE() << "increment " << t << ", slave " << i << " at (" << slaves[i].transpose()
                           << "): fresh face " << f.segment << " " << to_string(f.location) << " ("
-                          << f.point.transpose() << ") gap " << f.label.gap << "; tracked face " << k.segment << " "
-                          << to_string(k.location) << " (" << k.point.transpose() << ") gap " << k.label.gap;
+                          << f.point.transpose() << ") gap " << f.label.gap << "; tracked face " << k.segment
+                          << " " << to_string(k.location) << " (" << k.point.transpose() << ") gap "
+                          << k.label.gap;
           }
         }
         EXPECT_EQ(differences, 0) << "increment " << t;

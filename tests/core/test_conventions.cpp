@@ -1,16 +1,16 @@
-#include "core/conventions.hpp"
-
 #include <gtest/gtest.h>
 
 #include <iterator>
 
+#include "core/conventions.hpp"
 #include "core/error.hpp"
 
 namespace contactnn {
 
 TEST(Conventions, StatusNamesRoundTripAndMatchSpec) {
   // SPEC 2, 6 and 7 spell the statuses exactly so; outside tools parse these strings.
-  const char* expected[] = {"ok", "outside", "no_convergence", "degenerate", "invalid", "out_of_domain", "no_segment"};
+  const char* expected[] = {"ok",      "outside",       "no_convergence", "degenerate",
+                            "invalid", "out_of_domain", "no_segment"};
   static_assert(std::size(expected) == kStatusCount);
   for (int i = 0; i < kStatusCount; ++i) {
     const auto status = static_cast<Status>(i);

@@ -1,11 +1,10 @@
 // Tests of lib/core/input_features: the paper's features and the affine frame of AB and AD.
-#include "core/input_features.hpp"
-
 #include <gtest/gtest.h>
 
 #include <cmath>
 
 #include "core/error.hpp"
+#include "core/input_features.hpp"
 
 namespace contactnn {
 namespace {
@@ -29,7 +28,7 @@ TEST(InputFeatures, AffineCoordinatesOfAParallelogramAreHalfTheLocalCoordinatesP
   EXPECT_NEAR(out[0], 1.0, 1e-15);  // C: alpha = beta = 1
   EXPECT_NEAR(out[1], 1.0, 1e-15);
   EXPECT_EQ(out[2], 0.0);
-  EXPECT_NEAR(out[3], std::sqrt(xd * xd + yd * yd), 1e-15);  // |AD| / |AB|
+  EXPECT_NEAR(out[3], std::sqrt(xd * xd + yd * yd), 1e-15);       // |AD| / |AB|
   EXPECT_NEAR(out[4], xd / std::sqrt(xd * xd + yd * yd), 1e-15);  // cos(angle DAB)
   EXPECT_NEAR(out[5], alpha, 1e-15);
   EXPECT_NEAR(out[6], beta, 1e-14);

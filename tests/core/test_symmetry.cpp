@@ -1,10 +1,10 @@
 // Tests of lib/core/symmetry.hpp: the 8 symmetries of the square as node relabellings and as maps of
 // local coordinates (SPEC 4).
-#include "core/symmetry.hpp"
-
 #include <gtest/gtest.h>
 
 #include <set>
+
+#include "core/symmetry.hpp"
 
 namespace contactnn {
 namespace {
@@ -53,7 +53,8 @@ TEST(SquareSymmetry, CanonicalCornerIMapsToTheCallersCornerOfThatNode) {
     for (int i = 0; i < 4; ++i) {
       const auto& corner = kCorners[static_cast<std::size_t>(i)];
       const auto caller = s.to_caller(corner, SurfaceKind::kBilinear);
-      EXPECT_EQ(caller, kCorners[static_cast<std::size_t>(s.caller_node(i))]) << "rotation " << s.rotation << " mirror " << s.mirror;
+      EXPECT_EQ(caller, kCorners[static_cast<std::size_t>(s.caller_node(i))])
+          << "rotation " << s.rotation << " mirror " << s.mirror;
       // Gregory: the same in (u, v) = ((xi + 1) / 2, (eta + 1) / 2).
       const auto g = s.to_caller({(corner[0] + 1) / 2, (corner[1] + 1) / 2}, SurfaceKind::kGregory);
       const auto& expected = kCorners[static_cast<std::size_t>(s.caller_node(i))];

@@ -1,8 +1,7 @@
-#include "dataset/enumeration.hpp"
-
 #include <gtest/gtest.h>
 #include <omp.h>
 
+#include "dataset/enumeration.hpp"
 #include "geometry/affine_frame.hpp"
 #include "geometry/bilinear_patch.hpp"
 #include "test_support.hpp"
@@ -22,7 +21,8 @@ EnumerationOptions small_grid() {
 
 geometry::Configuration row_configuration(const LabelledSet& set, Eigen::Index i) {
   const auto f = set.features.row(i);
-  return {{geometry::Vec3::Zero(), geometry::Vec3(1, 0, 0), geometry::Vec3(f[0], f[1], f[2]), geometry::Vec3(f[3], f[4], 0)},
+  return {{geometry::Vec3::Zero(), geometry::Vec3(1, 0, 0), geometry::Vec3(f[0], f[1], f[2]),
+           geometry::Vec3(f[3], f[4], 0)},
           geometry::Vec3(f[5], f[6], f[7]),
           {}};
 }
@@ -96,8 +96,8 @@ namespace {
 TEST(TrainingDomain, GridCellsCoverTheirHalfStepSoASquareSegmentIsInside) {
   EnumerationSummary summary;
   const LabelledSet set = enumerate_configurations(small_grid(), summary);
-  const geometry::TrainingDomain domain =
-      geometry::TrainingDomain::from_features(set.surface, set.features.data(), static_cast<long>(set.size()), set.status, set.filters);
+  const geometry::TrainingDomain domain = geometry::TrainingDomain::from_features(
+      set.surface, set.features.data(), static_cast<long>(set.size()), set.status, set.filters);
   // y_D takes the values 0.25, 0.75 (8 points over (-2, 2), |AD| <= 1): widened by half the step, 0.25.
   EXPECT_NEAR(domain.feature_max[4], 1.0, 1e-12);
   EXPECT_NEAR(domain.feature_min[4], 0.0, 1e-12);
@@ -118,14 +118,14 @@ TEST(TrainingDomain, ConfigurationsOnAFilterBoundaryStayInsideAfterAnyPlacement)
   // S equidistant from A and B (a tie the grid produces); A, D and C on one line (a 180-degree corner at D,
   // rows 59827.. of the bilinear set). The domain must accept them after the rounding of any placement.
   const std::array<geometry::Configuration, 2> boundary = {
-      geometry::Configuration{
-          {geometry::Vec3::Zero(), geometry::Vec3(1, 0, 0), geometry::Vec3(0.9, 0.7, 0.1), geometry::Vec3(-0.1, 0.7, 0)},
-          geometry::Vec3(0.5, 0.1, 0.1),
-          {}},
-      geometry::Configuration{
-          {geometry::Vec3::Zero(), geometry::Vec3(1, 0, 0), geometry::Vec3(-1.5, 0.5, 0), geometry::Vec3(-0.9, 0.3, 0)},
-          geometry::Vec3(-0.3, 0.1, -0.24),
-          {}}};
+      geometry::Configuration{{geometry::Vec3::Zero(), geometry::Vec3(1, 0, 0), geometry::Vec3(0.9, 0.7, 0.1),
+                               geometry::Vec3(-0.1, 0.7, 0)},
+                              geometry::Vec3(0.5, 0.1, 0.1),
+                              {}},
+      geometry::Configuration{{geometry::Vec3::Zero(), geometry::Vec3(1, 0, 0), geometry::Vec3(-1.5, 0.5, 0),
+                               geometry::Vec3(-0.9, 0.3, 0)},
+                              geometry::Vec3(-0.3, 0.1, -0.24),
+                              {}}};
   geometry::TrainingDomain domain;
   domain.feature_min.assign(8, -2.0);
   domain.feature_max.assign(8, 2.0);
@@ -133,8 +133,8 @@ TEST(TrainingDomain, ConfigurationsOnAFilterBoundaryStayInsideAfterAnyPlacement)
   for (const auto& config : boundary) {
     for (int k = 0; k < 200; ++k) {
       const double scale = std::pow(10.0, std::uniform_real_distribution<double>(-3, 3)(rng));
-      const auto world =
-          testing::transform(config, testing::random_rotation(rng), scale, scale * geometry::Vec3(30, -70, 11));
+      const auto world = testing::transform(config, testing::random_rotation(rng), scale,
+                                            scale * geometry::Vec3(30, -70, 11));
       const auto n = geometry::normalise(world, SurfaceKind::kBilinear);
       ASSERT_TRUE(n.value.has_value());
       EXPECT_TRUE(domain.contains(n.value->config, n.value->features.data())) << k;

@@ -1,11 +1,10 @@
 // Tests of lib/dataset/labeller: labels in the caller's node order (SPEC 4: the projection runs in the
 // canonical configuration and is mapped back).
-#include "dataset/labeller.hpp"
-
 #include <gtest/gtest.h>
 
 #include <random>
 
+#include "dataset/labeller.hpp"
 #include "geometry/bilinear_patch.hpp"
 #include "geometry/gregory_patch.hpp"
 #include "test_support.hpp"
@@ -32,12 +31,14 @@ Configuration relabel(const Configuration& c, const SquareSymmetry& order) {
 
 Configuration random_world(std::mt19937_64& rng) {
   std::uniform_real_distribution<double> u(-1.0, 1.0);
-  const Configuration local{{Vec3(0, 0, 0), Vec3(1 + 0.5 * u(rng), 0.1 * u(rng), 0.1 * u(rng)),
-                             Vec3(1 + 0.3 * u(rng), 1 + 0.3 * u(rng), 0.2 * u(rng)), Vec3(0.1 * u(rng), 1 + 0.5 * u(rng), 0)},
-                            Vec3(0.5 + 0.6 * u(rng), 0.5 + 0.6 * u(rng), 0.3 * u(rng)),
-                            {Vec3(0.1 * u(rng), 0.1 * u(rng), 1), Vec3(0.1 * u(rng), 0.1 * u(rng), 1),
-                             Vec3(0.1 * u(rng), 0.1 * u(rng), 1), Vec3(0.1 * u(rng), 0.1 * u(rng), 1)}};
-  return testing::transform(local, testing::random_rotation(rng), std::exp(2 * u(rng)), Vec3(u(rng), u(rng), u(rng)) * 10);
+  const Configuration local{
+      {Vec3(0, 0, 0), Vec3(1 + 0.5 * u(rng), 0.1 * u(rng), 0.1 * u(rng)),
+       Vec3(1 + 0.3 * u(rng), 1 + 0.3 * u(rng), 0.2 * u(rng)), Vec3(0.1 * u(rng), 1 + 0.5 * u(rng), 0)},
+      Vec3(0.5 + 0.6 * u(rng), 0.5 + 0.6 * u(rng), 0.3 * u(rng)),
+      {Vec3(0.1 * u(rng), 0.1 * u(rng), 1), Vec3(0.1 * u(rng), 0.1 * u(rng), 1),
+       Vec3(0.1 * u(rng), 0.1 * u(rng), 1), Vec3(0.1 * u(rng), 0.1 * u(rng), 1)}};
+  return testing::transform(local, testing::random_rotation(rng), std::exp(2 * u(rng)),
+                            Vec3(u(rng), u(rng), u(rng)) * 10);
 }
 
 /// The world point of local coordinates `p` on the caller's surface.
@@ -77,7 +78,8 @@ TEST(Labeller, EveryNodeOrderGivesTheSameLabelAndThePointItNames) {
 
 TEST(Labeller, GapSignFollowsTheCallersOrientation) {
   // A unit square in z = 0, counter-clockwise seen from +z; S above it at height 0.25.
-  const Configuration up{{Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0), Vec3(0, 1, 0)}, Vec3(0.7, 0.2, 0.25), {}};
+  const Configuration up{
+      {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0), Vec3(0, 1, 0)}, Vec3(0.7, 0.2, 0.25), {}};
   const Label l = label_configuration(up, SurfaceKind::kBilinear);
   ASSERT_EQ(l.status, Status::kOk);
   EXPECT_NEAR(l.param[0], 0.4, 1e-14);
@@ -95,14 +97,16 @@ TEST(Labeller, GapSignFollowsTheCallersOrientation) {
 
 TEST(Labeller, FeaturesAreCanonicalWhateverTheCallersOrder) {
   // S nearest C and |AD| > |AB|: outside the paper's frame as given; the features are the canonical ones.
-  const Configuration c{{Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1.1, 1.6, 0.1), Vec3(0, 1.5, 0)}, Vec3(0.9, 1.3, -0.2), {}};
+  const Configuration c{
+      {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1.1, 1.6, 0.1), Vec3(0, 1.5, 0)}, Vec3(0.9, 1.3, -0.2), {}};
   const Label l = label_configuration(c, SurfaceKind::kBilinear);
   ASSERT_EQ(l.status, Status::kOk);
   const auto n = geometry::normalise(c, SurfaceKind::kBilinear);
   ASSERT_TRUE(n.value);
   EXPECT_EQ(n.value->symmetry.rotation, 2);  // canonical A is the caller's C
   EXPECT_EQ(l.features, n.value->features);
-  const geometry::DomainFilters paper;  // the bilinear study's filters: A nearest, |AD| <= |AB|, segment test at A, ...
+  const geometry::DomainFilters
+      paper;  // the bilinear study's filters: A nearest, |AD| <= |AB|, segment test at A, ...
   EXPECT_TRUE(paper.accepts(n.value->config, SurfaceKind::kBilinear, 1e-9));
 }
 

@@ -1,10 +1,9 @@
 // Tests of lib/dataset/sampling: random configurations of the paper's domains.
-#include "dataset/sampling.hpp"
-
 #include <gtest/gtest.h>
 #include <omp.h>
 
 #include "dataset/labeller.hpp"
+#include "dataset/sampling.hpp"
 
 namespace contactnn::dataset {
 namespace {
@@ -116,8 +115,6 @@ TEST(Sampling, ShrunkProposalBoxesKeepTheDensityUniform) {
     EXPECT_NEAR(fast[k].mean(), plain[k].mean(), kTol) << "moment set " << k;
     EXPECT_NEAR(std::sqrt(fast[k].variance()), std::sqrt(plain[k].variance()), kTol) << "moment set " << k;
   }
-
-
 }
 
 }  // namespace

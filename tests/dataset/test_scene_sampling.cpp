@@ -1,6 +1,4 @@
 // Tests of lib/dataset/scene_sampling: the domain a scene requires.
-#include "dataset/scene_sampling.hpp"
-
 #include <gtest/gtest.h>
 #include <omp.h>
 
@@ -8,6 +6,7 @@
 
 #include "core/error.hpp"
 #include "dataset/labeller.hpp"
+#include "dataset/scene_sampling.hpp"
 #include "geometry/affine_frame.hpp"
 #include "geometry/segment_checks.hpp"
 
@@ -21,7 +20,8 @@ std::vector<SceneSegment> strip(int n, double aspect) {
   std::vector<SceneSegment> segments;
   for (int i = 0; i < n; ++i) {
     SceneSegment s;
-    s.nodes = {Vec3(i * aspect, 0, 0), Vec3((i + 1) * aspect, 0, 0), Vec3((i + 1) * aspect, 1, 0), Vec3(i * aspect, 1, 0)};
+    s.nodes = {Vec3(i * aspect, 0, 0), Vec3((i + 1) * aspect, 0, 0), Vec3((i + 1) * aspect, 1, 0),
+               Vec3(i * aspect, 1, 0)};
     for (auto& normal : s.normals) normal = Vec3(0, 0, 1);
     segments.push_back(s);
   }
@@ -65,9 +65,9 @@ TEST(SceneSampling, RowsAreCanonicalInsideAndWithinTheRecordedDomain) {
   }
 }
 
-// segment_test off (a history study's pairs come from the surface search, which need not pass Eqs 3-6): some rows
-// fail the test at their canonical corner, the recorded filters say the test is off, and every row is still
-// inside the recorded domain; with it on (the default) every row passes.
+// segment_test off (a history study's pairs come from the surface search, which need not pass Eqs 3-6): some
+// rows fail the test at their canonical corner, the recorded filters say the test is off, and every row is
+// still inside the recorded domain; with it on (the default) every row passes.
 TEST(SceneSampling, WithoutTheSegmentTestTheDomainHoldsSlavesThatFailIt) {
   EnumerationOptions o;
   o.surface = SurfaceKind::kGregory;
@@ -88,8 +88,10 @@ TEST(SceneSampling, WithoutTheSegmentTestTheDomainHoldsSlavesThatFailIt) {
       c.nodes[2] = Vec3(set.features(r, 0), set.features(r, 1), set.features(r, 2));
       c.nodes[3] = Vec3(set.features(r, 3), set.features(r, 4), 0);
       c.slave = Vec3(set.features(r, 5), set.features(r, 6), set.features(r, 7));
-      for (int i = 0; i < 4; ++i) c.normals[i] = Vec3(set.features(r, 8 + 2 * i), set.features(r, 9 + 2 * i), 1).normalized();
-      failing += !geometry::passes_segment_test(c.nodes[0], c.nodes[1], c.nodes[3], c.slave, geometry::kSegmentTestTolerance);
+      for (int i = 0; i < 4; ++i)
+        c.normals[i] = Vec3(set.features(r, 8 + 2 * i), set.features(r, 9 + 2 * i), 1).normalized();
+      failing += !geometry::passes_segment_test(c.nodes[0], c.nodes[1], c.nodes[3], c.slave,
+                                                geometry::kSegmentTestTolerance);
       inside += domain.contains(c, set.features.row(r).data());
     }
     EXPECT_EQ(inside, 2000) << "segment test " << test;
@@ -115,8 +117,9 @@ TEST(SceneSampling, PairsOfTheSceneAsItStandsAreInsideItsDomain) {
   int tried = 0, inside = 0;
   for (int k = 0; k < 500; ++k) {
     const SceneSegment& s = segments[static_cast<std::size_t>(k) % segments.size()];
-    geometry::Configuration c{s.nodes, s.nodes[0] + u(rng) * (s.nodes[1] - s.nodes[0]) + u(rng) * (s.nodes[3] - s.nodes[0]) +
-                                           Vec3(0, 0, h(rng)),
+    geometry::Configuration c{s.nodes,
+                              s.nodes[0] + u(rng) * (s.nodes[1] - s.nodes[0]) +
+                                  u(rng) * (s.nodes[3] - s.nodes[0]) + Vec3(0, 0, h(rng)),
                               {}};
     const auto n = geometry::normalise(c, SurfaceKind::kBilinear);
     ASSERT_TRUE(n.value);

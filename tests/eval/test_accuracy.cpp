@@ -1,7 +1,5 @@
 // Tests of lib/eval/accuracy: running a search method on a set (and start+newton:K from starts near the
 // references), and the failure rules and statistics.
-#include "eval/accuracy.hpp"
-
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -9,6 +7,7 @@
 
 #include "core/error.hpp"
 #include "dataset/sampling.hpp"
+#include "eval/accuracy.hpp"
 
 namespace contactnn::eval {
 namespace {
@@ -48,14 +47,14 @@ Estimates estimates_for(const EvaluationSet& s) {
 TEST(CompareWithLabels, FailureRulesAndStatistics) {
   EvaluationSet s = synthetic_set(7);
   Estimates e = estimates_for(s);
-  s.label_status[1] = Status::kNoConvergence;                  // no reference point
-  e.param[4] = std::numeric_limits<double>::quiet_NaN();       // row 2: non-finite estimate
-  e.param[6] = 2.0 + 1e-9;                                     // row 3: beyond the box [-2, 2]
-  e.status[4] = Status::kNoConvergence;                        // row 4: the method failed
-  e.param[10] = 1.5;                                           // row 5: outside the domain, inside the box
+  s.label_status[1] = Status::kNoConvergence;             // no reference point
+  e.param[4] = std::numeric_limits<double>::quiet_NaN();  // row 2: non-finite estimate
+  e.param[6] = 2.0 + 1e-9;                                // row 3: beyond the box [-2, 2]
+  e.status[4] = Status::kNoConvergence;                   // row 4: the method failed
+  e.param[10] = 1.5;                                      // row 5: outside the domain, inside the box
   e.param[11] = -0.5;
-  e.status[6] = Status::kOutOfDomain;                          // row 6: a network's answer out of its domain
-  e.gap[0] = 0.5 + 0.2;                                        // row 0: gap off by 0.2 of size 2
+  e.status[6] = Status::kOutOfDomain;  // row 6: a network's answer out of its domain
+  e.gap[0] = 0.5 + 0.2;                // row 0: gap off by 0.2 of size 2
   const MethodErrors m = compare_with_labels("m", e, s, 0.5, true);
   EXPECT_EQ(m.failures_reference, 1);
   EXPECT_EQ(m.failures_method, 3);
@@ -94,8 +93,8 @@ TEST(CompareWithLabels, InsideAgreementTakesTheMethodsOutsideStatus) {
   EXPECT_EQ(m.inside_agree, 2);  // rows 0 (outside by status) and 3 (outside by coordinates)
 }
 
-/// 200 random configurations of the paper's bilinear domain restricted to well-shaped segments (angles 60-120,
-/// nearly flat), placed at random in world coordinates.
+/// 200 random configurations of the paper's bilinear domain restricted to well-shaped segments (angles
+/// 60-120, nearly flat), placed at random in world coordinates.
 EvaluationSet well_shaped_set() {
   dataset::EnumerationOptions o;
   o.filters.min_angle_degrees = 60;
@@ -154,17 +153,19 @@ TEST(StartsNearReference, MoveEachReferencePointByTheOffsetAndGiveTheCentreWitho
 TEST(RunOnSet, StartPlusNewtonStartsFromTheGivenStarts) {
   const EvaluationSet s = well_shaped_set();
   const std::vector<double> start = starts_near_reference(s, 0.02, 1);
-  const Estimates alone = run_on_set(search::LocalSearch(SurfaceKind::kBilinear, search::Method::parse("start")), s, 0, &start);
+  const Estimates alone =
+      run_on_set(search::LocalSearch(SurfaceKind::kBilinear, search::Method::parse("start")), s, 0, &start);
   EXPECT_EQ(alone.param, start);  // the start itself
-  const Estimates refined =
-      run_on_set(search::LocalSearch(SurfaceKind::kBilinear, search::Method::parse("start+newton:3")), s, 0, &start);
+  const Estimates refined = run_on_set(
+      search::LocalSearch(SurfaceKind::kBilinear, search::Method::parse("start+newton:3")), s, 0, &start);
   const MethodErrors m = compare_with_labels("start+newton:3", refined, s, 0.5, false);
   EXPECT_EQ(m.failures_method, 0);
   EXPECT_LT(m.stats[0].max_abs, 1e-10);
   EXPECT_LT(m.stats[1].max_abs, 1e-10);
   // One value per row is not a start per row.
   const auto too_few = [&] {
-    return run_on_set(search::LocalSearch(SurfaceKind::kBilinear, search::Method::parse("start")), s, 0, &alone.gap);
+    return run_on_set(search::LocalSearch(SurfaceKind::kBilinear, search::Method::parse("start")), s, 0,
+                      &alone.gap);
   };
   EXPECT_THROW((void)too_few(), InvalidArgument);
 }

@@ -1,6 +1,4 @@
 // Tests of lib/eval/error_statistics: known arrays written out in full.
-#include "eval/error_statistics.hpp"
-
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -8,6 +6,7 @@
 #include <vector>
 
 #include "core/error.hpp"
+#include "eval/error_statistics.hpp"
 
 namespace contactnn::eval {
 namespace {
@@ -16,7 +15,8 @@ namespace {
 constexpr double kTol = 1e-15;
 
 TEST(ErrorStatistics, KnownArrayWithFailuresExcluded) {
-  // Rows 2 and 5 are failures: their values (one absurd, one NaN) must neither enter nor poison the statistics.
+  // Rows 2 and 5 are failures: their values (one absurd, one NaN) must neither enter nor poison the
+  // statistics.
   const std::vector<double> e = {0.1, -0.3, 1e6, 0.2, -0.1, std::numeric_limits<double>::quiet_NaN(), 0.5};
   const std::vector<std::uint8_t> failed = {0, 0, 1, 0, 0, 1, 0};
   const ErrorStatistics s = summarize_errors(e, failed);
@@ -24,9 +24,10 @@ TEST(ErrorStatistics, KnownArrayWithFailuresExcluded) {
   EXPECT_EQ(s.rows, 7);
   EXPECT_EQ(s.n, 5);
   EXPECT_EQ(s.failures, 2);
-  EXPECT_NEAR(s.mean_abs, 1.2 / 5, kTol);       // 0.24
-  EXPECT_NEAR(s.mean_signed, 0.4 / 5, kTol);    // 0.08
-  // std |e|: deviations -0.14 0.06 -0.04 -0.14 0.26 -> squares sum 0.0196+0.0036+0.0016+0.0196+0.0676 = 0.112.
+  EXPECT_NEAR(s.mean_abs, 1.2 / 5, kTol);     // 0.24
+  EXPECT_NEAR(s.mean_signed, 0.4 / 5, kTol);  // 0.08
+  // std |e|: deviations -0.14 0.06 -0.04 -0.14 0.26 -> squares sum 0.0196+0.0036+0.0016+0.0196+0.0676 =
+  // 0.112.
   EXPECT_NEAR(s.std_abs, std::sqrt(0.112 / 5), kTol);
   // std e: deviations 0.02 -0.38 0.12 -0.18 0.42 -> 0.0004+0.1444+0.0144+0.0324+0.1764 = 0.368.
   EXPECT_NEAR(s.std_signed, std::sqrt(0.368 / 5), kTol);

@@ -2,8 +2,8 @@
 // made for it, evaluate-net writes a report (every method listed, SVG well-formed) and labels a user's CSV
 // (rows and order kept, statuses right); bad command lines fail with a clear message and exit code.
 #include <gtest/gtest.h>
-#include <unistd.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <cstdlib>
@@ -127,7 +127,8 @@ TEST_F(EvaluateNetApp, ReportListsEveryMethodAndWritesWellFormedSvg) {
   const io::CsvTable speed = io::read_csv(report / "speed.csv");
   EXPECT_EQ(speed.rows.size(), methods.size());
   for (const std::string c : {"xi", "eta"}) {
-    EXPECT_EQ(contactnn::testing::xml_well_formedness_error(read_file(report / ("hist_" + c + ".svg"))), "") << c;
+    EXPECT_EQ(contactnn::testing::xml_well_formedness_error(read_file(report / ("hist_" + c + ".svg"))), "")
+        << c;
     EXPECT_TRUE(fs::exists(report / ("hist_" + c + ".csv")));
   }
   EXPECT_TRUE(fs::exists(report / "evaluate-net.config.toml"));
@@ -142,7 +143,8 @@ TEST_F(EvaluateNetApp, SeveralNetworksAndAPairsFileInOneReport) {
   csv += "\n";
   for (Eigen::Index r = 0; r < 20; ++r) {
     const geometry::Configuration c =
-        place(configuration_from_features(SurfaceKind::kBilinear, set_.features.row(r).data()), random_placement(5, 0));
+        place(configuration_from_features(SurfaceKind::kBilinear, set_.features.row(r).data()),
+              random_placement(5, 0));
     std::string line;
     for (int node = 0; node < 4; ++node) {
       for (int k = 0; k < 3; ++k) line += (line.empty() ? "" : ",") + io::format_double(c.nodes[node][k]);
@@ -160,8 +162,8 @@ TEST_F(EvaluateNetApp, SeveralNetworksAndAPairsFileInOneReport) {
   const fs::path report = dir_ / "report2";
   ASSERT_EQ(run(evaluate_net() + " --quiet --weights " + (dir_ / "net.h5").string() + " --weights " +
                     (dir_ / "twin.h5").string() + " --data " + (dir_ / "tiny.h5").string() + " --pairs " +
-                    (dir_ / "some-labels.csv").string() + " --methods network,newton:10 --report " + report.string() +
-                    " --timing_queries 100 --timing_repetitions 1",
+                    (dir_ / "some-labels.csv").string() + " --methods network,newton:10 --report " +
+                    report.string() + " --timing_queries 100 --timing_repetitions 1",
                 dir_ / "report2.log"),
             0)
       << read_file(dir_ / "report2.log");
@@ -185,8 +187,8 @@ TEST_F(EvaluateNetApp, SeveralNetworksAndAPairsFileInOneReport) {
   // The effective config reproduces the run: both networks and both sets (it kept the first of each, and
   // --newton-steps, which needs --input, so that reading it back failed).
   const fs::path again = dir_ / "report3";
-  ASSERT_EQ(run(evaluate_net() + " --config " + (report / "evaluate-net.config.toml").string() + " --report " +
-                    again.string(),
+  ASSERT_EQ(run(evaluate_net() + " --config " + (report / "evaluate-net.config.toml").string() +
+                    " --report " + again.string(),
                 dir_ / "report3.log"),
             0)
       << read_file(dir_ / "report3.log");
@@ -201,7 +203,8 @@ TEST_F(EvaluateNetApp, NewtonStepsAfterTheNetworkReachTheLabels) {
   csv += "\n";
   for (Eigen::Index r = 0; r < set_.size(); r += 7) {
     const geometry::Configuration c =
-        place(configuration_from_features(SurfaceKind::kBilinear, set_.features.row(r).data()), random_placement(6, r));
+        place(configuration_from_features(SurfaceKind::kBilinear, set_.features.row(r).data()),
+              random_placement(6, r));
     std::string line;
     for (int node = 0; node < 4; ++node) {
       for (int k = 0; k < 3; ++k) line += (line.empty() ? "" : ",") + io::format_double(c.nodes[node][k]);
@@ -215,8 +218,9 @@ TEST_F(EvaluateNetApp, NewtonStepsAfterTheNetworkReachTheLabels) {
                     (dir_ / "steps-labels.csv").string(),
                 dir_ / "steps-label.log"),
             0);
-  ASSERT_EQ(run(evaluate_net() + " --weights " + (dir_ / "net.h5").string() + " --input " + (dir_ / "steps.csv").string() +
-                    " --output " + (dir_ / "steps-pred.csv").string() + " --newton-steps 12",
+  ASSERT_EQ(run(evaluate_net() + " --weights " + (dir_ / "net.h5").string() + " --input " +
+                    (dir_ / "steps.csv").string() + " --output " + (dir_ / "steps-pred.csv").string() +
+                    " --newton-steps 12",
                 dir_ / "steps.log"),
             0)
       << read_file(dir_ / "steps.log");
@@ -227,22 +231,26 @@ TEST_F(EvaluateNetApp, NewtonStepsAfterTheNetworkReachTheLabels) {
   for (std::size_t r = 0; r < labels.rows.size(); ++r) {
     if (labels.rows[r][labels.column("status")] != "ok") continue;
     ASSERT_EQ(pred.rows[r][pred.column("status")], "ok") << "row " << r;
-    EXPECT_NEAR(pred.number(r, pred.column("xi")), labels.number(r, labels.column("xi")), 1e-8) << "row " << r;
-    EXPECT_NEAR(pred.number(r, pred.column("eta")), labels.number(r, labels.column("eta")), 1e-8) << "row " << r;
+    EXPECT_NEAR(pred.number(r, pred.column("xi")), labels.number(r, labels.column("xi")), 1e-8)
+        << "row " << r;
+    EXPECT_NEAR(pred.number(r, pred.column("eta")), labels.number(r, labels.column("eta")), 1e-8)
+        << "row " << r;
     ++compared;
   }
   EXPECT_GT(compared, 10);
   // Two networks in input mode: refused.
-  EXPECT_EQ(run(evaluate_net() + " --weights " + (dir_ / "net.h5").string() + " --weights " + (dir_ / "net.h5").string() +
-                    " --input " + (dir_ / "steps.csv").string() + " --output " + (dir_ / "x.csv").string(),
+  EXPECT_EQ(run(evaluate_net() + " --weights " + (dir_ / "net.h5").string() + " --weights " +
+                    (dir_ / "net.h5").string() + " --input " + (dir_ / "steps.csv").string() + " --output " +
+                    (dir_ / "x.csv").string(),
                 dir_ / "steps2.log"),
             2);
 }
 
 TEST_F(EvaluateNetApp, StartPlusNewtonStartsFromTheReferencesMovedByTheOffset) {
   const fs::path report = dir_ / "report-start";
-  ASSERT_EQ(run(evaluate_net() + " --quiet --data " + (dir_ / "tiny.h5").string() + " --methods start,start+newton:4 " +
-                    "--start_offset 0.01 --report " + report.string() + " --timing_queries 100 --timing_repetitions 1",
+  ASSERT_EQ(run(evaluate_net() + " --quiet --data " + (dir_ / "tiny.h5").string() +
+                    " --methods start,start+newton:4 " + "--start_offset 0.01 --report " + report.string() +
+                    " --timing_queries 100 --timing_repetitions 1",
                 dir_ / "start.log"),
             0)
       << read_file(dir_ / "start.log");
@@ -256,7 +264,8 @@ TEST_F(EvaluateNetApp, StartPlusNewtonStartsFromTheReferencesMovedByTheOffset) {
     EXPECT_NEAR(errors.number(r, errors.column("mean_abs")), 0.01 * 2.0 / 3.14159265358979, 0.002);
   }
   // Four steps from there: the reference, except on the enumeration's extreme segments.
-  for (const std::size_t r : {std::size_t{2}, std::size_t{3}}) EXPECT_LT(errors.number(r, errors.column("median_abs")), 1e-12);
+  for (const std::size_t r : {std::size_t{2}, std::size_t{3}})
+    EXPECT_LT(errors.number(r, errors.column("median_abs")), 1e-12);
   EXPECT_NE(read_file(report / "report.md").find("moved 0.01 (parameter units)"), std::string::npos);
 }
 
@@ -274,7 +283,8 @@ TEST_F(EvaluateNetApp, InputModeKeepsRowsAndOrderWithRightStatuses) {
     for (int k = 0; k < 3; ++k) csv += "," + io::format_double(c.slave[k]);
     csv += "\n";
   };
-  const geometry::Configuration local0 = configuration_from_features(SurfaceKind::kBilinear, set_.features.row(0).data());
+  const geometry::Configuration local0 =
+      configuration_from_features(SurfaceKind::kBilinear, set_.features.row(0).data());
   const geometry::Configuration local1 =
       configuration_from_features(SurfaceKind::kBilinear, set_.features.row(set_.size() - 1).data());
   add_row("first", place(local0, random_placement(11, 0)));
@@ -321,17 +331,20 @@ TEST_F(EvaluateNetApp, BadCommandLinesFailWithAClearMessage) {
   EXPECT_EQ(run(evaluate_net() + " --weights " + net, dir_ / "bad1.log"), 2);
   EXPECT_NE(read_file(dir_ / "bad1.log").find("--data"), std::string::npos) << read_file(dir_ / "bad1.log");
   // --data without --report.
-  EXPECT_EQ(run(evaluate_net() + " --weights " + net + " --data " + (dir_ / "tiny.h5").string(), dir_ / "bad2.log"), 2);
+  EXPECT_EQ(
+      run(evaluate_net() + " --weights " + net + " --data " + (dir_ / "tiny.h5").string(), dir_ / "bad2.log"),
+      2);
   // A missing weights file.
   EXPECT_EQ(run(evaluate_net() + " --weights " + (dir_ / "missing.h5").string() + " --input x --output y",
                 dir_ / "bad3.log"),
             2);
   // A dataset given as the network: wrong file kind, exit 3, the message names both kinds.
-  EXPECT_EQ(run(evaluate_net() + " --weights " + (dir_ / "tiny.h5").string() + " --data " + (dir_ / "tiny.h5").string() +
-                    " --report " + (dir_ / "r").string(),
+  EXPECT_EQ(run(evaluate_net() + " --weights " + (dir_ / "tiny.h5").string() + " --data " +
+                    (dir_ / "tiny.h5").string() + " --report " + (dir_ / "r").string(),
                 dir_ / "bad4.log"),
             3);
-  EXPECT_NE(read_file(dir_ / "bad4.log").find("contactnn-network"), std::string::npos) << read_file(dir_ / "bad4.log");
+  EXPECT_NE(read_file(dir_ / "bad4.log").find("contactnn-network"), std::string::npos)
+      << read_file(dir_ / "bad4.log");
   // An unknown key in the [evaluate-net] section of a config file.
   const fs::path config = dir_ / "bad.toml";
   std::ofstream(config) << "[evaluate-net]\nhist_binz = 10\n";
@@ -339,13 +352,15 @@ TEST_F(EvaluateNetApp, BadCommandLinesFailWithAClearMessage) {
                     (dir_ / "tiny.h5").string() + " --output " + (dir_ / "p.csv").string(),
                 dir_ / "bad5.log"),
             2);
-  EXPECT_NE(read_file(dir_ / "bad5.log").find("hist_binz"), std::string::npos) << read_file(dir_ / "bad5.log");
+  EXPECT_NE(read_file(dir_ / "bad5.log").find("hist_binz"), std::string::npos)
+      << read_file(dir_ / "bad5.log");
   // A method that refines the caller's own starts: an evaluation set has none.
-  EXPECT_EQ(run(evaluate_net() + " --weights " + net + " --data " + (dir_ / "tiny.h5").string() + " --report " +
-                    (dir_ / "r6").string() + " --methods network,start+newton:2",
+  EXPECT_EQ(run(evaluate_net() + " --weights " + net + " --data " + (dir_ / "tiny.h5").string() +
+                    " --report " + (dir_ / "r6").string() + " --methods network,start+newton:2",
                 dir_ / "bad6.log"),
             2);
-  EXPECT_NE(read_file(dir_ / "bad6.log").find("start+newton:2' refines the caller's own starts"), std::string::npos)
+  EXPECT_NE(read_file(dir_ / "bad6.log").find("start+newton:2' refines the caller's own starts"),
+            std::string::npos)
       << read_file(dir_ / "bad6.log");
 }
 

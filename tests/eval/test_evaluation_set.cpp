@@ -1,6 +1,4 @@
 // Tests of lib/eval/evaluation_set: queries and reference labels from datasets and labelled RAW.csv files.
-#include "eval/evaluation_set.hpp"
-
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -9,6 +7,7 @@
 #include "core/error.hpp"
 #include "dataset/labeller.hpp"
 #include "dataset/sampling.hpp"
+#include "eval/evaluation_set.hpp"
 #include "geometry/affine_frame.hpp"
 #include "test_support.hpp"
 
@@ -48,7 +47,8 @@ TEST(EvaluationSet, DatasetRowsPlacedAtRandomKeepTheirLabelsAndScaleTheirGaps) {
       EXPECT_NEAR(l.param[0], placed.labels(r, 0), 1e-9);
       EXPECT_NEAR(l.param[1], placed.labels(r, 1), 1e-9);
       EXPECT_NEAR(l.gap / placed.size[static_cast<std::size_t>(r)],
-                  placed.label_gap[static_cast<std::size_t>(r)] / placed.size[static_cast<std::size_t>(r)], 1e-9);
+                  placed.label_gap[static_cast<std::size_t>(r)] / placed.size[static_cast<std::size_t>(r)],
+                  1e-9);
       EXPECT_EQ(placed.label_iterations[static_cast<std::size_t>(r)], set.iterations[r]);
     }
   }
@@ -57,7 +57,8 @@ TEST(EvaluationSet, DatasetRowsPlacedAtRandomKeepTheirLabelsAndScaleTheirGaps) {
 TEST(EvaluationSet, LabelledCsvGivesQueriesLabelsAndSkipsRowsWithoutASegment) {
   const auto dir = testing::test_output_dir("test-eval") / "labelled-csv";
   std::filesystem::create_directories(dir);
-  const std::string header = "slave,ax,ay,az,bx,by,bz,cx,cy,cz,dx,dy,dz,sx,sy,sz,xi,eta,status,gap,iterations\n";
+  const std::string header =
+      "slave,ax,ay,az,bx,by,bz,cx,cy,cz,dx,dy,dz,sx,sy,sz,xi,eta,status,gap,iterations\n";
   std::ofstream(dir / "pairs.csv") << header << "1,0,0,0,2,0,0,2,1,0,0,1,0,0.5,0.25,0.1,-0.5,-0.5,ok,0.1,3\n"
                                    << "2,,,,,,,,,,,,,,,,,,no_segment,,\n"
                                    << "3,0,0,0,2,0,0,2,1,0,0,1,0,3,0.5,0,2,0,outside,0,4\n";
@@ -69,16 +70,18 @@ TEST(EvaluationSet, LabelledCsvGivesQueriesLabelsAndSkipsRowsWithoutASegment) {
   EXPECT_EQ(s.label_status[1], Status::kOutside);
   EXPECT_EQ(s.label_gap[0], 0.1);
   EXPECT_DOUBLE_EQ(s.size[0], std::sqrt(5.0));  // the diagonal of the 2 x 1 rectangle
-  EXPECT_EQ(s.raw[13], 0.25);                  // sy of the first query
+  EXPECT_EQ(s.raw[13], 0.25);                   // sy of the first query
   std::ofstream(dir / "bad.csv") << header << "1,0,0,0,2,0,0,2,1,0,0,1,0,0.5,0.25,0.1,-0.5,-0.5,fine,0.1,3\n";
   try {
     (void)set_from_labelled_csv(dir / "bad.csv", SurfaceKind::kBilinear);
     FAIL() << "an unknown status was accepted";
   } catch (const FormatError& e) {
-    EXPECT_NE(std::string(e.what()).find("bad.csv':2: column 'status': 'fine' is not a status"), std::string::npos)
+    EXPECT_NE(std::string(e.what()).find("bad.csv':2: column 'status': 'fine' is not a status"),
+              std::string::npos)
         << e.what();
   }
-  std::ofstream(dir / "unlabelled.csv") << "ax,ay,az,bx,by,bz,cx,cy,cz,dx,dy,dz,sx,sy,sz\n0,0,0,1,0,0,1,1,0,0,1,0,0.5,0.5,1\n";
+  std::ofstream(dir / "unlabelled.csv")
+      << "ax,ay,az,bx,by,bz,cx,cy,cz,dx,dy,dz,sx,sy,sz\n0,0,0,1,0,0,1,1,0,0,1,0,0.5,0.5,1\n";
   EXPECT_THROW((void)set_from_labelled_csv(dir / "unlabelled.csv", SurfaceKind::kBilinear), FormatError);
 }
 

@@ -1,6 +1,4 @@
 // Tests of lib/eval/histogram: counts, edge conventions, outliers, CSV.
-#include "eval/histogram.hpp"
-
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -9,6 +7,7 @@
 #include <vector>
 
 #include "core/error.hpp"
+#include "eval/histogram.hpp"
 #include "io/csv.hpp"
 
 namespace contactnn::eval {

@@ -1,15 +1,15 @@
 // Tests of lib/eval/placement: world coordinates for the evaluation.
-#include "eval/placement.hpp"
-
 #include <gtest/gtest.h>
 
+#include "eval/placement.hpp"
 #include "geometry/affine_frame.hpp"
 
 namespace contactnn::eval {
 namespace {
 
 // Features of a mildly warped bilinear configuration well inside the paper's domain (canonical: z_S > 0).
-constexpr std::array<double, 16> kFeatures = {1.1, 0.9, 0.12, -0.1, 0.95, 0.3, 0.4, 0.2, 0, 0, 0, 0, 0, 0, 0, 0};
+constexpr std::array<double, 16> kFeatures = {1.1, 0.9, 0.12, -0.1, 0.95, 0.3, 0.4, 0.2,
+                                              0,   0,   0,    0,    0,    0,   0,   0};
 // Rounding of a similarity map with scale up to 1e2 and translation up to 1e3: ~1e-13 relative in the frame.
 constexpr double kPlacementTol = 1e-11;
 
@@ -22,7 +22,8 @@ TEST(Placement, FeaturesRoundTripThroughAnyPlacement) {
     const geometry::NormaliseOutcome n = geometry::normalise(place(local, p), SurfaceKind::kBilinear);
     ASSERT_TRUE(n.value);
     for (int f = 0; f < 8; ++f) {
-      EXPECT_NEAR(n.value->features[static_cast<std::size_t>(f)], kFeatures[static_cast<std::size_t>(f)], kPlacementTol)
+      EXPECT_NEAR(n.value->features[static_cast<std::size_t>(f)], kFeatures[static_cast<std::size_t>(f)],
+                  kPlacementTol)
           << "row " << row << " feature " << f;
     }
   }
@@ -36,10 +37,12 @@ TEST(Placement, GregoryNormalsComeBackFromTheirFeatures) {
   const std::array<double, 8> pq = {0.05, -0.1, 0.0, 0.12, -0.08, 0.02, 0.1, 0.1};
   for (int i = 0; i < 8; ++i) f[static_cast<std::size_t>(8 + i)] = pq[static_cast<std::size_t>(i)];
   const geometry::Configuration c = configuration_from_features(SurfaceKind::kGregory, f.data());
-  const geometry::NormaliseOutcome n = geometry::normalise(place(c, random_placement(1, 0)), SurfaceKind::kGregory);
+  const geometry::NormaliseOutcome n =
+      geometry::normalise(place(c, random_placement(1, 0)), SurfaceKind::kGregory);
   ASSERT_TRUE(n.value);
   for (int i = 8; i < 16; ++i) {
-    EXPECT_NEAR(n.value->features[static_cast<std::size_t>(i)], f[static_cast<std::size_t>(i)], kPlacementTol);
+    EXPECT_NEAR(n.value->features[static_cast<std::size_t>(i)], f[static_cast<std::size_t>(i)],
+                kPlacementTol);
   }
 }
 

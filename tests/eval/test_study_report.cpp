@@ -3,18 +3,18 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
-#include <filesystem>
 #include <algorithm>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
 #include "core/error.hpp"
 #include "dataset/labeller.hpp"
+#include "eval/placement.hpp"
 #include "eval/report.hpp"
 #include "eval/study.hpp"
-#include "eval/placement.hpp"
-#include "mlp/network.hpp"
 #include "io/csv.hpp"
+#include "mlp/network.hpp"
 #include "xml_check.hpp"
 
 namespace contactnn::eval {
@@ -53,9 +53,8 @@ dataset::LabelledSet small_set() {
   set.resize(static_cast<Eigen::Index>(rows.size()), SurfaceKind::kBilinear);
   for (std::size_t r = 0; r < rows.size(); ++r) {
     const auto i = static_cast<Eigen::Index>(r);
-    const dataset::Label l =
-        dataset::label_configuration(configuration_from_features(SurfaceKind::kBilinear, rows[r].data()),
-                                     SurfaceKind::kBilinear);
+    const dataset::Label l = dataset::label_configuration(
+        configuration_from_features(SurfaceKind::kBilinear, rows[r].data()), SurfaceKind::kBilinear);
     // A dataset holds the canonical features (SPEC 4: here z_S < 0 rows are reflected to z_S > 0).
     for (int f = 0; f < 8; ++f) set.features(i, f) = l.features[static_cast<std::size_t>(f)];
     set.labels(i, 0) = l.canonical_param[0];
@@ -121,8 +120,8 @@ TEST(StudyReport, KnownNetworkErrorsEveryMethodEveryFile) {
   const std::vector<EvaluationSet> sets = {set_from_dataset(set, "small", "small.h5", false, 1),
                                            set_from_dataset(set, "small-placed", "small.h5", true, 3)};
   const StudyResult result = run_study(sets, {{"constant", "8-3-2, all weights 0", &model}}, options);
-  ASSERT_EQ(result.methods, (std::vector<std::string>{"network[constant]", "newton:1", "newton:5", "newton:10", "newton",
-                                                      "closed_form"}));
+  ASSERT_EQ(result.methods, (std::vector<std::string>{"network[constant]", "newton:1", "newton:5",
+                                                      "newton:10", "newton", "closed_form"}));
   ASSERT_EQ(result.sets.size(), 2u);
   EXPECT_EQ(result.histogram_method, "network[constant]");
   // The network's errors are the constant minus each label; the row without a reference is excluded.
@@ -148,7 +147,8 @@ TEST(StudyReport, KnownNetworkErrorsEveryMethodEveryFile) {
     EXPECT_TRUE(r.timed);
     ASSERT_EQ(r.timings.size(), result.methods.size());
   }
-  EXPECT_EQ(result.histograms[0].total() + result.histograms[0].excluded, static_cast<std::int64_t>(set.size()));
+  EXPECT_EQ(result.histograms[0].total() + result.histograms[0].excluded,
+            static_cast<std::int64_t>(set.size()));
 
   RunInfo info;
   info.command_line = "test";
@@ -163,10 +163,11 @@ TEST(StudyReport, KnownNetworkErrorsEveryMethodEveryFile) {
   for (const std::string& m : result.methods) {
     for (const std::string set_name : {"small", "small-placed"}) {
       for (const std::string c : {"xi", "eta"}) {
-        const auto found = std::find_if(errors.rows.begin(), errors.rows.end(), [&](const std::vector<std::string>& row) {
-          return row[errors.column("set")] == set_name && row[errors.column("method")] == m &&
-                 row[errors.column("coordinate")] == c;
-        });
+        const auto found =
+            std::find_if(errors.rows.begin(), errors.rows.end(), [&](const std::vector<std::string>& row) {
+              return row[errors.column("set")] == set_name && row[errors.column("method")] == m &&
+                     row[errors.column("coordinate")] == c;
+            });
         EXPECT_NE(found, errors.rows.end()) << set_name << " " << m << " " << c << " missing from errors.csv";
       }
     }
@@ -183,13 +184,14 @@ TEST(StudyReport, KnownNetworkErrorsEveryMethodEveryFile) {
   for (const std::string& m : result.methods) {
     EXPECT_NE(md.find("| " + m + " |"), std::string::npos) << m << " missing from report.md";
   }
-  for (const std::string needle : {"seven iterations", "more than ten iterations", "Fig 4", "Machine and build",
-                                   "hist_xi.svg", "Newton iteration counts", "Fastest method at each accuracy level",
-                                   "Set `small-placed`"}) {
+  for (const std::string needle :
+       {"seven iterations", "more than ten iterations", "Fig 4", "Machine and build", "hist_xi.svg",
+        "Newton iteration counts", "Fastest method at each accuracy level", "Set `small-placed`"}) {
     EXPECT_NE(md.find(needle), std::string::npos) << needle;
   }
   for (const std::string c : {"xi", "eta"}) {
-    EXPECT_EQ(contactnn::testing::xml_well_formedness_error(read_file(dir / ("hist_" + c + ".svg"))), "") << c;
+    EXPECT_EQ(contactnn::testing::xml_well_formedness_error(read_file(dir / ("hist_" + c + ".svg"))), "")
+        << c;
     const io::CsvTable hist = io::read_csv(dir / ("hist_" + c + ".csv"));
     EXPECT_EQ(hist.rows.size(), static_cast<std::size_t>(options.hist_bins) + 3);
   }

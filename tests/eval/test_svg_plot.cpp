@@ -1,11 +1,11 @@
-// Tests of lib/eval/svg_plot: well-formed XML, axes, ticks, labels, escaping; and of the test's own XML check.
-#include "eval/svg_plot.hpp"
-
+// Tests of lib/eval/svg_plot: well-formed XML, axes, ticks, labels, escaping; and of the test's own XML
+// check.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <vector>
 
+#include "eval/svg_plot.hpp"
 #include "xml_check.hpp"
 
 namespace contactnn::eval {
@@ -25,13 +25,13 @@ Histogram sample_histogram() {
 
 TEST(XmlCheck, AcceptsWellFormedAndRejectsMalformed) {
   EXPECT_EQ(xml_well_formedness_error("<?xml version=\"1.0\"?>\n<a x=\"1\"><b/>t &amp; &#60;</a>\n"), "");
-  EXPECT_NE(xml_well_formedness_error("<a><b></a></b>"), "");       // bad nesting
-  EXPECT_NE(xml_well_formedness_error("<a x=1/>"), "");             // unquoted attribute
-  EXPECT_NE(xml_well_formedness_error("<a>x & y</a>"), "");         // raw ampersand
-  EXPECT_NE(xml_well_formedness_error("<a>1 < 2</a>"), "");         // raw '<'
-  EXPECT_NE(xml_well_formedness_error("<a/><b/>"), "");             // two roots
-  EXPECT_NE(xml_well_formedness_error("<a x=\"1\" x=\"2\"/>"), ""); // duplicate attribute
-  EXPECT_NE(xml_well_formedness_error("<a>"), "");                  // unclosed
+  EXPECT_NE(xml_well_formedness_error("<a><b></a></b>"), "");        // bad nesting
+  EXPECT_NE(xml_well_formedness_error("<a x=1/>"), "");              // unquoted attribute
+  EXPECT_NE(xml_well_formedness_error("<a>x & y</a>"), "");          // raw ampersand
+  EXPECT_NE(xml_well_formedness_error("<a>1 < 2</a>"), "");          // raw '<'
+  EXPECT_NE(xml_well_formedness_error("<a/><b/>"), "");              // two roots
+  EXPECT_NE(xml_well_formedness_error("<a x=\"1\" x=\"2\"/>"), "");  // duplicate attribute
+  EXPECT_NE(xml_well_formedness_error("<a>"), "");                   // unclosed
 }
 
 TEST(HistogramSvg, IsWellFormedXml) {

@@ -16,7 +16,9 @@ namespace contactnn::testing {
 inline std::string xml_well_formedness_error(std::string_view text) {
   std::size_t i = 0;
   const auto fail = [&](const std::string& why) { return "offset " + std::to_string(i) + ": " + why; };
-  const auto is_name_start = [](char c) { return std::isalpha(static_cast<unsigned char>(c)) || c == '_' || c == ':'; };
+  const auto is_name_start = [](char c) {
+    return std::isalpha(static_cast<unsigned char>(c)) || c == '_' || c == ':';
+  };
   const auto is_name_char = [&](char c) {
     return is_name_start(c) || std::isdigit(static_cast<unsigned char>(c)) || c == '-' || c == '.';
   };
@@ -40,7 +42,8 @@ inline std::string xml_well_formedness_error(std::string_view text) {
       ok = true;
       const bool hex = entity[1] == 'x';
       for (std::size_t k = hex ? 2 : 1; k < entity.size(); ++k) {
-        ok = ok && (hex ? std::isxdigit(static_cast<unsigned char>(entity[k])) : std::isdigit(static_cast<unsigned char>(entity[k])));
+        ok = ok && (hex ? std::isxdigit(static_cast<unsigned char>(entity[k]))
+                        : std::isdigit(static_cast<unsigned char>(entity[k])));
       }
       ok = ok && entity.size() > (hex ? 2u : 1u);
     }
@@ -84,7 +87,8 @@ inline std::string xml_well_formedness_error(std::string_view text) {
       if (i >= text.size() || text[i] != '>') return fail("bad end tag");
       ++i;
       if (open.empty() || open.back() != name) {
-        return fail("end tag </" + name + "> does not match <" + (open.empty() ? std::string() : open.back()) + ">");
+        return fail("end tag </" + name + "> does not match <" +
+                    (open.empty() ? std::string() : open.back()) + ">");
       }
       open.pop_back();
       continue;
@@ -107,7 +111,8 @@ inline std::string xml_well_formedness_error(std::string_view text) {
       if (i >= text.size() || text[i] != '=') return fail("attribute " + attribute + " has no '='");
       ++i;
       skip_space();
-      if (i >= text.size() || (text[i] != '"' && text[i] != '\'')) return fail("attribute " + attribute + " is not quoted");
+      if (i >= text.size() || (text[i] != '"' && text[i] != '\''))
+        return fail("attribute " + attribute + " is not quoted");
       const char quote = text[i++];
       while (i < text.size() && text[i] != quote) {
         if (text[i] == '<') return fail("raw '<' in attribute " + attribute);

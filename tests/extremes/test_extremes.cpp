@@ -48,9 +48,9 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 struct Case {
   std::string name;
   Configuration config;
-  std::vector<Status> allowed;           ///< acceptable statuses in the unit case
+  std::vector<Status> allowed;                       ///< acceptable statuses in the unit case
   std::optional<std::array<double, 2>> exact_param;  ///< known answer, when S was built from it
-  double exact_gap = 0.0;                ///< with exact_param
+  double exact_gap = 0.0;                            ///< with exact_param
   /// How much the problem amplifies a relative rounding of its inputs (1 for a well-shaped segment with S
   /// within an element size; ~1e3 for S 1e3 element sizes away, or a 1e3:1 segment; their product for both).
   /// Translated 1e5 element sizes from the origin, the inputs keep only ~11 digits relative to the element,
@@ -63,7 +63,9 @@ Case conditioned(Case c, double condition) {
   return c;
 }
 
-Configuration make(const std::array<Vec3, 4>& nodes, const Vec3& slave) { return Configuration{nodes, slave, {}}; }
+Configuration make(const std::array<Vec3, 4>& nodes, const Vec3& slave) {
+  return Configuration{nodes, slave, {}};
+}
 
 /// The unit normal of the bilinear facet at (xi, eta) (SPEC 2 orientation: P_xi x P_eta).
 Vec3 unit_normal(const std::array<Vec3, 4>& nodes, double xi, double eta) {
@@ -71,7 +73,8 @@ Vec3 unit_normal(const std::array<Vec3, 4>& nodes, double xi, double eta) {
   return p.d_s.cross(p.d_t).normalized();
 }
 
-/// S = P(xi, eta) + gap n(xi, eta): (xi, eta) is the closest point when |gap| is below the radius of curvature.
+/// S = P(xi, eta) + gap n(xi, eta): (xi, eta) is the closest point when |gap| is below the radius of
+/// curvature.
 Case on_normal(std::string name, const std::array<Vec3, 4>& nodes, double xi, double eta, double gap) {
   const Vec3 s = BilinearPatch(nodes).position(xi, eta) + gap * unit_normal(nodes, xi, eta);
   return Case{std::move(name), make(nodes, s), {Status::kOk}, std::array<double, 2>{xi, eta}, gap};
@@ -84,7 +87,8 @@ Case collapsed(std::string name, const Configuration& config) {
 
 const std::array<Vec3, 4> kSquare = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0), Vec3(0, 1, 0)};
 // A moderately warped, non-parallel quad: the corners are off a common plane by 0.1 to 0.2 of an edge.
-const std::array<Vec3, 4> kWarped = {Vec3(0, 0, 0), Vec3(1, 0, 0.15), Vec3(1.1, 0.95, -0.1), Vec3(-0.05, 1, 0.2)};
+const std::array<Vec3, 4> kWarped = {Vec3(0, 0, 0), Vec3(1, 0, 0.15), Vec3(1.1, 0.95, -0.1),
+                                     Vec3(-0.05, 1, 0.2)};
 
 std::array<Vec3, 4> kite_with_angle_at_a(double degrees) {
   const double t = degrees * std::numbers::pi / 180.0;
@@ -114,14 +118,14 @@ std::vector<Case> build_cases() {
   const char* corner_names[] = {"A", "B", "C", "D"};
   const std::array<std::array<double, 2>, 4> corners = {{{-1, -1}, {1, -1}, {1, 1}, {-1, 1}}};
   for (int i = 0; i < 4; ++i) {
-    add({std::string("slave_at_corner_") + corner_names[i], make(kWarped, kWarped[static_cast<std::size_t>(i)]), ok,
-         corners[static_cast<std::size_t>(i)], 0.0});
+    add({std::string("slave_at_corner_") + corner_names[i],
+         make(kWarped, kWarped[static_cast<std::size_t>(i)]), ok, corners[static_cast<std::size_t>(i)], 0.0});
   }
   const std::array<std::pair<const char*, std::array<double, 2>>, 4> edges = {
       {{"AB", {0.3, -1}}, {"BC", {1, -0.4}}, {"CD", {0.6, 1}}, {"DA", {-1, 0.2}}}};
   for (const auto& [edge, p] : edges) {
-    add({std::string("slave_on_edge_") + edge, make(kWarped, BilinearPatch(kWarped).position(p[0], p[1])), ok, p,
-         0.0});
+    add({std::string("slave_on_edge_") + edge, make(kWarped, BilinearPatch(kWarped).position(p[0], p[1])), ok,
+         p, 0.0});
   }
   add(on_normal("slave_on_surface", kWarped, 0.3, -0.5, 0.0));
   add(on_normal("slave_above_surface", kWarped, 0.3, -0.5, 0.1));
@@ -135,12 +139,21 @@ std::vector<Case> build_cases() {
   add({"slave_1e3_above_warped",
        make(kWarped, BilinearPatch(kWarped).position(0.2, 0.1) + 1e3 * unit_normal(kWarped, 0.2, 0.1)),
        converged_or_not, std::nullopt, 0.0});
-  add({"slave_1e3_sideways_flat", make(kSquare, Vec3(1e3, 0.5, 0.0)), {Status::kOutside, Status::kNoConvergence},
-       std::nullopt, 0.0});
-  add({"slave_1e3_diagonal_flat", make(kSquare, Vec3(1e3, 1e3, 1e3) / std::sqrt(3.0)),
-       {Status::kOutside, Status::kNoConvergence}, std::nullopt, 0.0});
-  add({"slave_just_outside_edge_BC", make(kSquare, Vec3(1.01, 0.5, 0.2)), {Status::kOutside},
-       std::array<double, 2>{1.02, 0.0}, 0.2});
+  add({"slave_1e3_sideways_flat",
+       make(kSquare, Vec3(1e3, 0.5, 0.0)),
+       {Status::kOutside, Status::kNoConvergence},
+       std::nullopt,
+       0.0});
+  add({"slave_1e3_diagonal_flat",
+       make(kSquare, Vec3(1e3, 1e3, 1e3) / std::sqrt(3.0)),
+       {Status::kOutside, Status::kNoConvergence},
+       std::nullopt,
+       0.0});
+  add({"slave_just_outside_edge_BC",
+       make(kSquare, Vec3(1.01, 0.5, 0.2)),
+       {Status::kOutside},
+       std::array<double, 2>{1.02, 0.0},
+       0.2});
   // 4. Nearly degenerate segments.
   add(on_normal("interior_angle_1_degree", kite_with_angle_at_a(1.0), 0.2, 0.3, 0.01));
   add(on_normal("interior_angle_0.1_degree", kite_with_angle_at_a(0.1), 0.2, 0.3, 0.001));
@@ -153,21 +166,27 @@ std::vector<Case> build_cases() {
   add(conditioned(on_normal("aspect_ratio_1e3_long_AB", thin, 0.4, -0.3, 1e-3), 1e3));
   add(conditioned(on_normal("aspect_ratio_1e3_long_AB_slave_far", thin, 0.4, -0.3, 1.0), 1e6));
   add(conditioned(on_normal("aspect_ratio_1e3_short_AB", tall, 0.4, -0.3, 1e-3), 1e3));
-  const std::array<Vec3, 4> thin_warped = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1e-3, 2e-4), Vec3(0, 1e-3, -1e-4)};
+  const std::array<Vec3, 4> thin_warped = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1e-3, 2e-4),
+                                           Vec3(0, 1e-3, -1e-4)};
   add(conditioned(on_normal("aspect_ratio_1e3_warped", thin_warped, 0.1, 0.5, 2e-4), 1e3));
   add({"strongly_warped_two_roots", make(kTwoRootQuad, kTwoRootSlave), ok, std::nullopt, 0.0});
   // z = xi * eta over the square [-1,1]^2 (the lead's saddle) with S far above: a ridge of near-equal roots.
-  add({"saddle_slave_above_centre", make({Vec3(-1, -1, 1), Vec3(1, -1, -1), Vec3(1, 1, 1), Vec3(-1, 1, -1)},
-                                         Vec3(0.05, 0.02, 1.5)), ok, std::nullopt, 0.0});
+  add({"saddle_slave_above_centre",
+       make({Vec3(-1, -1, 1), Vec3(1, -1, -1), Vec3(1, 1, 1), Vec3(-1, 1, -1)}, Vec3(0.05, 0.02, 1.5)), ok,
+       std::nullopt, 0.0});
   // Opposite edges at right angles: the most twisted a bilinear facet gets.
-  add({"twisted_90_degrees", make({Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 0, 1), Vec3(0, 1, 0)}, Vec3(0.6, 0.3, 0.2)),
+  add({"twisted_90_degrees",
+       make({Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 0, 1), Vec3(0, 1, 0)}, Vec3(0.6, 0.3, 0.2)),
        converged_or_not, std::nullopt, 0.0});
-  // Three nodes on a line (a triangle with a 180-degree corner at B): usable, the Jacobian vanishes at B only.
-  add({"three_collinear_nodes", make({Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(2, 0, 0), Vec3(0, 1, 0)}, Vec3(0.6, 0.3, 0.2)),
-       ok, std::nullopt, 0.0});
+  // Three nodes on a line (a triangle with a 180-degree corner at B): usable, the Jacobian vanishes at B
+  // only.
+  add({"three_collinear_nodes",
+       make({Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(2, 0, 0), Vec3(0, 1, 0)}, Vec3(0.6, 0.3, 0.2)), ok,
+       std::nullopt, 0.0});
   // D on the line AB behind A: a straight angle at A, a triangle with A on an edge, like the case above.
   add({"D_on_line_AB_straight_angle_at_A",
-       make({Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0), Vec3(-1, 0, 0)}, Vec3(0.2, 0.3, 0.2)), ok, std::nullopt, 0.0});
+       make({Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0), Vec3(-1, 0, 0)}, Vec3(0.2, 0.3, 0.2)), ok,
+       std::nullopt, 0.0});
   // Two nodes 1e-9 apart (above the 1e-10 coincidence threshold): a triangle, still projected.
   add({"nearly_coincident_nodes_1e-9",
        make({Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0), Vec3(1 - 1e-9, 1, 0)}, Vec3(0.6, 0.3, 0.2)), ok,
@@ -180,9 +199,12 @@ std::vector<Case> build_cases() {
   add(collapsed("coincident_D_A", make({Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0), Vec3(0, 0, 0)}, s)));
   add(collapsed("coincident_A_C", make({Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 0, 0), Vec3(0, 1, 0)}, s)));
   add(collapsed("coincident_B_D", make({Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0), Vec3(1, 0, 0)}, s)));
-  add(collapsed("all_nodes_coincident", make({Vec3(1, 2, 3), Vec3(1, 2, 3), Vec3(1, 2, 3), Vec3(1, 2, 3)}, s)));
-  add(collapsed("all_nodes_collinear", make({Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(3, 0, 0), Vec3(2, 0, 0)}, s)));
-  add(collapsed("all_nodes_collinear_oblique", make({Vec3(0, 0, 0), Vec3(1, 1, 1), Vec3(2.5, 2.5, 2.5), Vec3(-1, -1, -1)}, s)));
+  add(collapsed("all_nodes_coincident",
+                make({Vec3(1, 2, 3), Vec3(1, 2, 3), Vec3(1, 2, 3), Vec3(1, 2, 3)}, s)));
+  add(collapsed("all_nodes_collinear",
+                make({Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(3, 0, 0), Vec3(2, 0, 0)}, s)));
+  add(collapsed("all_nodes_collinear_oblique",
+                make({Vec3(0, 0, 0), Vec3(1, 1, 1), Vec3(2.5, 2.5, 2.5), Vec3(-1, -1, -1)}, s)));
   // D on the ray AB: the corner at A has zero angle and the segment folds onto itself.
   add(collapsed("D_on_ray_AB_folded", make({Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0), Vec3(2, 0, 0)}, s)));
   // A self-intersecting "bow tie" ABDC has parallel diagonals: zero area by the diagonal formula.
@@ -321,8 +343,9 @@ double element_size(const Configuration& c) { return geometry::max_node_distance
 bool converged(Status s) { return s == Status::kOk || s == Status::kOutside; }
 
 std::string describe(const dataset::Label& l) {
-  return std::string(to_string(l.status)) + " (" + std::to_string(l.param[0]) + ", " + std::to_string(l.param[1]) +
-         ") gap " + std::to_string(l.gap) + " iterations " + std::to_string(l.iterations);
+  return std::string(to_string(l.status)) + " (" + std::to_string(l.param[0]) + ", " +
+         std::to_string(l.param[1]) + ") gap " + std::to_string(l.gap) + " iterations " +
+         std::to_string(l.iterations);
 }
 
 /// What every label must satisfy, whatever the input: finite values, bounded iterations.
@@ -351,7 +374,8 @@ TEST_P(ExtremeCase, UnitCaseHasTheExpectedStatusAndAnswer) {
   EXPECT_NE(std::find(c.allowed.begin(), c.allowed.end(), l.status), c.allowed.end())
       << c.name << ": got " << describe(l);
   if (c.exact_param) {
-    ASSERT_EQ(l.status, c.exact_param.value()[0] > 1 || c.exact_param.value()[1] > 1 ? Status::kOutside : Status::kOk)
+    ASSERT_EQ(l.status,
+              c.exact_param.value()[0] > 1 || c.exact_param.value()[1] > 1 ? Status::kOutside : Status::kOk)
         << describe(l);
     EXPECT_NEAR(l.param[0], c.exact_param.value()[0], kExactTol) << describe(l);
     EXPECT_NEAR(l.param[1], c.exact_param.value()[1], kExactTol) << describe(l);
@@ -430,8 +454,10 @@ INSTANTIATE_TEST_SUITE_P(Bilinear, ExtremeCase, ::testing::Range<std::size_t>(0,
 
 TEST(Extremes, TwoRootQuadReallyHasTwoInDomainMinimaAndTheNearerIsReturned) {
   const BilinearPatch patch(kTwoRootQuad);
-  const projection::ProjectionResult far_root = projection::newton_until_converged(patch, kTwoRootSlave, {-0.6, 0.6});
-  const projection::ProjectionResult near_root = projection::newton_until_converged(patch, kTwoRootSlave, {0.75, -0.75});
+  const projection::ProjectionResult far_root =
+      projection::newton_until_converged(patch, kTwoRootSlave, {-0.6, 0.6});
+  const projection::ProjectionResult near_root =
+      projection::newton_until_converged(patch, kTwoRootSlave, {0.75, -0.75});
   ASSERT_EQ(far_root.status, Status::kOk);
   ASSERT_EQ(near_root.status, Status::kOk);
   EXPECT_GT(std::abs(far_root.param[0] - near_root.param[0]), 1.0);  // really two roots
@@ -440,7 +466,8 @@ TEST(Extremes, TwoRootQuadReallyHasTwoInDomainMinimaAndTheNearerIsReturned) {
   const projection::ProjectionResult one_start =
       projection::project_point(patch, kTwoRootSlave, projection::ProjectionOptions{.starts_per_axis = 1});
   EXPECT_NEAR(one_start.param[0], far_root.param[0], 1e-9);
-  const dataset::Label label = dataset::label_configuration(make(kTwoRootQuad, kTwoRootSlave), SurfaceKind::kBilinear);
+  const dataset::Label label =
+      dataset::label_configuration(make(kTwoRootQuad, kTwoRootSlave), SurfaceKind::kBilinear);
   ASSERT_EQ(label.status, Status::kOk);
   EXPECT_NEAR(label.param[0], near_root.param[0], 1e-9);
   EXPECT_NEAR(label.param[1], near_root.param[1], 1e-9);
@@ -472,9 +499,11 @@ TEST(Extremes, ScalesAtTheLimitsOfDoubleGiveTheUnitLabels) {
   const dataset::Label unit = dataset::label_configuration(c.config, SurfaceKind::kBilinear);
   std::mt19937_64 rng(11);
   for (const double scale : {1e-300, 1e-200, 1e-160, 1e-100, 1e100, 1e160, 1e200, 1e300, 1e307}) {
-    const Configuration world = testing::transform(c.config, testing::random_rotation(rng), scale, Vec3::Zero());
+    const Configuration world =
+        testing::transform(c.config, testing::random_rotation(rng), scale, Vec3::Zero());
     const dataset::Label l = dataset::label_configuration(world, SurfaceKind::kBilinear);
-    const std::string where = "scale 1e" + std::to_string(std::lround(std::log10(scale))) + ": " + describe(l);
+    const std::string where =
+        "scale 1e" + std::to_string(std::lround(std::log10(scale))) + ": " + describe(l);
     expect_sane(l, where);
     ASSERT_EQ(l.status, unit.status) << where;
     EXPECT_NEAR(l.param[0], unit.param[0], kInvarianceTol) << where;
@@ -482,8 +511,9 @@ TEST(Extremes, ScalesAtTheLimitsOfDoubleGiveTheUnitLabels) {
     EXPECT_NEAR(l.gap / scale, unit.gap, kInvarianceTol) << where;
   }
   // Node differences that overflow (nodes at -+1.5e308): no frame, degenerate, nothing non-finite.
-  const Configuration overflow = make({Vec3(-1.5e308, 0, 0), Vec3(1.5e308, 0, 0), Vec3(1.5e308, 1e308, 0),
-                                       Vec3(-1.5e308, 1e308, 0)}, Vec3(0, 1e307, 1e307));
+  const Configuration overflow =
+      make({Vec3(-1.5e308, 0, 0), Vec3(1.5e308, 0, 0), Vec3(1.5e308, 1e308, 0), Vec3(-1.5e308, 1e308, 0)},
+           Vec3(0, 1e307, 1e307));
   const dataset::Label l = dataset::label_configuration(overflow, SurfaceKind::kBilinear);
   expect_sane(l, "overflowing node differences: " + describe(l));
   EXPECT_EQ(l.status, Status::kDegenerate) << describe(l);
@@ -501,13 +531,26 @@ TEST(Extremes, RandomHostileConfigurationsNeverGiveNonFiniteLabels) {
     for (auto& node : c.nodes) node = scale * Vec3(u(rng), u(rng), u(rng));
     c.slave = scale * std::pow(10.0, 3 * u(rng)) * Vec3(u(rng), u(rng), u(rng));
     switch (pick(rng)) {
-      case 0: c.nodes[1] = c.nodes[0]; break;
-      case 1: c.nodes[3] = c.nodes[2]; break;
-      case 2: c.nodes[2] = 0.5 * (c.nodes[1] + c.nodes[3]); break;
-      case 3: c.slave = c.nodes[2]; break;
-      case 4: c.nodes[k % 4][k % 3] = kNaN; break;
-      case 5: c.slave[k % 3] = -kInf; break;
-      default: break;
+      case 0:
+        c.nodes[1] = c.nodes[0];
+        break;
+      case 1:
+        c.nodes[3] = c.nodes[2];
+        break;
+      case 2:
+        c.nodes[2] = 0.5 * (c.nodes[1] + c.nodes[3]);
+        break;
+      case 3:
+        c.slave = c.nodes[2];
+        break;
+      case 4:
+        c.nodes[k % 4][k % 3] = kNaN;
+        break;
+      case 5:
+        c.slave[k % 3] = -kInf;
+        break;
+      default:
+        break;
     }
     const dataset::Label l = dataset::label_configuration(c, SurfaceKind::kBilinear);
     expect_sane(l, "hostile configuration " + std::to_string(k));
@@ -528,7 +571,8 @@ struct GregoryCase {
   double exact_gap = 0.0;
 };
 
-/// `normal` tilted away from +z towards `direction` (in the xy-plane) by the angle whose tangent is `tangent`.
+/// `normal` tilted away from +z towards `direction` (in the xy-plane) by the angle whose tangent is
+/// `tangent`.
 Vec3 tilted(double tangent, double direction_degrees) {
   const double d = direction_degrees * std::numbers::pi / 180.0;
   return Vec3(tangent * std::cos(d), tangent * std::sin(d), 1.0);
@@ -558,32 +602,44 @@ std::vector<GregoryCase> build_gregory_cases() {
                    std::array<double, 2>{0.3, 0.6}, 0.2});
   // At the paper's tilt limit (tangent 0.2), each normal leaning its own way: a curved patch.
   const std::array<Vec3, 4> limit = {tilted(0.2, 225), tilted(0.2, -45), tilted(0.2, 45), tilted(0.2, 135)};
-  cases.push_back({"tilt_tangent_0.2_outward", with(square, limit, Vec3(0.35, 0.55, 0.1)), ok, std::nullopt, 0.0});
+  cases.push_back(
+      {"tilt_tangent_0.2_outward", with(square, limit, Vec3(0.35, 0.55, 0.1)), ok, std::nullopt, 0.0});
   cases.push_back({"tilt_tangent_0.2_all_one_way",
                    with(square, {tilted(0.2, 30), tilted(0.2, 30), tilted(0.2, 30), tilted(0.2, 30)},
-                        Vec3(0.7, 0.2, -0.05)), ok, std::nullopt, 0.0});
+                        Vec3(0.7, 0.2, -0.05)),
+                   ok, std::nullopt, 0.0});
   // Beyond it: tangent 1 (45 degrees) and 5 (79 degrees): a strongly curved patch, still projected.
-  cases.push_back({"tilt_tangent_1",
-                   with(square, {tilted(1, 225), tilted(1, -45), tilted(1, 45), tilted(1, 135)}, Vec3(0.5, 0.4, 0.1)),
-                   converged_or_not, std::nullopt, 0.0});
-  cases.push_back({"tilt_tangent_5",
-                   with(square, {tilted(5, 200), tilted(5, 0), tilted(5, 80), tilted(5, 160)}, Vec3(0.5, 0.4, 0.3)),
-                   converged_or_not, std::nullopt, 0.0});
+  cases.push_back(
+      {"tilt_tangent_1",
+       with(square, {tilted(1, 225), tilted(1, -45), tilted(1, 45), tilted(1, 135)}, Vec3(0.5, 0.4, 0.1)),
+       converged_or_not, std::nullopt, 0.0});
+  cases.push_back(
+      {"tilt_tangent_5",
+       with(square, {tilted(5, 200), tilted(5, 0), tilted(5, 80), tilted(5, 160)}, Vec3(0.5, 0.4, 0.3)),
+       converged_or_not, std::nullopt, 0.0});
   cases.push_back({"tilt_tangent_1_warped_quad",
                    with(kWarped, {tilted(1, 10), tilted(0.5, 100), tilted(1, 190), tilted(0.5, 280)},
-                        Vec3(0.5, 0.5, 0.3)), converged_or_not, std::nullopt, 0.0});
+                        Vec3(0.5, 0.5, 0.3)),
+                   converged_or_not, std::nullopt, 0.0});
   // Parallel to an edge: the normal at A along AB (in the plane): no slope, degenerate; nearly so (1e-12 rad
   // off the plane): the edge's projection onto A's tangent plane vanishes, degenerate.
-  cases.push_back({"normal_parallel_to_edge_AB", with(square, {Vec3(1, 0, 0), up, up, up}, Vec3(0.3, 0.6, 0.2)),
-                   degenerate, std::nullopt, 0.0});
+  cases.push_back({"normal_parallel_to_edge_AB",
+                   with(square, {Vec3(1, 0, 0), up, up, up}, Vec3(0.3, 0.6, 0.2)), degenerate, std::nullopt,
+                   0.0});
   cases.push_back({"normal_nearly_parallel_to_edge_AB",
-                   with(square, {Vec3(1, 0, 1e-12), up, up, up}, Vec3(0.3, 0.6, 0.2)), degenerate, std::nullopt, 0.0});
+                   with(square, {Vec3(1, 0, 1e-12), up, up, up}, Vec3(0.3, 0.6, 0.2)), degenerate,
+                   std::nullopt, 0.0});
   cases.push_back({"normal_in_plane_not_along_an_edge",
-                   with(square, {up, up, Vec3(-1, 1, 0), up}, Vec3(0.3, 0.6, 0.2)), degenerate, std::nullopt, 0.0});
-  cases.push_back({"normal_flipped", with(square, {up, up, -up, up}, Vec3(0.3, 0.6, 0.2)), degenerate, std::nullopt, 0.0});
-  cases.push_back({"normal_zero_length", with(square, {up, Vec3::Zero(), up, up}, Vec3(0.3, 0.6, 0.2)), degenerate, std::nullopt, 0.0});
-  cases.push_back({"collapsed_segment", with({Vec3(0, 0, 0), Vec3(0, 0, 0), Vec3(1, 1, 0), Vec3(0, 1, 0)},
-                                             {up, up, up, up}, Vec3(0.3, 0.6, 0.2)), degenerate, std::nullopt, 0.0});
+                   with(square, {up, up, Vec3(-1, 1, 0), up}, Vec3(0.3, 0.6, 0.2)), degenerate, std::nullopt,
+                   0.0});
+  cases.push_back({"normal_flipped", with(square, {up, up, -up, up}, Vec3(0.3, 0.6, 0.2)), degenerate,
+                   std::nullopt, 0.0});
+  cases.push_back({"normal_zero_length", with(square, {up, Vec3::Zero(), up, up}, Vec3(0.3, 0.6, 0.2)),
+                   degenerate, std::nullopt, 0.0});
+  cases.push_back({"collapsed_segment",
+                   with({Vec3(0, 0, 0), Vec3(0, 0, 0), Vec3(1, 1, 0), Vec3(0, 1, 0)}, {up, up, up, up},
+                        Vec3(0.3, 0.6, 0.2)),
+                   degenerate, std::nullopt, 0.0});
   return cases;
 }
 
@@ -605,11 +661,14 @@ Reference gregory_reference(const Configuration& world) {
   std::vector<std::array<double, 2>> starts;
   std::vector<double> values(n * n);
   for (int i = 0; i < n; ++i) {
-    for (int j = 0; j < n; ++j) values[static_cast<std::size_t>(i * n + j)] = f(double(i) / (n - 1), double(j) / (n - 1));
+    for (int j = 0; j < n; ++j)
+      values[static_cast<std::size_t>(i * n + j)] = f(double(i) / (n - 1), double(j) / (n - 1));
   }
   std::vector<std::pair<double, std::array<double, 2>>> coarse;
   for (int i = 0; i < n; ++i) {
-    for (int j = 0; j < n; ++j) coarse.push_back({values[static_cast<std::size_t>(i * n + j)], {double(i) / (n - 1), double(j) / (n - 1)}});
+    for (int j = 0; j < n; ++j)
+      coarse.push_back(
+          {values[static_cast<std::size_t>(i * n + j)], {double(i) / (n - 1), double(j) / (n - 1)}});
   }
   std::partial_sort(coarse.begin(), coarse.begin() + 8, coarse.end(),
                     [](const auto& x, const auto& y) { return x.first < y.first; });
@@ -638,8 +697,8 @@ Reference gregory_reference(const Configuration& world) {
       best.sqr_distance = f(c[0], c[1]);
     }
   }
-  best.interior = best.param[0] > kBoundaryBand && best.param[0] < 1 - kBoundaryBand && best.param[1] > kBoundaryBand &&
-                  best.param[1] < 1 - kBoundaryBand;
+  best.interior = best.param[0] > kBoundaryBand && best.param[0] < 1 - kBoundaryBand &&
+                  best.param[1] > kBoundaryBand && best.param[1] < 1 - kBoundaryBand;
   return best;
 }
 
@@ -660,7 +719,8 @@ TEST_P(GregoryExtremeCase, ExpectedStatusSameLabelsEverywhereAndTheDenseReferenc
     EXPECT_NEAR(unit.param[1], c.exact_param.value()[1], kExactTol) << describe(unit);
     EXPECT_NEAR(unit.gap, c.exact_gap, kExactTol) << describe(unit);
   }
-  const bool collapsed = std::find(c.allowed.begin(), c.allowed.end(), Status::kDegenerate) != c.allowed.end();
+  const bool collapsed =
+      std::find(c.allowed.begin(), c.allowed.end(), Status::kDegenerate) != c.allowed.end();
   for (const Transform& t : transforms()) {
     const Configuration world = testing::transform(c.config, t.rotation, t.scale, t.translation);
     const dataset::Label l = dataset::label_configuration(world, SurfaceKind::kGregory);
@@ -670,23 +730,27 @@ TEST_P(GregoryExtremeCase, ExpectedStatusSameLabelsEverywhereAndTheDenseReferenc
     if (!converged(l.status)) continue;
     double largest = world.slave.cwiseAbs().maxCoeff();
     for (const Vec3& node : world.nodes) largest = std::max(largest, node.cwiseAbs().maxCoeff());
-    const double tol = std::max(kInvarianceTol, 4.0 * std::numeric_limits<double>::epsilon() * largest / element_size(world));
+    const double tol = std::max(kInvarianceTol,
+                                4.0 * std::numeric_limits<double>::epsilon() * largest / element_size(world));
     EXPECT_NEAR(l.param[0], unit.param[0], tol) << where;
     EXPECT_NEAR(l.param[1], unit.param[1], tol) << where;
     EXPECT_NEAR(l.gap / t.scale, unit.gap, tol) << where;
-    if (collapsed || GregoryPatch::diagnose(world.nodes, world.normals) != geometry::GregoryDefect::kNone) continue;
+    if (collapsed || GregoryPatch::diagnose(world.nodes, world.normals) != geometry::GregoryDefect::kNone)
+      continue;
     // The reference evaluates |S - P|^2 directly: its minimum is located to ~sqrt(eps) = 1e-8.
     const Reference ref = gregory_reference(world);
     std::array<Vec3, 4> q = world.nodes;
     for (auto& node : q) node -= world.nodes[0];
-    const double d2 = (world.slave - world.nodes[0] - GregoryPatch(q, world.normals).position(l.param[0], l.param[1]))
-                          .squaredNorm();
+    const double d2 =
+        (world.slave - world.nodes[0] - GregoryPatch(q, world.normals).position(l.param[0], l.param[1]))
+            .squaredNorm();
     const double size = element_size(world);
     if (l.status == Status::kOk) {
       EXPECT_GE(d2, ref.sqr_distance - 1e-10 * size * size) << where;
     }
     if (ref.interior) {
-      ASSERT_EQ(l.status, Status::kOk) << where << " reference (" << ref.param[0] << ", " << ref.param[1] << ")";
+      ASSERT_EQ(l.status, Status::kOk)
+          << where << " reference (" << ref.param[0] << ", " << ref.param[1] << ")";
       EXPECT_NEAR(l.param[0], ref.param[0], 1e-6) << where;
       EXPECT_NEAR(l.param[1], ref.param[1], 1e-6) << where;
     }
@@ -701,8 +765,8 @@ std::string gregory_case_name(const ::testing::TestParamInfo<std::size_t>& info)
   return name;
 }
 
-INSTANTIATE_TEST_SUITE_P(Gregory, GregoryExtremeCase, ::testing::Range<std::size_t>(0, gregory_cases().size()),
-                         gregory_case_name);
+INSTANTIATE_TEST_SUITE_P(Gregory, GregoryExtremeCase,
+                         ::testing::Range<std::size_t>(0, gregory_cases().size()), gregory_case_name);
 
 TEST(Extremes, GregoryNonFiniteNormalComponentIsInvalid) {
   const Vec3 up(0, 0, 1);

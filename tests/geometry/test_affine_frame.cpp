@@ -1,5 +1,3 @@
-#include "geometry/affine_frame.hpp"
-
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -9,6 +7,7 @@
 #include <utility>
 #include <vector>
 
+#include "geometry/affine_frame.hpp"
 #include "geometry/bilinear_patch.hpp"
 #include "geometry/segment_checks.hpp"
 #include "test_support.hpp"
@@ -25,7 +24,8 @@ TEST(AffineFrame, MapsAToOriginBToUnitXAndDIntoUpperXyPlane) {
   for (int k = 0; k < 100; ++k) {
     const Configuration local = testing::random_paper_configuration(rng);
     const double scale = std::exp(std::uniform_real_distribution<double>(-5, 5)(rng));
-    const Configuration world = testing::transform(local, testing::random_rotation(rng), scale, Vec3(3, -100, 7));
+    const Configuration world =
+        testing::transform(local, testing::random_rotation(rng), scale, Vec3(3, -100, 7));
     const auto frame = AffineFrame::from_nodes(world.nodes[0], world.nodes[1], world.nodes[3]);
     ASSERT_TRUE(frame.has_value());
     EXPECT_LT(frame->to_normalised(world.nodes[0]).norm(), kRoundTripTol * 100);
@@ -35,14 +35,17 @@ TEST(AffineFrame, MapsAToOriginBToUnitXAndDIntoUpperXyPlane) {
     EXPECT_GT(d.y(), 0.0);
     EXPECT_NEAR(frame->rotation().determinant(), 1.0, 1e-14);  // proper: the normal side is kept
     // The map recovers the configuration it came from (same frame convention both ways).
-    for (int i = 0; i < 4; ++i) EXPECT_LT((frame->to_normalised(world.nodes[i]) - local.nodes[i]).norm(), kRoundTripTol);
+    for (int i = 0; i < 4; ++i)
+      EXPECT_LT((frame->to_normalised(world.nodes[i]) - local.nodes[i]).norm(), kRoundTripTol);
     EXPECT_LT((frame->to_normalised(world.slave) - local.slave).norm(), kRoundTripTol);
-    EXPECT_LT((frame->to_world(frame->to_normalised(world.slave)) - world.slave).norm(), kRoundTripTol * scale * 100);
+    EXPECT_LT((frame->to_world(frame->to_normalised(world.slave)) - world.slave).norm(),
+              kRoundTripTol * scale * 100);
   }
 }
 
 TEST(AffineFrame, FeaturesAreTheEightCoordinatesOfSpecSection4) {
-  const Configuration c{{Vec3(1, 1, 1), Vec3(3, 1, 1), Vec3(3.2, 2.8, 1.4), Vec3(0.8, 2.6, 1)}, Vec3(1.4, 1.6, 0.8), {}};
+  const Configuration c{
+      {Vec3(1, 1, 1), Vec3(3, 1, 1), Vec3(3.2, 2.8, 1.4), Vec3(0.8, 2.6, 1)}, Vec3(1.4, 1.6, 0.8), {}};
   const auto n = normalise(c, SurfaceKind::kBilinear);
   ASSERT_TRUE(n.value.has_value());
   // A is the node nearest S and |AD| < |AB|: no relabelling. AB = (2,0,0): scale 1/2, no rotation; S lies
@@ -77,7 +80,7 @@ TEST(AffineFrame, GregoryNormalsEnterAsSlopesAndMustFaceTheSegment) {
   EXPECT_DOUBLE_EQ(n.value->features[8], 0.0);
   EXPECT_NEAR(n.value->features[12], 0.1, 1e-15);   // n_x / n_z at C
   EXPECT_NEAR(n.value->features[13], -0.2, 1e-15);  // n_y / n_z at C
-  c.normals[1] = Vec3(1, 0, 0);  // in the segment plane: no slope exists
+  c.normals[1] = Vec3(1, 0, 0);                     // in the segment plane: no slope exists
   EXPECT_FALSE(normalise(c, SurfaceKind::kGregory).value.has_value());
 }
 
@@ -94,16 +97,19 @@ Configuration relabel(const Configuration& c, const SquareSymmetry& order) {
   return out;
 }
 
-/// A segment and slave placed anywhere in a box around it: A is not the nearest node, |AD| > |AB| half the time.
+/// A segment and slave placed anywhere in a box around it: A is not the nearest node, |AD| > |AB| half the
+/// time.
 Configuration random_world_configuration(std::mt19937_64& rng, bool gregory) {
   std::uniform_real_distribution<double> u(-1.0, 1.0);
-  Configuration local{{Vec3(0, 0, 0), Vec3(1 + 0.5 * u(rng), 0.1 * u(rng), 0.1 * u(rng)),
-                       Vec3(1 + 0.4 * u(rng), 1 + 0.4 * u(rng), 0.2 * u(rng)), Vec3(0.1 * u(rng), 1 + 0.5 * u(rng), 0)},
-                      Vec3(0.5 + 0.8 * u(rng), 0.5 + 0.8 * u(rng), 0.4 * u(rng)),
-                      {}};
+  Configuration local{
+      {Vec3(0, 0, 0), Vec3(1 + 0.5 * u(rng), 0.1 * u(rng), 0.1 * u(rng)),
+       Vec3(1 + 0.4 * u(rng), 1 + 0.4 * u(rng), 0.2 * u(rng)), Vec3(0.1 * u(rng), 1 + 0.5 * u(rng), 0)},
+      Vec3(0.5 + 0.8 * u(rng), 0.5 + 0.8 * u(rng), 0.4 * u(rng)),
+      {}};
   for (auto& n : local.normals) n = Vec3(0.15 * u(rng), 0.15 * u(rng), 1.0) * (1.5 + u(rng));
   (void)gregory;
-  return testing::transform(local, testing::random_rotation(rng), std::exp(3 * u(rng)), Vec3(u(rng), u(rng), u(rng)) * 50);
+  return testing::transform(local, testing::random_rotation(rng), std::exp(3 * u(rng)),
+                            Vec3(u(rng), u(rng), u(rng)) * 50);
 }
 
 TEST(CanonicalConfiguration, EveryNodeOrderReachesTheSameFeaturesBitForBit) {
@@ -148,7 +154,8 @@ TEST(CanonicalConfiguration, OrdersReflectedThroughSpaceAgreeToRounding) {
 }
 
 TEST(CanonicalConfiguration, IsThePapersForm) {
-  // A is the node nearest S, |AD| <= |AB| = 1, and (our orientation) z_S >= 0: the domain of the paper's study.
+  // A is the node nearest S, |AD| <= |AB| = 1, and (our orientation) z_S >= 0: the domain of the paper's
+  // study.
   std::mt19937_64 rng(43);
   for (int k = 0; k < 500; ++k) {
     const Configuration world = random_world_configuration(rng, false);
@@ -175,7 +182,8 @@ TEST(CanonicalConfiguration, CanonicalCoordinatesNameTheSamePointInTheCallersOrd
     const std::array<double, 2> st = {u(rng), u(rng)};
     const auto xi_eta = n.value->to_caller(st, SurfaceKind::kBilinear);
     const double size = (world.nodes[1] - world.nodes[0]).norm();
-    EXPECT_LT((canonical.position(st[0], st[1]) - caller.position(xi_eta[0], xi_eta[1])).norm(), 1e-13 * size * 100);
+    EXPECT_LT((canonical.position(st[0], st[1]) - caller.position(xi_eta[0], xi_eta[1])).norm(),
+              1e-13 * size * 100);
   }
 }
 
@@ -189,7 +197,8 @@ TEST(CanonicalConfiguration, ExactTieOfEdgeLengthsIsBrokenTheSameWayInEveryOrder
     ASSERT_TRUE(base.value);
     EXPECT_EQ(base.value->symmetry.mirror, slave.y() > 1.0);
     for (const SquareSymmetry& order : all_square_symmetries()) {
-      EXPECT_EQ(normalise(relabel(rhombus, order), SurfaceKind::kBilinear).value->features, base.value->features);
+      EXPECT_EQ(normalise(relabel(rhombus, order), SurfaceKind::kBilinear).value->features,
+                base.value->features);
     }
   }
 }
@@ -201,12 +210,16 @@ TEST(CanonicalConfiguration, SymmetriesAreTheSameAtEveryScaleDownTo1eMinus300And
   const double t = 0.1 * std::numbers::pi / 180.0;
   const std::array<Vec3, 4> none = {Vec3::Zero(), Vec3::Zero(), Vec3::Zero(), Vec3::Zero()};
   const std::vector<Configuration> cases = {
-      {{Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1.3 * std::cos(t / 2), 1.3 * std::sin(t / 2), 0), Vec3(std::cos(t), std::sin(t), 0)},
-       Vec3(0.2, 0.01, 0.01), none},                                                                     // thin kite
-      {{Vec3(0, 0, 0), Vec3(5, 0, 0), Vec3(8, 4, 0.3), Vec3(3, 4, 0)}, Vec3(1, 1.5, 0.2), none},        // rhombus
-      {{Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0.1), Vec3(0, 1, 0)}, Vec3(0.3, 0.3, 0.2), none},      // diagonal
-      {{Vec3(0, 0, 0), Vec3(2, 0, 0), Vec3(2, 1, 0), Vec3(0, 1, 0)}, Vec3(1, 0.3, 0.1), none},          // A and B
-      {{Vec3(1, 1, 1), Vec3(3, 1, 2), Vec3(3, 4, 1), Vec3(0, 3, 1)}, Vec3(2.5, 3.2, 1.7), none},        // plain
+      {{Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1.3 * std::cos(t / 2), 1.3 * std::sin(t / 2), 0),
+        Vec3(std::cos(t), std::sin(t), 0)},
+       Vec3(0.2, 0.01, 0.01),
+       none},                                                                                     // thin kite
+      {{Vec3(0, 0, 0), Vec3(5, 0, 0), Vec3(8, 4, 0.3), Vec3(3, 4, 0)}, Vec3(1, 1.5, 0.2), none},  // rhombus
+      {{Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0.1), Vec3(0, 1, 0)},
+       Vec3(0.3, 0.3, 0.2),
+       none},                                                                                     // diagonal
+      {{Vec3(0, 0, 0), Vec3(2, 0, 0), Vec3(2, 1, 0), Vec3(0, 1, 0)}, Vec3(1, 0.3, 0.1), none},    // A and B
+      {{Vec3(1, 1, 1), Vec3(3, 1, 2), Vec3(3, 4, 1), Vec3(0, 3, 1)}, Vec3(2.5, 3.2, 1.7), none},  // plain
   };
   for (const Configuration& unit : cases) {
     const CanonicalSymmetries base = canonical_symmetries(unit.nodes, unit.slave);
@@ -217,12 +230,15 @@ TEST(CanonicalConfiguration, SymmetriesAreTheSameAtEveryScaleDownTo1eMinus300And
       c.slave *= scale;
       const CanonicalSymmetries got = canonical_symmetries(c.nodes, c.slave);
       ASSERT_EQ(got.count, base.count) << "scale " << scale;
-      for (int k = 0; k < got.count; ++k) EXPECT_EQ(got.symmetries[k], base.symmetries[k]) << "scale " << scale;
+      for (int k = 0; k < got.count; ++k)
+        EXPECT_EQ(got.symmetries[k], base.symmetries[k]) << "scale " << scale;
     }
   }
   // Coordinates whose differences overflow: a nearest node is still found (the frame then does not exist).
-  const Configuration huge{{Vec3(-1.5e308, 0, 0), Vec3(1.5e308, 0, 0), Vec3(1.5e308, 1.5e308, 0), Vec3(-1.5e308, 1.5e308, 0)},
-                           Vec3(-1e308, 1e307, 1e307), none};
+  const Configuration huge{
+      {Vec3(-1.5e308, 0, 0), Vec3(1.5e308, 0, 0), Vec3(1.5e308, 1.5e308, 0), Vec3(-1.5e308, 1.5e308, 0)},
+      Vec3(-1e308, 1e307, 1e307),
+      none};
   const CanonicalSymmetries far = canonical_symmetries(huge.nodes, huge.slave);
   ASSERT_EQ(far.count, 1);
   EXPECT_EQ(far.symmetries[0].rotation, 0);
@@ -233,8 +249,10 @@ TEST(CanonicalConfiguration, TiesGiveEveryCanonicalFormTheSameSetInEveryOrder) {
   // A 2 x 1 rectangle: S over the midpoint of AD is as near A as D (2 forms); over the centre of a unit
   // square it is as near all four nodes, each with |AB| = |AD| and S on the diagonal (8 forms).
   const std::array<Vec3, 4> none = {Vec3::Zero(), Vec3::Zero(), Vec3::Zero(), Vec3::Zero()};
-  const Configuration strip{{Vec3(0, 0, 0), Vec3(2, 0, 0), Vec3(2, 1, 0), Vec3(0, 1, 0)}, Vec3(0, 0.5, 0.1), none};
-  const Configuration square{{Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0), Vec3(0, 1, 0)}, Vec3(0.5, 0.5, 0.1), none};
+  const Configuration strip{
+      {Vec3(0, 0, 0), Vec3(2, 0, 0), Vec3(2, 1, 0), Vec3(0, 1, 0)}, Vec3(0, 0.5, 0.1), none};
+  const Configuration square{
+      {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0), Vec3(0, 1, 0)}, Vec3(0.5, 0.5, 0.1), none};
   const std::vector<std::pair<Configuration, int>> cases = {{strip, 2}, {square, 8}};
   for (const auto& [c, expected] : cases) {
     const CanonicalForms base = canonical_forms(c, SurfaceKind::kBilinear);
@@ -252,7 +270,8 @@ TEST(CanonicalConfiguration, TiesGiveEveryCanonicalFormTheSameSetInEveryOrder) {
     }
   }
   // No tie: one form.
-  const Configuration plain{{Vec3(0, 0, 0), Vec3(2, 0, 0), Vec3(2, 1, 0), Vec3(0, 1, 0)}, Vec3(0.3, 0.2, 0.1), {}};
+  const Configuration plain{
+      {Vec3(0, 0, 0), Vec3(2, 0, 0), Vec3(2, 1, 0), Vec3(0, 1, 0)}, Vec3(0.3, 0.2, 0.1), {}};
   EXPECT_EQ(canonical_forms(plain, SurfaceKind::kBilinear).count, 1);
 }
 
@@ -274,7 +293,8 @@ TEST(CanonicalConfiguration, SlaveOnAFlatMasterIsOrientedTheSameWhereverPlaced) 
 
 TEST(CanonicalConfiguration, StraightAngleAtTheCanonicalCornerTakesAnotherCorner) {
   // B is nearest S, and A, B, C are collinear: no frame at B. The segment (a triangle) is still usable.
-  const Configuration c{{Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(2, 0, 0), Vec3(0, 1, 0)}, Vec3(0.9, 0.3, 0.2), {}};
+  const Configuration c{
+      {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(2, 0, 0), Vec3(0, 1, 0)}, Vec3(0.9, 0.3, 0.2), {}};
   EXPECT_EQ(canonical_symmetry(c.nodes, c.slave).rotation, 1);
   const auto n = normalise(c, SurfaceKind::kBilinear);
   ASSERT_TRUE(n.value);

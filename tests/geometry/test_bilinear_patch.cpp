@@ -1,8 +1,8 @@
-#include "geometry/bilinear_patch.hpp"
-
 #include <gtest/gtest.h>
 
 #include <random>
+
+#include "geometry/bilinear_patch.hpp"
 
 namespace contactnn::geometry {
 namespace {

@@ -1,11 +1,10 @@
-#include "geometry/segment_checks.hpp"
-
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <random>
 #include <vector>
 
-#include <cmath>
+#include "geometry/segment_checks.hpp"
 
 namespace contactnn::geometry {
 namespace {
@@ -14,12 +13,12 @@ const std::array<Vec3, 4> kSquare = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0)
 
 TEST(SegmentChecks, SegmentTestAcceptsOnlyTheWedgeBetweenTheTwoEdgesAtTheNode) {
   const Vec3 a = kSquare[0], b = kSquare[1], d = kSquare[3];
-  EXPECT_TRUE(passes_segment_test(a, b, d, Vec3(0.3, 0.2, 0.5)));    // inside the wedge, above
-  EXPECT_TRUE(passes_segment_test(a, b, d, Vec3(0.3, 0.2, -0.5)));   // below: r is the in-plane part
-  EXPECT_FALSE(passes_segment_test(a, b, d, Vec3(-0.3, 0.2, 0.0)));  // behind AD
-  EXPECT_FALSE(passes_segment_test(a, b, d, Vec3(0.3, -0.2, 0.0)));  // behind AB
-  EXPECT_FALSE(passes_segment_test(a, b, d, Vec3(0.3, 0.0, 0.0)));   // on AB: Eq 3 is strict
-  EXPECT_FALSE(passes_segment_test(a, b, d, Vec3(-0.3, -0.3, 0.0))); // opposite wedge
+  EXPECT_TRUE(passes_segment_test(a, b, d, Vec3(0.3, 0.2, 0.5)));     // inside the wedge, above
+  EXPECT_TRUE(passes_segment_test(a, b, d, Vec3(0.3, 0.2, -0.5)));    // below: r is the in-plane part
+  EXPECT_FALSE(passes_segment_test(a, b, d, Vec3(-0.3, 0.2, 0.0)));   // behind AD
+  EXPECT_FALSE(passes_segment_test(a, b, d, Vec3(0.3, -0.2, 0.0)));   // behind AB
+  EXPECT_FALSE(passes_segment_test(a, b, d, Vec3(0.3, 0.0, 0.0)));    // on AB: Eq 3 is strict
+  EXPECT_FALSE(passes_segment_test(a, b, d, Vec3(-0.3, -0.3, 0.0)));  // opposite wedge
 }
 
 TEST(SegmentChecks, NearestNodeAllowsTiesAndRejectsCloserNodes) {
@@ -32,7 +31,8 @@ TEST(SegmentChecks, InteriorAnglesAndConvexity) {
   const auto square = interior_angles_degrees(kSquare);
   for (double angle : square) EXPECT_NEAR(angle, 90.0, 1e-12);
   EXPECT_TRUE(is_convex(kSquare));
-  const std::array<Vec3, 4> dart = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0.3, 0.3, 0), Vec3(0, 1, 0)};  // reflex at C
+  const std::array<Vec3, 4> dart = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0.3, 0.3, 0),
+                                    Vec3(0, 1, 0)};  // reflex at C
   EXPECT_FALSE(is_convex(dart));
   const std::array<Vec3, 4> clockwise = {kSquare[0], kSquare[3], kSquare[2], kSquare[1]};
   EXPECT_TRUE(is_convex(clockwise));  // convexity is judged against its own normal (B-A) x (D-A)
@@ -46,9 +46,12 @@ TEST(SegmentChecks, InteriorAnglesAndConvexity) {
 TEST(SegmentChecks, DegenerateSegmentsAreRecognised) {
   EXPECT_FALSE(is_degenerate_segment(kSquare));
   EXPECT_TRUE(is_degenerate_segment({Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0)}));  // B = C
-  EXPECT_TRUE(is_degenerate_segment({Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(2, 0, 0), Vec3(3, 0, 0)}));  // collinear
-  EXPECT_TRUE(is_degenerate_segment({Vec3(1, 1, 1), Vec3(1, 1, 1), Vec3(1, 1, 1), Vec3(1, 1, 1)}));  // a point
-  EXPECT_FALSE(is_degenerate_segment({Vec3(0, 0, 0), Vec3(1e3, 0, 0), Vec3(1e3, 1, 0), Vec3(0, 1, 0)}));  // 1e3:1
+  EXPECT_TRUE(
+      is_degenerate_segment({Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(2, 0, 0), Vec3(3, 0, 0)}));  // collinear
+  EXPECT_TRUE(
+      is_degenerate_segment({Vec3(1, 1, 1), Vec3(1, 1, 1), Vec3(1, 1, 1), Vec3(1, 1, 1)}));  // a point
+  EXPECT_FALSE(
+      is_degenerate_segment({Vec3(0, 0, 0), Vec3(1e3, 0, 0), Vec3(1e3, 1, 0), Vec3(0, 1, 0)}));  // 1e3:1
 }
 
 TEST(SegmentTest, StrictTestIsTheProductsOfEqs3And4) {
@@ -61,7 +64,7 @@ TEST(SegmentTest, StrictTestIsTheProductsOfEqs3And4) {
     const Vec3 m(x(rng), x(rng), x(rng)), next(x(rng), x(rng), x(rng)), prev(x(rng), x(rng), x(rng)),
         s(x(rng), x(rng), x(rng));
     const Vec3 c1 = next - m, c2 = prev - m, n = c1.cross(c2).normalized(), t = s - m;
-    const Vec3 r = t - t.dot(n) * n;                                                    // Eqs 5-6
+    const Vec3 r = t - t.dot(n) * n;                                                             // Eqs 5-6
     const bool printed = c1.cross(r).dot(c1.cross(c2)) > 0 && c1.cross(r).dot(r.cross(c2)) > 0;  // Eqs 3-4
     const bool mine = passes_segment_test(m, next, prev, s, 0.0);
     ASSERT_EQ(mine, printed) << k;
@@ -92,12 +95,14 @@ TEST(SegmentTest, GivesTheSameAnswerAtScalesFrom1eMinus300To1e300) {
   // The test is scale-free: the same random corners and slave nodes (strict and with the global search's
   // tolerance), and a slave node on an edge's plane and over the corner, give the answer of scale 1 at every
   // scale. Its products are fourth powers of the corner's size: they left the double range near 1e+-77, where
-  // every slave node of a scaled deck failed the test (gen-configs --scene --search nearest_node: no_segment).
+  // every slave node of a scaled deck failed the test (gen-configs --scene --search nearest_node:
+  // no_segment).
   std::mt19937_64 rng(67);
   std::uniform_real_distribution<double> x(-2, 2);
   std::vector<std::array<Vec3, 4>> cases;
-  for (int k = 0; k < 2000; ++k) cases.push_back({Vec3(x(rng), x(rng), x(rng)), Vec3(x(rng), x(rng), x(rng)),
-                                                  Vec3(x(rng), x(rng), x(rng)), Vec3(x(rng), x(rng), x(rng))});
+  for (int k = 0; k < 2000; ++k)
+    cases.push_back({Vec3(x(rng), x(rng), x(rng)), Vec3(x(rng), x(rng), x(rng)), Vec3(x(rng), x(rng), x(rng)),
+                     Vec3(x(rng), x(rng), x(rng))});
   cases.push_back({Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0.5, 0, 0.3)});    // on the edge's plane
   cases.push_back({Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, -0.2)});     // over the corner
   cases.push_back({Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0.3, 0.2, 0.5)});  // inside

@@ -1,8 +1,6 @@
 // io::AtomicOutput, commit_together, require_writable and AtomicDirectory (issue 12): what the final path
 // names decides between rename and writing in place, nothing is left behind on failure, and a directory is
 // replaced whole or not at all.
-#include "io/atomic_output.hpp"
-
 #include <gtest/gtest.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -13,6 +11,7 @@
 #include <string>
 
 #include "core/error.hpp"
+#include "io/atomic_output.hpp"
 #include "io/csv.hpp"
 #include "test_support.hpp"
 

@@ -1,5 +1,3 @@
-#include "io/csv.hpp"
-
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -7,6 +5,7 @@
 #include <random>
 
 #include "core/error.hpp"
+#include "io/csv.hpp"
 #include "io/raw_configurations.hpp"
 #include "test_support.hpp"
 
@@ -77,14 +76,17 @@ TEST(Csv, EveryMalformedCaseNamesFileLineAndWhat) {
   EXPECT_NE(ragged.find("'in.csv':3"), std::string::npos) << ragged;
   EXPECT_NE(ragged.find("1 fields, the header has 2 (column 2, 'b', missing)"), std::string::npos) << ragged;
   const std::string long_row = message_of("a,b\n1,2,3\n");
-  EXPECT_NE(long_row.find("'in.csv':2: ragged row: 3 fields, the header has 2 (column 3 is beyond the header)"),
-            std::string::npos)
+  EXPECT_NE(
+      long_row.find("'in.csv':2: ragged row: 3 fields, the header has 2 (column 3 is beyond the header)"),
+      std::string::npos)
       << long_row;
-  EXPECT_EQ(message_of("a,b\n1,\"2\n"),
-            "'in.csv':2: column 2 ('b'): unterminated quoted field (no closing '\"' before the end of the file)");
+  EXPECT_EQ(
+      message_of("a,b\n1,\"2\n"),
+      "'in.csv':2: column 2 ('b'): unterminated quoted field (no closing '\"' before the end of the file)");
   // The line the quote opens on, after a record whose quoted field spans lines; in the header: no name.
-  EXPECT_EQ(message_of("a,b\n\"x\ny\",\"2\n\n"),
-            "'in.csv':3: column 2 ('b'): unterminated quoted field (no closing '\"' before the end of the file)");
+  EXPECT_EQ(
+      message_of("a,b\n\"x\ny\",\"2\n\n"),
+      "'in.csv':3: column 2 ('b'): unterminated quoted field (no closing '\"' before the end of the file)");
   EXPECT_EQ(message_of("a,\"b\n1,2\n"),
             "'in.csv':1: column 2: unterminated quoted field (no closing '\"' before the end of the file)");
   const CsvTable t = parse_csv("ax,ay\n1,2\n3,oops\n", "in.csv");
@@ -122,7 +124,8 @@ TEST(Csv, AHugeFieldIsQuotedShortInMessages) {
     FAIL();
   } catch (const FormatError& e) {
     const std::string m = e.what();
-    EXPECT_EQ(m, "'in.csv':2: column 'ay': '" + std::string(kQuotedBytes, 'x') + "...' (10000000 bytes) is not a number");
+    EXPECT_EQ(m, "'in.csv':2: column 'ay': '" + std::string(kQuotedBytes, 'x') +
+                     "...' (10000000 bytes) is not a number");
   }
   EXPECT_EQ(quote_text("short"), "'short'");
   EXPECT_EQ(quote_text(std::string(kQuotedBytes, 'y')), "'" + std::string(kQuotedBytes, 'y') + "'");
@@ -138,10 +141,20 @@ TEST(Csv, AHugeFieldIsQuotedShortInMessages) {
 }
 
 TEST(Csv, OtherEncodingsAndLineEndsAreNamed) {
-  EXPECT_NE(message_of(std::string("\xFF\xFE" "a\0,\0b\0\n\0", 10)).find("UTF-16 (little-endian)"), std::string::npos);
-  EXPECT_NE(message_of(std::string("\xFE\xFF\0a\0,\0b\0\n", 10)).find("UTF-16 (big-endian)"), std::string::npos);
-  EXPECT_NE(message_of(std::string("\xFF\xFE\0\0a\0\0\0", 8)).find("UTF-32 (little-endian)"), std::string::npos);
-  const std::string no_mark = message_of(std::string("a\0,\0b\0\n\0" "1\0,\0" "2\0\n\0", 16));
+  EXPECT_NE(message_of(std::string("\xFF\xFE"
+                                   "a\0,\0b\0\n\0",
+                                   10))
+                .find("UTF-16 (little-endian)"),
+            std::string::npos);
+  EXPECT_NE(message_of(std::string("\xFE\xFF\0a\0,\0b\0\n", 10)).find("UTF-16 (big-endian)"),
+            std::string::npos);
+  EXPECT_NE(message_of(std::string("\xFF\xFE\0\0a\0\0\0", 8)).find("UTF-32 (little-endian)"),
+            std::string::npos);
+  const std::string no_mark =
+      message_of(std::string("a\0,\0b\0\n\0"
+                             "1\0,\0"
+                             "2\0\n\0",
+                             16));
   EXPECT_NE(no_mark.find("'in.csv':1: the header holds NUL bytes: UTF-16 text without a byte-order mark"),
             std::string::npos)
       << no_mark;
@@ -167,7 +180,8 @@ TEST(Csv, StreamingAFileEqualsParsingItWhole) {
     for (char& c : note) c = "ab,\"\n x"[rng() % 8];
     std::string quoted = "\"";
     for (char c : note) quoted += c == '"' ? std::string("\"\"") : std::string(1, c);
-    text += std::to_string(i) + "," + std::to_string(i * 0.5) + "," + quoted + "\"" + (i % 3 == 0 ? "\r\n" : "\n");
+    text += std::to_string(i) + "," + std::to_string(i * 0.5) + "," + quoted + "\"" +
+            (i % 3 == 0 ? "\r\n" : "\n");
   }
   ASSERT_GT(text.size(), 3u << 20);
   const auto path = testing::test_output_dir("test-io") / "stream.csv";
@@ -201,7 +215,8 @@ TEST(Csv, ALateErrorInAStreamedFileLeavesNoOutput) {
         nullptr, 7);
     FAIL() << "the bad field was not reported";
   } catch (const FormatError& e) {
-    EXPECT_EQ(std::string(e.what()), "'" + (dir / "in.csv").string() + "':102: column 'sy': 'oops' is not a number");
+    EXPECT_EQ(std::string(e.what()),
+              "'" + (dir / "in.csv").string() + "':102: column 'sy': 'oops' is not a number");
   }
   EXPECT_EQ(chunks, 14u);  // 98 good rows in chunks of 7 were computed and written before the error
   std::vector<std::string> left;
@@ -216,13 +231,14 @@ TEST(Csv, StreamedOutputEqualsTheRowsComputed) {
   std::filesystem::create_directories(dir);
   std::string text = "id,ax,ay,az,bx,by,bz,cx,cy,cz,dx,dy,dz,sx,sy,sz,x,note\n";
   for (int i = 0; i < 50; ++i) {
-    text += std::to_string(i) + ",0,0,0,1,0,0,1,1,0,0,1,0,0.3," + std::to_string(i) + ",0.1,old,\"a, \"\"b\"\"\"\n";
+    text += std::to_string(i) + ",0,0,0,1,0,0,1,1,0,0,1,0,0.3," + std::to_string(i) +
+            ",0.1,old,\"a, \"\"b\"\"\"\n";
   }
   std::ofstream(dir / "in.csv") << text;
   std::string expected = "id,ax,ay,az,bx,by,bz,cx,cy,cz,dx,dy,dz,sx,sy,sz,note,x\n";
   for (int i = 0; i < 50; ++i) {
-    expected += std::to_string(i) + ",0,0,0,1,0,0,1,1,0,0,1,0,0.3," + std::to_string(i) + ",0.1,\"a, \"\"b\"\"\"," +
-                std::to_string(i) + "\n";
+    expected += std::to_string(i) + ",0,0,0,1,0,0,1,1,0,0,1,0,0.3," + std::to_string(i) +
+                ",0.1,\"a, \"\"b\"\"\"," + std::to_string(i) + "\n";
   }
   for (const std::size_t chunk_rows : {std::size_t{1}, std::size_t{7}, std::size_t{50}, kRawChunkRows}) {
     std::vector<std::string> replaced;
@@ -280,7 +296,8 @@ TEST(RawConfigurations, AHeaderAloneIsNoRowsWhereRowsMayBeNoneAndAnErrorElsewher
   } catch (const FormatError& e) {
     EXPECT_EQ(std::string(e.what()), "'pairs.csv': header only: expected at least one data row");
   }
-  EXPECT_THROW(RawConfigurationReader("", "pairs.csv", SurfaceKind::kBilinear, DataRows::kMayBeNone), FormatError);
+  EXPECT_THROW(RawConfigurationReader("", "pairs.csv", SurfaceKind::kBilinear, DataRows::kMayBeNone),
+               FormatError);
   // The columns are still checked.
   EXPECT_THROW(RawConfigurationReader("ax,ay\n", "pairs.csv", SurfaceKind::kBilinear, DataRows::kMayBeNone),
                FormatError);

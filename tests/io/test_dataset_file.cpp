@@ -1,5 +1,3 @@
-#include "io/dataset_file.hpp"
-
 #include <gtest/gtest.h>
 
 #include <fstream>
@@ -7,6 +5,7 @@
 #include <string>
 
 #include "core/error.hpp"
+#include "io/dataset_file.hpp"
 #include "io/hdf5_file.hpp"
 #include "test_support.hpp"
 
@@ -19,7 +18,8 @@ dataset::LabelledSet small_set() {
   dataset::LabelledSet set;
   set.resize(5, SurfaceKind::kBilinear);
   for (Eigen::Index i = 0; i < 5; ++i) {
-    for (Eigen::Index f = 0; f < 8; ++f) set.features(i, f) = 0.1 * static_cast<double>(i) - 0.01 * static_cast<double>(f);
+    for (Eigen::Index f = 0; f < 8; ++f)
+      set.features(i, f) = 0.1 * static_cast<double>(i) - 0.01 * static_cast<double>(f);
     set.labels(i, 0) = -0.5 + 0.1 * static_cast<double>(i);
     set.labels(i, 1) = 0.3 / (1.0 + static_cast<double>(i));
     set.gap[i] = 0.01 * static_cast<double>(i);
@@ -62,7 +62,8 @@ TEST(DatasetFile, SameContentGivesTheSameBytes) {
   write_dataset(a, small_set());
   write_dataset(b, small_set());
   std::ifstream fa(a, std::ios::binary), fb(b, std::ios::binary);
-  const std::string sa((std::istreambuf_iterator<char>(fa)), {}), sb((std::istreambuf_iterator<char>(fb)), {});
+  const std::string sa((std::istreambuf_iterator<char>(fa)), {}),
+      sb((std::istreambuf_iterator<char>(fb)), {});
   EXPECT_EQ(sa, sb);
 }
 
@@ -166,7 +167,9 @@ TEST(DatasetFile, AWriteThatFailsLeavesNoFileBehind) {
   EXPECT_THROW(write_dataset(path, set), FormatError);
   EXPECT_FALSE(std::filesystem::exists(path));
   for (const auto& entry : std::filesystem::directory_iterator(temp_dir())) {
-    EXPECT_EQ(entry.path().extension() == ".tmp" && entry.path().string().find("never.h5") != std::string::npos, false);
+    EXPECT_EQ(
+        entry.path().extension() == ".tmp" && entry.path().string().find("never.h5") != std::string::npos,
+        false);
   }
 }
 

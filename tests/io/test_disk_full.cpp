@@ -118,7 +118,8 @@ TEST(DiskFull, ANetworkOrCheckpointWriteFailsCleanlyAtEveryPoint) {
   mlp::TrainingState<float> state;
   state.velocity.assign(net.parameter_count(), 0.0f);
   state.best_parameters.assign(net.parameter_count(), 0.0f);
-  sweep(dir / "net.h5.checkpoint.h5", [&] { write_network(dir / "net.h5.checkpoint.h5", net, domain, {}, &state); });
+  sweep(dir / "net.h5.checkpoint.h5",
+        [&] { write_network(dir / "net.h5.checkpoint.h5", net, domain, {}, &state); });
 }
 
 }  // namespace

@@ -1,12 +1,11 @@
 // io::same_file and io::require_distinct (issue 12, case 4): an output is the same file as an input whatever
 // the spelling (./x, a symbolic link, a hard link), and the refusal names both options.
-#include "io/file_identity.hpp"
-
 #include <gtest/gtest.h>
 
 #include <fstream>
 
 #include "core/error.hpp"
+#include "io/file_identity.hpp"
 #include "test_support.hpp"
 
 namespace contactnn::io {
@@ -56,7 +55,8 @@ TEST(FileIdentity, AnOutputThatIsAnInputIsRefusedNamingBothOptions) {
     EXPECT_NE(m.find("--data '" + (dir / "data.h5").string() + "'"), std::string::npos) << m;
     EXPECT_NE(m.find("refusing to overwrite an input"), std::string::npos) << m;
   }
-  EXPECT_THROW(require_distinct({{"--output", dir / "new.h5"}, {"--export-header", dir / "sub" / ".." / "new.h5"}}, {}),
+  EXPECT_THROW(require_distinct(
+                   {{"--output", dir / "new.h5"}, {"--export-header", dir / "sub" / ".." / "new.h5"}}, {}),
                InvalidArgument);
   EXPECT_NO_THROW(require_distinct({{"--output", dir / "new.h5"}, {"--export-header", ""}},
                                    {{"--data", dir / "data.h5"}}));

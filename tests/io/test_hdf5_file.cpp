@@ -3,8 +3,6 @@
 // features, int64 status and iterations, chunked and gzip-compressed datasets, numpy booleans) reads to the
 // same values; what is ambiguous is an error naming both sides; a network file whose real_type or activation
 // is not supported, and a checkpoint with a non-finite momentum term, are refused as such.
-#include "io/hdf5_file.hpp"
-
 #include <gtest/gtest.h>
 #include <hdf5.h>
 
@@ -16,6 +14,7 @@
 
 #include "core/error.hpp"
 #include "io/dataset_file.hpp"
+#include "io/hdf5_file.hpp"
 #include "io/network_file.hpp"
 #include "mlp/trainer.hpp"
 #include "test_support.hpp"
@@ -95,7 +94,8 @@ struct H5pyDataset {
 
   H5pyDataset() {
     for (hsize_t i = 0; i < n; ++i) {
-      for (int f = 0; f < 8; ++f) features.push_back(static_cast<float>(i) * 0.125f - static_cast<float>(f) * 0.5f);
+      for (int f = 0; f < 8; ++f)
+        features.push_back(static_cast<float>(i) * 0.125f - static_cast<float>(f) * 0.5f);
       labels.push_back(-0.5f + 0.0625f * static_cast<float>(i));
       labels.push_back(0.25f);
       gap.push_back(0.03125f * static_cast<float>(i));
@@ -106,7 +106,8 @@ struct H5pyDataset {
   }
 
   /// Writes the file; `spoil` may replace one member by another type or layout.
-  void write(const fs::path& path, const std::function<bool(hid_t, const std::string&)>& spoil = nullptr) const {
+  void write(const fs::path& path,
+             const std::function<bool(hid_t, const std::string&)>& spoil = nullptr) const {
     const Id file{H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose};
     ASSERT_GE(file.id, 0);
     const auto member = [&](const std::string& name, auto&& write) {
@@ -126,7 +127,8 @@ struct H5pyDataset {
     member("iterations", [&] {
       dataset(file.id, "iterations", H5T_STD_I64LE, H5T_NATIVE_INT64, {n}, iterations.data(), true);
     });
-    member("status", [&] { dataset(file.id, "status", H5T_STD_I64LE, H5T_NATIVE_INT64, {n}, status.data(), false); });
+    member("status",
+           [&] { dataset(file.id, "status", H5T_STD_I64LE, H5T_NATIVE_INT64, {n}, status.data(), false); });
     dataset(file.id, "scale", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, {n}, scale.data(), true);
     const Id group{H5Gcreate2(file.id, "domain", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose};
     const std::uint8_t nothing = 0;
@@ -256,21 +258,22 @@ std::size_t copy_filter(unsigned, std::size_t, const unsigned[], std::size_t nby
 
 TEST(Hdf5File, AFilterThisLibraryLacksIsNamed) {
   constexpr H5Z_filter_t kFilter = 307;
-  const H5Z_class2_t filter_class = {H5Z_CLASS_T_VERS, kFilter, 1, 1, "test-only copy filter", nullptr, nullptr,
-                                     copy_filter};
+  const H5Z_class2_t filter_class = {H5Z_CLASS_T_VERS,        kFilter, 1,       1,
+                                     "test-only copy filter", nullptr, nullptr, copy_filter};
   ASSERT_GE(H5Zregister(&filter_class), 0);
   const H5pyDataset h5py;
   const fs::path path = temp_dir() / "foreign-filter.h5";
   h5py.write(path, [&](hid_t file, const std::string& name) {
     if (name != "features") return false;
-    dataset(file, "features", H5T_IEEE_F32LE, H5T_NATIVE_FLOAT, {H5pyDataset::n, 8}, h5py.features.data(), false,
-            kFilter);
+    dataset(file, "features", H5T_IEEE_F32LE, H5T_NATIVE_FLOAT, {H5pyDataset::n, 8}, h5py.features.data(),
+            false, kFilter);
     return true;
   });
   ASSERT_NO_THROW((void)read_dataset(path));  // readable while the filter exists
   ASSERT_GE(H5Zunregister(kFilter), 0);
   const std::string e = read_error(path);
-  EXPECT_NE(e.find("'features' is stored with HDF5 filter 307 ('test-only copy filter')"), std::string::npos) << e;
+  EXPECT_NE(e.find("'features' is stored with HDF5 filter 307 ('test-only copy filter')"), std::string::npos)
+      << e;
 }
 
 // ---------------------------------------------------------------------------------------------------------
@@ -357,7 +360,8 @@ TEST(NetworkFileChecks, ACheckpointWithANonFiniteMomentumIsCorruptNotADivergence
     FAIL() << "a NaN momentum term was accepted";
   } catch (const FormatError& e) {
     const std::string m = e.what();
-    EXPECT_NE(m.find("checkpoint/velocity element 5 is nan: the checkpoint is corrupt"), std::string::npos) << m;
+    EXPECT_NE(m.find("checkpoint/velocity element 5 is nan: the checkpoint is corrupt"), std::string::npos)
+        << m;
     EXPECT_EQ(m.find("learning"), std::string::npos) << m;
   }
 }

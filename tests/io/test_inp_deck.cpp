@@ -31,14 +31,14 @@ fs::path write(const fs::path& path, const std::string& text) {
 const std::string kNodes =
     "*NODE, NSET=NALL\n"
     "1, 0, 0, 0\n2, 1, 0, 0\n3, 1, 1, 0\n4, 0, 1, 0\n5, 0, 0, 1\n6, 1, 0, 1\n7, 1, 1, 1\n8, 0, 1, 1\n"
-    "11, 0, 0, 1.1\n12, 1, 0, 1.1\n13, 1, 1, 1.1\n14, 0, 1, 1.1\n15, 0, 0, 2.1\n16, 1, 0, 2.1\n17, 1, 1, 2.1\n"
+    "11, 0, 0, 1.1\n12, 1, 0, 1.1\n13, 1, 1, 1.1\n14, 0, 1, 1.1\n15, 0, 0, 2.1\n16, 1, 0, 2.1\n17, 1, 1, "
+    "2.1\n"
     "18, 0, 1, 2.1\n";
 const std::string kElements =
     "*ELEMENT, TYPE=C3D8, ELSET=LOWER\n1, 1, 2, 3, 4, 5, 6, 7, 8\n"
     "*ELEMENT, TYPE=C3D8R, ELSET=UPPER\n2, 11, 12, 13, 14, 15, 16, 17, 18\n";
 // The lower cube's top is S2 (5-8-7-6), the upper cube's bottom S1 (1-2-3-4).
-const std::string kSurfaces =
-    "*SURFACE, NAME=STOP\nLOWER, S2\n*SURFACE, NAME=SBOTTOM, TYPE=ELEMENT\n2, S1\n";
+const std::string kSurfaces = "*SURFACE, NAME=STOP\nLOWER, S2\n*SURFACE, NAME=SBOTTOM, TYPE=ELEMENT\n2, S1\n";
 
 mesh::ContactModel read_text(const std::string& name, const std::string& text) {
   return read_inp_deck(write(dir() / name, text));
@@ -55,11 +55,14 @@ std::string error_of(const std::string& name, const std::string& text) {
   return "";
 }
 
-std::string location(const std::string& name, int line) { return "'" + (dir() / name).string() + "':" + std::to_string(line) + ":"; }
+std::string location(const std::string& name, int line) {
+  return "'" + (dir() / name).string() + "':" + std::to_string(line) + ":";
+}
 
 TEST(InpDeck, ReadsNodesElementsSurfacesAndPairs) {
-  const auto model = read_text("basic.inp", "** a comment\n*HEADING\nanything, at all\n" + kNodes + kElements + kSurfaces +
-                                                "*CONTACT PAIR, INTERACTION=I\nSBOTTOM, STOP\n*STEP\n*STATIC\n1., 1.\n*END STEP\n");
+  const auto model = read_text(
+      "basic.inp", "** a comment\n*HEADING\nanything, at all\n" + kNodes + kElements + kSurfaces +
+                       "*CONTACT PAIR, INTERACTION=I\nSBOTTOM, STOP\n*STEP\n*STATIC\n1., 1.\n*END STEP\n");
   EXPECT_EQ(model.mesh.node_count(), 16);
   EXPECT_EQ(model.mesh.element_count(), 2);
   ASSERT_EQ(model.pairs.size(), 1u);
@@ -81,7 +84,8 @@ TEST(InpDeck, ReadsNodesElementsSurfacesAndPairs) {
 TEST(InpDeck, LexicalTrapsCaseCrlfTabsTrailingCommasBlankFieldsBomAndDExponents) {
   const std::string text =
       "\xEF\xBB\xBF** BOM, CRLF, tabs, trailing commas, lower case, blank coordinate, D exponent\r\n"
-      "*node,\tnset=nall\r\n1,\t0.,\t0.,\t0.,\r\n2, 1.0D+00, 0, 0\r\n3, 1, 1, \r\n4, 0, 1, 0\r\n5, 0, 0, 1\r\n"
+      "*node,\tnset=nall\r\n1,\t0.,\t0.,\t0.,\r\n2, 1.0D+00, 0, 0\r\n3, 1, 1, \r\n4, 0, 1, 0\r\n5, 0, 0, "
+      "1\r\n"
       "6, 1, 0, 1\r\n7, +1, 1, 1\r\n8, 0, 1, 1E0\r\n"
       "*Element, Type=c3d8i, Elset=Body\r\n1,\t1, 2, 3, 4, 5, 6, 7, 8,\r\n"
       "*Surface, name=Top\r\nbody, s2,\r\n*surface, type=NODE, name=pts\r\n  1,\r\n2\r\n"
@@ -100,18 +104,21 @@ TEST(InpDeck, LexicalTrapsCaseCrlfTabsTrailingCommasBlankFieldsBomAndDExponents)
 
 TEST(InpDeck, Calculix20NodeElementsSpanTwoLinesAndUseTheirCorners) {
   // Corners 1-8 a unit cube; the mid-side nodes 9-20 anywhere (never segment corners).
-  std::string text = "*NODE\n1, 0, 0, 0\n2, 1, 0, 0\n3, 1, 1, 0\n4, 0, 1, 0\n5, 0, 0, 1\n6, 1, 0, 1\n7, 1, 1, 1\n8, 0, 1, 1\n";
+  std::string text =
+      "*NODE\n1, 0, 0, 0\n2, 1, 0, 0\n3, 1, 1, 0\n4, 0, 1, 0\n5, 0, 0, 1\n6, 1, 0, 1\n7, 1, 1, 1\n8, 0, 1, "
+      "1\n";
   for (int i = 9; i <= 20; ++i) text += std::to_string(i) + ", 0.5, 0.5, " + std::to_string(0.01 * i) + "\n";
-  text += "*ELEMENT, TYPE=C3D20R\n"
-          "     1,     1,     2,     3,     4,     5,     6,     7,     8,     9,    10,\n"
-          "          11,    12,    13,    14,    15,    16,    17,    18,    19,    20\n"
-          "*SURFACE, NAME=S\n1, S2\n*SURFACE, NAME=N, TYPE=NODE\n9\n*CONTACT PAIR\nN, S\n";
+  text +=
+      "*ELEMENT, TYPE=C3D20R\n"
+      "     1,     1,     2,     3,     4,     5,     6,     7,     8,     9,    10,\n"
+      "          11,    12,    13,    14,    15,    16,    17,    18,    19,    20\n"
+      "*SURFACE, NAME=S\n1, S2\n*SURFACE, NAME=N, TYPE=NODE\n9\n*CONTACT PAIR\nN, S\n";
   const auto model = read_text("c3d20.inp", text);
   ASSERT_EQ(model.mesh.element_count(), 1);
   EXPECT_EQ(model.mesh.element_nodes(0).size(), 20u);
   const auto master = mesh::master_surface(model, 0);
-  // The face's corners are its segment; its mid-side nodes (edges 5-6, 6-7, 7-8, 8-5: nodes 13-16) are nodes of
-  // the surface too, for the surface search's 8-node face (SPEC 9).
+  // The face's corners are its segment; its mid-side nodes (edges 5-6, 6-7, 7-8, 8-5: nodes 13-16) are nodes
+  // of the surface too, for the surface search's 8-node face (SPEC 9).
   ASSERT_EQ(master.segments.size(), 1u);
   std::vector<long> corners;
   for (int n : master.segments[0]) corners.push_back(master.node_ids[static_cast<std::size_t>(n)]);
@@ -121,12 +128,13 @@ TEST(InpDeck, Calculix20NodeElementsSpanTwoLinesAndUseTheirCorners) {
 }
 
 TEST(InpDeck, GenerateAndSetsNamedInsideSets) {
-  const std::string text = kNodes + kElements +
-                           "*NSET, NSET=A, GENERATE\n11, 13\n*NSET, NSET=B\n14,\n*NSET, NSET=AB\na, B,\n"
-                           "*NSET, NSET=EVERY_OTHER, GENERATE\n1, 7, 2\n"
-                           "*ELSET, ELSET=E1, GENERATE\n1, 1, 1\n*ELSET, ELSET=ALL\nE1, upper\n"
-                           "*SURFACE, NAME=M\nALL, S2\n*SURFACE, NAME=SL, TYPE=NODE\nAB\n*CONTACT PAIR\nSL, M\n"
-                           "*SURFACE, NAME=ODD, TYPE=NODE\nEVERY_OTHER\n*CONTACT PAIR\nODD, M\n";
+  const std::string text =
+      kNodes + kElements +
+      "*NSET, NSET=A, GENERATE\n11, 13\n*NSET, NSET=B\n14,\n*NSET, NSET=AB\na, B,\n"
+      "*NSET, NSET=EVERY_OTHER, GENERATE\n1, 7, 2\n"
+      "*ELSET, ELSET=E1, GENERATE\n1, 1, 1\n*ELSET, ELSET=ALL\nE1, upper\n"
+      "*SURFACE, NAME=M\nALL, S2\n*SURFACE, NAME=SL, TYPE=NODE\nAB\n*CONTACT PAIR\nSL, M\n"
+      "*SURFACE, NAME=ODD, TYPE=NODE\nEVERY_OTHER\n*CONTACT PAIR\nODD, M\n";
   const auto model = read_text("sets.inp", text);
   const auto master = mesh::master_surface(model, 0);
   EXPECT_EQ(master.segments.size(), 2u);  // S2 of both cubes
@@ -162,23 +170,26 @@ TEST(InpDeck, NodeAndElementSurfacesOfOneNameAreKeptApartAndTheRoleIsThePosition
 }
 
 TEST(InpDeck, IncludesAreRelativeToTheIncludingFileAndContinueTheBlockBeforeThem) {
-  write(dir() / "inc" / "sub" / "more-nodes.inp", "11, 0, 0, 1.1\n12, 1, 0, 1.1\n13, 1, 1, 1.1\n14, 0, 1, 1.1\n");
+  write(dir() / "inc" / "sub" / "more-nodes.inp",
+        "11, 0, 0, 1.1\n12, 1, 0, 1.1\n13, 1, 1, 1.1\n14, 0, 1, 1.1\n");
   write(dir() / "inc" / "sub" / "nodes.inp",
         "*NODE\n1, 0, 0, 0\n2, 1, 0, 0\n3, 1, 1, 0\n4, 0, 1, 0\n5, 0, 0, 1\n6, 1, 0, 1\n7, 1, 1, 1\n"
         "8, 0, 1, 1\n*INCLUDE, INPUT=more-nodes.inp\n15, 0, 0, 2.1\n");
-  const auto model = read_inp_deck(write(dir() / "inc" / "main.inp",
-                                         "*INCLUDE, INPUT=sub/nodes.inp\n16, 1, 0, 2.1\n17, 1, 1, 2.1\n18, 0, 1, 2.1\n" +
-                                             kElements + kSurfaces + "*CONTACT PAIR\nSBOTTOM, STOP\n"));
+  const auto model =
+      read_inp_deck(write(dir() / "inc" / "main.inp",
+                          "*INCLUDE, INPUT=sub/nodes.inp\n16, 1, 0, 2.1\n17, 1, 1, 2.1\n18, 0, 1, 2.1\n" +
+                              kElements + kSurfaces + "*CONTACT PAIR\nSBOTTOM, STOP\n"));
   EXPECT_EQ(model.mesh.node_count(), 16);
   EXPECT_EQ(model.mesh.position(model.mesh.find_node(18)), Vec3(0, 1, 2.1));
   EXPECT_EQ(mesh::master_surface(model, 0).segments.size(), 1u);
 }
 
 TEST(InpDeck, WedgeAndTetrahedronFacesAreSkippedAndCounted) {
-  const std::string text = kNodes + kElements +
-                           "*ELEMENT, TYPE=C3D6, ELSET=W\n3, 1, 2, 3, 5, 6, 7\n*ELEMENT, TYPE=C3D4\n4, 1, 2, 3, 5\n"
-                           "*SURFACE, NAME=M\nLOWER, S2\nW, S2\nW, S3\n4, S1\n*SURFACE, NAME=SL\nUPPER, S1\n"
-                           "*CONTACT PAIR\nSL, M\n";
+  const std::string text =
+      kNodes + kElements +
+      "*ELEMENT, TYPE=C3D6, ELSET=W\n3, 1, 2, 3, 5, 6, 7\n*ELEMENT, TYPE=C3D4\n4, 1, 2, 3, 5\n"
+      "*SURFACE, NAME=M\nLOWER, S2\nW, S2\nW, S3\n4, S1\n*SURFACE, NAME=SL\nUPPER, S1\n"
+      "*CONTACT PAIR\nSL, M\n";
   const auto model = read_text("wedge.inp", text);
   const auto master = mesh::master_surface(model, 0);
   EXPECT_EQ(master.segments.size(), 1u);
@@ -188,14 +199,16 @@ TEST(InpDeck, WedgeAndTetrahedronFacesAreSkippedAndCounted) {
 }
 
 TEST(InpDeck, RepeatedSetsAndSurfacesAddUp) {
-  const std::string text = kNodes + kElements + "*ELSET, ELSET=E\n1\n*ELSET, ELSET=E\n2\n*SURFACE, NAME=M\n1, S2\n"
-                                                "*SURFACE, NAME=M\n2, S2\n*SURFACE, NAME=SL, TYPE=NODE\n3\n*CONTACT PAIR\nSL, M\n";
+  const std::string text = kNodes + kElements +
+                           "*ELSET, ELSET=E\n1\n*ELSET, ELSET=E\n2\n*SURFACE, NAME=M\n1, S2\n"
+                           "*SURFACE, NAME=M\n2, S2\n*SURFACE, NAME=SL, TYPE=NODE\n3\n*CONTACT PAIR\nSL, M\n";
   const auto model = read_text("repeat.inp", text);
   EXPECT_EQ(mesh::master_surface(model, 0).segments.size(), 2u);
 }
 
 TEST(InpDeck, PairIndexOutOfRangeIsAUsageError) {
-  const auto model = read_text("pairs.inp", kNodes + kElements + kSurfaces + "*CONTACT PAIR\nSBOTTOM, STOP\n");
+  const auto model =
+      read_text("pairs.inp", kNodes + kElements + kSurfaces + "*CONTACT PAIR\nSBOTTOM, STOP\n");
   try {
     (void)mesh::contact_pair(model, 1);
     FAIL() << "no exception";
@@ -205,8 +218,9 @@ TEST(InpDeck, PairIndexOutOfRangeIsAUsageError) {
 }
 
 TEST(InpDeck, ANodeSurfaceAsMasterIsRefusedWhenThePairIsUsed) {
-  const auto model = read_text("node-master.inp", kNodes + kElements + "*SURFACE, NAME=N, TYPE=NODE\n1\n*SURFACE, NAME=M\n"
-                                                                         "LOWER, S2\n*CONTACT PAIR\nM, N\n");
+  const auto model = read_text("node-master.inp", kNodes + kElements +
+                                                      "*SURFACE, NAME=N, TYPE=NODE\n1\n*SURFACE, NAME=M\n"
+                                                      "LOWER, S2\n*CONTACT PAIR\nM, N\n");
   try {
     (void)mesh::master_surface(model, 0);
     FAIL() << "no exception";
@@ -230,41 +244,59 @@ TEST(InpDeck, EveryMalformedDeckNamesFileAndLine) {
   const std::vector<BadDeck> cases = {
       {"unknown-elset.inp", head + "*SURFACE, NAME=M\nNOSUCH, S2\n", 23, "unknown element set 'NOSUCH'"},
       {"unknown-nset.inp", head + "*NSET, NSET=A\n1, NOSUCH\n", 23, "field 2: unknown node set 'NOSUCH'"},
-      {"unknown-surface.inp", head + kSurfaces + "*CONTACT PAIR\nSBOTTOM, NOSUCH\n", 27, "unknown master surface 'NOSUCH'"},
+      {"unknown-surface.inp", head + kSurfaces + "*CONTACT PAIR\nSBOTTOM, NOSUCH\n", 27,
+       "unknown master surface 'NOSUCH'"},
       {"undefined-node.inp", kNodes + "*ELEMENT, TYPE=C3D8\n1, 1, 2, 3, 4, 5, 6, 7, 99\n", 19,
        "node 99 (node 8 of the element) is not defined"},
       {"bad-number.inp", "*NODE\n1, 0, 0, 0\n2, 1, 0x, 0\n", 3, "field 3: '0x' is not a finite number"},
       {"nan-coordinate.inp", "*NODE\n1, 0, nan, 0\n", 2, "'nan' is not a finite number"},
       {"bad-id.inp", "*NODE\n1a, 0, 0, 0\n", 2, "field 1: '1a' is not a node id"},
       {"bad-face-label.inp", head + "*SURFACE, NAME=M\nLOWER, X2\n", 23, "field 2: 'X2' is not a face label"},
-      {"face-out-of-range.inp", head + "*SURFACE, NAME=M\nLOWER, S7\n", 23, "faces are S1..S6; the face label says S7"},
+      {"face-out-of-range.inp", head + "*SURFACE, NAME=M\nLOWER, S7\n", 23,
+       "faces are S1..S6; the face label says S7"},
       {"missing-face.inp", head + "*SURFACE, NAME=M\nLOWER\n", 23, "needs a face label"},
       {"duplicate-node.inp", "*NODE\n1, 0, 0, 0\n1, 0, 0, 0\n*NODE\n1, 0, 0, 1\n", 5,
        "node 1 is defined again with other coordinates (first at"},
-      {"duplicate-element.inp", head + "*ELEMENT, TYPE=C3D8\n1, 1, 2, 3, 4, 5, 6, 7, 18\n", 23, "element 1 is defined again differently"},
+      {"duplicate-element.inp", head + "*ELEMENT, TYPE=C3D8\n1, 1, 2, 3, 4, 5, 6, 7, 18\n", 23,
+       "element 1 is defined again differently"},
       {"missing-type.inp", kNodes + "*ELEMENT\n1, 1, 2, 3, 4, 5, 6, 7, 8\n", 18, "missing TYPE="},
       {"missing-name.inp", head + "*SURFACE\nLOWER, S2\n", 22, "missing NAME="},
       {"short-element.inp", kNodes + "*ELEMENT, TYPE=C3D8\n1, 1, 2, 3, 4, 5, 6, 7\n*NSET, NSET=X\n1\n", 19,
        "has 7 node ids before the next keyword, expected 8"},
-      {"long-element.inp", kNodes + "*ELEMENT, TYPE=C3D8\n1, 1, 2, 3, 4, 5, 6, 7, 8, 11\n", 19, "has 9 node ids, expected 8"},
+      {"long-element.inp", kNodes + "*ELEMENT, TYPE=C3D8\n1, 1, 2, 3, 4, 5, 6, 7, 8, 11\n", 19,
+       "has 9 node ids, expected 8"},
       // The keyword named as the deck spells it, upper case (not its compared form, "*CONTACTPAIR").
-      {"pair-fields.inp", head + kSurfaces + "*Contact   Pair\nSBOTTOM\n", 27, "*CONTACT PAIR: expected 'slave surface, master surface'"},
+      {"pair-fields.inp", head + kSurfaces + "*Contact   Pair\nSBOTTOM\n", 27,
+       "*CONTACT PAIR: expected 'slave surface, master surface'"},
       {"generate-range.inp", "*NSET, NSET=A, GENERATE\n10, 1\n", 2, "GENERATE range 10..1"},
       {"generate-fields.inp", "*NSET, NSET=A, GENERATE\n1\n", 2, "GENERATE needs 'first, last[, increment]'"},
       {"cylindrical-nodes.inp", "*NODE, SYSTEM=C\n1, 1, 0, 0\n", 1, "SYSTEM='C' is not supported"},
-      {"cyclic-no-axis.inp", head + "*TIE, NAME=T, CYCLIC SYMMETRY\nSTOP, SBOTTOM\n" + "*CYCLIC SYMMETRY MODEL, N=4, TIE=T\n", 24, "no axis line"},
-      {"cyclic-bad-n.inp", head + "*TIE, NAME=T, CYCLIC SYMMETRY\nSTOP, SBOTTOM\n" + "*CYCLIC SYMMETRY MODEL, N=4x, TIE=T\n0, 0, 0, 1, 0, 0\n", 24,
-       "N='4x' is not a number of sectors"},
-      {"cyclic-unknown-tie.inp", head + "*TIE, NAME=T, CYCLIC SYMMETRY\nSTOP, SBOTTOM\n" + "*CYCLIC SYMMETRY MODEL, N=4, TIE=NOSUCH\n0, 0, 0, 1, 0, 0\n", 24,
-       "TIE='NOSUCH': no *TIE, CYCLIC SYMMETRY of that name"},
-      {"cyclic-axis-fields.inp", head + "*TIE, NAME=T, CYCLIC SYMMETRY\nSTOP, SBOTTOM\n" + "*CYCLIC SYMMETRY MODEL, N=4, TIE=T\n0, 0, 0, 1, 0\n", 25,
-       "expected the axis 'ax, ay, az, bx, by, bz', got 5 fields"},
-      {"cyclic-axis-point.inp", head + "*TIE, NAME=T, CYCLIC SYMMETRY\nSTOP, SBOTTOM\n" + "*CYCLIC SYMMETRY MODEL, N=4, TIE=T\n1, 2, 3, 1, 2, 3\n", 25,
-       "the axis points a and b coincide"},
+      {"cyclic-no-axis.inp",
+       head + "*TIE, NAME=T, CYCLIC SYMMETRY\nSTOP, SBOTTOM\n" + "*CYCLIC SYMMETRY MODEL, N=4, TIE=T\n", 24,
+       "no axis line"},
+      {"cyclic-bad-n.inp",
+       head + "*TIE, NAME=T, CYCLIC SYMMETRY\nSTOP, SBOTTOM\n" +
+           "*CYCLIC SYMMETRY MODEL, N=4x, TIE=T\n0, 0, 0, 1, 0, 0\n",
+       24, "N='4x' is not a number of sectors"},
+      {"cyclic-unknown-tie.inp",
+       head + "*TIE, NAME=T, CYCLIC SYMMETRY\nSTOP, SBOTTOM\n" +
+           "*CYCLIC SYMMETRY MODEL, N=4, TIE=NOSUCH\n0, 0, 0, 1, 0, 0\n",
+       24, "TIE='NOSUCH': no *TIE, CYCLIC SYMMETRY of that name"},
+      {"cyclic-axis-fields.inp",
+       head + "*TIE, NAME=T, CYCLIC SYMMETRY\nSTOP, SBOTTOM\n" +
+           "*CYCLIC SYMMETRY MODEL, N=4, TIE=T\n0, 0, 0, 1, 0\n",
+       25, "expected the axis 'ax, ay, az, bx, by, bz', got 5 fields"},
+      {"cyclic-axis-point.inp",
+       head + "*TIE, NAME=T, CYCLIC SYMMETRY\nSTOP, SBOTTOM\n" +
+           "*CYCLIC SYMMETRY MODEL, N=4, TIE=T\n1, 2, 3, 1, 2, 3\n",
+       25, "the axis points a and b coincide"},
       {"cyclic-tie-fields.inp", head + "*TIE, NAME=T, CYCLIC SYMMETRY\nSTOP\n", 23,
        "expected 'dependent surface, independent surface', got 1 fields"},
-      {"cyclic-which-tie.inp", head + "*TIE, NAME=T, CYCLIC SYMMETRY\nSTOP, SBOTTOM\n" + "*TIE, NAME=U, CYCLIC SYMMETRY\nSBOTTOM, STOP\n"
-       "*CYCLIC SYMMETRY MODEL, N=4\n0, 0, 0, 1, 0, 0\n", 26, "TIE= is needed: the deck has 2 *TIE, CYCLIC SYMMETRY cards"},
+      {"cyclic-which-tie.inp",
+       head + "*TIE, NAME=T, CYCLIC SYMMETRY\nSTOP, SBOTTOM\n" +
+           "*TIE, NAME=U, CYCLIC SYMMETRY\nSBOTTOM, STOP\n"
+           "*CYCLIC SYMMETRY MODEL, N=4\n0, 0, 0, 1, 0, 0\n",
+       26, "TIE= is needed: the deck has 2 *TIE, CYCLIC SYMMETRY cards"},
   };
   for (const BadDeck& c : cases) {
     const std::string message = error_of<FormatError>(c.name, c.text);
@@ -313,13 +345,17 @@ TEST(InpDeck, ADeckOrIncludeThatIsNotARegularFileIsRefused) {
   // for a writer: each is refused as what it is, naming the including line.
   fs::create_directories(dir() / "kinds" / "sub");
   const auto include = [&](const std::string& name, const std::string& input) {
-    return format_error_of(write(dir() / "kinds" / name, "*NODE\n1, 0, 0, 0\n*INCLUDE, INPUT=" + input + "\n"));
+    return format_error_of(
+        write(dir() / "kinds" / name, "*NODE\n1, 0, 0, 0\n*INCLUDE, INPUT=" + input + "\n"));
   };
   std::string m = include("directory.inp", "sub");
-  EXPECT_NE(m.find("'" + (dir() / "kinds" / "directory.inp").string() + "':3: *INCLUDE"), std::string::npos) << m;
+  EXPECT_NE(m.find("'" + (dir() / "kinds" / "directory.inp").string() + "':3: *INCLUDE"), std::string::npos)
+      << m;
   EXPECT_NE(m.find("is a directory, not a regular file"), std::string::npos) << m;
   m = include("zero.inp", "/dev/zero");
-  EXPECT_NE(m.find("zero.inp':3: *INCLUDE: INPUT='/dev/zero' (/dev/zero) is a character device"), std::string::npos) << m;
+  EXPECT_NE(m.find("zero.inp':3: *INCLUDE: INPUT='/dev/zero' (/dev/zero) is a character device"),
+            std::string::npos)
+      << m;
   m = include("null.inp", "/dev/null");
   EXPECT_NE(m.find("is a character device, not a regular file"), std::string::npos) << m;
   m = format_error_of("/dev/zero");
@@ -340,15 +376,17 @@ TEST(InpDeck, ALineLongerThanAnyDeckNeedsIsAnErrorNamingFileAndLine) {
   // 10 MB on one line (no line end at all): refused at 64 KiB, with the file and the line, not read whole.
   const std::string head = "*NODE\n1, 0, 0, 0\n";
   EXPECT_EQ(error_of<FormatError>("long-line.inp", head + "2, 0, " + std::string(10'000'000, '7') + "\n"),
-            location("long-line.inp", 3) + " the line is longer than 65536 bytes (Abaqus reads 256 characters a "
-                                           "line): not an input deck");
-  EXPECT_NE(error_of<FormatError>("no-line-end.inp", head + std::string(100'000, 'x')).find(location("no-line-end.inp", 3)),
+            location("long-line.inp", 3) +
+                " the line is longer than 65536 bytes (Abaqus reads 256 characters a "
+                "line): not an input deck");
+  EXPECT_NE(error_of<FormatError>("no-line-end.inp", head + std::string(100'000, 'x'))
+                .find(location("no-line-end.inp", 3)),
             std::string::npos);
   // A line just within the limit is read (and its field quoted short in the message).
   const std::string field(65'536 - 9, '5');
   const std::string m = error_of<FormatError>("within.inp", head + "2, 0, 0, " + field + "\n");
-  EXPECT_EQ(m, location("within.inp", 3) + " *NODE: node 2: field 4: '" + std::string(kQuotedBytes, '5') + "...' (" +
-                   std::to_string(field.size()) + " bytes) is not a finite number");
+  EXPECT_EQ(m, location("within.inp", 3) + " *NODE: node 2: field 4: '" + std::string(kQuotedBytes, '5') +
+                   "...' (" + std::to_string(field.size()) + " bytes) is not a finite number");
 }
 
 TEST(InpDeck, TextThatIsNotADeckIsNamedByItsEncodingOrLineEnds) {
@@ -376,11 +414,14 @@ TEST(InpDeck, TextThatIsNotADeckIsNamedByItsEncodingOrLineEnds) {
       {"utf16le.inp", utf16le, 1, "the file is UTF-16 (little-endian) text (by its byte-order mark)"},
       {"utf16be.inp", utf16be, 1, "the file is UTF-16 (big-endian) text (by its byte-order mark)"},
       {"utf32le.inp", utf32le, 1, "the file is UTF-32 (little-endian) text (by its byte-order mark)"},
-      {"bare-utf16.inp", bare16, 1, "column 2: a NUL byte: UTF-16 or UTF-32 text without a byte-order mark, or a binary file"},
-      {"cr-only.inp", cr_only, 1, "column 6: a carriage return without a line feed (a file with CR-only line ends?)"},
+      {"bare-utf16.inp", bare16, 1,
+       "column 2: a NUL byte: UTF-16 or UTF-32 text without a byte-order mark, or a binary file"},
+      {"cr-only.inp", cr_only, 1,
+       "column 6: a carriage return without a line feed (a file with CR-only line ends?)"},
       {"long-cr-only.inp", "*NODE\n" + long_cr_only, 2, "column 11: a carriage return without a line feed"},
       {"binary.inp", binary, 2, "column 1: control character 0x1A: a binary file, not a deck"},
-      {"nul-later.inp", "*NODE\n1, 0, 0, 0\n2, 0," + std::string(1, '\0') + " 0, 0\n", 3, "column 6: a NUL byte"},
+      {"nul-later.inp", "*NODE\n1, 0, 0, 0\n2, 0," + std::string(1, '\0') + " 0, 0\n", 3,
+       "column 6: a NUL byte"},
   };
   for (const Case& c : cases) {
     const std::string m = error_of<FormatError>(c.name, c.text);
@@ -388,13 +429,17 @@ TEST(InpDeck, TextThatIsNotADeckIsNamedByItsEncodingOrLineEnds) {
     EXPECT_NE(m.find(c.says), std::string::npos) << c.name << ": " << m;
   }
   // CRLF, tabs and a UTF-8 byte-order mark on an included file are still text.
-  write(dir() / "text-inc" / "nodes.inp", "\xEF\xBB\xBF" "2,\t1, 0, 0\r\n** comment\r\n");
-  const auto model = read_inp_deck(write(dir() / "text-inc" / "main.inp", "*NODE\r\n1, 0, 0, 0\r\n*INCLUDE, INPUT=nodes.inp\r\n"));
+  write(dir() / "text-inc" / "nodes.inp",
+        "\xEF\xBB\xBF"
+        "2,\t1, 0, 0\r\n** comment\r\n");
+  const auto model = read_inp_deck(
+      write(dir() / "text-inc" / "main.inp", "*NODE\r\n1, 0, 0, 0\r\n*INCLUDE, INPUT=nodes.inp\r\n"));
   EXPECT_EQ(model.mesh.node_count(), 2);
 }
 
 TEST(InpDeck, UserTextIsQuotedShortInMessages) {
-  // Issue: a 10 MB field was copied whole into the message (the CSV reader quoted short, the deck reader not).
+  // Issue: a 10 MB field was copied whole into the message (the CSV reader quoted short, the deck reader
+  // not).
   const std::string big(60'000, 'q');
   const std::string head = kNodes + kElements;  // 21 lines
   const std::string shown = "'" + std::string(kQuotedBytes, 'q') + "...' (60000 bytes)";
@@ -402,7 +447,8 @@ TEST(InpDeck, UserTextIsQuotedShortInMessages) {
       {"big-id.inp", "*NODE\n" + big + ", 0, 0, 0\n", 2, "field 1: "},
       {"big-set.inp", head + "*NSET, NSET=A\n1, " + big + "\n", 23, "unknown node set "},
       {"big-face.inp", head + "*SURFACE, NAME=M\nLOWER, " + big + "\n", 23, "field 2: "},
-      {"big-surface.inp", head + kSurfaces + "*CONTACT PAIR\nSBOTTOM, " + big + "\n", 27, "unknown master surface "},
+      {"big-surface.inp", head + kSurfaces + "*CONTACT PAIR\nSBOTTOM, " + big + "\n", 27,
+       "unknown master surface "},
       {"big-system.inp", "*NODE, SYSTEM=" + big + "\n", 1, "SYSTEM="},
   };
   for (const BadDeck& c : cases) {

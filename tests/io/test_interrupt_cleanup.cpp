@@ -1,8 +1,6 @@
 // io::install_interrupt_cleanup (issue 12): a signal removes every registered temporary and ends the process
 // with 128 + signal; DeferInterrupts holds it back until a group of renames is done. Each case runs in a
 // forked child, the one place a test may take a signal and exit.
-#include "io/interrupt_cleanup.hpp"
-
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -14,6 +12,7 @@
 
 #include "io/atomic_output.hpp"
 #include "io/csv.hpp"
+#include "io/interrupt_cleanup.hpp"
 #include "test_support.hpp"
 
 namespace contactnn::io {

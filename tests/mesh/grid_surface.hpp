@@ -13,7 +13,8 @@ namespace contactnn::testing {
 
 /// Node (i, j) at point(i, j), index i + (nx + 1) j, id that + 1; segment (i, j) = nodes (i, j), (i+1, j),
 /// (i+1, j+1), (i, j+1).
-inline mesh::SurfaceMesh grid_surface(int nx, int ny, const std::function<geometry::Vec3(double, double)>& point) {
+inline mesh::SurfaceMesh grid_surface(int nx, int ny,
+                                      const std::function<geometry::Vec3(double, double)>& point) {
   mesh::SurfaceMesh s;
   for (int j = 0; j <= ny; ++j) {
     for (int i = 0; i <= nx; ++i) {
@@ -23,7 +24,8 @@ inline mesh::SurfaceMesh grid_surface(int nx, int ny, const std::function<geomet
   }
   const auto at = [&](int i, int j) { return i + (nx + 1) * j; };
   for (int j = 0; j < ny; ++j) {
-    for (int i = 0; i < nx; ++i) s.segments.push_back({at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)});
+    for (int i = 0; i < nx; ++i)
+      s.segments.push_back({at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)});
   }
   const std::size_t n = s.positions.size();
   s.adjacency_offsets.assign(n + 1, 0);
@@ -34,7 +36,8 @@ inline mesh::SurfaceMesh grid_surface(int nx, int ny, const std::function<geomet
   s.adjacency.resize(static_cast<std::size_t>(s.adjacency_offsets[n]));
   std::vector<int> fill(s.adjacency_offsets.begin(), s.adjacency_offsets.end() - 1);
   for (std::size_t q = 0; q < s.segments.size(); ++q) {
-    for (int v : s.segments[q]) s.adjacency[static_cast<std::size_t>(fill[static_cast<std::size_t>(v)]++)] = static_cast<int>(q);
+    for (int v : s.segments[q])
+      s.adjacency[static_cast<std::size_t>(fill[static_cast<std::size_t>(v)]++)] = static_cast<int>(q);
   }
   return s;
 }

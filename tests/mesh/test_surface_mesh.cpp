@@ -47,11 +47,13 @@ TEST(ElementType, SegmentFacesExactlyForTheFiveTypesOfSpec7) {
 
 TEST(ElementType, HexahedronFacesAreSpec7sTable) {
   // SPEC 7, written out: S1 1-2-3-4, S2 5-8-7-6, S3 1-5-6-2, S4 2-6-7-3, S5 3-7-8-4, S6 4-8-5-1.
-  const int expected[6][4] = {{1, 2, 3, 4}, {5, 8, 7, 6}, {1, 5, 6, 2}, {2, 6, 7, 3}, {3, 7, 8, 4}, {4, 8, 5, 1}};
+  const int expected[6][4] = {{1, 2, 3, 4}, {5, 8, 7, 6}, {1, 5, 6, 2},
+                              {2, 6, 7, 3}, {3, 7, 8, 4}, {4, 8, 5, 1}};
   for (int f = 1; f <= 6; ++f) {
     const auto corners = face_corner_indices(ElementShape::kHexahedron, f);
     ASSERT_EQ(corners.size(), 4u);
-    for (int k = 0; k < 4; ++k) EXPECT_EQ(corners[static_cast<std::size_t>(k)] + 1, expected[f - 1][k]) << "S" << f;
+    for (int k = 0; k < 4; ++k)
+      EXPECT_EQ(corners[static_cast<std::size_t>(k)] + 1, expected[f - 1][k]) << "S" << f;
   }
   EXPECT_TRUE(face_corner_indices(ElementShape::kHexahedron, 7).empty());
   EXPECT_TRUE(face_corner_indices(ElementShape::kHexahedron, 0).empty());
@@ -69,7 +71,8 @@ SolidMesh random_hexahedron(std::mt19937_64& rng, double distortion, bool mirror
   const Eigen::Matrix3d r = testing::random_rotation(rng);
   const double s = std::pow(10.0, log_scale(rng));
   const Vec3 shift(t(rng), t(rng), t(rng));
-  const Vec3 cube[8] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
+  const Vec3 cube[8] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0},
+                        {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
   SolidMesh mesh;
   std::vector<int> nodes;
   for (int i = 0; i < 8; ++i) {
@@ -97,7 +100,8 @@ TEST(OutwardQuadCorners, CalculixNumberingReversedPointsOutOfEveryFace) {
       EXPECT_EQ(quad[3], manual[1]);
       const Vec3& a = mesh.position(quad[0]);
       const Vec3 normal = (mesh.position(quad[1]) - a).cross(mesh.position(quad[3]) - a);
-      const Vec3 face_centre = 0.25 * (a + mesh.position(quad[1]) + mesh.position(quad[2]) + mesh.position(quad[3]));
+      const Vec3 face_centre =
+          0.25 * (a + mesh.position(quad[1]) + mesh.position(quad[2]) + mesh.position(quad[3]));
       EXPECT_GT(normal.dot(face_centre - centroid), 0.0) << "trial " << trial << " S" << f;
     }
   }
@@ -115,7 +119,8 @@ TEST(OutwardQuadCorners, InsideOutElementIsOrientedByItsCentroid) {
       EXPECT_EQ(quad[1], manual[1]);  // the manual's own order
       const Vec3& a = mesh.position(quad[0]);
       const Vec3 normal = (mesh.position(quad[1]) - a).cross(mesh.position(quad[3]) - a);
-      const Vec3 face_centre = 0.25 * (a + mesh.position(quad[1]) + mesh.position(quad[2]) + mesh.position(quad[3]));
+      const Vec3 face_centre =
+          0.25 * (a + mesh.position(quad[1]) + mesh.position(quad[2]) + mesh.position(quad[3]));
       EXPECT_GT(normal.dot(face_centre - centroid), 0.0) << "trial " << trial << " S" << f;
     }
   }
@@ -123,10 +128,12 @@ TEST(OutwardQuadCorners, InsideOutElementIsOrientedByItsCentroid) {
 
 TEST(OutwardQuadCorners, Calculix20NodeFaceUsesTheCornerNodes) {
   SolidMesh mesh;
-  const Vec3 cube[8] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
+  const Vec3 cube[8] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0},
+                        {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
   std::vector<int> nodes;
   for (int i = 0; i < 8; ++i) nodes.push_back(mesh.add_node(i + 1, cube[i]));
-  for (int i = 8; i < 20; ++i) nodes.push_back(mesh.add_node(i + 1, Vec3(0.5, 0.5, 0.5)));  // mid-side: unused
+  for (int i = 8; i < 20; ++i)
+    nodes.push_back(mesh.add_node(i + 1, Vec3(0.5, 0.5, 0.5)));  // mid-side: unused
   mesh.add_element(1, element_type("C3D20R"), nodes);
   // S2 is the top (5-8-7-6); outward is +z: 5, 6, 7, 8 seen from above counter-clockwise.
   const auto quad = outward_quad_corners(mesh, {0, 2});
@@ -145,15 +152,19 @@ SolidMesh two_cubes_and_friends() {
   // index of (x, y, z) is x + 3 y + 6 z
   const auto n = [](int x, int y, int z) { return x + 3 * y + 6 * z; };
   mesh.add_element(10, element_type("C3D8"),
-                   std::vector<int>{n(0, 0, 0), n(1, 0, 0), n(1, 1, 0), n(0, 1, 0), n(0, 0, 1), n(1, 0, 1), n(1, 1, 1), n(0, 1, 1)});
+                   std::vector<int>{n(0, 0, 0), n(1, 0, 0), n(1, 1, 0), n(0, 1, 0), n(0, 0, 1), n(1, 0, 1),
+                                    n(1, 1, 1), n(0, 1, 1)});
   mesh.add_element(11, element_type("C3D8R"),
-                   std::vector<int>{n(1, 0, 0), n(2, 0, 0), n(2, 1, 0), n(1, 1, 0), n(1, 0, 1), n(2, 0, 1), n(2, 1, 1), n(1, 1, 1)});
+                   std::vector<int>{n(1, 0, 0), n(2, 0, 0), n(2, 1, 0), n(1, 1, 0), n(1, 0, 1), n(2, 0, 1),
+                                    n(2, 1, 1), n(1, 1, 1)});
   mesh.add_element(12, element_type("C3D6"),
                    std::vector<int>{n(0, 0, 0), n(1, 0, 0), n(1, 1, 0), n(0, 0, 1), n(1, 0, 1), n(1, 1, 1)});
-  mesh.add_element(13, element_type("C3D4"), std::vector<int>{n(0, 0, 0), n(1, 0, 0), n(1, 1, 0), n(0, 0, 1)});
+  mesh.add_element(13, element_type("C3D4"),
+                   std::vector<int>{n(0, 0, 0), n(1, 0, 0), n(1, 1, 0), n(0, 0, 1)});
   // A hexahedron collapsed into a wedge by repeating a node: its face S1 has three distinct corners.
   mesh.add_element(14, element_type("C3D8"),
-                   std::vector<int>{n(0, 0, 0), n(1, 0, 0), n(1, 1, 0), n(1, 1, 0), n(0, 0, 1), n(1, 0, 1), n(1, 1, 1), n(1, 1, 1)});
+                   std::vector<int>{n(0, 0, 0), n(1, 0, 0), n(1, 1, 0), n(1, 1, 0), n(0, 0, 1), n(1, 0, 1),
+                                    n(1, 1, 1), n(1, 1, 1)});
   return mesh;
 }
 
@@ -181,15 +192,18 @@ TEST(SurfaceMesh, TopFacesOfTwoCubesShareAnEdgeAndPointUp) {
   for (int f = 2; f < 6; ++f) {
     const auto c = s.face_corners(f);
     EXPECT_EQ(c.size(), f == 3 ? 4u : 3u);
-    const auto at = [&](int k) { return s.positions[static_cast<std::size_t>(c[static_cast<std::size_t>(k)])]; };
+    const auto at = [&](int k) {
+      return s.positions[static_cast<std::size_t>(c[static_cast<std::size_t>(k)])];
+    };
     const Vec3 normal = (at(1) - at(0)).cross(at(static_cast<int>(c.size()) - 1) - at(0)).normalized();
     EXPECT_LT((normal - outward[static_cast<std::size_t>(f - 2)]).norm(), 1e-12) << "face " << f;
     EXPECT_EQ(s.face_element_id(f), f == 5 ? 14 : f == 4 ? 13 : 12);
   }
   for (std::size_t i = 0; i < s.segments.size(); ++i) {
     const auto& q = s.segments[i];
-    const Vec3 normal = (s.positions[static_cast<std::size_t>(q[1])] - s.positions[static_cast<std::size_t>(q[0])])
-                            .cross(s.positions[static_cast<std::size_t>(q[3])] - s.positions[static_cast<std::size_t>(q[0])]);
+    const Vec3 normal =
+        (s.positions[static_cast<std::size_t>(q[1])] - s.positions[static_cast<std::size_t>(q[0])])
+            .cross(s.positions[static_cast<std::size_t>(q[3])] - s.positions[static_cast<std::size_t>(q[0])]);
     EXPECT_GT(normal.z(), 0.0) << i;
   }
   // Adjacency: the shared edge's nodes (x = 1: ids 8 and 11) touch both segments, the others one.

@@ -1,9 +1,8 @@
-#include "mlp/batch_gradient.hpp"
-
 #include <gtest/gtest.h>
 
 #include <numeric>
 
+#include "mlp/batch_gradient.hpp"
 #include "mlp/pattern_backprop.hpp"
 #include "mlp/smooth_problem.hpp"
 
@@ -22,7 +21,8 @@ template <class Real>
 void compare_with_pattern_sum(std::vector<int> sizes, int rows, double tolerance) {
   auto net = make_network<Real>(sizes, 11);
   MatrixRM<Real> x = MatrixRM<double>::Random(rows, sizes.front()).template cast<Real>();
-  MatrixRM<Real> t = (0.5 * MatrixRM<double>::Random(rows, sizes.back()).array() + 0.5).matrix().template cast<Real>();
+  MatrixRM<Real> t =
+      (0.5 * MatrixRM<double>::Random(rows, sizes.back()).array() + 0.5).matrix().template cast<Real>();
   PatternBackprop<Real> bp(net);
   std::vector<Real> expected(net.parameter_count(), Real(0));
   double expected_loss = 0;
@@ -40,7 +40,8 @@ void compare_with_pattern_sum(std::vector<int> sizes, int rows, double tolerance
   double scale = 0;
   for (Real g : expected) scale = std::max(scale, std::abs(static_cast<double>(g)));
   for (std::size_t k = 0; k < got.size(); ++k) {
-    EXPECT_NEAR(static_cast<double>(got[k]), static_cast<double>(expected[k]), tolerance * scale) << "parameter " << k;
+    EXPECT_NEAR(static_cast<double>(got[k]), static_cast<double>(expected[k]), tolerance * scale)
+        << "parameter " << k;
   }
   EXPECT_NEAR(loss, expected_loss, tolerance * expected_loss);
   EXPECT_NEAR(kernel.loss(net, panels, 0), expected_loss, tolerance * expected_loss);

@@ -1,8 +1,7 @@
-#include "mlp/network.hpp"
-
 #include <gtest/gtest.h>
 
 #include "core/error.hpp"
+#include "mlp/network.hpp"
 #include "mlp/random.hpp"
 #include "mlp/smooth_problem.hpp"
 
@@ -66,7 +65,8 @@ void check_forward_pass_widths(double tolerance) {
   Rng rng(5);
   for (int n_in = 1; n_in <= 40; ++n_in) {
     for (int n_out = 1; n_out <= 40; n_out += (n_out < 20 ? 1 : 7)) {
-      const auto net = testing::make_network<Real>({n_in, n_out}, static_cast<std::uint64_t>(100 * n_in + n_out), 1.5);
+      const auto net =
+          testing::make_network<Real>({n_in, n_out}, static_cast<std::uint64_t>(100 * n_in + n_out), 1.5);
       std::vector<Real> x(static_cast<std::size_t>(n_in));
       for (Real& v : x) v = static_cast<Real>(rng.uniform(-1.0, 1.0));
       ForwardPass<Real> pass(net);
@@ -84,8 +84,12 @@ void check_forward_pass_widths(double tolerance) {
   }
 }
 
-TEST(Network, ForwardPassMatchesTheEquationsAtEveryLayerWidthFloat) { check_forward_pass_widths<float>(2e-6); }
-TEST(Network, ForwardPassMatchesTheEquationsAtEveryLayerWidthDouble) { check_forward_pass_widths<double>(1e-13); }
+TEST(Network, ForwardPassMatchesTheEquationsAtEveryLayerWidthFloat) {
+  check_forward_pass_widths<float>(2e-6);
+}
+TEST(Network, ForwardPassMatchesTheEquationsAtEveryLayerWidthDouble) {
+  check_forward_pass_widths<double>(1e-13);
+}
 
 // predict() uses the gains the network computed once; they must be the scaling's own.
 TEST(Network, PredictUsesTheScalingOfItsFile) {

@@ -1,5 +1,3 @@
-#include "io/network_file.hpp"
-
 #include <gtest/gtest.h>
 
 #include <type_traits>
@@ -8,6 +6,7 @@
 #include "io/dataset_file.hpp"
 #include "io/domain_io.hpp"
 #include "io/hdf5_file.hpp"
+#include "io/network_file.hpp"
 #include "mlp/random.hpp"
 #include "mlp/trainer.hpp"
 #include "test_support.hpp"
@@ -141,7 +140,8 @@ void write_by_hand(const std::filesystem::path& path, int cols, std::size_t thre
   f.write_attribute("/", "surface", std::string("bilinear"));
   f.write_attribute("/", "u0", 2.0);
   f.write_attribute("/", "real_type", std::string("float32"));
-  f.write_attribute("/", "activation", std::string("O = 1 / (1 + exp(-2 U / U0)), U = sum_i W_ji I_i - theta_j"));
+  f.write_attribute("/", "activation",
+                    std::string("O = 1 / (1 + exp(-2 U / U0)), U = sum_i W_ji I_i - theta_j"));
   f.write_vector("architecture/layer_sizes", std::vector<std::int32_t>{8, 4, 2});
   f.write_matrix("layers/0/weights", MatrixRM<double>(MatrixRM<double>::Zero(4, cols)));
   f.write_vector("layers/0/thresholds", std::vector<double>(thresholds, 0.0));

@@ -1,7 +1,6 @@
-#include "mlp/pattern_backprop.hpp"
-
 #include <gtest/gtest.h>
 
+#include "mlp/pattern_backprop.hpp"
 #include "mlp/smooth_problem.hpp"
 
 namespace contactnn::mlp {
@@ -18,7 +17,8 @@ constexpr double kFiniteDifferenceTolerance = 1e-7;
 double total_error(const Network<double>& net, const testing::Problem<double>& p) {
   PatternBackprop<double> bp(net);
   double e = 0;
-  for (Eigen::Index r = 0; r < p.inputs.rows(); ++r) e += bp.backpropagate(net, p.inputs.row(r).data(), p.targets.row(r).data());
+  for (Eigen::Index r = 0; r < p.inputs.rows(); ++r)
+    e += bp.backpropagate(net, p.inputs.row(r).data(), p.targets.row(r).data());
   return e;
 }
 
@@ -70,7 +70,8 @@ TEST(PatternBackprop, MomentumStepIsGradientDescentWithMomentum) {
   auto before = net.parameters();
   PatternBackprop<double> bp(net);
   const double x[3] = {0.4, 0.1, -0.6}, t[2] = {0.2, 0.8};
-  Eigen::VectorXd velocity = Eigen::VectorXd::Constant(static_cast<Eigen::Index>(net.parameter_count()), 0.01);
+  Eigen::VectorXd velocity =
+      Eigen::VectorXd::Constant(static_cast<Eigen::Index>(net.parameter_count()), 0.01);
   Eigen::VectorXd grad = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(net.parameter_count()));
   bp.backpropagate(net, x, t);
   bp.add_gradient(net, grad.data());
@@ -78,7 +79,9 @@ TEST(PatternBackprop, MomentumStepIsGradientDescentWithMomentum) {
   for (Eigen::Index k = 0; k < grad.size(); ++k) {
     const double dw = 0.9 * 0.01 - 0.5 * grad[k];
     EXPECT_NEAR(velocity[k], dw, 1e-15) << k;
-    EXPECT_NEAR(net.parameters()[static_cast<std::size_t>(k)], before[static_cast<std::size_t>(k)] + dw, 1e-15) << k;
+    EXPECT_NEAR(net.parameters()[static_cast<std::size_t>(k)], before[static_cast<std::size_t>(k)] + dw,
+                1e-15)
+        << k;
   }
 }
 

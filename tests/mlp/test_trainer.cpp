@@ -1,5 +1,3 @@
-#include "mlp/trainer.hpp"
-
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -7,6 +5,7 @@
 
 #include "core/error.hpp"
 #include "mlp/smooth_problem.hpp"
+#include "mlp/trainer.hpp"
 
 namespace contactnn::mlp {
 namespace {
@@ -55,7 +54,8 @@ TEST(Trainer, FullBatchLossFallsOnSmoothProblem) {
   const double first = trainer.train_epoch().training_loss;
   trainer.train();
   EXPECT_LT(trainer.state().training_loss, 5 * kSmoothProblemLossLevel) << "first epoch " << first;
-  std::printf("smooth problem, full batch: first epoch %.3e, last %.3e\n", first, trainer.state().training_loss);
+  std::printf("smooth problem, full batch: first epoch %.3e, last %.3e\n", first,
+              trainer.state().training_loss);
 }
 
 TEST(Trainer, BatchSizeOneEqualsOnlineMode) {
@@ -68,14 +68,16 @@ TEST(Trainer, BatchSizeOneEqualsOnlineMode) {
     o.learning_rate = 0.05;
     o.epochs = 3;
     o.seed = 77;
-    Trainer<double> trainer(net, o, train.inputs, train.targets, empty_rows<double>(3), empty_rows<double>(2));
+    Trainer<double> trainer(net, o, train.inputs, train.targets, empty_rows<double>(3),
+                            empty_rows<double>(2));
     trainer.train();
     return net.parameters();
   };
   const auto online = run(TrainingMode::kOnline);
   const auto batch = run(TrainingMode::kBatch);
   ASSERT_EQ(online.size(), batch.size());
-  for (std::size_t k = 0; k < online.size(); ++k) EXPECT_NEAR(online[k], batch[k], kSameAlgorithmTolerance) << k;
+  for (std::size_t k = 0; k < online.size(); ++k)
+    EXPECT_NEAR(online[k], batch[k], kSameAlgorithmTolerance) << k;
 }
 
 TEST(Trainer, ResumingFromStateEqualsUninterruptedRunBitForBit) {
@@ -101,7 +103,8 @@ TEST(Trainer, ResumingFromStateEqualsUninterruptedRunBitForBit) {
       saved = b.state();
       saved_parameters = first.parameters();
     }
-    auto resumed = make_network<float>({3, 7, 5, 2}, 99);  // other initial weights: all must come from the state
+    auto resumed =
+        make_network<float>({3, 7, 5, 2}, 99);  // other initial weights: all must come from the state
     resumed.parameters() = saved_parameters;
     Trainer<float> c(resumed, o, train.inputs, train.targets, val.inputs, val.targets);
     c.restore(saved);
@@ -175,14 +178,16 @@ TEST(Trainer, LearningRateDecaysGeometricallyToTheFinalOne) {
   o.learning_rate = 0.1;
   o.learning_rate_final = 0.001;
   o.epochs = 5;
-  const Trainer<double> decaying(net, o, train.inputs, train.targets, empty_rows<double>(3), empty_rows<double>(2));
+  const Trainer<double> decaying(net, o, train.inputs, train.targets, empty_rows<double>(3),
+                                 empty_rows<double>(2));
   // 0.1 * 0.01^(e / 4): 0.1, 0.0316..., 0.01, 0.00316..., 0.001, written out.
   EXPECT_DOUBLE_EQ(decaying.learning_rate_at(0), 0.1);
   EXPECT_NEAR(decaying.learning_rate_at(1), 0.031622776601683794, 1e-15);
   EXPECT_NEAR(decaying.learning_rate_at(2), 0.01, 1e-15);
   EXPECT_NEAR(decaying.learning_rate_at(4), 0.001, 1e-16);
   o.learning_rate_final = 0.0;
-  const Trainer<double> constant(net, o, train.inputs, train.targets, empty_rows<double>(3), empty_rows<double>(2));
+  const Trainer<double> constant(net, o, train.inputs, train.targets, empty_rows<double>(3),
+                                 empty_rows<double>(2));
   EXPECT_DOUBLE_EQ(constant.learning_rate_at(3), 0.1);
 }
 
@@ -207,12 +212,14 @@ TEST(Trainer, RejectsBadOptions) {
   const auto train = smooth_problem<float>(10, 2);
   TrainOptions o;
   o.momentum = 1.0;
-  EXPECT_THROW(Trainer<float>(net, o, train.inputs, train.targets, empty_rows<float>(3), empty_rows<float>(2)),
-               InvalidArgument);
+  EXPECT_THROW(
+      Trainer<float>(net, o, train.inputs, train.targets, empty_rows<float>(3), empty_rows<float>(2)),
+      InvalidArgument);
   o = TrainOptions{};
   o.learning_rate = -1;
-  EXPECT_THROW(Trainer<float>(net, o, train.inputs, train.targets, empty_rows<float>(3), empty_rows<float>(2)),
-               InvalidArgument);
+  EXPECT_THROW(
+      Trainer<float>(net, o, train.inputs, train.targets, empty_rows<float>(3), empty_rows<float>(2)),
+      InvalidArgument);
 }
 
 }  // namespace

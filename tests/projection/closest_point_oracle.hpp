@@ -1,6 +1,7 @@
-// Independent closest-point oracles for the tests of projection::closest_point_on_face and the surface search:
-// the exact closest point of a triangle (Ericson, Real-Time Collision Detection, 5.1.5: Voronoi regions of
-// the vertices, then the edges, then the face; no iteration), and a dense sampling of any parametric surface.
+// Independent closest-point oracles for the tests of projection::closest_point_on_face and the surface
+// search: the exact closest point of a triangle (Ericson, Real-Time Collision Detection, 5.1.5: Voronoi
+// regions of the vertices, then the edges, then the face; no iteration), and a dense sampling of any
+// parametric surface.
 #pragma once
 
 #include <algorithm>

@@ -1,7 +1,5 @@
 // projection::closest_point_on_face: the closest point of a whole face, its edges and vertices included,
 // against independent oracles (tests/projection/closest_point_oracle.hpp).
-#include "projection/closest_point_on_face.hpp"
-
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
@@ -9,6 +7,7 @@
 
 #include "geometry/bilinear_patch.hpp"
 #include "geometry/gregory_patch.hpp"
+#include "projection/closest_point_on_face.hpp"
 #include "projection/closest_point_oracle.hpp"
 
 namespace contactnn::projection {
@@ -20,9 +19,7 @@ using geometry::GregoryPatch;
 // Points and distances of exact methods agree to rounding: 1e-12 of the face size.
 constexpr double kExact = 1e-12;
 
-std::array<Vec3, 4> unit_square() {
-  return {Vec3(-1, -1, 0), Vec3(1, -1, 0), Vec3(1, 1, 0), Vec3(-1, 1, 0)};
-}
+std::array<Vec3, 4> unit_square() { return {Vec3(-1, -1, 0), Vec3(1, -1, 0), Vec3(1, 1, 0), Vec3(-1, 1, 0)}; }
 
 TEST(ClosestPointOnFace, LocationsOnAFlatSquareWrittenOut) {
   const BilinearPatch square(unit_square());
@@ -83,7 +80,8 @@ TEST(ClosestPointOnFace, PlanarQuadEqualsTheTriangleOracleInsideOnEdgesAndAtVert
     const Vec3 slave = centre + Vec3(around(rng), around(rng), around(rng));
     const FaceClosestPoint p = closest_point_on_face(BilinearPatch(q), slave);
     ASSERT_EQ(p.status, Status::kOk) << "slave " << slave.transpose() << " quad " << q[0].transpose() << " | "
-                                     << q[1].transpose() << " | " << q[2].transpose() << " | " << q[3].transpose();
+                                     << q[1].transpose() << " | " << q[2].transpose() << " | "
+                                     << q[3].transpose();
     const Vec3 oracle = testing::closest_point_on_planar_quad(slave, q);
     const double size = geometry::max_node_distance(q);
     ASSERT_LE((p.point - oracle).norm(), kExact * size) << "slave " << slave.transpose();
@@ -129,8 +127,10 @@ GregoryPatch random_patch(std::mt19937_64& rng, double warp, double tilt) {
   std::array<Vec3, 4> normals;
   for (int i = 0; i < 4; ++i) {
     const Vec3& x = q[static_cast<std::size_t>(i)];
-    const Vec3 corner = (q[static_cast<std::size_t>((i + 1) % 4)] - x).cross(q[static_cast<std::size_t>((i + 3) % 4)] - x);
-    normals[static_cast<std::size_t>(i)] = (corner.normalized() + Vec3(jitter(rng), jitter(rng), jitter(rng))).normalized();
+    const Vec3 corner =
+        (q[static_cast<std::size_t>((i + 1) % 4)] - x).cross(q[static_cast<std::size_t>((i + 3) % 4)] - x);
+    normals[static_cast<std::size_t>(i)] =
+        (corner.normalized() + Vec3(jitter(rng), jitter(rng), jitter(rng))).normalized();
   }
   return GregoryPatch(q, normals);
 }
@@ -139,7 +139,9 @@ GregoryPatch random_patch(std::mt19937_64& rng, double warp, double tilt) {
 Vec3 bezier(const std::array<Vec3, 4>& b, double t) {
   std::array<Vec3, 4> x = b;
   for (int level = 3; level > 0; --level) {
-    for (int i = 0; i < level; ++i) x[static_cast<std::size_t>(i)] = (1 - t) * x[static_cast<std::size_t>(i)] + t * x[static_cast<std::size_t>(i + 1)];
+    for (int i = 0; i < level; ++i)
+      x[static_cast<std::size_t>(i)] =
+          (1 - t) * x[static_cast<std::size_t>(i)] + t * x[static_cast<std::size_t>(i + 1)];
   }
   return x[0];
 }
@@ -150,7 +152,9 @@ TEST(ClosestPointOnFace, GregoryEdgesAreTheirBezierCurvesAndNoCurvePointIsNearer
   for (int n = 0; n < 200; ++n) {
     const GregoryPatch patch = random_patch(rng, 0.3, 0.2);
     const auto& c = patch.control_points();
-    const auto at = [&](int i, int j) { return c[static_cast<std::size_t>(GregoryPatch::control_index(i, j))]; };
+    const auto at = [&](int i, int j) {
+      return c[static_cast<std::size_t>(GregoryPatch::control_index(i, j))];
+    };
     // Edge 0 is v = 0 (P00..P30), 1 is u = 1 (P30..P33), 2 is v = 1 (P03..P33), 3 is u = 0 (P00..P03).
     const std::array<std::array<Vec3, 4>, 4> curves = {{{at(0, 0), at(1, 0), at(2, 0), at(3, 0)},
                                                         {at(3, 0), at(3, 1), at(3, 2), at(3, 3)},
@@ -164,7 +168,8 @@ TEST(ClosestPointOnFace, GregoryEdgesAreTheirBezierCurvesAndNoCurvePointIsNearer
       EXPECT_LE((patch.position(p.param[0], p.param[1]) - on_curve).norm(), kExact);
       double sampled = std::numeric_limits<double>::infinity();
       for (int k = 0; k <= 20000; ++k) {
-        sampled = std::min(sampled, (slave - bezier(curves[static_cast<std::size_t>(e)], k / 20000.0)).norm());
+        sampled =
+            std::min(sampled, (slave - bezier(curves[static_cast<std::size_t>(e)], k / 20000.0)).norm());
       }
       EXPECT_LE(p.distance, sampled + kExact) << "edge " << e << " slave " << slave.transpose();
       EXPECT_GE(p.distance, sampled - 1e-3);
@@ -215,7 +220,8 @@ TEST(ClosestPointOnTriangle, EqualsEricsonsRegionsInsideOnEdgesAndAtVertices) {
   std::uniform_real_distribution<double> x(-2.0, 2.0);
   int counts[3] = {0, 0, 0};
   for (int n = 0; n < 5000; ++n) {
-    const std::array<Vec3, 3> t = {Vec3(x(rng), x(rng), x(rng)), Vec3(x(rng), x(rng), x(rng)), Vec3(x(rng), x(rng), x(rng))};
+    const std::array<Vec3, 3> t = {Vec3(x(rng), x(rng), x(rng)), Vec3(x(rng), x(rng), x(rng)),
+                                   Vec3(x(rng), x(rng), x(rng))};
     const Vec3 slave(2 * x(rng), 2 * x(rng), 2 * x(rng));
     const FaceClosestPoint p = closest_point_on_triangle(t, slave);
     if (p.status == Status::kDegenerate) continue;
@@ -223,7 +229,8 @@ TEST(ClosestPointOnTriangle, EqualsEricsonsRegionsInsideOnEdgesAndAtVertices) {
     const Vec3 oracle = testing::closest_point_on_triangle(slave, t[0], t[1], t[2]);
     const double size = std::max({(t[1] - t[0]).norm(), (t[2] - t[1]).norm(), (t[0] - t[2]).norm()});
     ASSERT_LE((p.point - oracle).norm(), 1e-11 * size) << slave.transpose();
-    EXPECT_LE((t[0] + p.param[0] * (t[1] - t[0]) + p.param[1] * (t[2] - t[0]) - p.point).norm(), 1e-12 * size);
+    EXPECT_LE((t[0] + p.param[0] * (t[1] - t[0]) + p.param[1] * (t[2] - t[0]) - p.point).norm(),
+              1e-12 * size);
     ++counts[static_cast<int>(p.location)];
   }
   EXPECT_GT(counts[0], 200);

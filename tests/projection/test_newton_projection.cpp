@@ -1,5 +1,3 @@
-#include "projection/newton_projection.hpp"
-
 #include <gtest/gtest.h>
 
 #include <random>
@@ -7,6 +5,7 @@
 #include "dataset/labeller.hpp"
 #include "geometry/bilinear_patch.hpp"
 #include "geometry/gregory_patch.hpp"
+#include "projection/newton_projection.hpp"
 #include "test_support.hpp"
 
 namespace contactnn::projection {
@@ -69,7 +68,8 @@ TEST(NewtonProjection, AgreesWithIndependentDenseSearchOnRandomWarpedQuads) {
   int compared = 0;
   for (int k = 0; k < 60; ++k) {
     // Strongly warped: corners lifted by up to 0.6 of an edge, slave anywhere above the patch.
-    const BilinearPatch p({Vec3(0, 0, w(rng)), Vec3(1, 0, w(rng)), Vec3(1 + 0.3 * xy(rng), 1 + 0.3 * xy(rng), w(rng)),
+    const BilinearPatch p({Vec3(0, 0, w(rng)), Vec3(1, 0, w(rng)),
+                           Vec3(1 + 0.3 * xy(rng), 1 + 0.3 * xy(rng), w(rng)),
                            Vec3(0.3 * xy(rng), 1, w(rng))});
     const Vec3 s(0.5 + 0.6 * xy(rng), 0.5 + 0.6 * xy(rng), sz(rng));
     const ProjectionResult r = project_point(p, s);
@@ -136,7 +136,8 @@ TEST(NewtonProjection, LabelModeAgreesWithIndependentSolverInWorldCoordinates) {
   for (int k = 0; k < 80; ++k) {
     const Configuration c = testing::random_paper_configuration(rng);
     const double scale = std::pow(10.0, log_scale(rng));
-    const Configuration world = testing::transform(c, testing::random_rotation(rng), scale, Vec3(t(rng), t(rng), t(rng)));
+    const Configuration world =
+        testing::transform(c, testing::random_rotation(rng), scale, Vec3(t(rng), t(rng), t(rng)));
     const dataset::Label label = dataset::label_configuration(world, SurfaceKind::kBilinear);
     // The oracle works in world orientation and scale, shifted so node A is the origin: its finite
     // differences would otherwise difference large translated coordinates.
@@ -197,8 +198,10 @@ TEST(NewtonProjection, PlainNewtonConvergesToTheReferenceOnThePaperDomain) {
     if (ref.status != Status::kOk) continue;
     ++total;
     const auto plain = newton_fixed_iterations(p, c.slave, 10, domain_centre(SurfaceKind::kBilinear));
-    if (std::abs(plain[0] - ref.param[0]) < 1e-9 && std::abs(plain[1] - ref.param[1]) < 1e-9) ++close_after_10;
-    const ProjectionResult converged = newton_until_converged(p, c.slave, domain_centre(SurfaceKind::kBilinear));
+    if (std::abs(plain[0] - ref.param[0]) < 1e-9 && std::abs(plain[1] - ref.param[1]) < 1e-9)
+      ++close_after_10;
+    const ProjectionResult converged =
+        newton_until_converged(p, c.slave, domain_centre(SurfaceKind::kBilinear));
     if (converged.status == Status::kOk && std::abs(converged.param[0] - ref.param[0]) > 1e-8) {
       // A different root is legitimate only when it is not nearer than the reference.
       EXPECT_GE(converged.sqr_distance, ref.sqr_distance - 1e-12) << k;
@@ -217,7 +220,8 @@ namespace {
 
 using geometry::GregoryPatch;
 
-std::array<Vec3, 4> tilted_normals(const std::array<Vec3, 4>& nodes, std::mt19937_64& rng, double max_tangent) {
+std::array<Vec3, 4> tilted_normals(const std::array<Vec3, 4>& nodes, std::mt19937_64& rng,
+                                   double max_tangent) {
   std::uniform_real_distribution<double> u(-1, 1);
   std::array<Vec3, 4> normals;
   for (int i = 0; i < 4; ++i) {

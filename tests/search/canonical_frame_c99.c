@@ -1,8 +1,6 @@
 /* The canonical-frame kernel and the vectorisable sigmoid compiled as C99 (-std=c99 -pedantic -Werror, see
  * CMakeLists.txt), each included twice as two exported headers in one translation unit would include them. */
 #include "search/canonical_frame.h"
-#include "search/canonical_frame.h"
-#include "search/vector_sigmoid.h"
 #include "search/vector_sigmoid.h"
 
 void contactnn_canonicalise_c99(int n, int gregory, const double* in, double* f, double* nrm, double* info);

@@ -28,16 +28,17 @@ struct FaceQuery {
 };
 
 struct FaceQueryOptions {
-  double warp = 0.15;         ///< corners move by up to this (unit face)
-  double curvature = 0.1;     ///< mid-side nodes move off their chord's midpoint by up to this x the edge length
-  double height = 0.1;        ///< |S - P(foot)| along the normal up to this x the face size, either side
-  double foot_inset = 0.05;   ///< the foot stays this far inside the domain (parameter units of a unit width)
-  bool place = true;          ///< random position, orientation and scale (10^-3 .. 10^3)
-  bool flat = false;          ///< the corners stay in one plane (the warp moves them in it)
+  double warp = 0.15;      ///< corners move by up to this (unit face)
+  double curvature = 0.1;  ///< mid-side nodes move off their chord's midpoint by up to this x the edge length
+  double height = 0.1;     ///< |S - P(foot)| along the normal up to this x the face size, either side
+  double foot_inset = 0.05;  ///< the foot stays this far inside the domain (parameter units of a unit width)
+  bool place = true;         ///< random position, orientation and scale (10^-3 .. 10^3)
+  bool flat = false;         ///< the corners stay in one plane (the warp moves them in it)
 };
 
 /// P and the unit normal of a face at its parameters.
-inline geometry::SurfacePoint face_point(search::FaceKind kind, const std::vector<Vec3>& x, double s, double t) {
+inline geometry::SurfacePoint face_point(search::FaceKind kind, const std::vector<Vec3>& x, double s,
+                                         double t) {
   if (kind == search::FaceKind::kQuad8) {
     std::array<Vec3, 8> n;
     for (int i = 0; i < 8; ++i) n[static_cast<std::size_t>(i)] = x[static_cast<std::size_t>(i)];
@@ -46,14 +47,16 @@ inline geometry::SurfacePoint face_point(search::FaceKind kind, const std::vecto
   std::array<Vec3, 6> n;
   for (int i = 0; i < 3; ++i) n[static_cast<std::size_t>(i)] = x[static_cast<std::size_t>(i)];
   for (int e = 0; e < 3; ++e) {
-    n[static_cast<std::size_t>(3 + e)] = kind == search::FaceKind::kTri6
-                                             ? x[static_cast<std::size_t>(3 + e)]
-                                             : 0.5 * (x[static_cast<std::size_t>(e)] + x[static_cast<std::size_t>((e + 1) % 3)]);
+    n[static_cast<std::size_t>(3 + e)] =
+        kind == search::FaceKind::kTri6
+            ? x[static_cast<std::size_t>(3 + e)]
+            : 0.5 * (x[static_cast<std::size_t>(e)] + x[static_cast<std::size_t>((e + 1) % 3)]);
   }
   return geometry::QuadraticTriangle(n).evaluate(s, t);
 }
 
-inline FaceQuery random_face_query(search::FaceKind kind, std::mt19937_64& rng, const FaceQueryOptions& o = {}) {
+inline FaceQuery random_face_query(search::FaceKind kind, std::mt19937_64& rng,
+                                   const FaceQueryOptions& o = {}) {
   std::uniform_real_distribution<double> unit(-1.0, 1.0), positive(0.0, 1.0);
   const auto jitter = [&](double r) { return Vec3(r * unit(rng), r * unit(rng), r * unit(rng)); };
   FaceQuery q;
@@ -119,9 +122,9 @@ inline projection::FaceClosestPoint reference_point(search::FaceKind kind, const
   return projection::closest_point_on_serendipity_quad(geometry::SerendipityQuad(n), q.slave);
 }
 
-/// The node orders of a face that keep its orientation and those that reverse it (the cyclic relabellings, then
-/// the mirrored ones): order[k][i] is the caller's node at position i of relabelling k. 6 for triangles, 8 for
-/// quads; the mid-side nodes follow their edges.
+/// The node orders of a face that keep its orientation and those that reverse it (the cyclic relabellings,
+/// then the mirrored ones): order[k][i] is the caller's node at position i of relabelling k. 6 for triangles,
+/// 8 for quads; the mid-side nodes follow their edges.
 inline std::vector<std::vector<int>> face_orders(search::FaceKind kind) {
   const int c = kind == search::FaceKind::kQuad8 ? 4 : 3;
   const bool mids = kind != search::FaceKind::kTri3;

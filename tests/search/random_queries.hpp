@@ -37,7 +37,8 @@ inline geometry::DomainFilters paper_filters(SurfaceKind kind) {
 
 /// Node normals: each node's corner normal (next - X) x (prev - X) tilted in a random direction by an angle
 /// whose tangent is uniform in [0, max_tangent) (the generator's rule, lib/dataset/enumeration.cpp).
-inline std::array<Vec3, 4> tilted_normals(const std::array<Vec3, 4>& nodes, double max_tangent, std::mt19937_64& rng) {
+inline std::array<Vec3, 4> tilted_normals(const std::array<Vec3, 4>& nodes, double max_tangent,
+                                          std::mt19937_64& rng) {
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   std::array<Vec3, 4> normals;
   for (int i = 0; i < 4; ++i) {
@@ -52,12 +53,12 @@ inline std::array<Vec3, 4> tilted_normals(const std::array<Vec3, 4>& nodes, doub
 }
 
 /// A configuration of the paper's domain of `kind` in the normalised frame (A = 0, B = (1,0,0), D in the
-/// xy-plane), uniform over the filters' region: drawn by rejection from a proposal that is uniform on a region
-/// containing every accepted configuration. Bilinear: C, S in (-2, 2)^2 x (-0.3, 0.3), D in (-2, 2) x (0, 2).
-/// Gregory (the angle at A is in [60, 120] degrees and |AD| <= 1): D uniform on that sector of the unit disk,
-/// S in [-0.5, 0.6] x [-0.05, 1] (A must be its nearest node and its projection in the angle at A), C in the box.
-/// `filters`: the paper's by default; narrower ones of the same kind (e.g. a bilinear angle bound) keep the
-/// proposal valid.
+/// xy-plane), uniform over the filters' region: drawn by rejection from a proposal that is uniform on a
+/// region containing every accepted configuration. Bilinear: C, S in (-2, 2)^2 x (-0.3, 0.3), D in (-2, 2) x
+/// (0, 2). Gregory (the angle at A is in [60, 120] degrees and |AD| <= 1): D uniform on that sector of the
+/// unit disk, S in [-0.5, 0.6] x [-0.05, 1] (A must be its nearest node and its projection in the angle at
+/// A), C in the box. `filters`: the paper's by default; narrower ones of the same kind (e.g. a bilinear angle
+/// bound) keep the proposal valid.
 inline Configuration random_domain_configuration(SurfaceKind kind, std::mt19937_64& rng,
                                                  const geometry::DomainFilters& filters) {
   std::uniform_real_distribution<double> xy(-2.0, 2.0), z(-0.3, 0.3), up(0.0, 2.0), unit(0.0, 1.0);
@@ -133,7 +134,8 @@ inline Configuration configuration_of(const double* raw, SurfaceKind kind, std::
   const int stride = kind == SurfaceKind::kGregory ? 27 : 15;
   const double* x = raw + row * static_cast<std::size_t>(stride);
   Configuration c;
-  for (int i = 0; i < 4; ++i) c.nodes[static_cast<std::size_t>(i)] = Vec3(x[3 * i], x[3 * i + 1], x[3 * i + 2]);
+  for (int i = 0; i < 4; ++i)
+    c.nodes[static_cast<std::size_t>(i)] = Vec3(x[3 * i], x[3 * i + 1], x[3 * i + 2]);
   c.slave = Vec3(x[12], x[13], x[14]);
   for (int i = 0; i < 4; ++i) {
     c.normals[static_cast<std::size_t>(i)] =
@@ -142,10 +144,11 @@ inline Configuration configuration_of(const double* raw, SurfaceKind kind, std::
   return c;
 }
 
-/// The labels' points moved by `offset` in a random direction (seeded), where the label is ok; the domain centre
-/// elsewhere. An FE code's previous time step, as near as `offset` (tests of start+newton:K, bench_search).
-inline std::vector<double> starts_near(const std::vector<dataset::Label>& labels, SurfaceKind kind, double offset,
-                                       unsigned seed) {
+/// The labels' points moved by `offset` in a random direction (seeded), where the label is ok; the domain
+/// centre elsewhere. An FE code's previous time step, as near as `offset` (tests of start+newton:K,
+/// bench_search).
+inline std::vector<double> starts_near(const std::vector<dataset::Label>& labels, SurfaceKind kind,
+                                       double offset, unsigned seed) {
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> angle(0.0, 2.0 * std::numbers::pi);
   const double centre = kind == SurfaceKind::kGregory ? 0.5 : 0.0;
@@ -195,7 +198,8 @@ struct Spoiling {
 /// Every seventh row of `raw` (SPEC 6 rows of `kind`) from `s.first` spoiled in turn, so that every status is
 /// reached: a NaN, a collapsed segment (A = B), the slave node moved up to 1e3 away, a tiny row, a huge row,
 /// a random box of values in (-1e3, 1e3).
-inline void spoil_rows(SurfaceKind kind, std::vector<double>& raw, std::uint64_t seed, const Spoiling& s = {}) {
+inline void spoil_rows(SurfaceKind kind, std::vector<double>& raw, std::uint64_t seed,
+                       const Spoiling& s = {}) {
   const std::size_t columns = kind == SurfaceKind::kGregory ? 27 : 15;
   const std::size_t count = raw.size() / columns;
   std::mt19937_64 rng(seed);
@@ -203,48 +207,68 @@ inline void spoil_rows(SurfaceKind kind, std::vector<double>& raw, std::uint64_t
   for (std::size_t i = s.first; i < count; i += 7) {
     double* q = raw.data() + i * columns;
     switch ((i / 7) % 6) {
-      case 0: q[i % columns] = std::numeric_limits<double>::quiet_NaN(); break;
-      case 1: for (std::size_t k = 3; k < 6; ++k) q[k] = q[k - 3]; break;
-      case 2: for (std::size_t k = 12; k < 15; ++k) q[k] += 1e3 * u(rng); break;
-      case 3: for (std::size_t k = 0; k < columns; ++k) q[k] *= s.tiny; break;
-      case 4: for (std::size_t k = 0; k < 15; ++k) q[k] *= s.huge; break;
-      default: for (std::size_t k = 0; k < columns; ++k) q[k] = 1e3 * u(rng); break;
+      case 0:
+        q[i % columns] = std::numeric_limits<double>::quiet_NaN();
+        break;
+      case 1:
+        for (std::size_t k = 3; k < 6; ++k) q[k] = q[k - 3];
+        break;
+      case 2:
+        for (std::size_t k = 12; k < 15; ++k) q[k] += 1e3 * u(rng);
+        break;
+      case 3:
+        for (std::size_t k = 0; k < columns; ++k) q[k] *= s.tiny;
+        break;
+      case 4:
+        for (std::size_t k = 0; k < 15; ++k) q[k] *= s.huge;
+        break;
+      default:
+        for (std::size_t k = 0; k < columns; ++k) q[k] = 1e3 * u(rng);
+        break;
     }
   }
 }
 
 /// random_queries with spoil_rows applied (seed + 1 for the spoiling).
-inline std::vector<double> mixed_queries(SurfaceKind kind, std::size_t count, std::uint64_t seed, const Spoiling& s = {}) {
+inline std::vector<double> mixed_queries(SurfaceKind kind, std::size_t count, std::uint64_t seed,
+                                         const Spoiling& s = {}) {
   std::vector<double> raw = random_queries(kind, count, seed);
   spoil_rows(kind, raw, seed + 1, s);
   return raw;
 }
 
 /// Methods that together take every path of lib/search's block kernel (network, lean and converged Newton,
-/// the closed form, the hybrids, four_triangles), for tests that compare runs of the same queries. The same on
-/// both surfaces (on a Gregory patch the closed form is its corner facet's), but four_triangles, which has no
-/// Gregory form. start+newton:2 starts from what the output's param holds when run() is called: (0, 0) in tests
-/// whose outputs start zeroed (the centre of a bilinear facet, a corner of a Gregory patch).
+/// the closed form, the hybrids, four_triangles), for tests that compare runs of the same queries. The same
+/// on both surfaces (on a Gregory patch the closed form is its corner facet's), but four_triangles, which has
+/// no Gregory form. start+newton:2 starts from what the output's param holds when run() is called: (0, 0) in
+/// tests whose outputs start zeroed (the centre of a bilinear facet, a corner of a Gregory patch).
 inline std::vector<std::string> methods_of(SurfaceKind kind) {
-  std::vector<std::string> methods = {"network", "newton:0", "newton:3", "newton", "network+newton:2", "closed_form",
-                                      "closed_form+newton:2", "start+newton:2"};
+  std::vector<std::string> methods = {"network",
+                                      "newton:0",
+                                      "newton:3",
+                                      "newton",
+                                      "network+newton:2",
+                                      "closed_form",
+                                      "closed_form+newton:2",
+                                      "start+newton:2"};
   if (kind == SurfaceKind::kBilinear) methods.emplace_back("four_triangles");
   return methods;
 }
 
-/// Queries on a tie (tests/search/test_canonical_frame.cpp has the same shapes), each in all 8 node orders and
-/// placed at random (16 queries per shape).
+/// Queries on a tie (tests/search/test_canonical_frame.cpp has the same shapes), each in all 8 node orders
+/// and placed at random (16 queries per shape).
 inline std::vector<Configuration> tie_queries(std::mt19937_64& rng) {
-  const std::array<Vec3, 4> normals = {Vec3(0.05, -0.03, 1), Vec3(-0.02, 0.06, 1), Vec3(-0.1, 0.02, 1), Vec3(0.04, 0.05, 1)};
+  const std::array<Vec3, 4> normals = {Vec3(0.05, -0.03, 1), Vec3(-0.02, 0.06, 1), Vec3(-0.1, 0.02, 1),
+                                       Vec3(0.04, 0.05, 1)};
   const std::array<Vec3, 4> strip = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 0.6, 0.1), Vec3(0, 0.6, 0)};
   const std::array<Vec3, 4> square = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0.1), Vec3(0, 1, 0)};
   const std::array<Vec3, 4> flat = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1.05, 0.95, 0), Vec3(0, 0.9, 0)};
   const std::vector<Configuration> bases = {
-      {strip, Vec3(0.5, 0.2, 0.1), normals},      // as near A as B
-      {square, Vec3(0.3, 0.3, 0.15), normals},    // |AB| = |AD|, S on the diagonal
-      {square, Vec3(0.5, 0.5, 0.2), normals},     // all four nodes, each on its diagonal
-      {flat, Vec3(0.3, 0.25, 0.0), normals},      // S and C on the plane of A, B, D (Gregory: z tie)
-      {flat, Vec3(0.5, 0.3, 0.0), normals},       // both
+      {strip, Vec3(0.5, 0.2, 0.1), normals},    // as near A as B
+      {square, Vec3(0.3, 0.3, 0.15), normals},  // |AB| = |AD|, S on the diagonal
+      {square, Vec3(0.5, 0.5, 0.2), normals},   // all four nodes, each on its diagonal
+      {flat, Vec3(0.3, 0.25, 0.0), normals},    // S and C on the plane of A, B, D (Gregory: z tie)
+      {flat, Vec3(0.5, 0.3, 0.0), normals},     // both
       // As near A as B, one form in the paper's domain and one outside it: z_S scaled by the longer edge at A
       // (1.2) is 0.28, by the one at B (1.1) 0.31, over the domain's 0.3.
       {{Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1.1, 0), Vec3(0, 1.2, 0)}, Vec3(0.5, 0.3, 0.34), normals},

@@ -21,7 +21,10 @@ inline const io::TrainedNetwork<float>& shipped(const std::string& name) {
   static std::map<std::string, io::TrainedNetwork<float>> cache;
   auto it = cache.find(name);
   if (it == cache.end()) {
-    it = cache.emplace(name, io::read_network<float>(std::string(CONTACTNN_SOURCE_DIR) + "/data/weights/" + name)).first;
+    it = cache
+             .emplace(name,
+                      io::read_network<float>(std::string(CONTACTNN_SOURCE_DIR) + "/data/weights/" + name))
+             .first;
   }
   return it->second;
 }

@@ -1,9 +1,8 @@
-// lib/search/canonical_frame.h against its reference, geometry::normalise and geometry::TrainingDomain::contains:
-// random configurations in any node order and placement, the tie rules, and the extreme cases of
-// tests/extremes (scales, translations, collapsed and folded segments, straight angles, non-finite inputs,
-// Gregory normals of any length, in the plane or on both sides). Also: the kernel compiled as C99.
-#include "search/canonical_frame.h"
-
+// lib/search/canonical_frame.h against its reference, geometry::normalise and
+// geometry::TrainingDomain::contains: random configurations in any node order and placement, the tie rules,
+// and the extreme cases of tests/extremes (scales, translations, collapsed and folded segments, straight
+// angles, non-finite inputs, Gregory normals of any length, in the plane or on both sides). Also: the kernel
+// compiled as C99.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -21,11 +20,13 @@
 
 #include "geometry/affine_frame.hpp"
 #include "geometry/domain.hpp"
+#include "search/canonical_frame.h"
 #include "search/embedded_sources.hpp"
 #include "search/network_model.hpp"
 #include "search/random_queries.hpp"
 
-extern "C" void contactnn_canonicalise_c99(int n, int gregory, const double* in, double* f, double* nrm, double* info);
+extern "C" void contactnn_canonicalise_c99(int n, int gregory, const double* in, double* f, double* nrm,
+                                           double* info);
 extern "C" int contactnn_forms_c99(const double* x, int gregory, double* f, double* nrm, double* info);
 
 namespace contactnn::search {
@@ -75,7 +76,8 @@ std::vector<KernelResult> run_kernel(const std::vector<Configuration>& configs, 
     }
     for (int l = 0; l < lanes && first + static_cast<std::size_t>(l) < configs.size(); ++l) {
       const auto at = [&](const std::vector<double>& v, int row) {
-        return v[static_cast<std::size_t>(row) * static_cast<std::size_t>(lanes) + static_cast<std::size_t>(l)];
+        return v[static_cast<std::size_t>(row) * static_cast<std::size_t>(lanes) +
+                 static_cast<std::size_t>(l)];
       };
       KernelResult r;
       r.status = static_cast<int>(at(info, 0));
@@ -111,8 +113,8 @@ double frame_tolerance(const Configuration& world, const geometry::NormalisedCon
 /// The kernel's result `k` against the reference's `n` (status ok on both), features to `tol` relative. Where
 /// S lies in the plane of A, B, D up to that tolerance, the orientation of z is decided by rounding: either
 /// is accepted, with z_C, z_S and the normals' slopes changing sign together.
-void expect_same_frame(const KernelResult& k, const geometry::NormalisedConfiguration& n, SurfaceKind kind, double tol,
-                       const std::string& what) {
+void expect_same_frame(const KernelResult& k, const geometry::NormalisedConfiguration& n, SurfaceKind kind,
+                       double tol, const std::string& what) {
   EXPECT_EQ(k.symmetry, n.symmetry) << what;
   const bool flipped = k.orientation != n.orientation;
   if (flipped) {
@@ -128,10 +130,13 @@ void expect_same_frame(const KernelResult& k, const geometry::NormalisedConfigur
   if (kind == SurfaceKind::kGregory) {
     // The kernel's normals are the reference's unit normals times a positive factor.
     for (int c = 0; c < 4; ++c) {
-      const auto at = [&](int j) { return k.normals[3 * static_cast<std::size_t>(c) + static_cast<std::size_t>(j)]; };
+      const auto at = [&](int j) {
+        return k.normals[3 * static_cast<std::size_t>(c) + static_cast<std::size_t>(j)];
+      };
       Vec3 expected = n.config.normals[static_cast<std::size_t>(c)];
       if (flipped) expected = Vec3(-expected.x(), -expected.y(), expected.z());
-      EXPECT_NEAR((Vec3(at(0), at(1), at(2)).normalized() - expected).norm(), 0.0, tol) << what << " normal " << c;
+      EXPECT_NEAR((Vec3(at(0), at(1), at(2)).normalized() - expected).norm(), 0.0, tol)
+          << what << " normal " << c;
     }
   }
 }
@@ -147,7 +152,8 @@ void expect_matches_reference(const std::vector<Configuration>& configs, Surface
     ASSERT_EQ(k.status, reference_status(ref)) << "config " << i;
     if (k.status != 0) continue;
     EXPECT_NEAR(k.scale, ref.value->frame.scale(), 1e-14 * ref.value->frame.scale()) << "config " << i;
-    expect_same_frame(k, *ref.value, kind, slack * frame_tolerance(configs[i], *ref.value), "config " + std::to_string(i));
+    expect_same_frame(k, *ref.value, kind, slack * frame_tolerance(configs[i], *ref.value),
+                      "config " + std::to_string(i));
   }
 }
 
@@ -155,10 +161,11 @@ void expect_matches_reference(const std::vector<Configuration>& configs, Surface
 /// slave on either side; normals tilted by up to ~0.3 and of any length; then placed at random.
 Configuration random_world(std::mt19937_64& rng) {
   std::uniform_real_distribution<double> u(-1.0, 1.0);
-  Configuration local{{Vec3(0, 0, 0), Vec3(1 + 0.5 * u(rng), 0.1 * u(rng), 0.1 * u(rng)),
-                       Vec3(1 + 0.4 * u(rng), 1 + 0.4 * u(rng), 0.2 * u(rng)), Vec3(0.1 * u(rng), 1 + 0.5 * u(rng), 0)},
-                      Vec3(0.5 + 0.8 * u(rng), 0.5 + 0.8 * u(rng), 0.4 * u(rng)),
-                      kNoNormals};
+  Configuration local{
+      {Vec3(0, 0, 0), Vec3(1 + 0.5 * u(rng), 0.1 * u(rng), 0.1 * u(rng)),
+       Vec3(1 + 0.4 * u(rng), 1 + 0.4 * u(rng), 0.2 * u(rng)), Vec3(0.1 * u(rng), 1 + 0.5 * u(rng), 0)},
+      Vec3(0.5 + 0.8 * u(rng), 0.5 + 0.8 * u(rng), 0.4 * u(rng)),
+      kNoNormals};
   for (auto& n : local.normals) n = Vec3(0.3 * u(rng), 0.3 * u(rng), 1.0);
   return testing::place(local, rng, random_order(rng));
 }
@@ -177,7 +184,8 @@ TEST(CanonicalFrameKernel, MatchesNormaliseOnThePapersDomains) {
   for (const SurfaceKind kind : {SurfaceKind::kBilinear, SurfaceKind::kGregory}) {
     std::vector<Configuration> configs;
     for (int i = 0; i < 1000; ++i) {
-      configs.push_back(testing::place(testing::random_domain_configuration(kind, rng), rng, random_order(rng)));
+      configs.push_back(
+          testing::place(testing::random_domain_configuration(kind, rng), rng, random_order(rng)));
     }
     expect_matches_reference(configs, kind, 8);
   }
@@ -191,17 +199,19 @@ TEST(CanonicalFrameKernel, BreaksExactTiesAsTheReferenceDoes) {
   const std::array<Vec3, 4> rhombus = {Vec3(0, 0, 0), Vec3(5, 0, 0), Vec3(8, 4, 0.3), Vec3(3, 4, 0)};
   const std::vector<Configuration> bases = {
       {square, Vec3(0.5, 0.2, 0.3), kNoNormals},   // equidistant from A and B
-      {square, Vec3(0.3, 0.3, 0.2), kNoNormals},   // on the diagonal AC: |AB| = |AD| and S equally near both lines
+      {square, Vec3(0.3, 0.3, 0.2), kNoNormals},   // on the diagonal AC: |AB| = |AD| and S equally near both
+                                                   // lines
       {square, Vec3(0.2, 0.4, -0.2), kNoNormals},  // nearer the line AB
       {rhombus, Vec3(2, 0.5, 0.4), kNoNormals},
       {rhombus, Vec3(1, 1.5, 0.2), kNoNormals},
-      {square, Vec3(0.5, 0.5, 0.5), kNoNormals},   // all four nodes equidistant in the plane's projection
+      {square, Vec3(0.5, 0.5, 0.5), kNoNormals},  // all four nodes equidistant in the plane's projection
   };
   std::vector<Configuration> configs;
   for (const Configuration& base : bases) {
     for (const SquareSymmetry& order : all_square_symmetries()) {
       Configuration c = base;
-      for (int i = 0; i < 4; ++i) c.nodes[static_cast<std::size_t>(order.caller_node(i))] = base.nodes[static_cast<std::size_t>(i)];
+      for (int i = 0; i < 4; ++i)
+        c.nodes[static_cast<std::size_t>(order.caller_node(i))] = base.nodes[static_cast<std::size_t>(i)];
       configs.push_back(c);
       // Placements with scale and rotation: the reference's tie tolerance absorbs their rounding.
       for (int p = 0; p < 3; ++p) configs.push_back(testing::place(c, rng, SquareSymmetry{}));
@@ -220,7 +230,8 @@ Configuration make(const std::array<Vec3, 4>& nodes, const Vec3& slave) {
 std::vector<Configuration> extreme_cases() {
   const double nan = std::numeric_limits<double>::quiet_NaN(), inf = std::numeric_limits<double>::infinity();
   const std::array<Vec3, 4> square = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0), Vec3(0, 1, 0)};
-  const std::array<Vec3, 4> warped = {Vec3(0, 0, 0), Vec3(1, 0, 0.15), Vec3(1.1, 0.95, -0.1), Vec3(-0.05, 1, 0.2)};
+  const std::array<Vec3, 4> warped = {Vec3(0, 0, 0), Vec3(1, 0, 0.15), Vec3(1.1, 0.95, -0.1),
+                                      Vec3(-0.05, 1, 0.2)};
   const Vec3 s(0.3, 0.4, 0.2);
   std::vector<Configuration> cases;
   // Ordinary, and the slave at a corner, on an edge, on the plane, far away.
@@ -232,12 +243,15 @@ std::vector<Configuration> extreme_cases() {
   for (const double degrees : {0.1, 1.0, 179.0, 179.9}) {
     const double t = degrees * std::numbers::pi / 180.0;
     cases.push_back(make({Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1.3 * std::cos(t / 2), 1.3 * std::sin(t / 2), 0),
-                          Vec3(std::cos(t), std::sin(t), 0)}, Vec3(0.2, 0.01, 0.01)));
+                          Vec3(std::cos(t), std::sin(t), 0)},
+                         Vec3(0.2, 0.01, 0.01)));
     cases.push_back(make({Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0.05), Vec3(std::cos(t), std::sin(t), 0)},
                          Vec3(0.05, 0.05, 0.02)));
   }
-  cases.push_back(make({Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1e-3, 0), Vec3(0, 1e-3, 0)}, Vec3(0.4, 0.0002, 0.001)));
-  cases.push_back(make({Vec3(0, 0, 0), Vec3(1e-3, 0, 0), Vec3(1e-3, 1, 0), Vec3(0, 1, 0)}, Vec3(0.0002, 0.4, 0.001)));
+  cases.push_back(
+      make({Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1e-3, 0), Vec3(0, 1e-3, 0)}, Vec3(0.4, 0.0002, 0.001)));
+  cases.push_back(
+      make({Vec3(0, 0, 0), Vec3(1e-3, 0, 0), Vec3(1e-3, 1, 0), Vec3(0, 1, 0)}, Vec3(0.0002, 0.4, 0.001)));
   // Collapsed: coincident pairs, all coincident, collinear, D on the ray AB (folded), bow tie.
   cases.push_back(make({Vec3(0, 0, 0), Vec3(0, 0, 0), Vec3(1, 1, 0), Vec3(0, 1, 0)}, s));
   cases.push_back(make({Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0)}, s));
@@ -251,7 +265,8 @@ std::vector<Configuration> extreme_cases() {
   // Straight angles: at B (usable, the reference takes another corner: no network input), at A.
   cases.push_back(make({Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(2, 0, 0), Vec3(0, 1, 0)}, Vec3(0.9, 0.3, 0.2)));
   cases.push_back(make({Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0), Vec3(-1, 0, 0)}, Vec3(0.2, 0.3, 0.2)));
-  cases.push_back(make({Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0), Vec3(1 - 1e-9, 1, 0)}, Vec3(0.6, 0.3, 0.2)));
+  cases.push_back(
+      make({Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0), Vec3(1 - 1e-9, 1, 0)}, Vec3(0.6, 0.3, 0.2)));
   // Non-finite values anywhere; differences that overflow.
   for (int k = 0; k < 15; k += 4) {
     for (const double bad : {nan, inf, -inf}) {
@@ -260,8 +275,9 @@ std::vector<Configuration> extreme_cases() {
       cases.push_back(c);
     }
   }
-  cases.push_back(make({Vec3(-1.5e308, 0, 0), Vec3(1.5e308, 0, 0), Vec3(1.5e308, 1.5e308, 0), Vec3(-1.5e308, 1.5e308, 0)},
-                       Vec3(0, 1e307, 1e307)));
+  cases.push_back(
+      make({Vec3(-1.5e308, 0, 0), Vec3(1.5e308, 0, 0), Vec3(1.5e308, 1.5e308, 0), Vec3(-1.5e308, 1.5e308, 0)},
+           Vec3(0, 1e307, 1e307)));
   return cases;
 }
 
@@ -307,7 +323,8 @@ TEST(CanonicalFrameKernel, ExtremeScalesGiveTheUnitScalesResult) {
       // The scaled inputs are rounded once more: the unit case's tolerance, a little wider.
       std::ostringstream what;
       what << "scale " << scale << " config " << i;
-      expect_same_frame(got[i], *ref.value, SurfaceKind::kBilinear, 4.0 * frame_tolerance(unit[i], *ref.value), what.str());
+      expect_same_frame(got[i], *ref.value, SurfaceKind::kBilinear,
+                        4.0 * frame_tolerance(unit[i], *ref.value), what.str());
     }
   }
 }
@@ -315,7 +332,9 @@ TEST(CanonicalFrameKernel, ExtremeScalesGiveTheUnitScalesResult) {
 TEST(CanonicalFrameKernel, GregoryNormalsOfAnyLengthInThePlaneOrOnBothSides) {
   const std::array<Vec3, 4> square = {Vec3(0, 0, 0), Vec3(2, 0, 0), Vec3(2, 2, 0.2), Vec3(0, 2, 0)};
   std::vector<Configuration> configs;
-  const Configuration base{square, Vec3(0.5, 0.7, 0.4), {Vec3(0.05, 0.1, 1), Vec3(-0.1, 0.05, 1), Vec3(0.1, 0.1, 1), Vec3(0, -0.1, 1)}};
+  const Configuration base{square,
+                           Vec3(0.5, 0.7, 0.4),
+                           {Vec3(0.05, 0.1, 1), Vec3(-0.1, 0.05, 1), Vec3(0.1, 0.1, 1), Vec3(0, -0.1, 1)}};
   for (const double length : {1e-300, 1e-200, 1e-60, 1.0, 1e60, 1e200, 1e300}) {
     Configuration c = base;
     for (auto& n : c.normals) n *= length;
@@ -341,18 +360,22 @@ TEST(CanonicalFrameKernel, GregoryNormalsOfAnyLengthInThePlaneOrOnBothSides) {
   expect_matches_reference(configs, SurfaceKind::kGregory, 16);
 }
 
-/// Configurations on a tie of each kind, for bilinear and Gregory: S midway between two nodes (2 forms), |AB| =
-/// |AD| with S on the diagonal (2), S over the centre of a square (8), S and C on the plane of A, B, D (Gregory:
-/// 2 orientations of z), S on a flat square's centre (16), and one with no tie.
+/// Configurations on a tie of each kind, for bilinear and Gregory: S midway between two nodes (2 forms), |AB|
+/// = |AD| with S on the diagonal (2), S over the centre of a square (8), S and C on the plane of A, B, D
+/// (Gregory: 2 orientations of z), S on a flat square's centre (16), and one with no tie.
 std::vector<Configuration> tie_cases() {
-  const std::array<Vec3, 4> normals = {Vec3(0.05, -0.03, 1), Vec3(-0.02, 0.06, 1), Vec3(-0.1, 0.02, 1), Vec3(0.04, 0.05, 1)};
-  const auto with = [&](const std::array<Vec3, 4>& nodes, const Vec3& slave) { return Configuration{nodes, slave, normals}; };
+  const std::array<Vec3, 4> normals = {Vec3(0.05, -0.03, 1), Vec3(-0.02, 0.06, 1), Vec3(-0.1, 0.02, 1),
+                                       Vec3(0.04, 0.05, 1)};
+  const auto with = [&](const std::array<Vec3, 4>& nodes, const Vec3& slave) {
+    return Configuration{nodes, slave, normals};
+  };
   const std::array<Vec3, 4> strip = {Vec3(0, 0, 0), Vec3(2, 0, 0), Vec3(2, 1, 0.2), Vec3(0, 1, 0)};
   const std::array<Vec3, 4> square = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0.1), Vec3(0, 1, 0)};
   const std::array<Vec3, 4> flat = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0), Vec3(0, 1, 0)};
   const std::array<Vec3, 4> kite = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1.1, 0.9, 0), Vec3(0, 0.8, 0)};
-  return {with(strip, Vec3(0, 0.5, 0.1)),   with(square, Vec3(0.3, 0.3, 0.2)), with(square, Vec3(0.5, 0.5, 0.3)),
-          with(kite, Vec3(0.3, 0.2, 0.0)),   with(flat, Vec3(0.5, 0.5, 0.0)),   with(flat, Vec3(0.5, 0.2, 0.0)),
+  return {with(strip, Vec3(0, 0.5, 0.1)),    with(square, Vec3(0.3, 0.3, 0.2)),
+          with(square, Vec3(0.5, 0.5, 0.3)), with(kite, Vec3(0.3, 0.2, 0.0)),
+          with(flat, Vec3(0.5, 0.5, 0.0)),   with(flat, Vec3(0.5, 0.2, 0.0)),
           with(strip, Vec3(0.3, 0.2, 0.1))};
 }
 
@@ -369,7 +392,8 @@ TEST(CanonicalFrameKernel, ListsEveryCanonicalFormOfATieAsTheReferenceDoes) {
         Configuration c = base;
         for (int i = 0; i < 4; ++i) {
           c.nodes[static_cast<std::size_t>(order.caller_node(i))] = base.nodes[static_cast<std::size_t>(i)];
-          c.normals[static_cast<std::size_t>(order.caller_node(i))] = base.normals[static_cast<std::size_t>(i)];
+          c.normals[static_cast<std::size_t>(order.caller_node(i))] =
+              base.normals[static_cast<std::size_t>(i)];
         }
         for (int p = 0; p < 3; ++p) {
           const Configuration placed = p == 0 ? c : testing::place(c, rng, SquareSymmetry{});
@@ -392,8 +416,12 @@ TEST(CanonicalFrameKernel, ListsEveryCanonicalFormOfATieAsTheReferenceDoes) {
             std::array<double, 16 * CNN_CF_MAX_FORMS> f99{};
             std::array<double, 12 * CNN_CF_MAX_FORMS> nrm99{};
             std::array<double, CNN_CF_INFO_ROWS * CNN_CF_MAX_FORMS> info99{};
-            ASSERT_EQ(contactnn_forms_c99(x.data(), gregory, f99.data(), nrm99.data(), info99.data()), count) << what;
-            for (int k = 0; k < count; ++k) EXPECT_EQ(info99[CNN_CF_INFO_ROWS * static_cast<std::size_t>(k) + 1], info[CNN_CF_INFO_ROWS * static_cast<std::size_t>(k) + 1]) << what;
+            ASSERT_EQ(contactnn_forms_c99(x.data(), gregory, f99.data(), nrm99.data(), info99.data()), count)
+                << what;
+            for (int k = 0; k < count; ++k)
+              EXPECT_EQ(info99[CNN_CF_INFO_ROWS * static_cast<std::size_t>(k) + 1],
+                        info[CNN_CF_INFO_ROWS * static_cast<std::size_t>(k) + 1])
+                  << what;
           }
           tied += count > 1;
           for (int k = 0; k < count; ++k) {
@@ -448,8 +476,10 @@ geometry::TrainingDomain test_domain(SurfaceKind kind) {
   geometry::TrainingDomain d;
   d.surface = kind;
   d.filters = testing::paper_filters(kind);
-  const std::array<double, 16> lo = {-0.5, 0.2, -0.2, -1.5, 0.1, -1.2, -1.0, 0.0, -0.2, -0.2, -0.2, -0.2, -0.2, -0.2, -0.2, -0.2};
-  const std::array<double, 16> hi = {1.8, 1.9, 0.25, 1.2, 1.0, 1.5, 1.6, 0.25, 0.2, 0.2, 0.2, 0.2, 0.2, 0.2, 0.2, 0.2};
+  const std::array<double, 16> lo = {-0.5, 0.2,  -0.2, -1.5, 0.1,  -1.2, -1.0, 0.0,
+                                     -0.2, -0.2, -0.2, -0.2, -0.2, -0.2, -0.2, -0.2};
+  const std::array<double, 16> hi = {1.8, 1.9, 0.25, 1.2, 1.0, 1.5, 1.6, 0.25,
+                                     0.2, 0.2, 0.2,  0.2, 0.2, 0.2, 0.2, 0.2};
   for (int f = 0; f < feature_count(kind); ++f) {
     d.feature_min.push_back(lo[static_cast<std::size_t>(f)]);
     d.feature_max.push_back(hi[static_cast<std::size_t>(f)]);
@@ -459,7 +489,8 @@ geometry::TrainingDomain test_domain(SurfaceKind kind) {
 
 /// The kernel's domain verdict per configuration (status 0 -> in, 5 -> out), for configurations that
 /// normalise.
-std::vector<int> kernel_domain(const std::vector<Configuration>& configs, SurfaceKind kind, const cnn_domain& d, int lanes) {
+std::vector<int> kernel_domain(const std::vector<Configuration>& configs, SurfaceKind kind,
+                               const cnn_domain& d, int lanes) {
   const bool gregory = kind == SurfaceKind::kGregory;
   std::vector<int> verdict;
   for (std::size_t first = 0; first < configs.size(); first += static_cast<std::size_t>(lanes)) {
@@ -468,7 +499,8 @@ std::vector<int> kernel_domain(const std::vector<Configuration>& configs, Surfac
     std::vector<double> f(16 * n), nrm(12 * n), info(CNN_CF_INFO_ROWS * n);
     cnn_canonicalise_block(lanes, gregory, in.data(), f.data(), nrm.data(), info.data());
     cnn_domain_block(lanes, gregory, &d, f.data(), nrm.data(), info.data());
-    for (std::size_t l = 0; l < n && first + l < configs.size(); ++l) verdict.push_back(static_cast<int>(info[l]));
+    for (std::size_t l = 0; l < n && first + l < configs.size(); ++l)
+      verdict.push_back(static_cast<int>(info[l]));
   }
   return verdict;
 }
@@ -513,10 +545,10 @@ TEST(DomainKernel, AgreesWithTrainingDomainContains) {
 }
 
 TEST(DomainKernel, AngleBoundsOnEitherSideOfARightAngleAgreeWithTheReference) {
-  // The kernel compares the interior angles through their cosines. The paper's 60-120 degrees (the other tests'
-  // bounds) is symmetric about 90, so a corner taken for its supplement passes unseen there, and its upper
-  // cosine is negative. These bounds are not symmetric, and two of them have a positive upper or a negative
-  // lower cosine.
+  // The kernel compares the interior angles through their cosines. The paper's 60-120 degrees (the other
+  // tests' bounds) is symmetric about 90, so a corner taken for its supplement passes unseen there, and its
+  // upper cosine is negative. These bounds are not symmetric, and two of them have a positive upper or a
+  // negative lower cosine.
   std::mt19937_64 rng(108);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   for (const SurfaceKind kind : {SurfaceKind::kBilinear, SurfaceKind::kGregory}) {
@@ -536,20 +568,22 @@ TEST(DomainKernel, AngleBoundsOnEitherSideOfARightAngleAgreeWithTheReference) {
       domain.filters.max_angle_degrees = hi;
       std::vector<Configuration> configs;
       for (int i = 0; i < 1000; ++i) {
-        // A parallelogram with an angle of 40 to 140 degrees at A, C moved, S above: corners around both bounds.
+        // A parallelogram with an angle of 40 to 140 degrees at A, C moved, S above: corners around both
+        // bounds.
         const double angle = (90.0 + 50.0 * u(rng)) * std::numbers::pi / 180.0, length = 0.8 + 0.2 * u(rng);
         const Vec3 d(length * std::cos(angle), length * std::sin(angle), 0.0);
         const Vec3 c = Vec3(1, 0, 0) + d + Vec3(0.15 * u(rng), 0.15 * u(rng), 0.05 * u(rng));
         const Vec3 up(0.1 * u(rng), 0.1 * u(rng), 1.0);
-        const Configuration local{{Vec3(0, 0, 0), Vec3(1, 0, 0), c, d}, Vec3(0.3 + 0.2 * u(rng), 0.3, 0.1 * u(rng)),
+        const Configuration local{{Vec3(0, 0, 0), Vec3(1, 0, 0), c, d},
+                                  Vec3(0.3 + 0.2 * u(rng), 0.3, 0.1 * u(rng)),
                                   {up, up, up, up}};
         configs.push_back(testing::place(local, rng, random_order(rng)));
       }
       std::ostringstream what;
       what << to_string(kind) << " angles " << lo << "-" << hi;
       const auto [inside, outside] = expect_kernel_agrees(configs, kind, domain, what.str());
-      // No flat quadrilateral has every angle below (above) 90 degrees: with an upper bound below 90 (a positive
-      // cosine) or a lower bound above 90 (a negative one) every configuration is outside.
+      // No flat quadrilateral has every angle below (above) 90 degrees: with an upper bound below 90 (a
+      // positive cosine) or a lower bound above 90 (a negative one) every configuration is outside.
       EXPECT_GT(inside, lo < 90.0 && hi > 90.0 ? 20 : -1) << to_string(kind) << " angles " << lo << "-" << hi;
       EXPECT_GT(outside, 20) << to_string(kind) << " angles " << lo << "-" << hi;
     }
@@ -589,8 +623,8 @@ struct PassOutput {
 
 /// The double pass (cnn_canonicalise_block, then cnn_domain_block with `d`) or the float pass over `configs`
 /// (bilinear), as blocks of `lanes` lanes.
-std::vector<PassOutput> run_pass(const std::vector<Configuration>& configs, const cnn_domain* d, bool float_pass,
-                                 int lanes) {
+std::vector<PassOutput> run_pass(const std::vector<Configuration>& configs, const cnn_domain* d,
+                                 bool float_pass, int lanes) {
   std::vector<PassOutput> out;
   const auto n = static_cast<std::size_t>(lanes);
   for (std::size_t first = 0; first < configs.size(); first += n) {
@@ -642,8 +676,8 @@ double expect_float_pass_decides_as_double(const std::vector<Configuration>& con
 
 TEST(FloatFramePass, DecidesEveryLaneAsTheDoublePassDoes) {
   // Random segments in any order and placement, the paper's domain placed at random, with no domain, a domain
-  // that cuts through the samples and the shipped network's: every verdict is the double pass's, and most lanes
-  // (well over 80 in 100) are decided in float, or the pass would be a slower double pass.
+  // that cuts through the samples and the shipped network's: every verdict is the double pass's, and most
+  // lanes (well over 80 in 100) are decided in float, or the pass would be a slower double pass.
   std::mt19937_64 rng(121);
   std::vector<Configuration> any, paper;
   for (int i = 0; i < 3000; ++i) any.push_back(random_world(rng));
@@ -657,12 +691,15 @@ TEST(FloatFramePass, DecidesEveryLaneAsTheDoublePassDoes) {
   std::fill(wide.feature_max.begin(), wide.feature_max.end(), 1e3);
   const cnn_domain paper_filters = domain_bounds(wide);
   for (const auto& [name, d] : {std::pair<const char*, const cnn_domain*>{"no domain", nullptr},
-                                {"cut domain", &cut}, {"paper filters", &paper_filters}}) {
+                                {"cut domain", &cut},
+                                {"paper filters", &paper_filters}}) {
     const double share_any = expect_float_pass_decides_as_double(any, d, std::string("any, ") + name);
     const double share_paper = expect_float_pass_decides_as_double(paper, d, std::string("paper, ") + name);
     EXPECT_GT(share_any, 0.8) << name;
     EXPECT_GT(share_paper, 0.8) << name;
-    RecordProperty(std::string("decided_in_float_") + (d == nullptr ? "none" : d == &cut ? "cut" : "paper"),
+    RecordProperty(std::string("decided_in_float_") + (d == nullptr ? "none"
+                                                       : d == &cut  ? "cut"
+                                                                    : "paper"),
                    std::to_string(share_paper));
   }
 }
@@ -677,14 +714,23 @@ TEST(FloatFramePass, TiesSlavesOnThePlaneAndExtremeCasesGoToTheDoublePass) {
   for (int i = 0; i < 400; ++i) {
     Configuration c = testing::random_domain_configuration(SurfaceKind::kBilinear, rng);
     switch (i % 5) {
-      case 0: c.slave.z() = 0.0; break;                                   // on the plane
-      case 1: c.slave.z() = (i % 2 ? 1.0 : -1.0) * 1e-6 * (1 + u(rng)); break;  // nearly on it
-      case 2: c.nodes[3] = Vec3(0.0, 1.0, 0.0); c.nodes[1] = Vec3(1.0, 0.0, 0.0); break;  // |AB| = |AD|
-      case 3:  // S midway between A and B
+      case 0:
+        c.slave.z() = 0.0;
+        break;  // on the plane
+      case 1:
+        c.slave.z() = (i % 2 ? 1.0 : -1.0) * 1e-6 * (1 + u(rng));
+        break;  // nearly on it
+      case 2:
+        c.nodes[3] = Vec3(0.0, 1.0, 0.0);
+        c.nodes[1] = Vec3(1.0, 0.0, 0.0);
+        break;  // |AB| = |AD|
+      case 3:   // S midway between A and B
         c.slave = Vec3(0.5, 0.2 * u(rng), 0.1 * u(rng));
         c.nodes[1] = Vec3(1.0, 0.0, 0.0);
         break;
-      default: c.nodes[3] = Vec3(1.0, 1e-4 * (1.5 + u(rng)), 0.0); break;  // a corner of a hundredth of a degree
+      default:
+        c.nodes[3] = Vec3(1.0, 1e-4 * (1.5 + u(rng)), 0.0);
+        break;  // a corner of a hundredth of a degree
     }
     configs.push_back(c);
     configs.push_back(testing::place(c, rng, random_order(rng)));
@@ -708,25 +754,36 @@ TEST(FloatFramePass, WhatTheDoublePassSaysFloatLeavesItLeaves) {
     Configuration c = testing::random_domain_configuration(SurfaceKind::kBilinear, rng);
     const double tiny = std::pow(10.0, -3.0 - 6.0 * e(rng));
     switch (i % 6) {
-      case 0: c.slave.z() = (u(rng) < 0.0 ? -1.0 : 1.0) * tiny; break;
-      case 1: c.slave = Vec3(tiny * u(rng), tiny * u(rng), tiny * u(rng)); break;  // near A, off the plane
-      case 2:  // |AD|^2 = |AB|^2 (1 +- tiny)
+      case 0:
+        c.slave.z() = (u(rng) < 0.0 ? -1.0 : 1.0) * tiny;
+        break;
+      case 1:
+        c.slave = Vec3(tiny * u(rng), tiny * u(rng), tiny * u(rng));
+        break;  // near A, off the plane
+      case 2:   // |AD|^2 = |AB|^2 (1 +- tiny)
         c.nodes[1] = Vec3(1.0, 0.0, 0.0);
         c.nodes[3] = c.nodes[3].normalized() * std::sqrt(1.0 + (u(rng) < 0.0 ? -tiny : tiny));
         break;
-      case 3: c.nodes[3] = Vec3(1.0, std::pow(10.0, -2.0 - 2.0 * e(rng)), 0.0); break;  // thin corner at A
-      default: break;
+      case 3:
+        c.nodes[3] = Vec3(1.0, std::pow(10.0, -2.0 - 2.0 * e(rng)), 0.0);
+        break;  // thin corner at A
+      default:
+        break;
     }
     configs.push_back(testing::place(c, rng, random_order(rng)));
     Configuration t = testing::random_domain_configuration(SurfaceKind::kBilinear, rng);
     switch (i % 3) {
-      case 0: t.nodes[2].z() = 0.0; t.slave.z() = 0.0; break;  // a flat segment, the slave on it or beside it
-      case 1:  // a square, the slave anywhere above it
+      case 0:
+        t.nodes[2].z() = 0.0;
+        t.slave.z() = 0.0;
+        break;  // a flat segment, the slave on it or beside it
+      case 1:   // a square, the slave anywhere above it
         t.nodes = {Vec3(0.0, 0.0, 0.0), Vec3(1.0, 0.0, 0.0), Vec3(1.0, 1.0, 0.0), Vec3(0.0, 1.0, 0.0)};
         t.slave = Vec3(0.5 + 0.6 * u(rng), 0.5 + 0.6 * u(rng), 0.3 * e(rng));
         break;
       default:  // the slave as near A as B, the others farther
-        t.nodes = {Vec3(0.0, 0.0, 0.0), Vec3(1.0, 0.0, 0.0), Vec3(1.1, 0.9, 0.1 * u(rng)), Vec3(-0.1, 1.0, 0.0)};
+        t.nodes = {Vec3(0.0, 0.0, 0.0), Vec3(1.0, 0.0, 0.0), Vec3(1.1, 0.9, 0.1 * u(rng)),
+                   Vec3(-0.1, 1.0, 0.0)};
         t.slave = Vec3(0.5, 0.1 * u(rng), 0.1 * u(rng));
         break;
     }
@@ -746,8 +803,9 @@ TEST(FloatFramePass, WhatTheDoublePassSaysFloatLeavesItLeaves) {
         for (std::size_t l = 0; l < n && first + l < set->size(); ++l) {
           const int says = cnn_cff_leaves(static_cast<int>(n), static_cast<int>(l), f.data(), info.data());
           const bool left = fi[4 * n + l] != 0.0;
-          ASSERT_FALSE(says && !left) << (set == &exact ? "exact " : "") << "config " << first + l
-                                      << (d ? ", cut domain" : "") << ": said undecided, but float decides it";
+          ASSERT_FALSE(says && !left)
+              << (set == &exact ? "exact " : "") << "config " << first + l << (d ? ", cut domain" : "")
+              << ": said undecided, but float decides it";
           if (set == &exact) {
             EXPECT_TRUE(says) << "exact case " << first + l << " (kind " << (first + l) % 3 << ")";
           } else {
@@ -802,16 +860,17 @@ TEST(FloatFramePass, GivesTheSameBitsInEveryNodeOrder) {
     in_float += decided ? 1 : 0;
     for (std::size_t o = 1; o < orders.size(); ++o) {
       ASSERT_EQ(got[o].info[0], got[0].info[0]) << "config " << i << " order " << o;
-      for (std::size_t k = 0; k < 8; ++k) EXPECT_EQ(got[o].f[k], got[0].f[k]) << "config " << i << " order " << o;
+      for (std::size_t k = 0; k < 8; ++k)
+        EXPECT_EQ(got[o].f[k], got[0].f[k]) << "config " << i << " order " << o;
     }
   }
   EXPECT_GT(in_float, 200) << "most of these queries are decided in float";
 }
 
 TEST(FloatFramePass, GivesTheSameFeaturesAtEveryPowerOfTwoScale) {
-  // The float pass scales each query by a power of two before rounding to float: the same bits at every scale,
-  // as the double pass (the search's answers are scale-free; tests/search/test_local_search checks them at
-  // 2^-200 and 2^200).
+  // The float pass scales each query by a power of two before rounding to float: the same bits at every
+  // scale, as the double pass (the search's answers are scale-free; tests/search/test_local_search checks
+  // them at 2^-200 and 2^200).
   std::mt19937_64 rng(123);
   std::vector<Configuration> base;
   for (int i = 0; i < 64; ++i) base.push_back(random_world(rng));

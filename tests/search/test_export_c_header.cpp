@@ -2,8 +2,6 @@
 // the test in one translation unit, -std=c99 -Wall -Wextra -pedantic -Werror) and run on random queries in
 // any node order, on ties, out of the domain, degenerate and non-finite queries; compared with LocalSearch's
 // "network" method on the same queries, and the batched entry point with the one-query function.
-#include "search/export_c_header.hpp"
-
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -19,6 +17,7 @@
 #include "core/error.hpp"
 #include "io/network_file.hpp"
 #include "search/embedded_sources.hpp"
+#include "search/export_c_header.hpp"
 #include "search/local_search.hpp"
 #include "search/random_queries.hpp"
 #include "search/shipped_networks.hpp"
@@ -35,8 +34,8 @@ constexpr double kFloatNetworkTol = 1e-6;
 constexpr double kDoubleNetworkTol = 1e-11;
 // Batch against one query where the compiler contracts multiply-adds (GNU C): GCC vectorises other loops of
 // the one-query code (across a group of units) and contracts them differently, so the two differ by the
-// network's rounding (float: ~1e-7 relative, measured up to 3e-7 absolute), as the header against the library.
-// out of a query of status 1 must be left untouched: the driver fills it with this first.
+// network's rounding (float: ~1e-7 relative, measured up to 3e-7 absolute), as the header against the
+// library. out of a query of status 1 must be left untouched: the driver fills it with this first.
 constexpr double kUntouched = 12345.0;
 
 using testing::random_network;
@@ -74,10 +73,10 @@ std::vector<double> queries(SurfaceKind kind, std::uint64_t seed) {
     std::uniform_real_distribution<double> u(-1.0, 1.0);
     for (int i = 0; i < 24; ++i) {
       using geometry::Vec3;
-      const geometry::Configuration kite{{Vec3(0.0, 0.0, 0.0), Vec3(1.0, 0.0, 0.0), Vec3(1.3, 1.3, 0.1 * u(rng)),
-                                          Vec3(0.0, 1.0, 0.0)},
-                                         Vec3(0.9 + 0.05 * u(rng), 0.15 + 0.05 * u(rng), 0.1 + 0.05 * u(rng)),
-                                         {Vec3::Zero(), Vec3::Zero(), Vec3::Zero(), Vec3::Zero()}};
+      const geometry::Configuration kite{
+          {Vec3(0.0, 0.0, 0.0), Vec3(1.0, 0.0, 0.0), Vec3(1.3, 1.3, 0.1 * u(rng)), Vec3(0.0, 1.0, 0.0)},
+          Vec3(0.9 + 0.05 * u(rng), 0.15 + 0.05 * u(rng), 0.1 + 0.05 * u(rng)),
+          {Vec3::Zero(), Vec3::Zero(), Vec3::Zero(), Vec3::Zero()}};
       testing::append_raw(testing::place(kite, rng, SquareSymmetry{}), kind, raw);
     }
   }
@@ -88,7 +87,8 @@ std::vector<double> queries(SurfaceKind kind, std::uint64_t seed) {
     // 1e3 element sizes above the segment: along AB x AD / |AB|.
     const double ab[3] = {far[3] - far[0], far[4] - far[1], far[5] - far[2]};
     const double ad[3] = {far[9] - far[0], far[10] - far[1], far[11] - far[2]};
-    const double n[3] = {ab[1] * ad[2] - ab[2] * ad[1], ab[2] * ad[0] - ab[0] * ad[2], ab[0] * ad[1] - ab[1] * ad[0]};
+    const double n[3] = {ab[1] * ad[2] - ab[2] * ad[1], ab[2] * ad[0] - ab[0] * ad[2],
+                         ab[0] * ad[1] - ab[1] * ad[0]};
     const double length_ab = std::sqrt(ab[0] * ab[0] + ab[1] * ab[1] + ab[2] * ab[2]);
     for (int k = 0; k < 3; ++k) far[12 + static_cast<std::size_t>(k)] += 1e3 * n[k] / length_ab;
   }
@@ -112,23 +112,43 @@ std::string driver(const std::vector<Case>& cases) {
   for (const Case& k : cases) c += "#include \"" + k.prefix + ".h\"\n";
   for (const Case& k : cases) {
     const std::string n_raw = std::to_string(LocalSearch::raw_columns(k.model->surface()));
-    c += "static int run_" + k.prefix + "(void) {\n"
-         "  FILE* in = fopen(\"" + k.prefix + "_in.txt\", \"r\");\n"
-         "  FILE* res = fopen(\"" + k.prefix + "_out.txt\", \"w\");\n"
+    c += "static int run_" + k.prefix +
+         "(void) {\n"
+         "  FILE* in = fopen(\"" +
+         k.prefix +
+         "_in.txt\", \"r\");\n"
+         "  FILE* res = fopen(\"" +
+         k.prefix +
+         "_out.txt\", \"w\");\n"
          "  size_t n, i, k;\n  double *raw, *out;\n  int* status;\n"
          "  if (!in || !res || fscanf(in, \"%zu\", &n) != 1) return 1;\n"
-         "  raw = malloc(n * " + n_raw + " * sizeof *raw);\n  out = malloc(2 * n * sizeof *out);\n"
+         "  raw = malloc(n * " +
+         n_raw +
+         " * sizeof *raw);\n  out = malloc(2 * n * sizeof *out);\n"
          "  status = malloc(n * sizeof *status);\n"
-         "  for (i = 0; i < n * " + n_raw + "; ++i) {\n"
-         "    char word[64];\n    if (fscanf(in, \"%63s\", word) != 1) return 1;\n    raw[i] = strtod(word, NULL);\n  }\n"
-         "  for (i = 0; i < 2 * n; ++i) out[i] = " + std::to_string(kUntouched) + ";\n"
-         "  " + k.prefix + "_local_coordinates_batch(n, raw, out, status);\n"
+         "  for (i = 0; i < n * " +
+         n_raw +
+         "; ++i) {\n"
+         "    char word[64];\n    if (fscanf(in, \"%63s\", word) != 1) return 1;\n    raw[i] = strtod(word, "
+         "NULL);\n  }\n"
+         "  for (i = 0; i < 2 * n; ++i) out[i] = " +
+         std::to_string(kUntouched) +
+         ";\n"
+         "  " +
+         k.prefix +
+         "_local_coordinates_batch(n, raw, out, status);\n"
          "  for (i = 0; i < n; ++i) {\n"
-         "    double one[2] = {" + std::to_string(kUntouched) + ", " + std::to_string(kUntouched) + "};\n"
-         "    const int s = " + k.prefix + "_local_coordinates(raw + i * " + n_raw + ", one);\n"
-         "    fprintf(res, \"%d %.17g %.17g %d %.17g %.17g\\n\", s, one[0], one[1], status[i], out[2 * i], out[2 * i + 1]);\n"
+         "    double one[2] = {" +
+         std::to_string(kUntouched) + ", " + std::to_string(kUntouched) +
+         "};\n"
+         "    const int s = " +
+         k.prefix + "_local_coordinates(raw + i * " + n_raw +
+         ", one);\n"
+         "    fprintf(res, \"%d %.17g %.17g %d %.17g %.17g\\n\", s, one[0], one[1], status[i], out[2 * i], "
+         "out[2 * i + 1]);\n"
          "  }\n"
-         "  (void)k;\n  free(raw);\n  free(out);\n  free(status);\n  fclose(in);\n  return fclose(res) != 0;\n}\n";
+         "  (void)k;\n  free(raw);\n  free(out);\n  free(status);\n  fclose(in);\n  return fclose(res) != "
+         "0;\n}\n";
   }
   c += "int main(void) {\n  int failed = 0;\n";
   for (const Case& k : cases) c += "  failed |= run_" + k.prefix + "();\n";
@@ -138,11 +158,15 @@ std::string driver(const std::vector<Case>& cases) {
 
 int expected_code(Status s) {
   switch (s) {
-    case Status::kOk: return 0;
+    case Status::kOk:
+      return 0;
     case Status::kDegenerate:
-    case Status::kInvalid: return 1;
-    case Status::kOutOfDomain: return 2;
-    default: return -1;
+    case Status::kInvalid:
+      return 1;
+    case Status::kOutOfDomain:
+      return 2;
+    default:
+      return -1;
   }
 }
 
@@ -179,8 +203,10 @@ void compile_and_compare(const std::vector<Case>& cases, const std::string& flag
     for (std::size_t i = 0; i < n; ++i) {
       int one_status = -1, batch_status = -1;
       double one[2], batch[2];
-      ASSERT_TRUE(res >> one_status >> one[0] >> one[1] >> batch_status >> batch[0] >> batch[1]) << "query " << i;
-      ASSERT_EQ(one_status, expected_code(status[i])) << "query " << i << ", library status " << to_string(status[i]);
+      ASSERT_TRUE(res >> one_status >> one[0] >> one[1] >> batch_status >> batch[0] >> batch[1])
+          << "query " << i;
+      ASSERT_EQ(one_status, expected_code(status[i]))
+          << "query " << i << ", library status " << to_string(status[i]);
       ASSERT_EQ(batch_status, one_status) << "query " << i;
       ++codes[one_status];
       for (int c = 0; c < 2; ++c) {
@@ -189,7 +215,8 @@ void compile_and_compare(const std::vector<Case>& cases, const std::string& flag
           EXPECT_EQ(batch[c], kUntouched) << "query " << i;
           continue;
         }
-        EXPECT_NEAR(one[c], param[2 * i + static_cast<std::size_t>(c)], k.tol) << "query " << i << " coordinate " << c;
+        EXPECT_NEAR(one[c], param[2 * i + static_cast<std::size_t>(c)], k.tol)
+            << "query " << i << " coordinate " << c;
         if (batch_bitwise) {
           EXPECT_EQ(batch[c], one[c]) << "query " << i << " coordinate " << c;
         } else {
@@ -207,19 +234,21 @@ std::vector<Case> all_cases() {
   std::vector<Case> cases;
   const auto& bilinear = shipped("bilinear-8.h5");
   const auto& gregory = shipped("gregory-48.h5");
-  cases.push_back({"bilinear_8", std::make_shared<NetworkModel>(bilinear.network, bilinear.domain), kFloatNetworkTol,
-                   queries(SurfaceKind::kBilinear, 1)});
-  cases.push_back({"gregory_48", std::make_shared<NetworkModel>(gregory.network, gregory.domain), kFloatNetworkTol,
-                   queries(SurfaceKind::kGregory, 2)});
+  cases.push_back({"bilinear_8", std::make_shared<NetworkModel>(bilinear.network, bilinear.domain),
+                   kFloatNetworkTol, queries(SurfaceKind::kBilinear, 1)});
+  cases.push_back({"gregory_48", std::make_shared<NetworkModel>(gregory.network, gregory.domain),
+                   kFloatNetworkTol, queries(SurfaceKind::kGregory, 2)});
   // Affine input features, a float and a deeper double network (the forward pass's other branches).
-  cases.push_back({"bilinear_affine",
-                   std::make_shared<NetworkModel>(random_network<float>(bilinear.domain, {9}, InputFeatures::kAffine, 3),
-                                                  bilinear.domain),
-                   kFloatNetworkTol, queries(SurfaceKind::kBilinear, 3)});
-  cases.push_back({"gregory_affine_deep",
-                   std::make_shared<NetworkModel>(random_network<double>(gregory.domain, {12, 7}, InputFeatures::kAffine, 4),
-                                                  gregory.domain),
-                   kDoubleNetworkTol, queries(SurfaceKind::kGregory, 4)});
+  cases.push_back(
+      {"bilinear_affine",
+       std::make_shared<NetworkModel>(random_network<float>(bilinear.domain, {9}, InputFeatures::kAffine, 3),
+                                      bilinear.domain),
+       kFloatNetworkTol, queries(SurfaceKind::kBilinear, 3)});
+  cases.push_back(
+      {"gregory_affine_deep",
+       std::make_shared<NetworkModel>(
+           random_network<double>(gregory.domain, {12, 7}, InputFeatures::kAffine, 4), gregory.domain),
+       kDoubleNetworkTol, queries(SurfaceKind::kGregory, 4)});
   return cases;
 }
 
@@ -242,14 +271,16 @@ TEST(ExportCHeader, HeadersCompileAsCxx11AndCxx17WithoutAWarning) {
     std::ofstream(dir / (k.prefix + ".h")) << export_c_header(*k.model, options);
     unit += "#include \"" + k.prefix + ".h\"\n";
   }
-  unit += "int main() {\n"
-          "  double raw[27] = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0, 0.3, 0.4, 0.2,\n"
-          "                    0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1};\n"
-          "  double out[2];\n  int status[1];\n  bilinear_8_local_coordinates_batch(1, raw, out, status);\n"
-          "  return gregory_48_local_coordinates(raw, out) + status[0];\n}\n";
+  unit +=
+      "int main() {\n"
+      "  double raw[27] = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0, 0.3, 0.4, 0.2,\n"
+      "                    0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1};\n"
+      "  double out[2];\n  int status[1];\n  bilinear_8_local_coordinates_batch(1, raw, out, status);\n"
+      "  return gregory_48_local_coordinates(raw, out) + status[0];\n}\n";
   std::ofstream(dir / "unit.cpp") << unit;
   for (const char* standard : {"c++11", "c++17"}) {
-    const std::string compile = "cd \"" + dir.string() + "\" && \"" CONTACTNN_CXX_COMPILER "\" -std=" + standard +
+    const std::string compile = "cd \"" + dir.string() +
+                                "\" && \"" CONTACTNN_CXX_COMPILER "\" -std=" + standard +
                                 " -O1 -Wall -Wextra -pedantic -Werror -o unit unit.cpp -lm";
     EXPECT_EQ(std::system(compile.c_str()), 0) << compile;
   }
@@ -262,7 +293,8 @@ TEST(ExportCHeader, EmbedsTheLibrarysKernelsVerbatim) {
   EXPECT_NE(header.find(vector_sigmoid_source()), std::string::npos);
   // The whole text of canonical_frame.h, and only once.
   EXPECT_GT(canonical_frame_source().size(), 10000u);
-  EXPECT_EQ(header.find(canonical_frame_source(), header.find(canonical_frame_source()) + 1), std::string::npos);
+  EXPECT_EQ(header.find(canonical_frame_source(), header.find(canonical_frame_source()) + 1),
+            std::string::npos);
 }
 
 TEST(ExportCHeader, RejectsAPrefixThatIsNotACIdentifier) {

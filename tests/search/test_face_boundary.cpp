@@ -25,17 +25,20 @@ struct Outputs {
   std::vector<Location> location;
 };
 
-Outputs run(const LocalSearch& search, const std::vector<double>& raw, std::size_t count, bool one_at_a_time = false) {
+Outputs run(const LocalSearch& search, const std::vector<double>& raw, std::size_t count,
+            bool one_at_a_time = false) {
   Outputs r{std::vector<double>(2 * count), std::vector<double>(count), std::vector<Status>(count),
-        std::vector<Location>(count)};
+            std::vector<Location>(count)};
   const std::size_t columns = static_cast<std::size_t>(LocalSearch::raw_columns(search.surface()));
   if (one_at_a_time) {
     for (std::size_t i = 0; i < count; ++i) {
-      search.run<double>(1, raw.data() + i * columns,
-                         {r.param.data() + 2 * i, r.gap.data() + i, r.status.data() + i, nullptr, r.location.data() + i}, 1);
+      search.run<double>(
+          1, raw.data() + i * columns,
+          {r.param.data() + 2 * i, r.gap.data() + i, r.status.data() + i, nullptr, r.location.data() + i}, 1);
     }
   } else {
-    search.run<double>(count, raw.data(), {r.param.data(), r.gap.data(), r.status.data(), nullptr, r.location.data()}, 1);
+    search.run<double>(count, raw.data(),
+                       {r.param.data(), r.gap.data(), r.status.data(), nullptr, r.location.data()}, 1);
   }
   return r;
 }
@@ -75,9 +78,8 @@ TEST_P(FaceBoundary, AnswersOutsideGoToTheReferencesBoundaryPointAndInsideOnesSt
       ASSERT_EQ(after.status[i], Status::kOk);
       ASSERT_NE(after.location[i], Location::kFace);
       const geometry::Configuration c = testing::configuration_of(raw.data(), kind, i);
-      const projection::FaceClosestPoint reference = geometry::with_surface(c, kind, [&](const auto& surface) {
-        return projection::closest_point_on_face(surface, c.slave);
-      });
+      const projection::FaceClosestPoint reference = geometry::with_surface(
+          c, kind, [&](const auto& surface) { return projection::closest_point_on_face(surface, c.slave); });
       ASSERT_EQ(reference.status, Status::kOk);
       if (reference.location == Location::kFace) continue;  // the method's 'outside' missed an interior point
       ++compared;
@@ -96,7 +98,8 @@ TEST_P(FaceBoundary, AnswersOutsideGoToTheReferencesBoundaryPointAndInsideOnesSt
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(Surfaces, FaceBoundary, ::testing::Values(SurfaceKind::kBilinear, SurfaceKind::kGregory),
+INSTANTIATE_TEST_SUITE_P(Surfaces, FaceBoundary,
+                         ::testing::Values(SurfaceKind::kBilinear, SurfaceKind::kGregory),
                          [](const ::testing::TestParamInfo<SurfaceKind>& param_info) {
                            return std::string(to_string(param_info.param));
                          });

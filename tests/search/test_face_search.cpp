@@ -1,6 +1,6 @@
-// FaceSearch (lib/search/face_search.hpp) on tri3, tri6 and quad8 faces against the projection's closest point
-// on the true face (an independent implementation: Eigen, several starts, Armijo descent), in every node order
-// of a face, double and float, a query alone and in a block; FaceNetwork's canonical form.
+// FaceSearch (lib/search/face_search.hpp) on tri3, tri6 and quad8 faces against the projection's closest
+// point on the true face (an independent implementation: Eigen, several starts, Armijo descent), in every
+// node order of a face, double and float, a query alone and in a block; FaceNetwork's canonical form.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -10,10 +10,10 @@
 #include <vector>
 
 #include "core/error.hpp"
+#include "face_queries.hpp"
 #include "mlp/network.hpp"
 #include "search/face_network.hpp"
 #include "search/face_search.hpp"
-#include "face_queries.hpp"
 
 namespace contactnn::search {
 namespace {
@@ -38,14 +38,16 @@ Answers run(const FaceSearch& search, const std::vector<Real>& raw, std::vector<
   a.status.resize(n);
   a.iterations.resize(n);
   a.location.resize(n);
-  search.run<Real>(n, raw.data(), Results<Real>{param.data(), gap.data(), a.status.data(), a.iterations.data(),
-                                                a.location.data()});
+  search.run<Real>(
+      n, raw.data(),
+      Results<Real>{param.data(), gap.data(), a.status.data(), a.iterations.data(), a.location.data()});
   a.param.assign(param.begin(), param.end());
   a.gap.assign(gap.begin(), gap.end());
   return a;
 }
 
-std::vector<FaceQuery> queries(FaceKind kind, int count, std::uint64_t seed, const testing::FaceQueryOptions& o = {}) {
+std::vector<FaceQuery> queries(FaceKind kind, int count, std::uint64_t seed,
+                               const testing::FaceQueryOptions& o = {}) {
   std::mt19937_64 rng(seed);
   std::vector<FaceQuery> q;
   for (int i = 0; i < count; ++i) q.push_back(testing::random_face_query(kind, rng, o));
@@ -60,10 +62,11 @@ std::vector<double> rows(const std::vector<FaceQuery>& q) {
 
 double face_size(const FaceQuery& q) { return (q.nodes[1] - q.nodes[0]).norm(); }
 
-// The safeguarded hybrid reaches the reference's point (interior slave nodes: the foot lies inside the face) to
-// 1e-10 of the domain, with its status ok and the gap the reference's signed distance to 1e-10 of the face size.
-// Plain Newton from the centre (no safeguard) does too wherever it answers ok; on a curved face it may end at
-// another stationary point of |S - P| beyond the face, which it reports (outside, no_convergence): at most 1%.
+// The safeguarded hybrid reaches the reference's point (interior slave nodes: the foot lies inside the face)
+// to 1e-10 of the domain, with its status ok and the gap the reference's signed distance to 1e-10 of the face
+// size. Plain Newton from the centre (no safeguard) does too wherever it answers ok; on a curved face it may
+// end at another stationary point of |S - P| beyond the face, which it reports (outside, no_convergence): at
+// most 1%.
 TEST(FaceSearch, ConvergedMethodsReachTheReferencePointOnEveryFaceType) {
   for (const FaceKind kind : kKinds) {
     const auto q = queries(kind, 400, 11 + static_cast<int>(kind));
@@ -86,7 +89,8 @@ TEST(FaceSearch, ConvergedMethodsReachTheReferencePointOnEveryFaceType) {
         EXPECT_EQ(a.status[i], Status::kOk);
         EXPECT_NEAR(a.param[2 * i], ref.param[0], 1e-10);
         EXPECT_NEAR(a.param[2 * i + 1], ref.param[1], 1e-10);
-        const double signed_distance = (q[i].slave - ref.point).dot(ref.normal) < 0.0 ? -ref.distance : ref.distance;
+        const double signed_distance =
+            (q[i].slave - ref.point).dot(ref.normal) < 0.0 ? -ref.distance : ref.distance;
         EXPECT_NEAR(a.gap[i], signed_distance, 1e-10 * face_size(q[i]));
       }
       EXPECT_GT(compared, 350) << to_string(kind) << " " << name;
@@ -143,8 +147,8 @@ TEST(FaceSearch, QuadraticFacesWholeFaceAnswersAreTheReferencesOnEdgesAndVertice
   }
 }
 
-// The same face in each of its node orders (6 for triangles, 8 for quads; mid-side nodes with their edges) gives
-// the same point, status and gap.
+// The same face in each of its node orders (6 for triangles, 8 for quads; mid-side nodes with their edges)
+// gives the same point, status and gap.
 TEST(FaceSearch, EveryNodeOrderOfAFaceGivesTheSamePointStatusAndGap) {
   for (const FaceKind kind : kKinds) {
     const auto q = queries(kind, 100, 21);
@@ -156,18 +160,23 @@ TEST(FaceSearch, EveryNodeOrderOfAFaceGivesTheSamePointStatusAndGap) {
       for (std::size_t k = 0; k < orders.size(); ++k) {
         for (const FaceQuery& x : q) {
           FaceQuery y = x;
-          for (std::size_t i = 0; i < orders[k].size(); ++i) y.nodes[i] = x.nodes[static_cast<std::size_t>(orders[k][i])];
+          for (std::size_t i = 0; i < orders[k].size(); ++i)
+            y.nodes[i] = x.nodes[static_cast<std::size_t>(orders[k][i])];
           permuted[k].push_back(y);
         }
         by_order.push_back(run(search, rows(permuted[k])));
       }
       for (std::size_t i = 0; i < q.size(); ++i) {
-        const Vec3 p0 = testing::face_point(kind, permuted[0][i].nodes, by_order[0].param[2 * i], by_order[0].param[2 * i + 1]).position;
+        const Vec3 p0 = testing::face_point(kind, permuted[0][i].nodes, by_order[0].param[2 * i],
+                                            by_order[0].param[2 * i + 1])
+                            .position;
         for (std::size_t k = 1; k < orders.size(); ++k) {
-          SCOPED_TRACE(std::string(to_string(kind)) + " " + name + " order " + std::to_string(k) + " query " + std::to_string(i));
+          SCOPED_TRACE(std::string(to_string(kind)) + " " + name + " order " + std::to_string(k) + " query " +
+                       std::to_string(i));
           const Answers& a = by_order[k];
           ASSERT_EQ(a.status[i], by_order[0].status[i]);
-          const Vec3 p = testing::face_point(kind, permuted[k][i].nodes, a.param[2 * i], a.param[2 * i + 1]).position;
+          const Vec3 p =
+              testing::face_point(kind, permuted[k][i].nodes, a.param[2 * i], a.param[2 * i + 1]).position;
           // A point, not its coordinates: each order has its own parametrisation. The mirrored orders reverse
           // the normal, and with it the gap's sign.
           EXPECT_LT((p - p0).norm(), 1e-10 * face_size(q[i]));
@@ -181,8 +190,8 @@ TEST(FaceSearch, EveryNodeOrderOfAFaceGivesTheSamePointStatusAndGap) {
   }
 }
 
-// A query's result does not depend on its batch: alone (the one-lane kernel) and in a block, the same bits; and
-// float inputs give the double answer to float precision.
+// A query's result does not depend on its batch: alone (the one-lane kernel) and in a block, the same bits;
+// and float inputs give the double answer to float precision.
 TEST(FaceSearch, AQueryAloneAndInABlockGivesTheSameBitsAndFloatFollowsDouble) {
   for (const FaceKind kind : kKinds) {
     const auto q = queries(kind, 70, 31);
@@ -232,7 +241,8 @@ TEST(FaceSearch, TheCornerClosedFormIsExactOnStraightEdgedFacesAndAStartOnCurved
     for (std::size_t i = 0; i < q.size(); ++i) {
       const projection::FaceClosestPoint ref = testing::reference_point(kind, q[i]);
       if (ref.location != Location::kFace) continue;
-      worst = std::max({worst, std::fabs(a.param[2 * i] - ref.param[0]), std::fabs(a.param[2 * i + 1] - ref.param[1])});
+      worst = std::max(
+          {worst, std::fabs(a.param[2 * i] - ref.param[0]), std::fabs(a.param[2 * i + 1] - ref.param[1])});
     }
     EXPECT_LT(worst, 1e-9) << to_string(kind);
     const auto curved = queries(kind, 200, 42);
@@ -275,7 +285,8 @@ TEST(FaceSearch, StatusesForNonFiniteCollapsedAndOutsideQueries) {
 
 TEST(FaceSearch, RefusesMethodsAFaceTypeDoesNotTake) {
   EXPECT_THROW(FaceSearch(FaceKind::kTri3, Method::parse("network")), contactnn::InvalidArgument);
-  EXPECT_THROW(FaceSearch(FaceKind::kQuad8, Method::parse("network")), contactnn::InvalidArgument);  // no network
+  EXPECT_THROW(FaceSearch(FaceKind::kQuad8, Method::parse("network")),
+               contactnn::InvalidArgument);  // no network
   EXPECT_THROW(FaceSearch(FaceKind::kTri6, Method::parse("four_triangles")), contactnn::InvalidArgument);
   EXPECT_EQ(face_kind_from_string("quad8"), FaceKind::kQuad8);
   EXPECT_THROW((void)face_kind_from_string("quad9"), contactnn::InvalidArgument);
@@ -288,8 +299,9 @@ TEST(FaceSearch, RefusesMethodsAFaceTypeDoesNotTake) {
   mlp::Network<float> net({14, 4, 2}, 1.0, scaling);
   const FaceNetwork tri6(FaceKind::kTri6, net, std::vector<double>(14, -1.0), std::vector<double>(14, 1.0));
   EXPECT_THROW(FaceSearch(FaceKind::kQuad8, Method::parse("network"), {}, &tri6), contactnn::InvalidArgument);
-  EXPECT_THROW(FaceNetwork(FaceKind::kQuad8, net, std::vector<double>(20, -1.0), std::vector<double>(20, 1.0)),
-               contactnn::InvalidArgument);
+  EXPECT_THROW(
+      FaceNetwork(FaceKind::kQuad8, net, std::vector<double>(20, -1.0), std::vector<double>(20, 1.0)),
+      contactnn::InvalidArgument);
 }
 
 // The canonical form (FaceNetwork's input): the same features in every node order of a face (the nearest
@@ -306,14 +318,16 @@ TEST(FaceNetwork, TheCanonicalFormIsTheSameInEveryNodeOrderAndMapsParametersBoth
       ASSERT_TRUE(face_canonical_form(kind, rows({q[i]}).data(), f0.data(), order0, base0));
       for (const auto& order : orders) {
         FaceQuery y = q[i];
-        for (std::size_t k = 0; k < order.size(); ++k) y.nodes[k] = q[i].nodes[static_cast<std::size_t>(order[k])];
+        for (std::size_t k = 0; k < order.size(); ++k)
+          y.nodes[k] = q[i].nodes[static_cast<std::size_t>(order[k])];
         std::vector<double> f(static_cast<std::size_t>(nf));
         int o[4];
         double base[2];
         ASSERT_TRUE(face_canonical_form(kind, rows({y}).data(), f.data(), o, base));
         EXPECT_NEAR(base[0], base0[0], 1e-9);
         EXPECT_NEAR(base[1], base0[1], 1e-9);
-        for (int k = 0; k < nf; ++k) EXPECT_NEAR(f[static_cast<std::size_t>(k)], f0[static_cast<std::size_t>(k)], 1e-9) << k;
+        for (int k = 0; k < nf; ++k)
+          EXPECT_NEAR(f[static_cast<std::size_t>(k)], f0[static_cast<std::size_t>(k)], 1e-9) << k;
         // The foot in this order's parameters, to canonical: the canonical foot of the first order.
         double s = q[i].foot[0], t = q[i].foot[1];
         face_param_to_canonical(kind, order0, s, t);
@@ -354,17 +368,20 @@ TEST(FaceNetwork, ANetworksEstimateIsTheSamePointInEveryNodeOrder) {
       std::vector<FaceQuery> permuted;
       for (const FaceQuery& x : q) {
         FaceQuery y = x;
-        for (std::size_t i = 0; i < orders[k].size(); ++i) y.nodes[i] = x.nodes[static_cast<std::size_t>(orders[k][i])];
+        for (std::size_t i = 0; i < orders[k].size(); ++i)
+          y.nodes[i] = x.nodes[static_cast<std::size_t>(orders[k][i])];
         permuted.push_back(y);
       }
       const Answers a = run(search, rows(permuted));
       for (std::size_t i = 0; i < q.size(); ++i) {
         ASSERT_EQ(a.status[i], Status::kOk);
-        const Vec3 p = testing::face_point(kind, permuted[i].nodes, a.param[2 * i], a.param[2 * i + 1]).position;
+        const Vec3 p =
+            testing::face_point(kind, permuted[i].nodes, a.param[2 * i], a.param[2 * i + 1]).position;
         if (k == 0) {
           first.push_back(p);
         } else {
-          EXPECT_LT((p - first[i]).norm(), 1e-5 * face_size(q[i])) << to_string(kind) << " order " << k << " query " << i;
+          EXPECT_LT((p - first[i]).norm(), 1e-5 * face_size(q[i]))
+              << to_string(kind) << " order " << k << " query " << i;
         }
       }
     }
@@ -377,11 +394,12 @@ TEST(FaceNetwork, ANetworksEstimateIsTheSamePointInEveryNodeOrder) {
 namespace contactnn::search {
 namespace {
 
-// The extremes, as the quad4 search's hostile set (issue 31): a face at any scale from 1e-200 to 1e200 gives the
-// unit face's answer (every conversion a power of two is exact); a slave node 1e3 to 1e15 face sizes away gets a
-// finite answer whose |gap| is never more than its distance to the face's nearest node (FaceSearch computes in the caller's node order, so which stationary point of the
-// extrapolated surface a far slave's Newton reaches, and its status, may differ between node orders: docs/library.md
-// "Faces"); nothing non-finite comes out of any input.
+// The extremes, as the quad4 search's hostile set (issue 31): a face at any scale from 1e-200 to 1e200 gives
+// the unit face's answer (every conversion a power of two is exact); a slave node 1e3 to 1e15 face sizes away
+// gets a finite answer whose |gap| is never more than its distance to the face's nearest node (FaceSearch
+// computes in the caller's node order, so which stationary point of the extrapolated surface a far slave's
+// Newton reaches, and its status, may differ between node orders: docs/library.md "Faces"); nothing
+// non-finite comes out of any input.
 TEST(FaceSearchExtremes, ScalesFarSlavesAndNonFiniteInputs) {
   for (const FaceKind kind : kKinds) {
     testing::FaceQueryOptions local;
@@ -398,7 +416,8 @@ TEST(FaceSearchExtremes, ScalesFarSlavesAndNonFiniteInputs) {
         }
         const Answers a = run(search, rows(scaled));
         for (std::size_t i = 0; i < q.size(); ++i) {
-          SCOPED_TRACE(std::string(to_string(kind)) + " " + name + " scale " + std::to_string(std::log2(scale)));
+          SCOPED_TRACE(std::string(to_string(kind)) + " " + name + " scale " +
+                       std::to_string(std::log2(scale)));
           EXPECT_EQ(a.status[i], unit.status[i]);
           EXPECT_EQ(a.param[2 * i], unit.param[2 * i]);
           EXPECT_EQ(a.param[2 * i + 1], unit.param[2 * i + 1]);
@@ -415,18 +434,22 @@ TEST(FaceSearchExtremes, ScalesFarSlavesAndNonFiniteInputs) {
             FaceQuery y = x;
             const Vec3 n = (x.nodes[1] - x.nodes[0]).cross(x.nodes[2] - x.nodes[0]).normalized();
             y.slave = x.slave + far * (n + Vec3(0.3, -0.2, 0.1));
-            for (std::size_t j = 0; j < orders[k].size(); ++j) y.nodes[j] = x.nodes[static_cast<std::size_t>(orders[k][j])];
+            for (std::size_t j = 0; j < orders[k].size(); ++j)
+              y.nodes[j] = x.nodes[static_cast<std::size_t>(orders[k][j])];
             permuted[k].push_back(y);
           }
           by_order.push_back(run(search, rows(permuted[k])));
         }
         for (std::size_t i = 0; i < q.size(); ++i) {
-          SCOPED_TRACE(std::string(to_string(kind)) + " " + name + " far " + std::to_string(far) + " query " + std::to_string(i));
+          SCOPED_TRACE(std::string(to_string(kind)) + " " + name + " far " + std::to_string(far) + " query " +
+                       std::to_string(i));
           double nearest = std::numeric_limits<double>::infinity();
-          for (const Vec3& p : permuted[0][i].nodes) nearest = std::min(nearest, (permuted[0][i].slave - p).norm());
+          for (const Vec3& p : permuted[0][i].nodes)
+            nearest = std::min(nearest, (permuted[0][i].slave - p).norm());
           for (std::size_t k = 0; k < orders.size(); ++k) {
             const Answers& a = by_order[k];
-            EXPECT_TRUE(std::isfinite(a.param[2 * i]) && std::isfinite(a.param[2 * i + 1]) && std::isfinite(a.gap[i]));
+            EXPECT_TRUE(std::isfinite(a.param[2 * i]) && std::isfinite(a.param[2 * i + 1]) &&
+                        std::isfinite(a.gap[i]));
             EXPECT_LE(std::fabs(a.gap[i]), nearest * (1.0 + 1e-12)) << "order " << k;
           }
         }
@@ -436,7 +459,8 @@ TEST(FaceSearchExtremes, ScalesFarSlavesAndNonFiniteInputs) {
     std::vector<double> raw = rows({q[0]});
     const auto columns = raw.size();
     for (std::size_t k = 0; k < columns; ++k) {
-      for (const double bad : {std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity()}) {
+      for (const double bad :
+           {std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity()}) {
         std::vector<double> r = raw;
         r[k] = bad;
         for (const char* name : {"newton", "closed_form+newton:3", "newton:2"}) {

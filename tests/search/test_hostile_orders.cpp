@@ -1,11 +1,11 @@
-// lib/search on hostile configurations in all 8 node orders (SPEC 4): folded segments (C inside the triangle ABD,
-// C reflex behind A), slave nodes 1e6 to 1e15 element sizes away, nearly collinear and nearly collapsed
+// lib/search on hostile configurations in all 8 node orders (SPEC 4): folded segments (C inside the triangle
+// ABD, C reflex behind A), slave nodes 1e6 to 1e15 element sizes away, nearly collinear and nearly collapsed
 // segments, configurations at 1e+-100 and 1e+-300 and far from the origin, beside random ones of the paper's
-// domains. For every method on both surfaces, double and float, in a block and one query at a time: the status,
-// the gap (to 1e-12 of the segment size), the point (mapped to one node order) and the steps are the same in
-// every node order (gap and point to the bit on a bilinear facet, but for a network's start); no output is NaN;
-// no gap exceeds the distance to the segment's nearest node. Where the labels call a fold degenerate, so do the
-// methods that converge there. A stalled refinement stops.
+// domains. For every method on both surfaces, double and float, in a block and one query at a time: the
+// status, the gap (to 1e-12 of the segment size), the point (mapped to one node order) and the steps are the
+// same in every node order (gap and point to the bit on a bilinear facet, but for a network's start); no
+// output is NaN; no gap exceeds the distance to the segment's nearest node. Where the labels call a fold
+// degenerate, so do the methods that converge there. A stalled refinement stops.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -67,10 +67,11 @@ std::string named(const std::string& what, double x) {
 std::vector<Hostile> hostile_set() {
   std::vector<Hostile> set;
   const std::array<Vec3, 4> up = plane_normals();
-  const std::array<Vec3, 4> tilted = {Vec3(0.05, -0.03, 1), Vec3(-0.02, 0.06, 1), Vec3(-0.1, 0.02, 1), Vec3(0.04, 0.05, 1)};
+  const std::array<Vec3, 4> tilted = {Vec3(0.05, -0.03, 1), Vec3(-0.02, 0.06, 1), Vec3(-0.1, 0.02, 1),
+                                      Vec3(0.04, 0.05, 1)};
   // Folded segments. A dart (C inside the triangle ABD) and C reflex behind A: their bilinear map folds over
-  // itself inside the domain, and a slave node beyond the image of the fold has its nearest point on the fold,
-  // where the normal vanishes (the labels: degenerate). Elsewhere over them the labels project.
+  // itself inside the domain, and a slave node beyond the image of the fold has its nearest point on the
+  // fold, where the normal vanishes (the labels: degenerate). Elsewhere over them the labels project.
   const std::array<Vec3, 4> dart = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0.3, 0.3, 0), Vec3(0, 1, 0)};
   const std::array<Vec3, 4> reflex = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(-0.3, -0.3, 0), Vec3(0, 1, 0)};
   set.push_back({"dart, S beyond the fold", {dart, Vec3(0.5, 0.3, 0.2), up}, true});
@@ -81,7 +82,8 @@ std::vector<Hostile> hostile_set() {
   set.push_back({"reflex C, S beyond the fold, below", {reflex, Vec3(0.2, 0.2, -0.2), up}, true});
   set.push_back({"dart, tilted normals", {dart, Vec3(0.5, 0.3, 0.2), tilted}, false});
   // Slave nodes far away: 1e6 to 1e15 element sizes, along the normal, sideways and in between.
-  const std::array<Vec3, 4> warped = {Vec3(0, 0, 0), Vec3(1, 0, 0.05), Vec3(1.1, 0.9, -0.05), Vec3(0.1, 1, 0.1)};
+  const std::array<Vec3, 4> warped = {Vec3(0, 0, 0), Vec3(1, 0, 0.05), Vec3(1.1, 0.9, -0.05),
+                                      Vec3(0.1, 1, 0.1)};
   for (const double d : {1e6, 1.7e6, 1e9, 1e12, 1e15}) {
     for (const Vec3& dir : {Vec3(0.3, 0.2, 1), Vec3(1, 0.4, 0.2), Vec3(-0.7, -0.6, 0.3), Vec3(0, 0, -1)}) {
       set.push_back({named("far", d), {warped, Vec3(0.5, 0.5, 0) + d * dir.normalized(), tilted}, false});
@@ -90,17 +92,25 @@ std::vector<Hostile> hostile_set() {
   // Nearly collinear and nearly collapsed segments, just short of the degeneracy thresholds.
   const Vec3 s(0.3, 0.4, 0.2);
   for (const double h : {1e-3, 1e-6, 1e-9}) {
-    set.push_back({named("sliver", h), {{Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, h, 0), Vec3(0, h, 0)}, s, up}, false});
-    set.push_back({named("nearly collinear", h),
-                   {{Vec3(0, 0, 0), Vec3(1, h, 0), Vec3(2, 0, 0.5 * h), Vec3(3, h, h)}, Vec3(1.5, 0.2, 0.1), up}, false});
+    set.push_back(
+        {named("sliver", h), {{Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, h, 0), Vec3(0, h, 0)}, s, up}, false});
+    set.push_back(
+        {named("nearly collinear", h),
+         {{Vec3(0, 0, 0), Vec3(1, h, 0), Vec3(2, 0, 0.5 * h), Vec3(3, h, h)}, Vec3(1.5, 0.2, 0.1), up},
+         false});
   }
-  set.push_back({"C and D 1e-9 apart", {{Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0), Vec3(1 - 1e-9, 1, 0)}, s, up}, false});
+  set.push_back({"C and D 1e-9 apart",
+                 {{Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0), Vec3(1 - 1e-9, 1, 0)}, s, up},
+                 false});
   set.push_back({"0.1 degree corner",
-                 {{Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 0.0017, 0), Vec3(0.99, 0.0017, 0)}, s, up}, false});
-  set.push_back({"straight angle at B", {{Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(2, 0, 0), Vec3(0, 1, 0)}, s, up}, false});
+                 {{Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 0.0017, 0), Vec3(0.99, 0.0017, 0)}, s, up},
+                 false});
+  set.push_back(
+      {"straight angle at B", {{Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(2, 0, 0), Vec3(0, 1, 0)}, s, up}, false});
   set.push_back({"S on a node", {warped, warped[2], tilted}, false});
-  set.push_back({"S over the centre of a square", {{Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0), Vec3(0, 1, 0)},
-                                                   Vec3(0.5, 0.5, 0.25), up}, false});
+  set.push_back({"S over the centre of a square",
+                 {{Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0), Vec3(0, 1, 0)}, Vec3(0.5, 0.5, 0.25), up},
+                 false});
   // Extreme scales and positions.
   const Configuration unit{warped, Vec3(0.4, 0.7, 0.3), tilted};
   for (const double scale : {1e-300, 1e-100, 1e100, 1e300}) {
@@ -116,7 +126,8 @@ std::vector<Hostile> hostile_set() {
   // Ordinary configurations of both paper domains, placed at random.
   for (const SurfaceKind kind : {kBilinear, kGregory}) {
     const std::vector<double> raw = testing::random_queries(kind, 16, kind == kBilinear ? 71 : 72);
-    for (std::size_t i = 0; i < 16; ++i) set.push_back({"random", testing::configuration_of(raw.data(), kind, i), false});
+    for (std::size_t i = 0; i < 16; ++i)
+      set.push_back({"random", testing::configuration_of(raw.data(), kind, i), false});
   }
   return set;
 }
@@ -133,17 +144,20 @@ struct Outputs {
 /// param on input (start+newton:K).
 template <class Real>
 Outputs<Real> run(const LocalSearch& search, const std::vector<Real>& raw, const std::vector<Real>& start,
-              bool one_at_a_time) {
+                  bool one_at_a_time) {
   const std::size_t columns = static_cast<std::size_t>(LocalSearch::raw_columns(search.surface()));
   const std::size_t n = raw.size() / columns;
   Outputs<Real> r{start, std::vector<Real>(n), std::vector<Status>(n), std::vector<std::int32_t>(n)};
   if (!one_at_a_time) {
-    search.run(n, raw.data(), Results<Real>{r.param.data(), r.gap.data(), r.status.data(), r.iterations.data()}, 1);
+    search.run(n, raw.data(),
+               Results<Real>{r.param.data(), r.gap.data(), r.status.data(), r.iterations.data()}, 1);
     return r;
   }
   for (std::size_t i = 0; i < n; ++i) {
-    search.run(1, raw.data() + i * columns,
-               Results<Real>{r.param.data() + 2 * i, r.gap.data() + i, r.status.data() + i, r.iterations.data() + i}, 1);
+    search.run(
+        1, raw.data() + i * columns,
+        Results<Real>{r.param.data() + 2 * i, r.gap.data() + i, r.status.data() + i, r.iterations.data() + i},
+        1);
   }
   return r;
 }
@@ -165,13 +179,23 @@ double nearest_node_distance(const Configuration& c) {
 /// Every method of lib/search that depends on the node order through its arithmetic (network alone and
 /// four_triangles compute in orders of their own, the canonical frame's and the triangles').
 std::vector<std::string> methods() {
-  return {"newton:1", "newton:3", "newton:5", "newton",  "closed_form", "closed_form+newton:1", "closed_form+newton:3",
-          "network+newton:1", "network+newton:3", "start", "start+newton:3", "start+newton:20"};
+  return {"newton:1",
+          "newton:3",
+          "newton:5",
+          "newton",
+          "closed_form",
+          "closed_form+newton:1",
+          "closed_form+newton:3",
+          "network+newton:1",
+          "network+newton:3",
+          "start",
+          "start+newton:3",
+          "start+newton:20"};
 }
 
-/// The hostile set in all 8 node orders, for `kind` and `Real`, through each method: the same status, gap, steps
-/// and point (in the first order's coordinates) in every order; the same bits in a block and alone; finite
-/// outputs; no gap beyond the nearest node's distance.
+/// The hostile set in all 8 node orders, for `kind` and `Real`, through each method: the same status, gap,
+/// steps and point (in the first order's coordinates) in every order; the same bits in a block and alone;
+/// finite outputs; no gap beyond the nearest node's distance.
 template <class Real>
 void expect_the_same_in_every_node_order(SurfaceKind kind) {
   const std::vector<Hostile> set = hostile_set();
@@ -214,24 +238,26 @@ void expect_the_same_in_every_node_order(SurfaceKind kind) {
                     std::isfinite(block.gap[i]))
             << where;
         // No gap beyond the nearest node (in the input's own rounding for float).
-        EXPECT_LE(std::abs(static_cast<double>(block.gap[i])), reach * (1.0 + (sizeof(Real) == 4 ? 1e-6 : 1e-12)))
+        EXPECT_LE(std::abs(static_cast<double>(block.gap[i])),
+                  reach * (1.0 + (sizeof(Real) == 4 ? 1e-6 : 1e-12)))
             << where;
         const std::size_t first = 8 * h;
         EXPECT_EQ(block.status[i], block.status[first]) << where;
         EXPECT_EQ(block.iterations[i], block.iterations[first]) << where;
         // The gap along the caller's own normal: its sign follows the orientation (the mirror reverses it).
-        // On a bilinear facet the same bits, from the same start: its arithmetic is the same in every order but
-        // for exact changes of sign (surface_block.hpp, LaneSwap). (A network's estimate, the hybrids' start, is
-        // the same in every order to its own rounding only.)
+        // On a bilinear facet the same bits, from the same start: its arithmetic is the same in every order
+        // but for exact changes of sign (surface_block.hpp, LaneSwap). (A network's estimate, the hybrids'
+        // start, is the same in every order to its own rounding only.)
         const bool exact = kind == kBilinear && name.rfind("network", 0) != 0;
         const double gap = orders[k].orientation() * static_cast<double>(block.gap[i]);
         const double gap_tol = exact ? 0.0 : 1e-12 * size;
         EXPECT_NEAR(gap, static_cast<double>(block.gap[first]), gap_tol) << where;
-        // The point, in the first order's coordinates (exact for (xi, eta); (u, v) round in 1 - u, in the output's
-        // precision), where there is one (degenerate and invalid report no point).
+        // The point, in the first order's coordinates (exact for (xi, eta); (u, v) round in 1 - u, in the
+        // output's precision), where there is one (degenerate and invalid report no point).
         const std::array<double, 2> p = orders[k].to_canonical(
             {static_cast<double>(block.param[2 * i]), static_cast<double>(block.param[2 * i + 1])}, kind);
-        const bool point = block.status[first] != Status::kDegenerate && block.status[first] != Status::kInvalid;
+        const bool point =
+            block.status[first] != Status::kDegenerate && block.status[first] != Status::kInvalid;
         const double rounding =
             exact ? 0.0 : 1e-12 + (kind == kGregory ? 4.0 * std::numeric_limits<Real>::epsilon() : 0.0);
         for (int a = 0; a < 2 && point; ++a) {
@@ -248,9 +274,15 @@ void expect_the_same_in_every_node_order(SurfaceKind kind) {
 TEST(HostileOrders, BilinearDoubleGivesTheSameAnswerInEveryNodeOrder) {
   expect_the_same_in_every_node_order<double>(kBilinear);
 }
-TEST(HostileOrders, BilinearFloatGivesTheSameAnswerInEveryNodeOrder) { expect_the_same_in_every_node_order<float>(kBilinear); }
-TEST(HostileOrders, GregoryDoubleGivesTheSameAnswerInEveryNodeOrder) { expect_the_same_in_every_node_order<double>(kGregory); }
-TEST(HostileOrders, GregoryFloatGivesTheSameAnswerInEveryNodeOrder) { expect_the_same_in_every_node_order<float>(kGregory); }
+TEST(HostileOrders, BilinearFloatGivesTheSameAnswerInEveryNodeOrder) {
+  expect_the_same_in_every_node_order<float>(kBilinear);
+}
+TEST(HostileOrders, GregoryDoubleGivesTheSameAnswerInEveryNodeOrder) {
+  expect_the_same_in_every_node_order<double>(kGregory);
+}
+TEST(HostileOrders, GregoryFloatGivesTheSameAnswerInEveryNodeOrder) {
+  expect_the_same_in_every_node_order<float>(kGregory);
+}
 
 /// A slave node beyond a fold: the labels say degenerate in every node order, and so does every method that
 /// converges there (they said ok, with a gap of 0, +0.2 or -0.2 by the node order and another sign in float),
@@ -271,9 +303,11 @@ void expect_folds_degenerate(SurfaceKind kind) {
       testing::append_raw(c, kind, raw_d);
     }
     const std::vector<Real> raw(raw_d.begin(), raw_d.end());
-    for (const char* name : {"newton", "closed_form+newton:3", "closed_form+newton:5", "network+newton:3", "network+newton:5"}) {
+    for (const char* name :
+         {"newton", "closed_form+newton:3", "closed_form+newton:5", "network+newton:3", "network+newton:5"}) {
       const LocalSearch search(kind, Method::parse(name), {}, &model);
-      const Outputs<Real> out = run(search, raw, std::vector<Real>(16, static_cast<Real>(kind == kGregory ? 0.5 : 0.0)), false);
+      const Outputs<Real> out =
+          run(search, raw, std::vector<Real>(16, static_cast<Real>(kind == kGregory ? 0.5 : 0.0)), false);
       for (std::size_t k = 0; k < 8; ++k) {
         EXPECT_EQ(out.status[k], Status::kDegenerate) << h.name << ", " << name << ", order " << k;
         EXPECT_EQ(out.gap[k], Real(0)) << h.name << ", " << name << ", order " << k;
@@ -295,8 +329,10 @@ TEST(HostileOrders, AGregoryFoldIsDegenerateAsItsLabelInEveryNodeOrder) {
 TEST(HostileOrders, TheGregoryClosedFormsGapOfAFarSlaveIsNoLargerThanItsDistance) {
   // The estimate of a slave node 1.7e6 or 1e15 element sizes away lies far beyond the segment, where the
   // patch is its cubic extrapolation: the gap there was 130 times the distance, and 2.1e44 for 1e15.
-  const std::array<Vec3, 4> normals = {Vec3(0.05, -0.03, 1), Vec3(-0.02, 0.06, 1), Vec3(-0.1, 0.02, 1), Vec3(0.04, 0.05, 1)};
-  const std::array<Vec3, 4> nodes = {Vec3(0, 0, 0), Vec3(1, 0, 0.05), Vec3(1.1, 0.9, -0.05), Vec3(0.1, 1, 0.1)};
+  const std::array<Vec3, 4> normals = {Vec3(0.05, -0.03, 1), Vec3(-0.02, 0.06, 1), Vec3(-0.1, 0.02, 1),
+                                       Vec3(0.04, 0.05, 1)};
+  const std::array<Vec3, 4> nodes = {Vec3(0, 0, 0), Vec3(1, 0, 0.05), Vec3(1.1, 0.9, -0.05),
+                                     Vec3(0.1, 1, 0.1)};
   for (const double d : {1.7e6, 1e15}) {
     const Configuration c{nodes, Vec3(0.5, 0.5, 0) + d * Vec3(1, 0.4, 0.2).normalized(), normals};
     std::vector<double> raw;
@@ -311,20 +347,22 @@ TEST(HostileOrders, TheGregoryClosedFormsGapOfAFarSlaveIsNoLargerThanItsDistance
 
 TEST(HostileOrders, AStalledRefinementStopsWhereItStands) {
   // Slave nodes far beyond a corner of a flat square, started in that corner of the bilinear box: every step
-  // points out of the box in both coordinates, so the clamped iterate cannot move. start+newton:1000 stops after
-  // one step (it ran all 1000) with the answer of start+newton:1: no_convergence, held on the box's corner
-  // beyond the domain; a block of such lanes, and one of them beside ordinary lanes, the same.
+  // points out of the box in both coordinates, so the clamped iterate cannot move. start+newton:1000 stops
+  // after one step (it ran all 1000) with the answer of start+newton:1: no_convergence, held on the box's
+  // corner beyond the domain; a block of such lanes, and one of them beside ordinary lanes, the same.
   const std::array<Vec3, 4> square = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0), Vec3(0, 1, 0)};
   std::vector<double> raw, start;
   for (int i = 0; i < 40; ++i) {
-    testing::append_raw(Configuration{square, Vec3(5.0 + i, 6.0 + 0.5 * i, 0.3), plane_normals()}, kBilinear, raw);
+    testing::append_raw(Configuration{square, Vec3(5.0 + i, 6.0 + 0.5 * i, 0.3), plane_normals()}, kBilinear,
+                        raw);
     start.insert(start.end(), {1.5, 1.5});
   }
   const std::vector<double> ordinary = testing::random_queries(kBilinear, 40, 73);
   raw.insert(raw.end(), ordinary.begin(), ordinary.end());
   start.resize(2 * 80, 0.0);
   const Outputs<double> one = run(LocalSearch(kBilinear, Method::parse("start+newton:1")), raw, start, false);
-  const Outputs<double> many = run(LocalSearch(kBilinear, Method::parse("start+newton:1000")), raw, start, false);
+  const Outputs<double> many =
+      run(LocalSearch(kBilinear, Method::parse("start+newton:1000")), raw, start, false);
   for (std::size_t i = 0; i < 40; ++i) {
     EXPECT_EQ(many.status[i], Status::kNoConvergence) << i;
     EXPECT_EQ(many.status[i], one.status[i]) << i;

@@ -1,7 +1,8 @@
-// The kernel variants of lib/search (search/isa_dispatch.hpp), every one this CPU runs, forced in turn through
-// CONTACTNN_ISA: the variants with FMA give the same bits as each other, baseline the same statuses and results
-// within rounding (it rounds each multiply-add twice); in every variant a query alone gives its bits in a block
-// (the one-lane kernel is the block kernel's variant); and CONTACTNN_ISA is read and checked at construction.
+// The kernel variants of lib/search (search/isa_dispatch.hpp), every one this CPU runs, forced in turn
+// through CONTACTNN_ISA: the variants with FMA give the same bits as each other, baseline the same statuses
+// and results within rounding (it rounds each multiply-add twice); in every variant a query alone gives its
+// bits in a block (the one-lane kernel is the block kernel's variant); and CONTACTNN_ISA is read and checked
+// at construction.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -97,8 +98,9 @@ struct Case {
   std::string name;
 };
 
-/// Random queries of the paper's domains with every seventh row spoiled (NaN, collapsed, far, tiny, huge, random),
-/// the queries on a tie (the network's scalar tie path), and a count that leaves a tail outside whole blocks.
+/// Random queries of the paper's domains with every seventh row spoiled (NaN, collapsed, far, tiny, huge,
+/// random), the queries on a tie (the network's scalar tie path), and a count that leaves a tail outside
+/// whole blocks.
 std::vector<double> queries(SurfaceKind kind) {
   std::vector<double> raw = testing::mixed_queries(kind, 1000, kind == kBilinear ? 41 : 42);
   std::mt19937_64 rng(43);
@@ -108,8 +110,8 @@ std::vector<double> queries(SurfaceKind kind) {
   return raw;
 }
 
-/// Every path of the kernels (testing::methods_of), with the shipped float networks and a double network (blocks
-/// of 16), and once with the whole face (SearchOptions::closest_point_on_face).
+/// Every path of the kernels (testing::methods_of), with the shipped float networks and a double network
+/// (blocks of 16), and once with the whole face (SearchOptions::closest_point_on_face).
 class Cases {
  public:
   Cases() {
@@ -122,7 +124,8 @@ class Cases {
         cases_.push_back({kind, method, &f, {}, std::string(to_string(kind)) + " " + method});
       }
       cases_.push_back({kind, "network", &d, {}, std::string(to_string(kind)) + " network (double)"});
-      cases_.push_back({kind, "network+newton:2", &d, {}, std::string(to_string(kind)) + " network+newton:2 (double)"});
+      cases_.push_back(
+          {kind, "network+newton:2", &d, {}, std::string(to_string(kind)) + " network+newton:2 (double)"});
       SearchOptions face;
       face.closest_point_on_face = true;
       cases_.push_back({kind, "newton:3", &f, face, std::string(to_string(kind)) + " newton:3 (whole face)"});
@@ -152,8 +155,9 @@ TEST(KernelIsa, TheBuildHoldsItsVariantsAndTheCpuRunsBaseline) {
   // The CPU's own word (each variant's key features) against cpu_runs.
   __builtin_cpu_init();
   EXPECT_EQ(cpu_runs(KernelIsa::kAvx2), __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma"));
-  EXPECT_EQ(cpu_runs(KernelIsa::kAvx512), __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512bw") &&
-                                              __builtin_cpu_supports("avx512dq") && __builtin_cpu_supports("avx512vl"));
+  EXPECT_EQ(cpu_runs(KernelIsa::kAvx512),
+            __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512bw") &&
+                __builtin_cpu_supports("avx512dq") && __builtin_cpu_supports("avx512vl"));
 #endif
   for (const KernelIsa isa : built) EXPECT_FALSE(to_string(isa).empty());
 }
@@ -173,10 +177,11 @@ TEST(KernelIsa, CONTACTNN_ISAForcesAVariantAndIsCheckedAtConstruction) {
     EXPECT_EQ(kernel_isa(), isa);
     EXPECT_NO_THROW(LocalSearch(kBilinear, Method::parse("newton:3")));
   }
-  // A name that is no variant, one this build lacks, one this CPU cannot run: refused where a LocalSearch is made,
-  // never a silent fallback (nor SIGILL).
+  // A name that is no variant, one this build lacks, one this CPU cannot run: refused where a LocalSearch is
+  // made, never a silent fallback (nor SIGILL).
   std::vector<std::string> refused = {"sse9", "AVX2", "avx512 "};
-  for (const KernelIsa isa : {KernelIsa::kBaseline, KernelIsa::kAvx2, KernelIsa::kAvx512, KernelIsa::kNative}) {
+  for (const KernelIsa isa :
+       {KernelIsa::kBaseline, KernelIsa::kAvx2, KernelIsa::kAvx512, KernelIsa::kNative}) {
     if (!cpu_runs(isa)) refused.emplace_back(to_string(isa));
   }
   for (const std::string& value : refused) {
@@ -227,7 +232,8 @@ std::size_t differing(const Output<Real>& a, const Output<Real>& b) {
 }
 
 template <class Real>
-void expect_same_bits(const std::vector<Output<Real>>& a, const std::vector<Output<Real>>& b, const std::string& what) {
+void expect_same_bits(const std::vector<Output<Real>>& a, const std::vector<Output<Real>>& b,
+                      const std::string& what) {
   for (std::size_t k = 0; k < cases().all().size(); ++k) {
     EXPECT_EQ(differing(a[k], b[k]), 0u) << cases().all()[k].name << ", " << what;
   }
@@ -253,7 +259,8 @@ double segment_size(const std::vector<double>& raw, SurfaceKind kind, std::size_
   double size = 0.0;
   for (int i = 0; i < 4; ++i) {
     for (int j = i + 1; j < 4; ++j) {
-      size = std::max(size, std::hypot(x[3 * i] - x[3 * j], x[3 * i + 1] - x[3 * j + 1], x[3 * i + 2] - x[3 * j + 2]));
+      size = std::max(
+          size, std::hypot(x[3 * i] - x[3 * j], x[3 * i + 1] - x[3 * j + 1], x[3 * i + 2] - x[3 * j + 2]));
     }
   }
   return size;
@@ -264,14 +271,14 @@ void expect_within_rounding(const std::vector<Output<Real>>& base, const std::ve
                             const std::string& what, std::size_t& differing_bits, std::size_t& total) {
   // A multiply-add rounded once or twice moves a result by a few ulps. Through a well-conditioned query that
   // changes no status and no result beyond rounding: the random queries of the paper's domains, the ties and
-  // the tail. Not the spoiled rows (every seventh of the first 1000: far slaves, random boxes, extreme scales),
-  // where Newton from a few ulps apart may end anywhere.
+  // the tail. Not the spoiled rows (every seventh of the first 1000: far slaves, random boxes, extreme
+  // scales), where Newton from a few ulps apart may end anywhere.
   for (std::size_t k = 0; k < cases().all().size(); ++k) {
     const Case& c = cases().all()[k];
     const std::vector<double> raw = queries(c.kind);
     // (u, v) within float rounding of the network's output where a float network or float queries take part,
-    // else within many more ulps than a double's rounding makes through up to 50 Newton steps; the gap as (u, v)
-    // times the segment's size.
+    // else within many more ulps than a double's rounding makes through up to 50 Newton steps; the gap as (u,
+    // v) times the segment's size.
     const bool in_float =
         sizeof(Real) == sizeof(float) || (Method::parse(c.method).needs_network() && c.network->is_float());
     const double tol = in_float ? 1e-5 : 1e-9;
@@ -289,8 +296,11 @@ void expect_within_rounding(const std::vector<Output<Real>>& base, const std::ve
         ++status_changes;
         continue;
       }
-      // No converged point to compare: Newton's last iterate (no_convergence, degenerate), the centre (invalid).
-      if (b.status[i] != Status::kOk && b.status[i] != Status::kOutside && b.status[i] != Status::kOutOfDomain) continue;
+      // No converged point to compare: Newton's last iterate (no_convergence, degenerate), the centre
+      // (invalid).
+      if (b.status[i] != Status::kOk && b.status[i] != Status::kOutside &&
+          b.status[i] != Status::kOutOfDomain)
+        continue;
       // Newton to convergence may stop one step apart where a step lands at the tolerance.
       EXPECT_LE(std::abs(a.iterations[i] - b.iterations[i]), 1) << c.name << ", " << what << ", query " << i;
       for (int p = 0; p < 2; ++p) {
@@ -308,15 +318,16 @@ void expect_within_rounding(const std::vector<Output<Real>>& base, const std::ve
 
 TEST(KernelIsa, BaselineGivesTheStatusesOfTheVariantsWithFmaAndTheirResultsWithinRounding) {
   const std::vector<KernelIsa> all = runnable();
-  if (all.front() != KernelIsa::kBaseline || all.size() < 2) GTEST_SKIP() << "no baseline and FMA variant to compare";
+  if (all.front() != KernelIsa::kBaseline || all.size() < 2)
+    GTEST_SKIP() << "no baseline and FMA variant to compare";
   const KernelIsa wide = all.back();
   const VariantResults& r = variant_results();
   std::size_t differing_bits = 0, total = 0;
   const std::string what = "baseline against " + std::string(to_string(wide));
   expect_within_rounding(r.in_double.at(KernelIsa::kBaseline), r.in_double.at(wide), what + " (double)",
                          differing_bits, total);
-  expect_within_rounding(r.in_float.at(KernelIsa::kBaseline), r.in_float.at(wide), what + " (float)", differing_bits,
-                         total);
+  expect_within_rounding(r.in_float.at(KernelIsa::kBaseline), r.in_float.at(wide), what + " (float)",
+                         differing_bits, total);
   // Not the same bits: baseline really ran other code (CONTACTNN_ISA reached the kernels).
   EXPECT_GT(differing_bits, total / 100) << "baseline gave the FMA variant's bits almost everywhere";
   RecordProperty("baseline_differing_bits", std::to_string(differing_bits) + " of " + std::to_string(total));
@@ -324,8 +335,8 @@ TEST(KernelIsa, BaselineGivesTheStatusesOfTheVariantsWithFmaAndTheirResultsWithi
 
 TEST(KernelIsa, InEveryVariantAQueryAloneGivesItsBitsInABlock) {
   // The one-lane kernel (kernels_single.cpp, for the queries after the last whole block) must be the block
-  // kernel's variant: baseline and FMA variants round differently. Every query of the first blocks, the ties and
-  // the tail, alone.
+  // kernel's variant: baseline and FMA variants round differently. Every query of the first blocks, the ties
+  // and the tail, alone.
   const VariantResults& r = variant_results();
   for (const KernelIsa isa : runnable()) {
     const ScopedIsa scope(std::string(to_string(isa)).c_str());
@@ -344,15 +355,17 @@ TEST(KernelIsa, InEveryVariantAQueryAloneGivesItsBitsInABlock) {
         const Output<float> one_f = run(search, std::vector<float>(row.begin(), row.end()));
         const Output<double>& all = r.in_double.at(isa)[k];
         const Output<float>& all_f = r.in_float.at(isa)[k];
-        const bool same = one.status[0] == all.status[i] && same_bits(one.param[0], all.param[2 * i]) &&
-                          same_bits(one.param[1], all.param[2 * i + 1]) && same_bits(one.gap[0], all.gap[i]) &&
-                          one.iterations[0] == all.iterations[i] && one_f.status[0] == all_f.status[i] &&
-                          same_bits(one_f.param[0], all_f.param[2 * i]) &&
-                          same_bits(one_f.param[1], all_f.param[2 * i + 1]) && same_bits(one_f.gap[0], all_f.gap[i]);
+        const bool same =
+            one.status[0] == all.status[i] && same_bits(one.param[0], all.param[2 * i]) &&
+            same_bits(one.param[1], all.param[2 * i + 1]) && same_bits(one.gap[0], all.gap[i]) &&
+            one.iterations[0] == all.iterations[i] && one_f.status[0] == all_f.status[i] &&
+            same_bits(one_f.param[0], all_f.param[2 * i]) &&
+            same_bits(one_f.param[1], all_f.param[2 * i + 1]) && same_bits(one_f.gap[0], all_f.gap[i]);
         if (!same && ++mismatches <= 3) {
-          ADD_FAILURE() << c.name << ", " << to_string(isa) << ", query " << i << " alone: " << one.param[0] << " "
-                        << one.param[1] << " status " << to_string(one.status[0]) << ", in the block "
-                        << all.param[2 * i] << " " << all.param[2 * i + 1] << " status " << to_string(all.status[i]);
+          ADD_FAILURE() << c.name << ", " << to_string(isa) << ", query " << i << " alone: " << one.param[0]
+                        << " " << one.param[1] << " status " << to_string(one.status[0]) << ", in the block "
+                        << all.param[2 * i] << " " << all.param[2 * i + 1] << " status "
+                        << to_string(all.status[i]);
         }
       }
       EXPECT_EQ(mismatches, 0u) << c.name << ", " << to_string(isa);

@@ -4,8 +4,8 @@
 // closed_form against the labels (exact on flat segments); the hybrids against the labels (issue 11's
 // acceptance numbers on held-out random Gregory configurations with the shipped network). Also: float against
 // double, results independent of count, block position and threads, every status reachable, never a NaN;
-// start+newton:K from starts near the labels; four_triangles against a reference of its own (Ericson's closest
-// point on each triangle, in long double), a dense sampling of the triangles, the labels on flat
+// start+newton:K from starts near the labels; four_triangles against a reference of its own (Ericson's
+// closest point on each triangle, in long double), a dense sampling of the triangles, the labels on flat
 // parallelograms, point-in-polygon statuses on flat quads and the 8 node orders.
 #include <gtest/gtest.h>
 
@@ -59,10 +59,13 @@ struct Output {
   std::vector<Status> status;
   std::vector<std::int32_t> iterations;
   explicit Output(std::size_t n) : param(2 * n), gap(n), status(n), iterations(n) {}
-  Results<Real> results() { return Results<Real>{param.data(), gap.data(), status.data(), iterations.data()}; }
+  Results<Real> results() {
+    return Results<Real>{param.data(), gap.data(), status.data(), iterations.data()};
+  }
 };
 
-/// `start` (2 per query, or empty: zeros): what param holds when the run begins, the starts of start+newton:K.
+/// `start` (2 per query, or empty: zeros): what param holds when the run begins, the starts of
+/// start+newton:K.
 template <class Real>
 Output<Real> run(const LocalSearch& search, const std::vector<Real>& raw, int threads = 1,
                  std::vector<Real> start = {}) {
@@ -83,7 +86,8 @@ using testing::shipped;
 std::vector<dataset::Label> labels_of(const std::vector<double>& raw, SurfaceKind kind) {
   std::vector<dataset::Label> labels;
   const std::size_t n = raw.size() / static_cast<std::size_t>(stride(kind));
-  for (std::size_t i = 0; i < n; ++i) labels.push_back(dataset::label_configuration(configuration_of(raw.data(), kind, i), kind));
+  for (std::size_t i = 0; i < n; ++i)
+    labels.push_back(dataset::label_configuration(configuration_of(raw.data(), kind, i), kind));
   return labels;
 }
 
@@ -95,7 +99,8 @@ std::string sci(double x) {
 }
 
 double param_error(const Output<double>& out, std::size_t i, const dataset::Label& label) {
-  return std::max(std::abs(out.param[2 * i] - label.param[0]), std::abs(out.param[2 * i + 1] - label.param[1]));
+  return std::max(std::abs(out.param[2 * i] - label.param[0]),
+                  std::abs(out.param[2 * i + 1] - label.param[1]));
 }
 
 // ---- network ----
@@ -114,8 +119,9 @@ void expect_network_matches_predict(const mlp::Network<Real>& net, const geometr
     const Configuration world = configuration_of(raw.data(), kind, i);
     const geometry::NormaliseOutcome n = geometry::normalise(world, kind);
     if (!n.value || !n.value->canonical) {
-      EXPECT_EQ(out.status[i], !n.value && n.failure == geometry::NormaliseFailure::kNonFinite ? Status::kInvalid
-                                                                                                  : Status::kDegenerate);
+      EXPECT_EQ(out.status[i], !n.value && n.failure == geometry::NormaliseFailure::kNonFinite
+                                   ? Status::kInvalid
+                                   : Status::kDegenerate);
       continue;
     }
     std::array<double, 2> p{};
@@ -191,7 +197,8 @@ TieReference tie_reference(const Configuration& world, SurfaceKind kind, const m
 }
 
 /// The forms of a tie query: how many, and how many of them are in the network's domain.
-std::array<int, 2> forms_in_domain(const Configuration& world, SurfaceKind kind, const geometry::TrainingDomain& domain) {
+std::array<int, 2> forms_in_domain(const Configuration& world, SurfaceKind kind,
+                                   const geometry::TrainingDomain& domain) {
   const geometry::CanonicalForms forms = geometry::canonical_forms(world, kind);
   int in = 0;
   for (int k = 0; k < forms.count; ++k) {
@@ -225,9 +232,11 @@ TEST(NetworkMethod, AffineInputFeaturesArePredictsOnTheSameFeatures) {
     mlp::Network<float> plain({n, 12, 2}, 1.0, s);
     plain.initialize(5);
     const NetworkModel with_map(net, domain), without(plain, domain);
-    const Output<double> a = run_method(kind, "network", raw, &with_map), b = run_method(kind, "network", raw, &without);
+    const Output<double> a = run_method(kind, "network", raw, &with_map),
+                         b = run_method(kind, "network", raw, &without);
     double largest = 0.0;
-    for (std::size_t i = 0; i < a.param.size(); ++i) largest = std::max(largest, std::abs(a.param[i] - b.param[i]));
+    for (std::size_t i = 0; i < a.param.size(); ++i)
+      largest = std::max(largest, std::abs(a.param[i] - b.param[i]));
     EXPECT_GT(largest, 1e-3);
   }
 }
@@ -238,21 +247,27 @@ TEST(NetworkMethod, OneQueryAloneIsItsLaneOfABlockBitForBitInFloatAndDouble) {
   // 17, 40: one partial group, one full, a full and a partial, several), in float and double: each query's
   // answer alone must be its answer in a block, bit for bit.
   for (const SurfaceKind kind : {kBilinear, kGregory}) {
-    const geometry::TrainingDomain domain = shipped(kind == kBilinear ? "bilinear-8.h5" : "gregory-48.h5").domain;
+    const geometry::TrainingDomain domain =
+        shipped(kind == kBilinear ? "bilinear-8.h5" : "gregory-48.h5").domain;
     const std::vector<double> raw = mixed_queries(kind, 200, 31);
     const auto st = static_cast<std::size_t>(stride(kind));
     for (const std::vector<int>& hidden : {std::vector<int>{5}, {16, 17}, {40}}) {
-      const mlp::Network<float> net = testing::random_network<float>(domain, hidden, InputFeatures::kPaper, 9);
+      const mlp::Network<float> net =
+          testing::random_network<float>(domain, hidden, InputFeatures::kPaper, 9);
       for (const bool in_double : {false, true}) {
-        const NetworkModel model = in_double ? NetworkModel(net.cast<double>(), domain) : NetworkModel(net, domain);
+        const NetworkModel model =
+            in_double ? NetworkModel(net.cast<double>(), domain) : NetworkModel(net, domain);
         const LocalSearch search(kind, Method::parse("network"), {}, &model);
         const Output<double> block = run(search, raw, 1);
         double spread = 0.0;
         for (std::size_t i = 0; i < raw.size() / st; ++i) {
           const Output<double> one = run(search, rows_of(raw, kind, i), 1);
-          ASSERT_EQ(one.status[0], block.status[i]) << to_string(kind) << " width " << hidden[0] << " query " << i;
-          ASSERT_EQ(one.param[0], block.param[2 * i]) << to_string(kind) << " width " << hidden[0] << " query " << i;
-          ASSERT_EQ(one.param[1], block.param[2 * i + 1]) << to_string(kind) << " width " << hidden[0] << " query " << i;
+          ASSERT_EQ(one.status[0], block.status[i])
+              << to_string(kind) << " width " << hidden[0] << " query " << i;
+          ASSERT_EQ(one.param[0], block.param[2 * i])
+              << to_string(kind) << " width " << hidden[0] << " query " << i;
+          ASSERT_EQ(one.param[1], block.param[2 * i + 1])
+              << to_string(kind) << " width " << hidden[0] << " query " << i;
           if (std::isfinite(block.param[2 * i])) {
             spread = std::max(spread, std::abs(block.param[2 * i] - block.param[0]));
           }
@@ -264,9 +279,9 @@ TEST(NetworkMethod, OneQueryAloneIsItsLaneOfABlockBitForBitInFloatAndDouble) {
 }
 
 TEST(NetworkMethod, OnATieIsTheMeanOverTheCanonicalFormsWhateverTheNodeOrder) {
-  // The reference semantics (tie_reference): the mean of the predictions over the canonical forms of the query
-  // in the domain (every form, out of the domain, when none is). Then the answer, mapped to one node order, is the same
-  // for all 8 orders of a segment.
+  // The reference semantics (tie_reference): the mean of the predictions over the canonical forms of the
+  // query in the domain (every form, out of the domain, when none is). Then the answer, mapped to one node
+  // order, is the same for all 8 orders of a segment.
   std::mt19937_64 rng(22);
   for (const char* name : {"bilinear-8.h5", "gregory-48.h5"}) {
     const auto& trained = shipped(name);
@@ -294,13 +309,15 @@ TEST(NetworkMethod, OnATieIsTheMeanOverTheCanonicalFormsWhateverTheNodeOrder) {
     // Every query has several forms but the bilinear z tie (one form: a bilinear network's features are the
     // same in either orientation of z there).
     EXPECT_EQ(several, static_cast<int>(queries.size()) - (kind == kBilinear ? 16 : 0));
-    // Some ties have forms on both sides of the domain's edge: their answer is the mean over the forms inside.
+    // Some ties have forms on both sides of the domain's edge: their answer is the mean over the forms
+    // inside.
     EXPECT_GT(mixed, 0);
     // Node-order independence: each base's 16 queries (8 orders x 2 placements) map to the same point.
     for (std::size_t b = 0; b < queries.size(); b += 16) {
       for (std::size_t j = 0; j < 16; ++j) {
         const SquareSymmetry order = all_square_symmetries()[j / 2];
-        const std::array<double, 2> p = order.to_canonical({out.param[2 * (b + j)], out.param[2 * (b + j) + 1]}, kind);
+        const std::array<double, 2> p =
+            order.to_canonical({out.param[2 * (b + j)], out.param[2 * (b + j) + 1]}, kind);
         const std::array<double, 2> p0 = {out.param[2 * b], out.param[2 * b + 1]};
         // A float network's rounding through the different placements: 1e-6 (scripts/node-orders' tolerance).
         EXPECT_NEAR(p[0], p0[0], 1e-6) << "base " << b / 16 << " order " << j / 2;
@@ -342,7 +359,8 @@ TEST(LocalSearch, GapIsTheSignedDistanceAlongTheCallersNormalAtTheReportedPoint)
           // Capped in magnitude at the distance to the segment's nearest node (docs/conventions.md).
           const double expected = capped_gap(n.dot(c.slave - p.position), c);
           // The same point in world coordinates against coordinates relative to S: rounding of ~10 sizes.
-          EXPECT_NEAR(with_gap.gap[i], expected, 1e-11 * patch.characteristic_length()) << method << " query " << i;
+          EXPECT_NEAR(with_gap.gap[i], expected, 1e-11 * patch.characteristic_length())
+              << method << " query " << i;
         });
       }
     }
@@ -352,9 +370,9 @@ TEST(LocalSearch, GapIsTheSignedDistanceAlongTheCallersNormalAtTheReportedPoint)
 TEST(NetworkMethod, LanesTheFloatFrameLeavesToDoubleAreComputedAgainAndAgreeWithOneQueryAtATime) {
   // A float network on bilinear segments: a block decides in float the lanes whose canonical frame float
   // decides and leaves the others pending; LocalSearch::run computes those again with the frame in double,
-  // gathered from many blocks. Here a third of the slaves lie on their segment's plane (touching contact, which
-  // float cannot orient), with the network alone and a hybrid: no status is left pending, and each answer is
-  // that of the query alone (whose one-lane kernel redoes it at once), at 1 and 2 threads.
+  // gathered from many blocks. Here a third of the slaves lie on their segment's plane (touching contact,
+  // which float cannot orient), with the network alone and a hybrid: no status is left pending, and each
+  // answer is that of the query alone (whose one-lane kernel redoes it at once), at 1 and 2 threads.
   std::mt19937_64 rng(131);
   std::vector<double> raw;
   for (int i = 0; i < 700; ++i) {
@@ -383,11 +401,12 @@ TEST(NetworkMethod, LanesTheFloatFrameLeavesToDoubleAreComputedAgainAndAgreeWith
 }
 
 TEST(NetworkMethod, TouchingContactGivesTheSameBitsWhateverRanBeforeIt) {
-  // After a block whose lanes float mostly leaves undecided (touching contact: slaves on flat segments; square
-  // elements), a thread runs the double pass first and skips the float pass where cnn_cff_leaves names every
-  // lane; blocks with lanes float decides run it too. Which way a block goes depends on the blocks before it,
-  // its answers must not: runs of 64 deck-like queries, runs of random ones and blocks of both (3 in 4 deck-like)
-  // give every query the bits it gets alone, in a batch in forward and in reverse order, at 1 and 2 threads.
+  // After a block whose lanes float mostly leaves undecided (touching contact: slaves on flat segments;
+  // square elements), a thread runs the double pass first and skips the float pass where cnn_cff_leaves names
+  // every lane; blocks with lanes float decides run it too. Which way a block goes depends on the blocks
+  // before it, its answers must not: runs of 64 deck-like queries, runs of random ones and blocks of both (3
+  // in 4 deck-like) give every query the bits it gets alone, in a batch in forward and in reverse order, at 1
+  // and 2 threads.
   std::mt19937_64 rng(132);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   const auto deck_like = [&](int i) {
@@ -427,11 +446,15 @@ TEST(NetworkMethod, TouchingContactGivesTheSameBitsWhateverRanBeforeIt) {
       const Output<double> forward = run(search, raw, threads), backward = run(search, reversed, threads);
       for (std::size_t i = 0; i < n; ++i) {
         const std::size_t j = n - 1 - i;
-        ASSERT_EQ(forward.status[i], alone[i].status[0]) << method << " threads " << threads << " query " << i;
-        ASSERT_EQ(backward.status[j], alone[i].status[0]) << method << " threads " << threads << " query " << i;
+        ASSERT_EQ(forward.status[i], alone[i].status[0])
+            << method << " threads " << threads << " query " << i;
+        ASSERT_EQ(backward.status[j], alone[i].status[0])
+            << method << " threads " << threads << " query " << i;
         for (std::size_t c = 0; c < 2; ++c) {
-          ASSERT_EQ(forward.param[2 * i + c], alone[i].param[c]) << method << " threads " << threads << " query " << i;
-          ASSERT_EQ(backward.param[2 * j + c], alone[i].param[c]) << method << " threads " << threads << " query " << i;
+          ASSERT_EQ(forward.param[2 * i + c], alone[i].param[c])
+              << method << " threads " << threads << " query " << i;
+          ASSERT_EQ(backward.param[2 * j + c], alone[i].param[c])
+              << method << " threads " << threads << " query " << i;
         }
         deck_ok += deck[i] && forward.status[i] == Status::kOk;
       }
@@ -452,8 +475,9 @@ TEST(NetworkModel, RefusesNetworksThatDoNotFit) {
   s.output_max = {1, 1, 1};
   EXPECT_THROW(NetworkModel(mlp::Network<float>({8, 4, 3}, 2.0, s), bilinear.domain), InvalidArgument);
   mlp::Scaling wide = bilinear.network.scaling();
-  EXPECT_THROW(NetworkModel(mlp::Network<float>({8, NetworkModel::kMaxWidth + 1, 2}, 2.0, wide), bilinear.domain),
-               InvalidArgument);
+  EXPECT_THROW(
+      NetworkModel(mlp::Network<float>({8, NetworkModel::kMaxWidth + 1, 2}, 2.0, wide), bilinear.domain),
+      InvalidArgument);
 }
 
 // ---- Newton ----
@@ -473,10 +497,13 @@ TEST(NewtonMethod, FixedStepsFollowTheProjectionsIterates) {
           const projection::ProjectionResult conv =
               projection::newton_until_converged(patch, c.slave, projection::domain_centre(kind), 30, 1e-12);
           if (conv.status != Status::kOk && conv.status != Status::kOutside) return;
-          const std::array<double, 2> ref = projection::newton_fixed_iterations(patch, c.slave, k, projection::domain_centre(kind));
+          const std::array<double, 2> ref =
+              projection::newton_fixed_iterations(patch, c.slave, k, projection::domain_centre(kind));
           // Slow (linear) convergence near a singular Hessian keeps rounding differences at ~1e-9.
-          EXPECT_NEAR(out.param[2 * i], ref[0], 1e-8 * std::max(1.0, std::abs(ref[0]))) << "k " << k << " query " << i;
-          EXPECT_NEAR(out.param[2 * i + 1], ref[1], 1e-8 * std::max(1.0, std::abs(ref[1]))) << "k " << k << " query " << i;
+          EXPECT_NEAR(out.param[2 * i], ref[0], 1e-8 * std::max(1.0, std::abs(ref[0])))
+              << "k " << k << " query " << i;
+          EXPECT_NEAR(out.param[2 * i + 1], ref[1], 1e-8 * std::max(1.0, std::abs(ref[1])))
+              << "k " << k << " query " << i;
           EXPECT_EQ(out.iterations[i], k);
           ++compared;
         });
@@ -503,11 +530,12 @@ TEST(NewtonMethod, ToConvergenceMatchesThePlainSolverAndTheLabelsWhereTheyAgree)
           EXPECT_EQ(out.status[i], ref.status) << "query " << i;
           EXPECT_NEAR(out.param[2 * i], ref.param[0], 1e-9) << "query " << i;
           EXPECT_NEAR(out.param[2 * i + 1], ref.param[1], 1e-9) << "query " << i;
-          EXPECT_NEAR(out.gap[i], capped_gap(ref.gap, c), 1e-9 * patch.characteristic_length()) << "query " << i;
+          EXPECT_NEAR(out.gap[i], capped_gap(ref.gap, c), 1e-9 * patch.characteristic_length())
+              << "query " << i;
         }
       });
-      // Against the labels: the same stationary point, or a farther one (plain Newton from the centre may stop
-      // at another root; the label is the nearest in the domain).
+      // Against the labels: the same stationary point, or a farther one (plain Newton from the centre may
+      // stop at another root; the label is the nearest in the domain).
       if (out.status[i] != Status::kOk || labels[i].status != Status::kOk) continue;
       ++ok;
       const double size = (c.nodes[1] - c.nodes[0]).norm();
@@ -518,26 +546,27 @@ TEST(NewtonMethod, ToConvergenceMatchesThePlainSolverAndTheLabelsWhereTheyAgree)
         EXPECT_GE(std::abs(out.gap[i]), std::abs(labels[i].gap) - 1e-9 * size) << "query " << i;
       }
     }
-    // On the paper's domains plain Newton reaches the label on most configurations (results/studies.md: 6-13% fail).
+    // On the paper's domains plain Newton reaches the label on most configurations (results/studies.md: 6-13%
+    // fail).
     EXPECT_GT(same_point, ok * 8 / 10) << to_string(kind);
   }
 }
 
 TEST(NewtonMethod, ACollapsedBilinearSegmentIsDegenerateAsItsLabelAtAnyScaleAloneAndInABlock) {
   // SPEC 2: coincident nodes or zero area make a segment degenerate, as its label says. The bilinear facet
-  // exists for any four nodes, and Newton from the centre (or the closed form) answered ok on A = B. Beside the
-  // collapsed segments, nearly collapsed ones that the labels project (a triangle with a straight angle, nodes
-  // 1e-9 apart, a 0.1-degree corner, aspect 1e3) must stay usable. Each at scales 1e-6, 1 and 1e6, at the
-  // origin and 1e5 sizes from it, in a block and one query at a time.
+  // exists for any four nodes, and Newton from the centre (or the closed form) answered ok on A = B. Beside
+  // the collapsed segments, nearly collapsed ones that the labels project (a triangle with a straight angle,
+  // nodes 1e-9 apart, a 0.1-degree corner, aspect 1e3) must stay usable. Each at scales 1e-6, 1 and 1e6, at
+  // the origin and 1e5 sizes from it, in a block and one query at a time.
   const Vec3 s(0.3, 0.4, 0.2);
   const std::vector<std::pair<std::array<Vec3, 4>, bool>> segments = {
-      {{Vec3(0, 0, 0), Vec3(0, 0, 0), Vec3(1, 1, 0), Vec3(0, 1, 0)}, true},   // A = B
-      {{Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0)}, true},   // B = C
-      {{Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0), Vec3(1, 1, 0)}, true},   // C = D
-      {{Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0), Vec3(0, 0, 0)}, true},   // D = A
-      {{Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 0, 0), Vec3(0, 1, 0)}, true},   // A = C
-      {{Vec3(1, 2, 3), Vec3(1, 2, 3), Vec3(1, 2, 3), Vec3(1, 2, 3)}, true},   // all at one point
-      {{Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(3, 0, 0), Vec3(2, 0, 0)}, true},   // collinear
+      {{Vec3(0, 0, 0), Vec3(0, 0, 0), Vec3(1, 1, 0), Vec3(0, 1, 0)}, true},  // A = B
+      {{Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0)}, true},  // B = C
+      {{Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0), Vec3(1, 1, 0)}, true},  // C = D
+      {{Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0), Vec3(0, 0, 0)}, true},  // D = A
+      {{Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 0, 0), Vec3(0, 1, 0)}, true},  // A = C
+      {{Vec3(1, 2, 3), Vec3(1, 2, 3), Vec3(1, 2, 3), Vec3(1, 2, 3)}, true},  // all at one point
+      {{Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(3, 0, 0), Vec3(2, 0, 0)}, true},  // collinear
       {{Vec3(0, 0, 0), Vec3(1, 1, 1), Vec3(2.5, 2.5, 2.5), Vec3(-1, -1, -1)}, true},
       {{Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0), Vec3(2, 0, 0)}, true},   // folded: zero angle at A
       {{Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(1, 1, 0)}, true},   // bow tie: zero area
@@ -563,7 +592,8 @@ TEST(NewtonMethod, ACollapsedBilinearSegmentIsDegenerateAsItsLabelAtAnyScaleAlon
   for (std::size_t i = 0; i < labels.size(); ++i) {
     ASSERT_EQ(labels[i].status == Status::kDegenerate, collapsed[i]) << "query " << i;
   }
-  for (const char* method : {"newton:1", "newton:5", "newton", "closed_form", "closed_form+newton:2", "four_triangles"}) {
+  for (const char* method :
+       {"newton:1", "newton:5", "newton", "closed_form", "closed_form+newton:2", "four_triangles"}) {
     const Output<double> block = run_method(kBilinear, method, raw);
     for (std::size_t i = 0; i < labels.size(); ++i) {
       const Status alone = run_method(kBilinear, method, rows_of(raw, kBilinear, i)).status[0];
@@ -580,10 +610,10 @@ TEST(NewtonMethod, ACollapsedGregorySegmentIsDegenerateAsItsLabelForEveryMethod)
   // outside there (only the network and closed-form methods, which test the corner facet, said degenerate).
   const Vec3 s(0.6, 0.3, 0.1);
   const std::vector<std::array<Vec3, 4>> segments = {
-      {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(2, 0, 0), Vec3(3, 0, 0)},        // collinear
-      {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0), Vec3(0.5, 0, 0)},      // D on AB: zero angle at A
-      {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(1, 1, 0)},        // bow tie: zero area
-      {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0), Vec3(0, 1, 0)},        // the unit square (usable)
+      {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(2, 0, 0), Vec3(3, 0, 0)},       // collinear
+      {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0), Vec3(0.5, 0, 0)},     // D on AB: zero angle at A
+      {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(1, 1, 0)},       // bow tie: zero area
+      {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0), Vec3(0, 1, 0)},       // the unit square (usable)
       {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0.2), Vec3(0, 1e-3, 0)},  // aspect 1e3 (usable)
   };
   std::vector<double> raw;
@@ -602,8 +632,8 @@ TEST(NewtonMethod, ACollapsedGregorySegmentIsDegenerateAsItsLabelForEveryMethod)
   }
   const auto& trained = shipped("gregory-48.h5");
   const NetworkModel model(trained.network, trained.domain);
-  for (const char* method : {"newton:1", "newton:5", "newton", "closed_form", "closed_form+newton:2", "network",
-                             "network+newton:2", "start", "start+newton:2"}) {
+  for (const char* method : {"newton:1", "newton:5", "newton", "closed_form", "closed_form+newton:2",
+                             "network", "network+newton:2", "start", "start+newton:2"}) {
     const Output<double> block = run(LocalSearch(kGregory, Method::parse(method), {}, &model), raw, 1,
                                      std::vector<double>(2 * labels.size(), 0.4));
     for (std::size_t i = 0; i < labels.size(); ++i) {
@@ -620,11 +650,12 @@ TEST(ClosedForm, IsExactOnFlatSegmentsInsideAndOutside) {
   std::vector<double> raw;
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   for (int i = 0; i < 500; ++i) {
-    // A flat convex quad, a slave above or below P(xi, eta) with |xi|, |eta| < 1.4 (inside or beyond an edge),
-    // placed at random.
+    // A flat convex quad, a slave above or below P(xi, eta) with |xi|, |eta| < 1.4 (inside or beyond an
+    // edge), placed at random.
     Configuration local = testing::random_domain_configuration(kBilinear, rng);
     local.nodes[2].z() = 0.0;
-    local.slave = geometry::BilinearPatch(local.nodes).position(1.4 * u(rng), 1.4 * u(rng)) + Vec3(0, 0, u(rng));
+    local.slave =
+        geometry::BilinearPatch(local.nodes).position(1.4 * u(rng), 1.4 * u(rng)) + Vec3(0, 0, u(rng));
     testing::append_raw(testing::place(local, rng, testing::random_order(rng)), kBilinear, raw);
   }
   const Output<double> out = run_method(kBilinear, "closed_form", raw);
@@ -651,7 +682,8 @@ TEST(ClosedForm, IsExactOnFlatSegmentsInsideAndOutside) {
       EXPECT_NEAR((c.slave - p).norm(), std::abs(labels[i].gap), 1e-10 * size) << "query " << i;
       EXPECT_NEAR(std::abs(out.gap[i]), std::abs(labels[i].gap), 1e-10 * size) << "query " << i;
       EXPECT_LE(std::max(std::abs(out.param[2 * i]), std::abs(out.param[2 * i + 1])),
-                std::max(std::abs(labels[i].param[0]), std::abs(labels[i].param[1])) + 1e-10) << "query " << i;
+                std::max(std::abs(labels[i].param[0]), std::abs(labels[i].param[1])) + 1e-10)
+          << "query " << i;
     }
   }
   EXPECT_GT(inside, 200);
@@ -669,7 +701,8 @@ TEST(ClosedForm, OnAGregoryPatchIsTheCornerFacetsAndExactWhereThePatchIsThatFace
     Configuration local = testing::random_domain_configuration(kGregory, rng);
     local.nodes[2].z() = 0.0;
     for (Vec3& n : local.normals) n = Vec3(0, 0, 1);
-    local.slave = geometry::BilinearPatch(local.nodes).position(0.95 * u(rng), 0.95 * u(rng)) + Vec3(0, 0, u(rng));
+    local.slave =
+        geometry::BilinearPatch(local.nodes).position(0.95 * u(rng), 0.95 * u(rng)) + Vec3(0, 0, u(rng));
     const Configuration world = testing::place(local, rng, testing::random_order(rng));
     testing::append_raw(world, kGregory, gregory);
     testing::append_raw(world, kBilinear, bilinear);
@@ -729,10 +762,10 @@ TEST(ClosedForm, HandlesParallelogramsAndIsBoundedOnWarpedSegments) {
 struct TrianglesReference {
   std::array<double, 2> param{};  ///< (xi, eta) in the piecewise-linear parametrisation
   double distance = 0.0;          ///< |S - P|
-  double normal_side = 0.0;       ///< (S - P) . (C - A) x (D - B), over |S - P| |(C - A) x (D - B)| (a cosine)
-  bool on_boundary = false;       ///< P on an outer edge or a corner (the O weight is 0)
-  double beyond = 0.0;            ///< max-norm distance, in parameters, from P to S's projection on P's plane
-  double runner_up = 0.0;         ///< the distance of the nearest other triangle whose point is not P
+  double normal_side = 0.0;  ///< (S - P) . (C - A) x (D - B), over |S - P| |(C - A) x (D - B)| (a cosine)
+  bool on_boundary = false;  ///< P on an outer edge or a corner (the O weight is 0)
+  double beyond = 0.0;       ///< max-norm distance, in parameters, from P to S's projection on P's plane
+  double runner_up = 0.0;    ///< the distance of the nearest other triangle whose point is not P
 };
 
 using Real3 = std::array<long double, 3>;
@@ -813,11 +846,14 @@ TrianglesReference triangles_reference(const Configuration& c) {
   const long double g11 = dot(e1, e1), g12 = dot(e1, e2), g22 = dot(e2, e2), b1 = dot(e1, w), b2 = dot(e2, w);
   const long double det = g11 * g22 - g12 * g12;
   const long double wy = (g22 * b1 - g12 * b2) / det, wo = (g11 * b2 - g12 * b1) / det, wx = 1 - wy - wo;
-  const long double eu = wx * kU[best] + wy * kU[(best + 1) % 4], ev = wx * kV[best] + wy * kV[(best + 1) % 4];
+  const long double eu = wx * kU[best] + wy * kU[(best + 1) % 4],
+                    ev = wx * kV[best] + wy * kV[(best + 1) % 4];
   r.beyond = static_cast<double>(std::max(std::fabs(eu - h.u), std::fabs(ev - h.v)));
   r.runner_up = std::numeric_limits<double>::infinity();
   for (const Hit& other : hits) {
-    if (other.triangle == best || std::sqrt(dot(minus(other.p, h.p), minus(other.p, h.p))) < 1e-9L * h.distance + 1e-12L) continue;
+    if (other.triangle == best ||
+        std::sqrt(dot(minus(other.p, h.p), minus(other.p, h.p))) < 1e-9L * h.distance + 1e-12L)
+      continue;
     r.runner_up = std::min(r.runner_up, static_cast<double>(other.distance));
   }
   return r;
@@ -846,9 +882,9 @@ Vec3 point_on_triangles(const std::array<Vec3, 4>& nodes, int where, std::mt1993
 
 /// Random segments of three kinds, each with slaves placed off points of its four triangles (interior, edge,
 /// vertex) by up to 0.5 of the element in a random direction, or far (10 to 1000 elements), then placed at
-/// random in a random node order: kind 0 the paper's domain (warped up to z_C = 0.3), 1 a unit square with each
-/// node moved up to 0.35 in-plane and 0.6 out of it (warped and distorted), 2 four nodes anywhere in a box
-/// (non-convex and folded quads among them; collapsed ones are rejected).
+/// random in a random node order: kind 0 the paper's domain (warped up to z_C = 0.3), 1 a unit square with
+/// each node moved up to 0.35 in-plane and 0.6 out of it (warped and distorted), 2 four nodes anywhere in a
+/// box (non-convex and folded quads among them; collapsed ones are rejected).
 std::vector<double> triangle_queries(std::size_t count, std::uint64_t seed) {
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> u(-1.0, 1.0), unit(0.0, 1.0);
@@ -858,7 +894,8 @@ std::vector<double> triangle_queries(std::size_t count, std::uint64_t seed) {
     Configuration local = testing::random_domain_configuration(kBilinear, rng);
     if (i % 3 == 1) {
       const Vec3 square[4] = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0), Vec3(0, 1, 0)};
-      for (std::size_t k = 0; k < 4; ++k) local.nodes[k] = square[k] + Vec3(0.35 * u(rng), 0.35 * u(rng), 0.6 * u(rng));
+      for (std::size_t k = 0; k < 4; ++k)
+        local.nodes[k] = square[k] + Vec3(0.35 * u(rng), 0.35 * u(rng), 0.6 * u(rng));
     } else if (i % 3 == 2) {
       for (Vec3& x : local.nodes) x = Vec3(u(rng), u(rng), 0.5 * u(rng));
       const Vec3 diagonals = (local.nodes[2] - local.nodes[0]).cross(local.nodes[3] - local.nodes[1]);
@@ -875,8 +912,8 @@ std::vector<double> triangle_queries(std::size_t count, std::uint64_t seed) {
   return raw;
 }
 
-/// Parameters of the kernel agree with the reference's to this: both round near eps times the slave's distance
-/// over the element size (up to 1e3 here), times the conditioning of a thin triangle.
+/// Parameters of the kernel agree with the reference's to this: both round near eps times the slave's
+/// distance over the element size (up to 1e3 here), times the conditioning of a thin triangle.
 constexpr double kTrianglesParamTol = 1e-9;
 
 TEST(FourTriangles, IsTheNearestClampedPointOfTheFourTrianglesByAnIndependentReference) {
@@ -914,7 +951,8 @@ TEST(FourTriangles, IsTheNearestClampedPointOfTheFourTrianglesByAnIndependentRef
       ++near_statuses;
       continue;
     }
-    EXPECT_EQ(out.status[i], beyond ? Status::kOutside : Status::kOk) << "query " << i << " beyond " << r.beyond;
+    EXPECT_EQ(out.status[i], beyond ? Status::kOutside : Status::kOk)
+        << "query " << i << " beyond " << r.beyond;
     outside += beyond ? 1 : 0;
   }
   RecordProperty("compared", compared);
@@ -943,7 +981,8 @@ TEST(FourTriangles, NoPointOfADenseSamplingOfTheTrianglesIsNearer) {
       longest = std::max({longest, (y - x).norm(), (o - x).norm(), (o - y).norm()});
       for (int a = 0; a <= kSteps; ++a) {
         for (int b = 0; a + b <= kSteps; ++b) {
-          const Vec3 p = x + (static_cast<double>(a) / kSteps) * (y - x) + (static_cast<double>(b) / kSteps) * (o - x);
+          const Vec3 p =
+              x + (static_cast<double>(a) / kSteps) * (y - x) + (static_cast<double>(b) / kSteps) * (o - x);
           nearest = std::min(nearest, (c.slave - p).norm());
         }
       }
@@ -969,13 +1008,14 @@ TEST(FourTriangles, WrittenOutOnTheUnitSquareAndAWarpedQuad) {
     Status status;
   };
   const double r2 = std::sqrt(2.0);
-  for (const Known& k : {Known{{0.25, 0.5, 0.3}, -0.5, 0.0, 0.3, Status::kOk},       // over triangle DAO
-                         Known{{0.5, 0.5, -0.2}, 0.0, 0.0, -0.2, Status::kOk},       // under O
-                         Known{{0.75, 0.2, 0.1}, 0.5, -0.6, 0.1, Status::kOk},       // over ABO
-                         Known{{2.0, 0.5, 1.0}, 1.0, 0.0, r2, Status::kOutside},     // beyond BC, above
-                         Known{{0.5, -1.0, -1.0}, 0.0, -1.0, -r2, Status::kOutside}, // beyond AB, below
-                         Known{{-1.0, 2.0, 0.0}, -1.0, 1.0, r2, Status::kOutside},   // beyond corner D, in the plane
-                         Known{{1.0, 0.0, 0.5}, 1.0, -1.0, 0.5, Status::kOk}}) {     // over corner B
+  for (const Known& k :
+       {Known{{0.25, 0.5, 0.3}, -0.5, 0.0, 0.3, Status::kOk},        // over triangle DAO
+        Known{{0.5, 0.5, -0.2}, 0.0, 0.0, -0.2, Status::kOk},        // under O
+        Known{{0.75, 0.2, 0.1}, 0.5, -0.6, 0.1, Status::kOk},        // over ABO
+        Known{{2.0, 0.5, 1.0}, 1.0, 0.0, r2, Status::kOutside},      // beyond BC, above
+        Known{{0.5, -1.0, -1.0}, 0.0, -1.0, -r2, Status::kOutside},  // beyond AB, below
+        Known{{-1.0, 2.0, 0.0}, -1.0, 1.0, r2, Status::kOutside},    // beyond corner D, in the plane
+        Known{{1.0, 0.0, 0.5}, 1.0, -1.0, 0.5, Status::kOk}}) {      // over corner B
     const Output<double> out = query(square, k.s);
     EXPECT_EQ(out.status[0], k.status) << k.s[0] << " " << k.s[1] << " " << k.s[2];
     EXPECT_NEAR(out.param[0], k.xi, 1e-15) << k.s[0] << " " << k.s[1] << " " << k.s[2];
@@ -993,14 +1033,15 @@ TEST(FourTriangles, WrittenOutOnTheUnitSquareAndAWarpedQuad) {
     EXPECT_EQ(out.gap[0], height);
   }
   // A warped quad, C lifted to z = 1: O = (0.5, 0.5, 0.25). Triangle BCO has the normal n = (C - B) x (O - B)
-  // = (0, 1, 1) x (-0.5, 0.5, 0.25) = (-0.25, -0.5, 0.5); S = P + 0.3 n / |n| above P = (2 B + 3 C + 5 O) / 10
-  // = (0.75, 0.55, 0.425), whose (xi, eta) = 0.2 (1, -1) + 0.3 (1, 1) = (0.5, 0.1). The other triangles are
-  // farther (by hand: ABO's plane is 0.40 from S; S projects outside CDO and DAO, whose edges are 0.34 and 0.43
-  // away).
+  // = (0, 1, 1) x (-0.5, 0.5, 0.25) = (-0.25, -0.5, 0.5); S = P + 0.3 n / |n| above P = (2 B + 3 C + 5 O) /
+  // 10 = (0.75, 0.55, 0.425), whose (xi, eta) = 0.2 (1, -1) + 0.3 (1, 1) = (0.5, 0.1). The other triangles
+  // are farther (by hand: ABO's plane is 0.40 from S; S projects outside CDO and DAO, whose edges are 0.34
+  // and 0.43 away).
   const std::vector<double> warped = {0, 0, 0, 1, 0, 0, 1, 1, 1, 0, 1, 0};
   const double n_len = std::sqrt(0.0625 + 0.25 + 0.25);
   const std::array<double, 3> p = {0.75, 0.55, 0.425};
-  const std::array<double, 3> s = {p[0] - 0.3 * 0.25 / n_len, p[1] - 0.3 * 0.5 / n_len, p[2] + 0.3 * 0.5 / n_len};
+  const std::array<double, 3> s = {p[0] - 0.3 * 0.25 / n_len, p[1] - 0.3 * 0.5 / n_len,
+                                   p[2] + 0.3 * 0.5 / n_len};
   const Output<double> out = query(warped, s);
   EXPECT_EQ(out.status[0], Status::kOk);
   EXPECT_NEAR(out.param[0], 0.5, 1e-14);
@@ -1020,7 +1061,8 @@ TEST(FourTriangles, OnAFlatParallelogramIsTheBilinearFacetsPointWhereSProjectsIn
     Configuration local = testing::random_domain_configuration(kBilinear, rng);
     local.nodes[2] = local.nodes[1] + local.nodes[3];  // C = B + D - A with A at the origin
     if (geometry::is_degenerate_segment(local.nodes)) continue;
-    local.slave = geometry::BilinearPatch(local.nodes).position(1.3 * u(rng), 1.3 * u(rng)) + Vec3(0, 0, u(rng));
+    local.slave =
+        geometry::BilinearPatch(local.nodes).position(1.3 * u(rng), 1.3 * u(rng)) + Vec3(0, 0, u(rng));
     testing::append_raw(testing::place(local, rng, testing::random_order(rng)), kBilinear, raw);
   }
   const Output<double> out = run_method(kBilinear, "four_triangles", raw);
@@ -1065,7 +1107,8 @@ TEST(FourTriangles, OnAFlatSegmentIsOkExactlyWhereSProjectsIntoTheQuad) {
       convex = convex && e.cross(f).z() > 1e-3;
     }
     if (!convex) continue;
-    local.slave = geometry::BilinearPatch(local.nodes).position(1.5 * u(rng), 1.5 * u(rng)) + Vec3(0, 0, u(rng));
+    local.slave =
+        geometry::BilinearPatch(local.nodes).position(1.5 * u(rng), 1.5 * u(rng)) + Vec3(0, 0, u(rng));
     int verdict = 1;
     for (std::size_t k = 0; k < 4; ++k) {
       const Vec3 e = x[(k + 1) % 4] - x[k], w = local.slave - x[k];
@@ -1090,8 +1133,8 @@ TEST(FourTriangles, OnAFlatSegmentIsOkExactlyWhereSProjectsIntoTheQuad) {
 TEST(FourTriangles, GivesTheSamePointInEachOfTheEightNodeOrders) {
   // SPEC 4: the four triangles are the same for any of the 8 node orders (O is the centroid of all four), so
   // the answer moves with the order: caller (xi, eta) = to_caller of the answer in the first order, the gap's
-  // sign follows the orientation (the mirror order reverses (C - A) x (D - B)), the status is the same. Queries
-  // whose nearest point is not unique (two triangles as near) are left out.
+  // sign follows the orientation (the mirror order reverses (C - A) x (D - B)), the status is the same.
+  // Queries whose nearest point is not unique (two triangles as near) are left out.
   const std::vector<double> base = triangle_queries(1500, 59);
   const std::size_t n = base.size() / 15;
   const std::array<SquareSymmetry, 8> orders = all_square_symmetries();
@@ -1100,7 +1143,9 @@ TEST(FourTriangles, GivesTheSamePointInEachOfTheEightNodeOrders) {
     const Configuration c = configuration_of(base.data(), kBilinear, i);
     for (const SquareSymmetry& order : orders) {
       Configuration relabelled = c;
-      for (int k = 0; k < 4; ++k) relabelled.nodes[static_cast<std::size_t>(order.caller_node(k))] = c.nodes[static_cast<std::size_t>(k)];
+      for (int k = 0; k < 4; ++k)
+        relabelled.nodes[static_cast<std::size_t>(order.caller_node(k))] =
+            c.nodes[static_cast<std::size_t>(k)];
       testing::append_raw(relabelled, kBilinear, raw);
     }
   }
@@ -1111,7 +1156,8 @@ TEST(FourTriangles, GivesTheSamePointInEachOfTheEightNodeOrders) {
     if (out.status[8 * i] == Status::kDegenerate) continue;
     const TrianglesReference r = triangles_reference(c);
     const double size = (c.nodes[2] - c.nodes[0]).norm() + (c.nodes[3] - c.nodes[1]).norm();
-    if (r.runner_up - r.distance < 1e-8 * (size + r.distance) || (r.on_boundary && std::abs(r.beyond - 1e-10) < 1e-8)) {
+    if (r.runner_up - r.distance < 1e-8 * (size + r.distance) ||
+        (r.on_boundary && std::abs(r.beyond - 1e-10) < 1e-8)) {
       continue;
     }
     ++compared;
@@ -1132,10 +1178,10 @@ TEST(FourTriangles, GivesTheSamePointInEachOfTheEightNodeOrders) {
 
 TEST(FourTriangles, OfTwoTrianglesAsNearTheFirstInTheOrderABOBCOCDODAOWins) {
   // A quad symmetric under the half turn about the z axis (A <-> C, B <-> D; dyadic coordinates), S on that
-  // axis: ABO and CDO (and BCO and DAO) are as near S at two points (xi, eta) and (-xi, -eta), with the same bits
-  // (the half turn only negates x and y, which rounding commutes with). Not symmetric under x <-> y, so one
-  // pair is nearer than the other. The answer is the first triangle's of the nearer pair (the reference, whose
-  // long double distances tie the same way, keeps the first too).
+  // axis: ABO and CDO (and BCO and DAO) are as near S at two points (xi, eta) and (-xi, -eta), with the same
+  // bits (the half turn only negates x and y, which rounding commutes with). Not symmetric under x <-> y, so
+  // one pair is nearer than the other. The answer is the first triangle's of the nearer pair (the reference,
+  // whose long double distances tie the same way, keeps the first too).
   const std::vector<double> nodes = {-1.5, -1, 1, 1, -0.5, 0, 1.5, 1, 1, -1, 0.5, 0};
   for (const double height : {2.0, 0.75, -1.0}) {
     std::vector<double> raw = nodes;
@@ -1182,7 +1228,8 @@ Accuracy accuracy(const Output<double>& out, const std::vector<dataset::Label>& 
     a.wrong_side += out.status[i] == Status::kOutside ? 1 : 0;
     // |error| per coordinate, as Table 1 counts it.
     for (int c = 0; c < 2; ++c) {
-      const double e = std::abs(out.param[2 * i + static_cast<std::size_t>(c)] - labels[i].param[static_cast<std::size_t>(c)]);
+      const double e = std::abs(out.param[2 * i + static_cast<std::size_t>(c)] -
+                                labels[i].param[static_cast<std::size_t>(c)]);
       sum += e;
       a.max = std::max(a.max, e);
     }
@@ -1228,7 +1275,8 @@ TEST(Hybrids, NetworkPlusNewtonOnRandomGregoryConfigurations) {
   // Where the network's estimate is within 0.05 of the label (in either coordinate).
   int good = 0;
   for (std::size_t i = 0; i < labels.size(); ++i) {
-    if (labels[i].status == Status::kOk && param_error(alone, i, labels[i]) > 0.05) labels[i].status = Status::kInvalid;
+    if (labels[i].status == Status::kOk && param_error(alone, i, labels[i]) > 0.05)
+      labels[i].status = Status::kInvalid;
     good += labels[i].status == Status::kOk ? 1 : 0;
   }
   const Accuracy good1 = accuracy(k1, labels), good3 = accuracy(k3, labels);
@@ -1239,12 +1287,12 @@ TEST(Hybrids, NetworkPlusNewtonOnRandomGregoryConfigurations) {
 }
 
 TEST(Hybrids, ClosedFormPlusNewtonOnRandomGregoryConfigurations) {
-  // On warped Gregory patches the corner facet's closed form is only a start (results/frontier.md, held-out set:
-  // mean |error| 0.0075 / 0.013 alone); safeguarded steps from it converge as from the network's estimate,
-  // except where the start lies in the basin of a stationary point beyond an edge: the descent then ends on
-  // that edge (outside) while the label is inside (held-out set, K = 5: 1 row of 100000; here 1 of 2000, at
-  // u = 0 against the label's u = 0.089). Asserted: no failure, at most that one row on the wrong side, and
-  // rounding-level answers on every other row at K = 5.
+  // On warped Gregory patches the corner facet's closed form is only a start (results/frontier.md, held-out
+  // set: mean |error| 0.0075 / 0.013 alone); safeguarded steps from it converge as from the network's
+  // estimate, except where the start lies in the basin of a stationary point beyond an edge: the descent then
+  // ends on that edge (outside) while the label is inside (held-out set, K = 5: 1 row of 100000; here 1 of
+  // 2000, at u = 0 against the label's u = 0.089). Asserted: no failure, at most that one row on the wrong
+  // side, and rounding-level answers on every other row at K = 5.
   const std::vector<double> raw = random_queries(kGregory, 2000, 21);
   std::vector<dataset::Label> labels = labels_of(raw, kGregory);
   const Accuracy k0 = accuracy(run_method(kGregory, "closed_form", raw), labels);
@@ -1257,7 +1305,8 @@ TEST(Hybrids, ClosedFormPlusNewtonOnRandomGregoryConfigurations) {
   for (const Accuracy* a : {&k2, &k5}) EXPECT_EQ(a->failures, 0);
   EXPECT_LE(k5.wrong_side, 1);
   for (std::size_t i = 0; i < labels.size(); ++i) {
-    if (labels[i].status == Status::kOk && out5.status[i] == Status::kOutside) labels[i].status = Status::kInvalid;
+    if (labels[i].status == Status::kOk && out5.status[i] == Status::kOutside)
+      labels[i].status = Status::kInvalid;
   }
   const Accuracy right5 = accuracy(out5, labels);
   EXPECT_LE(right5.mean, 1e-12);
@@ -1270,8 +1319,9 @@ TEST(Hybrids, GregoryIteratesStayOnTheSegment) {
   // gregory-48's estimate (0.0265, -0.0254) just beyond the corner, where the rational interior point P11 is
   // singular on u + v = 0. From there undamped Newton walks along v < 0 (after 3 steps 0.04 / 0.08 off, 11 to
   // converge); kept on [0, 1]^2 (gregory_box_margin 0) three steps converge.
-  const std::vector<double> raw = {0, 0, 0, 1, 0, 0, 0.981, 0.017, 0.28, 0.12, 0.585, 0, 0.044, 0.015, 0.296,
-                                   -0.059, -0.074, 1, -0.531, -5.057, 1, -3.471, -6.666, 1, -0.459, -0.039, 1};
+  const std::vector<double> raw = {0,      0,      0, 1,      0,      0,     0.981,  0.017,  0.28,
+                                   0.12,   0.585,  0, 0.044,  0.015,  0.296, -0.059, -0.074, 1,
+                                   -0.531, -5.057, 1, -3.471, -6.666, 1,     -0.459, -0.039, 1};
   const auto& trained = shipped("gregory-48.h5");
   const NetworkModel model(trained.network, trained.domain);
   const std::vector<dataset::Label> labels = labels_of(raw, kGregory);
@@ -1281,17 +1331,19 @@ TEST(Hybrids, GregoryIteratesStayOnTheSegment) {
   SearchOptions wide;
   wide.gregory_box_margin = 0.1;
   const Output<double> k3 = run_method(kGregory, "network+newton:3", raw, &model);
-  const Output<double> k3_wide = run(LocalSearch(kGregory, Method::parse("network+newton:3"), wide, &model), raw);
+  const Output<double> k3_wide =
+      run(LocalSearch(kGregory, Method::parse("network+newton:3"), wide, &model), raw);
   EXPECT_EQ(k3.status[0], Status::kOk);
   EXPECT_LT(param_error(k3, 0, labels[0]), 1e-6);
   // The old box, for contrast: still far off after three steps.
   EXPECT_GT(param_error(k3_wide, 0, labels[0]), 1e-3);
 }
 
-/// A held-out Gregory configuration refined by the shipped gregory-48 and `method`: the network alone starts more
-/// than `start_off` from the reference; the refinement ends ok within `tol` of it. Returns the refinement.
-Output<double> expect_gregory_refinement(const std::vector<double>& raw, const std::string& method, double start_off,
-                                         double tol) {
+/// A held-out Gregory configuration refined by the shipped gregory-48 and `method`: the network alone starts
+/// more than `start_off` from the reference; the refinement ends ok within `tol` of it. Returns the
+/// refinement.
+Output<double> expect_gregory_refinement(const std::vector<double>& raw, const std::string& method,
+                                         double start_off, double tol) {
   const auto& trained = shipped("gregory-48.h5");
   const NetworkModel model(trained.network, trained.domain);
   const std::vector<dataset::Label> labels = labels_of(raw, kGregory);
@@ -1304,44 +1356,47 @@ Output<double> expect_gregory_refinement(const std::vector<double>& raw, const s
 }
 
 TEST(Hybrids, AnIndefiniteGregoryHessianIsShiftedNotDropped) {
-  // A held-out configuration (configs/gregory-random.toml, seed 303, row 87818, placed at random): the shipped
-  // gregory-48 starts 0.33 off, where the exact Jacobian is indefinite. The Gauss-Newton step there (both
-  // second derivatives dropped) reached the edge v = 1 and was still 0.0126 off after five steps; the
+  // A held-out configuration (configs/gregory-random.toml, seed 303, row 87818, placed at random): the
+  // shipped gregory-48 starts 0.33 off, where the exact Jacobian is indefinite. The Gauss-Newton step there
+  // (both second derivatives dropped) reached the edge v = 1 and was still 0.0126 off after five steps; the
   // Jacobian shifted until its smaller eigenvalue is a tenth of Gauss-Newton's converges.
   const std::vector<double> raw = {
-      -1.7886315271991726, -0.95701458303562403, -1.7683831137788264, -1.7776757911550694, -0.77417142885383317,
-      -1.8752297841486931, -1.847791791759775,   -0.78790528329349541, -1.8758401985789026, -1.7979977358348149,
-      -0.96782382293037283, -1.7808534321816147, -1.8425494669789677, -0.93512810557712134, -1.7470035194409221,
-      -0.85835583051154585, 0.36682926147142403,  0.35869424466412098, -0.10956623227530739, 0.49909748231890999,
-      0.85959114926104219,  -0.12570674836015733, 0.51577260491336185,  0.84745290927437489, -0.8546515030901467,
-      0.072229573620746293, 0.51415337882806744};
+      -1.7886315271991726,  -0.95701458303562403, -1.7683831137788264,  -1.7776757911550694,
+      -0.77417142885383317, -1.8752297841486931,  -1.847791791759775,   -0.78790528329349541,
+      -1.8758401985789026,  -1.7979977358348149,  -0.96782382293037283, -1.7808534321816147,
+      -1.8425494669789677,  -0.93512810557712134, -1.7470035194409221,  -0.85835583051154585,
+      0.36682926147142403,  0.35869424466412098,  -0.10956623227530739, 0.49909748231890999,
+      0.85959114926104219,  -0.12570674836015733, 0.51577260491336185,  0.84745290927437489,
+      -0.8546515030901467,  0.072229573620746293, 0.51415337882806744};
   expect_gregory_refinement(raw, "network+newton:5", 0.1, 1e-4);
 }
 
 TEST(Hybrids, AGregoryRefinementThatFailsIsRetriedFromTheCentre) {
   // A held-out sliver (seed 404, row 46820): the shipped gregory-48 starts 0.52 off in v, in the basin of the
-  // edge v = 1, where the descent ends on the edge (no_convergence, or since steps follow the edge, outside at
-  // an edge point), although the reference converges inside at v = 0.297. Retried from the centre, three
+  // edge v = 1, where the descent ends on the edge (no_convergence, or since steps follow the edge, outside
+  // at an edge point), although the reference converges inside at v = 0.297. Retried from the centre, three
   // steps land within 1e-3 of it (their iterations add up).
   const std::vector<double> raw = {
-      -0.68046180430079661, -2.6692613761491444, 2.1627217340511575,  -0.42208078826788914, -2.449482824712562,
-      2.0412541681240359,   -0.41468588900884801, -2.4690006967605997, 2.0758216210255735, -0.67741144368962847,
-      -2.6896811545991182,  2.1614611921779314,   -0.52935804371841444, -2.644209169126905, 2.0465272366251046,
-      -0.34597542234274214, -0.030984608770913052, -0.93773181728790389, 0.35864001577298493, -0.69923109356549995,
-      -0.61842802077327375, 0.43550341725519515,  -0.80349787348210466, -0.40586690043508566, -0.31689513905841893,
-      -0.0078669508066893865, -0.94842795294431881};
+      -0.68046180430079661,  -2.6692613761491444,    2.1627217340511575,   -0.42208078826788914,
+      -2.449482824712562,    2.0412541681240359,     -0.41468588900884801, -2.4690006967605997,
+      2.0758216210255735,    -0.67741144368962847,   -2.6896811545991182,  2.1614611921779314,
+      -0.52935804371841444,  -2.644209169126905,     2.0465272366251046,   -0.34597542234274214,
+      -0.030984608770913052, -0.93773181728790389,   0.35864001577298493,  -0.69923109356549995,
+      -0.61842802077327375,  0.43550341725519515,    -0.80349787348210466, -0.40586690043508566,
+      -0.31689513905841893,  -0.0078669508066893865, -0.94842795294431881};
   const Output<double> k3 = expect_gregory_refinement(raw, "network+newton:3", 0.5, 1e-3);
   EXPECT_GT(k3.iterations[0], 3);
 }
 
 TEST(Hybrids, AGregoryNodeBeyondAnEdgeIsOutsideAtTheEdge) {
-  // A flat unit square (all normals +z): the Gregory patch is the bilinear facet, P(u, v) = (u, v, 0). S above
-  // (1.3, 0.4): its nearest point on the segment is (1, 0.4), on the edge BC, the distance still falling
-  // outward: outside, reported at the edge. S above (0.999999, 0.4) and above (1, 0.4) exactly: ok.
+  // A flat unit square (all normals +z): the Gregory patch is the bilinear facet, P(u, v) = (u, v, 0). S
+  // above (1.3, 0.4): its nearest point on the segment is (1, 0.4), on the edge BC, the distance still
+  // falling outward: outside, reported at the edge. S above (0.999999, 0.4) and above (1, 0.4) exactly: ok.
   const auto& trained = shipped("gregory-48.h5");
   const NetworkModel model(trained.network, trained.domain);
   for (const double x : {1.3, 1.0, 0.999999}) {
-    const std::vector<double> raw = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0, x, 0.4, 0.2, 0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1};
+    const std::vector<double> raw = {0,   0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0, x, 0.4,
+                                     0.2, 0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1};
     const Output<double> out = run_method(kGregory, "network+newton:3", raw, &model);
     if (x > 1.0) {
       EXPECT_EQ(out.status[0], Status::kOutside);
@@ -1365,18 +1420,20 @@ TEST(Hybrids, AGregoryNodeWhoseNearestPointIsOutsideStaysOutsideAtAnyK) {
   const auto& trained = shipped("gregory-48.h5");
   const NetworkModel model(trained.network, trained.domain);
   std::vector<double> raw = {
-      90.81401314162818, 12.36001440387318, 15.328822870353292, 90.80190014906508, 12.380945362260567,
-      15.263338079244795, 90.79996105434928, 12.424853822782032, 15.300024861125342, 90.7934560667935,
-      12.41110856418107, 15.358743914979435, 90.79361603691947, 12.3618532618509, 15.333630744518432,
-      0.5863449502676554, 0.21525823611647613, -0.011758361744666318, 0.25722903798553765, 0.04290381942143495,
-      -0.043497906724244695, 6.095367276338588, -0.4826268244052117, 0.2896184014988287, 5.861773053845725,
-      1.3601565792826231, 1.0652088804656905,
-      -85.50340010515707, 48.24610467871506, -12.951950056017296, -85.5692477062633, 48.26522045187271,
-      -12.991965748703894, -85.59733494763732, 48.266512821457795, -12.962428069391573, -85.53032077075747,
-      48.28485460152605, -12.89352409153229, -85.50473460117895, 48.27869662676037, -12.936411250629465,
-      1.9688345839942543, 4.674823725620447, -2.2061072766954615, 0.23144333623045668, 1.0609314527486071,
-      0.043458574424061716, -0.6058863089849148, 2.7799869122229612, -0.12184706159333396, 0.2932579346753613,
-      1.9584024910766282, -1.2600431182666751};
+      90.81401314162818,     12.36001440387318,     15.328822870353292,   90.80190014906508,
+      12.380945362260567,    15.263338079244795,    90.79996105434928,    12.424853822782032,
+      15.300024861125342,    90.7934560667935,      12.41110856418107,    15.358743914979435,
+      90.79361603691947,     12.3618532618509,      15.333630744518432,   0.5863449502676554,
+      0.21525823611647613,   -0.011758361744666318, 0.25722903798553765,  0.04290381942143495,
+      -0.043497906724244695, 6.095367276338588,     -0.4826268244052117,  0.2896184014988287,
+      5.861773053845725,     1.3601565792826231,    1.0652088804656905,   -85.50340010515707,
+      48.24610467871506,     -12.951950056017296,   -85.5692477062633,    48.26522045187271,
+      -12.991965748703894,   -85.59733494763732,    48.266512821457795,   -12.962428069391573,
+      -85.53032077075747,    48.28485460152605,     -12.89352409153229,   -85.50473460117895,
+      48.27869662676037,     -12.936411250629465,   1.9688345839942543,   4.674823725620447,
+      -2.2061072766954615,   0.23144333623045668,   1.0609314527486071,   0.043458574424061716,
+      -0.6058863089849148,   2.7799869122229612,    -0.12184706159333396, 0.2932579346753613,
+      1.9584024910766282,    -1.2600431182666751};
   const std::vector<dataset::Label> labels = labels_of(raw, kGregory);
   for (std::size_t i = 0; i < 2; ++i) ASSERT_EQ(labels[i].status, Status::kOutside);
   for (const int k : {1, 2, 3, 5, 8, 20}) {
@@ -1398,12 +1455,13 @@ TEST(Hybrids, AnEdgePointNearerThanTheReferencesInteriorMinimumIsOutside) {
   // segment's closest point. Every closed-form hybrid row of the frontier's grid and held-out sets that ends
   // outside where the reference is inside was checked this way: the edge point nearer in each.
   const std::vector<double> raw = {
-      -0.30836116969345223, 0.31119437952263179, 0.20322332848144836, -0.30103261877453108, 0.27748544128778413,
-      0.25169772636162091,  -0.30136160704334175, 0.26677115777940086, 0.2422145124579082,  -0.27827154875685589,
-      0.29963466075684519,  0.18913013505605752,  -0.29411420557848678, 0.30720598284159811, 0.22678466057854973,
-      0.43452095508214289,  0.71020660078725328,  0.55389360331449711,  0.98318433584266707, 0.14850157852164475,
-      -0.10628190311710436, 0.93748230072912841,  -0.30525322162184371, 0.16717477832826841, 0.52328837306156972,
-      0.61994391395659587,  0.58466984030882962};
+      -0.30836116969345223, 0.31119437952263179,  0.20322332848144836,  -0.30103261877453108,
+      0.27748544128778413,  0.25169772636162091,  -0.30136160704334175, 0.26677115777940086,
+      0.2422145124579082,   -0.27827154875685589, 0.29963466075684519,  0.18913013505605752,
+      -0.29411420557848678, 0.30720598284159811,  0.22678466057854973,  0.43452095508214289,
+      0.71020660078725328,  0.55389360331449711,  0.98318433584266707,  0.14850157852164475,
+      -0.10628190311710436, 0.93748230072912841,  -0.30525322162184371, 0.16717477832826841,
+      0.52328837306156972,  0.61994391395659587,  0.58466984030882962};
   const Configuration world = configuration_of(raw.data(), kGregory, 0);
   const dataset::Label label = dataset::label_configuration(world, kGregory);
   ASSERT_EQ(label.status, Status::kOk);
@@ -1430,7 +1488,8 @@ TEST(Hybrids, KeepTheDegenerateStatusOfTheLabels) {
   const std::vector<double> collapsed = {0, 0, 0, 0, 0, 0, 1, 1, 0, 0, 1, 0, 0.3, 0.4, 0.2};
   ASSERT_EQ(labels_of(collapsed, kBilinear)[0].status, Status::kDegenerate);
   for (const char* method : {"network", "network+newton:1", "network+newton:3"}) {
-    EXPECT_EQ(run_method(kBilinear, method, collapsed, &bilinear_model).status[0], Status::kDegenerate) << method;
+    EXPECT_EQ(run_method(kBilinear, method, collapsed, &bilinear_model).status[0], Status::kDegenerate)
+        << method;
   }
   // A Gregory configuration whose canonical corner has a node normal on the far side of its plane: the
   // network has no frame there (degenerate), the label a frame at the next corner (ok). The refinement starts
@@ -1438,12 +1497,13 @@ TEST(Hybrids, KeepTheDegenerateStatusOfTheLabels) {
   const auto& gregory = shipped("gregory-48.h5");
   const NetworkModel gregory_model(gregory.network, gregory.domain);
   const std::vector<double> no_frame = {
-      14.965173617986489, 12.371862287085902, -10.610882442964515, 17.670652316394726, 12.590882563642005,
-      -11.354241559800363, 17.043137792303771, 13.290488130305958, -11.692528180353968, 15.115458880844086,
-      12.216076777519753, -11.158016782337979, 17.046983148932974, 12.776622569162456, -11.473182595340214,
-      -0.094314486325367916, 0.94849795384591873, -0.30241760732352729, 0.219756056191725, 0.52795554227080521,
-      0.82034762214112611, -0.035808355866756882, 0.39234961177313332, 0.91911889535118974, -0.65442895866917739,
-      0.64977572587048649, -0.38667071795606511};
+      14.965173617986489,   12.371862287085902,    -10.610882442964515, 17.670652316394726,
+      12.590882563642005,   -11.354241559800363,   17.043137792303771,  13.290488130305958,
+      -11.692528180353968,  15.115458880844086,    12.216076777519753,  -11.158016782337979,
+      17.046983148932974,   12.776622569162456,    -11.473182595340214, -0.094314486325367916,
+      0.94849795384591873,  -0.30241760732352729,  0.219756056191725,   0.52795554227080521,
+      0.82034762214112611,  -0.035808355866756882, 0.39234961177313332, 0.91911889535118974,
+      -0.65442895866917739, 0.64977572587048649,   -0.38667071795606511};
   const dataset::Label label = labels_of(no_frame, kGregory)[0];
   ASSERT_EQ(label.status, Status::kOk);
   EXPECT_EQ(run_method(kGregory, "network", no_frame, &gregory_model).status[0], Status::kDegenerate);
@@ -1492,9 +1552,10 @@ TEST(Hybrids, ClosedFormPlusNewtonConvergesOnTheBilinearDomain) {
 
 TEST(Hybrids, ClosedFormPlusNewtonReachesRoundingWithNoFailureOnWellShapedBilinearSegments) {
   // The paper's bilinear domain bounds no angle; its convex slivers are where the hybrids fail or converge
-  // slowly. On segments a mesher accepts (every interior angle in [30, 150] degrees: configs/bilinear-30-150.toml)
-  // results/frontier.md measures closed_form+newton:5 at mean |error| 9.1e-15 / 1.5e-14 and max 5.3e-10 on
-  // 100000 held-out configurations, and no failure; here on 3000, placed at random.
+  // slowly. On segments a mesher accepts (every interior angle in [30, 150] degrees:
+  // configs/bilinear-30-150.toml) results/frontier.md measures closed_form+newton:5 at mean |error| 9.1e-15
+  // / 1.5e-14 and max 5.3e-10 on 100000 held-out configurations, and no failure; here on 3000, placed at
+  // random.
   geometry::DomainFilters well_shaped;
   well_shaped.min_angle_degrees = 30.0;
   well_shaped.max_angle_degrees = 150.0;
@@ -1531,8 +1592,10 @@ TEST(Hybrids, AStepThatDoesNotReduceTheDistanceKeepsThePreviousIterate) {
   SearchOptions no_halving;
   no_halving.max_halvings = 0;
   const std::vector<double> raw = random_queries(kBilinear, 3000, 20);
-  const Output<double> one = run(LocalSearch(kBilinear, Method::parse("closed_form+newton:1"), no_halving), raw);
-  const Output<double> two = run(LocalSearch(kBilinear, Method::parse("closed_form+newton:2"), no_halving), raw);
+  const Output<double> one =
+      run(LocalSearch(kBilinear, Method::parse("closed_form+newton:1"), no_halving), raw);
+  const Output<double> two =
+      run(LocalSearch(kBilinear, Method::parse("closed_form+newton:2"), no_halving), raw);
   int refused = 0;
   for (std::size_t i = 0; i < one.status.size(); ++i) {
     if (two.status[i] != Status::kNoConvergence || one.iterations[i] != 1 || two.iterations[i] != 1) continue;
@@ -1552,30 +1615,34 @@ TEST(StartMethod, RefinesTheCallersStartsToTheReference) {
   // reach the reference. Gregory, on the 100000 held-out configurations of data/gregory-heldout.h5
   // (results/studies.md, Gregory starts): max |error| after three steps 3.3e-10 from starts 0.003 off, 2.1e-7
   // from 0.01, 9.5e-5 from 0.03; the tail of network+newton:3 is its start's. (Plain undamped Newton,
-  // projection::newton_fixed_iterations, from the same kind of 0.03 starts left 132 rows above 1e-8 where these
-  // steps left 51: a one-off comparison.) Bilinear (domain twice as wide): starts 0.01 off, mean 7.8e-9 after
-  // three steps on scripts/frontier's 100000 held-out configurations.
+  // projection::newton_fixed_iterations, from the same kind of 0.03 starts left 132 rows above 1e-8 where
+  // these steps left 51: a one-off comparison.) Bilinear (domain twice as wide): starts 0.01 off, mean 7.8e-9
+  // after three steps on scripts/frontier's 100000 held-out configurations.
   for (const SurfaceKind kind : {kBilinear, kGregory}) {
     SCOPED_TRACE(to_string(kind));
     const std::vector<double> raw = random_queries(kind, 2000, 41);
     const std::vector<dataset::Label> labels = labels_of(raw, kind);
-    const Accuracy exact = accuracy(run(LocalSearch(kind, Method::parse("start+newton:1")), raw, 1,
-                                        starts_near(labels, kind, 0.0, 1)), labels);
+    const Accuracy exact = accuracy(
+        run(LocalSearch(kind, Method::parse("start+newton:1")), raw, 1, starts_near(labels, kind, 0.0, 1)),
+        labels);
     EXPECT_GT(exact.rows, 1000);
     EXPECT_EQ(exact.failures, 0);
     EXPECT_EQ(exact.wrong_side, 0);
     EXPECT_LE(exact.max, 1e-12);
     const double offset = kind == kGregory ? 0.003 : 0.002;
-    const Accuracy near = accuracy(run(LocalSearch(kind, Method::parse("start+newton:3")), raw, 1,
-                                       starts_near(labels, kind, offset, 2)), labels);
-    RecordProperty(std::string(to_string(kind)) + "_three_steps", "mean " + sci(near.mean) + " max " + sci(near.max));
+    const Accuracy near = accuracy(
+        run(LocalSearch(kind, Method::parse("start+newton:3")), raw, 1, starts_near(labels, kind, offset, 2)),
+        labels);
+    RecordProperty(std::string(to_string(kind)) + "_three_steps",
+                   "mean " + sci(near.mean) + " max " + sci(near.max));
     EXPECT_EQ(near.failures, 0);
     EXPECT_EQ(near.wrong_side, 0);
     EXPECT_LE(near.mean, 1e-12);
     EXPECT_LE(near.max, 1e-8);
     // Fewer steps from the same starts are not enough: the steps are taken, not skipped.
-    const Accuracy one = accuracy(run(LocalSearch(kind, Method::parse("start+newton:1")), raw, 1,
-                                      starts_near(labels, kind, offset, 2)), labels);
+    const Accuracy one = accuracy(
+        run(LocalSearch(kind, Method::parse("start+newton:1")), raw, 1, starts_near(labels, kind, offset, 2)),
+        labels);
     EXPECT_GT(one.max, 1e-8);
   }
 }
@@ -1650,8 +1717,9 @@ TEST(LocalSearch, AFloatGapBeyondTheFloatRangeIsTheLargestFloat) {
   // double is 6e38; in float it was +inf, status ok. Now the largest float of its sign; the sign too.
   const float h = 3.0e38F, length = 1.0e38F;
   for (const float side : {1.0F, -1.0F}) {
-    const std::vector<float> raw = {0, 0, -side * h, length, 0, -side * h, length, length, -side * h,
-                                    0, length, -side * h, 0.3F * length, 0.4F * length, side * h};
+    const std::vector<float> raw = {0,         0,         -side * h,     length,        0,
+                                    -side * h, length,    length,        -side * h,     0,
+                                    length,    -side * h, 0.3F * length, 0.4F * length, side * h};
     for (const char* method : {"newton:2", "closed_form", "closed_form+newton:2", "four_triangles"}) {
       const LocalSearch search(kBilinear, Method::parse(method));
       const Output<float> f = run(search, raw);
@@ -1685,7 +1753,8 @@ TEST(LocalSearch, EachResultIsIndependentOfCountPositionAndThreads) {
               const std::size_t j = offset + i;
               ASSERT_EQ(out.status[i], all.status[j]) << name << " count " << count << " query " << j;
               ASSERT_EQ(out.param[2 * i], all.param[2 * j]) << name << " count " << count << " query " << j;
-              ASSERT_EQ(out.param[2 * i + 1], all.param[2 * j + 1]) << name << " count " << count << " query " << j;
+              ASSERT_EQ(out.param[2 * i + 1], all.param[2 * j + 1])
+                  << name << " count " << count << " query " << j;
               ASSERT_EQ(out.gap[i], all.gap[j]) << name << " count " << count << " query " << j;
               ASSERT_EQ(out.iterations[i], all.iterations[j]) << name << " count " << count << " query " << j;
             }
@@ -1734,9 +1803,9 @@ TEST(LocalSearch, NewtonToConvergenceInPassesGivesTheOnePassResults) {
 TEST(LocalSearch, EveryMethodGivesTheSameAnswerAtScalesFrom2ToThePowerMinus900To900) {
   // SPEC 4: local coordinates do not depend on the scale. A power of two scales every product and sum of the
   // methods' arithmetic exactly, so a scale-free method gives the same bits, until a square or a fourth power
-  // leaves the double range: the closed form's discriminant (~ size^8) did beyond 1e+-38, and every method that
-  // builds the surface called each segment degenerate beyond 1e+-77, with a gap of 0 beside a network's ok,
-  // before the offsets were taken in units of their own size. 2^+-900 is 1e+-271 (a float network's frame
+  // leaves the double range: the closed form's discriminant (~ size^8) did beyond 1e+-38, and every method
+  // that builds the surface called each segment degenerate beyond 1e+-77, with a gap of 0 beside a network's
+  // ok, before the offsets were taken in units of their own size. 2^+-900 is 1e+-271 (a float network's frame
   // takes its double pass, with other last bits, beyond 1e+-290). Every third query stays at scale 1, so that
   // blocks mix lanes that are scaled and lanes that are not.
   for (const SurfaceKind kind : {kBilinear, kGregory}) {
@@ -1759,14 +1828,16 @@ TEST(LocalSearch, EveryMethodGivesTheSameAnswerAtScalesFrom2ToThePowerMinus900To
         const Output<double> out = run_method(kind, method, raw, &model);
         int differ = 0;
         for (std::size_t i = 0; i < out.status.size(); ++i) {
-          const bool same = out.status[i] == reference.status[i] && out.param[2 * i] == reference.param[2 * i] &&
+          const bool same = out.status[i] == reference.status[i] &&
+                            out.param[2 * i] == reference.param[2 * i] &&
                             out.param[2 * i + 1] == reference.param[2 * i + 1] &&
                             out.gap[i] == std::ldexp(reference.gap[i], power_of(i));
           differ += same ? 0 : 1;
-          EXPECT_TRUE(same) << to_string(kind) << " " << method << " 2^" << power << " query " << i << ": status "
-                            << static_cast<int>(out.status[i]) << " / " << static_cast<int>(reference.status[i])
-                            << ", (" << out.param[2 * i] << ", " << out.param[2 * i + 1] << ") / ("
-                            << reference.param[2 * i] << ", " << reference.param[2 * i + 1] << ")";
+          EXPECT_TRUE(same) << to_string(kind) << " " << method << " 2^" << power << " query " << i
+                            << ": status " << static_cast<int>(out.status[i]) << " / "
+                            << static_cast<int>(reference.status[i]) << ", (" << out.param[2 * i] << ", "
+                            << out.param[2 * i + 1] << ") / (" << reference.param[2 * i] << ", "
+                            << reference.param[2 * i + 1] << ")";
           if (differ > 3) break;
         }
       }
@@ -1777,11 +1848,12 @@ TEST(LocalSearch, EveryMethodGivesTheSameAnswerAtScalesFrom2ToThePowerMinus900To
 TEST(LocalSearch, ABlockRescaledForOneLaneGivesEveryOtherLaneItsOwnBits) {
   // A block is rescaled when one lane's node distances are beyond 2^+-64 (here a segment 1e-100 wide). Each
   // lane is then taken in units of its own segment, not of its slave's offset: a unit square with its slave
-  // 1e90 above it became, in units of that offset, a segment of 1e-90, whose fourth powers vanish (degenerate,
-  // gap 0) in a block and not alone. And a 1e-100 segment with its slave 1e-10 away, in units of the offset,
-  // stayed 1e-90 wide. Each is checked alone, in the block, and against its label.
+  // 1e90 above it became, in units of that offset, a segment of 1e-90, whose fourth powers vanish
+  // (degenerate, gap 0) in a block and not alone. And a 1e-100 segment with its slave 1e-10 away, in units of
+  // the offset, stayed 1e-90 wide. Each is checked alone, in the block, and against its label.
   const auto push = [](std::vector<double>& raw, double size, double height, bool gregory) {
-    for (const double x : {0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 1.0, 1.0, 0.0, 0.0, 1.0, 0.0}) raw.push_back(x * size);
+    for (const double x : {0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 1.0, 1.0, 0.0, 0.0, 1.0, 0.0})
+      raw.push_back(x * size);
     raw.insert(raw.end(), {0.3 * size, 0.2 * size, height});
     if (gregory) {
       for (int node = 0; node < 4; ++node) raw.insert(raw.end(), {0.0, 0.0, 1.0});
@@ -1848,7 +1920,8 @@ TEST(LocalSearch, EveryStatusIsReachableAndNoOutputIsEverNaN) {
     for (std::size_t m = 0; m < names.size(); ++m) {
       const Output<double> out = run_method(kind, names[m], raw, &model);
       for (std::size_t i = 0; i < out.status.size(); ++i) {
-        ASSERT_TRUE(std::isfinite(out.param[2 * i]) && std::isfinite(out.param[2 * i + 1]) && std::isfinite(out.gap[i]))
+        ASSERT_TRUE(std::isfinite(out.param[2 * i]) && std::isfinite(out.param[2 * i + 1]) &&
+                    std::isfinite(out.gap[i]))
             << names[m] << " query " << i;
         seen[m][static_cast<std::size_t>(out.status[i])] += 1;
         if (out.status[i] == Status::kInvalid) {
@@ -1865,7 +1938,9 @@ TEST(LocalSearch, EveryStatusIsReachableAndNoOutputIsEverNaN) {
       if (names[m] == "network") {
         EXPECT_GT(seen[m][static_cast<std::size_t>(Status::kOutOfDomain)], 0);
       } else if (names[m] != "closed_form") {
-        EXPECT_GT(seen[m][static_cast<std::size_t>(Status::kOutside)] + seen[m][static_cast<std::size_t>(Status::kNoConvergence)], 0);
+        EXPECT_GT(seen[m][static_cast<std::size_t>(Status::kOutside)] +
+                      seen[m][static_cast<std::size_t>(Status::kNoConvergence)],
+                  0);
       }
     }
   }
@@ -1879,7 +1954,8 @@ TEST(LocalSearch, RefusesMethodsThatCannotRun) {
   EXPECT_THROW(LocalSearch(kBilinear, Method{Method::Start::kCentre, -1, false}), InvalidArgument);
   // Method::parse bounds K at Method::kMaxSteps; a Method made by hand is held to it too.
   EXPECT_NO_THROW(LocalSearch(kBilinear, Method{Method::Start::kCentre, Method::kMaxSteps, false}));
-  EXPECT_THROW(LocalSearch(kBilinear, Method{Method::Start::kCentre, Method::kMaxSteps + 1, false}), InvalidArgument);
+  EXPECT_THROW(LocalSearch(kBilinear, Method{Method::Start::kCentre, Method::kMaxSteps + 1, false}),
+               InvalidArgument);
   EXPECT_THROW(LocalSearch(kBilinear, Method{Method::Start::kClosedForm, 100000000, false}), InvalidArgument);
   SearchOptions bad;
   bad.max_step_widths = 0.0;

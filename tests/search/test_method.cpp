@@ -1,10 +1,9 @@
 // lib/search/method: names parse to the methods they describe and back; malformed names are refused with
 // a message listing the accepted forms.
-#include "search/method.hpp"
-
 #include <gtest/gtest.h>
 
 #include "core/error.hpp"
+#include "search/method.hpp"
 
 namespace contactnn::search {
 namespace {
@@ -29,9 +28,10 @@ TEST(Method, ParsesEveryForm) {
 }
 
 TEST(Method, NameRoundTrips) {
-  for (const char* name : {"network", "newton", "newton:0", "newton:1", "newton:10", "closed_form",
-                           "network+newton:1", "network+newton:3", "closed_form+newton:1", "closed_form+newton:25", "start",
-                           "start+newton:3", "four_triangles", "newton:1000"}) {
+  for (const char* name :
+       {"network", "newton", "newton:0", "newton:1", "newton:10", "closed_form", "network+newton:1",
+        "network+newton:3", "closed_form+newton:1", "closed_form+newton:25", "start", "start+newton:3",
+        "four_triangles", "newton:1000"}) {
     const Method m = Method::parse(name);
     EXPECT_EQ(m.name(), name);
     EXPECT_EQ(Method::parse(m.name()), m);
@@ -58,10 +58,28 @@ TEST(Method, HybridsAndNetworkNeedsAreClassified) {
 }
 
 TEST(Method, MalformedNamesAreRefusedNamingTheForms) {
-  for (const char* bad : {"", "Network", "newton:", "newton:-1", "newton:x", "newton:3x", "newton: 3", "newton:1.5",
-                          "network+newton", "network+newton:", "closed_form+newton:-2", "gauss", "network+", "start+newton",
-                          "start+newton:", "start:3", "four_triangles+newton:2", "four_triangles:1", "Four_triangles",
-                          "newton:99999999999999999999", "newton:1001", "newton:100000000"}) {
+  for (const char* bad : {"",
+                          "Network",
+                          "newton:",
+                          "newton:-1",
+                          "newton:x",
+                          "newton:3x",
+                          "newton: 3",
+                          "newton:1.5",
+                          "network+newton",
+                          "network+newton:",
+                          "closed_form+newton:-2",
+                          "gauss",
+                          "network+",
+                          "start+newton",
+                          "start+newton:",
+                          "start:3",
+                          "four_triangles+newton:2",
+                          "four_triangles:1",
+                          "Four_triangles",
+                          "newton:99999999999999999999",
+                          "newton:1001",
+                          "newton:100000000"}) {
     try {
       (void)Method::parse(bad);
       ADD_FAILURE() << "accepted '" << bad << "'";

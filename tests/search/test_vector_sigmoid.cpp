@@ -1,11 +1,11 @@
 // lib/search/vector_sigmoid.h against the C library: exp and expf to ~1 ulp over their whole range, the
 // sigmoid of Eq 12 against 1 / (1 + std::exp(-gain u)), its clamped tails, and the C99 compilation.
-#include "search/vector_sigmoid.h"
-
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <limits>
+
+#include "search/vector_sigmoid.h"
 
 extern "C" double contactnn_sigmoid_c99(double u, double gain);
 extern "C" float contactnn_sigmoidf_c99(float u, float gain);
@@ -19,7 +19,8 @@ double ulps(double got, double want) {
 }
 double ulps_float(double got, double want) {
   const auto w = static_cast<float>(want);
-  return std::abs(got - want) / static_cast<double>(std::nextafter(w, std::numeric_limits<float>::infinity()) - w);
+  return std::abs(got - want) /
+         static_cast<double>(std::nextafter(w, std::numeric_limits<float>::infinity()) - w);
 }
 
 // Range reduction, a polynomial of ~5e-18 (double) or ~4e-9 (float) relative error, and a handful of
@@ -78,7 +79,8 @@ TEST(VectorSigmoid, TheC99CompilationAgreesWithTheCxxOne) {
     const double u = -40.0 + 80.0 * i / 1000.0;
     // Contraction into FMA may differ between the two compilations: a few ulps.
     EXPECT_NEAR(contactnn_sigmoid_c99(u, 1.0), cnn_sigmoid(u, 1.0), 1e-15);
-    EXPECT_NEAR(contactnn_sigmoidf_c99(static_cast<float>(u), 1.0f), cnn_sigmoidf(static_cast<float>(u), 1.0f), 1e-6f);
+    EXPECT_NEAR(contactnn_sigmoidf_c99(static_cast<float>(u), 1.0f),
+                cnn_sigmoidf(static_cast<float>(u), 1.0f), 1e-6f);
   }
 }
 

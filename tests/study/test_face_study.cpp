@@ -1,9 +1,10 @@
-// The face study (lib/study/face_study.hpp) on make-scene's tet-press (tri6 master faces) and tubes-press (quad8),
-// the face_scenes fixture, with small settings: the domain's labels are the closest points on the true faces,
-// inside them, the same for any thread count; the deck's pairs are the surface search's; a network trained on
-// the scene's domain corrects the corner closed form (it ends nearer the labels than that closed form); the
-// choice is the fastest method that reaches the target; scene-study --face writes the report and the network it
-// chose, and refuses a deck without faces of the type. The face network file round trip.
+// The face study (lib/study/face_study.hpp) on make-scene's tet-press (tri6 master faces) and tubes-press
+// (quad8), the face_scenes fixture, with small settings: the domain's labels are the closest points on the
+// true faces, inside them, the same for any thread count; the deck's pairs are the surface search's; a
+// network trained on the scene's domain corrects the corner closed form (it ends nearer the labels than that
+// closed form); the choice is the fastest method that reaches the target; scene-study --face writes the
+// report and the network it chose, and refuses a deck without faces of the type. The face network file round
+// trip.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -16,8 +17,8 @@
 #include "core/error.hpp"
 #include "io/face_network_file.hpp"
 #include "io/inp_deck.hpp"
-#include "search/face_search.hpp"
 #include "search/face_queries.hpp"
+#include "search/face_search.hpp"
 #include "study/face_study.hpp"
 
 namespace contactnn::study {
@@ -49,7 +50,8 @@ FaceStudyOptions small() {
 }
 
 TEST(FaceStudy, TheDomainsLabelsAreTheTrueFacesClosestPointsInsideThemForAnyThreadCount) {
-  for (const auto& [deck, kind] : {std::pair{"tet-press.inp", FaceKind::kTri6}, std::pair{"tubes-press.inp", FaceKind::kQuad8}}) {
+  for (const auto& [deck, kind] :
+       {std::pair{"tet-press.inp", FaceKind::kTri6}, std::pair{"tubes-press.inp", FaceKind::kQuad8}}) {
     const contact::Scene scene = scene_of(deck);
     FaceStudyOptions one = small(), two = small();
     one.threads = 1;
@@ -62,7 +64,8 @@ TEST(FaceStudy, TheDomainsLabelsAreTheTrueFacesClosestPointsInsideThemForAnyThre
     for (std::size_t i = 0; i < a.size(); i += 7) {
       testing::FaceQuery q;
       const double* r = a.raw.data() + i * stride;
-      for (int n = 0; n < search::face_node_count(kind); ++n) q.nodes.emplace_back(r[3 * n], r[3 * n + 1], r[3 * n + 2]);
+      for (int n = 0; n < search::face_node_count(kind); ++n)
+        q.nodes.emplace_back(r[3 * n], r[3 * n + 1], r[3 * n + 2]);
       q.slave = geometry::Vec3(r[stride - 3], r[stride - 2], r[stride - 1]);
       const projection::FaceClosestPoint ref = testing::reference_point(kind, q);
       EXPECT_EQ(ref.location, Location::kFace);
@@ -73,7 +76,8 @@ TEST(FaceStudy, TheDomainsLabelsAreTheTrueFacesClosestPointsInsideThemForAnyThre
 }
 
 TEST(FaceStudy, ANetworkCorrectsTheCornerClosedFormAndTheChoiceIsTheFastestThatReaches) {
-  for (const auto& [deck, kind] : {std::pair{"tet-press.inp", FaceKind::kTri6}, std::pair{"tubes-press.inp", FaceKind::kQuad8}}) {
+  for (const auto& [deck, kind] :
+       {std::pair{"tet-press.inp", FaceKind::kTri6}, std::pair{"tubes-press.inp", FaceKind::kQuad8}}) {
     FaceStudyOptions o = small();
     o.epochs = 300;  // 2400 patterns: a second or two
     const FaceStudy st = run_face_study(scene_of(deck), kind, o);
@@ -118,20 +122,23 @@ TEST(FaceStudy, TheFaceNetworkFileRoundTripsAndRefusesAnotherKind) {
   EXPECT_EQ(back.feature_min, n.feature_min);
   EXPECT_EQ(back.feature_max, n.feature_max);
   ASSERT_EQ(back.network.parameter_count(), n.network->parameter_count());
-  for (std::size_t p = 0; p < back.network.parameter_count(); ++p) EXPECT_EQ(back.network.parameters()[p], n.network->parameters()[p]);
+  for (std::size_t p = 0; p < back.network.parameter_count(); ++p)
+    EXPECT_EQ(back.network.parameters()[p], n.network->parameters()[p]);
   // The same answers through the file's network as through the study's.
   const auto loaded = io::load_face_network(file);
   const search::FaceSearch a(FaceKind::kQuad8, search::Method::parse("network"), {}, n.model.get());
   const search::FaceSearch b(FaceKind::kQuad8, search::Method::parse("network"), {}, loaded.get());
-  const FaceQueries q = sample_face_domain(scene_of("tubes-press.inp"), FaceKind::kQuad8, small(), 0.5, 100, 9);
+  const FaceQueries q =
+      sample_face_domain(scene_of("tubes-press.inp"), FaceKind::kQuad8, small(), 0.5, 100, 9);
   std::vector<double> pa(200), pb(200);
   std::vector<Status> sa(100), sb(100);
   a.run<double>(100, q.raw.data(), search::Results<double>{pa.data(), nullptr, sa.data()});
   b.run<double>(100, q.raw.data(), search::Results<double>{pb.data(), nullptr, sb.data()});
   EXPECT_EQ(pa, pb);
   EXPECT_EQ(sa, sb);
-  // A train-net network file is not a face network: a sound file given where another kind goes, InvalidArgument
-  // as a network of the other surface is (issue 39; FormatError is for a file that is no contactnn network).
+  // A train-net network file is not a face network: a sound file given where another kind goes,
+  // InvalidArgument as a network of the other surface is (issue 39; FormatError is for a file that is no
+  // contactnn network).
   EXPECT_THROW((void)io::read_face_network(fs::path(CONTACTNN_SOURCE_DIR) / "data/weights/bilinear-8.h5"),
                InvalidArgument);
 }
@@ -140,16 +147,21 @@ TEST(FaceStudy, SceneStudyFaceWritesTheReportAndRefusesADeckWithoutSuchFaces) {
   const fs::path out = fs::path(CONTACTNN_BINARY_DIR) / "tests" / "study" / "face-study-app";
   fs::remove_all(out);
   const std::string app = (kBin / "apps" / "scene-study" / "scene-study").string();
-  const std::string common = " --count 2000 --epochs 20 --sizes 16 --timing-queries 1000 --threads 2 --quiet --output ";
-  ASSERT_EQ(std::system((app + " --scene " + (kScenes / "tet-press.inp").string() + " --face tri6" + common + out.string()).c_str()), 0);
+  const std::string common =
+      " --count 2000 --epochs 20 --sizes 16 --timing-queries 1000 --threads 2 --quiet --output ";
+  ASSERT_EQ(std::system((app + " --scene " + (kScenes / "tet-press.inp").string() + " --face tri6" + common +
+                         out.string())
+                            .c_str()),
+            0);
   std::ifstream in(out / "report.md");
   std::stringstream text;
   text << in.rdbuf();
   EXPECT_NE(text.str().find("tri6 faces"), std::string::npos);
   EXPECT_NE(text.str().find("## The choice"), std::string::npos);
   // tet-press's master has no quad8 face: exit 1, nothing to study.
-  const int status = std::system((app + " --scene " + (kScenes / "tet-press.inp").string() + " --face quad8" + common +
-                                  (out / "none").string() + " 2>/dev/null").c_str());
+  const int status = std::system((app + " --scene " + (kScenes / "tet-press.inp").string() + " --face quad8" +
+                                  common + (out / "none").string() + " 2>/dev/null")
+                                     .c_str());
   EXPECT_EQ(WEXITSTATUS(status), 1);
 }
 

@@ -1,10 +1,14 @@
 // search_cxx: contactnn's C++ library (contactnn::runtime: the local search and the network file reader) as a
-// C++ finite-element code calls it, on a file of queries, with the headers as the installed package names them.
+// C++ finite-element code calls it, on a file of queries, with the headers as the installed package names
+// them.
 //
 // Usage: search_cxx bilinear|gregory METHOD NETWORK RAW.txt OUT.txt
 //   RAW.txt  the query count n on the first line, then n rows of 15 (bilinear) or 27 (Gregory) numbers
 //   OUT.txt  one line per query: p0 p1 status gap iterations
 // Exit status 0, or 1 with the exception's message.
+#include <contactnn/core/error.hpp>
+#include <contactnn/io/network_model_file.hpp>
+#include <contactnn/search/local_search.hpp>
 #include <cstdint>
 #include <cstdio>
 #include <exception>
@@ -12,10 +16,6 @@
 #include <memory>
 #include <string>
 #include <vector>
-
-#include <contactnn/core/error.hpp>
-#include <contactnn/io/network_model_file.hpp>
-#include <contactnn/search/local_search.hpp>
 
 using namespace contactnn;
 
