@@ -96,7 +96,10 @@ def disk_full_case(name, work, command, prepare=None, may_leave=None):
         raise Failure(f"{name}: the reference run wrote nothing")
     size = total_size(reference)
     mount_point = os.path.join(work, name + "-full")
-    sizes = sorted({PAGE * max(1, k) for k in range(1, size // PAGE + 4, max(1, (size // PAGE + 3) // 14))})
+    # tmpfs counts whole pages a file: the largest size holds every output file rounded up to pages (and a
+    # spare page each), so that one run completes whatever the files' sizes (they vary with the path length).
+    pages = sum(-(-len(data) // PAGE) + 1 for data in reference.values())
+    sizes = sorted({PAGE * max(1, k) for k in range(1, pages + 1, max(1, pages // 14))} | {PAGE * pages})
     failed = completed = 0
     for limit in sizes:
         for keep_older in (False, True):
