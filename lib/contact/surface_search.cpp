@@ -10,6 +10,7 @@
 #include <utility>
 
 #include "contact/bilinear_certificate.hpp"
+#include "contact/narrow_phase.hpp"
 #include "core/error.hpp"
 #include "geometry/bilinear_patch.hpp"
 #include "geometry/gregory_patch.hpp"
@@ -417,6 +418,9 @@ projection::FaceClosestPoint closest_on_indexed_face(
     const mesh::SurfaceMesh& master, std::span<const Vec3> normals, const SearchOptions& options,
     const SearchOptions& checked, const FaceIndex& index, int f, const Vec3& slave,
     const std::array<double, 2>* start, int* reference_count) {
+  if (options.interior != nullptr) {  // the user's method first; refused: the exact answer (narrow_phase.hpp)
+    if (auto p = options.interior->locate(master, normals, kind_of(master, options, f), f, slave)) return *p;
+  }
   const SearchOptions& face_options = index.checked[static_cast<std::size_t>(f)] != 0 ? checked : options;
   return closest_on_face(master, normals, face_options, f, slave, certificate_of(index, f), start,
                          reference_count);
@@ -515,6 +519,7 @@ NodeSegmentPair search_one(const mesh::SurfaceMesh& master, std::span<const Vec3
   label.iterations = best_point.iterations;
   label.param = best_point.param;
   best.face_param = best_point.param;
+  best.by_method = best_point.by_method;
   const Vec3 n = pseudo_normal(master, normals, options, index, best.segment, best_point);
   const double side = (slave - best_point.point).dot(n);
   label.gap = side < 0.0 ? -best_point.distance : best_point.distance;
