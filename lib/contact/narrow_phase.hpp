@@ -12,9 +12,12 @@
 //    Newton steps as its iterations;
 //  - otherwise (any other status, a point outside the face, a face the method does not apply to: tri3, whose
 //    closest point is exact already, or a face type the method has no network for) it refuses, and the
-//    search takes the face's exact closest point (interior, edge or vertex) as without a locator.
-// So a slave point the exact search answers is never left without a point; only the face interior points
-// carry the method's error. The search reports which answered (NodeSegmentPair::by_method).
+//    search takes the face's exact closest point (interior, edge or vertex) as without a locator; the search
+//    also takes the exact point where the method's lies beyond the capture distance.
+// So a slave point the exact search answers is never left without a point: the exact answer's face F has a
+// bound at most its distance d, every point a face gives (the method's too: a point of the surface) is at
+// least d away, so the scan reaches F, whose point is then within the capture distance. Only face interior
+// points carry the method's error. The search reports which answered (NodeSegmentPair::by_method).
 //
 // The method's own convergence tests decide "ok": newton:K after K steps, newton until the step is below
 // tol_param, the hybrids after their safeguarded steps (search/local_search.hpp). start+newton:K needs a
