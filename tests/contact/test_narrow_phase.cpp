@@ -18,14 +18,9 @@
 namespace contactnn::contact {
 namespace {
 
-/// grid_surface with the element ids and faces the surface search's tie rule reads.
+/// The grid (searched_grid_surface: element ids and faces for the tie rule).
 mesh::SurfaceMesh surface_of(int nx, int ny, const std::function<Vec3(double, double)>& point) {
-  mesh::SurfaceMesh s = testing::grid_surface(nx, ny, point);
-  for (std::size_t q = 0; q < s.segments.size(); ++q) {
-    s.segment_faces.push_back({static_cast<int>(q), 1});
-    s.segment_element_ids.push_back(static_cast<long>(q) + 1);
-  }
-  return s;
+  return testing::searched_grid_surface(nx, ny, point);
 }
 
 /// A warped sheet: every face a curved bilinear facet (no face is a flat parallelogram).
