@@ -57,6 +57,7 @@
 #include "dataset/labeller.hpp"
 #include "dataset/sampling.hpp"
 #include "dataset/scene_sampling.hpp"
+#include "history/plan_search.hpp"
 #include "io/csv.hpp"
 #include "io/dataset_file.hpp"
 #include "io/file_identity.hpp"
@@ -518,6 +519,13 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"certified", "reference"}))
       ->needs(scene_option)
       ->default_str("");
+  std::string plan_file;
+  app.add_option("--plan", plan_file,
+                 "surface search: a scene plan (scene-study's plan.toml) whose method answers face interiors "
+                 "(a pair it refuses or puts outside the face takes the exact closest point); the plan's "
+                 "surface")
+      ->check(CLI::ExistingFile)
+      ->needs(scene_option);
   SceneHistory history;
   auto* results_option =
       app.add_option("--results", history.results,
@@ -617,7 +625,8 @@ int main(int argc, char** argv) {
                         {{"--input", input},
                          {"--scene", scene},
                          {"--config", cli::config_path(app)},
-                         {"--results", history.results}});
+                         {"--results", history.results},
+                         {"--plan", plan_file}});
 
     // 3. Label mode: a user's CSV in, the same rows with labels out.
     if (!input.empty()) return label_mode(options.surface, input, output, options.projection);
@@ -636,6 +645,19 @@ int main(int argc, char** argv) {
     if (!history.results.empty() && history.increment.empty()) history.increment = "last";
     CONTACTNN_REQUIRE_AS(InvalidArgument, history.results.empty() || sampling != "random",
                          "--results: a scene's domain (--sampling random) is sampled from the deck alone");
+    std::optional<history::PlanSearch> plan;
+    if (!plan_file.empty()) {
+      CONTACTNN_REQUIRE_AS(
+          InvalidArgument, search.search == contact::GlobalSearchKind::kSurface && sampling != "random",
+          "--plan: the surface search's pairs only (not --search nearest_node or --sampling random)");
+      plan.emplace(history::load_plan_search(plan_file));
+      CONTACTNN_REQUIRE_AS(InvalidArgument,
+                           app.count("--surface") == 0 || plan->plan.surface == options.surface,
+                           "--surface " << surface_name << ": the plan '" << plan_file << "' is for "
+                                        << to_string(plan->plan.surface) << " surfaces");
+      options.surface = search.surface = plan->plan.surface;
+      search.interior = plan->locator.get();
+    }
     if (!scene.empty() && sampling != "random") return scene_mode(scene, pair, search, output, history);
 
     // 4. Enumeration or random sampling: label, write the dataset and the effective config, summarise.

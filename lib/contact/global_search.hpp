@@ -55,6 +55,8 @@ enum class GlobalSearchKind { kSurface, kNearestNode };
 /// certificate (kept to be timed and compared beside it).
 enum class NarrowPhase { kCertified, kReference };
 
+class FaceLocator;  // narrow_phase.hpp
+
 struct SearchOptions {
   SurfaceKind surface = SurfaceKind::kBilinear;
   GlobalSearchKind search =
@@ -68,6 +70,8 @@ struct SearchOptions {
   /// Surface search: every face is a candidate (the oracle the tests compare the tree against).
   bool brute_force_faces = false;
   NarrowPhase narrow = NarrowPhase::kCertified;  ///< surface search: how each face's closest point is found
+  /// Surface search: a method of the user's choice asked first for each face (narrow_phase.hpp); null: exact.
+  const FaceLocator* interior = nullptr;
   double segment_test_tolerance = geometry::kSegmentTestTolerance;  ///< relative; see the header comment
   double distance_tie_tolerance = 1e-9;  ///< relative to the longest candidate edge
   NearestNodeMethod nearest = NearestNodeMethod::kTree;
@@ -92,6 +96,7 @@ struct NodeSegmentPair {
   Location location = Location::kFace;         ///< where the point lies on its face
   Vec3 point = Vec3::Zero();                   ///< the closest point P, world coordinates
   std::array<double, 2> face_param{0.0, 0.0};  ///< P's local coordinates in the face's own node order
+  bool by_method = false;  ///< SearchOptions::interior's method gave the point (else the exact closest point)
 };
 
 /// The pair of one slave node S, given the master node nearest it (steps 2-5 above).

@@ -10,6 +10,7 @@
 #include <utility>
 
 #include "contact/bilinear_certificate.hpp"
+#include "contact/narrow_phase.hpp"
 #include "core/error.hpp"
 #include "geometry/bilinear_patch.hpp"
 #include "geometry/gregory_patch.hpp"
@@ -412,11 +413,17 @@ const BilinearCertificate* certificate_of(const FaceIndex& index, int face) {
 }
 
 /// closest_on_face for face f of an indexed state: `checked` (the options with face_checked) where the index
-/// checked the face, and its certificate where it has one.
+/// checked the face, and its certificate where it has one. With options.interior, its method's point first
+/// where it gives one within `capture` (narrow_phase.hpp; beyond, the face's exact point may still be
+/// within).
 projection::FaceClosestPoint closest_on_indexed_face(
     const mesh::SurfaceMesh& master, std::span<const Vec3> normals, const SearchOptions& options,
     const SearchOptions& checked, const FaceIndex& index, int f, const Vec3& slave,
-    const std::array<double, 2>* start, int* reference_count) {
+    const std::array<double, 2>* start, int* reference_count, double capture) {
+  if (options.interior != nullptr) {
+    const auto p = options.interior->locate(master, normals, kind_of(master, options, f), f, slave);
+    if (p && p->distance <= capture) return *p;
+  }
   const SearchOptions& face_options = index.checked[static_cast<std::size_t>(f)] != 0 ? checked : options;
   return closest_on_face(master, normals, face_options, f, slave, certificate_of(index, f), start,
                          reference_count);
@@ -496,7 +503,7 @@ NodeSegmentPair search_one(const mesh::SurfaceMesh& master, std::span<const Vec3
         known != nullptr && f == known->face
             ? known->point
             : closest_on_indexed_face(master, normals, options, checked, index, f, slave,
-                                      hinted ? &hint->param : nullptr, &best.reference_faces);
+                                      hinted ? &hint->param : nullptr, &best.reference_faces, capture);
     if (p.status != Status::kOk) continue;
     ++best.candidates;
     consider(f, p);
@@ -515,6 +522,7 @@ NodeSegmentPair search_one(const mesh::SurfaceMesh& master, std::span<const Vec3
   label.iterations = best_point.iterations;
   label.param = best_point.param;
   best.face_param = best_point.param;
+  best.by_method = best_point.by_method;
   const Vec3 n = pseudo_normal(master, normals, options, index, best.segment, best_point);
   const double side = (slave - best_point.point).dot(n);
   label.gap = side < 0.0 ? -best_point.distance : best_point.distance;
@@ -764,7 +772,7 @@ NodeSegmentPair SurfaceSearcher::nearest_fresh(long slave_id, const Vec3& world_
   if (certificate_of(m.index, nearest) != nullptr || m.master.face_type(nearest) == mesh::FaceType::kTri3) {
     known.face = nearest;
     known.point = closest_on_indexed_face(m.master, m.normals, m.options, m.checked_options, m.index, nearest,
-                                          slave, nullptr, &known.reference_faces);
+                                          slave, nullptr, &known.reference_faces, m.capture);
     first = &known;
     if (known.point.status == Status::kOk) reach = std::min(reach, known.point.distance);
   } else {

@@ -25,6 +25,8 @@
 //     certificate proves its answer is the face's nearest, bilinear_certificate.hpp, NarrowPhase); a face
 //     whose sphere is farther than the best point so far cannot hold a nearer one and ends the scan. A fresh
 //     query projects the face whose centre is nearest S first and gathers only the faces within its distance.
+//     With SearchOptions::interior (narrow_phase.hpp), a method of the user's choice answers each face first
+//     where it puts the point inside the face and within the capture distance (the exact point otherwise).
 //  3. The nearest point wins; ties (equal distances to 1e-12 of the face size) go to the lower element id,
 //     then the lower face number (SPEC 9). No point within the capture distance: no_segment.
 //  4. The gap is the signed distance |S - P|: the sign of (S - P).n, n the face's unit normal at P for a

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "contact/global_search.hpp"
+#include "contact/narrow_phase.hpp"
 #include "contact/tracking.hpp"
 #include "io/frd_results.hpp"
 #include "mesh/contact_model.hpp"
@@ -32,6 +33,32 @@ struct ReplayOptions {
   /// Where search.narrow is not the reference: also the search as it was before the certificate
   /// (contact::NarrowPhase::kReference), fresh and tracked, timed in the same run, and its answers compared.
   bool beside_reference = true;
+  /// The plan in the loop (issue 38): where set, the surface search is also run with this method on face
+  /// interiors (SearchOptions::interior, contact/narrow_phase.hpp), fresh and tracked, timed in the same run,
+  /// and its answers judged against the exact search's (PlanRow). Must outlive the replay.
+  const contact::FaceLocator* plan = nullptr;
+  std::string plan_label;    ///< how the report names it (e.g. "plan.toml: newton:2")
+  double plan_target = 0.0;  ///< the plan's target (mean |error|, parameter units); 0: none
+};
+
+/// The plan's surface search at one increment against the exact search's answers (the same slave points).
+struct PlanRow {
+  double ns_fresh = 0.0;    ///< per slave node: the plan's fresh surface search
+  double ns_tracked = 0.0;  ///< per slave node: the plan's tracked search
+  long by_method = 0;       ///< slave points whose point the method gave (NodeSegmentPair::by_method)
+  /// Slave points whose exact answer lies inside a face and whose point the exact answer gave all the same
+  /// (the method refused the pair or put it outside the face: FaceLocator).
+  long fallbacks = 0;
+  long refused = 0;     ///< slave points the exact search answers and the plan's does not (must be 0)
+  long other_face = 0;  ///< slave points the plan answers on another face than the exact search
+  /// max(|d s|, |d t|) of the local coordinates against the exact point (parameter units, the face's own
+  /// order), over the points the method gave; one domain width (2 bilinear and quad8, 1 Gregory and
+  /// triangles) for a point on another face than the exact one.
+  double mean_error = 0.0;
+  double max_error = 0.0;
+  /// |P - P_exact| / the face's size (its longest corner distance), over every slave point both answer.
+  double mean_distance = 0.0;
+  double max_distance = 0.0;
 };
 
 /// One method's local search on one increment's pairs inside faces.
@@ -69,6 +96,7 @@ struct IncrementRow {
   long calculix_contacts = 0;  ///< the pair's slave nodes with COPEN < 0 in the file (-1: no CONTACT block)
   long calculix_found = 0;     ///< of those, with a point
   double calculix_largest_difference = 0.0;  ///< max |gap - COPEN| over those found
+  PlanRow plan;                              ///< ReplayOptions::plan (zeros without one)
 };
 
 /// Replays every increment of `results` on pair options.pair of `model` (whose nodes it moves).
@@ -76,6 +104,12 @@ struct IncrementRow {
 [[nodiscard]] std::vector<IncrementRow> replay(mesh::ContactModel& model, const io::FrdResults& results,
                                                const ReplayOptions& options,
                                                const std::function<void(int, int)>& progress = {});
+
+/// The plan's answers `plan` judged against the exact search's `exact` (the same slave points) on `master`
+/// (PlanRow; its times are left 0). InvalidArgument if the sizes differ.
+[[nodiscard]] PlanRow judge_plan(const mesh::SurfaceMesh& master, SurfaceKind surface,
+                                 const std::vector<contact::NodeSegmentPair>& exact,
+                                 const std::vector<contact::NodeSegmentPair>& plan);
 
 /// report.md (summary and per-increment tables), increments.csv, and the SVG plots time.svg (ns per slave
 /// node of each phase), error.svg (mean |error| of each method, log scale) and locations.svg (contacts by

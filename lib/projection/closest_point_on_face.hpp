@@ -25,6 +25,8 @@ struct [[nodiscard]] FaceClosestPoint {
   int feature = -1;                  ///< the edge (0..3) or vertex (0..3) for kEdge / kVertex; -1 for kFace
   int iterations = 0;                ///< Newton iterations of the interior projection
   Status status = Status::kInvalid;  ///< ok (a point was found), degenerate or invalid (no point)
+  bool by_method =
+      false;  ///< the point of a method of the user's choice (contact::FaceLocator), not the exact one
 };
 
 /// How far from the boundary, in parameter units, a point still counts as on it (relative to the domain's

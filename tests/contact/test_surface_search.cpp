@@ -24,12 +24,7 @@ constexpr double kExact = 1e-12;
 
 /// grid_surface with the element ids and faces the surface search's tie rule reads (element q + 1, face S1).
 mesh::SurfaceMesh surface_of(int nx, int ny, const std::function<Vec3(double, double)>& point) {
-  mesh::SurfaceMesh s = testing::grid_surface(nx, ny, point);
-  for (std::size_t q = 0; q < s.segments.size(); ++q) {
-    s.segment_faces.push_back({static_cast<int>(q), 1});
-    s.segment_element_ids.push_back(static_cast<long>(q) + 1);
-  }
-  return s;
+  return testing::searched_grid_surface(nx, ny, point);
 }
 
 /// A roof: planar faces meeting at a convex ridge along x = 3 and a concave valley along x = 6.

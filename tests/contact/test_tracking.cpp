@@ -18,14 +18,9 @@ constexpr double kSame = 1e-12;
 
 /// A wavy sheet whose waves travel with time t; element q + 1, face S1.
 mesh::SurfaceMesh sheet(double t) {
-  mesh::SurfaceMesh s = testing::grid_surface(12, 8, [&](double i, double j) {
+  return testing::searched_grid_surface(12, 8, [&](double i, double j) {
     return Vec3(i, j, 0.4 * std::sin(0.5 * i + t) * std::cos(0.4 * j - 0.5 * t));
   });
-  for (std::size_t q = 0; q < s.segments.size(); ++q) {
-    s.segment_faces.push_back({static_cast<int>(q), 1});
-    s.segment_element_ids.push_back(static_cast<long>(q) + 1);
-  }
-  return s;
 }
 
 struct History {

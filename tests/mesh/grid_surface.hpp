@@ -42,4 +42,16 @@ inline mesh::SurfaceMesh grid_surface(int nx, int ny,
   return s;
 }
 
+/// grid_surface with the element ids and faces the surface search's tie rule reads (segment q: element q + 1,
+/// face S1).
+inline mesh::SurfaceMesh searched_grid_surface(int nx, int ny,
+                                               const std::function<geometry::Vec3(double, double)>& point) {
+  mesh::SurfaceMesh s = grid_surface(nx, ny, point);
+  for (std::size_t q = 0; q < s.segments.size(); ++q) {
+    s.segment_faces.push_back({static_cast<int>(q), 1});
+    s.segment_element_ids.push_back(static_cast<long>(q) + 1);
+  }
+  return s;
+}
+
 }  // namespace contactnn::testing
