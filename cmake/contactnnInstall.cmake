@@ -17,12 +17,14 @@ mark_as_advanced(CONTACTNN_INSTALL_CMAKEDIR)
 # Not installed: contact, eval (the tools' own libraries) and the command-line layer.
 # Headers go to include/contactnn/<module>/; the targets' include path holds both include/ (a consumer's
 # <contactnn/<module>/<file>.hpp>) and include/contactnn (the headers' own "<module>/<file>.hpp").
+# lib/io/plan_file.hpp is left out: its target (plan_file, the scene plan) is the tools' and libcontactnn_c's, not
+# installed.
 set(contactnn_installed_modules core geometry projection dataset mlp mesh io search)
 foreach(module IN LISTS contactnn_installed_modules)
   install(DIRECTORY ${PROJECT_SOURCE_DIR}/lib/${module}/
           DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/contactnn/${module}
           COMPONENT contactnn_development
-          FILES_MATCHING PATTERN "*.hpp" PATTERN "*.h")
+          FILES_MATCHING PATTERN "*.hpp" PATTERN "*.h" PATTERN "plan_file.hpp" EXCLUDE)
 endforeach()
 # One target per module, and three more: lib/mlp's network without the trainer (network), lib/io's network
 # files without the other formats (network_file), and the C++ run-time target over search and network_file

@@ -53,9 +53,9 @@
 #include "io/file_identity.hpp"
 #include "io/network_file.hpp"
 #include "io/output_checks.hpp"
+#include "io/plan_file.hpp"
 #include "io/raw_configurations.hpp"
 #include "search/local_search.hpp"
-#include "study/plan.hpp"
 
 namespace {
 
@@ -368,8 +368,8 @@ int main(int argc, char** argv) {
     // trained
     //    in; input mode.
     if (!paths.plan.empty()) {
-      const study::ScenePlan scene_plan = study::read_plan(paths.plan);
-      const std::filesystem::path network_path = study::plan_network_path(scene_plan, paths.plan);
+      const io::ScenePlan scene_plan = io::read_plan(paths.plan);
+      const std::filesystem::path network_path = io::plan_network_path(scene_plan, paths.plan);
       std::optional<LoadedNetwork> network;
       if (!network_path.empty()) {
         network = load_network(network_path.string());

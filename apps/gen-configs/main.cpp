@@ -66,6 +66,8 @@
 #include "io/output_checks.hpp"
 #include "io/raw_configurations.hpp"
 #include "search/search_options.hpp"
+#include "study/scene_domain.hpp"
+#include "study/scene_pairs.hpp"
 
 namespace {
 
@@ -104,16 +106,6 @@ void label_chunk(std::span<const geometry::Configuration> configs, SurfaceKind s
   }
 }
 
-/// A label as the output's fields xi,eta (u,v),status,gap,iterations: values only where converged; a
-/// no_segment row (SPEC 7) keeps every field but the status empty.
-std::vector<std::string> label_fields(const dataset::Label& l) {
-  const bool has_value = l.status == Status::kOk || l.status == Status::kOutside;
-  // A result of zero is written 0, never -0 (x + 0.0 is +0 for x = -0 and x otherwise).
-  const auto value = [&](double x) { return has_value ? io::format_double(x + 0.0) : std::string(); };
-  return {value(l.param[0]), value(l.param[1]), std::string(to_string(l.status)), value(l.gap),
-          l.status == Status::kNoSegment ? "" : std::to_string(l.iterations)};
-}
-
 /// Label mode: RAW.csv streamed through label_chunk in chunks of io::kRawChunkRows rows, so memory stays
 /// bounded for any number of rows; the output appears only when every row is labelled.
 int label_mode(SurfaceKind surface, const std::string& input, const std::string& output,
@@ -130,7 +122,7 @@ int label_mode(SurfaceKind surface, const std::string& input, const std::string&
         label_chunk(chunk.configs, surface, options, labels);
         for (std::size_t i = 0; i < labels.size(); ++i) {
           if (chunk.no_segment[i] != 0) labels[i] = dataset::Label{.status = Status::kNoSegment};
-          rows[i] = label_fields(labels[i]);
+          rows[i] = study::label_csv_fields(labels[i]);
         }
       },
       &replaced);
@@ -245,21 +237,6 @@ contact::Scene read_scene(const std::string& deck, int pair) {
   return scene_of(io::read_inp_deck(deck), deck, pair);
 }
 
-/// The paper's nearest-node search keeps SPEC 7's slave nodes: an element surface's face corners, without the
-/// mid-side nodes of quadratic faces that the surface search adds (SPEC 9; mesh::SlaveNodes).
-void keep_corner_slaves(contact::Scene& scene) {
-  std::size_t kept = 0;
-  for (std::size_t i = 0; i < scene.slave_ids.size(); ++i) {
-    if (i < scene.slaves.midside.size() && scene.slaves.midside[i] != 0) continue;
-    scene.slave_ids[kept] = scene.slave_ids[i];
-    scene.slave_positions[kept] = scene.slave_positions[i];
-    ++kept;
-  }
-  scene.slave_ids.resize(kept);
-  scene.slave_positions.resize(kept);
-  scene.slaves = mesh::corner_slaves(scene.slaves);
-}
-
 /// The increments --increment names (SPEC 10): N, "last" or "all"; indices into results.increments.
 std::vector<std::size_t> increments_named(const io::FrdResults& results, const std::string& increment) {
   if (increment == "all") {
@@ -301,79 +278,25 @@ int scene_mode(const std::string& deck, int pair, const contact::SearchOptions& 
   const bool all = history.increment == "all";
 
   // 2. The header: SPEC 7's columns (SPEC 10: `increment` first with --increment all), SPEC 9's after them.
-  const bool gregory = options.surface == SurfaceKind::kGregory;
   const bool surface_search = options.search == contact::GlobalSearchKind::kSurface;
-  std::vector<std::string> header;
-  if (all) header.emplace_back("increment");
-  for (const char* name : {"slave", "a", "b", "c", "d"}) header.emplace_back(name);
-  for (auto name : kRawPointColumns) header.emplace_back(name);
-  if (gregory) {
-    for (auto name : kRawNormalColumns) header.emplace_back(name);
-  }
-  const auto names = coordinate_names(options.surface);
-  for (const char* name : {names[0].data(), names[1].data(), "status", "gap", "iterations"})
-    header.emplace_back(name);
-  const std::size_t status_column = header.size() - 3;
-  if (surface_search) {
-    for (const char* name : {"location", "px", "py", "pz", "face_type", "nodes"}) header.emplace_back(name);
-  }
+  const study::PairsCsvLayout layout{options.surface, all, surface_search};
   std::string text;
-  io::append_csv_row(text, header);
+  io::append_csv_row(text, study::pairs_csv_header(layout));
 
   // 3. For each state: move the nodes, build the pair's master faces, node normals and slave nodes, search.
   std::optional<contact::Scene> scene;
   std::optional<contact::SceneResult> result;
   std::array<long, 3> locations{};
-  std::vector<std::string> row;
   for (const std::size_t increment : increments) {
     if (results) io::move_to_increment(model.mesh, *results, increment);
     scene = scene_of(model, deck, pair);
-    if (!surface_search) keep_corner_slaves(*scene);
+    if (!surface_search) study::keep_corner_slaves(*scene);
     result = contact::search_scene(*scene, options);
     // 4. One row per slave node: ids, world coordinates (round-trip exact), the label, the closest point.
     for (const contact::NodeSegmentPair& p : result->pairs) {
-      row.assign(header.size(), "");
-      std::size_t c = 0;
-      if (all) row[c++] = std::to_string(results->increments[increment].number);
-      row[c++] = std::to_string(p.slave_id);
-      if (p.status == contact::PairStatus::kNoSegment) {
-        row[status_column] = "no_segment";
-        io::append_csv_row(text, row);
-        continue;
-      }
-      // The nearest-node search pairs every slave with a segment by its 4 corners (SPEC 7), whatever its
-      // type.
-      const mesh::FaceNodes face = scene->master.face_nodes(p.segment);
-      if (!surface_search || face.type == mesh::FaceType::kQuad4) {
-        for (int n : p.nodes) row[c++] = std::to_string(scene->master.node_ids[static_cast<std::size_t>(n)]);
-        for (const auto& x : p.config.nodes) {
-          for (int k = 0; k < 3; ++k) row[c++] = io::format_double(x[k]);
-        }
-        for (int k = 0; k < 3; ++k) row[c++] = io::format_double(p.config.slave[k]);
-        if (gregory) {
-          for (const auto& n : p.config.normals) {
-            for (int k = 0; k < 3; ++k) row[c++] = io::format_double(n[k]);
-          }
-        }
-      } else {
-        // SPEC 9: a face that is not a quad4 has no SPEC 7 configuration; its own local coordinates ((xi,
-        // eta) of a quad8, (r, s) of a triangle, in the face's own node order) go in the coordinate columns.
-        c += 4 + kRawPointColumns.size() + (gregory ? kRawNormalColumns.size() : 0);
-      }
-      for (std::string& field : label_fields(p.label)) row[c++] = std::move(field);
-      if (surface_search) {
+      if (surface_search && p.status != contact::PairStatus::kNoSegment)
         ++locations[static_cast<std::size_t>(p.location)];
-        row[c++] = std::string(to_string(p.location));
-        for (int k = 0; k < 3; ++k) row[c++] = io::format_double(p.point[k] + 0.0);
-        row[c++] = std::string(mesh::to_string(face.type));
-        std::string face_nodes;  // corners, then a quadratic face's mid-side nodes (SPEC 9)
-        for (int n : face) {
-          face_nodes += (face_nodes.empty() ? "" : " ") +
-                        std::to_string(scene->master.node_ids[static_cast<std::size_t>(n)]);
-        }
-        row[c++] = std::move(face_nodes);
-      }
-      io::append_csv_row(text, row);
+      study::append_pair_row(text, *scene, p, layout, all ? results->increments[increment].number : 0);
     }
   }
   io::write_text_atomically(output, text);
@@ -432,36 +355,19 @@ int scene_mode(const std::string& deck, int pair, const contact::SearchOptions& 
 
 /// Scene domain mode: random configurations of the domain a scene requires (its master segments deformed,
 /// the slave anywhere a contact can occur), labelled: the training set of a scene network.
-/// The capture distance covers at least the deck's own slave nodes: 1.25 times the largest offset of its
-/// pairs (SceneDomainOptions::capture is the least).
+/// The capture distance covers at least the deck's own slave nodes (study::widen_capture:
+/// SceneDomainOptions::capture is the least).
 dataset::LabelledSet scene_domain(const std::string& deck, int pair, dataset::SceneDomainOptions domain,
                                   const dataset::EnumerationOptions& options, std::int64_t count,
                                   dataset::EnumerationSummary& summary, const dataset::ProgressFn& progress) {
-  contact::Scene scene = read_scene(deck, pair);
-  keep_corner_slaves(scene);
-  contact::SearchOptions search;
+  const contact::Scene scene = read_scene(deck, pair);
   // The segments the paper's search pairs every slave node with: the offsets of all of them, far ones too.
-  search.search = contact::GlobalSearchKind::kNearestNode;
-  search.surface = options.surface;
-  search.projection = options.projection;
-  const double offset = contact::largest_relative_offset(contact::search_scene(scene, search));
-  if (1.25 * offset > domain.capture) {
-    std::fprintf(stderr,
-                 "gen-configs: capture %g -> %g of the shortest edge, to cover the deck's own slave nodes\n",
-                 domain.capture, 1.25 * offset);
-    domain.capture = 1.25 * offset;
-  }
+  const double offset = study::nearest_node_offset(scene, options.surface, options.projection);
+  study::widen_capture(domain, offset, [](const std::string& line) {
+    std::fprintf(stderr, "gen-configs: %s\n", line.c_str());
+  });
   std::vector<dataset::SceneSegment> segments;
-  segments.reserve(scene.master.segments.size());
-  for (const auto& s : scene.master.segments) {
-    dataset::SceneSegment segment;
-    for (int i = 0; i < 4; ++i) {
-      const auto node = static_cast<std::size_t>(s[static_cast<std::size_t>(i)]);
-      segment.nodes[static_cast<std::size_t>(i)] = scene.master.positions[node];
-      segment.normals[static_cast<std::size_t>(i)] = scene.master_normals[node];
-    }
-    segments.push_back(segment);
-  }
+  study::append_scene_segments(scene, segments);
   return dataset::sample_scene(segments, domain, options, count, summary, progress);
 }
 

@@ -23,7 +23,7 @@
 //   scripts/scene-study takes the same options (and --build-dir) and runs this program.
 //
 // Writes (under --output DIR, created if missing):
-//   plan.toml               the scene plan (lib/study/plan.hpp): evaluate-net --plan, the C and Fortran
+//   plan.toml               the scene plan (lib/io/plan_file.hpp): evaluate-net --plan, the C and Fortran
 //   interfaces network.h5              the plan's network, when its method uses one (evaluate-net --weights
 //   reads it too);
 //                           a network.h5 of an earlier run is removed when the plan has none
@@ -56,12 +56,13 @@
 #include "io/inp_deck.hpp"
 #include "io/network_file.hpp"
 #include "io/output_checks.hpp"
+#include "io/plan_file.hpp"
 #include "search/face_search.hpp"
 #include "search/local_search.hpp"
 #include "study/face_study.hpp"
-#include "study/plan.hpp"
+#include "study/scene_domain.hpp"
 #include "study/scene_history.hpp"
-#include "study/scene_study.hpp"
+#include "study/scene_report.hpp"
 
 namespace {
 
@@ -525,7 +526,7 @@ int main(int argc, char** argv) {
     } else {
       fs::remove(network_file);  // an earlier run's: the plan names none
     }
-    io::write_text_atomically(dir / "plan.toml", study::plan_to_toml(study::make_plan(
+    io::write_text_atomically(dir / "plan.toml", io::plan_to_toml(study::make_plan(
                                                      result, chosen.network >= 0 ? "network.h5" : "")));
     if (judged) {
       io::write_text_atomically(dir / "history.csv", study::history_csv(*judged));

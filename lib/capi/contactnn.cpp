@@ -23,13 +23,13 @@
 #include "core/quote_text.hpp"
 #include "io/face_network_file.hpp"
 #include "io/network_model_file.hpp"
+#include "io/plan_file.hpp"
 #include "search/face_network.hpp"
 #include "search/face_search.hpp"
 #include "search/local_search.hpp"
 #include "search/method.hpp"
 #include "search/network_model.hpp"
 #include "search/search_options.hpp"
-#include "study/plan.hpp"
 
 using namespace contactnn;
 
@@ -365,11 +365,11 @@ int contactnn_search_create_from_plan(contactnn_search** out, const char* plan_f
                              << CONTACTNN_MAX_THREADS << "; 0 or less: OpenMP's default)");
     // The plan names its surface, method and network file; read_plan checks the method and that a network is
     // given exactly when the method needs one (FormatError naming the file, the line and the key).
-    const study::ScenePlan plan = study::read_plan(plan_file);
+    const io::ScenePlan plan = io::read_plan(plan_file);
     auto handle = std::make_unique<contactnn_search>();
     handle->threads = options->threads;
     handle->surface = static_cast<int>(plan.surface);
-    const std::filesystem::path network_file = study::plan_network_path(plan, plan_file);
+    const std::filesystem::path network_file = io::plan_network_path(plan, plan_file);
     if (!network_file.empty()) {
       handle->network = load_network(network_file.string());
       CONTACTNN_REQUIRE_AS(FormatError, handle->network->surface() == plan.surface,

@@ -7,8 +7,8 @@ namespace contactnn::history {
 
 PlanSearch load_plan_search(const std::filesystem::path& plan_file) {
   PlanSearch s;
-  s.plan = study::read_plan(plan_file);
-  const std::filesystem::path network_file = study::plan_network_path(s.plan, plan_file);
+  s.plan = io::read_plan(plan_file);
+  const std::filesystem::path network_file = io::plan_network_path(s.plan, plan_file);
   if (!network_file.empty()) {
     s.network = io::read_network_model(network_file);
     CONTACTNN_REQUIRE_AS(FormatError, s.network->surface() == s.plan.surface,

@@ -1,4 +1,4 @@
-// The plan in the loop (issue 38): a scene plan (study/plan.hpp) or a method name made into the surface
+// The plan in the loop (issue 38): a scene plan (io/plan_file.hpp) or a method name made into the surface
 // search's face locator (contact/narrow_phase.hpp), with the network it needs, for replay --plan and
 // gen-configs --scene --plan.
 #pragma once
@@ -9,13 +9,13 @@
 
 #include "contact/narrow_phase.hpp"
 #include "search/network_model.hpp"
-#include "study/plan.hpp"
+#include "io/plan_file.hpp"
 
 namespace contactnn::history {
 
 /// A locator and what it needs, owned together (the network must outlive the locator).
 struct PlanSearch {
-  study::ScenePlan plan;  ///< read from the file; for a method name, its method and surface only
+  io::ScenePlan plan;  ///< read from the file; for a method name, its method and surface only
   std::unique_ptr<search::NetworkModel> network;
   std::unique_ptr<contact::FaceLocator> locator;
   std::string label;  ///< how reports name it: "PLAN: METHOD" or the method

@@ -18,6 +18,7 @@
 #include "mlp/trainer.hpp"
 #include "projection/closest_point_on_quadratic_face.hpp"
 #include "search/method.hpp"
+#include "study/scene_domain.hpp"
 
 namespace contactnn::study {
 
@@ -452,7 +453,7 @@ FaceStudy run_face_study(const contact::Scene& scene, FaceKind kind, const FaceS
                        "the master surface has no " << search::to_string(kind) << " faces");
   CONTACTNN_REQUIRE_AS(InvalidArgument, study.pairs.pairs.size() > 0,
                        "no slave node's closest point lies inside a " << search::to_string(kind) << " face");
-  study.capture = std::max(options.capture, 1.25 * study.pairs.largest_offset);
+  study.capture = widened_capture(options.capture, study.pairs.largest_offset);
   {
     std::ostringstream s;
     s << "1. pairs: " << study.pairs.pairs.size() << " of " << study.pairs.slave_nodes

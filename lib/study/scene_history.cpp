@@ -7,14 +7,14 @@
 
 #include "core/error.hpp"
 #include "io/csv.hpp"
+#include "io/json_text.hpp"
 #include "search/local_search.hpp"
 #include "search/method.hpp"
-#include "study/json_text.hpp"
 
 namespace contactnn::study {
 
-using detail::json_number;
-using detail::json_string;
+using io::detail::json_number;
+using io::detail::json_string;
 
 namespace {
 

@@ -23,7 +23,8 @@
 #include "contact/scene.hpp"
 #include "io/frd_results.hpp"
 #include "mesh/contact_model.hpp"
-#include "study/scene_study.hpp"
+#include "study/scene_domain.hpp"
+#include "study/scene_report.hpp"
 
 namespace contactnn::study {
 

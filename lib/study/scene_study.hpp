@@ -37,25 +37,15 @@
 //  the plan's method are judged on each increment's pairs inside a face (history.csv, a report section).
 #pragma once
 
-#include <array>
 #include <cstdint>
 #include <functional>
-#include <memory>
-#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
 
-#include "contact/scene.hpp"
 #include "dataset/enumeration.hpp"
-#include "dataset/labelled_set.hpp"
 #include "dataset/scene_sampling.hpp"
-#include "eval/accuracy.hpp"
-#include "eval/evaluation_set.hpp"
 #include "eval/timing.hpp"
-#include "mlp/network.hpp"
-#include "search/network_model.hpp"
-#include "study/plan.hpp"
 
 namespace contactnn::study {
 
@@ -162,180 +152,5 @@ struct SceneStudyOptions {
 [[nodiscard]] std::string default_methods(SurfaceKind surface);
 
 using StudyLog = std::function<void(const std::string&)>;
-
-// ---------------------------------------------------------------------------------------------- 1. pairs
-
-/// The deck's own pairs (step 1).
-struct ScenePairs {
-  contact::SceneResult result;      ///< the surface search, one pair per slave node
-  std::array<long, 3> locations{};  ///< pairs by Location: face, edge, vertex
-  long quad4 = 0;                   ///< pairs on a 4-node quadrilateral (the SPEC 7 configurations)
-  eval::EvaluationSet face;         ///< quad4 pairs with location face: what judges the methods
-  eval::EvaluationSet quad4_pairs;  ///< every quad4 pair, edges and vertices included (for comparison)
-};
-
-/// The surface search over the scene's slave nodes with the reference labels (`surface`, projection
-/// defaults).
-[[nodiscard]] ScenePairs search_pairs(const contact::Scene& scene, SurfaceKind surface);
-
-/// The pairs as gen-configs --scene writes them (SPEC 7 and 9 columns): the text of DIR/pairs.csv.
-[[nodiscard]] std::string pairs_csv(const contact::Scene& scene, const ScenePairs& pairs,
-                                    SurfaceKind surface);
-
-// --------------------------------------------------------------------------------------------- 2. domain
-
-struct SceneDomain {
-  dataset::SceneDomainOptions domain;  ///< the domain drawn (capture widened to the deck's offsets)
-  double deck_offset = 0.0;            ///< largest |gap| / shortest edge of the deck's nearest-node pairs
-  dataset::LabelledSet train;          ///< options.count configurations, seed
-  dataset::LabelledSet heldout;        ///< count / heldout_divisor, seed + heldout_seed_offset
-  eval::EvaluationSet heldout_set;     ///< the held-out sample as queries (its own frame)
-  std::uint64_t heldout_seed = 0;
-};
-
-/// Step 2. InvalidArgument for a scene without master segments.
-[[nodiscard]] SceneDomain sample_domain(const contact::Scene& scene, SurfaceKind surface,
-                                        const SceneStudyOptions& options, const StudyLog& log = {});
-/// Step 2 over several states of one pair (DomainStates::kHistory): the segments of every state are drawn
-/// from (by area, as one scene's), and the capture covers the largest deck offset of any state. `states`
-/// non-empty, each with master segments; with one state this is the overload above.
-[[nodiscard]] SceneDomain sample_domain(const std::vector<const contact::Scene*>& states, SurfaceKind surface,
-                                        const SceneStudyOptions& options, const StudyLog& log = {});
-
-// ------------------------------------------------------------------------------------------- 3. networks
-
-/// A scene network: trained, or (weights untrained) for timing only.
-struct SceneNetwork {
-  std::string name;  ///< "16-32-2", "16-32-2-long" (trained on to long_epochs)
-  int hidden = 0;
-  int epochs = 0;      ///< epochs run (the kept parameters may be an earlier epoch's)
-  int best_epoch = 0;  ///< epoch of the kept parameters (best validation loss)
-  std::shared_ptr<const mlp::Network<float>> network;
-  geometry::TrainingDomain domain;
-  std::shared_ptr<const search::NetworkModel> model;
-  double heldout_mean_abs[2] = {0.0, 0.0};  ///< the network alone on the held-out sample
-  double seconds = 0.0;                     ///< training time (wall, on its own thread)
-  double validation_loss = 0.0;
-  [[nodiscard]] double heldout_error() const { return std::max(heldout_mean_abs[0], heldout_mean_abs[1]); }
-};
-
-/// The networks of every size with untrained weights (initialised from the seed): their cost is a trained
-/// network's, so step 3 can time them before any training.
-[[nodiscard]] std::vector<SceneNetwork> untrained_networks(const SceneDomain& domain, SurfaceKind surface,
-                                                           const SceneStudyOptions& options);
-
-struct NetworkTraining {
-  std::vector<SceneNetwork> tried;  ///< in the order they finished: each size, then the long round's
-  int scene = -1;                   ///< index in `tried` of the scene network (-1: none trained)
-  bool reached = false;             ///< the scene network is within margin x target on the held-out sample
-  double seconds = 0.0;             ///< wall time of the whole step
-};
-
-/// Step 4 for `sizes` (a subset of options.sizes, in increasing order; empty: nothing is trained).
-[[nodiscard]] NetworkTraining train_networks(const SceneDomain& domain, SurfaceKind surface,
-                                             const SceneStudyOptions& options, const std::vector<int>& sizes,
-                                             const StudyLog& log = {});
-
-// ---------------------------------------------------------------------------------------- 5. measurements
-
-/// One method on the held-out sample.
-struct MethodMeasurement {
-  std::string name;    ///< e.g. "closed_form", "network+newton:1[16-32-2]"
-  std::string method;  ///< the search::Method name
-  int network = -1;    ///< index into the networks measured, -1: none
-  eval::MethodErrors errors;
-  double effective_mean = 0.0;  ///< eval::effective_mean_error
-  double batched_ns = 0.0;      ///< ns per query, batched, 1 thread: the fastest of the timed passes
-  bool reaches = false;         ///< effective_mean <= margin x target
-};
-
-/// Every method of `methods` (comma-separated, no network) and `network_methods` with each of `networks` on
-/// `set`: accuracy (options.threads) and batched 1-thread speed, all timed in one round-robin; each method's
-/// time is its fastest pass (another process can only slow a pass down).
-[[nodiscard]] std::vector<MethodMeasurement> measure_methods(const eval::EvaluationSet& set,
-                                                             SurfaceKind surface, const std::string& methods,
-                                                             const std::string& network_methods,
-                                                             const std::vector<const SceneNetwork*>& networks,
-                                                             const SceneStudyOptions& options);
-
-/// The sizes worth training (step 3): with kAlways all, kNever none; with kAuto each size whose untrained
-/// network alone (in `measured`, named "network[<name>]") is faster than the fastest method of `measured`
-/// that reaches the target (every size when none does). `why` gets one line per size left out.
-[[nodiscard]] std::vector<int> sizes_that_may_pay(const std::vector<MethodMeasurement>& measured,
-                                                  const std::vector<SceneNetwork>& untrained,
-                                                  const SceneStudyOptions& options,
-                                                  std::vector<std::string>* why);
-
-/// The plan's method (step 5): the index in `measured` of the fastest that reaches the target, else of the
-/// most accurate (ties: the faster). InvalidArgument for an empty list.
-[[nodiscard]] std::size_t choose_plan(const std::vector<MethodMeasurement>& measured);
-
-// ---------------------------------------------------------------------------------------- 6. node orders
-
-struct NodeOrderCheck {
-  long pairs = 0;             ///< quad4 pairs checked (x 8 orders)
-  double label = 0.0;         ///< largest difference of the reference's coordinates from the identity order's
-  double label_gap = 0.0;     ///< the same for the gap (its sign follows the orientation)
-  double plan_method = 0.0;   ///< the plan's method
-  double scene_network = -1;  ///< the scene network alone (-1: none)
-  bool passed = true;         ///< label <= 1e-12 (relative to 1) and the methods <= 1e-6
-  [[nodiscard]] std::string summary() const;
-};
-
-/// Step 6 on every quad4 pair of `pairs` (any location): the reference labels and, through lib/search, `plan`
-/// and `scene` (nullable) in the 8 node orders.
-[[nodiscard]] NodeOrderCheck check_node_orders(const ScenePairs& pairs, SurfaceKind surface,
-                                               const search::LocalSearch& plan,
-                                               const search::LocalSearch* scene);
-
-// --------------------------------------------------------------------------------------------- 7. report
-
-/// Everything the report shows.
-struct SceneStudyResult {
-  std::string deck;
-  int pair = 0;
-  SurfaceKind surface = SurfaceKind::kBilinear;
-  SceneStudyOptions options;  ///< resolved
-  std::string command_line;
-  std::size_t slave_nodes = 0;
-  long no_segment = 0;
-  std::array<long, 3> locations{};
-  long quad4 = 0;
-  double deck_offset = 0.0;
-  dataset::SceneDomainOptions domain;
-  std::int64_t heldout_rows = 0;
-  std::uint64_t heldout_seed = 0;
-  std::vector<std::string> not_trained;  ///< sizes_that_may_pay's reasons
-  NetworkTraining training;
-  std::vector<MethodMeasurement> measured;  ///< on the held-out sample
-  std::size_t chosen = 0;                   ///< index in `measured`
-  /// The same methods on the face pairs and on every quad4 pair (same order as `measured`; empty without
-  /// pairs).
-  std::vector<eval::MethodErrors> face_errors, quad4_errors;
-  NodeOrderCheck node_orders;
-  double seconds_to_plan = 0.0;
-  double seconds = 0.0;
-  /// With --results (scene_history.hpp): the results file, its increments, and the history's report section
-  /// (Markdown) and summary (a JSON object), appended to report.md and report.json; empty without.
-  std::string results;
-  int history_increments = 0;
-  std::string history_markdown, history_json;
-  [[nodiscard]] const MethodMeasurement& plan() const { return measured[chosen]; }
-  /// The method's errors on the face pairs meet the target (max mean |error| <= target, no failure); true
-  /// when there is no face pair.
-  [[nodiscard]] bool plan_meets_target_on_pairs() const;
-};
-
-/// The pairs' errors of every measured method (face and quad4 sets; accuracy only).
-void judge_on_pairs(const ScenePairs& pairs, SurfaceKind surface,
-                    const std::vector<const SceneNetwork*>& networks, SceneStudyResult& result);
-
-/// The plan file's content for `result`: its chosen method, `network_file` (relative to the plan; empty for
-/// none) and every measurement.
-[[nodiscard]] ScenePlan make_plan(const SceneStudyResult& result, const std::string& network_file);
-
-[[nodiscard]] std::string report_markdown(const SceneStudyResult& result);
-/// The summary scripts/scene-table reads (report.json).
-[[nodiscard]] std::string report_json(const SceneStudyResult& result);
 
 }  // namespace contactnn::study

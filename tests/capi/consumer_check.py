@@ -52,7 +52,7 @@ GAP_TOLERANCE_FLOAT = 1e-5   # a float gap and a float point: 7 digits, a few ro
 # (contactnn::mlp; the network itself is contactnn::network), lib/dataset, lib/mesh, the rest of lib/io, the
 # tools' own libraries and the command-line layer. Targets as contactnnTargets.cmake names them, and the
 # libraries' file stems.
-NOT_RUNTIME_MODULES = ("mlp", "dataset", "mesh", "io", "contact", "eval", "plan", "study", "history", "cli")
+NOT_RUNTIME_MODULES = ("mlp", "dataset", "mesh", "io", "contact", "eval", "plan_file", "study", "history", "cli")
 NOT_RUNTIME_TARGETS = tuple("contactnn::" + m for m in NOT_RUNTIME_MODULES) + (
     "CLI11::CLI11", "tomlplusplus::tomlplusplus")
 NOT_RUNTIME_LIBRARIES = tuple("libcontactnn_" + m for m in NOT_RUNTIME_MODULES)

@@ -44,7 +44,7 @@ static int copy_file(const char* from, const char* to) {
   return ok;
 }
 
-/* A plan in the format of lib/study/plan.hpp. */
+/* A plan in the format of lib/io/plan_file.hpp. */
 static void plan_text(char* out, size_t size, const char* surface, const char* method, const char* network,
                       const char* extra_plan_line) {
   const int written = snprintf(out, size,

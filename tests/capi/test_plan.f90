@@ -43,7 +43,7 @@ contains
     end if
   end subroutine expect
 
-  !> A plan in the format of lib/study/plan.hpp; `extra` (if not blank) goes on line 7, inside [plan].
+  !> A plan in the format of lib/io/plan_file.hpp; `extra` (if not blank) goes on line 7, inside [plan].
   subroutine write_plan(path, surface, method, network, extra)
     character(len=*), intent(in) :: path, surface, method, network, extra
     integer :: unit

@@ -1,4 +1,4 @@
-// The scene plan file (lib/study/plan.hpp): a round trip keeps every value, and the reader is strict: an
+// The scene plan file (lib/io/plan_file.hpp): a round trip keeps every value, and the reader is strict: an
 // unknown key or table, a missing field, a wrong type, a method that does not parse, a network given to a
 // method without one (or missing for a network method) are errors naming the file, the line and the key.
 #include <gtest/gtest.h>
@@ -8,9 +8,9 @@
 #include <string>
 
 #include "core/error.hpp"
-#include "study/plan.hpp"
+#include "io/plan_file.hpp"
 
-namespace contactnn::study {
+namespace contactnn::io {
 namespace {
 
 /// A valid plan, written out by hand (the format of plan.hpp's header comment), line numbers as in the file.
@@ -225,4 +225,4 @@ TEST(ScenePlan, MissingFileIsAnIoError) {
 }
 
 }  // namespace
-}  // namespace contactnn::study
+}  // namespace contactnn::io

@@ -5,7 +5,8 @@
 #include <gtest/gtest.h>
 
 #include "core/error.hpp"
-#include "study/scene_study.hpp"
+#include "study/scene_domain.hpp"
+#include "study/scene_report.hpp"
 
 namespace contactnn::study {
 namespace {

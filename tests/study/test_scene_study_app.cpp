@@ -19,10 +19,10 @@
 
 #include "io/csv.hpp"
 #include "io/network_model_file.hpp"
+#include "io/plan_file.hpp"
 #include "io/raw_configurations.hpp"
 #include "search/local_search.hpp"
 #include "study/history_fixture.hpp"
-#include "study/plan.hpp"
 
 namespace contactnn::study {
 namespace {
@@ -81,12 +81,12 @@ std::vector<std::map<std::string, std::string>> read_csv(const fs::path& path) {
 }
 
 /// Runs the study into `dir`; the plan it wrote.
-ScenePlan study(const std::string& arguments, const fs::path& dir) {
+io::ScenePlan study(const std::string& arguments, const fs::path& dir) {
   const std::string command = (kBin / "apps/scene-study/scene-study").string() + " " + arguments +
                               " --output '" + dir.string() + "'" + kSmall;
   const int code = run(command, dir.parent_path() / (dir.filename().string() + ".log"));
   EXPECT_EQ(code, 0) << command << "\n" << read_file(dir.parent_path() / (dir.filename().string() + ".log"));
-  return read_plan(dir / "plan.toml");
+  return io::read_plan(dir / "plan.toml");
 }
 
 /// evaluate-net --plan on the study's pairs; the output rows.
@@ -102,7 +102,7 @@ std::vector<std::map<std::string, std::string>> apply_plan(const fs::path& dir) 
 /// Checks shared by every study: the pairs' locations as the report counts them; evaluate-net --plan gives
 /// what the plan's method gives through lib/search; the plan's method meets the target on the face pairs; no
 /// measured method reaches the target faster.
-void check_study(const fs::path& dir, const ScenePlan& plan) {
+void check_study(const fs::path& dir, const io::ScenePlan& plan) {
   const auto pairs = read_csv(dir / "pairs.csv");
   ASSERT_FALSE(pairs.empty());
   std::map<std::string, long> locations;
@@ -176,13 +176,13 @@ void check_study(const fs::path& dir, const ScenePlan& plan) {
 
   // The plan's own measurement reaches margin x target, and no method reaching it was faster.
   const auto chosen =
-      std::find_if(plan.measurements.begin(), plan.measurements.end(), [&](const PlanMeasurement& m) {
+      std::find_if(plan.measurements.begin(), plan.measurements.end(), [&](const io::PlanMeasurement& m) {
         return m.method == plan.method || m.method.rfind(plan.method + "[", 0) == 0;
       });
   ASSERT_NE(chosen, plan.measurements.end());
   EXPECT_TRUE(plan.reached);
   EXPECT_LE(chosen->effective_mean, plan.margin * plan.target);
-  for (const PlanMeasurement& m : plan.measurements) {
+  for (const io::PlanMeasurement& m : plan.measurements) {
     EXPECT_EQ(m.reaches_target, m.effective_mean <= plan.margin * plan.target) << m.method;
     if (m.reaches_target) {
       EXPECT_GE(m.batched_ns, chosen->batched_ns) << m.method << " is faster than " << chosen->method;
@@ -192,7 +192,7 @@ void check_study(const fs::path& dir, const ScenePlan& plan) {
 
 TEST(SceneStudyApp, FlatSceneGetsAPlanWithoutNetwork) {
   const fs::path dir = work_dir("flat") / "study";
-  const ScenePlan plan =
+  const io::ScenePlan plan =
       study("--scene '" + (kScenes / "flat.inp").string() + "' --pair 0 --surface bilinear", dir);
   EXPECT_EQ(plan.surface, SurfaceKind::kBilinear);
   EXPECT_TRUE(plan.network.empty());
@@ -206,20 +206,20 @@ TEST(SceneStudyApp, NetworkPlanIsWhatEvaluateNetApplies) {
   // Only the closed form beside the scene network's hybrid: the network's method wins (the closed form of the
   // corner facet is far from the Gregory patch on the curved cap).
   const fs::path dir = work_dir("hertz") / "study";
-  const ScenePlan plan = study("--scene '" + (kScenes / "hertz.inp").string() +
-                                   "' --pair 0 --surface gregory --methods closed_form --network-methods "
-                                   "network+newton:2 --sizes 16 --train-networks always",
-                               dir);
+  const io::ScenePlan plan = study("--scene '" + (kScenes / "hertz.inp").string() +
+                                       "' --pair 0 --surface gregory --methods closed_form --network-methods "
+                                       "network+newton:2 --sizes 16 --train-networks always",
+                                   dir);
   EXPECT_EQ(plan.surface, SurfaceKind::kGregory);
   EXPECT_EQ(plan.method, "network+newton:2");
   EXPECT_EQ(plan.network, "network.h5");
   EXPECT_TRUE(fs::exists(dir / "network.h5"));
   check_study(dir, plan);
   // A rerun whose plan has no network removes the old network file.
-  const ScenePlan again = study("--scene '" + (kScenes / "hertz.inp").string() +
-                                    "' --pair 0 --surface gregory "
-                                    "--train-networks never",
-                                dir);
+  const io::ScenePlan again = study("--scene '" + (kScenes / "hertz.inp").string() +
+                                        "' --pair 0 --surface gregory "
+                                        "--train-networks never",
+                                    dir);
   EXPECT_TRUE(again.network.empty());
   EXPECT_FALSE(fs::exists(dir / "network.h5"));
 }

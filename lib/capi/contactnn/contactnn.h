@@ -204,7 +204,7 @@ CONTACTNN_API int contactnn_search_run_float(const contactnn_search* search, siz
 CONTACTNN_API int contactnn_search_surface(const contactnn_search* search);
 
 /* Creates a search from a scene plan: the DIR/plan.toml that scene-study writes for one contact pair of a
- * deck (SPEC 7; the format is lib/study/plan.hpp's), in place of a surface, a method and a network file: the
+ * deck (SPEC 7; the format is lib/io/plan_file.hpp's), in place of a surface, a method and a network file: the
  * plan's surface, its method and, where the method uses one, its network file (a path relative to the plan's
  * own directory, or absolute). The plan is read once, here. search     where the handle is written (NULL on
  * failure) plan_file  the plan's path options    NULL for the defaults The plan decides the surface:

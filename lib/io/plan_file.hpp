@@ -59,7 +59,7 @@
 
 #include "core/conventions.hpp"
 
-namespace contactnn::study {
+namespace contactnn::io {
 
 inline constexpr std::int64_t kPlanSchemaVersion = 1;
 
@@ -117,4 +117,4 @@ struct ScenePlan {
 [[nodiscard]] std::filesystem::path plan_network_path(const ScenePlan& plan,
                                                       const std::filesystem::path& plan_path);
 
-}  // namespace contactnn::study
+}  // namespace contactnn::io

@@ -1,4 +1,4 @@
-#include "study/plan.hpp"
+#include "io/plan_file.hpp"
 
 #include <toml++/toml.h>
 
@@ -12,10 +12,10 @@
 
 #include "core/error.hpp"
 #include "core/quote_text.hpp"
+#include "io/json_text.hpp"
 #include "search/method.hpp"
-#include "study/json_text.hpp"
 
-namespace contactnn::study {
+namespace contactnn::io {
 
 namespace {
 
@@ -284,7 +284,7 @@ std::string plan_to_toml(const ScenePlan& plan) {
          "# pair, the fastest of those measured whose held-out mean |error| reaches margin x target on the "
          "scene's\n"
          "# domain. Load it with evaluate-net --plan, contactnn_search_create_from_plan (C) or\n"
-         "# contactnn_create_from_plan (Fortran). Format: lib/study/plan.hpp.\n"
+         "# contactnn_create_from_plan (Fortran). Format: lib/io/plan_file.hpp.\n"
       << "[plan]\n"
       << "schema_version = " << kPlanSchemaVersion << "\n"
       << "surface = " << quoted(std::string(to_string(plan.surface))) << "\n"
@@ -324,4 +324,4 @@ std::filesystem::path plan_network_path(const ScenePlan& plan, const std::filesy
   return network.is_absolute() ? network : plan_path.parent_path() / network;
 }
 
-}  // namespace contactnn::study
+}  // namespace contactnn::io

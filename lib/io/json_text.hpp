@@ -1,13 +1,13 @@
-// Text for the study's files: a string quoted and escaped (a JSON string and, the same text, a TOML basic
-// string: report.json, plan.toml), a number to 17 digits for JSON (null where it is not finite: JSON has no
-// NaN or infinity).
+// Text for the files the tools write: a string quoted and escaped (a JSON string and, the same text, a TOML
+// basic string: report.json, plan.toml), a number to 17 digits for JSON (null where it is not finite: JSON
+// has no NaN or infinity).
 #pragma once
 
 #include <cmath>
 #include <cstdio>
 #include <string>
 
-namespace contactnn::study::detail {
+namespace contactnn::io::detail {
 
 /// `"..."` with `"` and `\` escaped and the control characters (and DEL, which TOML requires) as \u00XX.
 inline std::string json_string(const std::string& s) {
@@ -35,4 +35,4 @@ inline std::string json_number(double v) {
   return b;
 }
 
-}  // namespace contactnn::study::detail
+}  // namespace contactnn::io::detail
