@@ -71,21 +71,10 @@ void table(std::ostringstream& o, const std::string& type, const std::string& na
   o << "};\n";
 }
 
-// The forward pass over n lanes, in the network's real type (lib/search's forward_pass, network_block.hpp):
-// the same operations in the same order, so that each lane rounds as the library's. `one`: the pass of one
-// query (p_forward_one), whose layers run across the units instead of the lanes (transposed weights,
-// p_w<l>t): the same sums in the same order for each unit, so the same bits as a lane of the block pass; the
-// block pass with n = 1 ran every unit's chain as a loop of one lane (gregory-48: 600 ns a query, the rest of
-// the query 180).
-template <class Net>
-void forward_pass(std::ostringstream& o, const NetworkModel& m, const std::string& p, bool one) {
-  constexpr bool kFloat = std::is_same_v<Net, float>;
-  const std::string net = kFloat ? "float" : "double";
-  const std::string sigmoid = kFloat ? "cnn_sigmoidf" : "cnn_sigmoid";
-  const std::string block = one ? std::string("1") : p + "_block_lanes";
+// The forward pass's opening: its comment, signature and the activation arrays a<l>.
+void forward_opening(std::ostringstream& o, const NetworkModel& m, const std::string& p, bool one,
+                     const std::string& net, const std::string& block) {
   const auto& sizes = m.layer_sizes();
-  const int n_features = sizes[0];
-  const bool gregory = m.surface() == SurfaceKind::kGregory;
   if (one) {
     o << "/* The network on one query's canonical features f[k] (n = 1 of " << p
       << "_forward, the same bits):\n"
@@ -107,43 +96,123 @@ void forward_pass(std::ostringstream& o, const NetworkModel& m, const std::strin
   for (std::size_t l = 0; l < sizes.size(); ++l)
     o << "  " << net << " a" << l << "[" << sizes[l] << " * " << block << "];\n";
   o << "  const double* in = f;\n  int i, l;\n";
-  if (m.input_features() == InputFeatures::kAffine) {
-    o << "  double g[" << n_features << " * " << block << "];\n"
-      << "  /* The affine input features (core/input_features: x = alpha + beta xd, y = beta yd; heights / "
-         "sqrt(yd)). */\n"
-      << "  CNN_CF_IVDEP\n"
+}
+
+// The affine input features g (core/input_features), computed from f; the scaling then reads g.
+void affine_features(std::ostringstream& o, const NetworkModel& m, const std::string& block) {
+  const int n_features = m.layer_sizes()[0];
+  const bool gregory = m.surface() == SurfaceKind::kGregory;
+  o << "  double g[" << n_features << " * " << block << "];\n"
+    << "  /* The affine input features (core/input_features: x = alpha + beta xd, y = beta yd; heights / "
+       "sqrt(yd)). */\n"
+    << "  CNN_CF_IVDEP\n"
+    << "  for (l = 0; l < n; ++l) {\n"
+    << "    const double xd = f[3 * n + l], y = f[4 * n + l];\n"
+    << "    const double yd = y < 1e-300 ? 1e-300 : y;\n"
+    << "    const double rho = sqrt(xd * xd + yd * yd);\n"
+    << "    const double height = 1.0 / sqrt(yd);\n"
+    << "    const double beta_c = f[1 * n + l] / yd, beta_s = f[6 * n + l] / yd;\n"
+    << "    g[0 * n + l] = f[0 * n + l] - xd * beta_c;\n"
+    << "    g[1 * n + l] = beta_c;\n"
+    << "    g[2 * n + l] = f[2 * n + l] * height;\n"
+    << "    g[3 * n + l] = rho;\n"
+    << "    g[4 * n + l] = xd / rho;\n"
+    << "    g[5 * n + l] = f[5 * n + l] - xd * beta_s;\n"
+    << "    g[6 * n + l] = beta_s;\n"
+    << "    g[7 * n + l] = f[7 * n + l] * height;\n"
+    << "  }\n";
+  if (gregory) {
+    o << "  CNN_CF_IVDEP\n"
       << "  for (l = 0; l < n; ++l) {\n"
       << "    const double xd = f[3 * n + l], y = f[4 * n + l];\n"
       << "    const double yd = y < 1e-300 ? 1e-300 : y;\n"
       << "    const double rho = sqrt(xd * xd + yd * yd);\n"
-      << "    const double height = 1.0 / sqrt(yd);\n"
-      << "    const double beta_c = f[1 * n + l] / yd, beta_s = f[6 * n + l] / yd;\n"
-      << "    g[0 * n + l] = f[0 * n + l] - xd * beta_c;\n"
-      << "    g[1 * n + l] = beta_c;\n"
-      << "    g[2 * n + l] = f[2 * n + l] * height;\n"
-      << "    g[3 * n + l] = rho;\n"
-      << "    g[4 * n + l] = xd / rho;\n"
-      << "    g[5 * n + l] = f[5 * n + l] - xd * beta_s;\n"
-      << "    g[6 * n + l] = beta_s;\n"
-      << "    g[7 * n + l] = f[7 * n + l] * height;\n"
+      << "    int k;\n"
+      << "    CNN_CF_UNROLL\n"
+      << "    for (k = 0; k < 4; ++k) {\n"
+      << "      const double pk = f[(8 + 2 * k) * n + l], qk = f[(9 + 2 * k) * n + l];\n"
+      << "      g[(8 + 2 * k) * n + l] = pk;\n"
+      << "      g[(9 + 2 * k) * n + l] = (pk * xd + qk * yd) / rho;\n"
+      << "    }\n"
       << "  }\n";
-    if (gregory) {
-      o << "  CNN_CF_IVDEP\n"
-        << "  for (l = 0; l < n; ++l) {\n"
-        << "    const double xd = f[3 * n + l], y = f[4 * n + l];\n"
-        << "    const double yd = y < 1e-300 ? 1e-300 : y;\n"
-        << "    const double rho = sqrt(xd * xd + yd * yd);\n"
-        << "    int k;\n"
-        << "    CNN_CF_UNROLL\n"
-        << "    for (k = 0; k < 4; ++k) {\n"
-        << "      const double pk = f[(8 + 2 * k) * n + l], qk = f[(9 + 2 * k) * n + l];\n"
-        << "      g[(8 + 2 * k) * n + l] = pk;\n"
-        << "      g[(9 + 2 * k) * n + l] = (pk * xd + qk * yd) / rho;\n"
-        << "    }\n"
-        << "  }\n";
-    }
-    o << "  in = g;\n";
   }
+  o << "  in = g;\n";
+}
+
+// One layer of the one-query pass: across the units, with the transposed weights.
+void layer_one(std::ostringstream& o, const std::string& net, const std::string& sigmoid,
+               const std::string& p, int n_in, int n_out, const std::string& w, const std::string& theta,
+               const std::string& x, const std::string& y) {
+  o << "    " << net << " s[" << n_out << "];\n"
+    << "    for (j = 0; j < " << n_out << "; ++j) s[j] = -" << theta << "[j];\n"
+    << "    for (i = 0; i < " << n_in << "; ++i) {\n"
+    << "      const " << net << " x = " << x << "[i];\n"
+    << "      const " << net << "* CNN_CF_RESTRICT w = " << w << "t + i * " << n_out << ";\n"
+    << "      CNN_CF_IVDEP\n"
+    << "      for (j = 0; j < " << n_out << "; ++j) s[j] += w[j] * x;\n"
+    << "    }\n"
+    << "    CNN_CF_IVDEP\n"
+    << "    for (j = 0; j < " << n_out << "; ++j) " << y << "[j] = " << sigmoid << "(s[j], " << p
+    << "_gain);\n"
+    << "  }\n";
+}
+
+// One layer of the block pass: groups of kUnitsTogether units, then single units; each unit's sum is the
+// same chain either way. The bounds are constants (a loop that starts where another ended trips GCC's
+// -Waggressive-loop-optimizations).
+void layer_block(std::ostringstream& o, const std::string& net, const std::string& sigmoid,
+                 const std::string& p, const std::string& block, int n_in, int n_out, const std::string& w,
+                 const std::string& theta, const std::string& x, const std::string& y) {
+  const int grouped = n_out - n_out % kUnitsTogether;
+  for (const int units : {kUnitsTogether, 1}) {
+    const int first = units == 1 ? grouped : 0, end = units == 1 ? n_out : grouped;
+    if (first == end) continue;
+    o << "    for (j = " << first << "; j < " << end << "; j += " << units << ") {\n"
+      << "      " << net;
+    for (int u = 0; u < units; ++u) o << (u ? ", " : " ") << "s" << u << "[" << block << "]";
+    o << ";\n"
+      << "      CNN_CF_IVDEP\n"
+      << "      for (l = 0; l < n; ++l) {\n";
+    for (int u = 0; u < units; ++u) o << "        s" << u << "[l] = -" << theta << "[j + " << u << "];\n";
+    o << "      }\n"
+      << "      for (i = 0; i < " << n_in << "; ++i) {\n"
+      << "        const " << net << "* CNN_CF_RESTRICT x = " << x << " + i * n;\n";
+    for (int u = 0; u < units; ++u) {
+      o << "        const " << net << " w" << u << " = " << w << "[(j + " << u << ") * " << n_in
+        << " + i];\n";
+    }
+    o << "        CNN_CF_IVDEP\n"
+      << "        for (l = 0; l < n; ++l) {\n";
+    for (int u = 0; u < units; ++u) o << "          s" << u << "[l] += w" << u << " * x[l];\n";
+    o << "        }\n"
+      << "      }\n"
+      << "      CNN_CF_IVDEP\n"
+      << "      for (l = 0; l < n; ++l) {\n";
+    for (int u = 0; u < units; ++u) {
+      o << "        " << y << "[(j + " << u << ") * n + l] = " << sigmoid << "(s" << u << "[l], " << p
+        << "_gain);\n";
+    }
+    o << "      }\n"
+      << "    }\n";
+  }
+}
+
+// The forward pass over n lanes, in the network's real type (lib/search's forward_pass, network_block.hpp):
+// the same operations in the same order, so that each lane rounds as the library's. `one`: the pass of one
+// query (p_forward_one), whose layers run across the units instead of the lanes (transposed weights,
+// p_w<l>t): the same sums in the same order for each unit, so the same bits as a lane of the block pass;
+// the block pass with n = 1 ran every unit's chain as a loop of one lane (gregory-48: 600 ns a query, the
+// rest of the query 180).
+template <class Net>
+void forward_pass(std::ostringstream& o, const NetworkModel& m, const std::string& p, bool one) {
+  constexpr bool kFloat = std::is_same_v<Net, float>;
+  const std::string net = kFloat ? "float" : "double";
+  const std::string sigmoid = kFloat ? "cnn_sigmoidf" : "cnn_sigmoid";
+  const std::string block = one ? std::string("1") : p + "_block_lanes";
+  const auto& sizes = m.layer_sizes();
+  const int n_features = sizes[0];
+  forward_opening(o, m, p, one, net, block);
+  if (m.input_features() == InputFeatures::kAffine) affine_features(o, m, block);
   o << "  for (i = 0; i < " << n_features << "; ++i) {\n"
     << "    const " << net << " lo = (" << net << ")" << p << "_input_min[i], gain = (" << net << ")" << p
     << "_input_gain[i];\n"
@@ -163,55 +232,10 @@ void forward_pass(std::ostringstream& o, const NetworkModel& m, const std::strin
     o << "  { /* layer " << layer + 1 << ": " << n_out << " units of " << n_in << " inputs */\n"
       << "    int j;\n";
     if (one) {
-      o << "    " << net << " s[" << n_out << "];\n"
-        << "    for (j = 0; j < " << n_out << "; ++j) s[j] = -" << theta << "[j];\n"
-        << "    for (i = 0; i < " << n_in << "; ++i) {\n"
-        << "      const " << net << " x = " << x << "[i];\n"
-        << "      const " << net << "* CNN_CF_RESTRICT w = " << w << "t + i * " << n_out << ";\n"
-        << "      CNN_CF_IVDEP\n"
-        << "      for (j = 0; j < " << n_out << "; ++j) s[j] += w[j] * x;\n"
-        << "    }\n"
-        << "    CNN_CF_IVDEP\n"
-        << "    for (j = 0; j < " << n_out << "; ++j) " << y << "[j] = " << sigmoid << "(s[j], " << p
-        << "_gain);\n"
-        << "  }\n";
+      layer_one(o, net, sigmoid, p, n_in, n_out, w, theta, x, y);
       continue;
     }
-    // Groups of kUnitsTogether units, then single units; each unit's sum is the same chain either way. The
-    // bounds are constants (a loop that starts where another ended trips GCC's
-    // -Waggressive-loop-optimizations).
-    const int grouped = n_out - n_out % kUnitsTogether;
-    for (const int units : {kUnitsTogether, 1}) {
-      const int first = units == 1 ? grouped : 0, end = units == 1 ? n_out : grouped;
-      if (first == end) continue;
-      o << "    for (j = " << first << "; j < " << end << "; j += " << units << ") {\n"
-        << "      " << net;
-      for (int u = 0; u < units; ++u) o << (u ? ", " : " ") << "s" << u << "[" << block << "]";
-      o << ";\n"
-        << "      CNN_CF_IVDEP\n"
-        << "      for (l = 0; l < n; ++l) {\n";
-      for (int u = 0; u < units; ++u) o << "        s" << u << "[l] = -" << theta << "[j + " << u << "];\n";
-      o << "      }\n"
-        << "      for (i = 0; i < " << n_in << "; ++i) {\n"
-        << "        const " << net << "* CNN_CF_RESTRICT x = " << x << " + i * n;\n";
-      for (int u = 0; u < units; ++u) {
-        o << "        const " << net << " w" << u << " = " << w << "[(j + " << u << ") * " << n_in
-          << " + i];\n";
-      }
-      o << "        CNN_CF_IVDEP\n"
-        << "        for (l = 0; l < n; ++l) {\n";
-      for (int u = 0; u < units; ++u) o << "          s" << u << "[l] += w" << u << " * x[l];\n";
-      o << "        }\n"
-        << "      }\n"
-        << "      CNN_CF_IVDEP\n"
-        << "      for (l = 0; l < n; ++l) {\n";
-      for (int u = 0; u < units; ++u) {
-        o << "        " << y << "[(j + " << u << ") * n + l] = " << sigmoid << "(s" << u << "[l], " << p
-          << "_gain);\n";
-      }
-      o << "      }\n"
-        << "    }\n";
-    }
+    layer_block(o, net, sigmoid, p, block, n_in, n_out, w, theta, x, y);
     o << "  }\n";
   }
   const std::string last = "a" + std::to_string(m.layer_count());
@@ -250,29 +274,33 @@ void parameter_tables(std::ostringstream& o, const NetworkModel& m, const std::s
     << "static const " << net << " " << p << "_gain = " << literal(m.gain<Net>()) << ";\n";
 }
 
-}  // namespace
+// The names every part of a header uses.
+struct HeaderNames {
+  std::string p;       // the prefix
+  bool gregory;        // Gregory patch (else bilinear facet)
+  int n_raw;           // columns of a raw query
+  std::string block;   // the lanes-per-block constant
+  std::string g;       // the C kernels' Gregory flag, "1" or "0"
+  std::string centre;  // the parameter domain's centre
+  bool float_frame;    // the bilinear float frame (cnn_cff_*) with its double fallback
+  bool check_domain;   // the training domain is tested
+};
 
-std::string export_c_header(const NetworkModel& m, const CHeaderOptions& options) {
-  CONTACTNN_REQUIRE_AS(InvalidArgument, is_c_identifier(options.prefix),
-                       "the C header's prefix '" << options.prefix << "' is not a C identifier");
-  const std::string& p = options.prefix;
+HeaderNames header_names(const NetworkModel& m, const CHeaderOptions& options) {
   const bool gregory = m.surface() == SurfaceKind::kGregory;
-  const int n_raw = gregory ? 27 : 15;
-  const std::string real = m.is_float() ? "float" : "double";
-  const std::string block = p + "_block_lanes";
-  const std::string g = gregory ? "1" : "0";
-  const std::string centre = gregory ? "0.5" : "0.0";
-  std::string guard = p + "_H";
-  for (char& c : guard) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
-  const std::string_view frame = canonical_frame_source();
-  const std::string_view sigmoid = vector_sigmoid_source();
-  const std::string frame_version = macro_value(frame, "CNN_CANONICAL_FRAME_VERSION");
-  const std::string sigmoid_version = macro_value(sigmoid, "CNN_VECTOR_SIGMOID_VERSION");
-  const cnn_domain& d = m.domain_bounds();
-  const bool angles = d.check_lo != 0 || d.check_hi != 0;
+  return {options.prefix,           gregory,
+          gregory ? 27 : 15,        options.prefix + "_block_lanes",
+          gregory ? "1" : "0",      gregory ? "0.5" : "0.0",
+          !gregory && m.is_float(), options.check_domain};
+}
 
-  std::ostringstream o;
-  // 1. What it is and how to call it.
+// 1. What it is and how to call it.
+void header_comment(std::ostringstream& o, const NetworkModel& m, const CHeaderOptions& options,
+                    const HeaderNames& h, const std::string& guard) {
+  const std::string& p = h.p;
+  const bool gregory = h.gregory;
+  const int n_raw = h.n_raw;
+  const std::string real = m.is_float() ? "float" : "double";
   o << "/* Generated by contactnn (search::export_c_header; train-net --export-header). Do not edit: "
        "regenerate\n"
     << " * from the network file.\n"
@@ -286,7 +314,8 @@ std::string export_c_header(const NetworkModel& m, const CHeaderOptions& options
     << " *   void " << p
     << "_local_coordinates_batch(size_t n, const double* raw, double* out, int* status);\n"
     << " *\n"
-    << " * raw: ax ay az bx by bz cx cy cz dx dy dz sx sy sz (world coordinates of the segment's nodes A, B, "
+    << " * raw: ax ay az bx by bz cx cy cz dx dy dz sx sy sz (world coordinates of the segment's nodes A, "
+       "B, "
        "C, D\n"
     << " * counter-clockwise, and of the slave node S"
     << (gregory ? "), then the node normals nax nay naz ... ndz (any\n"
@@ -297,16 +326,19 @@ std::string export_c_header(const NetworkModel& m, const CHeaderOptions& options
     << ", the network's estimate of the closest point, in the caller's node order.\n"
     << " * Returns 0 on success, 1 for a non-finite input or a degenerate segment (out untouched), 2 when "
        "the\n"
-    << " * canonical configuration lies outside the network's training domain (out is written, but it is an\n"
+    << " * canonical configuration lies outside the network's training domain (out is written, but it is "
+       "an\n"
     << " * extrapolation). The batch: n queries, raw n x " << n_raw
     << " and out n x 2 row-major, status[i] the\n"
     << " * code query i would return alone (rows of status 1 untouched).\n"
     << " *\n"
     << " * Each query is contactnn's LocalSearch method \"network\", computed by the same C99 kernels "
        "(embedded\n"
-    << " * below, verbatim): the canonical configuration of SPEC 4 (relabelling, frame, z orientation); on a "
+    << " * below, verbatim): the canonical configuration of SPEC 4 (relabelling, frame, z orientation); on "
+       "a "
        "tie\n"
-    << " * (a slave as near two nodes, ...) the mean over every tied canonical form, so that the answer does "
+    << " * (a slave as near two nodes, ...) the mean over every tied canonical form, so that the answer "
+       "does "
        "not\n"
     << " * depend on the node order; the input scaling; the forward pass; the domain test of\n"
     << " * TrainingDomain::contains (feature ranges and the generator's filters).\n"
@@ -314,10 +346,12 @@ std::string export_c_header(const NetworkModel& m, const CHeaderOptions& options
     << " queries through loops over the queries that GCC and Clang vectorise at\n"
     << " * -O3 given -fno-math-errno -fno-trapping-math (neither changes a result; without them the same "
        "code runs\n"
-    << " * scalar). Its results are those of the one-query function bit for bit where the compiler does not\n"
+    << " * scalar). Its results are those of the one-query function bit for bit where the compiler does "
+       "not\n"
     << " * contract multiply-adds (ISO C modes such as -std=c99, or -ffp-contract=off); with contraction "
        "(GNU\n"
-    << " * modes, C++) the vectorised and the one-query code contract differently: the same to the rounding "
+    << " * modes, C++) the vectorised and the one-query code contract differently: the same to the "
+       "rounding "
        "of\n"
     << " * the network's precision (" << real << ").\n";
   if (!gregory && m.is_float()) {
@@ -325,7 +359,8 @@ std::string export_c_header(const NetworkModel& m, const CHeaderOptions& options
          "the\n"
       << " * master's plane; square elements), the batch runs the frame in double first for the next (the "
          "same\n"
-      << " * results, faster on real decks); the one-query function guesses the order from the query itself\n"
+      << " * results, faster on real decks); the one-query function guesses the order from the query "
+         "itself\n"
       << " * (cnn_cff_looks_undecided: a slave on the plane of A, B, D or a square corner at A).\n";
   }
   o << " * C99, or C++11 and later; two headers with different prefixes can share a translation unit.\n"
@@ -334,18 +369,29 @@ std::string export_c_header(const NetworkModel& m, const CHeaderOptions& options
     << " * function rests.\n"
     << " */\n"
     << "#ifndef " << guard << "\n#define " << guard << "\n\n#include <math.h>\n#include <stddef.h>\n\n";
+}
 
-  // 2. lib/search's kernels, verbatim.
+// 2. lib/search's kernels, verbatim, and the check that they are the ones in force.
+void embedded_kernels(std::ostringstream& o, const std::string& p) {
+  const std::string_view frame = canonical_frame_source();
+  const std::string_view sigmoid = vector_sigmoid_source();
+  const std::string frame_version = macro_value(frame, "CNN_CANONICAL_FRAME_VERSION");
+  const std::string sigmoid_version = macro_value(sigmoid, "CNN_VECTOR_SIGMOID_VERSION");
   o << "/* ======== lib/search/canonical_frame.h, verbatim ======== */\n"
     << frame << "\n/* ======== lib/search/vector_sigmoid.h, verbatim ======== */\n"
     << sigmoid << "\n"
     << "/* ======== the network ======== */\n"
     << "#if CNN_CANONICAL_FRAME_VERSION != " << frame_version
     << " || CNN_VECTOR_SIGMOID_VERSION != " << sigmoid_version << "\n#error \"" << p
-    << ": a header included earlier in this translation unit brought other versions of canonical_frame.h or "
+    << ": a header included earlier in this translation unit brought other versions of canonical_frame.h "
+       "or "
     << "vector_sigmoid.h; regenerate the exported headers with one contactnn\"\n#endif\n\n";
+}
 
-  // 3. Tables: parameters, scaling, domain.
+// 3. Tables: parameters, scaling, domain.
+void tables(std::ostringstream& o, const NetworkModel& m, const HeaderNames& h) {
+  const std::string& p = h.p;
+  const cnn_domain& d = m.domain_bounds();
   if (m.is_float()) {
     parameter_tables<float>(o, m, p);
   } else {
@@ -358,11 +404,11 @@ std::string export_c_header(const NetworkModel& m, const CHeaderOptions& options
   table(o, "double", p + "_output_min", m.output_min().data(), m.output_min().size(), 4);
   table(o, "double", p + "_output_inverse_gain", m.output_inverse_gain().data(),
         m.output_inverse_gain().size(), 4);
-  if (options.check_domain) {
+  if (h.check_domain) {
     o << "/* The training domain as cnn_domain_lane tests it (search::domain_bounds). */\n"
       << "static const struct cnn_domain " << p << "_domain = {\n";
-    // Positional, each field named in a comment (struct cnn_domain's order): designated initializers are C99
-    // but C++ only from C++20, and an FE code in C++17 includes this header too.
+    // Positional, each field named in a comment (struct cnn_domain's order): designated initializers are
+    // C99 but C++ only from C++20, and an FE code in C++17 includes this header too.
     auto row = [&](const char* name, const double* v, int n) {
       o << "  /* " << name << " */ {";
       for (int i = 0; i < n; ++i) {
@@ -382,18 +428,14 @@ std::string export_c_header(const NetworkModel& m, const CHeaderOptions& options
       << d.convex << ",\n"
       << "  /* check_lo */ " << d.check_lo << ", /* check_hi */ " << d.check_hi << "};\n";
   }
-  o << "\nenum { " << block << " = " << kBlockLanes << " };\n\n";
+  o << "\nenum { " << h.block << " = " << kBlockLanes << " };\n\n";
+}
 
-  // 4. The forward pass.
-  for (const bool one : {false, true}) {
-    if (m.is_float()) {
-      forward_pass<float>(o, m, p, one);
-    } else {
-      forward_pass<double>(o, m, p, one);
-    }
-  }
-
-  // 5. Ties: lib/search's tie_estimate (kernels_single.cpp).
+// 5. Ties: lib/search's tie_estimate (kernels_single.cpp).
+void tie_function(std::ostringstream& o, const NetworkModel& m, const HeaderNames& h) {
+  const std::string &p = h.p, &g = h.g, &centre = h.centre;
+  const cnn_domain& d = m.domain_bounds();
+  const bool angles = d.check_lo != 0 || d.check_hi != 0;
   o << "/* A query on a tie: the mean over its canonical forms in the domain (cnn_cf_forms, in\n"
     << " * geometry::canonical_forms' order) of the network's estimate in the caller's node order; when no "
        "form is\n"
@@ -408,7 +450,7 @@ std::string export_c_header(const NetworkModel& m, const CHeaderOptions& options
     << "  if (info[0] != (double)CNN_CF_STATUS_OK) return;\n"
     << "  for (k = 0; k < count; ++k) {\n"
     << "    double e[2], c = (double)CNN_CF_STATUS_OK;\n";
-  if (options.check_domain) {
+  if (h.check_domain) {
     o << "    cnn_domain_lane(&" << p << "_domain, " << g << ", " << (angles ? 1 : 0)
       << ", f + 16 * k, nrm + 12 * k, 1, &c);\n";
   }
@@ -426,13 +468,17 @@ std::string export_c_header(const NetworkModel& m, const CHeaderOptions& options
     << "  *v = inside > 0.0 ? in_v / inside : all_v / count;\n"
     << "  *code = inside > 0.0 ? (double)CNN_CF_STATUS_OK : (double)CNN_CF_STATUS_OUT_OF_DOMAIN;\n"
     << "}\n\n";
+}
 
-  // 5b. The tie lanes of a block: lib/search's tie_estimates_block (the forms of all tie lanes, a block at a
-  // time).
-  const std::string domain_arg = options.check_domain ? "&" + p + "_domain" : std::string();
+// 5b. The tie lanes of a block: lib/search's tie_estimates_block (the forms of all tie lanes, a block at a
+// time). First the forms, kBlockLanes at a time.
+void forms_function(std::ostringstream& o, const HeaderNames& h) {
+  const std::string &p = h.p, &g = h.g, &centre = h.centre, &block = h.block;
+  const std::string domain_arg = h.check_domain ? "&" + p + "_domain" : std::string();
   o << "/* count <= " << kBlockLanes << " forms (rows in `in`, " << kBlockLanes
     << " lanes, the empty slots copies of the first) with\n"
-    << " * symmetry sym and z orientation zo forced: each form's estimate in the caller's order, whether it "
+    << " * symmetry sym and z orientation zo forced: each form's estimate in the caller's order, whether "
+       "it "
        "exists,\n"
     << " * whether it lies in the domain. */\n"
     << "static void " << p
@@ -453,7 +499,7 @@ std::string export_c_header(const NetworkModel& m, const CHeaderOptions& options
     << "    }\n"
     << "    valid[s] = info[s] == (double)CNN_CF_STATUS_OK;\n"
     << "  }\n";
-  if (options.check_domain)
+  if (h.check_domain)
     o << "  cnn_domain_block(" << block << ", " << g << ", " << domain_arg << ", f, nrm, info);\n";
   o << "  " << p << "_forward(" << block << ", f, e);\n"
     << "  for (s = 0; s < count; ++s) {\n"
@@ -462,9 +508,15 @@ std::string export_c_header(const NetworkModel& m, const CHeaderOptions& options
     << "    cnn_cf_to_caller(info[" << block << " + s], " << centre << ", &x[s], &y[s]);\n"
     << "    inside[s] = info[s] == (double)CNN_CF_STATUS_OK;\n"
     << "  }\n"
-    << "}\n\n"
-    << "/* The tie lanes of a block of n > 1 lanes (lanes[0 .. n_ties - 1]; raw: the block's rows; info: its "
-       "info\n"
+    << "}\n\n";
+}
+
+// 5b. Then the tie lanes of a block, through the forms.
+void ties_function(std::ostringstream& o, const HeaderNames& h) {
+  const std::string &p = h.p, &block = h.block, &g = h.g;
+  const int n_raw = h.n_raw;
+  o << "/* The tie lanes of a block of n > 1 lanes (lanes[0 .. n_ties - 1]; raw: the block's rows; info: "
+       "its info\n"
     << " * rows): what " << p
     << "_tie gives each, with form 0 the block's own estimate (u, v, code of the lane) and\n"
     << " * the other forms (cnn_cf_symmetries, and on a Gregory z tie each orientation of z, in "
@@ -536,9 +588,13 @@ std::string export_c_header(const NetworkModel& m, const CHeaderOptions& options
     << "    code[l] = inside[t] > 0.0 ? (double)CNN_CF_STATUS_OK : (double)CNN_CF_STATUS_OUT_OF_DOMAIN;\n"
     << "  }\n"
     << "}\n\n";
+}
 
-  // 6. A block of n lanes: lib/search's network_estimate.
-  const bool float_frame = !gregory && m.is_float();
+// 6. A block of n lanes: lib/search's network_estimate.
+void block_function(std::ostringstream& o, const HeaderNames& h) {
+  const std::string &p = h.p, &block = h.block, &g = h.g, &centre = h.centre;
+  const int n_raw = h.n_raw;
+  const bool float_frame = h.float_frame;
   o << "/* n <= " << block << " queries (rows of " << n_raw
     << "): canonical frame, domain test, forward pass for all lanes\n"
     << " * at once, then each lane mapped back to the caller's order (ties through " << p << "_tie). */\n"
@@ -556,14 +612,14 @@ std::string export_c_header(const NetworkModel& m, const CHeaderOptions& options
   if (float_frame) {
     // As lib/search's network_estimate for a float network: the frame and domain test in float where float
     // decides them, the other lanes in double (canonical_frame.h), so that the header agrees bit for bit.
-    // The batch keeps *expect from block to block (cnn_cff_block_expecting: the double pass first on touching
-    // contact; the same bits).
-    o << "  cnn_canonicalise_domain_block_fe(n, "
-      << (options.check_domain ? "&" + p + "_domain" : std::string("0")) << ", in, f, info, expect);\n";
+    // The batch keeps *expect from block to block (cnn_cff_block_expecting: the double pass first on
+    // touching contact; the same bits).
+    o << "  cnn_canonicalise_domain_block_fe(n, " << (h.check_domain ? "&" + p + "_domain" : std::string("0"))
+      << ", in, f, info, expect);\n";
   } else {
     o << "  (void)expect;\n";
     o << "  cnn_canonicalise_block(n, " << g << ", in, f, nrm, info);\n";
-    if (options.check_domain) o << "  cnn_domain_block(n, " << g << ", &" << p << "_domain, f, nrm, info);\n";
+    if (h.check_domain) o << "  cnn_domain_block(n, " << g << ", &" << p << "_domain, f, nrm, info);\n";
   }
   o << "  if (n == 1) {\n"
     << "    " << p << "_forward_one(f, est);\n"
@@ -590,7 +646,8 @@ std::string export_c_header(const NetworkModel& m, const CHeaderOptions& options
     << "      " << p << "_ties(n, raw, info, ties, n_ties, u, v, code);\n"
     << "    }\n"
     << "    for (l = 0; l < n; ++l) {\n"
-    << "      if (code[l] != (double)CNN_CF_STATUS_OK && code[l] != (double)CNN_CF_STATUS_OUT_OF_DOMAIN) {\n"
+    << "      if (code[l] != (double)CNN_CF_STATUS_OK && code[l] != (double)CNN_CF_STATUS_OUT_OF_DOMAIN) "
+       "{\n"
     << "        status[l] = 1;\n"
     << "        continue;\n"
     << "      }\n"
@@ -600,10 +657,15 @@ std::string export_c_header(const NetworkModel& m, const CHeaderOptions& options
     << "    }\n"
     << "  }\n"
     << "}\n\n";
+}
 
-  // 7. The entry points.
-  // A float network's bilinear query that looks like touching contact or a square takes the double pass first
-  // (cnn_cff_looks_undecided; the same result).
+// 7. The entry points.
+void entry_points(std::ostringstream& o, const HeaderNames& h, const std::string& guard) {
+  const std::string &p = h.p, &block = h.block;
+  const int n_raw = h.n_raw;
+  const bool float_frame = h.float_frame;
+  // A float network's bilinear query that looks like touching contact or a square takes the double pass
+  // first (cnn_cff_looks_undecided; the same result).
   o << "static inline int " << p << "_local_coordinates(const double raw[" << n_raw << "], double out[2]) {\n"
     << "  int status" << (float_frame ? ", expect = cnn_cff_looks_undecided(raw, 1)" : "") << ";\n"
     << "  " << p << "_block(1, raw, out, &status, " << (float_frame ? "&expect" : "0") << ");\n"
@@ -637,6 +699,33 @@ std::string export_c_header(const NetworkModel& m, const CHeaderOptions& options
     << "  }\n"
     << "}\n\n"
     << "#endif /* " << guard << " */\n";
+}
+
+}  // namespace
+
+std::string export_c_header(const NetworkModel& m, const CHeaderOptions& options) {
+  CONTACTNN_REQUIRE_AS(InvalidArgument, is_c_identifier(options.prefix),
+                       "the C header's prefix '" << options.prefix << "' is not a C identifier");
+  const HeaderNames h = header_names(m, options);
+  std::string guard = h.p + "_H";
+  for (char& c : guard) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+  std::ostringstream o;
+  header_comment(o, m, options, h, guard);
+  embedded_kernels(o, h.p);
+  tables(o, m, h);
+  // 4. The forward pass.
+  for (const bool one : {false, true}) {
+    if (m.is_float()) {
+      forward_pass<float>(o, m, h.p, one);
+    } else {
+      forward_pass<double>(o, m, h.p, one);
+    }
+  }
+  tie_function(o, m, h);
+  forms_function(o, h);
+  ties_function(o, h);
+  block_function(o, h);
+  entry_points(o, h, guard);
   return o.str();
 }
 

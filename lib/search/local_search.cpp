@@ -66,6 +66,31 @@ const SearchOptions& LocalSearch::options() const { return plan_->options; }
 const NetworkModel* LocalSearch::network() const { return plan_->network; }
 int LocalSearch::block_size() const { return plan_->block_size; }
 
+namespace {
+
+/// The whole face (SearchOptions::closest_point_on_face): answers outside go to the boundary; the others pay
+/// a byte compare in a tight loop (the branch is rarely taken). Each query's own arithmetic: the same bits in
+/// any batch.
+template <class Real>
+void to_face_boundary(const detail::Plan& plan, std::size_t count, const Real* raw,
+                      const Results<Real>& out) {
+  if (out.location != nullptr) std::fill(out.location, out.location + count, Location::kFace);
+  if (plan.options.closest_point_on_face) {
+    const auto columns = static_cast<std::size_t>(LocalSearch::raw_columns(plan.kind));
+    const auto move = [&](std::size_t i) {
+      detail::move_to_face_boundary(plan.kind, raw + i * columns, out.param + 2 * i,
+                                    out.gap != nullptr ? out.gap + i : nullptr, out.status + i,
+                                    out.location != nullptr ? out.location + i : nullptr);
+    };
+    for (std::size_t i = 0; i < count; ++i) {
+      if (out.status[i] == Status::kOutside) [[unlikely]]
+        move(i);
+    }
+  }
+}
+
+}  // namespace
+
 template <class Real>
 void LocalSearch::run(std::size_t count, const Real* raw, const Results<Real>& out, int threads) const {
   if (count == 0) return;
@@ -159,22 +184,7 @@ void LocalSearch::run(std::size_t count, const Real* raw, const Results<Real>& o
   }
   for (std::size_t i = blocks * width; i < count; ++i) single(plan, raw, out, i);
 
-  // The whole face (SearchOptions::closest_point_on_face): answers outside go to the boundary; the others pay
-  // a byte compare in a tight loop (the branch is rarely taken). Each query's own arithmetic: the same bits
-  // in any batch.
-  if (out.location != nullptr) std::fill(out.location, out.location + count, Location::kFace);
-  if (plan.options.closest_point_on_face) {
-    const auto columns = static_cast<std::size_t>(raw_columns(plan.kind));
-    const auto move = [&](std::size_t i) {
-      detail::move_to_face_boundary(plan.kind, raw + i * columns, out.param + 2 * i,
-                                    out.gap != nullptr ? out.gap + i : nullptr, out.status + i,
-                                    out.location != nullptr ? out.location + i : nullptr);
-    };
-    for (std::size_t i = 0; i < count; ++i) {
-      if (out.status[i] == Status::kOutside) [[unlikely]]
-        move(i);
-    }
-  }
+  to_face_boundary(plan, count, raw, out);
 }
 
 namespace detail {

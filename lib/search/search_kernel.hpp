@@ -45,19 +45,10 @@ template <class Surf, int W>
   (void)surf.build(q, patch_status);
 }
 
-/// One block of W queries: rows first .. first + W - 1 of raw_rows, or (rows not null) the rows rows[0 .. W -
-/// 1], in any order, repeats allowed. cap > 0 (Newton to convergence only): at most cap iterations, a lane
-/// still running then gets status kPending (LocalSearch::run computes it again, from the centre, in a block
-/// of such lanes with the next cap or none).
-template <bool kGregory, class Net, int W, class In>
-static void search_rows(const Plan& plan, const In* raw_rows, const Results<In>& out, std::size_t first,
-                        const std::size_t* rows, int cap) {
-  using Surf = std::conditional_t<kGregory, GregoryBlock<W>, BilinearBlock<W>>;
-  constexpr int kStride = kGregory ? 27 : 15;
-  constexpr double kCentre = kGregory ? 0.5 : 0.0;
-  const Method& method = plan.method;
-
-  alignas(64) double raw[27][W];
+/// The block's raw rows as doubles, a row per lane: rows first .. first + W - 1, or rows[0 .. W - 1].
+template <int W, int kStride, class In>
+CONTACTNN_SEARCH_INLINE static void load_rows(const In* raw_rows, std::size_t first, const std::size_t* rows,
+                                              double (&raw)[27][W]) {
   if (rows == nullptr) {
     load_raw<W>(raw_rows + first * kStride, kStride, raw);
   } else {
@@ -66,260 +57,237 @@ static void search_rows(const Plan& plan, const In* raw_rows, const Results<In>&
       for (int k = 0; k < kStride; ++k) raw[k][l] = static_cast<double>(row[k]);
     }
   }
-  // The queries relative to S, for the surface: made when a method needs the surface (not by a network alone
-  // without the gap, whose canonical frame works on the raw coordinates and finds non-finite inputs itself).
-  QueryBlock<W> q;
-  LaneState<W> s;
+}
+
+/// Step 1 with a network: its estimates; for a hybrid, the start Newton refines and the lanes retried from
+/// the centre if that fails.
+template <bool kGregory, class Net, int W>
+CONTACTNN_SEARCH_INLINE static void network_start(const Plan& plan, double (&raw)[27][W], bool consecutive,
+                                                  int cap, LaneState<W>& s, double* retry_from_centre) {
+  constexpr int kStride = kGregory ? 27 : 15;
+  constexpr double kCentre = kGregory ? 0.5 : 0.0;
+  // A float network's bilinear block: lanes the float frame does not decide are left pending for
+  // LocalSearch::run (blocks of consecutive rows only; a one-lane kernel and a block of pending rows decide
+  // every lane itself).
+  const FramePass pass = cap == kDoubleFramePass                      ? FramePass::kDouble
+                         : (W > 1 && consecutive && plan.defer_frame) ? FramePass::kFloatDeferred
+                                                                      : FramePass::kFloat;
+  network_estimate<Net, W, kGregory>(*plan.network, plan.options.check_domain, &raw[0][0], s, pass);
+  if (!plan.method.is_hybrid()) return;
+  // Newton decides the status. Where the network has no canonical frame, the segment is degenerate when
+  // its label says so (degenerate_as_labelled: collapsed, or no frame at any corner; a collapsed segment
+  // refined from the centre came back ok); otherwise (a Gregory node normal on the far side of the
+  // canonical corner's plane, where another corner has a frame) the refinement starts from the domain
+  // centre. Outside its training domain the network extrapolates: its estimate is still the start (near
+  // the domain it is good), but a refinement from it that fails is retried from the centre (step 2).
   for (int l = 0; l < W; ++l) {
-    s.u[l] = s.v[l] = kCentre;
+    retry_from_centre[l] = s.status[l] == kOutOfDomain ? 1.0 : 0.0;
+    bool none = false;
+    if (s.status[l] == kDegenerate) {
+      double query[27];
+      for (int k = 0; k < kStride; ++k) query[k] = raw[k][l];
+      none = !degenerate_as_labelled(query, kGregory);
+    }
+    s.u[l] = none ? kCentre : s.u[l];
+    s.v[l] = none ? kCentre : s.v[l];
+    s.status[l] = (none | (s.status[l] == kOutOfDomain)) ? kOk : s.status[l];
+  }
+}
+
+/// Step 1 with the closed form on a Gregory patch: the closed form on the bilinear facet of its corner nodes,
+/// (u, v) = ((xi + 1) / 2, (eta + 1) / 2), exact where the patch is that facet (a flat segment whose node
+/// normals are its normal, SPEC 1). A collapsed facet is degenerate, as the labels say: the patch's build
+/// tested it (collapsed_segment), and q's range (rescaled if it had to be).
+/// The estimate goes to the patch's canonical parametrisation (its LaneSymmetry, chosen from the same corner
+/// facet; exact in (xi, eta)), to (u, v) there, and is reported through the patch, which keeps it, so that
+/// the gap is evaluated at the same point in every node order (from the caller's u, the reflection 1 - u
+/// rounds, and a far slave's extrapolated gap moved by 1e-6 of itself with the node order). A lane the closed
+/// form did not answer (degenerate, invalid) keeps the centre.
+template <int W>
+CONTACTNN_SEARCH_INLINE static void gregory_closed_form(const QueryBlock<W>& q, GregoryBlock<W>& surf,
+                                                        LaneState<W>& s, bool hybrid) {
+  BilinearBlock<W> facet;
+  (void)facet.template build<false>(q, nullptr);
+  double answered[W];
+  for (int l = 0; l < W; ++l) answered[l] = s.status[l] == kOk ? 1.0 : 0.0;
+  closed_form<W>(facet, s, hybrid);
+  for (int l = 0; l < W; ++l) {
+    double xi = s.u[l], eta = s.v[l];
+    surf.sym.template to_canonical<BilinearBlock<W>::kReflect>(l, xi,
+                                                               eta);  // the patch's: exact in (xi, eta)
+    double u = 0.5 * (xi + 1.0), v = 0.5 * (eta + 1.0);
+    surf.report(l, u, v);
+    const bool take = (answered[l] != 0.0) & (s.status[l] != kDegenerate);
+    s.u[l] = take ? u : s.u[l];
+    s.v[l] = take ? v : s.v[l];
+  }
+}
+
+/// Step 1 with the caller's start: its row of the param array the results go to (each lane's row is read
+/// here, before any row of the block is written). A start that is not finite: invalid.
+template <int W, class In>
+CONTACTNN_SEARCH_INLINE static void given_start(const Results<In>& out, std::size_t first,
+                                                const std::size_t* rows, double centre, LaneState<W>& s) {
+  for (int l = 0; l < W; ++l) {
+    const std::size_t i = rows == nullptr ? first + static_cast<std::size_t>(l) : rows[l];
+    const auto u = static_cast<double>(out.param[2 * i]), v = static_cast<double>(out.param[2 * i + 1]);
+    const bool finite = is_finite(u) & is_finite(v);
+    s.u[l] = finite ? u : centre;
+    s.v[l] = finite ? v : centre;
+    s.status[l] = finite ? s.status[l] : kInvalid;
+  }
+}
+
+/// Step 2 of a hybrid, its second run: the lanes retry_from_centre marks run again from the centre (the
+/// others are held by a status other than ok; their steps add up), and the centre's answer replaces the first
+/// where it should.
+template <bool kGregory, class Surf, int W>
+CONTACTNN_SEARCH_INLINE static void newton_again_from_centre(const Plan& plan, Surf& surf,
+                                                             const double* noise,
+                                                             const double* retry_from_centre, LaneState<W>& s,
+                                                             EvalStore<W, Surf::kHasPureSecond>& store) {
+  constexpr double kCentre = kGregory ? 0.5 : 0.0;
+  LaneState<W> again;
+  EvalStore<W, Surf::kHasPureSecond> again_store;
+  for (int l = 0; l < W; ++l) {
+    again.u[l] = again.v[l] = kCentre;
+    again.status[l] = retry_from_centre[l] != 0.0 ? kOk : kInvalid;
+    again.iterations[l] = s.iterations[l];
+  }
+  safeguarded_newton<Surf, W>(surf, plan.method.newton_steps, plan.guards, noise, again, again_store);
+  for (int l = 0; l < W; ++l) {
+    if (retry_from_centre[l] == 0.0) continue;
+    // An answer at the edge stays unless the centre's is inside and nearer S (after few steps the centre's
+    // run may be on its way, not there: an interior point farther than the edge is no better answer).
+    const bool edge_stays = (again.status[l] != kOk) | !(again_store.dist[l] < store.dist[l]);
+    if (s.status[l] == kOutside && edge_stays) {  // the steps of both runs
+      s.iterations[l] = again.iterations[l];
+      continue;
+    }
+    s.u[l] = again.u[l];
+    s.v[l] = again.v[l];
+    s.status[l] = again.status[l];
+    s.iterations[l] = again.iterations[l];
+    CONTACTNN_UNROLL
+    for (int c = 0; c < 3; ++c) {
+      store.p[c][l] = again_store.p[c][l];
+      store.ps[c][l] = again_store.ps[c][l];
+      store.pt[c][l] = again_store.pt[c][l];
+    }
+  }
+}
+
+/// Step 2 of a hybrid: safeguarded Newton from the start, and from the centre again where that failed.
+/// Lanes whose refinement, if it fails, is retried from the centre (retry_from_centre): on a Gregory patch
+/// every lane that starts from an estimate; on a bilinear facet a network's estimate outside its training
+/// domain only (network_start marks them: from the centre, plain Newton itself ends at another stationary
+/// point of a warped facet, inside the larger box, as often as not: on 100000 held-out configurations
+/// retrying every failure turned 62 failures of closed_form+newton:1 into answers, some of them wrong and
+/// reported ok).
+template <bool kGregory, class Surf, int W>
+CONTACTNN_SEARCH_INLINE static void hybrid_newton(const Plan& plan, const QueryBlock<W>& q, Surf& surf,
+                                                  double* retry_from_centre, LaneState<W>& s,
+                                                  EvalStore<W, Surf::kHasPureSecond>& store) {
+  constexpr double kCentre = kGregory ? 0.5 : 0.0;
+  double noise[W];
+  for (int l = 0; l < W; ++l) {
+    double size = 0.0;
+    CONTACTNN_UNROLL
+    for (int k = 0; k < 12; ++k) size = max_of(size, std::fabs(q.node[k][l]));
+    noise[l] = 16.0 * std::numeric_limits<double>::epsilon() * size;
+  }
+  if constexpr (kGregory) {
+    for (int l = 0; l < W; ++l) {
+      const bool estimate = (s.status[l] == kOk) & ((s.u[l] != kCentre) | (s.v[l] != kCentre));
+      retry_from_centre[l] = estimate ? 1.0 : 0.0;
+    }
+  }
+  safeguarded_newton<Surf, W>(surf, plan.method.newton_steps, plan.guards, noise, s, store);
+  bool retry = false;
+  for (int l = 0; l < W; ++l) {
+    // On a Gregory patch an answer at the edge (outside) is checked from the centre too: a start in another
+    // basin slides along the edge to a point where the distance falls outward while an interior stationary
+    // point, the answer by SPEC 2, lies elsewhere. The centre's answer replaces it only when ok and nearer.
+    const bool failed = (s.status[l] == kNoConvergence) | (s.status[l] == kDegenerate) |
+                        (kGregory & (s.status[l] == kOutside));
+    retry_from_centre[l] = (retry_from_centre[l] != 0.0) & failed ? 1.0 : 0.0;
+    retry = retry || retry_from_centre[l] != 0.0;
+  }
+  // A start in another basin: on a Gregory sliver a network estimate 0.5 off sends the descent to the edge
+  // of the segment, where it fails or stops at an edge point, while the reference's nearest local minimum
+  // lies inside (held-out sets of 100000: 1 such failure in 4 sets of network+newton:3, none after the
+  // retry).
+  if (retry) newton_again_from_centre<kGregory, Surf, W>(plan, surf, noise, retry_from_centre, s, store);
+}
+
+/// Every lane at the centre, ok, no iterations.
+template <int W>
+CONTACTNN_SEARCH_INLINE static void start_at_centre(double centre, LaneState<W>& s) {
+  for (int l = 0; l < W; ++l) {
+    s.u[l] = s.v[l] = centre;
     s.status[l] = kOk;
     s.iterations[l] = 0.0;
   }
-  bool relative = false;
-  const auto make_relative = [&] {
-    if (relative) return;
-    relative_queries<W>(raw, kGregory, q);
-    // Invalid where an input is not finite (lanes a network already marked keep their status).
-    for (int l = 0; l < W; ++l) s.status[l] = q.finite[l] != 0.0 ? s.status[l] : kInvalid;
-    relative = true;
-  };
-  if (method.start != Method::Start::kNetwork) make_relative();
+}
 
-  // The surface, built once. Where it does not exist (a Gregory patch GregoryPatch::diagnose refuses),
-  // patch_status is degenerate; the methods that work on the surface take that status over.
-  Surf surf;
-  double patch_status[W];
-  bool built = false;
-  const auto build = [&] {
-    make_relative();
-    if (built) return;
-    for (int l = 0; l < W; ++l) patch_status[l] = kOk;
-    if (surf.build(q, patch_status)) rebuild_rescaled<Surf, W>(surf, q, patch_status);
-    built = true;
-  };
-  const auto build_for_method = [&] {
-    build();
-    for (int l = 0; l < W; ++l)
-      s.status[l] = (s.status[l] == kOk) & (patch_status[l] != kOk) ? kDegenerate : s.status[l];
-  };
-  const bool hybrid = method.is_hybrid();
-  // Lanes whose refinement, if it fails, is retried from the centre: on a Gregory patch every lane that
-  // starts from an estimate; on a bilinear facet a network's estimate outside its training domain only (from
-  // the centre, plain Newton itself ends at another stationary point of a warped facet, inside the larger
-  // box, as often as not: on 100000 held-out configurations retrying every failure turned 62 failures of
-  // closed_form+newton:1 into answers, some of them wrong and reported ok).
-  double retry_from_centre[W] = {};
-  double triangles_gap[W] = {};  // four_triangles: its gap, in q's units
-
-  // 1. The start.
-  if (method.start == Method::Start::kNetwork) {
-    // A float network's bilinear block: lanes the float frame does not decide are left pending for
-    // LocalSearch::run (blocks of consecutive rows only; a one-lane kernel and a block of pending rows decide
-    // every lane itself).
-    const FramePass pass = cap == kDoubleFramePass                          ? FramePass::kDouble
-                           : (W > 1 && rows == nullptr && plan.defer_frame) ? FramePass::kFloatDeferred
-                                                                            : FramePass::kFloat;
-    network_estimate<Net, W, kGregory>(*plan.network, plan.options.check_domain, &raw[0][0], s, pass);
-    if (hybrid) {
-      // Newton decides the status. Where the network has no canonical frame, the segment is degenerate when
-      // its label says so (degenerate_as_labelled: collapsed, or no frame at any corner; a collapsed segment
-      // refined from the centre came back ok); otherwise (a Gregory node normal on the far side of the
-      // canonical corner's plane, where another corner has a frame) the refinement starts from the domain
-      // centre. Outside its training domain the network extrapolates: its estimate is still the start (near
-      // the domain it is good), but a refinement from it that fails is retried from the centre (step 2).
-      for (int l = 0; l < W; ++l) {
-        retry_from_centre[l] = s.status[l] == kOutOfDomain ? 1.0 : 0.0;
-        bool none = false;
-        if (s.status[l] == kDegenerate) {
-          double query[27];
-          for (int k = 0; k < kStride; ++k) query[k] = raw[k][l];
-          none = !degenerate_as_labelled(query, kGregory);
-        }
-        s.u[l] = none ? kCentre : s.u[l];
-        s.v[l] = none ? kCentre : s.v[l];
-        s.status[l] = (none | (s.status[l] == kOutOfDomain)) ? kOk : s.status[l];
-      }
-    }
-  } else if (method.start == Method::Start::kClosedForm) {
-    if constexpr (!kGregory) {
-      build_for_method();
-      closed_form<W>(surf, s, hybrid);
-    } else {
-      // A Gregory patch: the closed form on the bilinear facet of its corner nodes, (u, v) = ((xi + 1) / 2,
-      // (eta + 1) / 2), exact where the patch is that facet (a flat segment whose node normals are its
-      // normal, SPEC 1). A collapsed facet is degenerate, as the labels say: the patch's build tested it
-      // (collapsed_segment), and q's range (rescaled if it had to be).
-      // The estimate goes to the patch's canonical parametrisation (its LaneSymmetry, chosen from the same
-      // corner facet; exact in (xi, eta)), to (u, v) there, and is reported through the patch, which keeps
-      // it, so that the gap is evaluated at the same point in every node order (from the caller's u, the
-      // reflection 1 - u rounds, and a far slave's extrapolated gap moved by 1e-6 of itself with the node
-      // order). A lane the closed form did not answer (degenerate, invalid) keeps the centre.
-      build_for_method();
-      BilinearBlock<W> facet;
-      (void)facet.template build<false>(q, nullptr);
-      double answered[W];
-      for (int l = 0; l < W; ++l) answered[l] = s.status[l] == kOk ? 1.0 : 0.0;
-      closed_form<W>(facet, s, hybrid);
-      for (int l = 0; l < W; ++l) {
-        double xi = s.u[l], eta = s.v[l];
-        surf.sym.template to_canonical<BilinearBlock<W>::kReflect>(l, xi,
-                                                                   eta);  // the patch's: exact in (xi, eta)
-        double u = 0.5 * (xi + 1.0), v = 0.5 * (eta + 1.0);
-        surf.report(l, u, v);
-        const bool take = (answered[l] != 0.0) & (s.status[l] != kDegenerate);
-        s.u[l] = take ? u : s.u[l];
-        s.v[l] = take ? v : s.v[l];
-      }
-    }
-    if (hybrid) {
-      for (int l = 0; l < W; ++l) s.status[l] = s.status[l] == kNoConvergence ? kOk : s.status[l];
-    }
-  } else if (method.start == Method::Start::kFourTriangles) {
-    // The four triangles about the centroid (bilinear only: LocalSearch refuses a Gregory kind). The status
-    // (ok or outside) and the gap are the method's own.
-    if constexpr (!kGregory) {
-      build_for_method();
-      four_triangles<W>(q, surf, plan.options.domain_margin, s, triangles_gap);
-    }
-  } else if (method.start == Method::Start::kGiven) {
-    // The caller's start: its row of the param array the results go to (each lane's row is read here, before
-    // any row of the block is written). A start that is not finite: invalid.
-    build_for_method();
-    for (int l = 0; l < W; ++l) {
-      const std::size_t i = rows == nullptr ? first + static_cast<std::size_t>(l) : rows[l];
-      const auto u = static_cast<double>(out.param[2 * i]), v = static_cast<double>(out.param[2 * i + 1]);
-      const bool finite = is_finite(u) & is_finite(v);
-      s.u[l] = finite ? u : kCentre;
-      s.v[l] = finite ? v : kCentre;
-      s.status[l] = finite ? s.status[l] : kInvalid;
-    }
+/// Step 3: an ok lane whose (u, v) lies outside [lo, hi]^2 is outside.
+template <int W>
+CONTACTNN_SEARCH_INLINE static void outside_by_domain(double lo, double hi, LaneState<W>& s) {
+  CONTACTNN_LANES
+  for (int l = 0; l < W; ++l) {
+    const bool inside = (s.u[l] >= lo) & (s.u[l] <= hi) & (s.v[l] >= lo) & (s.v[l] <= hi);
+    s.status[l] = ((s.status[l] == kOk) & !inside) ? kOutside : s.status[l];
   }
+}
 
-  // 2. Newton.
-  EvalStore<W, Surf::kHasPureSecond> store;
+/// Step 4: the gap at the reported point of each lane, in world units: from Newton's last evaluation
+/// (`hybrid`), as the method gave it (`given`: four_triangles), else evaluated on the surface (built).
+/// An invalid or degenerate lane's gap is 0.
+template <int W, class Surf, class Store>
+CONTACTNN_SEARCH_INLINE static void block_gaps(bool hybrid, const double* given, const Store& store,
+                                               const QueryBlock<W>& q, const Surf& surf,
+                                               const LaneState<W>& s, const double* patch_status,
+                                               double* gap) {
   if (hybrid) {
-    build_for_method();
-    double noise[W];
     for (int l = 0; l < W; ++l) {
-      double size = 0.0;
-      CONTACTNN_UNROLL
-      for (int k = 0; k < 12; ++k) size = max_of(size, std::fabs(q.node[k][l]));
-      noise[l] = 16.0 * std::numeric_limits<double>::epsilon() * size;
+      Eval e;
+      store.load(l, e);
+      gap[l] = gap_at(e);
     }
-    if constexpr (kGregory) {
-      for (int l = 0; l < W; ++l) {
-        const bool estimate = (s.status[l] == kOk) & ((s.u[l] != kCentre) | (s.v[l] != kCentre));
-        retry_from_centre[l] = estimate ? 1.0 : 0.0;
-      }
-    }
-    safeguarded_newton<Surf, W>(surf, method.newton_steps, plan.guards, noise, s, store);
-    bool retry = false;
-    for (int l = 0; l < W; ++l) {
-      // On a Gregory patch an answer at the edge (outside) is checked from the centre too: a start in another
-      // basin slides along the edge to a point where the distance falls outward while an interior stationary
-      // point, the answer by SPEC 2, lies elsewhere. The centre's answer replaces it only when ok and nearer.
-      const bool failed = (s.status[l] == kNoConvergence) | (s.status[l] == kDegenerate) |
-                          (kGregory & (s.status[l] == kOutside));
-      retry_from_centre[l] = (retry_from_centre[l] != 0.0) & failed ? 1.0 : 0.0;
-      retry = retry || retry_from_centre[l] != 0.0;
-    }
-    if (retry) {
-      // A start in another basin: on a Gregory sliver a network estimate 0.5 off sends the descent to the
-      // edge of the segment, where it fails or stops at an edge point, while the reference's nearest local
-      // minimum lies inside (held-out sets of 100000: 1 such failure in 4 sets of network+newton:3, none
-      // after the retry). Only the retried lanes run (the others are held by a status other than ok); their
-      // steps add up.
-      LaneState<W> again;
-      EvalStore<W, Surf::kHasPureSecond> again_store;
-      for (int l = 0; l < W; ++l) {
-        again.u[l] = again.v[l] = kCentre;
-        again.status[l] = retry_from_centre[l] != 0.0 ? kOk : kInvalid;
-        again.iterations[l] = s.iterations[l];
-      }
-      safeguarded_newton<Surf, W>(surf, method.newton_steps, plan.guards, noise, again, again_store);
-      for (int l = 0; l < W; ++l) {
-        if (retry_from_centre[l] == 0.0) continue;
-        // An answer at the edge stays unless the centre's is inside and nearer S (after few steps the
-        // centre's run may be on its way, not there: an interior point farther than the edge is no better
-        // answer).
-        const bool edge_stays = (again.status[l] != kOk) | !(again_store.dist[l] < store.dist[l]);
-        if (s.status[l] == kOutside && edge_stays) {  // the steps of both runs
-          s.iterations[l] = again.iterations[l];
-          continue;
-        }
-        s.u[l] = again.u[l];
-        s.v[l] = again.v[l];
-        s.status[l] = again.status[l];
-        s.iterations[l] = again.iterations[l];
-        CONTACTNN_UNROLL
-        for (int c = 0; c < 3; ++c) {
-          store.p[c][l] = again_store.p[c][l];
-          store.ps[c][l] = again_store.ps[c][l];
-          store.pt[c][l] = again_store.pt[c][l];
-        }
-      }
-    }
-  } else if (method.start == Method::Start::kCentre) {
-    build_for_method();
-    if (method.to_convergence) {
-      converged_newton<Surf, W>(surf, cap > 0 ? cap : plan.options.max_iterations, plan.options.tol_param,
-                                cap > 0, s);
-    } else {
-      lean_newton<Surf, W>(surf, method.newton_steps, s);
-    }
-  }
-
-  // 3. ok or outside by the domain (a network alone and four_triangles report their own statuses).
-  if ((method.start != Method::Start::kNetwork && method.start != Method::Start::kFourTriangles) || hybrid) {
-    const double lo = plan.inside_lo, hi = plan.inside_hi;
+  } else if (given != nullptr) {
+    for (int l = 0; l < W; ++l) gap[l] = given[l];
+  } else {
     CONTACTNN_LANES
     for (int l = 0; l < W; ++l) {
-      const bool inside = (s.u[l] >= lo) & (s.u[l] <= hi) & (s.v[l] >= lo) & (s.v[l] <= hi);
-      s.status[l] = ((s.status[l] == kOk) & !inside) ? kOutside : s.status[l];
+      Eval e;
+      surf.template eval<false>(l, s.u[l], s.v[l], e);
+      gap[l] = gap_at(e);
     }
   }
-
-  // 4. The gap at the reported point.
-  double gap[W];
-  if (out.gap != nullptr) {
-    if (hybrid) {
-      for (int l = 0; l < W; ++l) {
-        Eval e;
-        store.load(l, e);
-        gap[l] = gap_at(e);
-      }
-    } else if (method.start == Method::Start::kFourTriangles) {
-      for (int l = 0; l < W; ++l) gap[l] = triangles_gap[l];
-    } else {
-      build();
-      CONTACTNN_LANES
-      for (int l = 0; l < W; ++l) {
-        Eval e;
-        surf.template eval<false>(l, s.u[l], s.v[l], e);
-        gap[l] = gap_at(e);
-      }
-    }
-    for (int l = 0; l < W; ++l) {
-      const bool none = (s.status[l] == kInvalid) | (s.status[l] == kDegenerate) | (patch_status[l] != kOk);
-      gap[l] = none ? 0.0 : gap[l];
-    }
-    if (q.scaled) {
-      // In world units (rescale_queries); beyond the double range (nodes near 1e308) gap_out caps it.
-      for (int l = 0; l < W; ++l) gap[l] *= q.unit[l];
-    }
+  for (int l = 0; l < W; ++l) {
+    const bool none = (s.status[l] == kInvalid) | (s.status[l] == kDegenerate) | (patch_status[l] != kOk);
+    gap[l] = none ? 0.0 : gap[l];
   }
+  if (q.scaled) {
+    // In world units (rescale_queries); beyond the double range (nodes near 1e308) gap_out caps it.
+    for (int l = 0; l < W; ++l) gap[l] *= q.unit[l];
+  }
+}
 
-  // 5. Out, never a NaN: a non-finite estimate (only possible from a network fed extreme values) is the
-  // centre.
-  //    Computed over the lanes first, then stored: the stores of a whole block are loops GCC vectorises (the
-  //    pairs interleaved, the status narrowed to a byte).
+/// Step 5: the lanes out, never a NaN: a non-finite estimate (only possible from a network fed extreme
+/// values) is the centre. Computed over the lanes first, then stored: the stores of a whole block are loops
+/// GCC vectorises (the pairs interleaved, the status narrowed to a byte).
+template <int W, class In>
+CONTACTNN_SEARCH_INLINE static void write_lanes(const LaneState<W>& s, const double* gap, double centre,
+                                                const Results<In>& out, std::size_t first,
+                                                const std::size_t* rows) {
   alignas(64) In pu[W], pv[W];
   alignas(64) std::int32_t ps[W], pi[W];
   CONTACTNN_LANES
   for (int l = 0; l < W; ++l) {
     const bool finite = is_finite(s.u[l]) & is_finite(s.v[l]);
-    pu[l] = static_cast<In>(finite ? s.u[l] : kCentre);
-    pv[l] = static_cast<In>(finite ? s.v[l] : kCentre);
+    pu[l] = static_cast<In>(finite ? s.u[l] : centre);
+    pv[l] = static_cast<In>(finite ? s.v[l] : centre);
     ps[l] = static_cast<std::int32_t>(finite ? s.status[l] : kNoConvergence);
     pi[l] = static_cast<std::int32_t>(s.iterations[l]);
   }
@@ -349,6 +317,113 @@ static void search_rows(const Plan& plan, const In* raw_rows, const Results<In>&
       if (out.gap != nullptr) out.gap[i] = gap_out<In>(gap[l]);
     }
   }
+}
+
+/// One block of W queries: rows first .. first + W - 1 of raw_rows, or (rows not null) the rows rows[0 .. W -
+/// 1], in any order, repeats allowed. cap > 0 (Newton to convergence only): at most cap iterations, a lane
+/// still running then gets status kPending (LocalSearch::run computes it again, from the centre, in a block
+/// of such lanes with the next cap or none).
+template <bool kGregory, class Net, int W, class In>
+static void search_rows(const Plan& plan, const In* raw_rows, const Results<In>& out, std::size_t first,
+                        const std::size_t* rows, int cap) {
+  using Surf = std::conditional_t<kGregory, GregoryBlock<W>, BilinearBlock<W>>;
+  constexpr int kStride = kGregory ? 27 : 15;
+  constexpr double kCentre = kGregory ? 0.5 : 0.0;
+  const Method& method = plan.method;
+
+  alignas(64) double raw[27][W];
+  load_rows<W, kStride>(raw_rows, first, rows, raw);
+  // The queries relative to S, for the surface: made when a method needs the surface (not by a network alone
+  // without the gap, whose canonical frame works on the raw coordinates and finds non-finite inputs itself).
+  QueryBlock<W> q;
+  LaneState<W> s;
+  start_at_centre<W>(kCentre, s);
+  bool relative = false;
+  const auto make_relative = [&] {
+    if (relative) return;
+    relative_queries<W>(raw, kGregory, q);
+    // Invalid where an input is not finite (lanes a network already marked keep their status).
+    for (int l = 0; l < W; ++l) s.status[l] = q.finite[l] != 0.0 ? s.status[l] : kInvalid;
+    relative = true;
+  };
+  if (method.start != Method::Start::kNetwork) make_relative();
+
+  // The surface, built once. Where it does not exist (a Gregory patch GregoryPatch::diagnose refuses),
+  // patch_status is degenerate; the methods that work on the surface take that status over.
+  Surf surf;
+  double patch_status[W];
+  bool built = false;
+  const auto build = [&] {
+    make_relative();
+    if (built) return;
+    for (int l = 0; l < W; ++l) patch_status[l] = kOk;
+    if (surf.build(q, patch_status)) rebuild_rescaled<Surf, W>(surf, q, patch_status);
+    built = true;
+  };
+  const auto build_for_method = [&] {
+    build();
+    for (int l = 0; l < W; ++l)
+      s.status[l] = (s.status[l] == kOk) & (patch_status[l] != kOk) ? kDegenerate : s.status[l];
+  };
+  const bool hybrid = method.is_hybrid();
+  double retry_from_centre[W] = {};  // lanes retried from the centre if they fail (hybrid_newton)
+  double triangles_gap[W] = {};      // four_triangles: its gap, in q's units
+
+  // 1. The start.
+  if (method.start == Method::Start::kNetwork) {
+    network_start<kGregory, Net, W>(plan, raw, rows == nullptr, cap, s, retry_from_centre);
+  } else if (method.start == Method::Start::kClosedForm) {
+    build_for_method();
+    if constexpr (!kGregory) {
+      closed_form<W>(surf, s, hybrid);
+    } else {
+      gregory_closed_form<W>(q, surf, s, hybrid);
+    }
+    if (hybrid) {
+      for (int l = 0; l < W; ++l) s.status[l] = s.status[l] == kNoConvergence ? kOk : s.status[l];
+    }
+  } else if (method.start == Method::Start::kFourTriangles) {
+    // The four triangles about the centroid (bilinear only: LocalSearch refuses a Gregory kind). The status
+    // (ok or outside) and the gap are the method's own.
+    if constexpr (!kGregory) {
+      build_for_method();
+      four_triangles<W>(q, surf, plan.options.domain_margin, s, triangles_gap);
+    }
+  } else if (method.start == Method::Start::kGiven) {
+    build_for_method();
+    given_start<W>(out, first, rows, kCentre, s);
+  }
+
+  // 2. Newton.
+  EvalStore<W, Surf::kHasPureSecond> store;
+  if (hybrid) {
+    build_for_method();
+    hybrid_newton<kGregory, Surf, W>(plan, q, surf, retry_from_centre, s, store);
+  } else if (method.start == Method::Start::kCentre) {
+    build_for_method();
+    if (method.to_convergence) {
+      converged_newton<Surf, W>(surf, cap > 0 ? cap : plan.options.max_iterations, plan.options.tol_param,
+                                cap > 0, s);
+    } else {
+      lean_newton<Surf, W>(surf, method.newton_steps, s);
+    }
+  }
+
+  // 3. ok or outside by the domain (a network alone and four_triangles report their own statuses).
+  if ((method.start != Method::Start::kNetwork && method.start != Method::Start::kFourTriangles) || hybrid) {
+    outside_by_domain<W>(plan.inside_lo, plan.inside_hi, s);
+  }
+
+  // 4. The gap at the reported point.
+  double gap[W];
+  if (out.gap != nullptr) {
+    const double* given = method.start == Method::Start::kFourTriangles ? triangles_gap : nullptr;
+    if (!hybrid && given == nullptr) build();
+    block_gaps<W>(hybrid, given, store, q, surf, s, patch_status, gap);
+  }
+
+  // 5. Out.
+  write_lanes<W>(s, gap, kCentre, out, first, rows);
 }
 
 /// search_rows for the rows first .. first + W - 1, no cap: the BlockFn of a plan.
