@@ -27,13 +27,6 @@ std::string pct(double part, double whole) {
 }
 std::string num(std::int64_t x) { return std::to_string(x); }
 
-const MethodTiming* find_timing(const SetResult& r, const std::string& name) {
-  for (const MethodTiming& t : r.timings) {
-    if (t.method == name) return &t;
-  }
-  return nullptr;
-}
-
 const MethodErrors* find_errors(const SetResult& r, const std::string& name) {
   for (const MethodErrors& m : r.errors) {
     if (m.method == name) return &m;
@@ -62,8 +55,6 @@ std::int64_t count_above(const std::vector<std::int64_t>& counts, std::size_t k)
   return sum;
 }
 
-constexpr std::array<double, 7> kAccuracyLevels = {0.1, 0.03, 0.01, 0.003, 1e-3, 1e-4, 1e-8};
-
 }  // namespace
 
 std::string cpu_model() {
@@ -81,33 +72,7 @@ std::string cpu_model() {
   return "unknown";
 }
 
-double effective_mean_error(const MethodErrors& m, SurfaceKind kind) {
-  const ParamDomain d = param_domain(kind);
-  const double width = d.hi - d.lo;
-  double worst = 0.0;
-  for (const ErrorStatistics& s : m.stats) {
-    const double n = static_cast<double>(s.n), failures = static_cast<double>(m.failures_method);
-    if (n + failures <= 0.0) continue;
-    worst = std::max(worst, (s.mean_abs * n + failures * width) / (n + failures));
-  }
-  return worst;
-}
-
-const MethodErrors* fastest_within(const SetResult& set, SurfaceKind kind, double level) {
-  const MethodErrors* best = nullptr;
-  double best_ns = 0.0;
-  for (const MethodErrors& m : set.errors) {
-    const MethodTiming* t = find_timing(set, m.method);
-    if (t == nullptr || !(effective_mean_error(m, kind) <= level)) continue;
-    if (best == nullptr || t->batched.median_ns < best_ns) {
-      best = &m;
-      best_ns = t->batched.median_ns;
-    }
-  }
-  return best;
-}
-
-std::string errors_csv(const StudyResult& result) {
+std::string errors_csv(const ComparisonResult& result) {
   std::string out;
   io::append_csv_row(out, {"set",
                            "method",
@@ -160,7 +125,7 @@ std::string errors_csv(const StudyResult& result) {
   return out;
 }
 
-std::string speed_csv(const StudyResult& result) {
+std::string speed_csv(const ComparisonResult& result) {
   std::string out;
   io::append_csv_row(
       out, {"set", "method", "queries", "repetitions", "one_ns", "one_min_ns", "batched_ns", "batched_min_ns",
@@ -182,7 +147,8 @@ std::string speed_csv(const StudyResult& result) {
   return out;
 }
 
-std::string report_markdown(const StudyResult& r, const RunInfo& info, const StudyOptions& options) {
+std::string comparison_markdown(const ComparisonResult& r, const RunInfo& info,
+                                const ComparisonOptions& options) {
   const auto names = coordinate_names(r.surface);
   const std::string c0(names[0]), c1(names[1]);
   const bool bilinear = r.surface == SurfaceKind::kBilinear;
@@ -424,8 +390,8 @@ std::string report_markdown(const StudyResult& r, const RunInfo& info, const Stu
   return md.str();
 }
 
-void write_report(const std::filesystem::path& directory, const StudyResult& result, const RunInfo& info,
-                  const StudyOptions& options) {
+void write_report(const std::filesystem::path& directory, const ComparisonResult& result, const RunInfo& info,
+                  const ComparisonOptions& options) {
   std::error_code ec;
   std::filesystem::create_directories(directory, ec);
   CONTACTNN_REQUIRE_AS(IoError, !ec,
@@ -447,7 +413,7 @@ void write_report(const std::filesystem::path& directory, const StudyResult& res
                                 histogram_svg(result.histograms[c], labels));
     }
   }
-  io::write_text_atomically(directory / "report.md", report_markdown(result, info, options));
+  io::write_text_atomically(directory / "report.md", comparison_markdown(result, info, options));
 }
 
 }  // namespace contactnn::eval

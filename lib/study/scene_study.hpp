@@ -47,6 +47,7 @@
 #include <vector>
 
 #include "contact/scene.hpp"
+#include "core/log.hpp"
 #include "dataset/enumeration.hpp"
 #include "dataset/labelled_set.hpp"
 #include "dataset/scene_sampling.hpp"
@@ -161,7 +162,8 @@ struct SceneStudyOptions {
 /// newton to convergence; for bilinear also four_triangles where lib/search has it.
 [[nodiscard]] std::string default_methods(SurfaceKind surface);
 
-using StudyLog = std::function<void(const std::string&)>;
+/// Progress lines of the scene study (core/log.hpp).
+using StudyLog = ProgressLog;
 
 // ---------------------------------------------------------------------------------------------- 1. pairs
 

@@ -10,9 +10,9 @@
 
 #include "core/error.hpp"
 #include "dataset/labeller.hpp"
+#include "eval/method_comparison.hpp"
 #include "eval/placement.hpp"
 #include "eval/report.hpp"
-#include "eval/study.hpp"
 #include "io/csv.hpp"
 #include "mlp/network.hpp"
 #include "xml_check.hpp"
@@ -112,14 +112,15 @@ TEST(StudyReport, KnownNetworkErrorsEveryMethodEveryFile) {
   mlp::ForwardPass<float> pass(constant);
   mlp::predict(constant, set.features.row(0).data(), answer.data(), pass);
 
-  StudyOptions options;
+  ComparisonOptions options;
   options.methods = "network, newton:1, newton:5, newton:10, newton, closed_form";
   options.timing_queries = 8;
   options.timing_options.repetitions = 2;
   options.hist_bins = 10;
   const std::vector<EvaluationSet> sets = {set_from_dataset(set, "small", "small.h5", false, 1),
                                            set_from_dataset(set, "small-placed", "small.h5", true, 3)};
-  const StudyResult result = run_study(sets, {{"constant", "8-3-2, all weights 0", &model}}, options);
+  const ComparisonResult result =
+      compare_methods(sets, {{"constant", "8-3-2, all weights 0", &model}}, options);
   ASSERT_EQ(result.methods, (std::vector<std::string>{"network[constant]", "newton:1", "newton:5",
                                                       "newton:10", "newton", "closed_form"}));
   ASSERT_EQ(result.sets.size(), 2u);
