@@ -226,8 +226,10 @@ std::string set_json(const SetResult& s, SurfaceKind kind, int threads) {
 
 std::string ranking_json(const ComparisonResult& result) {
   const ParamDomain d = param_domain(result.surface);
-  std::string out = "{\"surface\": " + json_string(to_string(result.surface)) +
-                    ", \"domain_width\": " + json_number(d.hi - d.lo) + ",\n \"levels\": [";
+  std::string out = "{\"surface\": " + json_string(to_string(result.surface)) + ", \"coordinates\": [" +
+                    json_string(coordinate_names(result.surface)[0]) + ", " +
+                    json_string(coordinate_names(result.surface)[1]) +
+                    "], \"domain_width\": " + json_number(d.hi - d.lo) + ",\n \"levels\": [";
   for (std::size_t k = 0; k < kAccuracyLevels.size(); ++k) {
     out += (k > 0 ? ", " : "") + json_number(kAccuracyLevels[k]);
   }

@@ -50,9 +50,9 @@ struct FrontierPoint {
 /// missing file or column, an unknown coordinate, a method without both coordinates or without a speed row.
 [[nodiscard]] ComparisonResult read_report_tables(const std::filesystem::path& directory);
 
-/// The ranking as JSON (scripts/frontier reads it): {"surface", "domain_width", "levels": [...], "sets": [{
-/// "name", "rows", "failures_reference", "threads", "methods": [{"method", "mean_abs": [c0, c1],
-/// "effective_mean", "p99_abs", "max_abs" (the larger coordinate's), "failures" (the method's),
+/// The ranking as JSON (scripts/frontier reads it): {"surface", "coordinates", "domain_width", "levels":
+/// [...], "sets": [{ "name", "rows", "failures_reference", "threads", "methods": [{"method", "mean_abs": [c0,
+/// c1], "effective_mean", "p99_abs", "max_abs" (the larger coordinate's), "failures" (the method's),
 /// "failures_reference", "out_of_domain", "rows", "one_ns", "batched_ns", "batched_min_ns", "threads_ns",
 /// "pareto"}], "fastest": [method or null per level]}]}. Doubles are written to read back exactly (NaN and
 /// Infinity as Python's json reads them). Every method must be timed (FormatError otherwise).

@@ -199,6 +199,23 @@ TEST(StudyReport, KnownNetworkErrorsEveryMethodEveryFile) {
   std::filesystem::remove_all(dir);
 }
 
+TEST(StudyReport, DefaultInTheMethodListStandsForTheDefaultList) {
+  const dataset::LabelledSet set = small_set();
+  ComparisonOptions options;
+  options.methods = "default, four_triangles";
+  options.max_fixed_iterations = 2;
+  options.timing = false;
+  const ComparisonResult result =
+      compare_methods({set_from_dataset(set, "small", "small.h5", false, 1)}, {}, options);
+  EXPECT_EQ(result.methods,
+            (std::vector<std::string>{"closed_form", "closed_form+newton:1", "closed_form+newton:2",
+                                      "closed_form+newton:3", "closed_form+newton:5", "closed_form+newton:8",
+                                      "newton:1", "newton:2", "newton", "four_triangles"}));
+  options.methods = "newton, default";  // newton twice
+  EXPECT_THROW((void)compare_methods({set_from_dataset(set, "small", "small.h5", false, 1)}, {}, options),
+               InvalidArgument);
+}
+
 TEST(StudyReport, EffectiveErrorCountsFailuresAsAWidthAndTheFastestMethodIsPicked) {
   MethodErrors accurate, failing;
   accurate.method = "slow";
