@@ -147,13 +147,11 @@ std::string speed_csv(const ComparisonResult& result) {
   return out;
 }
 
-std::string comparison_markdown(const ComparisonResult& r, const RunInfo& info,
-                                const ComparisonOptions& options) {
-  const auto names = coordinate_names(r.surface);
-  const std::string c0(names[0]), c1(names[1]);
-  const bool bilinear = r.surface == SurfaceKind::kBilinear;
-  const int threads = std::max(1, options.timing_threads);
-  std::ostringstream md;
+namespace {
+
+/// report.md: the title, the command, the networks and sets, and how errors and failures are counted.
+void header_section(std::ostringstream& md, const ComparisonResult& r, const RunInfo& info,
+                    const ComparisonOptions& options) {
   md << "# evaluate-net report: " << to_string(r.surface) << "\n\n";
   md << "- command: `" << info.command_line << "`\n";
   for (const EvaluatedNetwork& n : r.networks) md << "- network `" << n.name << "`: " << n.summary << "\n";
@@ -197,8 +195,13 @@ std::string comparison_markdown(const ComparisonResult& r, const RunInfo& info,
         "rows whose "
         "estimate lies inside the segment, and whose status is not outside, exactly when the reference's "
         "does.\n\n";
+}
 
-  // ---- Per set: the frontier ------------------------------------------------------------------------
+/// report.md: per set: every method's accuracy and speed, and the fastest method at each accuracy level.
+void set_tables_section(std::ostringstream& md, const ComparisonResult& r, const ComparisonOptions& options) {
+  const auto names = coordinate_names(r.surface);
+  const std::string c0(names[0]), c1(names[1]);
+  const int threads = std::max(1, options.timing_threads);
   for (const SetResult& s : r.sets) {
     md << "## Set `" << s.name << "`: every method\n\n";
     if (s.timed) {
@@ -239,8 +242,13 @@ std::string comparison_markdown(const ComparisonResult& r, const RunInfo& info,
     }
     md << "\n";
   }
+}
 
-  // ---- The paper's Table 1 (every network alone, every set) and figures (first network) -------------------
+/// report.md: the paper's Table 1 (every network alone, every set) and its error histograms (first network).
+void table1_section(std::ostringstream& md, const ComparisonResult& r) {
+  const auto names = coordinate_names(r.surface);
+  const std::string c0(names[0]), c1(names[1]);
+  const bool bilinear = r.surface == SurfaceKind::kBilinear;
   const std::string first_network = r.histogram_method;
   if (!first_network.empty()) {
     md << "## Table 1 style: every network alone\n\n";
@@ -277,8 +285,14 @@ std::string comparison_markdown(const ComparisonResult& r, const RunInfo& info,
          << ". A value on an inner bin edge counts in the bin to its right.\n\n";
     }
   }
+}
 
-  // ---- The paper's statements, first set -----------------------------------------------------------------
+/// report.md: the paper's statements beside the measurements, first set; Newton's time against its steps.
+void paper_statements_section(std::ostringstream& md, const ComparisonResult& r) {
+  const auto names = coordinate_names(r.surface);
+  const std::string c0(names[0]), c1(names[1]);
+  const bool bilinear = r.surface == SurfaceKind::kBilinear;
+  const std::string first_network = r.histogram_method;
   const SetResult& first = r.sets.front();
   md << "## The paper's statements beside the measurements (set `" << first.name << "`)\n\n";
   md << "| paper | statement | measured here |\n|---|---|---|\n";
@@ -362,8 +376,12 @@ std::string comparison_markdown(const ComparisonResult& r, const RunInfo& info,
     }
     md << "\n";
   }
+}
 
-  // ---- Iterations --------------------------------------------------------------------------------------
+/// report.md: newton iteration counts of the labels and of plain Newton, first set.
+void iteration_counts_section(std::ostringstream& md, const ComparisonResult& r,
+                              const ComparisonOptions& options) {
+  const SetResult& first = r.sets.front();
   if (!first.label_iterations.empty()) {
     md << "## Newton iteration counts (set `" << first.name << "`)\n\n";
     md << "Labels (iterations of the reference solver's start that produced the label), rows with status "
@@ -378,8 +396,11 @@ std::string comparison_markdown(const ComparisonResult& r, const RunInfo& info,
     iteration_table(md, first.newton_iterations, first.rows);
     md << "\n";
   }
+}
 
-  // ---- Machine --------------------------------------------------------------------------------------
+/// report.md: the machine, the build and the effective configuration.
+void machine_section(std::ostringstream& md, const RunInfo& info, const ComparisonOptions& options) {
+  const int threads = std::max(1, options.timing_threads);
   md << "## Machine and build\n\n";
   md << "- CPU: " << info.cpu_model << ", " << info.hardware_threads << " hardware threads\n";
   md << "- accuracy part: " << info.accuracy_threads << " OpenMP threads; timing: 1 and " << threads
@@ -387,6 +408,19 @@ std::string comparison_markdown(const ComparisonResult& r, const RunInfo& info,
   md << "- compiler: " << info.compiler << "\n- build type: " << info.build_type << "\n- flags: `"
      << info.cxx_flags << "`\n\n";
   md << "## Effective configuration\n\n```toml\n" << info.effective_config << "```\n";
+}
+
+}  // namespace
+
+std::string comparison_markdown(const ComparisonResult& r, const RunInfo& info,
+                                const ComparisonOptions& options) {
+  std::ostringstream md;
+  header_section(md, r, info, options);
+  set_tables_section(md, r, options);
+  table1_section(md, r);
+  paper_statements_section(md, r);
+  iteration_counts_section(md, r, options);
+  machine_section(md, info, options);
   return md.str();
 }
 
