@@ -1,5 +1,5 @@
-// Tests of lib/eval/timing (the harness's bookkeeping, never its speed), study and report: a study of a
-// stand-in predictor on a small hand-built dataset writes every file and lists every method.
+// Tests of lib/eval/timing (the harness's bookkeeping, never its speed), method_comparison and report: a
+// comparison of a stand-in predictor on a small hand-built dataset writes every file and lists every method.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
