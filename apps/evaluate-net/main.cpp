@@ -20,6 +20,8 @@
 //   --output /tmp/p.csv
 //                --newton-steps 2
 //   evaluate-net --plan /tmp/hertz-study/plan.toml --input /tmp/hertz-pairs.csv --output /tmp/p.csv
+//   evaluate-net --frontier reports/frontier/bilinear --frontier_json /tmp/ranking.json
+//                --frontier_svg /tmp/frontier.svg --frontier_label bilinear="bilinear, grid"
 //
 // Writes:
 //   report mode: DIR/errors.csv, DIR/speed.csv, DIR/hist_<xi|eta|u|v>.csv and .svg, DIR/report.md,
@@ -34,6 +36,9 @@
 //                pairs row without coordinates): values empty. Rows are streamed in chunks (bounded memory).
 //                With --plan: the same columns for the plan's method (search/local_search.hpp lists the
 //                statuses of each); the plan's surface decides the columns read (SPEC 6).
+//   frontier mode: a finished report's methods ranked (lib/eval/ranking.hpp: the effective mean error,
+//                the fastest method at each accuracy level, the Pareto front) as JSON (--frontier_json), and
+//                plotted (--frontier_svg, lib/eval/frontier_plot.hpp); what scripts/frontier reads.
 #include <omp.h>
 
 #include <cstdio>
@@ -45,8 +50,10 @@
 #include "build_info.hpp"
 #include "cli_support.hpp"
 #include "core/error.hpp"
+#include "eval/frontier_plot.hpp"
+#include "eval/method_comparison.hpp"
+#include "eval/ranking.hpp"
 #include "eval/report.hpp"
-#include "eval/study.hpp"
 #include "io/atomic_output.hpp"
 #include "io/csv.hpp"
 #include "io/dataset_file.hpp"
@@ -67,10 +74,12 @@ const std::initializer_list<std::string> kReportFiles = {
     "errors.csv",  "speed.csv",    "hist_xi.csv", "hist_eta.csv", "hist_u.csv", "hist_v.csv",
     "hist_xi.svg", "hist_eta.svg", "hist_u.svg",  "hist_v.svg",   "report.md",  "evaluate-net.config.toml"};
 
-/// The files and switches of one run (every numeric setting lives in eval::StudyOptions).
+/// The files and switches of one run (every numeric setting lives in eval::ComparisonOptions).
 struct Paths {
   std::vector<std::string> weights, data, pairs;
   std::string report, input, output, plan;
+  std::string frontier, frontier_json, frontier_svg;
+  std::vector<std::string> frontier_labels;  ///< SET=TEXT
   int newton_steps = 0;
   bool quiet = false;
   std::string command_line;
@@ -172,7 +181,7 @@ int input_mode(SurfaceKind kind, const search::Method& method, const search::Net
 }
 
 int report_mode(const std::vector<LoadedNetwork>& networks, const Paths& paths,
-                const eval::StudyOptions& options, const std::string& effective_config,
+                const eval::ComparisonOptions& options, const std::string& effective_config,
                 io::AtomicDirectory& report) {
   // 1. The sets, each of the networks' surface (the first set's when there is no network).
   std::vector<eval::EvaluationSet> sets;
@@ -203,7 +212,7 @@ int report_mode(const std::vector<LoadedNetwork>& networks, const Paths& paths,
     if (!paths.quiet)
       std::fprintf(stderr, "evaluate-net: %.*s\n", static_cast<int>(line.size()), line.data());
   };
-  const eval::StudyResult result = eval::run_study(sets, evaluated, options, log);
+  const eval::ComparisonResult result = eval::compare_methods(sets, evaluated, options, log);
 
   // 3. Provenance and the report files, written into a temporary directory and put in place whole: an
   //    interrupted or failed run leaves the previous report as it was, never half of each.
@@ -242,20 +251,39 @@ int report_mode(const std::vector<LoadedNetwork>& networks, const Paths& paths,
   return 0;
 }
 
-}  // namespace
+/// Frontier mode: the methods of a finished report (DIR/errors.csv, DIR/speed.csv) ranked as JSON and
+/// plotted, one panel per set, titled "LABEL: SET (ROWS queries)" (the label from --frontier_label, if any).
+int frontier_mode(const Paths& paths) {
+  const eval::ComparisonResult result = eval::read_report_tables(paths.frontier);
+  std::vector<std::pair<std::string, std::string>> labels;
+  for (const std::string& item : paths.frontier_labels) {
+    const auto eq = item.find('=');
+    CONTACTNN_REQUIRE_AS(InvalidArgument, eq != std::string::npos && eq > 0,
+                         "--frontier_label '" << item << "': expected SET=TEXT");
+    labels.emplace_back(item.substr(0, eq), item.substr(eq + 1));
+  }
+  if (!paths.frontier_json.empty()) {
+    io::write_text_atomically(paths.frontier_json, eval::ranking_json(result));
+  }
+  if (!paths.frontier_svg.empty()) {
+    std::vector<eval::FrontierPanel> panels;
+    for (const eval::SetResult& s : result.sets) {
+      std::string title = s.name + " (" + std::to_string(s.errors.front().stats[0].rows) + " queries)";
+      for (const auto& [set, text] : labels) {
+        if (set == s.name) title = text + ": " + title;
+      }
+      panels.push_back({title, eval::frontier_points(s, result.surface)});
+    }
+    io::write_text_atomically(paths.frontier_svg, eval::frontier_svg(panels));
+  }
+  std::printf("evaluate-net: %zu set(s) of %s ranked%s%s\n", result.sets.size(), paths.frontier.c_str(),
+              paths.frontier_json.empty() ? "" : (" -> " + paths.frontier_json).c_str(),
+              paths.frontier_svg.empty() ? "" : (" -> " + paths.frontier_svg).c_str());
+  return 0;
+}
 
-int main(int argc, char** argv) {
-  using namespace contactnn;
-  CLI::App app{
-      "evaluate-net: apply trained networks; measure every local-search method's accuracy and speed"};
-  cli::add_exit_code_footer(app);
-  cli::add_config_option(app, "evaluate-net");
-
-  // 1. Options. Every default lives in eval::StudyOptions and search::SearchOptions; flags only map onto
-  // them.
-  eval::StudyOptions options;
-  Paths paths;
-  int threads = 0;
+/// The options naming files, and the modes they select (docs/tools.md, "evaluate-net").
+void add_file_options(CLI::App& app, Paths& paths) {
   app.add_option(
          "--weights", paths.weights,
          "network file of train-net (.h5); report mode: repeat for several networks, each with its methods")
@@ -287,11 +315,34 @@ int main(int argc, char** argv) {
   steps->needs(input);
   plan->needs(input)->excludes(steps)->excludes(app.get_option("--weights"));
   input->excludes(data)->excludes(pairs)->excludes(report);
+}
+
+/// Frontier mode's options, after every other (the effective config keeps its order of keys).
+void add_frontier_options(CLI::App& app, Paths& paths) {
+  auto* frontier = app.add_option("--frontier", paths.frontier,
+                                  "frontier mode: a finished report directory (errors.csv, speed.csv) whose "
+                                  "methods are ranked and plotted")
+                       ->check(CLI::ExistingDirectory);
+  auto* json = app.add_option("--frontier_json", paths.frontier_json, "frontier mode: the ranking (.json)");
+  auto* svg = app.add_option("--frontier_svg", paths.frontier_svg, "frontier mode: the plot (.svg)");
+  auto* label = app.add_option("--frontier_label", paths.frontier_labels,
+                               "frontier mode: SET=TEXT, the start of set SET's panel title; repeatable");
+  json->needs(frontier);
+  svg->needs(frontier);
+  label->needs(svg);
+  for (const char* other : {"--data", "--pairs", "--report", "--input", "--plan", "--weights"}) {
+    frontier->excludes(app.get_option(other));
+  }
+}
+
+/// The comparison's settings: every default lives in eval::ComparisonOptions and search::SearchOptions;
+/// flags only map onto them.
+void add_comparison_options(CLI::App& app, eval::ComparisonOptions& options, int& threads, bool& quiet) {
   app.add_option(
          "--methods", options.methods,
          "report mode: comma-separated search methods (network, newton:K, newton, closed_form, "
-         "network+newton:K, closed_form+newton:K, start+newton:K with --start_offset); empty: the default "
-         "list")
+         "network+newton:K, closed_form+newton:K, start+newton:K with --start_offset; default: the default "
+         "list); empty: the default list")
       ->default_str("");
   app.add_option(
          "--start_offset", options.start_offset,
@@ -301,7 +352,7 @@ int main(int argc, char** argv) {
   app.add_option("--threads", threads,
                  "OpenMP threads of the accuracy part and input mode (0: OpenMP's default)")
       ->transform(cli::integer_in(0, cli::kMaxThreads));
-  app.add_flag("--quiet", paths.quiet, "no progress lines");
+  app.add_flag("--quiet", quiet, "no progress lines");
   app.add_option("--seed", options.seed, "seed of the placements and the timing sample")
       ->transform(cli::integer_in(0, cli::kMaxSeed));
   app.add_option("--random_placement", options.random_placement,
@@ -333,85 +384,137 @@ int main(int argc, char** argv) {
   app.add_option("--timing_warmup_passes", options.timing_options.warmup_passes,
                  "untimed passes per method first")
       ->transform(cli::integer_in(0, 100));
+}
+
+/// The mode the files ask for, checked: InvalidArgument for none or a mix.
+void check_mode(const Paths& paths) {
+  const bool report_mode_asked = !paths.data.empty() || !paths.pairs.empty();
+  CONTACTNN_REQUIRE_AS(
+      InvalidArgument,
+      !paths.input.empty() || (report_mode_asked && !paths.report.empty()) || !paths.frontier.empty(),
+      "give either --data DATASET.h5 and/or --pairs PAIRS.csv with --report DIR (report mode), or "
+      "--input RAW.csv --output PRED.csv (input mode), or --frontier DIR (frontier mode)");
+  CONTACTNN_REQUIRE_AS(InvalidArgument, paths.report.empty() || report_mode_asked,
+                       "--report needs --data or --pairs");
+  CONTACTNN_REQUIRE_AS(InvalidArgument,
+                       paths.input.empty() || paths.weights.size() == 1 || !paths.plan.empty(),
+                       "input mode applies one network or a plan: give exactly one --weights (got "
+                           << paths.weights.size() << ") or --plan");
+  CONTACTNN_REQUIRE_AS(InvalidArgument,
+                       paths.frontier.empty() || !paths.frontier_json.empty() || !paths.frontier_svg.empty(),
+                       "--frontier needs --frontier_json FILE and/or --frontier_svg FILE");
+}
+
+/// No output may be an input, and a report directory is replaced only if it holds nothing but an earlier
+/// report (both checked before any work): the report directory to write into, or null.
+std::unique_ptr<io::AtomicDirectory> check_outputs(const CLI::App& app, const Paths& paths) {
+  std::vector<io::OutputDirectory> directories;
+  if (!paths.report.empty()) directories.push_back({"--report", paths.report, kReportFiles, true});
+  std::vector<io::NamedPath> inputs = {{"--input", paths.input},
+                                       {"--config", cli::config_path(app)},
+                                       {"--plan", paths.plan},
+                                       {"--frontier", paths.frontier}};
+  for (const auto& w : paths.weights) inputs.push_back({"--weights", w});
+  for (const auto& d : paths.data) inputs.push_back({"--data", d});
+  for (const auto& p : paths.pairs) inputs.push_back({"--pairs", p});
+  io::require_outputs({{"--output", paths.output},
+                       {"--frontier_json", paths.frontier_json},
+                       {"--frontier_svg", paths.frontier_svg}},
+                      directories, inputs);
+  if (paths.report.empty()) return nullptr;
+  return std::make_unique<io::AtomicDirectory>(paths.report, kReportFiles, "--report");
+}
+
+/// Input mode with a plan: its method, and its network (a path relative to the plan) read in the precision
+/// it was trained in.
+int plan_mode(const Paths& paths) {
+  const io::ScenePlan scene_plan = io::read_plan(paths.plan);
+  const std::filesystem::path network_path = io::plan_network_path(scene_plan, paths.plan);
+  std::optional<LoadedNetwork> network;
+  if (!network_path.empty()) {
+    network = load_network(network_path.string());
+    CONTACTNN_REQUIRE_AS(FormatError, network->model->surface() == scene_plan.surface,
+                         "'" << network_path.string() << "' is a " << to_string(network->model->surface())
+                             << " network, the plan '" << paths.plan << "' is for "
+                             << to_string(scene_plan.surface) << " surfaces");
+  }
+  return input_mode(scene_plan.surface, search::Method::parse(scene_plan.method),
+                    network ? network->model.get() : nullptr, paths);
+}
+
+/// The networks, each in the precision it was trained in; names (file stems) must differ, surfaces agree.
+std::vector<LoadedNetwork> load_networks(const Paths& paths) {
+  std::vector<LoadedNetwork> networks;
+  for (const std::string& w : paths.weights) {
+    networks.push_back(load_network(w));
+    for (std::size_t k = 0; k + 1 < networks.size(); ++k) {
+      CONTACTNN_REQUIRE_AS(InvalidArgument, networks[k].name != networks.back().name,
+                           "two networks named '" << networks.back().name << "' (" << networks[k].path << ", "
+                                                  << w << "): their methods would share names");
+      CONTACTNN_REQUIRE_AS(FormatError, networks[k].model->surface() == networks.back().model->surface(),
+                           "'" << w << "' is a " << to_string(networks.back().model->surface())
+                               << " network, '" << networks[k].path << "' a "
+                               << to_string(networks[k].model->surface()) << " one");
+    }
+  }
+  return networks;
+}
+
+/// The sets are named by their file stems in every table: InvalidArgument when two share one.
+void check_set_names(const Paths& paths) {
+  std::vector<std::string> sets = paths.data;
+  sets.insert(sets.end(), paths.pairs.begin(), paths.pairs.end());
+  for (std::size_t i = 0; i < sets.size(); ++i) {
+    for (std::size_t k = 0; k < i; ++k) {
+      CONTACTNN_REQUIRE_AS(
+          InvalidArgument, std::filesystem::path(sets[k]).stem() != std::filesystem::path(sets[i]).stem(),
+          "two sets named '" << std::filesystem::path(sets[i]).stem().string() << "' (" << sets[k] << ", "
+                             << sets[i] << "): their rows in the report would share a name");
+    }
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  using namespace contactnn;
+  CLI::App app{
+      "evaluate-net: apply trained networks; measure every local-search method's accuracy and speed"};
+  cli::add_exit_code_footer(app);
+  cli::add_config_option(app, "evaluate-net");
+
+  // 1. Options: files and modes, the comparison's settings, frontier mode's files.
+  eval::ComparisonOptions options;
+  Paths paths;
+  int threads = 0;
+  add_file_options(app, paths);
+  add_comparison_options(app, options, threads, paths.quiet);
+  add_frontier_options(app, paths);
 
   return cli::run(app, argc, argv, [&]() -> int {
-    // 2. Mode and threads; no output may be an input, and a report directory is replaced only if it holds
-    //    nothing but an earlier report (both checked before any work).
-    const bool report_mode_asked = !paths.data.empty() || !paths.pairs.empty();
-    CONTACTNN_REQUIRE_AS(
-        InvalidArgument, !paths.input.empty() || (report_mode_asked && !paths.report.empty()),
-        "give either --data DATASET.h5 and/or --pairs PAIRS.csv with --report DIR (report mode), or "
-        "--input RAW.csv --output PRED.csv (input mode)");
-    CONTACTNN_REQUIRE_AS(InvalidArgument, paths.report.empty() || report_mode_asked,
-                         "--report needs --data or --pairs");
-    CONTACTNN_REQUIRE_AS(InvalidArgument,
-                         paths.input.empty() || paths.weights.size() == 1 || !paths.plan.empty(),
-                         "input mode applies one network or a plan: give exactly one --weights (got "
-                             << paths.weights.size() << ") or --plan");
+    // 2. Mode, threads and outputs, checked before any work.
+    check_mode(paths);
     if (threads > 0) omp_set_num_threads(threads);
     paths.command_line = join_command_line(argc, argv);
     const std::string effective = cli::effective_config(app, "evaluate-net");
-    std::vector<io::OutputDirectory> directories;
-    if (!paths.report.empty()) directories.push_back({"--report", paths.report, kReportFiles, true});
-    std::vector<io::NamedPath> inputs = {
-        {"--input", paths.input}, {"--config", cli::config_path(app)}, {"--plan", paths.plan}};
-    for (const auto& w : paths.weights) inputs.push_back({"--weights", w});
-    for (const auto& d : paths.data) inputs.push_back({"--data", d});
-    for (const auto& p : paths.pairs) inputs.push_back({"--pairs", p});
-    io::require_outputs({{"--output", paths.output}}, directories, inputs);
-    std::unique_ptr<io::AtomicDirectory> report_directory;
-    if (!paths.report.empty()) {
-      report_directory = std::make_unique<io::AtomicDirectory>(paths.report, kReportFiles, "--report");
-    }
+    const std::unique_ptr<io::AtomicDirectory> report_directory = check_outputs(app, paths);
 
-    // 3. A plan: its method, and its network (a path relative to the plan) read in the precision it was
-    // trained
-    //    in; input mode.
-    if (!paths.plan.empty()) {
-      const io::ScenePlan scene_plan = io::read_plan(paths.plan);
-      const std::filesystem::path network_path = io::plan_network_path(scene_plan, paths.plan);
-      std::optional<LoadedNetwork> network;
-      if (!network_path.empty()) {
-        network = load_network(network_path.string());
-        CONTACTNN_REQUIRE_AS(FormatError, network->model->surface() == scene_plan.surface,
-                             "'" << network_path.string() << "' is a " << to_string(network->model->surface())
-                                 << " network, the plan '" << paths.plan << "' is for "
-                                 << to_string(scene_plan.surface) << " surfaces");
-      }
-      return input_mode(scene_plan.surface, search::Method::parse(scene_plan.method),
-                        network ? network->model.get() : nullptr, paths);
-    }
+    // 3. Frontier mode: a finished report ranked and plotted.
+    if (!paths.frontier.empty()) return frontier_mode(paths);
 
-    // 4. The networks, each in the precision it was trained in; names (file stems) must differ.
-    std::vector<LoadedNetwork> networks;
-    for (const std::string& w : paths.weights) {
-      networks.push_back(load_network(w));
-      for (std::size_t k = 0; k + 1 < networks.size(); ++k) {
-        CONTACTNN_REQUIRE_AS(InvalidArgument, networks[k].name != networks.back().name,
-                             "two networks named '" << networks.back().name << "' (" << networks[k].path
-                                                    << ", " << w << "): their methods would share names");
-        CONTACTNN_REQUIRE_AS(FormatError, networks[k].model->surface() == networks.back().model->surface(),
-                             "'" << w << "' is a " << to_string(networks.back().model->surface())
-                                 << " network, '" << networks[k].path << "' a "
-                                 << to_string(networks[k].model->surface()) << " one");
-      }
-    }
+    // 4. A plan: input mode with its method (and network).
+    if (!paths.plan.empty()) return plan_mode(paths);
+
+    // 5. The networks; input mode with the one given.
+    const std::vector<LoadedNetwork> networks = load_networks(paths);
     if (!paths.input.empty()) {
       search::Method method = search::Method::parse("network");
       method.newton_steps = paths.newton_steps;
       return input_mode(networks.front().model->surface(), method, networks.front().model.get(), paths);
     }
-    // The sets are named by their file stems in every table: they must differ too.
-    std::vector<std::string> sets = paths.data;
-    sets.insert(sets.end(), paths.pairs.begin(), paths.pairs.end());
-    for (std::size_t i = 0; i < sets.size(); ++i) {
-      for (std::size_t k = 0; k < i; ++k) {
-        CONTACTNN_REQUIRE_AS(
-            InvalidArgument, std::filesystem::path(sets[k]).stem() != std::filesystem::path(sets[i]).stem(),
-            "two sets named '" << std::filesystem::path(sets[i]).stem().string() << "' (" << sets[k] << ", "
-                               << sets[i] << "): their rows in the report would share a name");
-      }
-    }
+
+    // 6. Report mode: every method on every set, compared.
+    check_set_names(paths);
     return report_mode(networks, paths, options, effective, *report_directory);
   });
 }

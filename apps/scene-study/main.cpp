@@ -156,8 +156,8 @@ int run_face_mode(const std::string& scene_path, int pair, search::FaceKind kind
   const fs::path dir(output);
   io::require_outputs({}, {{"--output", dir, {"report.md", "face-network.h5"}}}, inputs);
   if (check_only) return 0;
-  const auto say = [&](const std::string& line) {
-    if (!quiet) std::printf("  %s\n", line.c_str()), std::fflush(stdout);
+  const auto say = [&](std::string_view line) {
+    if (!quiet) std::printf("  %.*s\n", static_cast<int>(line.size()), line.data()), std::fflush(stdout);
   };
   if (general_curvature >= 0.0) {
     // The general network: the best size's network is written, whatever the choice (it is what data/weights
@@ -397,8 +397,8 @@ int main(int argc, char** argv) {
     if (check_only) return 0;
     const std::string config =
         cli::effective_config(app, "scene-study", {"output", "threads", "quiet", "check"});
-    const auto say = [&](const std::string& line) {
-      if (!quiet) std::printf("  %s\n", line.c_str()), std::fflush(stdout);
+    const auto say = [&](std::string_view line) {
+      if (!quiet) std::printf("  %.*s\n", static_cast<int>(line.size()), line.data()), std::fflush(stdout);
     };
     if (!quiet) std::printf("scene-study: %s pair %d, %s\n", scene_path.c_str(), pair, surface_name.c_str());
 

@@ -27,18 +27,11 @@ ErrorStatistics summarize_errors(std::span<const double> signed_errors,
   std::vector<double> abs_errors;
   abs_errors.reserve(signed_errors.size());
   long double sum = 0.0L, sum_abs = 0.0L;
-  for (std::size_t i = 0; i < signed_errors.size(); ++i) {
-    if (failed[i] != 0) {
-      ++s.failures;
-      continue;
-    }
-    const double e = signed_errors[i];
-    CONTACTNN_REQUIRE_AS(NumericalError, std::isfinite(e),
-                         "summarize_errors: row " << i << " is not marked failed but its error is " << e);
+  s.failures = for_each_kept(signed_errors, failed, "summarize_errors", "error", [&](std::size_t, double e) {
     sum += e;
     sum_abs += std::abs(e);
     abs_errors.push_back(std::abs(e));
-  }
+  });
   s.n = static_cast<std::int64_t>(abs_errors.size());
   if (s.n == 0) return s;
   const auto n = static_cast<long double>(s.n);

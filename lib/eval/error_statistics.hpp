@@ -2,11 +2,34 @@
 // the numbers of the paper's Table 1 and of evaluate-net's errors.csv.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <span>
 #include <vector>
 
+#include "core/error.hpp"
+
 namespace contactnn::eval {
+
+/// Calls use(i, value) for every row i whose `failed` flag is 0, and returns how many rows are flagged. A row
+/// not flagged whose value is not finite is a caller bug: NumericalError "WHO: row I is not marked failed but
+/// its WHAT is VALUE" (a NaN is never counted in silently).
+template <class Use>
+std::int64_t for_each_kept(std::span<const double> values, std::span<const std::uint8_t> failed,
+                           const char* who, const char* what, Use&& use) {
+  std::int64_t flagged = 0;
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    if (failed[i] != 0) {
+      ++flagged;
+      continue;
+    }
+    CONTACTNN_REQUIRE_AS(
+        NumericalError, std::isfinite(values[i]),
+        who << ": row " << i << " is not marked failed but its " << what << " is " << values[i]);
+    use(i, values[i]);
+  }
+  return flagged;
+}
 
 /// Statistics over the rows that are not failures. With n = 0 every statistic is 0 (never NaN).
 struct ErrorStatistics {

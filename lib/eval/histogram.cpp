@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "core/error.hpp"
+#include "eval/error_statistics.hpp"
 #include "io/csv.hpp"
 
 namespace contactnn::eval {
@@ -44,14 +45,7 @@ Histogram make_histogram(std::span<const double> values, std::span<const std::ui
   h.lo = lo;
   h.hi = hi;
   h.counts.assign(static_cast<std::size_t>(bins), 0);
-  for (std::size_t i = 0; i < values.size(); ++i) {
-    if (failed[i] != 0) {
-      ++h.excluded;
-      continue;
-    }
-    const double x = values[i];
-    CONTACTNN_REQUIRE_AS(NumericalError, std::isfinite(x),
-                         "make_histogram: row " << i << " is not marked failed but its value is " << x);
+  h.excluded = for_each_kept(values, failed, "make_histogram", "value", [&](std::size_t, double x) {
     const int k = h.bin_of(x);
     if (k < 0) {
       ++h.underflow;
@@ -60,7 +54,7 @@ Histogram make_histogram(std::span<const double> values, std::span<const std::ui
     } else {
       ++h.counts[static_cast<std::size_t>(k)];
     }
-  }
+  });
   return h;
 }
 

@@ -27,13 +27,6 @@ std::string pct(double part, double whole) {
 }
 std::string num(std::int64_t x) { return std::to_string(x); }
 
-const MethodTiming* find_timing(const SetResult& r, const std::string& name) {
-  for (const MethodTiming& t : r.timings) {
-    if (t.method == name) return &t;
-  }
-  return nullptr;
-}
-
 const MethodErrors* find_errors(const SetResult& r, const std::string& name) {
   for (const MethodErrors& m : r.errors) {
     if (m.method == name) return &m;
@@ -62,8 +55,6 @@ std::int64_t count_above(const std::vector<std::int64_t>& counts, std::size_t k)
   return sum;
 }
 
-constexpr std::array<double, 7> kAccuracyLevels = {0.1, 0.03, 0.01, 0.003, 1e-3, 1e-4, 1e-8};
-
 }  // namespace
 
 std::string cpu_model() {
@@ -81,33 +72,7 @@ std::string cpu_model() {
   return "unknown";
 }
 
-double effective_mean_error(const MethodErrors& m, SurfaceKind kind) {
-  const ParamDomain d = param_domain(kind);
-  const double width = d.hi - d.lo;
-  double worst = 0.0;
-  for (const ErrorStatistics& s : m.stats) {
-    const double n = static_cast<double>(s.n), failures = static_cast<double>(m.failures_method);
-    if (n + failures <= 0.0) continue;
-    worst = std::max(worst, (s.mean_abs * n + failures * width) / (n + failures));
-  }
-  return worst;
-}
-
-const MethodErrors* fastest_within(const SetResult& set, SurfaceKind kind, double level) {
-  const MethodErrors* best = nullptr;
-  double best_ns = 0.0;
-  for (const MethodErrors& m : set.errors) {
-    const MethodTiming* t = find_timing(set, m.method);
-    if (t == nullptr || !(effective_mean_error(m, kind) <= level)) continue;
-    if (best == nullptr || t->batched.median_ns < best_ns) {
-      best = &m;
-      best_ns = t->batched.median_ns;
-    }
-  }
-  return best;
-}
-
-std::string errors_csv(const StudyResult& result) {
+std::string errors_csv(const ComparisonResult& result) {
   std::string out;
   io::append_csv_row(out, {"set",
                            "method",
@@ -160,7 +125,7 @@ std::string errors_csv(const StudyResult& result) {
   return out;
 }
 
-std::string speed_csv(const StudyResult& result) {
+std::string speed_csv(const ComparisonResult& result) {
   std::string out;
   io::append_csv_row(
       out, {"set", "method", "queries", "repetitions", "one_ns", "one_min_ns", "batched_ns", "batched_min_ns",
@@ -182,12 +147,11 @@ std::string speed_csv(const StudyResult& result) {
   return out;
 }
 
-std::string report_markdown(const StudyResult& r, const RunInfo& info, const StudyOptions& options) {
-  const auto names = coordinate_names(r.surface);
-  const std::string c0(names[0]), c1(names[1]);
-  const bool bilinear = r.surface == SurfaceKind::kBilinear;
-  const int threads = std::max(1, options.timing_threads);
-  std::ostringstream md;
+namespace {
+
+/// report.md: the title, the command, the networks and sets, and how errors and failures are counted.
+void header_section(std::ostringstream& md, const ComparisonResult& r, const RunInfo& info,
+                    const ComparisonOptions& options) {
   md << "# evaluate-net report: " << to_string(r.surface) << "\n\n";
   md << "- command: `" << info.command_line << "`\n";
   for (const EvaluatedNetwork& n : r.networks) md << "- network `" << n.name << "`: " << n.summary << "\n";
@@ -231,8 +195,13 @@ std::string report_markdown(const StudyResult& r, const RunInfo& info, const Stu
         "rows whose "
         "estimate lies inside the segment, and whose status is not outside, exactly when the reference's "
         "does.\n\n";
+}
 
-  // ---- Per set: the frontier ------------------------------------------------------------------------
+/// report.md: per set: every method's accuracy and speed, and the fastest method at each accuracy level.
+void set_tables_section(std::ostringstream& md, const ComparisonResult& r, const ComparisonOptions& options) {
+  const auto names = coordinate_names(r.surface);
+  const std::string c0(names[0]), c1(names[1]);
+  const int threads = std::max(1, options.timing_threads);
   for (const SetResult& s : r.sets) {
     md << "## Set `" << s.name << "`: every method\n\n";
     if (s.timed) {
@@ -273,8 +242,13 @@ std::string report_markdown(const StudyResult& r, const RunInfo& info, const Stu
     }
     md << "\n";
   }
+}
 
-  // ---- The paper's Table 1 (every network alone, every set) and figures (first network) -------------------
+/// report.md: the paper's Table 1 (every network alone, every set) and its error histograms (first network).
+void table1_section(std::ostringstream& md, const ComparisonResult& r) {
+  const auto names = coordinate_names(r.surface);
+  const std::string c0(names[0]), c1(names[1]);
+  const bool bilinear = r.surface == SurfaceKind::kBilinear;
   const std::string first_network = r.histogram_method;
   if (!first_network.empty()) {
     md << "## Table 1 style: every network alone\n\n";
@@ -311,8 +285,14 @@ std::string report_markdown(const StudyResult& r, const RunInfo& info, const Stu
          << ". A value on an inner bin edge counts in the bin to its right.\n\n";
     }
   }
+}
 
-  // ---- The paper's statements, first set -----------------------------------------------------------------
+/// report.md: the paper's statements beside the measurements, first set; Newton's time against its steps.
+void paper_statements_section(std::ostringstream& md, const ComparisonResult& r) {
+  const auto names = coordinate_names(r.surface);
+  const std::string c0(names[0]), c1(names[1]);
+  const bool bilinear = r.surface == SurfaceKind::kBilinear;
+  const std::string first_network = r.histogram_method;
   const SetResult& first = r.sets.front();
   md << "## The paper's statements beside the measurements (set `" << first.name << "`)\n\n";
   md << "| paper | statement | measured here |\n|---|---|---|\n";
@@ -396,8 +376,12 @@ std::string report_markdown(const StudyResult& r, const RunInfo& info, const Stu
     }
     md << "\n";
   }
+}
 
-  // ---- Iterations --------------------------------------------------------------------------------------
+/// report.md: newton iteration counts of the labels and of plain Newton, first set.
+void iteration_counts_section(std::ostringstream& md, const ComparisonResult& r,
+                              const ComparisonOptions& options) {
+  const SetResult& first = r.sets.front();
   if (!first.label_iterations.empty()) {
     md << "## Newton iteration counts (set `" << first.name << "`)\n\n";
     md << "Labels (iterations of the reference solver's start that produced the label), rows with status "
@@ -412,8 +396,11 @@ std::string report_markdown(const StudyResult& r, const RunInfo& info, const Stu
     iteration_table(md, first.newton_iterations, first.rows);
     md << "\n";
   }
+}
 
-  // ---- Machine --------------------------------------------------------------------------------------
+/// report.md: the machine, the build and the effective configuration.
+void machine_section(std::ostringstream& md, const RunInfo& info, const ComparisonOptions& options) {
+  const int threads = std::max(1, options.timing_threads);
   md << "## Machine and build\n\n";
   md << "- CPU: " << info.cpu_model << ", " << info.hardware_threads << " hardware threads\n";
   md << "- accuracy part: " << info.accuracy_threads << " OpenMP threads; timing: 1 and " << threads
@@ -421,11 +408,24 @@ std::string report_markdown(const StudyResult& r, const RunInfo& info, const Stu
   md << "- compiler: " << info.compiler << "\n- build type: " << info.build_type << "\n- flags: `"
      << info.cxx_flags << "`\n\n";
   md << "## Effective configuration\n\n```toml\n" << info.effective_config << "```\n";
+}
+
+}  // namespace
+
+std::string comparison_markdown(const ComparisonResult& r, const RunInfo& info,
+                                const ComparisonOptions& options) {
+  std::ostringstream md;
+  header_section(md, r, info, options);
+  set_tables_section(md, r, options);
+  table1_section(md, r);
+  paper_statements_section(md, r);
+  iteration_counts_section(md, r, options);
+  machine_section(md, info, options);
   return md.str();
 }
 
-void write_report(const std::filesystem::path& directory, const StudyResult& result, const RunInfo& info,
-                  const StudyOptions& options) {
+void write_report(const std::filesystem::path& directory, const ComparisonResult& result, const RunInfo& info,
+                  const ComparisonOptions& options) {
   std::error_code ec;
   std::filesystem::create_directories(directory, ec);
   CONTACTNN_REQUIRE_AS(IoError, !ec,
@@ -447,7 +447,7 @@ void write_report(const std::filesystem::path& directory, const StudyResult& res
                                 histogram_svg(result.histograms[c], labels));
     }
   }
-  io::write_text_atomically(directory / "report.md", report_markdown(result, info, options));
+  io::write_text_atomically(directory / "report.md", comparison_markdown(result, info, options));
 }
 
 }  // namespace contactnn::eval

@@ -1,16 +1,17 @@
-// Writing a study out: errors.csv, speed.csv, hist_<coordinate>.csv/.svg and report.md (per set: every
-// method's accuracy and speed side by side, the fastest method at each accuracy level; the paper's Table 1,
-// Figs 4, 10 and 11 and the statements of Sections 5.3 and 6.3.3 beside the measured numbers).
+// Writing a method comparison out: errors.csv, speed.csv, hist_<coordinate>.csv/.svg and report.md (per set:
+// every method's accuracy and speed side by side, the fastest method at each accuracy level; the paper's
+// Table 1, Figs 4, 10 and 11 and the statements of Sections 5.3 and 6.3.3 beside the measured numbers).
 #pragma once
 
 #include <filesystem>
 #include <string>
 
-#include "eval/study.hpp"
+#include "eval/method_comparison.hpp"
+#include "eval/ranking.hpp"
 
 namespace contactnn::eval {
 
-/// Where and how a study ran: what report.md states about provenance.
+/// Where and how a comparison ran: what report.md states about provenance.
 struct RunInfo {
   std::string command_line;
   std::string cpu_model;  ///< cpu_model()
@@ -31,30 +32,21 @@ struct RunInfo {
 /// failures_method = rows - n; gap_rel: |gap - reference gap| / segment size; inside_agreement: the fraction
 /// of rows in the statistics that the method puts inside the segment (its estimate inside and its status not
 /// outside) exactly when the reference does.
-[[nodiscard]] std::string errors_csv(const StudyResult& result);
+[[nodiscard]] std::string errors_csv(const ComparisonResult& result);
 
 /// speed.csv: header set,method,queries,repetitions,one_ns,one_min_ns,batched_ns,batched_min_ns,threads,
 /// threads_ns,threads_min_ns,batched_per_newton_5; ns per query, medians and minimums over the repetitions;
 /// the ratio is of the 1-thread batched medians (empty without newton:5).
-[[nodiscard]] std::string speed_csv(const StudyResult& result);
-
-/// A method's mean |error| with its failures counted in, each as an error of one domain width: the larger of
-/// the two coordinates' (sum |e| + failures x width) / (n + failures). A method that fails on 10% of the
-/// rows cannot be more accurate than 0.1 widths, however good its other answers.
-[[nodiscard]] double effective_mean_error(const MethodErrors& m, SurfaceKind kind);
-
-/// The fastest method (1-thread batched median) whose effective_mean_error is at most `level`; nullptr when
-/// none reaches it or nothing was timed.
-[[nodiscard]] const MethodErrors* fastest_within(const SetResult& set, SurfaceKind kind, double level);
+[[nodiscard]] std::string speed_csv(const ComparisonResult& result);
 
 /// report.md text.
-[[nodiscard]] std::string report_markdown(const StudyResult& result, const RunInfo& info,
-                                          const StudyOptions& options);
+[[nodiscard]] std::string comparison_markdown(const ComparisonResult& result, const RunInfo& info,
+                                              const ComparisonOptions& options);
 
 /// Writes every file of the report into `directory` (created if missing), each atomically: errors.csv,
 /// speed.csv (when timed), hist_<c>.csv and hist_<c>.svg for each coordinate name c (with a network),
 /// report.md.
-void write_report(const std::filesystem::path& directory, const StudyResult& result, const RunInfo& info,
-                  const StudyOptions& options);
+void write_report(const std::filesystem::path& directory, const ComparisonResult& result, const RunInfo& info,
+                  const ComparisonOptions& options);
 
 }  // namespace contactnn::eval

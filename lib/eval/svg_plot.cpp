@@ -182,6 +182,125 @@ std::string histogram_svg(const Histogram& h, const PlotLabels& labels) {
   return s;
 }
 
+namespace {
+
+/// A line plot's frame: the data ranges (y transformed when log) and the plot area, with the maps to it.
+struct LineFrame {
+  double x_lo = 0.0, x_hi = 1.0, y_lo = 0.0, y_hi = 1.0;
+  double plot_w = kWidth - kLeft - kRight - 150.0;  // the legend on the right
+  double plot_h = kHeight - kTop - kBottom;
+  [[nodiscard]] double x_of(double v) const { return kLeft + (v - x_lo) / (x_hi - x_lo) * plot_w; }
+  [[nodiscard]] double y_of(double v) const { return kTop + plot_h - (v - y_lo) / (y_hi - y_lo) * plot_h; }
+};
+
+bool drawable(double y, bool log_y) { return std::isfinite(y) && (!log_y || y > 0.0); }
+double transformed(double y, bool log_y) { return log_y ? std::log10(y) : y; }
+
+/// The ranges: x's over its values, y's over the drawable values (whole decades when log; from 0 at most
+/// otherwise); a range of no width made one wide.
+LineFrame line_frame(const std::vector<double>& x, const std::vector<LineSeries>& series, bool log_y) {
+  LineFrame f;
+  if (!x.empty()) {
+    f.x_lo = *std::min_element(x.begin(), x.end());
+    f.x_hi = *std::max_element(x.begin(), x.end());
+  }
+  if (!(f.x_hi > f.x_lo)) f.x_hi = f.x_lo + 1.0;
+  bool any = false;
+  for (const LineSeries& l : series) {
+    for (double y : l.y) {
+      if (!drawable(y, log_y)) continue;
+      const double t = transformed(y, log_y);
+      f.y_lo = any ? std::min(f.y_lo, t) : t;
+      f.y_hi = any ? std::max(f.y_hi, t) : t;
+      any = true;
+    }
+  }
+  if (log_y) {
+    f.y_lo = std::floor(f.y_lo);
+    f.y_hi = std::ceil(f.y_hi);
+  } else {
+    f.y_lo = std::min(f.y_lo, 0.0);
+  }
+  if (!(f.y_hi > f.y_lo)) f.y_hi = f.y_lo + 1.0;
+  return f;
+}
+
+/// The axes, their ticks and tick labels, and the axis labels.
+std::string line_plot_axes(const LineFrame& f, const PlotLabels& labels, bool log_y) {
+  std::string s;
+  s += "  <g stroke=\"black\" stroke-width=\"1\" fill=\"none\">\n";
+  s += "    <line x1=\"" + number(kLeft) + "\" y1=\"" + number(kTop + f.plot_h) + "\" x2=\"" +
+       number(kLeft + f.plot_w) + "\" y2=\"" + number(kTop + f.plot_h) + "\"/>\n";
+  s += "    <line x1=\"" + number(kLeft) + "\" y1=\"" + number(kTop) + "\" x2=\"" + number(kLeft) +
+       "\" y2=\"" + number(kTop + f.plot_h) + "\"/>\n";
+  s += "  </g>\n";
+  const std::vector<double> x_ticks = nice_ticks(f.x_lo, f.x_hi, 8);
+  std::vector<double> y_ticks;
+  if (log_y) {
+    for (double d = f.y_lo; d <= f.y_hi + 1e-9; d += std::max(1.0, std::ceil((f.y_hi - f.y_lo) / 8.0)))
+      y_ticks.push_back(d);
+  } else {
+    y_ticks = nice_ticks(f.y_lo, f.y_hi, 6);
+  }
+  const double x_step = x_ticks.size() >= 2 ? x_ticks[1] - x_ticks[0] : f.x_hi - f.x_lo;
+  const double y_step = y_ticks.size() >= 2 ? y_ticks[1] - y_ticks[0] : f.y_hi - f.y_lo;
+  s += "  <g font-family=\"sans-serif\" font-size=\"11\" fill=\"black\">\n";
+  for (const double t : x_ticks) {
+    s += "    <text x=\"" + number(f.x_of(t)) + "\" y=\"" + number(kTop + f.plot_h + 18) +
+         "\" text-anchor=\"middle\">" + xml_escape(tick_label(t, x_step)) + "</text>\n";
+  }
+  for (const double t : y_ticks) {
+    const std::string label =
+        log_y ? "1e" + std::to_string(static_cast<int>(std::lround(t))) : tick_label(t, y_step);
+    s += "    <text x=\"" + number(kLeft - 8) + "\" y=\"" + number(f.y_of(t) + 4) +
+         "\" text-anchor=\"end\">" + xml_escape(label) + "</text>\n";
+  }
+  s += "    <text x=\"" + number(kLeft + f.plot_w / 2) + "\" y=\"" + number(kHeight - 40) +
+       "\" text-anchor=\"middle\" font-size=\"13\">" + xml_escape(labels.x_label) + "</text>\n";
+  s += "    <text x=\"20\" y=\"" + number(kTop + f.plot_h / 2) +
+       "\" text-anchor=\"middle\" font-size=\"13\" "
+       "transform=\"rotate(-90 20 " +
+       number(kTop + f.plot_h / 2) + ")\">" + xml_escape(labels.y_label + (log_y ? " (log scale)" : "")) +
+       "</text>\n";
+  s += "  </g>\n";
+  return s;
+}
+
+/// Series k's line (a gap where a value cannot be drawn) and its legend entry.
+std::string line_plot_series(const LineFrame& f, const std::vector<double>& x, const LineSeries& line,
+                             std::size_t k, bool log_y) {
+  static const char* const kColours[] = {"#4a74b0", "#d9742b", "#3a9a4a", "#b03a3a", "#7a5ab0",
+                                         "#7a6a4a", "#c05aa0", "#5a5a5a", "#a0a030", "#30a0a0"};
+  const char* colour = kColours[k % (sizeof kColours / sizeof kColours[0])];
+  std::string s, points;
+  const auto flush = [&]() {
+    if (!points.empty()) {
+      s += "  <polyline fill=\"none\" stroke=\"" + std::string(colour) + "\" stroke-width=\"1.5\" points=\"" +
+           points + "\"/>\n";
+    }
+    points.clear();
+  };
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    const double y = line.y[i];
+    if (!drawable(y, log_y) || !std::isfinite(x[i])) {
+      flush();
+      continue;
+    }
+    points +=
+        (points.empty() ? "" : " ") + number(f.x_of(x[i])) + "," + number(f.y_of(transformed(y, log_y)));
+  }
+  flush();
+  const double ly = kTop + 12.0 + 18.0 * static_cast<double>(k);
+  s += "  <line x1=\"" + number(kLeft + f.plot_w + 15) + "\" y1=\"" + number(ly - 4) + "\" x2=\"" +
+       number(kLeft + f.plot_w + 35) + "\" y2=\"" + number(ly - 4) + "\" stroke=\"" + colour +
+       "\" stroke-width=\"2\"/>\n";
+  s += "  <text x=\"" + number(kLeft + f.plot_w + 40) + "\" y=\"" + number(ly) +
+       "\" font-family=\"sans-serif\" font-size=\"11\">" + xml_escape(line.name) + "</text>\n";
+  return s;
+}
+
+}  // namespace
+
 std::string line_plot_svg(const std::vector<double>& x, const std::vector<LineSeries>& series,
                           const PlotLabels& labels, bool log_y) {
   for (const LineSeries& l : series) {
@@ -189,104 +308,10 @@ std::string line_plot_svg(const std::vector<double>& x, const std::vector<LineSe
                                                                         << " values for " << x.size()
                                                                         << " x values");
   }
-  const auto usable = [&](double y) { return std::isfinite(y) && (!log_y || y > 0.0); };
-  const auto transform = [&](double y) { return log_y ? std::log10(y) : y; };
-  double x_lo = 0.0, x_hi = 1.0, y_lo = 0.0, y_hi = 1.0;
-  if (!x.empty()) {
-    x_lo = *std::min_element(x.begin(), x.end());
-    x_hi = *std::max_element(x.begin(), x.end());
-  }
-  if (!(x_hi > x_lo)) x_hi = x_lo + 1.0;
-  bool any = false;
-  for (const LineSeries& l : series) {
-    for (double y : l.y) {
-      if (!usable(y)) continue;
-      const double t = transform(y);
-      y_lo = any ? std::min(y_lo, t) : t;
-      y_hi = any ? std::max(y_hi, t) : t;
-      any = true;
-    }
-  }
-  if (log_y) {
-    y_lo = std::floor(y_lo);
-    y_hi = std::ceil(y_hi);
-  } else {
-    y_lo = std::min(y_lo, 0.0);
-  }
-  if (!(y_hi > y_lo)) y_hi = y_lo + 1.0;
-  const double plot_w = kWidth - kLeft - kRight - 150.0;  // the legend on the right
-  const double plot_h = kHeight - kTop - kBottom;
-  const auto x_of = [&](double v) { return kLeft + (v - x_lo) / (x_hi - x_lo) * plot_w; };
-  const auto y_of = [&](double v) { return kTop + plot_h - (v - y_lo) / (y_hi - y_lo) * plot_h; };
-  static const char* const kColours[] = {"#4a74b0", "#d9742b", "#3a9a4a", "#b03a3a", "#7a5ab0",
-                                         "#7a6a4a", "#c05aa0", "#5a5a5a", "#a0a030", "#30a0a0"};
-
-  std::string s = svg_opening(labels.title);
-  // Axes and ticks.
-  s += "  <g stroke=\"black\" stroke-width=\"1\" fill=\"none\">\n";
-  s += "    <line x1=\"" + number(kLeft) + "\" y1=\"" + number(kTop + plot_h) + "\" x2=\"" +
-       number(kLeft + plot_w) + "\" y2=\"" + number(kTop + plot_h) + "\"/>\n";
-  s += "    <line x1=\"" + number(kLeft) + "\" y1=\"" + number(kTop) + "\" x2=\"" + number(kLeft) +
-       "\" y2=\"" + number(kTop + plot_h) + "\"/>\n";
-  s += "  </g>\n";
-  const std::vector<double> x_ticks = nice_ticks(x_lo, x_hi, 8);
-  std::vector<double> y_ticks;
-  if (log_y) {
-    for (double d = y_lo; d <= y_hi + 1e-9; d += std::max(1.0, std::ceil((y_hi - y_lo) / 8.0)))
-      y_ticks.push_back(d);
-  } else {
-    y_ticks = nice_ticks(y_lo, y_hi, 6);
-  }
-  const double x_step = x_ticks.size() >= 2 ? x_ticks[1] - x_ticks[0] : x_hi - x_lo;
-  const double y_step = y_ticks.size() >= 2 ? y_ticks[1] - y_ticks[0] : y_hi - y_lo;
-  s += "  <g font-family=\"sans-serif\" font-size=\"11\" fill=\"black\">\n";
-  for (const double t : x_ticks) {
-    s += "    <text x=\"" + number(x_of(t)) + "\" y=\"" + number(kTop + plot_h + 18) +
-         "\" text-anchor=\"middle\">" + xml_escape(tick_label(t, x_step)) + "</text>\n";
-  }
-  for (const double t : y_ticks) {
-    const std::string label =
-        log_y ? "1e" + std::to_string(static_cast<int>(std::lround(t))) : tick_label(t, y_step);
-    s += "    <text x=\"" + number(kLeft - 8) + "\" y=\"" + number(y_of(t) + 4) + "\" text-anchor=\"end\">" +
-         xml_escape(label) + "</text>\n";
-  }
-  s += "    <text x=\"" + number(kLeft + plot_w / 2) + "\" y=\"" + number(kHeight - 40) +
-       "\" text-anchor=\"middle\" font-size=\"13\">" + xml_escape(labels.x_label) + "</text>\n";
-  s += "    <text x=\"20\" y=\"" + number(kTop + plot_h / 2) +
-       "\" text-anchor=\"middle\" font-size=\"13\" "
-       "transform=\"rotate(-90 20 " +
-       number(kTop + plot_h / 2) + ")\">" + xml_escape(labels.y_label + (log_y ? " (log scale)" : "")) +
-       "</text>\n";
-  s += "  </g>\n";
-  // Lines (a gap where a value cannot be drawn) and the legend.
-  for (std::size_t k = 0; k < series.size(); ++k) {
-    const char* colour = kColours[k % (sizeof kColours / sizeof kColours[0])];
-    std::string points;
-    const auto flush = [&]() {
-      if (!points.empty()) {
-        s += "  <polyline fill=\"none\" stroke=\"" + std::string(colour) +
-             "\" stroke-width=\"1.5\" points=\"" + points + "\"/>\n";
-      }
-      points.clear();
-    };
-    for (std::size_t i = 0; i < x.size(); ++i) {
-      const double y = series[k].y[i];
-      if (!usable(y) || !std::isfinite(x[i])) {
-        flush();
-        continue;
-      }
-      points += (points.empty() ? "" : " ") + number(x_of(x[i])) + "," + number(y_of(transform(y)));
-    }
-    flush();
-    const double ly = kTop + 12.0 + 18.0 * static_cast<double>(k);
-    s += "  <line x1=\"" + number(kLeft + plot_w + 15) + "\" y1=\"" + number(ly - 4) + "\" x2=\"" +
-         number(kLeft + plot_w + 35) + "\" y2=\"" + number(ly - 4) + "\" stroke=\"" + colour +
-         "\" stroke-width=\"2\"/>\n";
-    s += "  <text x=\"" + number(kLeft + plot_w + 40) + "\" y=\"" + number(ly) +
-         "\" font-family=\"sans-serif\" font-size=\"11\">" + xml_escape(series[k].name) + "</text>\n";
-  }
-  s += "</svg>\n";
-  return s;
+  const LineFrame frame = line_frame(x, series, log_y);
+  std::string s = svg_opening(labels.title) + line_plot_axes(frame, labels, log_y);
+  for (std::size_t k = 0; k < series.size(); ++k) s += line_plot_series(frame, x, series[k], k, log_y);
+  return s + "</svg>\n";
 }
 
 }  // namespace contactnn::eval

@@ -33,6 +33,7 @@
 #include <vector>
 
 #include "contact/scene.hpp"
+#include "core/log.hpp"
 #include "mlp/network.hpp"
 #include "search/face_network.hpp"
 #include "search/face_search.hpp"
@@ -77,7 +78,8 @@ struct FaceStudyOptions {
   int threads = 0;  ///< sampling, labelling and accuracy (0: OpenMP's default); training runs on one thread
 };
 
-using FaceStudyLog = std::function<void(const std::string&)>;
+/// Progress lines of the face study (core/log.hpp).
+using FaceStudyLog = ProgressLog;
 
 /// Queries of one face kind: world rows for FaceSearch (face_raw_columns values each) and the reference's
 /// local coordinates in the caller's order.

@@ -43,6 +43,7 @@
 #include <string_view>
 #include <vector>
 
+#include "core/log.hpp"
 #include "dataset/enumeration.hpp"
 #include "dataset/scene_sampling.hpp"
 #include "eval/timing.hpp"
@@ -151,6 +152,7 @@ struct SceneStudyOptions {
 /// newton to convergence; for bilinear also four_triangles where lib/search has it.
 [[nodiscard]] std::string default_methods(SurfaceKind surface);
 
-using StudyLog = std::function<void(const std::string&)>;
+/// Progress lines of the scene study (core/log.hpp).
+using StudyLog = ProgressLog;
 
 }  // namespace contactnn::study

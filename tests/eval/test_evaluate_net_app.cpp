@@ -11,6 +11,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "app_runner.hpp"
 #include "eval/placement.hpp"
 #include "io/csv.hpp"
 #include "io/dataset_file.hpp"
@@ -25,18 +26,8 @@ namespace fs = std::filesystem;
 const fs::path kBin = CONTACTNN_BINARY_DIR;
 const fs::path kSource = CONTACTNN_SOURCE_DIR;
 
-std::string read_file(const fs::path& p) {
-  std::ifstream in(p);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-/// Runs a shell command, stdout and stderr into `log`; returns the exit status.
-int run(const std::string& command, const fs::path& log) {
-  const int status = std::system((command + " > '" + log.string() + "' 2>&1").c_str());
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-}
+using contactnn::testing::read_file;
+using contactnn::testing::run;
 
 class EvaluateNetApp : public ::testing::Test {
  protected:

@@ -17,6 +17,7 @@
 #include <map>
 #include <sstream>
 
+#include "app_runner.hpp"
 #include "io/csv.hpp"
 #include "io/network_model_file.hpp"
 #include "io/plan_file.hpp"
@@ -35,17 +36,8 @@ const std::string kSmall =
     " --count 2000 --epochs 20 --long-epochs 0 --timing-queries 2000 --timing-repetitions 3 --threads 2 "
     "--quiet";
 
-std::string read_file(const fs::path& p) {
-  std::ifstream in(p);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-int run(const std::string& command, const fs::path& log) {
-  const int status = std::system((command + " > '" + log.string() + "' 2>&1").c_str());
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-}
+using contactnn::testing::read_file;
+using contactnn::testing::run;
 
 fs::path work_dir(const std::string& name) {
   const fs::path d =

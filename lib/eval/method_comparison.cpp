@@ -1,4 +1,4 @@
-#include "eval/study.hpp"
+#include "eval/method_comparison.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -21,8 +21,8 @@ constexpr std::array<int, 3> kClassUpper = {5, 7, 10};
 constexpr std::array<const char*, 4> kClassLabels = {"1-5 iterations", "6-7 iterations", "8-10 iterations",
                                                      "more than 10 or not converged"};
 
-/// A method of the study: its search and which network (index, -1: none) it uses.
-struct StudyMethod {
+/// A method of the comparison: its search and which network (index, -1: none) it uses.
+struct ComparedMethod {
   std::string name;
   search::Method method;
   int network = -1;
@@ -34,9 +34,10 @@ std::string trim(std::string s) {
   return s.substr(first, s.find_last_not_of(" \t") - first + 1);
 }
 
-std::vector<StudyMethod> expand_methods(const std::string& list,
-                                        const std::vector<EvaluatedNetwork>& networks, double start_offset) {
-  std::vector<StudyMethod> methods;
+std::vector<ComparedMethod> expand_methods(const std::string& list,
+                                           const std::vector<EvaluatedNetwork>& networks,
+                                           double start_offset) {
+  std::vector<ComparedMethod> methods;
   std::stringstream in(list);
   std::string item;
   while (std::getline(in, item, ',')) {
@@ -72,6 +73,19 @@ std::vector<StudyMethod> expand_methods(const std::string& list,
     }
   }
   return methods;
+}
+
+/// `list` with each item "default" replaced by `defaults` (all of it when `list` is empty).
+std::string with_defaults(const std::string& list, const std::string& defaults) {
+  if (list.empty()) return defaults;
+  std::string out;
+  std::stringstream in(list);
+  std::string item;
+  while (std::getline(in, item, ',')) {
+    item = trim(item);
+    out += (out.empty() ? "" : ",") + (item == "default" ? defaults : item);
+  }
+  return out;
 }
 
 /// `count` queries for timing: distinct usable rows (the label has a point) in random order (seeded, so that
@@ -160,9 +174,9 @@ const MethodTiming* find_timing(const SetResult& set, const std::string& method)
 }
 
 /// `starts`: the set's starts for start+newton:K (starts_near_reference; empty when no method reads them).
-void time_set(const EvaluationSet& set, const std::vector<StudyMethod>& methods,
+void time_set(const EvaluationSet& set, const std::vector<ComparedMethod>& methods,
               const std::vector<search::LocalSearch>& searches, const std::vector<double>& starts,
-              const StudyOptions& options, SetResult& result, const StudyLog& log) {
+              const ComparisonOptions& options, SetResult& result, const ProgressLog& log) {
   const std::vector<std::size_t> rows = timing_rows(set, options.timing_queries, options.seed);
   const std::vector<double> raw = gather_raw(set, rows);
   const auto cols = static_cast<std::size_t>(EvaluationSet::raw_columns(set.surface));
@@ -210,11 +224,11 @@ void time_set(const EvaluationSet& set, const std::vector<StudyMethod>& methods,
   }
 
   // The first network and "newton" per class of configuration (by the steps "newton" needs).
-  const auto first_network = std::find_if(methods.begin(), methods.end(), [](const StudyMethod& m) {
+  const auto first_network = std::find_if(methods.begin(), methods.end(), [](const ComparedMethod& m) {
     return m.method.needs_network() && !m.method.is_hybrid();
   });
-  const auto newton =
-      std::find_if(methods.begin(), methods.end(), [](const StudyMethod& m) { return m.name == "newton"; });
+  const auto newton = std::find_if(methods.begin(), methods.end(),
+                                   [](const ComparedMethod& m) { return m.name == "newton"; });
   if (first_network == methods.end() || newton == methods.end()) return;
   const search::LocalSearch& newton_search = searches[static_cast<std::size_t>(newton - methods.begin())];
   const search::LocalSearch& network_search =
@@ -274,13 +288,14 @@ std::string default_methods(int max_fixed_iterations, bool with_networks) {
   return list + "newton";
 }
 
-StudyResult run_study(const std::vector<EvaluationSet>& sets, const std::vector<EvaluatedNetwork>& networks,
-                      const StudyOptions& options, const StudyLog& log) {
+ComparisonResult compare_methods(const std::vector<EvaluationSet>& sets,
+                                 const std::vector<EvaluatedNetwork>& networks,
+                                 const ComparisonOptions& options, const ProgressLog& log) {
   const auto say = [&](const std::string& s) {
     if (log) log(s);
   };
   CONTACTNN_REQUIRE(!sets.empty(), "no set to evaluate on");
-  StudyResult result;
+  ComparisonResult result;
   result.surface = sets.front().surface;
   result.networks = networks;
   result.timing_threads = std::max(1, options.timing_threads);
@@ -294,14 +309,13 @@ StudyResult run_study(const std::vector<EvaluationSet>& sets, const std::vector<
     CONTACTNN_REQUIRE_AS(FormatError, n.model != nullptr && n.model->surface() == result.surface,
                          "network '" << n.name << "' is not a " << to_string(result.surface) << " network");
   }
-  const std::string list = options.methods.empty()
-                               ? default_methods(options.max_fixed_iterations, !networks.empty())
-                               : options.methods;
-  const std::vector<StudyMethod> methods = expand_methods(list, networks, options.start_offset);
+  const std::string list =
+      with_defaults(options.methods, default_methods(options.max_fixed_iterations, !networks.empty()));
+  const std::vector<ComparedMethod> methods = expand_methods(list, networks, options.start_offset);
   const bool any_start = std::any_of(methods.begin(), methods.end(),
-                                     [](const StudyMethod& m) { return m.method.needs_start(); });
+                                     [](const ComparedMethod& m) { return m.method.needs_start(); });
   std::vector<search::LocalSearch> searches;
-  for (const StudyMethod& m : methods) {
+  for (const ComparedMethod& m : methods) {
     searches.emplace_back(result.surface, m.method, options.search,
                           m.network >= 0 ? networks[static_cast<std::size_t>(m.network)].model : nullptr);
     result.methods.push_back(m.name);

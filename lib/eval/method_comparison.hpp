@@ -1,4 +1,4 @@
-// The evaluation study: every search method (lib/search: networks, Newton, the closed form, the hybrids) on
+// The method comparison: every search method (lib/search: networks, Newton, the closed form, the hybrids) on
 // one or more evaluation sets (the paper's grid, a held-out random sample, a scene's pairs), each method's
 // accuracy against the reference labels, and its speed one query at a time and in batches at 1 and several
 // threads, all measured in one run so the figures compare. What evaluate-net's report mode computes;
@@ -7,11 +7,10 @@
 
 #include <array>
 #include <cstdint>
-#include <functional>
 #include <string>
-#include <string_view>
 #include <vector>
 
+#include "core/log.hpp"
 #include "eval/accuracy.hpp"
 #include "eval/evaluation_set.hpp"
 #include "eval/histogram.hpp"
@@ -20,18 +19,19 @@
 
 namespace contactnn::eval {
 
-/// A network taking part in the study.
+/// A network taking part in the comparison.
 struct EvaluatedNetwork {
   std::string name;     ///< its methods are called "network[name]", "network+newton:1[name]", ...
   std::string summary;  ///< e.g. "16-48-2, float, U0 = 2, affine inputs"
   const search::NetworkModel* model = nullptr;
 };
 
-/// Settings of a study. Every field but `search` is a key of the [evaluate-net] config section with the same
-/// name; search.max_iterations and search.tol_param are its converged_max_iterations and converged_tol_param.
-struct StudyOptions {
+/// Settings of a comparison. Every field but `search` is a key of the [evaluate-net] config section with the
+/// same name; search.max_iterations and search.tol_param are its converged_max_iterations and
+/// converged_tol_param.
+struct ComparisonOptions {
   /// Comma-separated search methods (search::Method names); a network method is run with every network.
-  /// Empty: the default list, see default_methods().
+  /// The item "default" stands for the default list (default_methods()); empty: the default list alone.
   std::string methods;
   int max_fixed_iterations = 10;  ///< the default list's newton:1..this (the paper: "more than ten")
   /// An estimate further than this many domain widths outside the parameter domain is a failure: half a width
@@ -71,13 +71,13 @@ struct MethodTiming {
 /// Counts of Newton iterations: counts[k] rows needed k iterations (last entry: kIterationBins - 1 or more).
 inline constexpr int kIterationBins = 51;
 
-/// A study's results on one set.
+/// A comparison's results on one set.
 struct SetResult {
   std::string name, source;
   std::int64_t rows = 0;
   std::int64_t skipped_no_segment = 0;
   std::array<std::int64_t, kStatusCount> label_status_counts{};
-  std::vector<MethodErrors> errors;            ///< in the study's method order
+  std::vector<MethodErrors> errors;            ///< in the comparison's method order
   std::vector<std::int64_t> label_iterations;  ///< the reference's iterations (datasets), ok rows
   std::int64_t label_rows_ok = 0;
   std::vector<std::int64_t> newton_iterations;  ///< "newton" to convergence, converged rows
@@ -86,7 +86,7 @@ struct SetResult {
   bool timed = false;
   std::int64_t timing_queries = 0;    ///< queries per timed pass
   std::int64_t timing_distinct = 0;   ///< distinct rows among them
-  std::vector<MethodTiming> timings;  ///< in the study's method order
+  std::vector<MethodTiming> timings;  ///< in the comparison's method order
   LinearFit newton_fit;               ///< batched 1-thread median ns/query of newton:k against k
   LinearFit newton_fit_one;           ///< the same one query at a time
   /// Time per class of configuration (5.3.2: the network's cost is constant, Newton's is not): the timing
@@ -100,7 +100,7 @@ struct SetResult {
   std::vector<ClassTiming> class_timings;
 };
 
-struct StudyResult {
+struct ComparisonResult {
   SurfaceKind surface = SurfaceKind::kBilinear;
   std::vector<std::string> methods;  ///< expanded method names, in order
   std::vector<EvaluatedNetwork> networks;
@@ -110,15 +110,12 @@ struct StudyResult {
   int timing_threads = 0;               ///< threads of the multi-thread batched timing
 };
 
-/// Log line callback for progress on stderr.
-using StudyLog = std::function<void(std::string_view)>;
-
-/// Runs the study: every method on every set. Accuracy runs in parallel (OpenMP); timing as described in
-/// timing.hpp, the three modes of every method interleaved in one round-robin per set. InvalidArgument for
+/// Compares the methods: every method on every set. Accuracy runs in parallel (OpenMP); timing as described
+/// in timing.hpp, the three modes of every method interleaved in one round-robin per set. InvalidArgument for
 /// no set, sets of other surfaces than the networks', an unknown method, a network method without a network.
-[[nodiscard]] StudyResult run_study(const std::vector<EvaluationSet>& sets,
-                                    const std::vector<EvaluatedNetwork>& networks,
-                                    const StudyOptions& options, const StudyLog& log = {});
+[[nodiscard]] ComparisonResult compare_methods(const std::vector<EvaluationSet>& sets,
+                                               const std::vector<EvaluatedNetwork>& networks,
+                                               const ComparisonOptions& options, const ProgressLog& log = {});
 
 /// The network's cost in Newton iterations on one set: the k at which the fitted line of newton:k reaches the
 /// network's time (the paper's sense: "equal to that of seven iterations"), batched and one at a time.

@@ -1,5 +1,5 @@
-// Tests of lib/eval/timing (the harness's bookkeeping, never its speed), study and report: a study of a
-// stand-in predictor on a small hand-built dataset writes every file and lists every method.
+// Tests of lib/eval/timing (the harness's bookkeeping, never its speed), method_comparison and report: a
+// comparison of a stand-in predictor on a small hand-built dataset writes every file and lists every method.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -10,9 +10,9 @@
 
 #include "core/error.hpp"
 #include "dataset/labeller.hpp"
+#include "eval/method_comparison.hpp"
 #include "eval/placement.hpp"
 #include "eval/report.hpp"
-#include "eval/study.hpp"
 #include "io/csv.hpp"
 #include "mlp/network.hpp"
 #include "xml_check.hpp"
@@ -112,14 +112,15 @@ TEST(StudyReport, KnownNetworkErrorsEveryMethodEveryFile) {
   mlp::ForwardPass<float> pass(constant);
   mlp::predict(constant, set.features.row(0).data(), answer.data(), pass);
 
-  StudyOptions options;
+  ComparisonOptions options;
   options.methods = "network, newton:1, newton:5, newton:10, newton, closed_form";
   options.timing_queries = 8;
   options.timing_options.repetitions = 2;
   options.hist_bins = 10;
   const std::vector<EvaluationSet> sets = {set_from_dataset(set, "small", "small.h5", false, 1),
                                            set_from_dataset(set, "small-placed", "small.h5", true, 3)};
-  const StudyResult result = run_study(sets, {{"constant", "8-3-2, all weights 0", &model}}, options);
+  const ComparisonResult result =
+      compare_methods(sets, {{"constant", "8-3-2, all weights 0", &model}}, options);
   ASSERT_EQ(result.methods, (std::vector<std::string>{"network[constant]", "newton:1", "newton:5",
                                                       "newton:10", "newton", "closed_form"}));
   ASSERT_EQ(result.sets.size(), 2u);
@@ -196,6 +197,23 @@ TEST(StudyReport, KnownNetworkErrorsEveryMethodEveryFile) {
     EXPECT_EQ(hist.rows.size(), static_cast<std::size_t>(options.hist_bins) + 3);
   }
   std::filesystem::remove_all(dir);
+}
+
+TEST(StudyReport, DefaultInTheMethodListStandsForTheDefaultList) {
+  const dataset::LabelledSet set = small_set();
+  ComparisonOptions options;
+  options.methods = "default, four_triangles";
+  options.max_fixed_iterations = 2;
+  options.timing = false;
+  const ComparisonResult result =
+      compare_methods({set_from_dataset(set, "small", "small.h5", false, 1)}, {}, options);
+  EXPECT_EQ(result.methods,
+            (std::vector<std::string>{"closed_form", "closed_form+newton:1", "closed_form+newton:2",
+                                      "closed_form+newton:3", "closed_form+newton:5", "closed_form+newton:8",
+                                      "newton:1", "newton:2", "newton", "four_triangles"}));
+  options.methods = "newton, default";  // newton twice
+  EXPECT_THROW((void)compare_methods({set_from_dataset(set, "small", "small.h5", false, 1)}, {}, options),
+               InvalidArgument);
 }
 
 TEST(StudyReport, EffectiveErrorCountsFailuresAsAWidthAndTheFastestMethodIsPicked) {
