@@ -297,6 +297,7 @@ contact::ContactSearch make_handle(const Scene& s, bool tracking) {
 
 struct ContactRun {
   Best fresh;    ///< all increments, seconds
+  Best create;   ///< the fresh runs' handle creations alone (part of `fresh`)
   Best tracked;  ///< the increments after the first
   Difference fresh_difference, tracked_difference;
   contact::TrackingCounts counts;  ///< of the tracked run's last increment
@@ -307,15 +308,17 @@ ContactRun run_contactnn(const Scene& s, const CgalRun* cgal, int repeats, const
   ContactRun run;
   Outputs out(s.slave_ids.size());
   for (int r = 0; r < repeats; ++r) {
-    Times fresh;
+    Times fresh, create;
     for (std::size_t inc = 0; inc < s.coordinates.size() && part != "tracked"; ++inc) {
       const Stamp t0 = now();
       contact::ContactSearch handle = make_handle(s, false);
+      create.add(t0);
       handle.update(s.coordinates[inc], {}, out.results());
       fresh.add(t0);
       if (r == 0 && cgal != nullptr) run.fresh_difference.add(out.answers(), cgal->answers[inc], s.face_size);
     }
     run.fresh.take(fresh);
+    run.create.take(create);
     if (part == "fresh") continue;
     contact::ContactSearch handle = make_handle(s, true);
     handle.update(s.coordinates[0], {}, out.results());
@@ -540,6 +543,7 @@ void compare(const Scene& s, const Args& a) {
   cgal.query.print("cgal_query", "node", n * incs);
   const ContactRun run = run_contactnn(s, &cgal, a.repeats, a.part);
   run.fresh.print("fresh", "node", n * incs);
+  run.create.print("fresh_create", "node", n * incs);
   run.tracked.print("tracked", "node", n * (incs - 1));
   std::printf("tracked_refreshed_last %ld\ntracked_list_faces_last %.4f\n", run.counts.fresh,
               static_cast<double>(run.counts.list_faces) / n);
