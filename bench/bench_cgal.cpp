@@ -14,7 +14,10 @@
 //  - cgal_query: closest_point for every slave node at every increment;
 //  - fresh: contact::ContactSearch without tracking, created from the faces and updated once, at every
 //    increment (the handle's creation and the searcher's build included: what a user pays for one search);
-//  - tracked: one ContactSearch with tracking over the increments; the increments after the first.
+//  - tracked: one ContactSearch with tracking over the increments; the increments after the first;
+//  - fresh_reused (beside them): one ContactSearch without tracking updated at every increment, the
+//  increments
+//    after the first (a fresh search whose handle and buffers are warm).
 // Measured for the floor (scripts/bench-cgal): the faces projected per slave node (surface_search's and
 // SurfaceTracker's `candidates` on the handle's surface), one k-d tree descent per slave node
 // (SurfaceSearcher:: faces_within with reach 0), the searcher's build, and the memory bandwidth of one large
@@ -298,6 +301,7 @@ contact::ContactSearch make_handle(const Scene& s, bool tracking) {
 struct ContactRun {
   Best fresh;    ///< all increments, seconds
   Best create;   ///< the fresh runs' handle creations alone (part of `fresh`)
+  Best reused;   ///< one handle without tracking updated at every increment: the increments after the first
   Best tracked;  ///< the increments after the first
   Difference fresh_difference, tracked_difference;
   contact::TrackingCounts counts;  ///< of the tracked run's last increment
@@ -320,6 +324,17 @@ ContactRun run_contactnn(const Scene& s, const CgalRun* cgal, int repeats, const
     run.fresh.take(fresh);
     run.create.take(create);
     if (part == "fresh") continue;
+    if (part == "all") {
+      contact::ContactSearch again = make_handle(s, false);
+      again.update(s.coordinates[0], {}, out.results());
+      Times reused;
+      for (std::size_t inc = 1; inc < s.coordinates.size(); ++inc) {
+        const Stamp t0 = now();
+        again.update(s.coordinates[inc], {}, out.results());
+        reused.add(t0);
+      }
+      run.reused.take(reused);
+    }
     contact::ContactSearch handle = make_handle(s, true);
     handle.update(s.coordinates[0], {}, out.results());
     Times tracked;
@@ -544,6 +559,7 @@ void compare(const Scene& s, const Args& a) {
   const ContactRun run = run_contactnn(s, &cgal, a.repeats, a.part);
   run.fresh.print("fresh", "node", n * incs);
   run.create.print("fresh_create", "node", n * incs);
+  run.reused.print("fresh_reused", "node", n * (incs - 1));
   run.tracked.print("tracked", "node", n * (incs - 1));
   std::printf("tracked_refreshed_last %ld\ntracked_list_faces_last %.4f\n", run.counts.fresh,
               static_cast<double>(run.counts.list_faces) / n);
