@@ -192,6 +192,7 @@ def _(ctx):
                      ["w", "o"]),
         "bench-search": (["bash", ctx.script("bench-search"), "--build", ctx.build], []),
         "bench-against": ([py, ctx.script("bench-against"), "HEAD", "--build", ctx.build], []),
+        "bench-cgal": ([py, ctx.script("bench-cgal"), "--build", ctx.build], []),
         "scene-table": ([py, ctx.script("scene-table"), "--output", "o", "--build-dir", ctx.build, deck], ["o"]),
     }
     for name, (command, absent) in commands.items():
@@ -199,7 +200,7 @@ def _(ctx):
                    absent=absent, within=20)
         ctx.expect(command + ["--page", "folder"], 2, r"--page 'folder' is a directory, not a file", absent=absent,
                    within=20)
-    for name in ("frontier", "bench-search"):
+    for name in ("frontier", "bench-search", "bench-cgal"):
         command, absent = commands[name]
         ctx.expect(command + ["--page", "page.md", "--no-page"], 2, r"--page and --no-page exclude each other",
                    absent=absent + ["page.md"], within=20)
@@ -242,6 +243,12 @@ def _(ctx):
          r"argument --rounds: must be an integer in 1\.\.100", []),
         ([py, ctx.script("bench-against"), "HEAD", "--build", ctx.build, "--min-time", "0"],
          r"argument --min-time: must be a finite number > 0", []),
+        ([py, ctx.script("bench-cgal"), "--build", ctx.build, "--repeats", "0"],
+         r"argument --repeats: must be an integer in 1\.\.100", []),
+        ([py, ctx.script("bench-cgal"), "--build", ctx.build, "--faces", "10", "--slaves", "100", "--no-page"],
+         r"--slaves 100 at spacing 0\.3 need more than --faces 10", []),
+        ([py, ctx.script("bench-cgal"), "--build", "no-such-build", "--no-page"],
+         r"no-such-build/bench/bench_cgal not found", []),
         ([py, ctx.script("bench-against"), "no-such-commit", "--build", ctx.build],
          r"'no-such-commit' is not a commit of this repository", []),
     ]
