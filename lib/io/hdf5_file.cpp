@@ -56,10 +56,8 @@ std::string system_reason(int error) {
     case EFBIG:
     case EIO:
     case EROFS:
-    case EACCES:
-      return std::string(": ") + std::strerror(error);
-    default:
-      return "";
+    case EACCES: return std::string(": ") + std::strerror(error);
+    default: return "";
   }
 }
 
@@ -198,22 +196,14 @@ std::string type_text(hid_t type) {
   const H5T_class_t type_class = H5Tget_class(type);
   const std::size_t bits = 8 * H5Tget_size(type);
   switch (type_class) {
-    case H5T_FLOAT:
-      return "float" + std::to_string(bits);
-    case H5T_INTEGER:
-      return (H5Tget_sign(type) == H5T_SGN_NONE ? "uint" : "int") + std::to_string(bits);
-    case H5T_STRING:
-      return H5Tis_variable_str(type) > 0 ? "variable-length string" : "fixed-length string";
-    case H5T_ENUM:
-      return "enum";
-    case H5T_COMPOUND:
-      return "compound";
-    case H5T_ARRAY:
-      return "array";
-    case H5T_VLEN:
-      return "variable-length sequence";
-    default:
-      return "another HDF5 type";
+    case H5T_FLOAT: return "float" + std::to_string(bits);
+    case H5T_INTEGER: return (H5Tget_sign(type) == H5T_SGN_NONE ? "uint" : "int") + std::to_string(bits);
+    case H5T_STRING: return H5Tis_variable_str(type) > 0 ? "variable-length string" : "fixed-length string";
+    case H5T_ENUM: return "enum";
+    case H5T_COMPOUND: return "compound";
+    case H5T_ARRAY: return "array";
+    case H5T_VLEN: return "variable-length sequence";
+    default: return "another HDF5 type";
   }
 }
 

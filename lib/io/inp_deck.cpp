@@ -564,24 +564,15 @@ class DeckReader {
   // ---- Data lines ---------------------------------------------------------------------------------------
   void data(std::string_view line, Location loc) {
     switch (block_) {
-      case Block::kSkip:
-        return;
-      case Block::kNode:
-        return node_line(line, loc);
-      case Block::kElement:
-        return element_line(line, loc);
-      case Block::kNset:
-        return set_line(nsets_, "node", line, loc);
-      case Block::kElset:
-        return set_line(elsets_, "element", line, loc);
-      case Block::kSurface:
-        return surface_line(line, loc);
-      case Block::kContactPair:
-        return pair_line(line, loc);
-      case Block::kTie:
-        return tie_line(line, loc);
-      case Block::kCyclic:
-        return cyclic_line(line, loc);
+      case Block::kSkip: return;
+      case Block::kNode: return node_line(line, loc);
+      case Block::kElement: return element_line(line, loc);
+      case Block::kNset: return set_line(nsets_, "node", line, loc);
+      case Block::kElset: return set_line(elsets_, "element", line, loc);
+      case Block::kSurface: return surface_line(line, loc);
+      case Block::kContactPair: return pair_line(line, loc);
+      case Block::kTie: return tie_line(line, loc);
+      case Block::kCyclic: return cyclic_line(line, loc);
     }
   }
 

@@ -98,14 +98,10 @@ std::array<int, 4> outward_triangle_corners(const SolidMesh& mesh, ElementFace f
 
 std::string_view to_string(FaceType type) {
   switch (type) {
-    case FaceType::kQuad4:
-      return "quad4";
-    case FaceType::kQuad8:
-      return "quad8";
-    case FaceType::kTri3:
-      return "tri3";
-    case FaceType::kTri6:
-      return "tri6";
+    case FaceType::kQuad4: return "quad4";
+    case FaceType::kQuad8: return "quad8";
+    case FaceType::kTri3: return "tri3";
+    case FaceType::kTri6: return "tri6";
   }
   return "quad4";
 }
@@ -193,18 +189,12 @@ enum class Collapse { kNone, kTriangle, kFlatTriangle, kLine, kPoint, kNoTriangl
 
 std::string_view collapse_kind(Collapse c) {
   switch (c) {
-    case Collapse::kTriangle:
-      return " face collapsed to a triangle";
-    case Collapse::kFlatTriangle:
-      return " face collapsed to a flat triangle";
-    case Collapse::kLine:
-      return " face collapsed to a line";
-    case Collapse::kPoint:
-      return " face collapsed to a point";
-    case Collapse::kNoTriangle:
-      return " face collapsed, not a triangle";
-    case Collapse::kNone:
-      break;
+    case Collapse::kTriangle: return " face collapsed to a triangle";
+    case Collapse::kFlatTriangle: return " face collapsed to a flat triangle";
+    case Collapse::kLine: return " face collapsed to a line";
+    case Collapse::kPoint: return " face collapsed to a point";
+    case Collapse::kNoTriangle: return " face collapsed, not a triangle";
+    case Collapse::kNone: break;
   }
   return "";
 }

@@ -97,24 +97,17 @@ double nearest_parameter(const QuadraticCurve& curve, const Vec3& slave) {
 /// exactly).
 std::array<double, 2> quad_edge_param(int edge, double t) {
   switch (edge) {
-    case 0:
-      return {-1.0 + 2.0 * t, -1.0};
-    case 1:
-      return {1.0, -1.0 + 2.0 * t};
-    case 2:
-      return {1.0 - 2.0 * t, 1.0};
-    default:
-      return {-1.0, 1.0 - 2.0 * t};
+    case 0: return {-1.0 + 2.0 * t, -1.0};
+    case 1: return {1.0, -1.0 + 2.0 * t};
+    case 2: return {1.0 - 2.0 * t, 1.0};
+    default: return {-1.0, 1.0 - 2.0 * t};
   }
 }
 std::array<double, 2> triangle_edge_param(int edge, double t) {
   switch (edge) {
-    case 0:
-      return {t, 0.0};
-    case 1:
-      return {1.0 - t, t};
-    default:
-      return {0.0, 1.0 - t};
+    case 0: return {t, 0.0};
+    case 1: return {1.0 - t, t};
+    default: return {0.0, 1.0 - t};
   }
 }
 
