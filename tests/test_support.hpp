@@ -10,12 +10,24 @@
 #include <random>
 
 #include "core/conventions.hpp"
+#include "core/symmetry.hpp"
 #include "geometry/configuration.hpp"
 #include "geometry/domain.hpp"
 
 namespace contactnn::testing {
 
 using geometry::Vec3;
+
+/// `c` with its nodes (and normals) relabelled: the returned configuration's node order.caller_node(i) is c's
+/// node i. The same segment and slave, given in another node order.
+inline geometry::Configuration relabel(const geometry::Configuration& c, const SquareSymmetry& order) {
+  geometry::Configuration out = c;
+  for (int i = 0; i < 4; ++i) {
+    out.nodes[static_cast<std::size_t>(order.caller_node(i))] = c.nodes[static_cast<std::size_t>(i)];
+    out.normals[static_cast<std::size_t>(order.caller_node(i))] = c.normals[static_cast<std::size_t>(i)];
+  }
+  return out;
+}
 
 /// A random configuration of the bilinear study (paper Section 5.1) in the normalised frame, drawn by
 /// rejection until DomainFilters{} accepts it.

@@ -44,40 +44,26 @@ ValueKind value_kind(const CLI::Option& option) {
 
 std::string kind_text(ValueKind kind) {
   switch (kind) {
-    case ValueKind::kBoolean:
-      return "a boolean (true or false)";
-    case ValueKind::kInteger:
-      return "an integer";
-    case ValueKind::kReal:
-      return "a number";
-    case ValueKind::kText:
-      return "a string";
+    case ValueKind::kBoolean: return "a boolean (true or false)";
+    case ValueKind::kInteger: return "an integer";
+    case ValueKind::kReal: return "a number";
+    case ValueKind::kText: return "a string";
   }
   return "a value";
 }
 
 std::string node_text(const toml::node& node) {
   switch (node.type()) {
-    case toml::node_type::string:
-      return "a string";
-    case toml::node_type::integer:
-      return "an integer";
-    case toml::node_type::floating_point:
-      return "a floating-point number";
-    case toml::node_type::boolean:
-      return "a boolean";
-    case toml::node_type::array:
-      return "an array";
-    case toml::node_type::table:
-      return "a table";
-    case toml::node_type::date:
-      return "a date";
-    case toml::node_type::time:
-      return "a time";
-    case toml::node_type::date_time:
-      return "a date-time";
-    default:
-      return "nothing";
+    case toml::node_type::string: return "a string";
+    case toml::node_type::integer: return "an integer";
+    case toml::node_type::floating_point: return "a floating-point number";
+    case toml::node_type::boolean: return "a boolean";
+    case toml::node_type::array: return "an array";
+    case toml::node_type::table: return "a table";
+    case toml::node_type::date: return "a date";
+    case toml::node_type::time: return "a time";
+    case toml::node_type::date_time: return "a date-time";
+    default: return "nothing";
   }
 }
 
@@ -92,21 +78,11 @@ std::string toml_string(const std::string& text) {
   std::string quoted = "\"";
   for (const char c : text) {
     switch (c) {
-      case '"':
-        quoted += "\\\"";
-        break;
-      case '\\':
-        quoted += "\\\\";
-        break;
-      case '\n':
-        quoted += "\\n";
-        break;
-      case '\t':
-        quoted += "\\t";
-        break;
-      case '\r':
-        quoted += "\\r";
-        break;
+      case '"': quoted += "\\\""; break;
+      case '\\': quoted += "\\\\"; break;
+      case '\n': quoted += "\\n"; break;
+      case '\t': quoted += "\\t"; break;
+      case '\r': quoted += "\\r"; break;
       default:
         if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) {
           char escape[8];
@@ -146,8 +122,7 @@ std::string toml_value(const CLI::Option& option, const std::string& text) {
       if (CLI::detail::lexical_cast(text, value)) return real_text(value);
       break;
     }
-    case ValueKind::kText:
-      break;
+    case ValueKind::kText: break;
   }
   return toml_string(text);
 }

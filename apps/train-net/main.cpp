@@ -8,11 +8,11 @@
 //   Checkpoints are written every N epochs and --resume continues one bit-identically.
 //
 // Sample runs:
-//   train-net --config configs/bilinear-paper.toml --data data/bilinear.h5 --output
-//   data/weights/bilinear-8.h5 train-net --config configs/bilinear-paper.toml --data data/bilinear.h5
-//   --output /tmp/b.h5 --hidden 32,16 train-net --config configs/bilinear-paper.toml --data data/bilinear.h5
-//   --output /tmp/b.h5
-//             --checkpoint-every 500 --resume --export-header /tmp/bilinear_8.h   (one line)
+//   train-net --config configs/bilinear-paper.toml --data data/bilinear.h5 \
+//             --output data/weights/bilinear-8.h5
+//   train-net --config configs/bilinear-paper.toml --data data/bilinear.h5 --output /tmp/b.h5 --hidden 32,16
+//   train-net --config configs/bilinear-paper.toml --data data/bilinear.h5 --output /tmp/b.h5 \
+//             --checkpoint-every 500 --resume --export-header /tmp/bilinear_8.h
 //
 // Writes:
 //   OUTPUT                   the network file (docs/files.md, "Network file"), atomically
@@ -119,32 +119,37 @@ void check_outputs(const CLI::App& app, const std::string& data_path, const std:
       {}, {{"--data", data_path}, {"--config", cli::config_path(app)}});
 }
 
-template <class Real>
-int train(const CLI::App& app, const NetSettings& net_settings, mlp::TrainOptions options,
-          const std::string& data_path, const std::filesystem::path& output, int checkpoint_every,
-          bool resume, const std::string& header_path, bool quiet, const std::string& config_toml) {
-  // 3. Outputs checked now, not after the training; then the data: the dataset, its rows with status ok, the
-  //    training and validation draw.
-  std::filesystem::path checkpoint_path = output;
-  checkpoint_path += ".checkpoint.h5";
-  check_outputs(app, data_path, output, checkpoint_path, checkpoint_every > 0 || resume, header_path);
-  const dataset::LabelledSet set = io::read_dataset(data_path);
-  const std::string checksum = io::file_checksum(data_path);
+/// The rows a run trains on: the dataset, its checksum, its rows with status ok, their network inputs (the
+/// features through the chosen input map, core/input_features.hpp) and the training and validation draw.
+struct TrainingData {
+  dataset::LabelledSet set;
+  std::string checksum;
   std::vector<std::uint32_t> ok_rows;
+  mlp::PatternSelection selection;
+  MatrixRM<double> inputs;
+  int n_features = 0;
+};
+
+TrainingData read_training_data(const NetSettings& net_settings, const mlp::TrainOptions& options,
+                                const std::string& data_path) {
+  TrainingData data;
+  data.set = io::read_dataset(data_path);
+  data.checksum = io::file_checksum(data_path);
+  const dataset::LabelledSet& set = data.set;
   for (Eigen::Index r = 0; r < set.size(); ++r) {
     if (set.status[static_cast<std::size_t>(r)] == Status::kOk)
-      ok_rows.push_back(static_cast<std::uint32_t>(r));
+      data.ok_rows.push_back(static_cast<std::uint32_t>(r));
   }
   const auto validation_count = static_cast<std::size_t>(
       std::llround(net_settings.validation_fraction * static_cast<double>(net_settings.train_count)));
-  CONTACTNN_REQUIRE_AS(InvalidArgument, net_settings.train_count + validation_count <= ok_rows.size(),
+  CONTACTNN_REQUIRE_AS(InvalidArgument, net_settings.train_count + validation_count <= data.ok_rows.size(),
                        "--train_count " << net_settings.train_count << " and --validation_fraction "
                                         << net_settings.validation_fraction << " need "
                                         << net_settings.train_count + validation_count
                                         << " rows with status ok; '" << data_path << "' has "
-                                        << ok_rows.size());
-  const mlp::PatternSelection selection = mlp::select_patterns(
-      ok_rows, net_settings.train_count, validation_count, mlp::Rng::derive_seed(options.seed, 1));
+                                        << data.ok_rows.size());
+  data.selection = mlp::select_patterns(data.ok_rows, net_settings.train_count, validation_count,
+                                        mlp::Rng::derive_seed(options.seed, 1));
   if (validation_count == 0 && options.patience > 0) {
     std::fprintf(
         stderr,
@@ -152,86 +157,86 @@ int train(const CLI::App& app, const NetSettings& net_settings, mlp::TrainOption
         "--patience has nothing to act on\n",
         net_settings.validation_fraction, net_settings.train_count);
   }
-  const int n_features = feature_count(set.surface);
-  // The network's inputs: the features through the chosen input map (core/input_features.hpp).
+  data.n_features = feature_count(set.surface);
   const InputFeatures input_map = input_features_from_string(net_settings.input_features);
-  MatrixRM<double> inputs(set.size(), n_features);
+  data.inputs.resize(set.size(), data.n_features);
   for (Eigen::Index r = 0; r < set.size(); ++r) {
-    map_input_features(input_map, set.surface, set.features.row(r).data(), inputs.row(r).data());
+    map_input_features(input_map, set.surface, set.features.row(r).data(), data.inputs.row(r).data());
   }
-  MatrixRM<double> train_raw(static_cast<Eigen::Index>(selection.training.size()), n_features);
-  for (Eigen::Index r = 0; r < train_raw.rows(); ++r) train_raw.row(r) = inputs.row(selection.training[r]);
+  return data;
+}
 
-  // 4. Network: architecture, scaling from the training inputs, weights from the seed.
-  std::vector<int> sizes{n_features};
-  for (int n : parse_hidden(net_settings.hidden)) sizes.push_back(n);
-  sizes.push_back(2);
-  const ParamDomain domain_range = param_domain(set.surface);
+/// The network's scaling: from the training inputs, the targets' sigmoid range, the input map.
+mlp::Scaling training_scaling(const NetSettings& net_settings, const TrainingData& data) {
+  MatrixRM<double> train_raw(static_cast<Eigen::Index>(data.selection.training.size()), data.n_features);
+  for (Eigen::Index r = 0; r < train_raw.rows(); ++r) {
+    train_raw.row(r) = data.inputs.row(data.selection.training[static_cast<std::size_t>(r)]);
+  }
+  const ParamDomain domain_range = param_domain(data.set.surface);
   mlp::Scaling scaling =
       mlp::Scaling::from_inputs(train_raw, 2, domain_range.lo, domain_range.hi, net_settings.input_quantile);
-  scaling.input_features = input_map;
+  scaling.input_features = input_features_from_string(net_settings.input_features);
   scaling.target_low = net_settings.target_low;
   scaling.target_high = net_settings.target_high;
-  scaling.validate(n_features, 2);
-  mlp::Network<Real> network(sizes, net_settings.u0, scaling);
-  network.initialize(mlp::Rng::derive_seed(options.seed, 0));
-  auto scaled = [&](const std::vector<std::uint32_t>& rows, MatrixRM<Real>& x, MatrixRM<Real>& t) {
-    x.resize(static_cast<Eigen::Index>(rows.size()), n_features);
-    t.resize(static_cast<Eigen::Index>(rows.size()), 2);
-    for (Eigen::Index r = 0; r < x.rows(); ++r) {
-      for (int i = 0; i < n_features; ++i)
-        x(r, i) = static_cast<Real>(scaling.scale_input(i, inputs(rows[r], i)));
-      for (int k = 0; k < 2; ++k)
-        t(r, k) = static_cast<Real>(scaling.scale_target(k, set.labels(rows[r], k)));
-    }
-  };
-  MatrixRM<Real> train_x, train_t, val_x, val_t;
-  scaled(selection.training, train_x, train_t);
-  scaled(selection.validation, val_x, val_t);
-  const geometry::TrainingDomain domain = geometry::TrainingDomain::from_features(
-      set.surface, set.features.data(), static_cast<long>(set.size()), set.status, set.filters);
+  scaling.validate(data.n_features, 2);
+  return scaling;
+}
 
-  io::NetworkProvenance provenance;
-  provenance.config_toml = config_toml;
-  provenance.seed = options.seed;
-  provenance.dataset_path = data_path;
-  provenance.dataset_checksum = checksum;
-  provenance.training_mode = std::string(mlp::to_string(options.mode));
-  provenance.training_patterns = static_cast<std::int64_t>(selection.training.size());
-  provenance.validation_patterns = static_cast<std::int64_t>(selection.validation.size());
-
-  // 5. Trainer, resumed from the checkpoint when asked.
-  mlp::Trainer<Real> trainer(network, options, train_x, train_t, val_x, val_t);
-  if (resume) {
-    const io::TrainedNetwork<Real> saved = io::read_network<Real>(checkpoint_path);
-    CONTACTNN_REQUIRE_AS(FormatError,
-                         saved.network.layer_sizes() == sizes && saved.network.u0() == network.u0(),
-                         "checkpoint '" << checkpoint_path.string()
-                                        << "' holds another architecture or U0 than this run asks for");
-    CONTACTNN_REQUIRE_AS(
-        FormatError, saved.provenance.seed == options.seed && saved.provenance.dataset_checksum == checksum,
-        "checkpoint '" << checkpoint_path.string() << "' was written for seed " << saved.provenance.seed
-                       << " and dataset " << saved.provenance.dataset_checksum << ", this run has seed "
-                       << options.seed << " and dataset " << checksum);
-    // Everything else that shapes the run (scaling, pattern counts, learning rate, mode...) must match too;
-    // only the number of epochs may grow. Compared as values, so a checkpoint whose config an earlier
-    // version spelled differently (xy_limit=2.0 for 2) still resumes.
-    const std::string differences =
-        cli::config_differences(saved.provenance.config_toml, config_toml, {"epochs"});
-    CONTACTNN_REQUIRE_AS(FormatError, differences.empty(),
-                         "checkpoint '"
-                             << checkpoint_path.string()
-                             << "' was written with another configuration; only epochs may change on "
-                                "--resume.\n(checkpoint vs this run)\n"
-                             << differences.substr(0, differences.size() - 1));
-    network.parameters() = saved.network.parameters();
-    trainer.restore(io::read_training_state<Real>(checkpoint_path, network));
-    if (!quiet)
-      std::fprintf(stderr, "resuming from %s at epoch %d\n", checkpoint_path.string().c_str(),
-                   trainer.state().epoch);
+/// Rows' scaled inputs x and targets t, in the network's precision.
+template <class Real>
+void scaled_patterns(const TrainingData& data, const mlp::Scaling& scaling,
+                     const std::vector<std::uint32_t>& rows, MatrixRM<Real>& x, MatrixRM<Real>& t) {
+  x.resize(static_cast<Eigen::Index>(rows.size()), data.n_features);
+  t.resize(static_cast<Eigen::Index>(rows.size()), 2);
+  for (Eigen::Index r = 0; r < x.rows(); ++r) {
+    const auto row = rows[static_cast<std::size_t>(r)];
+    for (int i = 0; i < data.n_features; ++i)
+      x(r, i) = static_cast<Real>(scaling.scale_input(i, data.inputs(row, i)));
+    for (int k = 0; k < 2; ++k) t(r, k) = static_cast<Real>(scaling.scale_target(k, data.set.labels(row, k)));
   }
+}
 
-  // 6. Epochs: progress line, checkpoints.
+/// --resume: the checkpoint must be this run's (architecture, U0, seed, dataset, every config key but
+/// epochs); its parameters and trainer state are restored.
+template <class Real>
+void resume_from_checkpoint(const std::filesystem::path& checkpoint_path, const std::string& checksum,
+                            const std::string& config_toml, const mlp::TrainOptions& options,
+                            mlp::Network<Real>& network, mlp::Trainer<Real>& trainer, bool quiet) {
+  const io::TrainedNetwork<Real> saved = io::read_network<Real>(checkpoint_path);
+  CONTACTNN_REQUIRE_AS(
+      FormatError, saved.network.layer_sizes() == network.layer_sizes() && saved.network.u0() == network.u0(),
+      "checkpoint '" << checkpoint_path.string()
+                     << "' holds another architecture or U0 than this run asks for");
+  CONTACTNN_REQUIRE_AS(
+      FormatError, saved.provenance.seed == options.seed && saved.provenance.dataset_checksum == checksum,
+      "checkpoint '" << checkpoint_path.string() << "' was written for seed " << saved.provenance.seed
+                     << " and dataset " << saved.provenance.dataset_checksum << ", this run has seed "
+                     << options.seed << " and dataset " << checksum);
+  // Everything else that shapes the run (scaling, pattern counts, learning rate, mode...) must match too;
+  // only the number of epochs may grow. Compared as values, so a checkpoint whose config an earlier
+  // version spelled differently (xy_limit=2.0 for 2) still resumes.
+  const std::string differences =
+      cli::config_differences(saved.provenance.config_toml, config_toml, {"epochs"});
+  CONTACTNN_REQUIRE_AS(FormatError, differences.empty(),
+                       "checkpoint '"
+                           << checkpoint_path.string()
+                           << "' was written with another configuration; only epochs may change on "
+                              "--resume.\n(checkpoint vs this run)\n"
+                           << differences.substr(0, differences.size() - 1));
+  network.parameters() = saved.network.parameters();
+  trainer.restore(io::read_training_state<Real>(checkpoint_path, network));
+  if (!quiet)
+    std::fprintf(stderr, "resuming from %s at epoch %d\n", checkpoint_path.string().c_str(),
+                 trainer.state().epoch);
+}
+
+/// The epochs: a progress line on stderr (at most 4 a second), a checkpoint every checkpoint_every epochs.
+/// Returns the seconds they took.
+template <class Real>
+double run_epochs(mlp::Trainer<Real>& trainer, const mlp::Network<Real>& network,
+                  const mlp::TrainOptions& options, const geometry::TrainingDomain& domain,
+                  io::NetworkProvenance& provenance, const std::filesystem::path& checkpoint_path,
+                  int checkpoint_every, Eigen::Index train_rows, bool has_validation, bool quiet) {
   const auto start = Clock::now();
   auto last_print = start - std::chrono::seconds(1);
   const int first_epoch = trainer.state().epoch;
@@ -244,12 +249,12 @@ int train(const CLI::App& app, const NetSettings& net_settings, mlp::TrainOption
     const double rate = elapsed > 0 ? epochs_done / elapsed : 0.0;
     const double eta = rate > 0 ? (options.epochs - r.epoch) / rate : 0.0;
     char validation[96] = "no validation set";  // not 'val nan (best inf)'
-    if (val_x.rows() > 0) {
+    if (has_validation) {
       std::snprintf(validation, sizeof validation, "val %.4e (best %.4e @%d)", r.validation_loss,
                     trainer.state().best_validation_loss, trainer.state().best_epoch);
     }
     std::fprintf(stderr, "\repoch %d/%d  train %.4e  %s  %.3g patterns/s  ETA %s   ", r.epoch, options.epochs,
-                 r.training_loss, validation, rate * static_cast<double>(train_x.rows()),
+                 r.training_loss, validation, rate * static_cast<double>(train_rows),
                  format_duration(eta).c_str());
     std::fflush(stderr);
   };
@@ -267,16 +272,16 @@ int train(const CLI::App& app, const NetSettings& net_settings, mlp::TrainOption
   });
   if (last.epoch > 0) print_progress(last, true);
   if (!quiet) std::fprintf(stderr, "\n");
-  const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
 
-  // 7. The frozen network, its config and (optionally) its C header, committed together: the three files
-  //    always come from one run.
-  const auto& state = trainer.state();
-  provenance.epochs_run = state.epoch;
-  provenance.best_epoch = options.restore_best && val_x.rows() > 0 ? state.best_epoch : 0;
-  provenance.training_loss = state.training_loss;
-  provenance.validation_loss =
-      val_x.rows() > 0 && options.restore_best ? state.best_validation_loss : state.validation_loss;
+/// The frozen network, its config and (optionally) its C header, committed together: the three files always
+/// come from one run.
+template <class Real>
+void write_outputs(const CLI::App& app, const mlp::Network<Real>& network,
+                   const geometry::TrainingDomain& domain, const io::NetworkProvenance& provenance,
+                   const std::filesystem::path& output, const std::string& header_path,
+                   const std::string& data_path, const std::string& checksum) {
   const auto network_file = io::write_network_uncommitted(output, network, domain, provenance);
   const auto config_file = cli::write_effective_config(app, "train-net", output);
   std::unique_ptr<io::AtomicOutput> header_file;
@@ -284,26 +289,34 @@ int train(const CLI::App& app, const NetSettings& net_settings, mlp::TrainOption
     search::CHeaderOptions h;
     h.prefix = c_prefix(header_path);
     h.description = "network " + output.filename().string() + ", dataset " + data_path + " (" + checksum +
-                    "), seed " + std::to_string(options.seed);
+                    "), seed " + std::to_string(provenance.seed);
     header_file = io::write_text_uncommitted(
         header_path, search::export_c_header(search::NetworkModel(network, domain), h));
   }
   io::commit_together({network_file.get(), config_file.get(), header_file.get()});
+}
 
-  // 8. Summary: losses and the mean |error| over every ok row of the dataset (label units).
-  const MatrixRM<double> predicted = mlp::predict(network, set.features);
+/// The summary on stdout: losses and the mean |error| over every ok row of the dataset (label units).
+template <class Real>
+void print_summary(const mlp::Network<Real>& network, const TrainingData& data,
+                   const mlp::TrainingState<Real>& state, const io::NetworkProvenance& provenance,
+                   const std::filesystem::path& output, double seconds) {
+  const MatrixRM<double> predicted = mlp::predict(network, data.set.features);
   double abs_error[2] = {0, 0};
-  for (std::uint32_t r : ok_rows) {
-    for (int k = 0; k < 2; ++k) abs_error[k] += std::abs(predicted(r, k) - set.labels(r, k));
+  for (std::uint32_t r : data.ok_rows) {
+    for (int k = 0; k < 2; ++k) abs_error[k] += std::abs(predicted(r, k) - data.set.labels(r, k));
   }
-  const auto names = coordinate_names(set.surface);
+  const auto names = coordinate_names(data.set.surface);
+  const std::vector<int>& sizes = network.layer_sizes();
+  const auto& selection = data.selection;
+  const std::size_t ok_count = data.ok_rows.size();
   std::printf("train-net summary\n");
   std::printf("  network          ");
   for (std::size_t l = 0; l < sizes.size(); ++l) std::printf("%s%d", l ? "-" : "", sizes[l]);
   std::printf(" (%s, U0 = %g), %s mode\n", std::is_same_v<Real, float> ? "float" : "double", network.u0(),
               provenance.training_mode.c_str());
   std::printf("  patterns         %zu training, %zu validation (of %zu ok rows)\n", selection.training.size(),
-              selection.validation.size(), ok_rows.size());
+              selection.validation.size(), ok_count);
   std::printf("  epochs           %d (kept parameters of epoch %lld), %.2f s\n", state.epoch,
               static_cast<long long>(provenance.best_epoch ? provenance.best_epoch : state.epoch), seconds);
   // The training error is the last epoch's; the validation error the kept parameters' (the best epoch's with
@@ -317,10 +330,64 @@ int train(const CLI::App& app, const NetSettings& net_settings, mlp::TrainOption
                 static_cast<long long>(provenance.best_epoch ? provenance.best_epoch : state.epoch));
   }
   std::printf("  all ok rows      mean |%s error| %.5f, mean |%s error| %.5f  (%zu rows)\n",
-              std::string(names[0]).c_str(), abs_error[0] / static_cast<double>(ok_rows.size()),
-              std::string(names[1]).c_str(), abs_error[1] / static_cast<double>(ok_rows.size()),
-              ok_rows.size());
+              std::string(names[0]).c_str(), abs_error[0] / static_cast<double>(ok_count),
+              std::string(names[1]).c_str(), abs_error[1] / static_cast<double>(ok_count), ok_count);
   std::printf("  written          %s\n", output.string().c_str());
+}
+
+template <class Real>
+int train(const CLI::App& app, const NetSettings& net_settings, mlp::TrainOptions options,
+          const std::string& data_path, const std::filesystem::path& output, int checkpoint_every,
+          bool resume, const std::string& header_path, bool quiet, const std::string& config_toml) {
+  // 3. Outputs checked now, not after the training; then the data: the dataset, its rows with status ok, the
+  //    training and validation draw.
+  std::filesystem::path checkpoint_path = output;
+  checkpoint_path += ".checkpoint.h5";
+  check_outputs(app, data_path, output, checkpoint_path, checkpoint_every > 0 || resume, header_path);
+  const TrainingData data = read_training_data(net_settings, options, data_path);
+
+  // 4. Network: architecture, scaling from the training inputs, weights from the seed.
+  std::vector<int> sizes{data.n_features};
+  for (int n : parse_hidden(net_settings.hidden)) sizes.push_back(n);
+  sizes.push_back(2);
+  mlp::Network<Real> network(sizes, net_settings.u0, training_scaling(net_settings, data));
+  network.initialize(mlp::Rng::derive_seed(options.seed, 0));
+  MatrixRM<Real> train_x, train_t, val_x, val_t;
+  scaled_patterns(data, network.scaling(), data.selection.training, train_x, train_t);
+  scaled_patterns(data, network.scaling(), data.selection.validation, val_x, val_t);
+  const dataset::LabelledSet& set = data.set;
+  const geometry::TrainingDomain domain = geometry::TrainingDomain::from_features(
+      set.surface, set.features.data(), static_cast<long>(set.size()), set.status, set.filters);
+
+  io::NetworkProvenance provenance;
+  provenance.config_toml = config_toml;
+  provenance.seed = options.seed;
+  provenance.dataset_path = data_path;
+  provenance.dataset_checksum = data.checksum;
+  provenance.training_mode = std::string(mlp::to_string(options.mode));
+  provenance.training_patterns = static_cast<std::int64_t>(data.selection.training.size());
+  provenance.validation_patterns = static_cast<std::int64_t>(data.selection.validation.size());
+
+  // 5. Trainer, resumed from the checkpoint when asked.
+  mlp::Trainer<Real> trainer(network, options, train_x, train_t, val_x, val_t);
+  if (resume)
+    resume_from_checkpoint(checkpoint_path, data.checksum, config_toml, options, network, trainer, quiet);
+
+  // 6. Epochs: progress line, checkpoints.
+  const double seconds = run_epochs(trainer, network, options, domain, provenance, checkpoint_path,
+                                    checkpoint_every, train_x.rows(), val_x.rows() > 0, quiet);
+
+  // 7. The frozen network, its config and (optionally) its C header, committed together.
+  const auto& state = trainer.state();
+  provenance.epochs_run = state.epoch;
+  provenance.best_epoch = options.restore_best && val_x.rows() > 0 ? state.best_epoch : 0;
+  provenance.training_loss = state.training_loss;
+  provenance.validation_loss =
+      val_x.rows() > 0 && options.restore_best ? state.best_validation_loss : state.validation_loss;
+  write_outputs(app, network, domain, provenance, output, header_path, data_path, data.checksum);
+
+  // 8. Summary: losses and the mean |error| over every ok row of the dataset (label units).
+  print_summary(network, data, state, provenance, output, seconds);
   return 0;
 }
 

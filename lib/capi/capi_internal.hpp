@@ -35,4 +35,13 @@ int guarded(const char* function, Body&& body) noexcept {
   }
 }
 
+/// A handle's options.threads at most CONTACTNN_MAX_THREADS (0 or less: OpenMP's default), else
+/// InvalidArgument naming `function`.
+inline void require_threads(int threads, const char* function) {
+  CONTACTNN_REQUIRE_AS(InvalidArgument, threads <= CONTACTNN_MAX_THREADS,
+                       function << ": options.threads = " << threads
+                                << ", expected at most CONTACTNN_MAX_THREADS (" << CONTACTNN_MAX_THREADS
+                                << "; 0 or less: OpenMP's default)");
+}
+
 }  // namespace contactnn::capi

@@ -103,10 +103,7 @@ int contactnn_contact_create(contactnn_contact** out, size_t n_faces, const int*
             options->quad4_surface == CONTACTNN_SURFACE_GREGORY,
         kFunction << ": options.quad4_surface = " << options->quad4_surface
                   << ", expected CONTACTNN_SURFACE_BILINEAR (0) or CONTACTNN_SURFACE_GREGORY (1)");
-    CONTACTNN_REQUIRE_AS(InvalidArgument, options->threads <= CONTACTNN_MAX_THREADS,
-                         kFunction << ": options.threads = " << options->threads
-                                   << ", expected at most CONTACTNN_MAX_THREADS (" << CONTACTNN_MAX_THREADS
-                                   << "; 0 or less: OpenMP's default)");
+    capi::require_threads(options->threads, kFunction);
     CONTACTNN_REQUIRE_AS(
         InvalidArgument, std::isfinite(options->capture_distance),
         kFunction << ": options.capture_distance = " << options->capture_distance << " is not finite");

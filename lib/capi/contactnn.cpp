@@ -141,6 +141,18 @@ search::Method parse_method(std::string_view method) {
   }
 }
 
+/// `options`, or where it is NULL the library's defaults written into `defaults`; its threads checked
+/// (require_threads, naming `function`).
+const contactnn_options* options_or_defaults(const contactnn_options* options, contactnn_options& defaults,
+                                             const char* function) {
+  if (options == nullptr) {
+    contactnn_options_init(&defaults);
+    options = &defaults;
+  }
+  capi::require_threads(options->threads, function);
+  return options;
+}
+
 search::SearchOptions to_search_options(const contactnn_options& o) {
   search::SearchOptions s;
   s.max_iterations = o.max_iterations;
@@ -267,14 +279,7 @@ int contactnn_search_create(contactnn_search** out, int surface, const char* met
                              << quote_text(network_file) << " is longer than any path (" << kMaxPathBytes
                              << " bytes)");
     contactnn_options defaults{};
-    if (options == nullptr) {
-      contactnn_options_init(&defaults);
-      options = &defaults;
-    }
-    CONTACTNN_REQUIRE_AS(InvalidArgument, options->threads <= CONTACTNN_MAX_THREADS,
-                         "contactnn_search_create: options.threads = "
-                             << options->threads << ", expected at most CONTACTNN_MAX_THREADS ("
-                             << CONTACTNN_MAX_THREADS << "; 0 or less: OpenMP's default)");
+    options = options_or_defaults(options, defaults, "contactnn_search_create");
 
     auto handle = std::make_unique<contactnn_search>();
     handle->threads = options->threads;
@@ -355,14 +360,7 @@ int contactnn_search_create_from_plan(contactnn_search** out, const char* plan_f
                              << quote_text(plan_file) << " is longer than any path (" << kMaxPathBytes
                              << " bytes)");
     contactnn_options defaults{};
-    if (options == nullptr) {
-      contactnn_options_init(&defaults);
-      options = &defaults;
-    }
-    CONTACTNN_REQUIRE_AS(InvalidArgument, options->threads <= CONTACTNN_MAX_THREADS,
-                         "contactnn_search_create_from_plan: options.threads = "
-                             << options->threads << ", expected at most CONTACTNN_MAX_THREADS ("
-                             << CONTACTNN_MAX_THREADS << "; 0 or less: OpenMP's default)");
+    options = options_or_defaults(options, defaults, "contactnn_search_create_from_plan");
     // The plan names its surface, method and network file; read_plan checks the method and that a network is
     // given exactly when the method needs one (FormatError naming the file, the line and the key).
     const io::ScenePlan plan = io::read_plan(plan_file);

@@ -19,14 +19,10 @@ namespace contactnn::contact {
 
 int face_node_count(mesh::FaceType type) {
   switch (type) {
-    case mesh::FaceType::kQuad4:
-      return 4;
-    case mesh::FaceType::kQuad8:
-      return 8;
-    case mesh::FaceType::kTri3:
-      return 3;
-    case mesh::FaceType::kTri6:
-      return 6;
+    case mesh::FaceType::kQuad4: return 4;
+    case mesh::FaceType::kQuad8: return 8;
+    case mesh::FaceType::kTri3: return 3;
+    case mesh::FaceType::kTri6: return 6;
   }
   return 0;
 }
@@ -45,8 +41,7 @@ Vec3 face_normal_at(const mesh::SurfaceMesh& surface, std::span<const Vec3> norm
   const mesh::FaceNodes nodes = surface.face_nodes(f);
   const auto x = [&](int k) -> const Vec3& { return surface.positions[static_cast<std::size_t>(nodes[k])]; };
   switch (nodes.type) {
-    case mesh::FaceType::kTri3:
-      return unit_or_zero((x(1) - x(0)).cross(x(2) - x(0)));
+    case mesh::FaceType::kTri3: return unit_or_zero((x(1) - x(0)).cross(x(2) - x(0)));
     case mesh::FaceType::kTri6: {
       const geometry::QuadraticTriangle face({x(0), x(1), x(2), x(3), x(4), x(5)});
       const geometry::SurfacePoint p = face.evaluate(param[0], param[1]);
@@ -57,8 +52,7 @@ Vec3 face_normal_at(const mesh::SurfaceMesh& surface, std::span<const Vec3> norm
       const geometry::SurfacePoint p = face.evaluate(param[0], param[1]);
       return unit_or_zero(p.d_s.cross(p.d_t));
     }
-    case mesh::FaceType::kQuad4:
-      break;
+    case mesh::FaceType::kQuad4: break;
   }
   geometry::Configuration config;
   for (std::size_t i = 0; i < 4; ++i) {

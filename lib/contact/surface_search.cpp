@@ -288,14 +288,10 @@ projection::FaceClosestPoint closest_on_face(const mesh::SurfaceMesh& master, st
 /// Parameters of corner k (A, B, C, D) of a quadrilateral face.
 std::array<double, 2> corner_param(int k, ParamDomain d) {
   switch (k) {
-    case 0:
-      return {d.lo, d.lo};
-    case 1:
-      return {d.hi, d.lo};
-    case 2:
-      return {d.hi, d.hi};
-    default:
-      return {d.lo, d.hi};
+    case 0: return {d.lo, d.lo};
+    case 1: return {d.hi, d.lo};
+    case 2: return {d.hi, d.hi};
+    default: return {d.lo, d.hi};
   }
 }
 

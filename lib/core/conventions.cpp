@@ -24,12 +24,9 @@ std::string_view to_string(SurfaceKind kind) {
 
 std::string_view to_string(Location location) {
   switch (location) {
-    case Location::kFace:
-      return "face";
-    case Location::kEdge:
-      return "edge";
-    case Location::kVertex:
-      return "vertex";
+    case Location::kFace: return "face";
+    case Location::kEdge: return "edge";
+    case Location::kVertex: return "vertex";
   }
   return "face";
 }

@@ -45,14 +45,10 @@ InteriorPair interior_points(const Vec3& x, const Vec3& n_x, const Vec3& x_other
 
 const char* defect_name(GregoryDefect defect) {
   switch (defect) {
-    case GregoryDefect::kNone:
-      return "none";
-    case GregoryDefect::kNonFinite:
-      return "a non-finite node or normal component";
-    case GregoryDefect::kZeroNormal:
-      return "a node normal of zero length";
-    case GregoryDefect::kDegenerateEdge:
-      return "an edge of zero length or a node normal parallel to an edge";
+    case GregoryDefect::kNone: return "none";
+    case GregoryDefect::kNonFinite: return "a non-finite node or normal component";
+    case GregoryDefect::kZeroNormal: return "a node normal of zero length";
+    case GregoryDefect::kDegenerateEdge: return "an edge of zero length or a node normal parallel to an edge";
   }
   return "unknown";
 }

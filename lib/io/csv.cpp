@@ -8,6 +8,7 @@
 #include <cstring>
 
 #include "core/error.hpp"
+#include "io/byte_order_mark.hpp"
 
 namespace contactnn::io {
 
@@ -96,23 +97,13 @@ void CsvReader::check_encoding() {
   // A byte-order mark says what the text is; UTF-8's is skipped, the others are named.
   std::string head;
   while (head.size() < 4 && peek() >= 0) head += static_cast<char>(get());
-  const auto starts = [&](std::string_view mark) { return head.compare(0, mark.size(), mark) == 0; };
-  std::string_view encoding;
-  if (starts(std::string_view("\xFF\xFE\x00\x00", 4))) {
-    encoding = "UTF-32 (little-endian)";
-  } else if (starts(std::string_view("\x00\x00\xFE\xFF", 4))) {
-    encoding = "UTF-32 (big-endian)";
-  } else if (starts("\xFF\xFE")) {
-    encoding = "UTF-16 (little-endian)";
-  } else if (starts("\xFE\xFF")) {
-    encoding = "UTF-16 (big-endian)";
-  }
+  const std::string_view encoding = foreign_byte_order_mark(head);
   CONTACTNN_REQUIRE_AS(FormatError, encoding.empty(),
                        file_label(path_) << ": the file is " << encoding
                                          << " text (by its byte-order mark); save it as UTF-8 or ASCII");
   // Step back over the bytes read (a UTF-8 mark excepted): they all came from the first read, which fills
   // the buffer unless the file ends first, and refill() keeps the view at the end of the file.
-  const std::size_t skip = starts("\xEF\xBB\xBF") ? 3 : 0;
+  const std::size_t skip = head.rfind("\xEF\xBB\xBF", 0) == 0 ? 3 : 0;
   pos_ -= head.size() - skip;
 }
 

@@ -333,125 +333,150 @@ class FrdReader {
     return c;
   }
 
-  void result_block(std::string_view header) {
-    const int header_line = line_;
-    const std::string header_what = "result block header ('  100C')";
+  /// A DISP or CONTACT block being read: its name for messages, its header's line and fields, its node id
+  /// width, its components, the current line and the current node's values.
+  struct OpenBlock {
+    std::string what;
+    int header_line = 0;
+    int analysis_type = 0;
+    int output_counter = 0;
     double time = 0;
+    std::size_t width = 0;
+    Components c;
+    std::string_view line;
+    std::vector<double> values;
+  };
+
+  void advance(OpenBlock& b) {
+    if (!next(b.line)) truncated(b.what, b.header_line);
+  }
+
+  void expect_value_record(const OpenBlock& b) {
+    if (data_key(b.line) != "-1") {
+      fail(line_, b.what,
+           "expected a value record ' -1' or the end of the block ' -3', got '" + shown(b.line) + "'");
+    }
+  }
+
+  /// Reads one node's records (the current " -1" line and its " -2" continuations) into b.values.
+  long node_values(OpenBlock& b) {
+    std::vector<double>& values = b.values;
+    const std::size_t first = std::min<std::size_t>(kValuesPerRecord, values.size());
+    const long id = value_record(b.line, b.what, b.width, first, values.data());
+    for (std::size_t done = first; done < values.size(); done += kValuesPerRecord) {
+      advance(b);
+      if (data_key(b.line) != "-2") {
+        fail(line_, b.what,
+             "node " + std::to_string(id) + " has " + std::to_string(values.size()) +
+                 " values: expected the continuation record ' -2' for values " + std::to_string(done + 1) +
+                 "..., got '" + shown(b.line) + "'");
+      }
+      value_record(b.line, b.what, b.width, std::min(kValuesPerRecord, values.size() - done),
+                   values.data() + done);
+    }
+    return id;
+  }
+
+  void result_block(std::string_view header) {
+    OpenBlock b;
+    b.header_line = line_;
+    const std::string header_what = "result block header ('  100C')";
     const std::string_view time_text = trim(cut(header, kTimeValue));
-    if (!time_text.empty() && !parse_number(time_text, time)) {
+    if (!time_text.empty() && !parse_number(time_text, b.time)) {
       fail(line_, header_what,
            "VALUE (" + columns(kTimeValue) + "): '" + std::string(time_text) + "' is not a finite number");
     }
-    const int analysis_type = header_integer(header, kAnalysisType, header_what, "ICTYPE");
-    const int output_counter = header_integer(header, kOutputCounter, header_what, "NUMSTP");
+    b.analysis_type = header_integer(header, kAnalysisType, header_what, "ICTYPE");
+    b.output_counter = header_integer(header, kOutputCounter, header_what, "NUMSTP");
     const int format = header_integer(header, kResultFormat, header_what, "FORMAT");
 
     std::string_view attribute;
-    if (!next(attribute)) truncated(header_what, header_line);
+    if (!next(attribute)) truncated(header_what, b.header_line);
     if (data_key(attribute) != "-4") {
       fail(line_, header_what,
            "expected the attribute record ' -4  NAME' after the header at line " +
-               std::to_string(header_line) + ", got '" + shown(attribute) + "'");
+               std::to_string(b.header_line) + ", got '" + shown(attribute) + "'");
     }
     const std::string name(trim(cut(attribute, kBlockName)));
-    const std::string what = name + " block (header at line " + std::to_string(header_line) + ")";
-    const bool counted = analysis_type == kStatic || analysis_type == kDynamic;
+    b.what = name + " block (header at line " + std::to_string(b.header_line) + ")";
+    const bool counted = b.analysis_type == kStatic || b.analysis_type == kDynamic;
     if (name == "DISP" && !counted) ++other_disp_blocks_;
     if (!counted || (name != "DISP" && name != "CONTACT")) {
-      skip_block(what, header_line);
+      skip_block(b.what, b.header_line);
       return;
     }
-    const std::size_t width = id_width(format, header_line, header_what, kResultFormat);
-    std::string_view line;
-    const Components c = components(attribute, what, header_line, line);
-    std::vector<double> values(c.names.size());
-    const auto advance = [&]() {
-      if (!next(line)) truncated(what, header_line);
-    };
-
-    // Reads one node's records (the current " -1" line and its " -2" continuations) into `values`.
-    const auto node_values = [&]() -> long {
-      const std::size_t first = std::min<std::size_t>(kValuesPerRecord, values.size());
-      const long id = value_record(line, what, width, first, values.data());
-      for (std::size_t done = first; done < values.size(); done += kValuesPerRecord) {
-        advance();
-        if (data_key(line) != "-2") {
-          fail(line_, what,
-               "node " + std::to_string(id) + " has " + std::to_string(values.size()) +
-                   " values: expected the continuation record ' -2' for values " + std::to_string(done + 1) +
-                   "..., got '" + shown(line) + "'");
-        }
-        value_record(line, what, width, std::min(kValuesPerRecord, values.size() - done),
-                     values.data() + done);
-      }
-      return id;
-    };
-    const auto expect_value_record = [&]() {
-      if (data_key(line) != "-1") {
-        fail(line_, what,
-             "expected a value record ' -1' or the end of the block ' -3', got '" + shown(line) + "'");
-      }
-    };
-
+    b.width = id_width(format, b.header_line, header_what, kResultFormat);
+    b.c = components(attribute, b.what, b.header_line, b.line);
+    b.values.resize(b.c.names.size());
     if (name == "DISP") {
-      int d[3];
-      const char* const labels[3] = {"D1", "D2", "D3"};
-      for (int k = 0; k < 3; ++k) {
-        d[k] = c.find(labels[k]);
-        if (d[k] < 0) {
-          fail(header_line + 1, what,
-               std::string("no component ") + labels[k] + " (the block's values: " + c.list() + ")");
-        }
-      }
-      FrdIncrement inc;
-      inc.number = static_cast<int>(results_.increments.size()) + 1;
-      inc.step = step_;
-      inc.increment_in_step = increment_in_step_;
-      inc.analysis_type = analysis_type;
-      inc.output_counter = output_counter;
-      inc.time = time;
-      inc.line = header_line;
-      std::unordered_map<long, int> first_line;
-      for (; data_key(line) != "-3"; advance()) {
-        expect_value_record();
-        const int record_line = line_;
-        const long id = node_values();
-        const auto [it, inserted] = first_line.emplace(id, record_line);
-        if (!inserted) {
-          fail(record_line, what,
-               "node " + std::to_string(id) + " is listed twice (first at line " +
-                   std::to_string(it->second) + ")");
-        }
-        inc.disp_nodes.push_back(id);
-        inc.displacement.emplace_back(values[static_cast<std::size_t>(d[0])],
-                                      values[static_cast<std::size_t>(d[1])],
-                                      values[static_cast<std::size_t>(d[2])]);
-      }
-      results_.increments.push_back(std::move(inc));
-      return;
+      disp_block(b);
+    } else {
+      contact_block(b);
     }
+  }
 
-    // CONTACT
+  /// A DISP block: one increment's displacements (D1, D2, D3) by node.
+  void disp_block(OpenBlock& b) {
+    int d[3];
+    const char* const labels[3] = {"D1", "D2", "D3"};
+    for (int k = 0; k < 3; ++k) {
+      d[k] = b.c.find(labels[k]);
+      if (d[k] < 0) {
+        fail(b.header_line + 1, b.what,
+             std::string("no component ") + labels[k] + " (the block's values: " + b.c.list() + ")");
+      }
+    }
+    FrdIncrement inc;
+    inc.number = static_cast<int>(results_.increments.size()) + 1;
+    inc.step = step_;
+    inc.increment_in_step = increment_in_step_;
+    inc.analysis_type = b.analysis_type;
+    inc.output_counter = b.output_counter;
+    inc.time = b.time;
+    inc.line = b.header_line;
+    std::unordered_map<long, int> first_line;
+    for (; data_key(b.line) != "-3"; advance(b)) {
+      expect_value_record(b);
+      const int record_line = line_;
+      const long id = node_values(b);
+      const auto [it, inserted] = first_line.emplace(id, record_line);
+      if (!inserted) {
+        fail(record_line, b.what,
+             "node " + std::to_string(id) + " is listed twice (first at line " + std::to_string(it->second) +
+                 ")");
+      }
+      inc.disp_nodes.push_back(id);
+      inc.displacement.emplace_back(b.values[static_cast<std::size_t>(d[0])],
+                                    b.values[static_cast<std::size_t>(d[1])],
+                                    b.values[static_cast<std::size_t>(d[2])]);
+    }
+    results_.increments.push_back(std::move(inc));
+  }
+
+  /// A CONTACT block: COPEN, CSLIP1, CSLIP2 by node, and CPRESS, CSHEAR1, CSHEAR2 when present (all three or
+  /// none); kept until its increment's DISP block is known.
+  void contact_block(OpenBlock& b) {
     const char* const labels[6] = {"COPEN", "CSLIP1", "CSLIP2", "CPRESS", "CSHEAR1", "CSHEAR2"};
     int k_of[6];
-    for (int k = 0; k < 6; ++k) k_of[k] = c.find(labels[k]);
+    for (int k = 0; k < 6; ++k) k_of[k] = b.c.find(labels[k]);
     for (int k = 0; k < 3; ++k) {
       if (k_of[k] < 0) {
-        fail(header_line + 1, what,
-             std::string("no component ") + labels[k] + " (the block's values: " + c.list() + ")");
+        fail(b.header_line + 1, b.what,
+             std::string("no component ") + labels[k] + " (the block's values: " + b.c.list() + ")");
       }
     }
     const int stresses =
         static_cast<int>(k_of[3] >= 0) + static_cast<int>(k_of[4] >= 0) + static_cast<int>(k_of[5] >= 0);
     if (stresses != 0 && stresses != 3) {
-      fail(header_line + 1, what,
-           "CPRESS, CSHEAR1 and CSHEAR2 come together or not at all (the block's values: " + c.list() + ")");
+      fail(
+          b.header_line + 1, b.what,
+          "CPRESS, CSHEAR1 and CSHEAR2 come together or not at all (the block's values: " + b.c.list() + ")");
     }
-    PendingContact pending{step_, output_counter, header_line, {}};
-    for (; data_key(line) != "-3"; advance()) {
-      expect_value_record();
-      const long id = node_values();
-      const auto v = [&](int k) { return values[static_cast<std::size_t>(k_of[k])]; };
+    PendingContact pending{step_, b.output_counter, b.header_line, {}};
+    for (; data_key(b.line) != "-3"; advance(b)) {
+      expect_value_record(b);
+      const long id = node_values(b);
+      const auto v = [&](int k) { return b.values[static_cast<std::size_t>(k_of[k])]; };
       FrdContact row;
       row.node = id;
       row.copen = v(0);

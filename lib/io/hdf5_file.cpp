@@ -56,10 +56,8 @@ std::string system_reason(int error) {
     case EFBIG:
     case EIO:
     case EROFS:
-    case EACCES:
-      return std::string(": ") + std::strerror(error);
-    default:
-      return "";
+    case EACCES: return std::string(": ") + std::strerror(error);
+    default: return "";
   }
 }
 
@@ -198,22 +196,14 @@ std::string type_text(hid_t type) {
   const H5T_class_t type_class = H5Tget_class(type);
   const std::size_t bits = 8 * H5Tget_size(type);
   switch (type_class) {
-    case H5T_FLOAT:
-      return "float" + std::to_string(bits);
-    case H5T_INTEGER:
-      return (H5Tget_sign(type) == H5T_SGN_NONE ? "uint" : "int") + std::to_string(bits);
-    case H5T_STRING:
-      return H5Tis_variable_str(type) > 0 ? "variable-length string" : "fixed-length string";
-    case H5T_ENUM:
-      return "enum";
-    case H5T_COMPOUND:
-      return "compound";
-    case H5T_ARRAY:
-      return "array";
-    case H5T_VLEN:
-      return "variable-length sequence";
-    default:
-      return "another HDF5 type";
+    case H5T_FLOAT: return "float" + std::to_string(bits);
+    case H5T_INTEGER: return (H5Tget_sign(type) == H5T_SGN_NONE ? "uint" : "int") + std::to_string(bits);
+    case H5T_STRING: return H5Tis_variable_str(type) > 0 ? "variable-length string" : "fixed-length string";
+    case H5T_ENUM: return "enum";
+    case H5T_COMPOUND: return "compound";
+    case H5T_ARRAY: return "array";
+    case H5T_VLEN: return "variable-length sequence";
+    default: return "another HDF5 type";
   }
 }
 
@@ -299,6 +289,17 @@ void read_numbers(hid_t dataset, const std::filesystem::path& path, const std::s
       out[i] = static_cast<T>(v);
     }
   }
+}
+
+/// The integer of `sizeof(Signed)` bytes at `raw` in native order, signed or not.
+template <class Signed, class Unsigned>
+std::int64_t native_integer(const unsigned char* raw, bool is_signed) {
+  static_assert(sizeof(Signed) == sizeof(Unsigned) && sizeof(Signed) < 8);
+  Signed s;
+  Unsigned u;
+  std::memcpy(&s, raw, sizeof s);
+  std::memcpy(&u, raw, sizeof u);
+  return is_signed ? static_cast<std::int64_t>(s) : static_cast<std::int64_t>(u);
 }
 
 }  // namespace
@@ -508,27 +509,9 @@ std::int64_t Hdf5File::read_int_attribute(const std::string& object, const std::
                          "cannot read attribute " << label);
     const bool is_signed = H5Tget_sign(base.get()) != H5T_SGN_NONE;
     switch (size) {
-      case 1: {
-        std::int8_t s8;
-        std::uint8_t u8;
-        std::memcpy(&s8, raw, 1);
-        std::memcpy(&u8, raw, 1);
-        return is_signed ? s8 : u8;
-      }
-      case 2: {
-        std::int16_t s16;
-        std::uint16_t u16;
-        std::memcpy(&s16, raw, 2);
-        std::memcpy(&u16, raw, 2);
-        return is_signed ? s16 : u16;
-      }
-      case 4: {
-        std::int32_t s32;
-        std::uint32_t u32;
-        std::memcpy(&s32, raw, 4);
-        std::memcpy(&u32, raw, 4);
-        return is_signed ? s32 : static_cast<std::int64_t>(u32);
-      }
+      case 1: return native_integer<std::int8_t, std::uint8_t>(raw, is_signed);
+      case 2: return native_integer<std::int16_t, std::uint16_t>(raw, is_signed);
+      case 4: return native_integer<std::int32_t, std::uint32_t>(raw, is_signed);
       default: {
         std::int64_t s64;
         std::memcpy(&s64, raw, 8);

@@ -21,6 +21,7 @@
 
 #include "core/error.hpp"
 #include "core/quote_text.hpp"
+#include "io/byte_order_mark.hpp"
 
 namespace contactnn::io {
 
@@ -400,17 +401,7 @@ class DeckReader {
   void check_text(std::string_view text, Location loc) const {
     const auto say = [&](const std::string& what) { throw FormatError(where(loc) + ": " + what); };
     if (loc.line == 1) {
-      const auto starts = [&](std::string_view mark) { return text.substr(0, mark.size()) == mark; };
-      std::string_view encoding;
-      if (starts(std::string_view("\xFF\xFE\x00\x00", 4))) {
-        encoding = "UTF-32 (little-endian)";
-      } else if (starts(std::string_view("\x00\x00\xFE\xFF", 4))) {
-        encoding = "UTF-32 (big-endian)";
-      } else if (starts("\xFF\xFE")) {
-        encoding = "UTF-16 (little-endian)";
-      } else if (starts("\xFE\xFF")) {
-        encoding = "UTF-16 (big-endian)";
-      }
+      const std::string_view encoding = foreign_byte_order_mark(text);
       if (!encoding.empty()) {
         say("the file is " + std::string(encoding) +
             " text (by its byte-order mark); save the deck as UTF-8 or ASCII");
@@ -564,24 +555,15 @@ class DeckReader {
   // ---- Data lines ---------------------------------------------------------------------------------------
   void data(std::string_view line, Location loc) {
     switch (block_) {
-      case Block::kSkip:
-        return;
-      case Block::kNode:
-        return node_line(line, loc);
-      case Block::kElement:
-        return element_line(line, loc);
-      case Block::kNset:
-        return set_line(nsets_, "node", line, loc);
-      case Block::kElset:
-        return set_line(elsets_, "element", line, loc);
-      case Block::kSurface:
-        return surface_line(line, loc);
-      case Block::kContactPair:
-        return pair_line(line, loc);
-      case Block::kTie:
-        return tie_line(line, loc);
-      case Block::kCyclic:
-        return cyclic_line(line, loc);
+      case Block::kSkip: return;
+      case Block::kNode: return node_line(line, loc);
+      case Block::kElement: return element_line(line, loc);
+      case Block::kNset: return set_line(nsets_, "node", line, loc);
+      case Block::kElset: return set_line(elsets_, "element", line, loc);
+      case Block::kSurface: return surface_line(line, loc);
+      case Block::kContactPair: return pair_line(line, loc);
+      case Block::kTie: return tie_line(line, loc);
+      case Block::kCyclic: return cyclic_line(line, loc);
     }
   }
 

@@ -70,50 +70,37 @@ std::span<const int> face_corner_indices(ElementShape shape, int face) {
     case ElementShape::kTetrahedron:
       if (face >= 1 && face <= 4) return {kTetFaces[static_cast<std::size_t>(face - 1)].data(), 3};
       break;
-    case ElementShape::kOther:
-      break;
+    case ElementShape::kOther: break;
   }
   return {};
 }
 
 int quadratic_node_count(ElementShape shape) {
   switch (shape) {
-    case ElementShape::kHexahedron:
-      return 20;
-    case ElementShape::kWedge:
-      return 15;
-    case ElementShape::kTetrahedron:
-      return 10;
-    case ElementShape::kOther:
-      break;
+    case ElementShape::kHexahedron: return 20;
+    case ElementShape::kWedge: return 15;
+    case ElementShape::kTetrahedron: return 10;
+    case ElementShape::kOther: break;
   }
   return 0;
 }
 
 int corner_node_count(ElementShape shape) {
   switch (shape) {
-    case ElementShape::kHexahedron:
-      return 8;
-    case ElementShape::kWedge:
-      return 6;
-    case ElementShape::kTetrahedron:
-      return 4;
-    case ElementShape::kOther:
-      break;
+    case ElementShape::kHexahedron: return 8;
+    case ElementShape::kWedge: return 6;
+    case ElementShape::kTetrahedron: return 4;
+    case ElementShape::kOther: break;
   }
   return 0;
 }
 
 int midside_node_index(ElementShape shape, int a, int b) {
   switch (shape) {
-    case ElementShape::kHexahedron:
-      return find_edge(kHexEdges, 8, a, b);
-    case ElementShape::kWedge:
-      return find_edge(kWedgeEdges, 6, a, b);
-    case ElementShape::kTetrahedron:
-      return find_edge(kTetEdges, 4, a, b);
-    case ElementShape::kOther:
-      break;
+    case ElementShape::kHexahedron: return find_edge(kHexEdges, 8, a, b);
+    case ElementShape::kWedge: return find_edge(kWedgeEdges, 6, a, b);
+    case ElementShape::kTetrahedron: return find_edge(kTetEdges, 4, a, b);
+    case ElementShape::kOther: break;
   }
   return -1;
 }

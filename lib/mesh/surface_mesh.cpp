@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <set>
 #include <string>
 #include <string_view>
@@ -98,14 +99,10 @@ std::array<int, 4> outward_triangle_corners(const SolidMesh& mesh, ElementFace f
 
 std::string_view to_string(FaceType type) {
   switch (type) {
-    case FaceType::kQuad4:
-      return "quad4";
-    case FaceType::kQuad8:
-      return "quad8";
-    case FaceType::kTri3:
-      return "tri3";
-    case FaceType::kTri6:
-      return "tri6";
+    case FaceType::kQuad4: return "quad4";
+    case FaceType::kQuad8: return "quad8";
+    case FaceType::kTri3: return "tri3";
+    case FaceType::kTri6: return "tri6";
   }
   return "quad4";
 }
@@ -193,18 +190,12 @@ enum class Collapse { kNone, kTriangle, kFlatTriangle, kLine, kPoint, kNoTriangl
 
 std::string_view collapse_kind(Collapse c) {
   switch (c) {
-    case Collapse::kTriangle:
-      return " face collapsed to a triangle";
-    case Collapse::kFlatTriangle:
-      return " face collapsed to a flat triangle";
-    case Collapse::kLine:
-      return " face collapsed to a line";
-    case Collapse::kPoint:
-      return " face collapsed to a point";
-    case Collapse::kNoTriangle:
-      return " face collapsed, not a triangle";
-    case Collapse::kNone:
-      break;
+    case Collapse::kTriangle: return " face collapsed to a triangle";
+    case Collapse::kFlatTriangle: return " face collapsed to a flat triangle";
+    case Collapse::kLine: return " face collapsed to a line";
+    case Collapse::kPoint: return " face collapsed to a point";
+    case Collapse::kNoTriangle: return " face collapsed, not a triangle";
+    case Collapse::kNone: break;
   }
   return "";
 }
@@ -297,67 +288,70 @@ Collapse classify(const SolidMesh& mesh, CoincidentNodes& coincident, const Face
   return Collapse::kFlatTriangle;
 }
 
-}  // namespace
-
-SurfaceMesh build_surface_mesh(const SolidMesh& mesh, std::span<const ElementFace> faces) {
-  SurfaceMesh surface;
-  std::vector<std::array<int, 4>> segments, segment_mids;  // SolidMesh node indices for now
-  std::vector<std::array<int, 4>> extra, extra_mids;       // likewise
-  std::set<std::pair<int, int>> seen;
-  // 1. The faces of known types, by their nodes; the nodes that coincide within a collapsed face (two corners
-  // within the tolerance, deck coordinates) joined.
-  std::vector<FaceDraft> drafts;
-  drafts.reserve(faces.size());
-  CoincidentNodes coincident(mesh);
-  std::vector<int> joined;  // nodes of the joined pairs
-  for (const ElementFace& face : faces) {
-    CONTACTNN_REQUIRE(face.element >= 0 && face.element < mesh.element_count(),
-                      "element index " << face.element << " outside [0, " << mesh.element_count() << ")");
-    const ElementType& type = mesh.element_type(face.element);
-    CONTACTNN_REQUIRE(
-        type.face_count == 0 || (face.face >= 1 && face.face <= type.face_count),
-        "element " << mesh.element_id(face.element) << " (" << type.name << ") has no face S" << face.face);
-    if (!seen.emplace(face.element, face.face).second) {
-      ++surface.repeated_faces;
-      continue;
-    }
-    const std::size_t corners = face_corner_indices(type.shape, face.face).size();
-    // Linear and quadratic hexahedra, wedges and tetrahedra; faces of other types are skipped.
-    const bool known = type.node_count == corner_node_count(type.shape) ||
-                       type.node_count == quadratic_node_count(type.shape);
-    if (!known || (corners != 3 && corners != 4)) {
-      const char* kind = corners == 3 ? " triangle" : corners == 4 ? " quadrilateral" : " face";
-      ++surface.skipped_faces[type.name + kind];
-      continue;
-    }
-    FaceDraft d;
-    d.face = face;
-    const OutwardCorners outward = outward_local_corners(mesh, face);
-    d.count = outward.count;
-    d.inside_out = outward.inside_out;
-    d.corners = node_indices(mesh, face.element, outward.local);
-    d.mids = node_indices(mesh, face.element, local_midsides(mesh, face.element, outward.local, d.count));
-    d.tolerance = coincidence_tolerance(mesh, face.element);
-    const auto close = [&](std::size_t i, std::size_t j) {
-      return !(apart(mesh.deck_position(d.node(i)), mesh.deck_position(d.node(j))) > d.tolerance);
-    };
-    for (std::size_t i = 0; i < d.count; ++i) {
-      for (std::size_t j = i + 1; j < d.count; ++j) d.collapsed = d.collapsed || close(i, j);
-    }
-    if (d.collapsed) {
-      for (std::size_t i = 0; i < d.node_count(); ++i) {
-        for (std::size_t j = i + 1; j < d.node_count(); ++j) {
-          if (!close(i, j) || d.node(i) == d.node(j)) continue;
-          coincident.join(d.node(i), d.node(j));
-          joined.push_back(d.node(i));
-          joined.push_back(d.node(j));
-        }
-      }
-    }
-    drafts.push_back(d);
+/// A face of a known type by its nodes, or nullopt for a face build_surface_mesh counts and skips (a repeated
+/// face, an element type it does not know).
+std::optional<FaceDraft> draft_face(const SolidMesh& mesh, const ElementFace& face, SurfaceMesh& surface,
+                                    std::set<std::pair<int, int>>& seen) {
+  CONTACTNN_REQUIRE(face.element >= 0 && face.element < mesh.element_count(),
+                    "element index " << face.element << " outside [0, " << mesh.element_count() << ")");
+  const ElementType& type = mesh.element_type(face.element);
+  CONTACTNN_REQUIRE(
+      type.face_count == 0 || (face.face >= 1 && face.face <= type.face_count),
+      "element " << mesh.element_id(face.element) << " (" << type.name << ") has no face S" << face.face);
+  if (!seen.emplace(face.element, face.face).second) {
+    ++surface.repeated_faces;
+    return std::nullopt;
   }
+  const std::size_t corners = face_corner_indices(type.shape, face.face).size();
+  // Linear and quadratic hexahedra, wedges and tetrahedra; faces of other types are skipped.
+  const bool known =
+      type.node_count == corner_node_count(type.shape) || type.node_count == quadratic_node_count(type.shape);
+  if (!known || (corners != 3 && corners != 4)) {
+    const char* kind = corners == 3 ? " triangle" : corners == 4 ? " quadrilateral" : " face";
+    ++surface.skipped_faces[type.name + kind];
+    return std::nullopt;
+  }
+  FaceDraft d;
+  d.face = face;
+  const OutwardCorners outward = outward_local_corners(mesh, face);
+  d.count = outward.count;
+  d.inside_out = outward.inside_out;
+  d.corners = node_indices(mesh, face.element, outward.local);
+  d.mids = node_indices(mesh, face.element, local_midsides(mesh, face.element, outward.local, d.count));
+  d.tolerance = coincidence_tolerance(mesh, face.element);
+  return d;
+}
 
-  // 2. Each face by its representatives: a face of its own type, a triangle, or skipped.
+/// Joins the nodes that coincide within a collapsed face (two corners within the tolerance, deck
+/// coordinates), and appends each joined pair's nodes to `joined`.
+void join_coincident_nodes(const SolidMesh& mesh, FaceDraft& d, CoincidentNodes& coincident,
+                           std::vector<int>& joined) {
+  const auto close = [&](std::size_t i, std::size_t j) {
+    return !(apart(mesh.deck_position(d.node(i)), mesh.deck_position(d.node(j))) > d.tolerance);
+  };
+  for (std::size_t i = 0; i < d.count; ++i) {
+    for (std::size_t j = i + 1; j < d.count; ++j) d.collapsed = d.collapsed || close(i, j);
+  }
+  if (!d.collapsed) return;
+  for (std::size_t i = 0; i < d.node_count(); ++i) {
+    for (std::size_t j = i + 1; j < d.node_count(); ++j) {
+      if (!close(i, j) || d.node(i) == d.node(j)) continue;
+      coincident.join(d.node(i), d.node(j));
+      joined.push_back(d.node(i));
+      joined.push_back(d.node(j));
+    }
+  }
+}
+
+/// The surface's faces in SolidMesh node indices (-1: none), before the surface numbers its nodes.
+struct FaceLists {
+  std::vector<std::array<int, 4>> segments, segment_mids, extra, extra_mids;
+};
+
+/// Each face by its representatives: a segment, an extra face of its own type or a triangle, or skipped.
+FaceLists sort_faces(const SolidMesh& mesh, CoincidentNodes& coincident, std::span<const FaceDraft> drafts,
+                     SurfaceMesh& surface) {
+  FaceLists lists;
   for (const FaceDraft& d : drafts) {
     const ElementType& type = mesh.element_type(d.face.element);
     std::array<int, 4> corners{}, mids{};
@@ -367,8 +361,8 @@ SurfaceMesh build_surface_mesh(const SolidMesh& mesh, std::span<const ElementFac
       if (collapse != Collapse::kTriangle && collapse != Collapse::kFlatTriangle) continue;
     } else if (type.has_segment_faces) {
       if (d.inside_out) ++surface.inside_out_faces;
-      segments.push_back(corners);
-      segment_mids.push_back(mids);
+      lists.segments.push_back(corners);
+      lists.segment_mids.push_back(mids);
       surface.segment_faces.push_back(d.face);
       surface.segment_element_ids.push_back(mesh.element_id(d.face.element));
       continue;
@@ -377,14 +371,19 @@ SurfaceMesh build_surface_mesh(const SolidMesh& mesh, std::span<const ElementFac
       // segments.
       ++surface.skipped_faces[type.name + (d.count == 3 ? " triangle" : " quadrilateral")];
     }
-    extra.push_back(corners);
-    extra_mids.push_back(mids);
+    lists.extra.push_back(corners);
+    lists.extra_mids.push_back(mids);
     surface.extra_face_faces.push_back(d.face);
     surface.extra_face_element_ids.push_back(mesh.element_id(d.face.element));
   }
-  // Surface nodes (corners and mid-side nodes) in increasing deck id, so every later loop over them is in a
-  // reproducible order.
-  for (const auto* list : {&segments, &segment_mids, &extra, &extra_mids}) {
+  return lists;
+}
+
+/// The surface's nodes (corners and mid-side nodes) in increasing deck id, so every later loop over them is
+/// in a reproducible order: mesh_nodes, node_ids, positions. Returns each SolidMesh node's surface index (-1:
+/// none).
+std::vector<int> number_surface_nodes(const SolidMesh& mesh, const FaceLists& lists, SurfaceMesh& surface) {
+  for (const auto* list : {&lists.segments, &lists.segment_mids, &lists.extra, &lists.extra_mids}) {
     for (const auto& f : *list) {
       for (int n : f) {
         if (n >= 0) surface.mesh_nodes.push_back(n);
@@ -402,13 +401,12 @@ SurfaceMesh build_surface_mesh(const SolidMesh& mesh, std::span<const ElementFac
     surface.node_ids.push_back(mesh.node_id(n));
     surface.positions.push_back(mesh.position(n));
   }
-  // The nodes that another stands for, where that one is a node of the surface's faces.
-  std::sort(joined.begin(), joined.end(), [&](int a, int b) { return mesh.node_id(a) < mesh.node_id(b); });
-  joined.erase(std::unique(joined.begin(), joined.end()), joined.end());
-  for (int n : joined) {
-    const int r = coincident.representative(n);
-    if (r != n && local[static_cast<std::size_t>(r)] >= 0) surface.merged_nodes.push_back({n, r});
-  }
+  return local;
+}
+
+/// The faces in surface node indices; the mid-side lists stay empty unless some face is quadratic, so a
+/// linear surface looks as it always did.
+void set_local_faces(const FaceLists& lists, const std::vector<int>& local, SurfaceMesh& surface) {
   const auto to_local = [&](const std::array<int, 4>& f) {
     std::array<int, 4> out{-1, -1, -1, -1};
     for (std::size_t k = 0; k < 4; ++k) out[k] = f[k] < 0 ? -1 : local[static_cast<std::size_t>(f[k])];
@@ -417,18 +415,19 @@ SurfaceMesh build_surface_mesh(const SolidMesh& mesh, std::span<const ElementFac
   const auto quadratic = [](const std::vector<std::array<int, 4>>& mids) {
     return std::any_of(mids.begin(), mids.end(), [](const std::array<int, 4>& m) { return m[0] >= 0; });
   };
-  surface.segments.reserve(segments.size());
-  for (const auto& quad : segments) surface.segments.push_back(to_local(quad));
-  for (const auto& f : extra) surface.extra_faces.push_back(to_local(f));
-  // Empty unless some face is quadratic: a linear surface looks as it always did.
-  if (quadratic(segment_mids)) {
-    for (const auto& m : segment_mids) surface.segment_midsides.push_back(to_local(m));
+  surface.segments.reserve(lists.segments.size());
+  for (const auto& quad : lists.segments) surface.segments.push_back(to_local(quad));
+  for (const auto& f : lists.extra) surface.extra_faces.push_back(to_local(f));
+  if (quadratic(lists.segment_mids)) {
+    for (const auto& m : lists.segment_mids) surface.segment_midsides.push_back(to_local(m));
   }
-  if (quadratic(extra_mids)) {
-    for (const auto& m : extra_mids) surface.extra_face_midsides.push_back(to_local(m));
+  if (quadratic(lists.extra_mids)) {
+    for (const auto& m : lists.extra_mids) surface.extra_face_midsides.push_back(to_local(m));
   }
+}
 
-  // Adjacency (compressed rows): count, prefix sum, fill in segment order so each row is increasing.
+/// Adjacency (compressed rows): count, prefix sum, fill in segment order so each row is increasing.
+void set_adjacency(SurfaceMesh& surface) {
   const std::size_t n_nodes = surface.mesh_nodes.size();
   surface.adjacency_offsets.assign(n_nodes + 1, 0);
   for (const auto& quad : surface.segments) {
@@ -442,6 +441,37 @@ SurfaceMesh build_surface_mesh(const SolidMesh& mesh, std::span<const ElementFac
       surface.adjacency[static_cast<std::size_t>(fill[static_cast<std::size_t>(n)]++)] = static_cast<int>(s);
     }
   }
+}
+
+}  // namespace
+
+SurfaceMesh build_surface_mesh(const SolidMesh& mesh, std::span<const ElementFace> faces) {
+  SurfaceMesh surface;
+  // 1. The faces of known types, by their nodes; the nodes that coincide within a collapsed face joined.
+  std::vector<FaceDraft> drafts;
+  drafts.reserve(faces.size());
+  std::set<std::pair<int, int>> seen;
+  CoincidentNodes coincident(mesh);
+  std::vector<int> joined;  // nodes of the joined pairs
+  for (const ElementFace& face : faces) {
+    std::optional<FaceDraft> d = draft_face(mesh, face, surface, seen);
+    if (!d) continue;
+    join_coincident_nodes(mesh, *d, coincident, joined);
+    drafts.push_back(*d);
+  }
+  // 2. Each face by its representatives: a face of its own type, a triangle, or skipped.
+  const FaceLists lists = sort_faces(mesh, coincident, drafts, surface);
+  // 3. The surface's nodes, and the nodes that another stands for, where that one is a node of the surface.
+  const std::vector<int> local = number_surface_nodes(mesh, lists, surface);
+  std::sort(joined.begin(), joined.end(), [&](int a, int b) { return mesh.node_id(a) < mesh.node_id(b); });
+  joined.erase(std::unique(joined.begin(), joined.end()), joined.end());
+  for (int n : joined) {
+    const int r = coincident.representative(n);
+    if (r != n && local[static_cast<std::size_t>(r)] >= 0) surface.merged_nodes.push_back({n, r});
+  }
+  // 4. The faces in the surface's node indices, and the segments around each node.
+  set_local_faces(lists, local, surface);
+  set_adjacency(surface);
   return surface;
 }
 

@@ -166,8 +166,7 @@ inline void add_transposed_product(const Real* wt, const Real* x, int rows, int 
       add_transposed_block<Real, 1>(wt, x, rows, cols, j, u);
       j += L;
       break;
-    default:
-      break;
+    default: break;
   }
   for (; j < cols; ++j) {
     Real a = u[j];

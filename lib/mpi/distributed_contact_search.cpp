@@ -72,12 +72,9 @@ void agree(MPI_Comm comm, const LocalError& error) {
   check_mpi(MPI_Bcast(message.data(), head[1], MPI_CHAR, first, comm), "MPI_Bcast (error message)");
   message = "rank " + std::to_string(first) + ": " + message;
   switch (static_cast<ErrorKind>(head[0])) {
-    case ErrorKind::kInvalidArgument:
-      throw InvalidArgument(message);
-    case ErrorKind::kNumerical:
-      throw NumericalError(message);
-    default:
-      throw Error(message);
+    case ErrorKind::kInvalidArgument: throw InvalidArgument(message);
+    case ErrorKind::kNumerical: throw NumericalError(message);
+    default: throw Error(message);
   }
 }
 

@@ -16,14 +16,10 @@ namespace {
 /// edge's direction in the node order: the nearest point does not depend on it).
 std::array<double, 2> edge_param(int edge, double t, ParamDomain d) {
   switch (edge) {
-    case 0:
-      return {t, d.lo};
-    case 1:
-      return {d.hi, t};
-    case 2:
-      return {t, d.hi};
-    default:
-      return {d.lo, t};
+    case 0: return {t, d.lo};
+    case 1: return {d.hi, t};
+    case 2: return {t, d.hi};
+    default: return {d.lo, t};
   }
 }
 

@@ -97,24 +97,17 @@ double nearest_parameter(const QuadraticCurve& curve, const Vec3& slave) {
 /// exactly).
 std::array<double, 2> quad_edge_param(int edge, double t) {
   switch (edge) {
-    case 0:
-      return {-1.0 + 2.0 * t, -1.0};
-    case 1:
-      return {1.0, -1.0 + 2.0 * t};
-    case 2:
-      return {1.0 - 2.0 * t, 1.0};
-    default:
-      return {-1.0, 1.0 - 2.0 * t};
+    case 0: return {-1.0 + 2.0 * t, -1.0};
+    case 1: return {1.0, -1.0 + 2.0 * t};
+    case 2: return {1.0 - 2.0 * t, 1.0};
+    default: return {-1.0, 1.0 - 2.0 * t};
   }
 }
 std::array<double, 2> triangle_edge_param(int edge, double t) {
   switch (edge) {
-    case 0:
-      return {t, 0.0};
-    case 1:
-      return {1.0 - t, t};
-    default:
-      return {0.0, 1.0 - t};
+    case 0: return {t, 0.0};
+    case 1: return {1.0 - t, t};
+    default: return {0.0, 1.0 - t};
   }
 }
 
@@ -309,6 +302,37 @@ EdgePoint closest_point_on_quadratic_edge(const QuadraticTriangle& face, int edg
 
 namespace {
 
+/// The starts of the interior's Newton runs: the caller's warm start, or the minima of a sampled grid.
+template <class Face>
+std::vector<std::array<double, 2>> interior_starts(const Face& face, const Vec3& slave,
+                                                   const ProjectionOptions& options, bool triangle) {
+  return options.warm_start ? std::vector<std::array<double, 2>>{options.start}
+                            : sampled_minima(face, slave, options.starts_per_axis, triangle);
+}
+
+/// Steps 2-3: the interior's minimum (moved onto the face by `keep`) against the closest point of each of
+/// the face's `edges` quadratic edges, ends included; the nearest wins (strictly nearer replaces: ties keep
+/// the earlier). Writes out.param (and out.iterations from the interior); returns the distance, infinite when
+/// there is none.
+template <class Face, class Keep>
+double nearest_of_interior_and_edges(const Face& face, const Vec3& slave, const Interior& interior,
+                                     const Keep& keep, int edges, FaceClosestPoint& out) {
+  double best = std::numeric_limits<double>::infinity();
+  if (interior.found) {
+    out.param = keep(interior.param);
+    out.iterations = interior.iterations;
+    best = (slave - face.position(out.param[0], out.param[1])).norm();
+  }
+  for (int edge = 0; edge < edges; ++edge) {
+    const EdgePoint e = closest_point_on_quadratic_edge(face, edge, slave);
+    if (e.distance < best) {
+      best = e.distance;
+      out.param = e.param;
+    }
+  }
+  return best;
+}
+
 FaceClosestPoint closest_point_on_serendipity_quad_local(const SerendipityQuad& face, const Vec3& slave,
                                                          const ProjectionOptions& options) {
   FaceClosestPoint out;
@@ -318,9 +342,7 @@ FaceClosestPoint closest_point_on_serendipity_quad_local(const SerendipityQuad& 
     return out;
   }
   // 1. The interior.
-  const std::vector<std::array<double, 2>> starts =
-      options.warm_start ? std::vector<std::array<double, 2>>{options.start}
-                         : sampled_minima(face, slave, options.starts_per_axis, false);
+  const std::vector<std::array<double, 2>> starts = interior_starts(face, slave, options, false);
   const double margin = options.domain_margin;
   const auto inside = [&](const std::array<double, 2>& p) {
     return p[0] >= -1.0 - margin && p[0] <= 1.0 + margin && p[1] >= -1.0 - margin && p[1] <= 1.0 + margin;
@@ -330,21 +352,8 @@ FaceClosestPoint closest_point_on_serendipity_quad_local(const SerendipityQuad& 
   };
   const Interior interior = interior_minimum(face, slave, starts, keep, 2.0, inside, options);
   if (interior.invalid) return out;
-  double best = std::numeric_limits<double>::infinity();
-  if (interior.found) {
-    out.param = {std::clamp(interior.param[0], -1.0, 1.0), std::clamp(interior.param[1], -1.0, 1.0)};
-    out.iterations = interior.iterations;
-    best = (slave - face.position(out.param[0], out.param[1])).norm();
-  }
-  // 2. The edges, ends included; 3. the nearest wins (strictly nearer replaces: ties keep the earlier).
-  for (int edge = 0; edge < kQuadEdges; ++edge) {
-    const EdgePoint e = closest_point_on_quadratic_edge(face, edge, slave);
-    if (e.distance < best) {
-      best = e.distance;
-      out.param = e.param;
-    }
-  }
-  if (!std::isfinite(best)) return out;  // invalid
+  // 2. The edges, ends included; 3. the nearest wins.
+  if (!std::isfinite(nearest_of_interior_and_edges(face, slave, interior, keep, kQuadEdges, out))) return out;
 
   locate_on_quad({-1.0, 1.0}, out);
   finish(face, slave, out);
@@ -363,31 +372,18 @@ FaceClosestPoint closest_point_on_quadratic_triangle_local(const QuadraticTriang
     return out;
   }
   // 1. The interior.
-  const std::vector<std::array<double, 2>> starts =
-      options.warm_start ? std::vector<std::array<double, 2>>{options.start}
-                         : sampled_minima(face, slave, options.starts_per_axis, true);
+  const std::vector<std::array<double, 2>> starts = interior_starts(face, slave, options, true);
   const double margin = options.domain_margin;
   const auto inside = [&](const std::array<double, 2>& p) {
     return p[0] >= -margin && p[1] >= -margin && p[0] + p[1] <= 1.0 + margin;
   };
   const Interior interior = interior_minimum(face, slave, starts, onto_triangle, 1.0, inside, options);
   if (interior.invalid) return out;
-  double best = std::numeric_limits<double>::infinity();
-  if (interior.found) {
-    out.param = onto_triangle(interior.param);
-    const double r = out.param[0], s = out.param[1];
-    out.iterations = interior.iterations;
-    best = (slave - face.position(r, s)).norm();
-  }
   // 2. The edges; 3. the nearest wins.
-  for (int edge = 0; edge < kTriangleEdges; ++edge) {
-    const EdgePoint e = closest_point_on_quadratic_edge(face, edge, slave);
-    if (e.distance < best) {
-      best = e.distance;
-      out.param = e.param;
-    }
+  const auto keep = [](const std::array<double, 2>& p) { return onto_triangle(p); };
+  if (!std::isfinite(nearest_of_interior_and_edges(face, slave, interior, keep, kTriangleEdges, out))) {
+    return out;  // invalid
   }
-  if (!std::isfinite(best)) return out;  // invalid
 
   locate_on_triangle(out);
   finish(face, slave, out);

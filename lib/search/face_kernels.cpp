@@ -37,15 +37,9 @@ namespace contactnn::search::detail::CONTACTNN_KERNEL_ISA {
 
 void select_face_kernels(FacePlan& plan) {
   switch (plan.kind) {
-    case FaceKind::kTri3:
-      select<0>(plan);
-      break;
-    case FaceKind::kTri6:
-      select<1>(plan);
-      break;
-    case FaceKind::kQuad8:
-      select<2>(plan);
-      break;
+    case FaceKind::kTri3: select<0>(plan); break;
+    case FaceKind::kTri6: select<1>(plan); break;
+    case FaceKind::kQuad8: select<2>(plan); break;
   }
 }
 

@@ -22,10 +22,8 @@ bool face_canonical_form(FaceKind kind, const double* raw, double* features, int
       for (int c = 0; c < 3; ++c) x[18 + c] = raw[9 + c];
       return detail::face_canonical_lane<1>(x, features, order, base);
     }
-    case FaceKind::kTri6:
-      return detail::face_canonical_lane<1>(raw, features, order, base);
-    case FaceKind::kQuad8:
-      return detail::face_canonical_lane<2>(raw, features, order, base);
+    case FaceKind::kTri6: return detail::face_canonical_lane<1>(raw, features, order, base);
+    case FaceKind::kQuad8: return detail::face_canonical_lane<2>(raw, features, order, base);
   }
   return false;
 }

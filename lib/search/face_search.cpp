@@ -22,12 +22,9 @@ namespace contactnn::search {
 
 std::string_view to_string(FaceKind kind) {
   switch (kind) {
-    case FaceKind::kTri3:
-      return "tri3";
-    case FaceKind::kTri6:
-      return "tri6";
-    case FaceKind::kQuad8:
-      return "quad8";
+    case FaceKind::kTri3: return "tri3";
+    case FaceKind::kTri6: return "tri6";
+    case FaceKind::kQuad8: return "quad8";
   }
   return "?";
 }

@@ -36,9 +36,7 @@ static void face_block(const FacePlan& plan, const In* raw_rows, const Results<I
                                   method.to_convergence ? plan.options.max_iterations : method.newton_steps,
                                   method.to_convergence, plan.options.tol_param, s);
       break;
-    case Method::Start::kClosedForm:
-      face_closed_form<kFace, W>(f, s);
-      break;
+    case Method::Start::kClosedForm: face_closed_form<kFace, W>(f, s); break;
     case Method::Start::kGiven:
       for (int l = 0; l < W; ++l) {
         const std::size_t i = first + static_cast<std::size_t>(l);
@@ -52,8 +50,7 @@ static void face_block(const FacePlan& plan, const In* raw_rows, const Results<I
     case Method::Start::kNetwork:
       face_network_estimate<kFace, W>(*plan.network, plan.options.check_domain, raw, s);
       break;
-    case Method::Start::kFourTriangles:
-      break;  // refused by FaceSearch
+    case Method::Start::kFourTriangles: break;  // refused by FaceSearch
   }
   const bool hybrid = method.is_hybrid();
   if (hybrid) {

@@ -92,13 +92,10 @@ bool cpu_has(KernelIsa isa) {
   constexpr bool avx2 = false, avx512 = false;
 #endif
   switch (isa) {
-    case KernelIsa::kAvx2:
-      return avx2;
-    case KernelIsa::kAvx512:
-      return avx512;
+    case KernelIsa::kAvx2: return avx2;
+    case KernelIsa::kAvx512: return avx512;
     case KernelIsa::kBaseline:
-    case KernelIsa::kNative:
-      return true;  // a native build runs only where it was built
+    case KernelIsa::kNative: return true;  // a native build runs only where it was built
   }
   return false;
 }
@@ -107,14 +104,10 @@ bool cpu_has(KernelIsa isa) {
 
 std::string_view to_string(KernelIsa isa) {
   switch (isa) {
-    case KernelIsa::kBaseline:
-      return "baseline";
-    case KernelIsa::kAvx2:
-      return "avx2";
-    case KernelIsa::kAvx512:
-      return "avx512";
-    case KernelIsa::kNative:
-      return "native";
+    case KernelIsa::kBaseline: return "baseline";
+    case KernelIsa::kAvx2: return "avx2";
+    case KernelIsa::kAvx512: return "avx512";
+    case KernelIsa::kNative: return "native";
   }
   return "unknown";
 }

@@ -56,17 +56,12 @@ Method Method::parse(std::string_view name) {
 std::string Method::name() const {
   const std::string k = std::to_string(newton_steps);
   switch (start) {
-    case Start::kCentre:
-      return to_convergence ? "newton" : "newton:" + k;
-    case Start::kNetwork:
-      return newton_steps == 0 ? "network" : "network+newton:" + k;
-    case Start::kClosedForm:
-      return newton_steps == 0 ? "closed_form" : "closed_form+newton:" + k;
-    case Start::kGiven:
-      return newton_steps == 0 ? "start" : "start+newton:" + k;
+    case Start::kCentre: return to_convergence ? "newton" : "newton:" + k;
+    case Start::kNetwork: return newton_steps == 0 ? "network" : "network+newton:" + k;
+    case Start::kClosedForm: return newton_steps == 0 ? "closed_form" : "closed_form+newton:" + k;
+    case Start::kGiven: return newton_steps == 0 ? "start" : "start+newton:" + k;
     // With steps (not a form parse gives; LocalSearch refuses it) the name says what was asked.
-    case Start::kFourTriangles:
-      return newton_steps == 0 ? "four_triangles" : "four_triangles+newton:" + k;
+    case Start::kFourTriangles: return newton_steps == 0 ? "four_triangles" : "four_triangles+newton:" + k;
   }
   return "unknown";
 }

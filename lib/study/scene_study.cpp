@@ -16,24 +16,18 @@ using detail::split_methods;
 
 std::string_view to_string(TrainNetworks mode) {
   switch (mode) {
-    case TrainNetworks::kAuto:
-      return "auto";
-    case TrainNetworks::kAlways:
-      return "always";
-    case TrainNetworks::kNever:
-      return "never";
+    case TrainNetworks::kAuto: return "auto";
+    case TrainNetworks::kAlways: return "always";
+    case TrainNetworks::kNever: return "never";
   }
   return "unknown";
 }
 
 std::string_view to_string(DomainStates states) {
   switch (states) {
-    case DomainStates::kAuto:
-      return "auto";
-    case DomainStates::kRest:
-      return "rest";
-    case DomainStates::kHistory:
-      return "history";
+    case DomainStates::kAuto: return "auto";
+    case DomainStates::kRest: return "rest";
+    case DomainStates::kHistory: return "history";
   }
   return "unknown";
 }

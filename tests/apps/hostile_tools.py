@@ -18,18 +18,11 @@ import shutil
 import subprocess
 import sys
 
-CASES = {}
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from case_registry import Cases, Failure  # noqa: E402  (tests/apps/case_registry.py)
 
-
-def case(name):
-    def register(function):
-        CASES[name] = function
-        return function
-    return register
-
-
-class Failure(Exception):
-    pass
+CASES = Cases()
+case = CASES.case
 
 
 def snapshot(directory):
@@ -370,7 +363,7 @@ def main():
     shutil.rmtree(work, ignore_errors=True)
     os.makedirs(work)
     try:
-        CASES[a.case](Context(a, work))
+        CASES[a.case][0](Context(a, work))
     except Failure as e:
         print("FAIL: " + str(e))
         return 1

@@ -16,18 +16,11 @@ import subprocess
 import sys
 import time
 
-CASES = {}
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from case_registry import Cases, Failure  # noqa: E402  (tests/apps/case_registry.py)
 
-
-def case(name):
-    def register(function):
-        CASES[name] = function
-        return function
-    return register
-
-
-class Failure(Exception):
-    pass
+CASES = Cases()
+case = CASES.case
 
 
 class Context:
@@ -280,21 +273,8 @@ def main():
     if a.list:
         print(";".join(CASES))
         return 0
-    failed = 0
-    for name in (list(CASES) if a.all else a.case):
-        if name not in CASES:
-            print(f"unknown case {name}", file=sys.stderr)
-            return 2
-        directory = os.path.abspath(os.path.join(a.work, name))
-        shutil.rmtree(directory, ignore_errors=True)
-        os.makedirs(directory)
-        try:
-            CASES[name](Context(os.path.abspath(a.source_dir), os.path.abspath(a.build), directory))
-            print(f"PASS {name}")
-        except Failure as e:
-            failed += 1
-            print(f"FAIL {name}\n{e}")
-    return 1 if failed else 0
+    return CASES.run(list(CASES) if a.all else a.case, a.work,
+                     lambda directory: Context(os.path.abspath(a.source_dir), os.path.abspath(a.build), directory))
 
 
 if __name__ == "__main__":

@@ -37,8 +37,10 @@ import math
 import os
 import re
 import shutil
-import subprocess
 import sys
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+from check_support import Failures, run_or_exit  # noqa: E402  (tests/check_support.py)
 
 POINT_COLUMNS = "ax,ay,az,bx,by,bz,cx,cy,cz,dx,dy,dz,sx,sy,sz".split(",")
 NORMAL_COLUMNS = "nax,nay,naz,nbx,nby,nbz,ncx,ncy,ncz,ndx,ndy,ndz".split(",")
@@ -65,21 +67,9 @@ RUNTIME_SYMBOLS = (r"contactnn::search::LocalSearch::run<double>\(", r"^contactn
 RUNTIME_LIBRARIES = tuple("libcontactnn_" + m for m in ("search", "network_file", "network", "projection", "geometry",
                                                          "core"))
 
-failures = []
-
-
-def check(condition, message):
-    if not condition:
-        failures.append(message)
-        if len(failures) <= 30:
-            print("FAIL: " + message)
-
-
-def run(command, **kwargs):
-    p = subprocess.run(command, capture_output=True, text=True, **kwargs)
-    if p.returncode != 0:
-        raise SystemExit(f"FAIL: {' '.join(command)} exited {p.returncode}:\n{p.stdout}\n{p.stderr}")
-    return p
+failures = Failures(shown=30)
+check = failures.check
+run = run_or_exit
 
 
 def install(args):
@@ -347,11 +337,7 @@ def main():
         install(args)
     else:
         consumer(args)
-    if failures:
-        print(f"{len(failures)} failures")
-        return 1
-    print("all checks passed")
-    return 0
+    return failures.exit_status("all checks passed")
 
 
 if __name__ == "__main__":

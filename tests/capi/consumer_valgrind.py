@@ -26,6 +26,8 @@ import time
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import consumer_check  # noqa: E402  (raw_text: RAW.csv -> the programs' input)
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+from check_support import Failures  # noqa: E402  (tests/check_support.py)
 
 QUERIES = 60
 MEMCHECK = ["--tool=memcheck", "--error-exitcode=99", "--leak-check=full", "--errors-for-leak-kinds=definite",
@@ -42,12 +44,8 @@ FORTRAN_MAIN_SUPPRESSION = """{
    fun:main
 }
 """
-failures = []
-
-
-def fail(message):
-    failures.append(message)
-    print("FAIL: " + message)
+failures = Failures()
+fail = failures.fail
 
 
 def run(command, env=None):
@@ -144,11 +142,7 @@ def main():
                         fail(f"{name}: the output under valgrind differs from the output outside it")
                     print(f"{name:70s} memcheck: no error; output as outside valgrind")
     print(f"{count} runs under memcheck in {time.time() - started:.0f} s")
-    if failures:
-        print(f"{len(failures)} failures")
-        return 1
-    print("all checks passed")
-    return 0
+    return failures.exit_status("all checks passed")
 
 
 if __name__ == "__main__":

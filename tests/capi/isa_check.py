@@ -15,8 +15,12 @@ Exit 0 passed, 1 failed, 77 skipped (a CONTACTNN_NATIVE build: everything is the
 import argparse
 import collections
 import re
+import os
 import subprocess
 import sys
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+from check_support import Failures  # noqa: E402  (tests/check_support.py)
 
 PREFIXES = {0x26, 0x2E, 0x36, 0x3E, 0x64, 0x65, 0x67}
 FUNCTION = re.compile(r"^[0-9a-f]+ <(.+)>:$")
@@ -93,13 +97,10 @@ def main():
     for v in variants + [None]:
         name = v or "the rest"
         print(f"{name:10s} {functions[v]:6d} functions, {counts[(v, 'vex')]:7d} VEX, {counts[(v, 'evex')]:7d} EVEX")
-    for f in failures[:40]:
-        print("FAIL: " + f)
-    if failures:
-        print(f"{len(failures)} failures")
-        return 1
-    print("no AVX or AVX-512 instruction outside the kernel variants that need them")
-    return 0
+    reported = Failures(shown=40)  # after the table, as they were found
+    for f in failures:
+        reported.fail(f)
+    return reported.exit_status("no AVX or AVX-512 instruction outside the kernel variants that need them")
 
 
 if __name__ == "__main__":

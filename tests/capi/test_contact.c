@@ -78,6 +78,24 @@ static void check_answers(const answers* a, const char* what) {
   }
 }
 
+/* A handle of the plate's faces and free points made with `options`, updated once: "create NAME" must
+ * succeed, "update NAME" too, and the answers are check_answers'. Returns the handle (NULL: create failed).
+ */
+static contactnn_contact* create_and_check(const contactnn_contact_options* options, const double* coords,
+                                           const double* free_points, answers* a, const char* name) {
+  contactnn_contact* c = NULL;
+  char what[96];
+  snprintf(what, sizeof what, "create %s", name);
+  expect(contactnn_contact_create(&c, N_FACES, kTypes, kConnectivity, N_NODES, NULL, 1, N_SLAVES, NULL,
+                                  options) == CONTACTNN_SUCCESS,
+         what);
+  fill(a);
+  snprintf(what, sizeof what, "update %s", name);
+  expect(update(c, coords, free_points, a) == CONTACTNN_SUCCESS, what);
+  check_answers(a, name);
+  return c;
+}
+
 int main(void) {
   /* Node 7 (the first slave node) at kSlaves[0]; the others are free points or nodes below. */
   double coords[3 * N_NODES] = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0, 2, 0, 0, 2, 1, 0, 0, 0, 0};
@@ -190,24 +208,14 @@ int main(void) {
    * OMP_NUM_THREADS=100000, which libgomp cannot start: the handle caps it at CONTACTNN_MAX_THREADS). */
   options.threads = 0;
   options.tracking = 0;
-  expect(contactnn_contact_create(&c, N_FACES, kTypes, kConnectivity, N_NODES, NULL, 1, N_SLAVES, NULL,
-                                  &options) == CONTACTNN_SUCCESS,
-         "create without tracking");
-  fill(&a);
-  expect(update(c, coords, free_points, &a) == CONTACTNN_SUCCESS, "update without tracking");
-  check_answers(&a, "without tracking");
+  c = create_and_check(&options, coords, free_points, &a, "without tracking");
   contactnn_contact_destroy(c);
   options.tracking = 1;
 
   /* Gregory quad4: the flat plate's patch (node normals +z) gives the same point, (u, v) in [0, 1]^2. */
   options.threads = 0;
   options.quad4_surface = CONTACTNN_SURFACE_GREGORY;
-  expect(contactnn_contact_create(&c, N_FACES, kTypes, kConnectivity, N_NODES, NULL, 1, N_SLAVES, NULL,
-                                  &options) == CONTACTNN_SUCCESS,
-         "create Gregory");
-  fill(&a);
-  expect(update(c, coords, free_points, &a) == CONTACTNN_SUCCESS, "update Gregory");
-  check_answers(&a, "Gregory");
+  c = create_and_check(&options, coords, free_points, &a, "Gregory");
   expect(fabs(a.param[0] - 0.25) < 1e-10 && fabs(a.param[1] - 0.5) < 1e-10, "the Gregory quad4's (u, v)");
   contactnn_contact_destroy(c);
 

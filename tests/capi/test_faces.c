@@ -17,6 +17,16 @@ static void expect(int condition, const char* what) {
   }
 }
 
+/* A valid network file of the other kind (`path`) given to a search of `surface`: INVALID_ARGUMENT, no
+ * handle, and a message containing `needle` that says what the file is. */
+static void expect_other_kind(int surface, const char* path, const char* needle, const char* what) {
+  contactnn_search* s = (contactnn_search*)&failures; /* not NULL: a failed create must clear it */
+  expect(contactnn_search_create(&s, surface, "network", path, NULL) == CONTACTNN_ERROR_INVALID_ARGUMENT &&
+             s == NULL,
+         what);
+  expect(strstr(contactnn_last_error(), needle) != NULL, "the message says what the file is");
+}
+
 static void run_one(int surface, const char* method, const double* raw, double* param, double* gap,
                     int* status) {
   contactnn_search* s = NULL;
@@ -91,19 +101,11 @@ int main(int argc, char** argv) {
       /* Issue 39: a valid network file of the other kind is a wrong argument, as a network of the other
        * surface or face type is (contactnn.h): INVALID_ARGUMENT, not FORMAT (which is for files that are no
        * network). */
-      expect(contactnn_search_create(&s, CONTACTNN_SURFACE_TRI6, "network", path, NULL) ==
-                     CONTACTNN_ERROR_INVALID_ARGUMENT &&
-                 s == NULL,
-             "a network file of train-net given to a face search is INVALID_ARGUMENT");
-      expect(strstr(contactnn_last_error(), "not a face network") != NULL,
-             "the message says what the file is");
+      expect_other_kind(CONTACTNN_SURFACE_TRI6, path, "not a face network",
+                        "a network file of train-net given to a face search is INVALID_ARGUMENT");
       snprintf(path, sizeof path, "%s/data/weights/tri6-48-48.h5", argv[1]);
-      expect(contactnn_search_create(&s, CONTACTNN_SURFACE_BILINEAR, "network", path, NULL) ==
-                     CONTACTNN_ERROR_INVALID_ARGUMENT &&
-                 s == NULL,
-             "a face network given to a bilinear search is INVALID_ARGUMENT");
-      expect(strstr(contactnn_last_error(), "is a face network") != NULL,
-             "the message says what the file is");
+      expect_other_kind(CONTACTNN_SURFACE_BILINEAR, path, "is a face network",
+                        "a face network given to a bilinear search is INVALID_ARGUMENT");
     }
   }
   if (failures > 0) {

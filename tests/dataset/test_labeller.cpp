@@ -20,14 +20,7 @@ using geometry::Vec3;
 // (exact for xi, eta; u -> 1 - u rounds).
 constexpr double kOrderTol = 1e-12;
 
-Configuration relabel(const Configuration& c, const SquareSymmetry& order) {
-  Configuration out = c;
-  for (int i = 0; i < 4; ++i) {
-    out.nodes[static_cast<std::size_t>(order.caller_node(i))] = c.nodes[static_cast<std::size_t>(i)];
-    out.normals[static_cast<std::size_t>(order.caller_node(i))] = c.normals[static_cast<std::size_t>(i)];
-  }
-  return out;
-}
+using testing::relabel;
 
 Configuration random_world(std::mt19937_64& rng) {
   std::uniform_real_distribution<double> u(-1.0, 1.0);

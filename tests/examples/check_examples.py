@@ -25,20 +25,13 @@ import shutil
 import subprocess
 import sys
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+from check_support import Failures, run_or_exit  # noqa: E402  (tests/check_support.py)
+
 TOL = 1e-10  # of the face size (the plate's cells are 1 x 1)
-failures = []
-
-
-def fail(message):
-    failures.append(message)
-    print("FAIL: " + message)
-
-
-def run(command, **kwargs):
-    p = subprocess.run(command, capture_output=True, text=True, **kwargs)
-    if p.returncode != 0:
-        raise SystemExit(f"FAIL: {' '.join(command)} exited {p.returncode}:\n{p.stdout}\n{p.stderr}")
-    return p
+failures = Failures()
+fail = failures.fail
+run = run_or_exit
 
 
 def read_deck(path):
@@ -171,11 +164,8 @@ def main():
     elif args.valgrind:
         print(f"valgrind ({args.valgrind}) not found: the memcheck runs are skipped")
 
-    if failures:
-        print(f"FAIL: {len(failures)} differences")
-        return 1
-    print("PASS: the examples answer as gen-configs --scene")
-    return 0
+    return failures.exit_status("PASS: the examples answer as gen-configs --scene",
+                                f"FAIL: {len(failures)} differences")
 
 
 if __name__ == "__main__":

@@ -531,26 +531,13 @@ TEST(Extremes, RandomHostileConfigurationsNeverGiveNonFiniteLabels) {
     for (auto& node : c.nodes) node = scale * Vec3(u(rng), u(rng), u(rng));
     c.slave = scale * std::pow(10.0, 3 * u(rng)) * Vec3(u(rng), u(rng), u(rng));
     switch (pick(rng)) {
-      case 0:
-        c.nodes[1] = c.nodes[0];
-        break;
-      case 1:
-        c.nodes[3] = c.nodes[2];
-        break;
-      case 2:
-        c.nodes[2] = 0.5 * (c.nodes[1] + c.nodes[3]);
-        break;
-      case 3:
-        c.slave = c.nodes[2];
-        break;
-      case 4:
-        c.nodes[k % 4][k % 3] = kNaN;
-        break;
-      case 5:
-        c.slave[k % 3] = -kInf;
-        break;
-      default:
-        break;
+      case 0: c.nodes[1] = c.nodes[0]; break;
+      case 1: c.nodes[3] = c.nodes[2]; break;
+      case 2: c.nodes[2] = 0.5 * (c.nodes[1] + c.nodes[3]); break;
+      case 3: c.slave = c.nodes[2]; break;
+      case 4: c.nodes[k % 4][k % 3] = kNaN; break;
+      case 5: c.slave[k % 3] = -kInf; break;
+      default: break;
     }
     const dataset::Label l = dataset::label_configuration(c, SurfaceKind::kBilinear);
     expect_sane(l, "hostile configuration " + std::to_string(k));

@@ -86,16 +86,7 @@ TEST(AffineFrame, GregoryNormalsEnterAsSlopesAndMustFaceTheSegment) {
 
 // ---- The canonical configuration (SPEC 4) ----
 
-/// `c` with its nodes (and normals) relabelled: the returned configuration's node order.caller_node(i) is c's
-/// node i. The same segment and slave, given in another node order.
-Configuration relabel(const Configuration& c, const SquareSymmetry& order) {
-  Configuration out = c;
-  for (int i = 0; i < 4; ++i) {
-    out.nodes[static_cast<std::size_t>(order.caller_node(i))] = c.nodes[static_cast<std::size_t>(i)];
-    out.normals[static_cast<std::size_t>(order.caller_node(i))] = c.normals[static_cast<std::size_t>(i)];
-  }
-  return out;
-}
+using testing::relabel;
 
 /// A segment and slave placed anywhere in a box around it: A is not the nearest node, |AD| > |AB| half the
 /// time.

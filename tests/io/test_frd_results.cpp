@@ -469,32 +469,32 @@ TEST(FrdResults, MovesTheDeckToNodeBlockPlusDisp) {
   EXPECT_THROW(move_to_increment(m, r, 2), InvalidArgument);
 }
 
+/// move_to_increment(m, r, increment) must throw a FormatError whose message starts with "'path':line:" and
+/// names `node`.
+void expect_mismatch(mesh::SolidMesh& m, const FrdResults& r, int increment, const std::string& path,
+                     int line, const std::string& node) {
+  try {
+    move_to_increment(m, r, increment);
+    ADD_FAILURE() << node << " does not match the results of increment " << increment + 1;
+  } catch (const FormatError& e) {
+    const std::string message = e.what();
+    EXPECT_EQ(message.rfind("'" + path + "':" + std::to_string(line) + ":", 0), 0u) << message;
+    EXPECT_NE(message.find(node), std::string::npos) << message;
+  }
+}
+
 TEST(FrdResults, ResultsOfAnotherDeckAreAFormatErrorAndLeaveTheMeshAlone) {
   const std::string path = write("mismatch.frd", kLong);
   const FrdResults r = read_frd(path);
   mesh::SolidMesh m = deck_mesh(true);
-  try {
-    move_to_increment(m, r, 0);
-    ADD_FAILURE() << "node 19 is not in the results";
-  } catch (const FormatError& e) {
-    const std::string message = e.what();
-    EXPECT_EQ(message.rfind("'" + path + "':3:", 0), 0u) << message;
-    EXPECT_NE(message.find("node 19 (of element 6)"), std::string::npos) << message;
-  }
+  expect_mismatch(m, r, 0, path, 3, "node 19 (of element 6)");  // node 19 is not in the results
   expect_vec(m.position(m.find_node(2)), 1, 0, 0);
 
-  // DISP written for a node set only: node 10 is in the node block but has no displacement.
+  // DISP written for a node set only: node 10 is in the node block but has no displacement in increment 2.
   const std::string partial_path = write("partial_disp.frd", without_line(kLong, 46));
   const FrdResults partial = read_frd(partial_path);
   mesh::SolidMesh m2 = deck_mesh(false);
-  try {
-    move_to_increment(m2, partial, 1);
-    ADD_FAILURE() << "node 10 has no DISP in increment 2";
-  } catch (const FormatError& e) {
-    const std::string message = e.what();
-    EXPECT_EQ(message.rfind("'" + partial_path + "':38:", 0), 0u) << message;
-    EXPECT_NE(message.find("node 10 (of element 5)"), std::string::npos) << message;
-  }
+  expect_mismatch(m2, partial, 1, partial_path, 38, "node 10 (of element 5)");
   move_to_increment(m2, partial, 0);  // increment 1 has all of them
   expect_vec(m2.position(m2.find_node(10)), 0.99985, 1.99975, 2.99965);
 }

@@ -17,6 +17,7 @@
 #include "io/hdf5_file.hpp"
 #include "io/network_file.hpp"
 #include "mlp/trainer.hpp"
+#include "network_fixtures.hpp"
 #include "test_support.hpp"
 
 namespace contactnn::io {
@@ -279,25 +280,9 @@ TEST(Hdf5File, AFilterThisLibraryLacksIsNamed) {
 // ---------------------------------------------------------------------------------------------------------
 // Network files: only what is evaluated is accepted.
 
-geometry::TrainingDomain bilinear_domain() {
-  geometry::TrainingDomain d;
-  d.surface = SurfaceKind::kBilinear;
-  d.feature_min = {-2, -2, -0.3, -1, 0, -2, -2, -0.3};
-  d.feature_max = {2, 2, 0.3, 1, 1, 2, 2, 0.3};
-  return d;
-}
+using testing::bilinear_domain;
 
-mlp::Network<float> small_network() {
-  const auto d = bilinear_domain();
-  mlp::Scaling s;
-  s.input_min = d.feature_min;
-  s.input_max = d.feature_max;
-  s.output_min = {-1, -1};
-  s.output_max = {1, 1};
-  mlp::Network<float> net({8, 3, 2}, 2.0, s);
-  net.initialize(4);
-  return net;
-}
+mlp::Network<float> small_network() { return testing::bilinear_network<float>({8, 3, 2}, 2.0, 4); }
 
 /// Replaces root string attribute `name` by `value` (fixed-length, as contactnn writes).
 void set_root_string(const fs::path& path, const char* name, const std::string& value) {

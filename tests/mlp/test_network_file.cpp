@@ -9,6 +9,7 @@
 #include "io/network_file.hpp"
 #include "mlp/random.hpp"
 #include "mlp/trainer.hpp"
+#include "network_fixtures.hpp"
 #include "test_support.hpp"
 
 namespace contactnn::io {
@@ -16,25 +17,11 @@ namespace {
 
 std::filesystem::path temp_dir() { return testing::test_output_dir("test-mlp"); }
 
-geometry::TrainingDomain bilinear_domain() {
-  geometry::TrainingDomain d;
-  d.surface = SurfaceKind::kBilinear;
-  d.feature_min = {-2, -2, -0.3, -1, 0, -2, -2, -0.3};
-  d.feature_max = {2, 2, 0.3, 1, 1, 2, 2, 0.3};
-  return d;
-}
+using testing::bilinear_domain;
 
 template <class Real>
 mlp::Network<Real> bilinear_network(std::vector<int> sizes, std::uint64_t seed) {
-  const auto d = bilinear_domain();
-  mlp::Scaling s;
-  s.input_min = d.feature_min;
-  s.input_max = d.feature_max;
-  s.output_min = {-1, -1};
-  s.output_max = {1, 1};
-  mlp::Network<Real> net(std::move(sizes), 1.5, s);
-  net.initialize(seed);
-  return net;
+  return testing::bilinear_network<Real>(std::move(sizes), 1.5, seed);
 }
 
 NetworkProvenance provenance() {

@@ -207,9 +207,7 @@ inline void spoil_rows(SurfaceKind kind, std::vector<double>& raw, std::uint64_t
   for (std::size_t i = s.first; i < count; i += 7) {
     double* q = raw.data() + i * columns;
     switch ((i / 7) % 6) {
-      case 0:
-        q[i % columns] = std::numeric_limits<double>::quiet_NaN();
-        break;
+      case 0: q[i % columns] = std::numeric_limits<double>::quiet_NaN(); break;
       case 1:
         for (std::size_t k = 3; k < 6; ++k) q[k] = q[k - 3];
         break;

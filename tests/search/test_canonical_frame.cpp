@@ -714,12 +714,8 @@ TEST(FloatFramePass, TiesSlavesOnThePlaneAndExtremeCasesGoToTheDoublePass) {
   for (int i = 0; i < 400; ++i) {
     Configuration c = testing::random_domain_configuration(SurfaceKind::kBilinear, rng);
     switch (i % 5) {
-      case 0:
-        c.slave.z() = 0.0;
-        break;  // on the plane
-      case 1:
-        c.slave.z() = (i % 2 ? 1.0 : -1.0) * 1e-6 * (1 + u(rng));
-        break;  // nearly on it
+      case 0: c.slave.z() = 0.0; break;                                         // on the plane
+      case 1: c.slave.z() = (i % 2 ? 1.0 : -1.0) * 1e-6 * (1 + u(rng)); break;  // nearly on it
       case 2:
         c.nodes[3] = Vec3(0.0, 1.0, 0.0);
         c.nodes[1] = Vec3(1.0, 0.0, 0.0);
@@ -754,21 +750,14 @@ TEST(FloatFramePass, WhatTheDoublePassSaysFloatLeavesItLeaves) {
     Configuration c = testing::random_domain_configuration(SurfaceKind::kBilinear, rng);
     const double tiny = std::pow(10.0, -3.0 - 6.0 * e(rng));
     switch (i % 6) {
-      case 0:
-        c.slave.z() = (u(rng) < 0.0 ? -1.0 : 1.0) * tiny;
-        break;
-      case 1:
-        c.slave = Vec3(tiny * u(rng), tiny * u(rng), tiny * u(rng));
-        break;  // near A, off the plane
-      case 2:   // |AD|^2 = |AB|^2 (1 +- tiny)
+      case 0: c.slave.z() = (u(rng) < 0.0 ? -1.0 : 1.0) * tiny; break;
+      case 1: c.slave = Vec3(tiny * u(rng), tiny * u(rng), tiny * u(rng)); break;  // near A, off the plane
+      case 2:  // |AD|^2 = |AB|^2 (1 +- tiny)
         c.nodes[1] = Vec3(1.0, 0.0, 0.0);
         c.nodes[3] = c.nodes[3].normalized() * std::sqrt(1.0 + (u(rng) < 0.0 ? -tiny : tiny));
         break;
-      case 3:
-        c.nodes[3] = Vec3(1.0, std::pow(10.0, -2.0 - 2.0 * e(rng)), 0.0);
-        break;  // thin corner at A
-      default:
-        break;
+      case 3: c.nodes[3] = Vec3(1.0, std::pow(10.0, -2.0 - 2.0 * e(rng)), 0.0); break;  // thin corner at A
+      default: break;
     }
     configs.push_back(testing::place(c, rng, random_order(rng)));
     Configuration t = testing::random_domain_configuration(SurfaceKind::kBilinear, rng);

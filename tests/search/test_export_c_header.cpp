@@ -158,15 +158,11 @@ std::string driver(const std::vector<Case>& cases) {
 
 int expected_code(Status s) {
   switch (s) {
-    case Status::kOk:
-      return 0;
+    case Status::kOk: return 0;
     case Status::kDegenerate:
-    case Status::kInvalid:
-      return 1;
-    case Status::kOutOfDomain:
-      return 2;
-    default:
-      return -1;
+    case Status::kInvalid: return 1;
+    case Status::kOutOfDomain: return 2;
+    default: return -1;
   }
 }
 

@@ -268,20 +268,13 @@ std::vector<double> face_pool(FaceKind kind, std::size_t count, std::uint64_t se
     testing::FaceQuery q = testing::random_face_query(kind, rng, o);
     const double size = (q.nodes[1] - q.nodes[0]).norm();
     switch (i % 20) {
-      case 0:
-        q.slave += geometry::Vec3(u(rng), u(rng), u(rng)) * (1e3 * size);
-        break;
-      case 5:
-        q.nodes[i % q.nodes.size()].y() = std::numeric_limits<double>::quiet_NaN();
-        break;
+      case 0: q.slave += geometry::Vec3(u(rng), u(rng), u(rng)) * (1e3 * size); break;
+      case 5: q.nodes[i % q.nodes.size()].y() = std::numeric_limits<double>::quiet_NaN(); break;
       case 10:
         for (auto& x : q.nodes) x = q.nodes[0];
         break;
-      case 15:
-        q.slave = q.nodes[1] + (q.nodes[1] - q.nodes[0]) * 4.0;
-        break;
-      default:
-        break;
+      case 15: q.slave = q.nodes[1] + (q.nodes[1] - q.nodes[0]) * 4.0; break;
+      default: break;
     }
     testing::append_row(q, raw);
   }
