@@ -441,6 +441,43 @@ struct KnownPoint {
   int reference_faces = 0;
 };
 
+/// The reported pair's order (search_one's last step): a quad4 in SPEC 7's node order, A the corner nearest S
+/// (ties: the first in the face's order), the label's parameters (`param`, in the face's own order) in that
+/// order. Other faces keep their own order and parameters and have no SPEC 7 configuration; a quad8's corners
+/// (its own order) fill `config` for the shape statistics.
+void in_spec7_order(const mesh::SurfaceMesh& master, std::span<const Vec3> normals,
+                    const SearchOptions& options, const Vec3& slave, const std::array<double, 2>& param,
+                    NodeSegmentPair& best) {
+  const std::span<const int> corners = master.face_corners(best.segment);
+  const mesh::FaceType type = master.face_type(best.segment);
+  if (type == mesh::FaceType::kQuad8) {
+    for (std::size_t i = 0; i < 4; ++i)
+      best.config.nodes[i] = master.positions[static_cast<std::size_t>(corners[i])];
+  }
+  if (type != mesh::FaceType::kQuad4) return;
+  int k = 0;
+  double nearest = std::numeric_limits<double>::infinity();
+  for (int i = 0; i < 4; ++i) {
+    const double d2 =
+        (master.positions[static_cast<std::size_t>(corners[static_cast<std::size_t>(i)])] - slave)
+            .squaredNorm();
+    if (d2 < nearest) {
+      nearest = d2;
+      k = i;
+    }
+  }
+  for (int i = 0; i < 4; ++i)
+    best.nodes[static_cast<std::size_t>(i)] = corners[static_cast<std::size_t>((k + i) % 4)];
+  best.nearest_node = best.nodes[0];
+  const SurfaceKind kind = kind_of(master, options, best.segment);
+  const geometry::Configuration own = face_configuration(master, normals, kind, best.segment);
+  for (std::size_t i = 0; i < 4; ++i) {
+    best.config.nodes[i] = own.nodes[(static_cast<std::size_t>(k) + i) % 4];
+    best.config.normals[i] = own.normals[(static_cast<std::size_t>(k) + i) % 4];
+  }
+  best.label.param = rotate_param(param, k, kind);
+}
+
 /// Steps 2-4 of the header for one slave node, given its candidate faces (unordered; with `loose`, sorted by
 /// bounds that are at most each face's own: SurfaceSearcher::nearest).
 /// `checked`: `options` with projection.face_checked set, for the faces FaceIndex::checked marks.
@@ -523,86 +560,11 @@ NodeSegmentPair search_one(const mesh::SurfaceMesh& master, std::span<const Vec3
   const double side = (slave - best_point.point).dot(n);
   label.gap = side < 0.0 ? -best_point.distance : best_point.distance;
 
-  // A quad4 in SPEC 7's node order: A the corner nearest S (ties: the first in the face's order), the label's
-  // parameters in that order. Other faces keep their own order and parameters and have no SPEC 7
-  // configuration; a quad8's corners (its own order) fill `config` for the shape statistics.
-  const std::span<const int> corners = master.face_corners(best.segment);
-  const mesh::FaceType type = master.face_type(best.segment);
-  if (type == mesh::FaceType::kQuad8) {
-    for (std::size_t i = 0; i < 4; ++i)
-      best.config.nodes[i] = master.positions[static_cast<std::size_t>(corners[i])];
-  }
-  if (type != mesh::FaceType::kQuad4) return best;
-  int k = 0;
-  double nearest = std::numeric_limits<double>::infinity();
-  for (int i = 0; i < 4; ++i) {
-    const double d2 =
-        (master.positions[static_cast<std::size_t>(corners[static_cast<std::size_t>(i)])] - slave)
-            .squaredNorm();
-    if (d2 < nearest) {
-      nearest = d2;
-      k = i;
-    }
-  }
-  for (int i = 0; i < 4; ++i)
-    best.nodes[static_cast<std::size_t>(i)] = corners[static_cast<std::size_t>((k + i) % 4)];
-  best.nearest_node = best.nodes[0];
-  const SurfaceKind kind = kind_of(master, options, best.segment);
-  const geometry::Configuration own = face_configuration(master, normals, kind, best.segment);
-  for (std::size_t i = 0; i < 4; ++i) {
-    best.config.nodes[i] = own.nodes[(static_cast<std::size_t>(k) + i) % 4];
-    best.config.normals[i] = own.normals[(static_cast<std::size_t>(k) + i) % 4];
-  }
-  label.param = rotate_param(best_point.param, k, kind);
+  in_spec7_order(master, normals, options, slave, best_point.param, best);
   return best;
 }
 
 }  // namespace
-
-double working_unit(const mesh::SurfaceMesh& m) {
-  double largest = 0.0;
-  for (const Vec3& x : m.positions) {
-    const double a = x.cwiseAbs().maxCoeff();
-    if (std::isfinite(a)) largest = std::max(largest, a);
-  }
-  if (!(largest >= std::numeric_limits<double>::min())) return 1.0;
-  int exponent = 0;
-  (void)std::frexp(largest, &exponent);
-  return exponent >= -40 && exponent <= 40 ? 1.0 : std::ldexp(1.0, exponent - 1);
-}
-
-mesh::SurfaceMesh in_unit(const mesh::SurfaceMesh& master, double unit) {
-  mesh::SurfaceMesh copy = master;
-  for (Vec3& x : copy.positions) x /= unit;
-  return copy;
-}
-
-SearchOptions in_unit(SearchOptions options, double unit) {
-  options.capture_distance /= unit;
-  return options;
-}
-
-void to_world(NodeSegmentPair& pair, double unit, const Vec3& slave) {
-  pair.point *= unit;
-  pair.label.gap *= unit;
-  for (Vec3& x : pair.config.nodes) x *= unit;
-  pair.config.slave = slave;
-}
-
-double capture_distance(const mesh::SurfaceMesh& master, const SearchOptions& options) {
-  if (options.capture_distance > 0.0) return options.capture_distance;
-  double largest = 0.0;
-  for (int f = 0; f < master.face_count(); ++f) {
-    for (int a : master.face_corners(f)) {
-      for (int b : master.face_corners(f)) {
-        largest = std::max(largest, (master.positions[static_cast<std::size_t>(a)] -
-                                     master.positions[static_cast<std::size_t>(b)])
-                                        .norm());
-      }
-    }
-  }
-  return options.capture_relative * largest;
-}
 
 SearchOptions with_face_checked(SearchOptions o) {
   o.projection.face_checked = true;
@@ -858,80 +820,6 @@ void surface_search(const mesh::SurfaceMesh& master, std::span<const Vec3> maste
       pairs[u] = searcher.nearest_fresh(slave_ids[u], slave_positions[u], candidates, scratch);
     }
   }
-}
-
-namespace {
-
-/// x's low 10 bits spread to every third bit (bits 0, 3, 6, ...).
-std::uint64_t spread_bits(std::uint64_t x) {
-  x &= 0x3ff;
-  x = (x | (x << 16)) & 0x030000ff;
-  x = (x | (x << 8)) & 0x0300f00f;
-  x = (x | (x << 4)) & 0x030c30c3;
-  x = (x | (x << 2)) & 0x09249249;
-  return x;
-}
-
-}  // namespace
-
-void spatial_order(std::span<const Vec3> points, std::vector<std::uint32_t>& order,
-                   std::vector<std::uint64_t>& scratch) {
-  const std::size_t n = points.size();
-  CONTACTNN_REQUIRE(n < (std::size_t{1} << 32), n << " points: at most 2^32 - 1");
-  order.resize(n);
-  Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
-  double step = 0.0;  // the summed distance between consecutive points
-  for (std::size_t i = 0; i < n; ++i) {
-    const Vec3& x = points[i];
-    if (!x.allFinite()) continue;
-    lo = lo.cwiseMin(x);
-    hi = hi.cwiseMax(x);
-    if (i > 0 && points[i - 1].allFinite()) step += (x - points[i - 1]).norm();
-  }
-  // A mesh's own order (rows of a grid, an element's nodes together) steps a node spacing or two on average,
-  // about extent / sqrt(n) on a surface; kept, it is at least as local as the Z curve. Only an order that
-  // steps farther (a random one) is sorted.
-  const double largest = (hi - lo).maxCoeff();
-  if (n < 2 || !std::isfinite(largest) || !(step <= largest * static_cast<double>(n)) ||
-      step < 8.0 * largest * std::sqrt(static_cast<double>(n))) {
-    for (std::size_t i = 0; i < n; ++i) order[i] = static_cast<std::uint32_t>(i);
-    return;
-  }
-  // Each key: the 30-bit Morton code above the point's index (32 bits).
-  scratch.resize(2 * n);
-  std::uint64_t* keys = scratch.data();
-  std::uint64_t* other = scratch.data() + n;
-  // Cubic cells, the largest extent's 1/1024: a thin direction (a sheet's thickness) takes few cells and the
-  // low bits, where a cell count of its own would let its jitter scatter neighbours along the sheet.
-  const double extent = (hi - lo).maxCoeff();
-  for (std::size_t i = 0; i < n; ++i) {
-    std::uint64_t code = 0;
-    if (points[i].allFinite()) {
-      for (int d = 0; d < 3; ++d) {
-        const double t = extent > 0.0 ? (points[i][d] - lo[d]) / extent : 0.0;
-        const auto cell = static_cast<std::uint64_t>(std::clamp(t * 1024.0, 0.0, 1023.0));
-        code |= spread_bits(cell) << d;
-      }
-    }
-    keys[i] = (code << 32) | i;
-  }
-  // Two passes of 15 bits over the code (a stable LSD radix sort).
-  constexpr int kBits = 15;
-  std::vector<std::uint32_t> count(std::size_t{1} << kBits);
-  for (int pass = 0; pass < 2; ++pass) {
-    const int shift = 32 + pass * kBits;
-    std::fill(count.begin(), count.end(), 0U);
-    for (std::size_t i = 0; i < n; ++i) ++count[(keys[i] >> shift) & ((1U << kBits) - 1)];
-    std::uint32_t sum = 0;
-    for (std::uint32_t& c : count) {
-      const std::uint32_t here = c;
-      c = sum;
-      sum += here;
-    }
-    for (std::size_t i = 0; i < n; ++i) other[count[(keys[i] >> shift) & ((1U << kBits) - 1)]++] = keys[i];
-    std::swap(keys, other);
-  }
-  for (std::size_t i = 0; i < n; ++i) order[i] = static_cast<std::uint32_t>(keys[i] & 0xffffffffU);
 }
 
 }  // namespace contactnn::contact
