@@ -224,23 +224,25 @@ int run_face_mode(const std::string& scene_path, int pair, search::FaceKind kind
   }
   return 0;
 }
-}  // namespace
 
-int main(int argc, char** argv) {
-  using namespace contactnn;
-  CLI::App app{
-      "scene-study: the fastest local-search method that reaches a scene's target, a network only where "
-      "one pays (SPEC 7)"};
-  cli::add_exit_code_footer(app);
-  cli::add_config_option(app, "scene-study");
-
-  // 1. Options. Every default lives in study::SceneStudyOptions; flags only map onto it.
+/// Everything the command line gives: the study's options (every default lives in study::SceneStudyOptions;
+/// flags only map onto it) and the program's own.
+struct Args {
   study::SceneStudyOptions o;
   std::string scene_path, output, surface_name, face_name, sizes, results_path,
       train_networks = std::string(study::to_string(o.train_networks)),
       domain_states = std::string(study::to_string(o.domain_states));
   int pair = 0;
-  bool check_only = false, quiet = false;
+  bool check_only = false, quiet = false, general = false, trust_nodes = false;
+  double curvature = 0.1;
+};
+
+/// The options of what is studied: the deck, its pair, the surface or face type, the output.
+void add_input_options(CLI::App& app, Args& a) {
+  std::string &scene_path = a.scene_path, &surface_name = a.surface_name, &face_name = a.face_name;
+  int& pair = a.pair;
+  bool& general = a.general;
+  double& curvature = a.curvature;
   app.add_option("--scene", scene_path, "the deck (.inp, SPEC 7; required unless --face with --general)")
       ->check(CLI::ExistingFile);
   app.add_option("--pair", pair, "the *CONTACT PAIR data line, counted from 0")
@@ -252,8 +254,6 @@ int main(int argc, char** argv) {
          "tri6 or quad8: study the pair's quadratic master faces of that type instead (FaceSearch's "
          "methods, face networks; lib/study/face_study.hpp); --sizes then takes layers as 48 or 48x48")
       ->check(CLI::IsMember({"tri6", "quad8"}));
-  bool general = false;
-  double curvature = 0.1;
   app.add_flag(
       "--general", general,
       "with --face: no deck; the paper-like general domain of the face type (how data/weights' face networks "
@@ -261,6 +261,14 @@ int main(int argc, char** argv) {
   app.add_option("--curvature", curvature,
                  "with --general: mid-side nodes off their chords' midpoints, x the edge")
       ->check(cli::real_in(0.0, 0.49));
+}
+
+/// The options of the study itself (its domain, networks, methods, timing) and the program's flags.
+void add_study_options(CLI::App& app, Args& a) {
+  study::SceneStudyOptions& o = a.o;
+  std::string &output = a.output, &sizes = a.sizes, &results_path = a.results_path,
+              &train_networks = a.train_networks, &domain_states = a.domain_states;
+  bool &check_only = a.check_only, &quiet = a.quiet, &trust_nodes = a.trust_nodes;
   app.add_option("--output", output, "directory of the plan, the network, the pairs and the report")
       ->required();
   app.add_option("--results", results_path,
@@ -333,240 +341,328 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"paper", "affine"}));
   app.add_option("--input-quantile", o.input_quantile, "inputs' q and 1-q quantiles map to -1 and 1")
       ->check(cli::real_in(0.0, 0.49));
-  bool trust_nodes = false;
   app.add_flag(
       "--trust-results-nodes", trust_nodes,
       "with --results: take the .frd's node coordinates even where they are not the deck's (another mesh "
       "with the same node ids is refused otherwise)");
   app.add_flag("--check", check_only, "check the options, the deck's path and --output, then stop");
   app.add_flag("--quiet", quiet, "no progress lines");
+}
+
+/// scene-study --face: the study's options mapped onto the face study's (only those given on the command line
+/// override the face study's own defaults).
+study::FaceStudyOptions face_options(const CLI::App& app, const Args& a) {
+  const study::SceneStudyOptions& o = a.o;
+  study::FaceStudyOptions f;
+  f.count = o.count;
+  f.heldout = std::max<std::int64_t>(100, o.count / 4);
+  f.seed = o.seed;
+  if (app.count("--epochs") > 0) f.epochs = o.epochs;
+  if (o.target > 0.0) f.target = o.target;
+  f.margin = o.margin;
+  f.threads = o.threads;
+  if (app.count("--deformation") > 0) f.deformation = o.domain.deformation;
+  if (app.count("--capture") > 0) f.capture = o.domain.capture;
+  if (app.count("--boundary-fraction") > 0) f.boundary_fraction = o.domain.boundary_fraction;
+  if (app.count("--input-quantile") > 0) f.input_quantile = o.input_quantile;
+  if (app.count("--timing-queries") > 0) f.timing_queries = o.timing_queries;
+  if (!o.methods.empty()) f.methods = o.methods;
+  if (app.count("--network-methods") > 0) f.network_methods = o.network_methods;
+  if (!a.sizes.empty()) f.sizes = parse_face_sizes(a.sizes);
+  return f;
+}
+
+/// Step 2 of the scene study: the options resolved for the surface; InvalidArgument for settings that
+/// contradict each other.
+SurfaceKind resolve_scene_options(Args& a) {
+  study::SceneStudyOptions& o = a.o;
+  const std::string& results_path = a.results_path;
+  CONTACTNN_REQUIRE_AS(InvalidArgument, !a.surface_name.empty(),
+                       "--surface (bilinear or gregory) or --face is required");
+  CONTACTNN_REQUIRE_AS(InvalidArgument, !a.scene_path.empty() && !a.general,
+                       "--scene is required (--general goes with --face)");
+  const SurfaceKind surface = surface_from_string(a.surface_name);
+  if (!a.sizes.empty()) o.sizes = parse_sizes(a.sizes);
+  o.train_networks = study::train_networks_from_string(a.train_networks);
+  o.domain_states = study::domain_states_from_string(a.domain_states);
+  if (o.domain_states == study::DomainStates::kAuto) {
+    o.domain_states = results_path.empty() ? study::DomainStates::kRest : study::DomainStates::kHistory;
+  }
+  CONTACTNN_REQUIRE_AS(InvalidArgument,
+                       o.domain_states != study::DomainStates::kHistory || !results_path.empty(),
+                       "--domain history: the whole history's domain needs --results RUN.frd");
+  o.domain.segment_test = o.segment_test == "on" || (o.segment_test == "auto" && results_path.empty());
+  o = study::resolved(o, surface);
+  return surface;
+}
+
+/// Steps 5 to 8: the scene's domain (from the deck's state or every state of its history), the methods
+/// without a network beside untrained networks of every size (the sizes that could pay), the scene networks
+/// that could pay trained in memory, every method measured and the plan chosen. The result's domain,
+/// training, measurements and choice.
+study::SceneStudyResult plan_study(const contact::Scene& scene,
+                                   const std::vector<study::HistoryState>& history, SurfaceKind surface,
+                                   const study::SceneStudyOptions& o, const study::StudyLog& say,
+                                   Clock::time_point start) {
+  // 5. The scene's domain: a training sample and a held-out one, from the deck's state or from every state
+  //    of its history.
+  std::vector<const contact::Scene*> states = {&scene};
+  if (o.domain_states == study::DomainStates::kHistory) {
+    for (const study::HistoryState& h : history) states.push_back(&h.scene);
+  }
+  const study::SceneDomain domain = study::sample_domain(states, surface, o, say);
+  study::SceneStudyResult result;
+  result.surface = surface;
+  result.options = o;
+  result.deck_offset = domain.deck_offset;
+  result.domain = domain.domain;
+  result.heldout_rows = domain.heldout.size();
+  result.heldout_seed = domain.heldout_seed;
+  say("domain: " + std::to_string(domain.train.size()) + " configurations to train from, " +
+      std::to_string(domain.heldout.size()) + " held out");
+
+  // 6. The methods without a network on the held-out sample, beside untrained networks of every size (a
+  //    network's cost does not depend on its weights): the sizes that could pay.
+  const std::vector<study::SceneNetwork> untrained = study::untrained_networks(domain, surface, o);
+  std::vector<const study::SceneNetwork*> untrained_pointers;
+  for (const study::SceneNetwork& n : untrained) untrained_pointers.push_back(&n);
+  const std::vector<study::MethodMeasurement> first =
+      study::measure_methods(domain.heldout_set, surface, o.methods, "network", untrained_pointers, o);
+  const std::vector<int> to_train = study::sizes_that_may_pay(first, untrained, o, &result.not_trained);
+  for (const std::string& why : result.not_trained) say(why);
+
+  // 7. The scene networks that could pay, trained in memory.
+  result.training = study::train_networks(domain, surface, o, to_train, say);
+
+  // 8. Every method measured on the held-out sample; the plan: the fastest that reaches the target.
+  std::vector<const study::SceneNetwork*> networks;
+  for (const study::SceneNetwork& n : result.training.tried) networks.push_back(&n);
+  result.measured =
+      study::measure_methods(domain.heldout_set, surface, o.methods, o.network_methods, networks, o);
+  result.chosen = study::choose_plan(result.measured);
+  result.seconds_to_plan = seconds_since(start);
+  const study::MethodMeasurement& chosen = result.measured[result.chosen];
+  say("plan: " + chosen.name + (chosen.reaches ? "" : " (no method reaches the target: the most accurate)"));
+  return result;
+}
+
+/// The trained networks of `result`, as measure_methods and judge_on_pairs take them.
+std::vector<const study::SceneNetwork*> networks_of(const study::SceneStudyResult& result) {
+  std::vector<const study::SceneNetwork*> networks;
+  for (const study::SceneNetwork& n : result.training.tried) networks.push_back(&n);
+  return networks;
+}
+
+/// Step 9: the deck's pairs judged; the node orders of every pair.
+void judge_pairs(const study::ScenePairs& pairs, SurfaceKind surface,
+                 const std::vector<const study::SceneNetwork*>& networks, study::SceneStudyResult& result,
+                 const study::StudyLog& say) {
+  const study::MethodMeasurement& chosen = result.measured[result.chosen];
+  study::judge_on_pairs(pairs, surface, networks, result);
+  const auto network_of = [&](int index) {
+    return index >= 0 ? networks[static_cast<std::size_t>(index)]->model.get() : nullptr;
+  };
+  const search::LocalSearch plan_search(surface, search::Method::parse(chosen.method), {},
+                                        network_of(chosen.network));
+  std::optional<search::LocalSearch> scene_search;
+  if (result.training.scene >= 0) {
+    scene_search.emplace(surface, search::Method::parse("network"), search::SearchOptions{},
+                         network_of(result.training.scene));
+  }
+  result.node_orders =
+      study::check_node_orders(pairs, surface, plan_search, scene_search ? &*scene_search : nullptr);
+  say(result.node_orders.summary());
+}
+
+/// Step 10: the plan (and its network), history.csv, the report, the effective config.
+void write_study(const fs::path& dir, const study::SceneStudyResult& result,
+                 const std::vector<const study::SceneNetwork*>& networks,
+                 const std::optional<study::HistoryJudgement>& judged, const std::string& config) {
+  const study::SceneStudyOptions& o = result.options;
+  const study::MethodMeasurement& chosen = result.plan();
+  const fs::path network_file = dir / "network.h5";
+  if (chosen.network >= 0) {
+    write_plan_network(network_file, *networks[static_cast<std::size_t>(chosen.network)], o, result.deck,
+                       result.pair, config);
+  } else {
+    fs::remove(network_file);  // an earlier run's: the plan names none
+  }
+  io::write_text_atomically(
+      dir / "plan.toml", io::plan_to_toml(study::make_plan(result, chosen.network >= 0 ? "network.h5" : "")));
+  if (judged) {
+    io::write_text_atomically(dir / "history.csv", study::history_csv(*judged));
+  } else {
+    fs::remove(dir / "history.csv");  // an earlier run's: this one has no history
+  }
+  io::write_text_atomically(dir / "report.md", study::report_markdown(result));
+  io::write_text_atomically(dir / "report.json", study::report_json(result));
+  io::write_text_atomically(dir / "scene-study.config.toml",
+                            "# effective configuration written by scene-study\n" + config);
+}
+
+/// The study's last lines on stdout: the plan and, with --results, each method's worst increment.
+void print_summary(const fs::path& dir, const study::SceneStudyResult& result,
+                   const std::vector<const study::SceneNetwork*>& networks,
+                   const std::optional<study::HistoryJudgement>& judged) {
+  const study::SceneStudyOptions& o = result.options;
+  const study::MethodMeasurement& chosen = result.plan();
+  std::printf(
+      "scene-study: plan %s%s -> %s; held-out effective mean |error| %.4g (target %g: %s), %.1f ns/query; "
+      "%.1f s\n",
+      chosen.method.c_str(),
+      chosen.network >= 0 ? (" with " + networks[static_cast<std::size_t>(chosen.network)]->name).c_str()
+                          : "",
+      (dir / "plan.toml").string().c_str(), chosen.effective_mean, o.target,
+      chosen.reaches ? "reached" : "NOT reached", chosen.batched_ns, result.seconds);
+  if (judged) {
+    for (std::size_t m = 0; m < judged->methods.size(); ++m) {
+      const std::size_t w = judged->worst(m);
+      double worst_out = 0.0;
+      long missed = 0;
+      for (std::size_t i = 0; i < judged->increments.size(); ++i) {
+        worst_out = std::max(worst_out, judged->cells[m][i].out_of_domain_fraction());
+        missed += judged->meets(m, i) ? 0 : 1;
+      }
+      char out_of_domain[64] = "";
+      if (judged->methods[m].network >= 0) {
+        std::snprintf(out_of_domain, sizeof out_of_domain, "; at most %.2f%% out of domain",
+                      100.0 * worst_out);
+      }
+      std::printf(
+          "scene-study: history %s%s: worst increment %d, mean |error| %.4g%s; target %s on %ld of %zu "
+          "increments\n",
+          judged->methods[m].name.c_str(), judged->methods[m].role().c_str(), judged->increments[w],
+          judged->cells[m][w].worse_mean(), out_of_domain, missed == 0 ? "met" : "missed",
+          missed == 0 ? static_cast<long>(judged->increments.size()) : missed, judged->increments.size());
+    }
+  }
+}
+
+/// The scene study (scene_study.hpp's steps 2 to 10) of the deck and pair of `a`.
+int run_scene_study(const CLI::App& app, Args& a, const std::vector<io::NamedPath>& inputs,
+                    const std::string& command_line, Clock::time_point start) {
+  const std::string &scene_path = a.scene_path, &results_path = a.results_path;
+  const int pair = a.pair;
+  const bool quiet = a.quiet;
+  // 2. The options resolved for the surface, and the output directory made and checked before any work.
+  const SurfaceKind surface = resolve_scene_options(a);
+  const study::SceneStudyOptions& o = a.o;
+  const fs::path dir(a.output);
+  io::require_outputs({},
+                      {{"--output",
+                        dir,
+                        {"plan.toml", "network.h5", "pairs.csv", "report.md", "report.json", "history.csv",
+                         "scene-study.config.toml"}}},
+                      inputs);
+  if (a.check_only) return 0;
+  const std::string config =
+      cli::effective_config(app, "scene-study", {"output", "threads", "quiet", "check"});
+  const auto say = [&](std::string_view line) {
+    if (!quiet) std::printf("  %.*s\n", static_cast<int>(line.size()), line.data()), std::fflush(stdout);
+  };
+  if (!quiet) std::printf("scene-study: %s pair %d, %s\n", scene_path.c_str(), pair, a.surface_name.c_str());
+
+  // 3. The deck, read once: the pair's master faces, node normals and slave nodes.
+  //    With --results, the results file too, checked against the deck before anything is written.
+  mesh::ContactModel model = io::read_inp_deck(scene_path);
+  (void)cli::warn_unapplied_geometry("scene-study", scene_path);
+  std::optional<io::FrdResults> results;
+  if (!results_path.empty()) {
+    results = io::read_frd(results_path);
+    if (!a.trust_nodes) io::check_node_block(model, *results);
+  }
+  const contact::Scene scene = contact::make_scene(model, pair);
+  if (scene.slave_ids.empty()) {
+    std::fprintf(stderr, "scene-study: pair %d of %s has no slave nodes: nothing to study\n", pair,
+                 scene_path.c_str());
+    return 1;
+  }
+
+  // 4. The search, once: every slave node's closest point (SPEC 9); pairs.csv.
+  const study::ScenePairs pairs = study::search_pairs(scene, surface);
+  if (pairs.result.found == 0) {
+    std::fprintf(
+        stderr,
+        "scene-study: none of the %zu slave nodes of pair %d of %s has a master face (all no_segment): "
+        "nothing to study\n",
+        scene.slave_ids.size(), pair, scene_path.c_str());
+    return 1;
+  }
+  io::make_output_directory("--output", dir);
+  io::write_text_atomically(dir / "pairs.csv", study::pairs_csv(scene, pairs, surface));
+  say("pairs: face " + std::to_string(pairs.locations[0]) + ", edge " + std::to_string(pairs.locations[1]) +
+      ", vertex " + std::to_string(pairs.locations[2]) + ", no_segment " +
+      std::to_string(pairs.result.no_segment));
+
+  // 4b. With --results: the pair at every increment of the run (SPEC 10), the nodes moved as gen-configs
+  //     --results moves them.
+  std::vector<study::HistoryState> history;
+  if (results) history = study::history_states(std::move(model), *results, pair, say);
+
+  // 5-8. The scene's domain, the sizes that could pay, trained; every method measured; the plan.
+  study::SceneStudyResult result = plan_study(scene, history, surface, o, say, start);
+  const std::vector<const study::SceneNetwork*> networks = networks_of(result);
+  result.deck = scene_path;
+  result.pair = pair;
+  result.command_line = command_line;
+  result.slave_nodes = scene.slave_ids.size();
+  result.no_segment = pairs.result.no_segment;
+  result.locations = pairs.locations;
+  result.quad4 = pairs.quad4;
+
+  // 9. The deck's pairs judged; the node orders of every pair.
+  judge_pairs(pairs, surface, networks, result, say);
+
+  // 9b. With --results: the scene networks and the plan's method on every increment's pairs.
+  std::optional<study::HistoryJudgement> judged;
+  if (!history.empty()) {
+    judged = study::judge_history(
+        history, surface, networks,
+        study::history_methods(networks, result.training.scene, result.measured, result.chosen), o, say);
+    judged->results = results_path;
+    judged->domain = std::string(study::to_string(o.domain_states));
+    result.history_increments = static_cast<int>(history.size());
+    result.history_markdown = study::history_markdown(*judged);
+    result.history_json = study::history_json(*judged);
+  }
+  result.results = results_path;
+  result.seconds = seconds_since(start);
+
+  // 10. The plan (and its network), the report.
+  write_study(dir, result, networks, judged, config);
+  print_summary(dir, result, networks, judged);
+  return 0;
+}
+}  // namespace
+
+int main(int argc, char** argv) {
+  using namespace contactnn;
+  CLI::App app{
+      "scene-study: the fastest local-search method that reaches a scene's target, a network only where "
+      "one pays (SPEC 7)"};
+  cli::add_exit_code_footer(app);
+  cli::add_config_option(app, "scene-study");
+
+  // 1. Options. Every default lives in study::SceneStudyOptions; flags only map onto it.
+  Args a;
+  add_input_options(app, a);
+  add_study_options(app, a);
 
   return cli::run(app, argc, argv, [&]() -> int {
     const auto start = Clock::now();
-    // 2. The options resolved for the surface, and the output directory made and checked before any work.
-    if (o.threads > 0) omp_set_num_threads(o.threads);
+    if (a.o.threads > 0) omp_set_num_threads(a.o.threads);
     const std::vector<io::NamedPath> inputs = {
-        {"--scene", scene_path}, {"--results", results_path}, {"--config", cli::config_path(app)}};
-    if (!face_name.empty()) {
-      CONTACTNN_REQUIRE_AS(InvalidArgument, results_path.empty(), "--face: --results is not supported yet");
-      study::FaceStudyOptions f;
-      f.count = o.count;
-      f.heldout = std::max<std::int64_t>(100, o.count / 4);
-      f.seed = o.seed;
-      if (app.count("--epochs") > 0) f.epochs = o.epochs;
-      if (o.target > 0.0) f.target = o.target;
-      f.margin = o.margin;
-      f.threads = o.threads;
-      if (app.count("--deformation") > 0) f.deformation = o.domain.deformation;
-      if (app.count("--capture") > 0) f.capture = o.domain.capture;
-      if (app.count("--boundary-fraction") > 0) f.boundary_fraction = o.domain.boundary_fraction;
-      if (app.count("--input-quantile") > 0) f.input_quantile = o.input_quantile;
-      if (app.count("--timing-queries") > 0) f.timing_queries = o.timing_queries;
-      if (!o.methods.empty()) f.methods = o.methods;
-      if (app.count("--network-methods") > 0) f.network_methods = o.network_methods;
-      if (!sizes.empty()) f.sizes = parse_face_sizes(sizes);
+        {"--scene", a.scene_path}, {"--results", a.results_path}, {"--config", cli::config_path(app)}};
+    if (!a.face_name.empty()) {
+      CONTACTNN_REQUIRE_AS(InvalidArgument, a.results_path.empty(), "--face: --results is not supported yet");
+      const study::FaceStudyOptions f = face_options(app, a);
       CONTACTNN_REQUIRE_AS(
-          InvalidArgument, general != !scene_path.empty(),
+          InvalidArgument, a.general != !a.scene_path.empty(),
           "--face: give --scene DECK (the deck's faces) or --general (the paper-like domain), not both");
-      return run_face_mode(scene_path, pair, search::face_kind_from_string(face_name), f, output, inputs,
-                           check_only, quiet, join_command_line(argc, argv), general ? curvature : -1.0);
+      return run_face_mode(a.scene_path, a.pair, search::face_kind_from_string(a.face_name), f, a.output,
+                           inputs, a.check_only, a.quiet, join_command_line(argc, argv),
+                           a.general ? a.curvature : -1.0);
     }
-    CONTACTNN_REQUIRE_AS(InvalidArgument, !surface_name.empty(),
-                         "--surface (bilinear or gregory) or --face is required");
-    CONTACTNN_REQUIRE_AS(InvalidArgument, !scene_path.empty() && !general,
-                         "--scene is required (--general goes with --face)");
-    const SurfaceKind surface = surface_from_string(surface_name);
-    if (!sizes.empty()) o.sizes = parse_sizes(sizes);
-    o.train_networks = study::train_networks_from_string(train_networks);
-    o.domain_states = study::domain_states_from_string(domain_states);
-    if (o.domain_states == study::DomainStates::kAuto) {
-      o.domain_states = results_path.empty() ? study::DomainStates::kRest : study::DomainStates::kHistory;
-    }
-    CONTACTNN_REQUIRE_AS(InvalidArgument,
-                         o.domain_states != study::DomainStates::kHistory || !results_path.empty(),
-                         "--domain history: the whole history's domain needs --results RUN.frd");
-    o.domain.segment_test = o.segment_test == "on" || (o.segment_test == "auto" && results_path.empty());
-    o = study::resolved(o, surface);
-    const fs::path dir(output);
-    io::require_outputs({},
-                        {{"--output",
-                          dir,
-                          {"plan.toml", "network.h5", "pairs.csv", "report.md", "report.json", "history.csv",
-                           "scene-study.config.toml"}}},
-                        inputs);
-    if (check_only) return 0;
-    const std::string config =
-        cli::effective_config(app, "scene-study", {"output", "threads", "quiet", "check"});
-    const auto say = [&](std::string_view line) {
-      if (!quiet) std::printf("  %.*s\n", static_cast<int>(line.size()), line.data()), std::fflush(stdout);
-    };
-    if (!quiet) std::printf("scene-study: %s pair %d, %s\n", scene_path.c_str(), pair, surface_name.c_str());
-
-    // 3. The deck, read once: the pair's master faces, node normals and slave nodes.
-    //    With --results, the results file too, checked against the deck before anything is written.
-    mesh::ContactModel model = io::read_inp_deck(scene_path);
-    (void)cli::warn_unapplied_geometry("scene-study", scene_path);
-    std::optional<io::FrdResults> results;
-    if (!results_path.empty()) {
-      results = io::read_frd(results_path);
-      if (!trust_nodes) io::check_node_block(model, *results);
-    }
-    const contact::Scene scene = contact::make_scene(model, pair);
-    if (scene.slave_ids.empty()) {
-      std::fprintf(stderr, "scene-study: pair %d of %s has no slave nodes: nothing to study\n", pair,
-                   scene_path.c_str());
-      return 1;
-    }
-
-    // 4. The search, once: every slave node's closest point (SPEC 9); pairs.csv.
-    const study::ScenePairs pairs = study::search_pairs(scene, surface);
-    if (pairs.result.found == 0) {
-      std::fprintf(
-          stderr,
-          "scene-study: none of the %zu slave nodes of pair %d of %s has a master face (all no_segment): "
-          "nothing to study\n",
-          scene.slave_ids.size(), pair, scene_path.c_str());
-      return 1;
-    }
-    io::make_output_directory("--output", dir);
-    io::write_text_atomically(dir / "pairs.csv", study::pairs_csv(scene, pairs, surface));
-    say("pairs: face " + std::to_string(pairs.locations[0]) + ", edge " + std::to_string(pairs.locations[1]) +
-        ", vertex " + std::to_string(pairs.locations[2]) + ", no_segment " +
-        std::to_string(pairs.result.no_segment));
-
-    // 4b. With --results: the pair at every increment of the run (SPEC 10), the nodes moved as gen-configs
-    //     --results moves them.
-    std::vector<study::HistoryState> history;
-    if (results) history = study::history_states(std::move(model), *results, pair, say);
-
-    // 5. The scene's domain: a training sample and a held-out one, from the deck's state or from every state
-    //    of its history.
-    std::vector<const contact::Scene*> states = {&scene};
-    if (o.domain_states == study::DomainStates::kHistory) {
-      for (const study::HistoryState& h : history) states.push_back(&h.scene);
-    }
-    const study::SceneDomain domain = study::sample_domain(states, surface, o, say);
-    say("domain: " + std::to_string(domain.train.size()) + " configurations to train from, " +
-        std::to_string(domain.heldout.size()) + " held out");
-
-    // 6. The methods without a network on the held-out sample, beside untrained networks of every size (a
-    //    network's cost does not depend on its weights): the sizes that could pay.
-    const std::vector<study::SceneNetwork> untrained = study::untrained_networks(domain, surface, o);
-    std::vector<const study::SceneNetwork*> untrained_pointers;
-    for (const study::SceneNetwork& n : untrained) untrained_pointers.push_back(&n);
-    const std::vector<study::MethodMeasurement> first =
-        study::measure_methods(domain.heldout_set, surface, o.methods, "network", untrained_pointers, o);
-    study::SceneStudyResult result;
-    const std::vector<int> to_train = study::sizes_that_may_pay(first, untrained, o, &result.not_trained);
-    for (const std::string& why : result.not_trained) say(why);
-
-    // 7. The scene networks that could pay, trained in memory.
-    result.training = study::train_networks(domain, surface, o, to_train, say);
-
-    // 8. Every method measured on the held-out sample; the plan: the fastest that reaches the target.
-    std::vector<const study::SceneNetwork*> networks;
-    for (const study::SceneNetwork& n : result.training.tried) networks.push_back(&n);
-    result.measured =
-        study::measure_methods(domain.heldout_set, surface, o.methods, o.network_methods, networks, o);
-    result.chosen = study::choose_plan(result.measured);
-    result.seconds_to_plan = seconds_since(start);
-    const study::MethodMeasurement& chosen = result.measured[result.chosen];
-    say("plan: " + chosen.name +
-        (chosen.reaches ? "" : " (no method reaches the target: the most accurate)"));
-
-    // 9. The deck's pairs judged; the node orders of every pair.
-    result.deck = scene_path;
-    result.pair = pair;
-    result.surface = surface;
-    result.options = o;
-    result.command_line = join_command_line(argc, argv);
-    result.slave_nodes = scene.slave_ids.size();
-    result.no_segment = pairs.result.no_segment;
-    result.locations = pairs.locations;
-    result.quad4 = pairs.quad4;
-    result.deck_offset = domain.deck_offset;
-    result.domain = domain.domain;
-    result.heldout_rows = domain.heldout.size();
-    result.heldout_seed = domain.heldout_seed;
-    study::judge_on_pairs(pairs, surface, networks, result);
-    const auto network_of = [&](int index) {
-      return index >= 0 ? networks[static_cast<std::size_t>(index)]->model.get() : nullptr;
-    };
-    const search::LocalSearch plan_search(surface, search::Method::parse(chosen.method), {},
-                                          network_of(chosen.network));
-    std::optional<search::LocalSearch> scene_search;
-    if (result.training.scene >= 0) {
-      scene_search.emplace(surface, search::Method::parse("network"), search::SearchOptions{},
-                           network_of(result.training.scene));
-    }
-    result.node_orders =
-        study::check_node_orders(pairs, surface, plan_search, scene_search ? &*scene_search : nullptr);
-    say(result.node_orders.summary());
-
-    // 9b. With --results: the scene networks and the plan's method on every increment's pairs.
-    std::optional<study::HistoryJudgement> judged;
-    if (!history.empty()) {
-      judged = study::judge_history(
-          history, surface, networks,
-          study::history_methods(networks, result.training.scene, result.measured, result.chosen), o, say);
-      judged->results = results_path;
-      judged->domain = std::string(study::to_string(o.domain_states));
-      result.history_increments = static_cast<int>(history.size());
-      result.history_markdown = study::history_markdown(*judged);
-      result.history_json = study::history_json(*judged);
-    }
-    result.results = results_path;
-    result.seconds = seconds_since(start);
-
-    // 10. The plan (and its network), the report.
-    const fs::path network_file = dir / "network.h5";
-    if (chosen.network >= 0) {
-      write_plan_network(network_file, *networks[static_cast<std::size_t>(chosen.network)], o, scene_path,
-                         pair, config);
-    } else {
-      fs::remove(network_file);  // an earlier run's: the plan names none
-    }
-    io::write_text_atomically(dir / "plan.toml", io::plan_to_toml(study::make_plan(
-                                                     result, chosen.network >= 0 ? "network.h5" : "")));
-    if (judged) {
-      io::write_text_atomically(dir / "history.csv", study::history_csv(*judged));
-    } else {
-      fs::remove(dir / "history.csv");  // an earlier run's: this one has no history
-    }
-    io::write_text_atomically(dir / "report.md", study::report_markdown(result));
-    io::write_text_atomically(dir / "report.json", study::report_json(result));
-    io::write_text_atomically(dir / "scene-study.config.toml",
-                              "# effective configuration written by scene-study\n" + config);
-    std::printf(
-        "scene-study: plan %s%s -> %s; held-out effective mean |error| %.4g (target %g: %s), %.1f ns/query; "
-        "%.1f s\n",
-        chosen.method.c_str(),
-        chosen.network >= 0 ? (" with " + networks[static_cast<std::size_t>(chosen.network)]->name).c_str()
-                            : "",
-        (dir / "plan.toml").string().c_str(), chosen.effective_mean, o.target,
-        chosen.reaches ? "reached" : "NOT reached", chosen.batched_ns, result.seconds);
-    if (judged) {
-      for (std::size_t m = 0; m < judged->methods.size(); ++m) {
-        const std::size_t w = judged->worst(m);
-        double worst_out = 0.0;
-        long missed = 0;
-        for (std::size_t i = 0; i < judged->increments.size(); ++i) {
-          worst_out = std::max(worst_out, judged->cells[m][i].out_of_domain_fraction());
-          missed += judged->meets(m, i) ? 0 : 1;
-        }
-        char out_of_domain[64] = "";
-        if (judged->methods[m].network >= 0) {
-          std::snprintf(out_of_domain, sizeof out_of_domain, "; at most %.2f%% out of domain",
-                        100.0 * worst_out);
-        }
-        std::printf(
-            "scene-study: history %s%s: worst increment %d, mean |error| %.4g%s; target %s on %ld of %zu "
-            "increments\n",
-            judged->methods[m].name.c_str(), judged->methods[m].role().c_str(), judged->increments[w],
-            judged->cells[m][w].worse_mean(), out_of_domain, missed == 0 ? "met" : "missed",
-            missed == 0 ? static_cast<long>(judged->increments.size()) : missed, judged->increments.size());
-      }
-    }
-    return 0;
+    return run_scene_study(app, a, inputs, join_command_line(argc, argv), start);
   });
 }

@@ -48,6 +48,42 @@ std::string g4(double v) {
 
 double worse_mean(const eval::MethodErrors& e) { return std::max(e.stats[0].mean_abs, e.stats[1].mean_abs); }
 
+/// The report's table of every method measured (held-out, face pairs, quad4 pairs), with its lead-in.
+std::string methods_table(const SceneStudyResult& r, bool any_face) {
+  const auto names = coordinate_names(r.surface);
+  const SceneStudyOptions& o = r.options;
+  std::ostringstream md;
+  md << "Every method measured: held-out effective mean |error| (the larger coordinate's mean |error|, each "
+        "failure "
+        "counting as one domain width; "
+     << names[0] << " units, domain width " << (r.surface == SurfaceKind::kGregory ? "1" : "2")
+     << ") and time per query (batched, 1 thread, this machine) on the scene's domain, where the plan is "
+        "chosen; "
+        "then the mean |error| on the deck's pairs inside a face, and on every pair on a quadrilateral "
+        "(edges and "
+        "vertices included). The plan's row is in bold.\n\n";
+  md << "| method | held-out effective mean | reaches " << g4(o.margin) << " x " << g4(o.target)
+     << " | ns/query batched | face pairs mean abs " << names[0] << " | mean abs " << names[1]
+     << " | max abs | failures | quad4 pairs mean abs |\n|---|---:|:---:|---:|---:|---:|---:|---:|---:|\n";
+  for (std::size_t i = 0; i < r.measured.size(); ++i) {
+    const MethodMeasurement& m = r.measured[i];
+    const std::string name = i == r.chosen ? "**" + m.name + "**" : m.name;
+    md << "| " << name << " | " << g4(m.effective_mean) << " | " << (m.reaches ? "yes" : "no") << " | "
+       << g4(m.batched_ns) << " | ";
+    if (any_face) {
+      const eval::MethodErrors& e = r.face_errors[i];
+      md << g4(e.stats[0].mean_abs) << " | " << g4(e.stats[1].mean_abs) << " | "
+         << g4(std::max(e.stats[0].max_abs, e.stats[1].max_abs)) << " | " << e.failures_method << " | ";
+    } else {
+      md << "- | - | - | - | ";
+    }
+    md << (r.quad4_errors.empty() || r.quad4_errors[i].rows == 0 ? std::string("-")
+                                                                 : g4(worse_mean(r.quad4_errors[i])))
+       << " |\n";
+  }
+  return md.str();
+}
+
 }  // namespace
 
 std::string report_markdown(const SceneStudyResult& r) {
@@ -126,34 +162,7 @@ std::string report_markdown(const SceneStudyResult& r) {
   for (const std::string& why : r.not_trained) md << "- " << why << "\n";
   md << "- " << r.node_orders.summary() << "\n";
   md << "- time: to the plan " << g4(r.seconds_to_plan) << " s, whole study " << g4(r.seconds) << " s\n\n";
-  md << "Every method measured: held-out effective mean |error| (the larger coordinate's mean |error|, each "
-        "failure "
-        "counting as one domain width; "
-     << names[0] << " units, domain width " << (r.surface == SurfaceKind::kGregory ? "1" : "2")
-     << ") and time per query (batched, 1 thread, this machine) on the scene's domain, where the plan is "
-        "chosen; "
-        "then the mean |error| on the deck's pairs inside a face, and on every pair on a quadrilateral "
-        "(edges and "
-        "vertices included). The plan's row is in bold.\n\n";
-  md << "| method | held-out effective mean | reaches " << g4(o.margin) << " x " << g4(o.target)
-     << " | ns/query batched | face pairs mean abs " << names[0] << " | mean abs " << names[1]
-     << " | max abs | failures | quad4 pairs mean abs |\n|---|---:|:---:|---:|---:|---:|---:|---:|---:|\n";
-  for (std::size_t i = 0; i < r.measured.size(); ++i) {
-    const MethodMeasurement& m = r.measured[i];
-    const std::string name = i == r.chosen ? "**" + m.name + "**" : m.name;
-    md << "| " << name << " | " << g4(m.effective_mean) << " | " << (m.reaches ? "yes" : "no") << " | "
-       << g4(m.batched_ns) << " | ";
-    if (any_face) {
-      const eval::MethodErrors& e = r.face_errors[i];
-      md << g4(e.stats[0].mean_abs) << " | " << g4(e.stats[1].mean_abs) << " | "
-         << g4(std::max(e.stats[0].max_abs, e.stats[1].max_abs)) << " | " << e.failures_method << " | ";
-    } else {
-      md << "- | - | - | - | ";
-    }
-    md << (r.quad4_errors.empty() || r.quad4_errors[i].rows == 0 ? std::string("-")
-                                                                 : g4(worse_mean(r.quad4_errors[i])))
-       << " |\n";
-  }
+  md << methods_table(r, any_face);
   if (!r.history_markdown.empty()) md << "\n" << r.history_markdown;
   return md.str();
 }

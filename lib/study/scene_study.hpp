@@ -31,10 +31,16 @@
 //  6. check_node_orders: every quadrilateral pair in each of the 8 node orders of its segment (SPEC 4) gives
 //     the same reference label (1e-12) and the same answer of the plan's method and of the scene network
 //     (1e-6).
-//  7. The report (report_markdown, report_json) and the plan (plan.hpp).
+//  7. The report (report_markdown, report_json) and the plan (io/plan_file.hpp).
 //  With --results RUN.frd (scene_history.hpp, issue 29): step 2 draws the domain from the deck and every
 //  increment of the run (DomainStates::kHistory, the default then), and after step 6 every scene network and
 //  the plan's method are judged on each increment's pairs inside a face (history.csv, a report section).
+//
+// One header a step, each stating its contract: this one the options (SceneStudyOptions, resolved) and the
+// log; scene_pairs.hpp step 1 (and the pairs' CSV row gen-configs --scene writes too); scene_domain.hpp step
+// 2 and the capture policy of every scene domain; scene_networks.hpp steps 3-4 (the schedule in
+// training_schedule.cpp); method_measurement.hpp steps 3 and 5 (the choice in plan_choice.cpp);
+// node_orders.hpp step 6; scene_report.hpp step 7. The plan file is lib/io's (io/plan_file.hpp).
 #pragma once
 
 #include <cstdint>
