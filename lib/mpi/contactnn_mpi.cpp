@@ -65,6 +65,14 @@ int contactnn_mpi_contact_create(contactnn_mpi_contact** contact, MPI_Comm comm,
   });
 }
 
+int contactnn_mpi_contact_create_f(contactnn_mpi_contact** contact, MPI_Fint comm, size_t n_faces,
+                                   const long* face_ids, const int* face_types, const long* connectivity,
+                                   size_t n_nodes, const long* node_ids, size_t n_slaves,
+                                   const long* slave_node_ids, const contactnn_contact_options* options) {
+  return contactnn_mpi_contact_create(contact, MPI_Comm_f2c(comm), n_faces, face_ids, face_types,
+                                      connectivity, n_nodes, node_ids, n_slaves, slave_node_ids, options);
+}
+
 int contactnn_mpi_contact_update(contactnn_mpi_contact* contact, size_t n_nodes, const double* coords,
                                  size_t n_slaves, int* status, long* face, int* owner, int* location,
                                  double* param, double* point, double* gap, double* normal) {

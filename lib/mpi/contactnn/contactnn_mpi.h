@@ -57,6 +57,15 @@ CONTACTNN_API int contactnn_mpi_contact_create(contactnn_mpi_contact** contact, 
                                                size_t n_slaves, const long* slave_node_ids,
                                                const contactnn_contact_options* options);
 
+/* As contactnn_mpi_contact_create, the communicator a Fortran handle (an INTEGER, converted by MPI_Comm_f2c):
+ * what the Fortran module (contactnn_mpi.f90) calls. */
+CONTACTNN_API int contactnn_mpi_contact_create_f(contactnn_mpi_contact** contact, MPI_Fint comm,
+                                                 size_t n_faces, const long* face_ids, const int* face_types,
+                                                 const long* connectivity, size_t n_nodes,
+                                                 const long* node_ids, size_t n_slaves,
+                                                 const long* slave_node_ids,
+                                                 const contactnn_contact_options* options);
+
 /* Collective. One increment: coords holds n_nodes x 3 values in the order of node_ids. Writes, per slave node
  * i: status[i], face[i] (global face id, -1 when none) and, where not NULL, owner[i] (the rank that passed
  * the face, -1 when none), location, param (2 per node), point (3), gap and normal (3), as
