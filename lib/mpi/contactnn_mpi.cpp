@@ -42,6 +42,7 @@ int contactnn_mpi_contact_create(contactnn_mpi_contact** contact, MPI_Comm comm,
       o.quad4 = options->quad4_surface == CONTACTNN_SURFACE_BILINEAR ? contactnn::SurfaceKind::kBilinear
                                                                      : contactnn::SurfaceKind::kGregory;
       o.threads = options->threads;
+      o.tracking = options->tracking != 0;
     }
     // A face type that is none of CONTACTNN_FACE_* becomes one the C++ class refuses (on every rank).
     std::vector<contactnn::mesh::FaceType> types;
@@ -64,6 +65,14 @@ int contactnn_mpi_contact_create(contactnn_mpi_contact** contact, MPI_Comm comm,
   });
 }
 
+int contactnn_mpi_contact_create_f(contactnn_mpi_contact** contact, MPI_Fint comm, size_t n_faces,
+                                   const long* face_ids, const int* face_types, const long* connectivity,
+                                   size_t n_nodes, const long* node_ids, size_t n_slaves,
+                                   const long* slave_node_ids, const contactnn_contact_options* options) {
+  return contactnn_mpi_contact_create(contact, MPI_Comm_f2c(comm), n_faces, face_ids, face_types,
+                                      connectivity, n_nodes, node_ids, n_slaves, slave_node_ids, options);
+}
+
 int contactnn_mpi_contact_update(contactnn_mpi_contact* contact, size_t n_nodes, const double* coords,
                                  size_t n_slaves, int* status, long* face, int* owner, int* location,
                                  double* param, double* point, double* gap, double* normal) {
@@ -80,6 +89,17 @@ int contactnn_mpi_contact_update(contactnn_mpi_contact* contact, size_t n_nodes,
 }
 
 void contactnn_mpi_contact_destroy(contactnn_mpi_contact* contact) { delete contact; }
+
+int contactnn_mpi_contact_counts(const contactnn_mpi_contact* contact, contactnn_mpi_counts* counts) {
+  return contactnn::capi::guarded("contactnn_mpi_contact_counts", [&] {
+    CONTACTNN_REQUIRE_AS(contactnn::InvalidArgument, contact != nullptr && counts != nullptr,
+                         "contactnn_mpi_contact_counts: contact or counts is NULL");
+    const contactnn::mpi::ExchangeCounts& c = contact->search->counts();
+    *counts = {c.bytes_sent,     c.header_bytes_sent, c.messages_sent,        c.collectives,
+               c.allreduces,     c.ghost_faces_sent,  c.ghost_faces_received, c.ghost_nodes_received,
+               c.faces_searched, c.exchanged};
+  });
+}
 
 long contactnn_mpi_contact_bytes_sent(const contactnn_mpi_contact* contact) {
   return contact == nullptr ? -1 : contact->search->counts().bytes_sent;

@@ -71,12 +71,19 @@ struct DistributedResults {
   std::span<double> normal;  ///< 3m
 };
 
-/// What the last update sent from this rank (bytes of the payloads of its point-to-point and all-to-all
-/// messages, the allgathers counted once per other rank; the allreduces of a few bytes not counted).
+/// What the last update (or, before the first update, the creation) sent from this rank. Bytes are the
+/// payloads of its all-to-all messages to other ranks and of the allgather (counted once per other rank); the
+/// all-to-all of message sizes that precedes each all-to-all is counted apart (4 bytes per other rank), and
+/// the allreduces (a few bytes each) are counted by number only.
 struct ExchangeCounts {
   long bytes_sent = 0;
+  long header_bytes_sent = 0;     ///< the message sizes each all-to-all sends first (4 bytes per other rank)
+  long messages_sent = 0;         ///< non-empty payloads to other ranks (an allgather: one per other rank)
+  int collectives = 0;            ///< collective calls of this rank (all-to-all, allgather, allreduce, bcast)
+  int allreduces = 0;             ///< of which MPI_Allreduce
   long ghost_faces_sent = 0;      ///< faces of this rank sent to other ranks (a face sent twice counts twice)
   long ghost_faces_received = 0;  ///< faces of other ranks this rank searched
+  long ghost_nodes_received = 0;  ///< coordinates received per update for the ghost faces' nodes
   long faces_searched = 0;        ///< own faces within reach plus the ghost faces
   int exchanged = 0;              ///< 1 where this update chose the ghost faces afresh, 0 where it kept them
 };
@@ -105,7 +112,8 @@ class DistributedContactSearch {
 
   [[nodiscard]] int rank() const;
   [[nodiscard]] int size() const;
-  [[nodiscard]] const ExchangeCounts& counts() const;  ///< the last update's
+  /// The last update's counts; before the first update, the creation's.
+  [[nodiscard]] const ExchangeCounts& counts() const;
 
  private:
   struct Impl;

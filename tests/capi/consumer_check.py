@@ -85,7 +85,9 @@ def install(args):
         check(wanted in files, f"{wanted} is not installed")
     for suffix in ("contactnnConfig.cmake", "contactnnConfigVersion.cmake", "contactnnTargets.cmake"):
         check(any(f.endswith("cmake/contactnn/" + suffix) for f in files), f"{suffix} is not installed")
-    check(not any("/eval/" in f or "/contact/" in f for f in files), "the tools' own modules were installed")
+    check(not any("/eval/" in f or "/study/" in f or "/history/" in f for f in files),
+          "the tools' own modules were installed")
+    check("include/contactnn/contact/contact_search.hpp" in files, "contact::ContactSearch is not installed")
     libraries = [f for f in files if os.path.basename(f).startswith("libcontactnn_c.so.")
                  and not os.path.islink(os.path.join(args.prefix, f))]
     check(len(libraries) == 1, f"one libcontactnn_c.so.X.Y.Z expected, found {libraries}")

@@ -32,6 +32,7 @@
 #include "contact/scene.hpp"
 #include "contact/surface_search.hpp"
 #include "core/error.hpp"
+#include "deck_input.hpp"
 #include "io/inp_deck.hpp"
 #include "mpi/distributed_contact_search.hpp"
 
@@ -41,50 +42,9 @@ using namespace contactnn;
 using contact::Scene;
 using geometry::Vec3;
 
-/// The deck's faces in increasing (element id, face number), their connectivity in deck ids; the nodes in
-/// increasing deck id (tests/contact/test_contact_search.cpp's handle input).
-struct Input {
-  std::vector<long> ids;
-  std::vector<mesh::FaceType> types;
-  std::vector<long> offsets;
-  std::vector<long> connectivity;
-};
-
-Input input_of(const Scene& scene) {
-  Input in;
-  in.ids = scene.master.node_ids;
-  in.ids.insert(in.ids.end(), scene.slave_ids.begin(), scene.slave_ids.end());
-  std::sort(in.ids.begin(), in.ids.end());
-  in.ids.erase(std::unique(in.ids.begin(), in.ids.end()), in.ids.end());
-  const int n = scene.master.face_count();
-  std::vector<int> order(static_cast<std::size_t>(n));
-  std::iota(order.begin(), order.end(), 0);
-  const auto key = [&](int f) {
-    return std::pair(scene.master.face_element_id(f), scene.master.face_of(f).face);
-  };
-  std::sort(order.begin(), order.end(), [&](int a, int b) { return key(a) < key(b); });
-  for (int f : order) {
-    const mesh::FaceNodes nodes = scene.master.face_nodes(f);
-    in.types.push_back(nodes.type);
-    in.offsets.push_back(static_cast<long>(in.connectivity.size()));
-    for (int k : nodes) in.connectivity.push_back(scene.master.node_ids[static_cast<std::size_t>(k)]);
-  }
-  in.offsets.push_back(static_cast<long>(in.connectivity.size()));
-  return in;
-}
-
-std::vector<double> coordinates(const Input& in, const Scene& scene) {
-  std::vector<double> x(3 * in.ids.size(), std::numeric_limits<double>::quiet_NaN());
-  const auto put = [&](long id, const Vec3& p) {
-    const auto i =
-        static_cast<std::size_t>(std::lower_bound(in.ids.begin(), in.ids.end(), id) - in.ids.begin());
-    for (std::size_t k = 0; k < 3; ++k) x[3 * i + k] = p[static_cast<Eigen::Index>(k)];
-  };
-  for (std::size_t i = 0; i < scene.master.node_ids.size(); ++i)
-    put(scene.master.node_ids[i], scene.master.positions[i]);
-  for (std::size_t i = 0; i < scene.slave_ids.size(); ++i) put(scene.slave_ids[i], scene.slave_positions[i]);
-  return x;
-}
+using mpi_test::coordinates;
+using mpi_test::Input;
+using mpi_test::input_of;
 
 /// test_contact_search.cpp's made-up history: the slave side moves toward and along the master, the master
 /// waves.

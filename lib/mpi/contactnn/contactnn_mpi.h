@@ -19,7 +19,8 @@
  * the other ranks then wait in the collective).
  *
  * Options: contactnn_contact_options; quad4_surface must be bilinear (Gregory: INVALID_ARGUMENT), `tracking`
- * is ignored (every update searches afresh), `threads` the local search's.
+ * keeps the ghost layer (the faces exchanged between ranks) until the movement budget is spent (0: exchanged
+ * at every update; the answers are the same), `threads` the local search's.
  *
  * Sample use (error handling shortened):
  *   MPI_Init(&argc, &argv);
@@ -56,6 +57,15 @@ CONTACTNN_API int contactnn_mpi_contact_create(contactnn_mpi_contact** contact, 
                                                size_t n_slaves, const long* slave_node_ids,
                                                const contactnn_contact_options* options);
 
+/* As contactnn_mpi_contact_create, the communicator a Fortran handle (an INTEGER, converted by MPI_Comm_f2c):
+ * what the Fortran module (contactnn_mpi.f90) calls. */
+CONTACTNN_API int contactnn_mpi_contact_create_f(contactnn_mpi_contact** contact, MPI_Fint comm,
+                                                 size_t n_faces, const long* face_ids, const int* face_types,
+                                                 const long* connectivity, size_t n_nodes,
+                                                 const long* node_ids, size_t n_slaves,
+                                                 const long* slave_node_ids,
+                                                 const contactnn_contact_options* options);
+
 /* Collective. One increment: coords holds n_nodes x 3 values in the order of node_ids. Writes, per slave node
  * i: status[i], face[i] (global face id, -1 when none) and, where not NULL, owner[i] (the rank that passed
  * the face, -1 when none), location, param (2 per node), point (3), gap and normal (3), as
@@ -68,8 +78,27 @@ CONTACTNN_API int contactnn_mpi_contact_update(contactnn_mpi_contact* contact, s
 /* Collective (frees the duplicate communicator). NULL does nothing. */
 CONTACTNN_API void contactnn_mpi_contact_destroy(contactnn_mpi_contact* contact);
 
-/* The bytes this rank sent in the last update (point-to-point and all-to-all payloads), -1 for NULL. Local.
- */
+/* What this rank sent in the last update (before the first update: at creation). Bytes are the payloads of
+ * its all-to-all messages to other ranks and of the allgather of slave boxes (once per other rank); the
+ * message sizes sent before each all-to-all are counted apart. */
+typedef struct contactnn_mpi_counts {
+  long bytes_sent;
+  long header_bytes_sent;    /* the message sizes each all-to-all sends first (4 bytes per other rank) */
+  long messages_sent;        /* non-empty payloads to other ranks */
+  long collectives;          /* collective calls (all-to-all, allgather, allreduce, bcast) */
+  long allreduces;           /* of which MPI_Allreduce */
+  long ghost_faces_sent;     /* faces of this rank sent to other ranks */
+  long ghost_faces_received; /* faces of other ranks this rank searched */
+  long ghost_nodes_received; /* node coordinates received for them, per update */
+  long faces_searched;       /* own faces within reach plus the ghost faces */
+  long exchanged;            /* 1 where the update chose the ghost faces afresh, 0 where it kept them */
+} contactnn_mpi_counts;
+
+/* Local. Fills *counts with the last update's counts; INVALID_ARGUMENT for NULL arguments. */
+CONTACTNN_API int contactnn_mpi_contact_counts(const contactnn_mpi_contact* contact,
+                                               contactnn_mpi_counts* counts);
+
+/* The bytes this rank sent in the last update (contactnn_mpi_counts's bytes_sent), -1 for NULL. Local. */
 CONTACTNN_API long contactnn_mpi_contact_bytes_sent(const contactnn_mpi_contact* contact);
 
 #ifdef __cplusplus
