@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "core/error.hpp"
+#include "eval/ranking.hpp"
 #include "mlp/random.hpp"
 
 namespace contactnn::eval {
@@ -164,13 +165,6 @@ std::vector<double> gather_raw(const EvaluationSet& set, const std::vector<std::
     out.insert(out.end(), set.raw.begin() + static_cast<std::ptrdiff_t>(r * cols),
                set.raw.begin() + static_cast<std::ptrdiff_t>((r + 1) * cols));
   return out;
-}
-
-const MethodTiming* find_timing(const SetResult& set, const std::string& method) {
-  for (const MethodTiming& t : set.timings) {
-    if (t.method == method) return &t;
-  }
-  return nullptr;
 }
 
 /// `starts`: the set's starts for start+newton:K (starts_near_reference; empty when no method reads them).
