@@ -144,16 +144,14 @@ std::optional<projection::FaceClosestPoint> FaceLocator::locate(const mesh::Surf
                                                                 const Vec3& slave) const {
   const mesh::FaceNodes nodes = master.face_nodes(f);
   switch (nodes.type) {
-    case mesh::FaceType::kQuad4:
-      return impl_->quad4(master, normals, kind, f, slave);
+    case mesh::FaceType::kQuad4: return impl_->quad4(master, normals, kind, f, slave);
     case mesh::FaceType::kTri6:
       if (!impl_->tri6) return std::nullopt;
       return impl_->quadratic<6, geometry::QuadraticTriangle>(*impl_->tri6, master, nodes, slave);
     case mesh::FaceType::kQuad8:
       if (!impl_->quad8) return std::nullopt;
       return impl_->quadratic<8, geometry::SerendipityQuad>(*impl_->quad8, master, nodes, slave);
-    default:
-      return std::nullopt;  // tri3: the exact closest point costs less than any method
+    default: return std::nullopt;  // tri3: the exact closest point costs less than any method
   }
 }
 

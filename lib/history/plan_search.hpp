@@ -8,8 +8,8 @@
 #include <string>
 
 #include "contact/narrow_phase.hpp"
-#include "search/network_model.hpp"
 #include "io/plan_file.hpp"
+#include "search/network_model.hpp"
 
 namespace contactnn::history {
 

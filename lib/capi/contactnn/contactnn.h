@@ -204,10 +204,10 @@ CONTACTNN_API int contactnn_search_run_float(const contactnn_search* search, siz
 CONTACTNN_API int contactnn_search_surface(const contactnn_search* search);
 
 /* Creates a search from a scene plan: the DIR/plan.toml that scene-study writes for one contact pair of a
- * deck (SPEC 7; the format is lib/io/plan_file.hpp's), in place of a surface, a method and a network file: the
- * plan's surface, its method and, where the method uses one, its network file (a path relative to the plan's
- * own directory, or absolute). The plan is read once, here. search     where the handle is written (NULL on
- * failure) plan_file  the plan's path options    NULL for the defaults The plan decides the surface:
+ * deck (SPEC 7; the format is lib/io/plan_file.hpp's), in place of a surface, a method and a network file:
+ * the plan's surface, its method and, where the method uses one, its network file (a path relative to the
+ * plan's own directory, or absolute). The plan is read once, here. search     where the handle is written
+ * (NULL on failure) plan_file  the plan's path options    NULL for the defaults The plan decides the surface:
  * contactnn_search_surface tells it (raw rows of 15 or 27 values), and contactnn_search_method the method it
  * chose. Errors: INVALID_ARGUMENT (NULL search or plan_file, an empty plan_file or one longer than 4096
  * bytes, an option out of range), IO (the plan or its network file cannot be opened or read: missing, no
