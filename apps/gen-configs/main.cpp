@@ -363,8 +363,8 @@ dataset::LabelledSet scene_domain(const std::string& deck, int pair, dataset::Sc
   const contact::Scene scene = read_scene(deck, pair);
   // The segments the paper's search pairs every slave node with: the offsets of all of them, far ones too.
   const double offset = study::nearest_node_offset(scene, options.surface, options.projection);
-  study::widen_capture(domain, offset, [](const std::string& line) {
-    std::fprintf(stderr, "gen-configs: %s\n", line.c_str());
+  study::widen_capture(domain, offset, [](std::string_view line) {
+    std::fprintf(stderr, "gen-configs: %.*s\n", static_cast<int>(line.size()), line.data());
   });
   std::vector<dataset::SceneSegment> segments;
   study::append_scene_segments(scene, segments);
