@@ -371,86 +371,93 @@ dataset::LabelledSet scene_domain(const std::string& deck, int pair, dataset::Sc
   return dataset::sample_scene(segments, domain, options, count, summary, progress);
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
-  using namespace contactnn;
-  CLI::App app{"gen-configs: enumerate node-segment configurations and label them by Newton projection"};
-  cli::add_exit_code_footer(app);
-  cli::add_config_option(app, "gen-configs");
-
-  // 1. Options. Every default lives in the options structs of lib/; flags only map onto them.
+/// What the command line sets: every default lives in the options structs of lib/; flags only map onto them.
+struct Settings {
   dataset::EnumerationOptions options;
   std::string surface_name = "bilinear";
   std::string input, output, scene;
   int pair = 0;
   int threads = 0;
   bool quiet = false;
-  auto& f = options.filters;
-  app.add_option("--surface", surface_name, "bilinear or gregory")
+  std::string search_name = "surface";
+  contact::SearchOptions search;
+  std::string narrow_name = "certified";
+  std::string plan_file;
+  SceneHistory history;
+  dataset::SceneDomainOptions scene_options;
+  std::string sampling = "grid";
+  std::int64_t count = 0;
+  std::optional<history::PlanSearch> plan;  ///< --plan's method, which search.interior points into
+};
+
+/// The options that choose the mode and its inputs and outputs: --surface to --quiet.
+void add_mode_options(CLI::App& app, Settings& s) {
+  app.add_option("--surface", s.surface_name, "bilinear or gregory")
       ->check(CLI::IsMember({"bilinear", "gregory"}));
-  app.add_option("--input", input, "label mode: RAW.csv of world configurations (SPEC 6)")
+  app.add_option("--input", s.input, "label mode: RAW.csv of world configurations (SPEC 6)")
       ->check(CLI::ExistingFile);
   auto* input_option = app.get_option("--input");
-  auto* scene_option = app.add_option("--scene", scene, "scene mode: an Abaqus/CalculiX .inp deck (SPEC 7)")
+  auto* scene_option = app.add_option("--scene", s.scene, "scene mode: an Abaqus/CalculiX .inp deck (SPEC 7)")
                            ->check(CLI::ExistingFile);
   scene_option->excludes(input_option);
   input_option->excludes(scene_option);
   // No captured default: the effective config of the other modes must not carry a --pair that needs --scene.
-  app.add_option("--pair", pair, "scene mode: the *CONTACT PAIR data line, counted from 0 (default 0)")
+  app.add_option("--pair", s.pair, "scene mode: the *CONTACT PAIR data line, counted from 0 (default 0)")
       ->transform(cli::integer_in(0, 1000000))
       ->needs(scene_option)
       ->default_str("");
-  std::string search_name = "surface";
   app.add_option(
-         "--search", search_name,
+         "--search", s.search_name,
          "scene mode: surface (the closest point of every master face within the capture distance, SPEC 9) "
          "or nearest_node (the paper's search, SPEC 7)")
       ->check(CLI::IsMember({"surface", "nearest_node"}))
       ->needs(scene_option)
       ->default_str("");
-  contact::SearchOptions search;
   app.add_option(
-         "--capture_distance", search.capture_distance,
+         "--capture_distance", s.search.capture_distance,
          "surface search: faces within this distance of a slave node (world units; default: the largest "
          "master face size)")
       ->check(cli::kPositive)
       ->needs(scene_option);
-  std::string narrow_name = "certified";
   app.add_option(
-         "--narrow", narrow_name,
+         "--narrow", s.narrow_name,
          "surface search: how each face's closest point is found: certified (one Newton run where a "
          "certificate proves it the face's nearest, the reference elsewhere) or reference (the grid of "
          "starts on every face, as before the certificate); the same answers")
       ->check(CLI::IsMember({"certified", "reference"}))
       ->needs(scene_option)
       ->default_str("");
-  std::string plan_file;
-  app.add_option("--plan", plan_file,
+  app.add_option("--plan", s.plan_file,
                  "surface search: a scene plan (scene-study's plan.toml) whose method answers face interiors "
                  "(a pair it refuses or puts outside the face takes the exact closest point); the plan's "
                  "surface")
       ->check(CLI::ExistingFile)
       ->needs(scene_option);
-  SceneHistory history;
   auto* results_option =
-      app.add_option("--results", history.results,
+      app.add_option("--results", s.history.results,
                      "scene mode: a CalculiX .frd; the scene at --increment of it (SPEC 10)")
           ->check(CLI::ExistingFile)
           ->needs(scene_option);
-  app.add_option("--increment", history.increment, "with --results: N (from 1), last or all (default last)")
+  app.add_option("--increment", s.history.increment, "with --results: N (from 1), last or all (default last)")
       ->needs(results_option);
   app.add_flag(
-         "--trust-results-nodes", history.trust_nodes,
+         "--trust-results-nodes", s.history.trust_nodes,
          "with --results: take the .frd's node coordinates even where they are not the deck's (another mesh "
          "with the same node ids is refused otherwise)")
       ->needs(results_option);
-  app.add_option("--output", output,
+  app.add_option("--output", s.output,
                  "dataset .h5 (enumeration), labels .csv (label mode) or pairs .csv (scene mode)")
       ->required();
-  app.add_option("--threads", threads, "OpenMP threads (0: OpenMP's default)")
+  app.add_option("--threads", s.threads, "OpenMP threads (0: OpenMP's default)")
       ->transform(cli::integer_in(0, cli::kMaxThreads));
-  app.add_flag("--quiet", quiet, "no progress line");
+  app.add_flag("--quiet", s.quiet, "no progress line");
+}
+
+/// The options of the data: the grid, the scene domain, the sampling, the filters and the projection (--seed
+/// to --domain_margin).
+void add_data_options(CLI::App& app, Settings& s) {
+  dataset::EnumerationOptions& options = s.options;
+  auto& f = options.filters;
   app.add_option("--seed", options.seed, "seed of the Gregory node-normal sampling")
       ->transform(cli::integer_in(0, cli::kMaxSeed));
   app.add_option("--d_xy_points", options.d_xy_points, "grid points per axis, x and y of D")
@@ -465,30 +472,28 @@ int main(int argc, char** argv) {
       ->transform(cli::integer_in(1, 400));
   app.add_option("--normal_sets", options.normal_sets, "Gregory: node-normal sets per configuration")
       ->transform(cli::integer_in(1, 1000));
-  dataset::SceneDomainOptions scene_options;
-  app.add_option("--deformation", scene_options.deformation,
+  app.add_option("--deformation", s.scene_options.deformation,
                  "scene domain: node displacement, fraction of each segment's shortest edge")
       ->check(cli::real_in(0.0, 0.49));
   app.add_option(
-         "--capture", scene_options.capture,
+         "--capture", s.scene_options.capture,
          "scene domain: slave offset along the normal, fraction of the shortest edge, either side (at "
          "least 1.25 x the deck's own largest)")
       ->check(cli::kPositive);
   app.add_option(
-         "--boundary_fraction", scene_options.boundary_fraction,
+         "--boundary_fraction", s.scene_options.boundary_fraction,
          "scene domain: fraction of slave foot points on the segment's nodes and edges (matching meshes)")
       ->check(cli::real_in(0.0, 1.0));
-  app.add_option("--normal_tilt_tangent", scene_options.normal_tilt_tangent,
+  app.add_option("--normal_tilt_tangent", s.scene_options.normal_tilt_tangent,
                  "scene domain, Gregory: node normals tilted from the scene's by up to this tangent")
       ->check(cli::kNonNegative);
-  std::string sampling = "grid";
-  std::int64_t count = 0;
   app.add_option(
-         "--sampling", sampling,
+         "--sampling", s.sampling,
          "grid: the paper's enumeration on the grid below; random: --count configurations drawn uniformly "
          "from the same domain (stream --seed)")
       ->check(CLI::IsMember({"grid", "random"}));
-  app.add_option("--count", count, "random sampling: configurations to draw (0: none; required with random)")
+  app.add_option("--count", s.count,
+                 "random sampling: configurations to draw (0: none; required with random)")
       ->transform(cli::integer_in(0, 1'000'000'000));
   app.add_option("--require_projection_inside", options.require_projection_inside,
                  "keep only configurations whose projection lies inside the segment");
@@ -513,76 +518,105 @@ int main(int argc, char** argv) {
       ->transform(cli::integer_in(1, 10));
   app.add_option("--domain_margin", options.projection.domain_margin, "parameter slack counted as inside")
       ->check(cli::real_in(0.0, search::kMaxDomainMargin));
+}
 
-  return cli::run(app, argc, argv, [&]() -> int {
-    // 2. Threads, surface, and what must hold before any work: settings that contradict each other, an
-    //    output that is an input.
-    if (threads > 0) omp_set_num_threads(threads);
-    options.surface = surface_from_string(surface_name);
-    CONTACTNN_REQUIRE_AS(InvalidArgument, f.min_angle_degrees <= f.max_angle_degrees,
-                         "min_angle_degrees " << f.min_angle_degrees << " is above max_angle_degrees "
-                                              << f.max_angle_degrees << ": no segment could pass");
-    // Every output checked before any work (io::require_outputs: exit 2 for an output that is an input, 4 for
-    // one that cannot be written); the effective config goes beside a dataset written to a regular file.
-    const bool writes_config = input.empty() && (scene.empty() || sampling == "random");
-    const std::filesystem::path effective_config =
-        writes_config && !io::written_in_place(output) ? cli::effective_config_path(output) : "";
-    io::require_outputs({{"--output", output}, {"the effective config", effective_config}}, {},
-                        {{"--input", input},
-                         {"--scene", scene},
-                         {"--config", cli::config_path(app)},
-                         {"--results", history.results},
-                         {"--plan", plan_file}});
+/// Threads, surface, and what must hold before any work: settings that contradict each other, an output that
+/// is an input.
+void check_settings(const CLI::App& app, Settings& s) {
+  if (s.threads > 0) omp_set_num_threads(s.threads);
+  s.options.surface = surface_from_string(s.surface_name);
+  const auto& f = s.options.filters;
+  CONTACTNN_REQUIRE_AS(InvalidArgument, f.min_angle_degrees <= f.max_angle_degrees,
+                       "min_angle_degrees " << f.min_angle_degrees << " is above max_angle_degrees "
+                                            << f.max_angle_degrees << ": no segment could pass");
+  // Every output checked before any work (io::require_outputs: exit 2 for an output that is an input, 4 for
+  // one that cannot be written); the effective config goes beside a dataset written to a regular file.
+  const bool writes_config = s.input.empty() && (s.scene.empty() || s.sampling == "random");
+  const std::filesystem::path effective_config =
+      writes_config && !io::written_in_place(s.output) ? cli::effective_config_path(s.output) : "";
+  io::require_outputs({{"--output", s.output}, {"the effective config", effective_config}}, {},
+                      {{"--input", s.input},
+                       {"--scene", s.scene},
+                       {"--config", cli::config_path(app)},
+                       {"--results", s.history.results},
+                       {"--plan", s.plan_file}});
+}
 
-    // 3. Label mode: a user's CSV in, the same rows with labels out.
-    if (!input.empty()) return label_mode(options.surface, input, output, options.projection);
-
-    // 3b. Scene mode: a deck in, its contact pair's node-segment pairs with labels out (with --sampling
-    //     random: the scene's domain as a dataset, below).
-    search.surface = options.surface;
-    search.projection = options.projection;
-    search.narrow =
-        narrow_name == "reference" ? contact::NarrowPhase::kReference : contact::NarrowPhase::kCertified;
-    search.search = search_name == "nearest_node" ? contact::GlobalSearchKind::kNearestNode
+/// Scene mode's search settings: the surface, the projection, the narrow phase, the global search, the
+/// history's increment and the plan (whose surface becomes the run's).
+void configure_scene_search(const CLI::App& app, Settings& s) {
+  contact::SearchOptions& search = s.search;
+  SceneHistory& history = s.history;
+  search.surface = s.options.surface;
+  search.projection = s.options.projection;
+  search.narrow =
+      s.narrow_name == "reference" ? contact::NarrowPhase::kReference : contact::NarrowPhase::kCertified;
+  search.search = s.search_name == "nearest_node" ? contact::GlobalSearchKind::kNearestNode
                                                   : contact::GlobalSearchKind::kSurface;
-    // --increment '' is no increment (it was taken as `last`): refused like any other bad value.
-    CONTACTNN_REQUIRE_AS(InvalidArgument, app.count("--increment") == 0 || !history.increment.empty(),
-                         "--increment: expected a number from 1, 'last' or 'all', got ''");
-    if (!history.results.empty() && history.increment.empty()) history.increment = "last";
-    CONTACTNN_REQUIRE_AS(InvalidArgument, history.results.empty() || sampling != "random",
-                         "--results: a scene's domain (--sampling random) is sampled from the deck alone");
-    std::optional<history::PlanSearch> plan;
-    if (!plan_file.empty()) {
-      CONTACTNN_REQUIRE_AS(
-          InvalidArgument, search.search == contact::GlobalSearchKind::kSurface && sampling != "random",
-          "--plan: the surface search's pairs only (not --search nearest_node or --sampling random)");
-      plan.emplace(history::load_plan_search(plan_file));
-      CONTACTNN_REQUIRE_AS(InvalidArgument,
-                           app.count("--surface") == 0 || plan->plan.surface == options.surface,
-                           "--surface " << surface_name << ": the plan '" << plan_file << "' is for "
-                                        << to_string(plan->plan.surface) << " surfaces");
-      options.surface = search.surface = plan->plan.surface;
-      search.interior = plan->locator.get();
-    }
-    if (!scene.empty() && sampling != "random") return scene_mode(scene, pair, search, output, history);
+  // --increment '' is no increment (it was taken as `last`): refused like any other bad value.
+  CONTACTNN_REQUIRE_AS(InvalidArgument, app.count("--increment") == 0 || !history.increment.empty(),
+                       "--increment: expected a number from 1, 'last' or 'all', got ''");
+  if (!history.results.empty() && history.increment.empty()) history.increment = "last";
+  CONTACTNN_REQUIRE_AS(InvalidArgument, history.results.empty() || s.sampling != "random",
+                       "--results: a scene's domain (--sampling random) is sampled from the deck alone");
+  if (!s.plan_file.empty()) {
+    CONTACTNN_REQUIRE_AS(
+        InvalidArgument, search.search == contact::GlobalSearchKind::kSurface && s.sampling != "random",
+        "--plan: the surface search's pairs only (not --search nearest_node or --sampling random)");
+    s.plan.emplace(history::load_plan_search(s.plan_file));
+    CONTACTNN_REQUIRE_AS(InvalidArgument,
+                         app.count("--surface") == 0 || s.plan->plan.surface == s.options.surface,
+                         "--surface " << s.surface_name << ": the plan '" << s.plan_file << "' is for "
+                                      << to_string(s.plan->plan.surface) << " surfaces");
+    s.options.surface = search.surface = s.plan->plan.surface;
+    search.interior = s.plan->locator.get();
+  }
+}
 
-    // 4. Enumeration or random sampling: label, write the dataset and the effective config, summarise.
-    CONTACTNN_REQUIRE(sampling == "grid" || count > 0, "--sampling random needs --count N");
-    cli::Progress progress("gen-configs: labelling", quiet);
-    const auto report = [&](std::int64_t done, std::int64_t total) { progress.update(done, total); };
-    dataset::EnumerationSummary summary;
-    dataset::LabelledSet set =
-        !scene.empty()         ? scene_domain(scene, pair, scene_options, options, count, summary, report)
-        : sampling == "random" ? dataset::sample_configurations(options, count, summary, report)
-                               : dataset::enumerate_configurations(options, summary, report);
-    progress.finish();
-    // Without the keys that do not change the data, so the file is byte-identical for any output path,
-    // thread count or verbosity.
-    set.config_toml = cli::effective_config(app, "gen-configs", {"output", "input", "threads", "quiet"});
-    const auto dataset_file = io::write_dataset_uncommitted(output, set);
-    const auto config_file = cli::write_effective_config(app, "gen-configs", output);
-    io::commit_together({dataset_file.get(), config_file.get()});
-    print_summary(summary, output);
-    return 0;
-  });
+/// Enumeration or random sampling (of the paper's domain or a scene's): label, write the dataset and the
+/// effective config, summarise.
+int dataset_mode(const CLI::App& app, Settings& s) {
+  CONTACTNN_REQUIRE(s.sampling == "grid" || s.count > 0, "--sampling random needs --count N");
+  cli::Progress progress("gen-configs: labelling", s.quiet);
+  const auto report = [&](std::int64_t done, std::int64_t total) { progress.update(done, total); };
+  dataset::EnumerationSummary summary;
+  dataset::LabelledSet set =
+      !s.scene.empty() ? scene_domain(s.scene, s.pair, s.scene_options, s.options, s.count, summary, report)
+      : s.sampling == "random" ? dataset::sample_configurations(s.options, s.count, summary, report)
+                               : dataset::enumerate_configurations(s.options, summary, report);
+  progress.finish();
+  // Without the keys that do not change the data, so the file is byte-identical for any output path,
+  // thread count or verbosity.
+  set.config_toml = cli::effective_config(app, "gen-configs", {"output", "input", "threads", "quiet"});
+  const auto dataset_file = io::write_dataset_uncommitted(s.output, set);
+  const auto config_file = cli::write_effective_config(app, "gen-configs", s.output);
+  io::commit_together({dataset_file.get(), config_file.get()});
+  print_summary(summary, s.output);
+  return 0;
+}
+
+/// The parsed command line run: the checks, then the mode (label, scene, or a dataset).
+int run_gen_configs(const CLI::App& app, Settings& s) {
+  check_settings(app, s);
+  // Label mode: a user's CSV in, the same rows with labels out.
+  if (!s.input.empty()) return label_mode(s.options.surface, s.input, s.output, s.options.projection);
+  // Scene mode: a deck in, its contact pair's node-segment pairs with labels out (with --sampling random: the
+  // scene's domain as a dataset).
+  configure_scene_search(app, s);
+  if (!s.scene.empty() && s.sampling != "random")
+    return scene_mode(s.scene, s.pair, s.search, s.output, s.history);
+  return dataset_mode(app, s);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  using namespace contactnn;
+  CLI::App app{"gen-configs: enumerate node-segment configurations and label them by Newton projection"};
+  cli::add_exit_code_footer(app);
+  cli::add_config_option(app, "gen-configs");
+  Settings settings;
+  add_mode_options(app, settings);
+  add_data_options(app, settings);
+  return cli::run(app, argc, argv, [&]() -> int { return run_gen_configs(app, settings); });
 }
