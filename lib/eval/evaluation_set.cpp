@@ -12,9 +12,6 @@
 
 namespace contactnn::eval {
 
-namespace {
-
-/// Appends a configuration's SPEC 6 raw values.
 void append_raw(std::vector<double>& raw, const geometry::Configuration& c, SurfaceKind kind) {
   for (const auto& node : c.nodes) raw.insert(raw.end(), {node.x(), node.y(), node.z()});
   raw.insert(raw.end(), {c.slave.x(), c.slave.y(), c.slave.z()});
@@ -22,8 +19,6 @@ void append_raw(std::vector<double>& raw, const geometry::Configuration& c, Surf
     for (const auto& n : c.normals) raw.insert(raw.end(), {n.x(), n.y(), n.z()});
   }
 }
-
-}  // namespace
 
 EvaluationSet set_from_dataset(const dataset::LabelledSet& set, std::string name, std::string source,
                                bool random_placement, std::uint64_t seed) {

@@ -11,6 +11,7 @@
 
 #include "core/conventions.hpp"
 #include "dataset/labelled_set.hpp"
+#include "geometry/configuration.hpp"
 
 namespace contactnn::eval {
 
@@ -47,5 +48,9 @@ struct EvaluationSet {
 /// those of the RAW reader, and FormatError naming file, line and column for a missing or unparsable label
 /// column or an unknown status.
 [[nodiscard]] EvaluationSet set_from_labelled_csv(const std::filesystem::path& path, SurfaceKind kind);
+
+/// Appends a configuration's SPEC 6 raw values (the nodes, the slave node, and for Gregory the normals) to
+/// `raw`, as an EvaluationSet holds them.
+void append_raw(std::vector<double>& raw, const geometry::Configuration& c, SurfaceKind kind);
 
 }  // namespace contactnn::eval

@@ -7,14 +7,6 @@ namespace contactnn::study {
 
 namespace {
 
-void append_raw(std::vector<double>& raw, const geometry::Configuration& c, SurfaceKind kind) {
-  for (const auto& node : c.nodes) raw.insert(raw.end(), {node.x(), node.y(), node.z()});
-  raw.insert(raw.end(), {c.slave.x(), c.slave.y(), c.slave.z()});
-  if (kind == SurfaceKind::kGregory) {
-    for (const auto& n : c.normals) raw.insert(raw.end(), {n.x(), n.y(), n.z()});
-  }
-}
-
 /// An evaluation set of pairs (the reference's labels in the caller's order, as gen-configs --scene writes
 /// them).
 struct SetBuilder {
@@ -26,7 +18,7 @@ struct SetBuilder {
     set.surface = kind;
   }
   void add(const contact::NodeSegmentPair& p) {
-    append_raw(set.raw, p.config, set.surface);
+    eval::append_raw(set.raw, p.config, set.surface);
     set.label_status.push_back(p.label.status);
     set.label_gap.push_back(p.label.gap);
     set.size.push_back(geometry::max_node_distance(p.config.nodes));
