@@ -10,6 +10,13 @@
 //   build/bench/bench_surface_search
 //   build/bench/bench_surface_search --slaves 200000 --benchmark_repetitions=3
 //
+// history/fresh and history/tracked: the large history's geometry and motion (scripts/make-large-history: a
+// wavy top of 320 x 320 unit quad4 faces, z = 0.2 sin(x / 5) cos(y / 7); --history-slaves N x N slave nodes
+// at spacing 0.3, 0.05 above it; 9 increments pressed 0.02 down, slid 0.05 along x, turned 0.05 degree),
+// in exact doubles and without the deck or the .frd: one iteration is the whole history, fresh at every
+// increment (surface_search) or tracked (SurfaceTracker) over the increments after the first; ns_per_slave
+// is per slave node and increment. Argument surface: 0 bilinear, 1 Gregory.
+//
 // Counters per benchmark: ns_per_slave (wall time / slave nodes), candidates (mean faces whose closest point
 // was computed per slave node for the surface search; segments that passed the segment test for the
 // nearest-node search), found (slave nodes with a point).
@@ -21,6 +28,7 @@
 #include <cstring>
 #include <random>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "contact/global_search.hpp"
@@ -61,6 +69,95 @@ Scene make_scene(long slave_count) {
 }
 
 long g_slaves = 100000;
+long g_history_slaves = 1000;
+
+/// The large history (header): the master, its normals, the slave ids and the positions per increment.
+struct History {
+  mesh::SurfaceMesh master;
+  std::vector<geometry::Vec3> normals;
+  std::vector<long> ids;
+  std::vector<std::vector<geometry::Vec3>> positions;
+};
+
+const History& history() {
+  static const History h = [] {
+    constexpr int kFaces = 320, kIncrements = 9;
+    const auto top = [](double x, double y) { return 0.2 * std::sin(x / 5.0) * std::cos(y / 7.0); };
+    History s;
+    s.master = testing::searched_grid_surface(
+        kFaces, kFaces, [&](double i, double j) { return geometry::Vec3(i, j, top(i, j)); });
+    s.normals = mesh::node_normals(s.master);
+    const long n = g_history_slaves;
+    const double spacing = 0.3, offset = 0.5 * (kFaces - spacing * static_cast<double>(n - 1));
+    std::vector<geometry::Vec3> base;
+    for (long k = 0; k < n * n; ++k) {
+      const double x = offset + spacing * static_cast<double>(k % n),
+                   y = offset + spacing * static_cast<double>(k / n);
+      base.emplace_back(x, y, top(x, y) + 0.05);
+      s.ids.push_back(k + 1);
+    }
+    const int press = kIncrements / 3;
+    const double centre = 0.5 * kFaces;
+    double dz = 0.0, dx = 0.0, angle = 0.0;
+    for (int inc = 1; inc <= kIncrements; ++inc) {
+      if (inc <= press)
+        dz -= 0.02;
+      else if (inc <= 2 * press)
+        dx += 0.05;
+      else
+        angle += 0.05 * 3.14159265358979323846 / 180.0;
+      const double c = std::cos(angle), sn = std::sin(angle);
+      std::vector<geometry::Vec3> x = base;
+      for (auto& p : x) {
+        const double rx = p.x() - centre, ry = p.y() - centre;
+        p = geometry::Vec3(centre + c * rx - sn * ry + dx, centre + sn * rx + c * ry, p.z() + dz);
+      }
+      s.positions.push_back(std::move(x));
+    }
+    return s;
+  }();
+  return h;
+}
+
+contact::SearchOptions history_options(const benchmark::State& state) {
+  contact::SearchOptions options;
+  options.surface =
+      state.range(1) == 0 ? contactnn::SurfaceKind::kBilinear : contactnn::SurfaceKind::kGregory;
+  return options;
+}
+
+void history_fresh(benchmark::State& state) {
+  const History& h = history();
+  omp_set_num_threads(static_cast<int>(state.range(0)));
+  const contact::SearchOptions options = history_options(state);
+  std::vector<contact::NodeSegmentPair> pairs;
+  for (auto _ : state) {
+    for (const auto& x : h.positions) contact::surface_search(h.master, h.normals, h.ids, x, options, pairs);
+    benchmark::DoNotOptimize(pairs.data());
+  }
+  state.counters["ns_per_slave"] =
+      benchmark::Counter(static_cast<double>(h.ids.size() * h.positions.size()) * 1e-9,
+                         benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
+}
+
+void history_tracked(benchmark::State& state) {
+  const History& h = history();
+  omp_set_num_threads(static_cast<int>(state.range(0)));
+  const contact::SearchOptions options = history_options(state);
+  std::vector<contact::NodeSegmentPair> pairs;
+  for (auto _ : state) {
+    state.PauseTiming();
+    contact::SurfaceTracker tracker(options);
+    tracker.step(h.master, h.normals, h.ids, h.positions[0], pairs);
+    state.ResumeTiming();
+    for (std::size_t i = 1; i < h.positions.size(); ++i)
+      tracker.step(h.master, h.normals, h.ids, h.positions[i], pairs);
+    benchmark::DoNotOptimize(pairs.data());
+  }
+  state.counters["ns_per_slave"] =
+      benchmark::Counter(static_cast<double>(h.ids.size() * (h.positions.size() - 1)) * 1e-9,
+                         benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
+}
 
 const Scene& scene() {
   static const Scene s = make_scene(g_slaves);
@@ -157,6 +254,13 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "bench_surface_search: --slaves wants a positive count, got '%s'\n", argv[i]);
         return 2;
       }
+    } else if (std::strcmp(argv[i], "--history-slaves") == 0 && i + 1 < argc) {
+      g_history_slaves = std::strtol(argv[++i], nullptr, 10);
+      if (g_history_slaves < 1) {
+        std::fprintf(stderr, "bench_surface_search: --history-slaves wants a positive count, got '%s'\n",
+                     argv[i]);
+        return 2;
+      }
     } else {
       rest.push_back(argv[i]);
     }
@@ -186,6 +290,19 @@ int main(int argc, char** argv) {
         ->ArgName("threads")
         ->UseRealTime()
         ->Unit(benchmark::kMillisecond);
+  }
+  for (int threads : {1, 2}) {
+    for (int surface : {0, 1}) {
+      for (const auto& [name, fn] :
+           {std::pair<const char*, void (*)(benchmark::State&)>{"history/fresh", history_fresh},
+            {"history/tracked", history_tracked}}) {
+        benchmark::RegisterBenchmark(name, fn)
+            ->Args({threads, surface})
+            ->ArgNames({"threads", "surface"})
+            ->UseRealTime()
+            ->Unit(benchmark::kMillisecond);
+      }
+    }
   }
   benchmark::RunSpecifiedBenchmarks();
   benchmark::Shutdown();

@@ -96,9 +96,20 @@ std::optional<projection::FaceClosestPoint> BilinearCertificate::closest_point(
                         std::abs(p[1]) <= 1.0 + options.domain_margin;
 
   // 2. As projection::closest_point_on_face: the interior point (clamped), then the edges, the nearest wins.
+  //    f grows by at least mu |q - p|^2 / 2 from the interior minimum p to any q (mu = (1 - kMargin) x
+  //    lambda_floor), so every edge point's squared distance exceeds p's by mu delta^2 at least, delta the
+  //    parameter distance from p to the boundary. Where that is 1e8 times the rounding of the squared
+  //    distances (1e-16 of |S - P|^2 + length^2), the edges cannot win and are not computed.
+  bool edges_farther = false;
+  if (interior) {
+    const double delta = 1.0 - std::max(std::abs(p[0]), std::abs(p[1]));
+    const double squared = (relative - patch.position(p[0], p[1])).squaredNorm();
+    edges_farther =
+        delta > 0.0 && (1.0 - kMargin) * lambda_floor * delta * delta > 1e-8 * (squared + length * length);
+  }
   bool from_interior = false;
   projection::FaceClosestPoint out = projection::nearest_of_interior_and_edges(
-      patch, relative, interior ? &p : nullptr, iterations, &from_interior);
+      patch, relative, interior ? &p : nullptr, iterations, &from_interior, edges_farther);
   if (out.status != Status::kOk) return std::nullopt;
 
   // 3. The certificate of a boundary answer: no descent into the square (Karush-Kuhn-Tucker). Otherwise the

@@ -10,6 +10,7 @@
 #include <utility>
 
 #include "contact/bilinear_certificate.hpp"
+#include "contact/face_grid.hpp"
 #include "contact/narrow_phase.hpp"
 #include "core/error.hpp"
 #include "geometry/bilinear_patch.hpp"
@@ -482,12 +483,12 @@ void in_spec7_order(const mesh::SurfaceMesh& master, std::span<const Vec3> norma
 /// bounds that are at most each face's own: SurfaceSearcher::nearest).
 /// `checked`: `options` with projection.face_checked set, for the faces FaceIndex::checked marks.
 /// `known`: a face's closest point already computed, taken where the scan reaches that face.
-NodeSegmentPair search_one(const mesh::SurfaceMesh& master, std::span<const Vec3> normals,
-                           const SearchOptions& options, const SearchOptions& checked, const FaceIndex& index,
-                           double capture, long slave_id, const Vec3& slave,
-                           std::vector<std::pair<double, int>>& candidates, const FaceHint* hint, bool loose,
-                           const KnownPoint* known = nullptr) {
-  NodeSegmentPair best;
+/// Into `best` (constructed there afresh: a node's answer written once, where the caller keeps it).
+void search_one(const mesh::SurfaceMesh& master, std::span<const Vec3> normals, const SearchOptions& options,
+                const SearchOptions& checked, const FaceIndex& index, double capture, long slave_id,
+                const Vec3& slave, std::vector<std::pair<double, int>>& candidates, const FaceHint* hint,
+                bool loose, const KnownPoint* known, NodeSegmentPair& best) {
+  std::construct_at(&best);
   best.slave_id = slave_id;
   if (known != nullptr) best.reference_faces = known->reference_faces;
   // Nearest sphere first; equal bounds in face order, so the scan is the same whatever the tree returned. A
@@ -544,7 +545,7 @@ NodeSegmentPair search_one(const mesh::SurfaceMesh& master, std::span<const Vec3
   if (best.segment < 0 || best_distance > capture) {
     best.segment = -1;
     best.candidates = 0;
-    return best;
+    return;
   }
   best.status = PairStatus::kFound;
   best.location = best_point.location;
@@ -561,6 +562,16 @@ NodeSegmentPair search_one(const mesh::SurfaceMesh& master, std::span<const Vec3
   label.gap = side < 0.0 ? -best_point.distance : best_point.distance;
 
   in_spec7_order(master, normals, options, slave, best_point.param, best);
+}
+
+NodeSegmentPair search_one(const mesh::SurfaceMesh& master, std::span<const Vec3> normals,
+                           const SearchOptions& options, const SearchOptions& checked, const FaceIndex& index,
+                           double capture, long slave_id, const Vec3& slave,
+                           std::vector<std::pair<double, int>>& candidates, const FaceHint* hint,
+                           bool loose) {
+  NodeSegmentPair best;
+  search_one(master, normals, options, checked, index, capture, slave_id, slave, candidates, hint, loose,
+             nullptr, best);
   return best;
 }
 
@@ -583,6 +594,11 @@ struct SurfaceSearcher::Impl {
   double largest_radius = 0.0;
   double largest_size = 0.0;  ///< the largest face size (the tie band's widest)
   Centres cloud;
+  /// The broad phase of the certified search (face_grid.hpp): the searcher's own, or a caller's kept between
+  /// states (`grid`); null for the reference search and brute_force_faces (the k-d tree, every face).
+  FaceGrid own_grid;
+  const FaceGrid* grid = nullptr;
+  bool grid_rebuilt = false;
   /// Built on the first query that needs it (faces_within): a tracker's increment whose nodes all answer from
   /// their lists needs none.
   mutable std::unique_ptr<CentreTree> tree;
@@ -611,6 +627,14 @@ struct SurfaceSearcher::Impl {
       }
       return;
     }
+    if (grid != nullptr) {
+      // Every face whose box comes within reach (a sphere within reach: its box within reach + its radius).
+      grid->for_faces_near(slave, spheres_only ? reach + largest_radius : reach, [&](int face) {
+        const double bound = bound_of(face);
+        if (bound <= reach) out.emplace_back(bound, face);
+      });
+      return;
+    }
     // Every centre within reach + the largest radius, then each face by its own sphere.
     const double radius = reach + largest_radius;
     const double q[3] = {slave.x(), slave.y(), slave.z()};
@@ -623,7 +647,8 @@ struct SurfaceSearcher::Impl {
     }
   }
 
-  Impl(const mesh::SurfaceMesh& m, std::span<const Vec3> n, const SearchOptions& o)
+  Impl(const mesh::SurfaceMesh& m, std::span<const Vec3> n, const SearchOptions& o, FaceGrid* kept,
+       double grid_margin_relative)
       : unit(working_unit(m)),
         scaled(unit == 1.0 ? nullptr : std::make_unique<mesh::SurfaceMesh>(in_unit(m, unit))),
         master(scaled ? *scaled : m),
@@ -635,6 +660,14 @@ struct SurfaceSearcher::Impl {
         largest_radius(index.radii.empty() ? 0.0 : *std::max_element(index.radii.begin(), index.radii.end())),
         largest_size(index.sizes.empty() ? 0.0 : *std::max_element(index.sizes.begin(), index.sizes.end())),
         cloud{&index.centres} {
+    if (options.narrow != NarrowPhase::kReference && !options.brute_force_faces) {
+      FaceGrid& g = kept != nullptr ? *kept : own_grid;
+      if (kept == nullptr || kept->unit() != unit || !kept->holds(index.box_lo, index.box_hi)) {
+        g.build(index.box_lo, index.box_hi, kept != nullptr ? grid_margin_relative * capture : 0.0, unit);
+        grid_rebuilt = true;
+      }
+      grid = &g;
+    }
     if (unit == 1.0) return;
     for (const Vec3& c : index.centres) world_centres.push_back(c * unit);
     for (double r : index.radii) world_radii.push_back(r * unit);
@@ -642,7 +675,7 @@ struct SurfaceSearcher::Impl {
 };
 
 SurfaceSearcher::SurfaceSearcher(const mesh::SurfaceMesh& master, std::span<const Vec3> master_normals,
-                                 const SearchOptions& options) {
+                                 const SearchOptions& options, FaceGrid* grid, double grid_margin_relative) {
   const bool gregory = options.surface == SurfaceKind::kGregory;
   CONTACTNN_REQUIRE(!gregory || master_normals.size() == master.positions.size(),
                     "Gregory search needs one node normal per master node: "
@@ -656,7 +689,7 @@ SurfaceSearcher::SurfaceSearcher(const mesh::SurfaceMesh& master, std::span<cons
                         << master.segment_midsides.size() << " of " << master.segments.size()
                         << " segments and " << master.extra_face_midsides.size() << " of "
                         << master.extra_faces.size() << " extra faces (each list: none or all)");
-  impl_ = std::make_unique<Impl>(master, master_normals, options);
+  impl_ = std::make_unique<Impl>(master, master_normals, options, grid, grid_margin_relative);
 }
 
 SurfaceSearcher::~SurfaceSearcher() = default;
@@ -666,6 +699,8 @@ SurfaceSearcher::~SurfaceSearcher() = default;
 double SurfaceSearcher::capture() const { return impl_->capture * impl_->unit; }
 
 double SurfaceSearcher::unit() const { return impl_->unit; }
+
+bool SurfaceSearcher::grid_rebuilt() const { return impl_->grid_rebuilt; }
 
 double SurfaceSearcher::lower_bound(const Vec3& slave, int face) const {
   return face_lower_bound(impl_->index, slave / impl_->unit, face) * impl_->unit;
@@ -697,9 +732,19 @@ void SurfaceSearcher::faces_within(const Vec3& world_slave, double world_reach,
   }
 }
 
-NodeSegmentPair SurfaceSearcher::nearest_fresh(long slave_id, const Vec3& world_slave,
+NodeSegmentPair SurfaceSearcher::nearest_fresh(long slave_id, const Vec3& slave,
                                                std::vector<std::pair<double, int>>& candidates,
-                                               std::vector<std::pair<std::uint32_t, double>>& scratch) const {
+                                               std::vector<std::pair<std::uint32_t, double>>& scratch,
+                                               const FaceHint* hint) const {
+  NodeSegmentPair pair;
+  nearest_fresh(slave_id, slave, candidates, scratch, pair, hint);
+  return pair;
+}
+
+void SurfaceSearcher::nearest_fresh(long slave_id, const Vec3& world_slave,
+                                    std::vector<std::pair<double, int>>& candidates,
+                                    std::vector<std::pair<std::uint32_t, double>>& scratch,
+                                    NodeSegmentPair& pair, const FaceHint* hint) const {
   const Impl& m = *impl_;
   const Vec3 slave = world_slave / m.unit;
   candidates.clear();
@@ -707,30 +752,28 @@ NodeSegmentPair SurfaceSearcher::nearest_fresh(long slave_id, const Vec3& world_
   if (!slave.allFinite() || m.index.centres.empty() || m.options.brute_force_faces ||
       m.options.narrow == NarrowPhase::kReference) {
     faces_within(world_slave, capture(), candidates, scratch);
-    return nearest(slave_id, world_slave, candidates);
+    pair = nearest(slave_id, world_slave, candidates);
+    return;
   }
-  // The face whose centre is nearest S: its distance d bounds the answer's, and the scan (steps 2-3) stops
-  // before any face whose bound exceeds the best and its tie band. Only the faces within d are gathered.
-  double squared = 0.0;
-  nanoflann::KNNResultSet<double, std::uint32_t> one(1);
-  std::uint32_t index_of = 0;
-  one.init(&index_of, &squared);
-  const double q[3] = {slave.x(), slave.y(), slave.z()};
-  // Any face would do (the answer does not depend on it; a nearer one gathers fewer candidates): an
-  // approximate search, which prunes every branch unless it may hold a centre 5 times nearer, costs a
-  // descent.
-  m.centre_tree().findNeighbors(one, q, nanoflann::SearchParams(32, 4.0F));
-  const int nearest = static_cast<int>(index_of);
+  // The first face: the hint's, else one listed in the grid cell of S (or around it). Any face would do (the
+  // answer does not depend on it; a nearer one gathers fewer candidates).
+  const bool hinted =
+      hint != nullptr && hint->face >= 0 && hint->face < static_cast<int>(m.index.centres.size());
+  const int nearest = hinted ? hint->face : m.grid->face_near(slave, m.index.centres);
   // Its distance d bounds the answer's: where the face has a certificate (or is a flat triangle), its closest
   // point, computed once and taken again by the scan; otherwise its nearest corner (a point of the face), so
   // that no reference projection is spent on a face the scan may never reach.
   KnownPoint known;
   const KnownPoint* first = nullptr;
   double reach = m.capture;
-  if (certificate_of(m.index, nearest) != nullptr || m.master.face_type(nearest) == mesh::FaceType::kTri3) {
+  if (nearest < 0) {
+    // No face in the cells around S: the scan gathers over the capture distance.
+  } else if (certificate_of(m.index, nearest) != nullptr ||
+             m.master.face_type(nearest) == mesh::FaceType::kTri3) {
     known.face = nearest;
-    known.point = closest_on_indexed_face(m.master, m.normals, m.options, m.checked_options, m.index, nearest,
-                                          slave, nullptr, &known.reference_faces, m.capture);
+    known.point =
+        closest_on_indexed_face(m.master, m.normals, m.options, m.checked_options, m.index, nearest, slave,
+                                hinted ? &hint->param : nullptr, &known.reference_faces, m.capture);
     first = &known;
     if (known.point.status == Status::kOk) reach = std::min(reach, known.point.distance);
   } else {
@@ -746,8 +789,8 @@ NodeSegmentPair SurfaceSearcher::nearest_fresh(long slave_id, const Vec3& world_
   const double band = kTieTolerance * m.largest_size;
   reach = std::min(m.capture, reach + 4.0 * band);
   m.collect(slave, reach, candidates, scratch, false);
-  NodeSegmentPair pair = search_one(m.master, m.normals, m.options, m.checked_options, m.index, m.capture,
-                                    slave_id, slave, candidates, nullptr, false, first);
+  search_one(m.master, m.normals, m.options, m.checked_options, m.index, m.capture, slave_id, slave,
+             candidates, nullptr, false, first, pair);
   // |gap| is the scan's own distance of the best, bit for bit (a distance recomputed from the point may
   // differ by the rounding of the face's origin, as much as the band itself far from the origin).
   const bool complete =
@@ -756,12 +799,11 @@ NodeSegmentPair SurfaceSearcher::nearest_fresh(long slave_id, const Vec3& world_
     const int spent = pair.reference_faces - (first != nullptr ? first->reference_faces : 0);
     candidates.clear();
     m.collect(slave, m.capture, candidates, scratch, false);
-    pair = search_one(m.master, m.normals, m.options, m.checked_options, m.index, m.capture, slave_id, slave,
-                      candidates, nullptr, false, first);
+    search_one(m.master, m.normals, m.options, m.checked_options, m.index, m.capture, slave_id, slave,
+               candidates, nullptr, false, first, pair);
     pair.reference_faces += spent;
   }
   if (m.unit != 1.0) to_world(pair, m.unit, world_slave);
-  return pair;
 }
 
 NodeSegmentPair SurfaceSearcher::nearest(long slave_id, const Vec3& slave,
@@ -817,7 +859,7 @@ void surface_search(const mesh::SurfaceMesh& master, std::span<const Vec3> maste
 #pragma omp for schedule(dynamic, 64)
     for (long i = 0; i < n; ++i) {
       const std::size_t u = at[i];
-      pairs[u] = searcher.nearest_fresh(slave_ids[u], slave_positions[u], candidates, scratch);
+      searcher.nearest_fresh(slave_ids[u], slave_positions[u], candidates, scratch, pairs[u]);
     }
   }
 }

@@ -82,6 +82,8 @@ void to_world(NodeSegmentPair& pair, double unit, const Vec3& slave);
 [[nodiscard]] double capture_distance(const mesh::SurfaceMesh& master, const SearchOptions& options);
 
 /// A face to try first and the start of its projection (an FE code's previous point: tracking.hpp).
+class FaceGrid;
+
 struct FaceHint {
   int face = -1;                          ///< index of SurfaceMesh::face_corners
   std::array<double, 2> param{0.0, 0.0};  ///< local coordinates in the face's own node order
@@ -93,8 +95,12 @@ struct FaceHint {
 class SurfaceSearcher {
  public:
   /// InvalidArgument if Gregory normals are missing or the surface's element ids do not match its faces.
+  /// `grid`: a broad phase the caller keeps between states (tracking.hpp), used as it is where it still
+  /// holds this state's faces (FaceGrid::holds, in the same unit), else rebuilt with their boxes inflated by
+  /// `grid_margin_relative` x the capture distance; null: the searcher builds its own. The certified search's
+  /// only.
   SurfaceSearcher(const mesh::SurfaceMesh& master, std::span<const Vec3> master_normals,
-                  const SearchOptions& options);
+                  const SearchOptions& options, FaceGrid* grid = nullptr, double grid_margin_relative = 0.0);
   ~SurfaceSearcher();
   SurfaceSearcher(const SurfaceSearcher&) = delete;
   SurfaceSearcher& operator=(const SurfaceSearcher&) = delete;
@@ -103,6 +109,8 @@ class SurfaceSearcher {
   /// The searcher's unit of length (working_unit of its master): lengths divided by it before a norm keep
   /// their squares in the double range.
   [[nodiscard]] double unit() const;
+  /// Whether this searcher built its grid (always, without a caller's grid; for the reference search, never).
+  [[nodiscard]] bool grid_rebuilt() const;
   /// |S - c_f| - r_f: no point of face f is nearer S than this.
   [[nodiscard]] double lower_bound(const Vec3& slave, int face) const;
   /// |S - c_f| - r_f alone: at most lower_bound, and it moves by at most the movement of S, c_f and r_f.
@@ -123,13 +131,19 @@ class SurfaceSearcher {
   [[nodiscard]] NodeSegmentPair nearest(long slave_id, const Vec3& slave,
                                         std::vector<std::pair<double, int>>& candidates,
                                         const FaceHint* hint = nullptr, Bounds bounds = Bounds::kExact) const;
-  /// Steps 1-4 for one slave node, fresh: faces_within(capture) and nearest, gathering fewer candidates: only
-  /// the faces whose bound is within the distance of the face whose centre is nearest S (its certified
-  /// closest point, or its nearest corner); where the scan's answer is not within that reach (and its tie
-  /// band), the scan runs again over the capture distance. The same answer.
+  /// Steps 1-4 for one slave node: faces_within(capture) and nearest, gathering fewer candidates: only the
+  /// faces whose bound is within the distance of a first face (its certified closest point, or its nearest
+  /// corner): the hint's (a tracked node's previous face, its certified run started from the previous point),
+  /// else one listed in the grid cell of S; where the scan's answer is not within that reach (and its tie
+  /// band), the scan runs again over the capture distance. The same answer with or without a hint.
   [[nodiscard]] NodeSegmentPair nearest_fresh(long slave_id, const Vec3& slave,
                                               std::vector<std::pair<double, int>>& candidates,
-                                              std::vector<std::pair<std::uint32_t, double>>& scratch) const;
+                                              std::vector<std::pair<std::uint32_t, double>>& scratch,
+                                              const FaceHint* hint = nullptr) const;
+  /// The same into `pair` (written once, in place: an FE code's buffer).
+  void nearest_fresh(long slave_id, const Vec3& slave, std::vector<std::pair<double, int>>& candidates,
+                     std::vector<std::pair<std::uint32_t, double>>& scratch, NodeSegmentPair& pair,
+                     const FaceHint* hint = nullptr) const;
   [[nodiscard]] const std::vector<Vec3>& centres() const;  ///< face centres (mean of the corners)
   [[nodiscard]] const std::vector<double>& radii() const;  ///< bounding-sphere radii
 

@@ -12,6 +12,9 @@ SurfaceTracker::SurfaceTracker(const SearchOptions& options, TrackingOptions tra
     : options_(options), tracking_(tracking) {
   CONTACTNN_REQUIRE(std::isfinite(tracking.margin_relative) && tracking.margin_relative >= 0.0,
                     "tracking margin " << tracking.margin_relative << " is not a finite non-negative number");
+  CONTACTNN_REQUIRE(
+      std::isfinite(tracking.grid_margin_relative) && tracking.grid_margin_relative >= 0.0,
+      "tracking grid margin " << tracking.grid_margin_relative << " is not a finite non-negative number");
 }
 
 void SurfaceTracker::reset() {
@@ -23,6 +26,8 @@ void SurfaceTracker::reset() {
   centres_.clear();
   radii_.clear();
   drift_ = 0.0;
+  faces_ = -1;
+  grid_ = FaceGrid{};
 }
 
 std::vector<NodeSegmentPair> SurfaceTracker::step(const mesh::SurfaceMesh& master,
@@ -40,6 +45,54 @@ void SurfaceTracker::step(const mesh::SurfaceMesh& master, std::span<const Vec3>
                           std::vector<NodeSegmentPair>& pairs, TrackingCounts* counts) {
   CONTACTNN_REQUIRE(slave_ids.size() == slave_positions.size(),
                     slave_ids.size() << " slave ids for " << slave_positions.size() << " positions");
+  if (options_.narrow == NarrowPhase::kReference) {
+    step_lists(master, master_normals, slave_ids, slave_positions, pairs, counts);
+  } else {
+    step_hints(master, master_normals, slave_ids, slave_positions, pairs, counts);
+  }
+}
+
+void SurfaceTracker::step_hints(const mesh::SurfaceMesh& master, std::span<const Vec3> master_normals,
+                                std::span<const long> slave_ids, std::span<const Vec3> slave_positions,
+                                std::vector<NodeSegmentPair>& pairs, TrackingCounts* counts) {
+  const std::size_t n = slave_ids.size();
+  const bool same = master.face_count() == faces_ &&
+                    std::equal(slave_ids.begin(), slave_ids.end(), ids_.begin(), ids_.end());
+  if (!same) {
+    reset();
+    ids_.assign(slave_ids.begin(), slave_ids.end());
+    hints_.assign(n, FaceHint{});
+    faces_ = master.face_count();
+  }
+  // Step 1: the grid kept while every face stays inside its box at the build, inflated by the margin.
+  const SurfaceSearcher searcher(master, master_normals, options_, &grid_, tracking_.grid_margin_relative);
+  pairs.resize(n);
+  spatial_order(slave_positions, order_, order_scratch_);
+  const std::uint32_t* order = order_.data();
+  long fresh = 0, tracked = 0, list_faces = 0;
+#pragma omp parallel reduction(+ : fresh, tracked, list_faces) if (n >= 512)
+  {
+    std::vector<std::pair<double, int>> candidates;
+    std::vector<std::pair<std::uint32_t, double>> scratch;
+#pragma omp for schedule(dynamic, 64)
+    for (std::size_t k = 0; k < n; ++k) {
+      const std::size_t i = order[k];
+      // Steps 2-3: the previous face first, from the previous point.
+      const FaceHint* hint = hints_[i].face >= 0 ? &hints_[i] : nullptr;
+      NodeSegmentPair& pair = pairs[i];
+      searcher.nearest_fresh(slave_ids[i], slave_positions[i], candidates, scratch, pair, hint);
+      hints_[i] = pair.status == PairStatus::kFound ? FaceHint{pair.segment, pair.face_param} : FaceHint{};
+      fresh += hint == nullptr;
+      tracked += hint != nullptr;
+      list_faces += static_cast<long>(candidates.size());
+    }
+  }
+  if (counts != nullptr) *counts = {fresh, tracked, tracked, list_faces, searcher.grid_rebuilt() ? 1 : 0};
+}
+
+void SurfaceTracker::step_lists(const mesh::SurfaceMesh& master, std::span<const Vec3> master_normals,
+                                std::span<const long> slave_ids, std::span<const Vec3> slave_positions,
+                                std::vector<NodeSegmentPair>& pairs, TrackingCounts* counts) {
   const SurfaceSearcher searcher(master, master_normals, options_);
   const double unit = searcher.unit();
   const std::vector<Vec3>& centres = searcher.centres();
@@ -122,7 +175,7 @@ void SurfaceTracker::step(const mesh::SurfaceMesh& master, std::span<const Vec3>
                                                         : FaceHint{};
     }
   }
-  if (counts != nullptr) *counts = {fresh, tracked, warm, list_faces};
+  if (counts != nullptr) *counts = {fresh, tracked, warm, list_faces, 0};
 }
 
 }  // namespace contactnn::contact

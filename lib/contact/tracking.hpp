@@ -1,49 +1,58 @@
 // Tracking: the surface search of a history, increment by increment, reusing what the previous increments
 // found (SPEC 9's answers, exactly; only cheaper).
 //
-// The rule (a Verlet list with a previous-point warm start, the bookkeeping explicit codes use: OpenRadioss
-// re-sorts a node's candidates once it has used up a distance budget, MOOSE and FrontISTR start from the
-// previous point and face):
-//  1. A node's candidate list is built by a fresh query: every face whose bounding sphere comes within
-//     capture + m of the node (m = TrackingOptions::margin_relative x the capture distance), with the
-//     sphere's bound b_f = |S0 - c_f| - r_f, sorted by it, the node's position S0 and the surface's drift D0
-//     at that moment.
-//  2. The surface's drift D adds, at every increment, the largest movement of a face's sphere (|c_f - c_f'| +
-//     |r_f - r_f'| over the faces). The list is valid while |S - S0| + (D - D0) <= m: a face outside it was
-//     beyond capture + m at the build, and its sphere can have come nearer by at most that much, so it is
-//     still beyond the capture distance. Otherwise the node gets a fresh list (step 1).
-//  3. The node's answer is the nearest point over its list's faces (SurfaceSearcher::nearest), the face it
-//     had at the previous increment first; the other faces are pruned as in the fresh search, by
-//     b_f - |S - S0| - (D - D0), which no face's sphere (and so no point of it) can be nearer than: a face's
-//     own bound is computed only once that one no longer rules it out (after the first face's point, for most
-//     nodes, none is). A bilinear face with a certificate (bilinear_certificate.hpp) is projected by one
-//     Newton run from the node's previous point on it; every other face by the fresh search's reference. A
-//     warm start on a face without a certificate could end on another stationary point than the face's
-//     nearest (a farther local minimum of a Gregory patch around a slave node inside a closed body: issue
-//     39), so none is made.
-// The faces, points and gaps equal a fresh search's (the tests and `replay` compare every increment with a
-// fresh search and count the differences).
+// The rule (a movement budget and a previous-point warm start, the bookkeeping contact codes use:
+// OpenRadioss re-sorts its candidates only once a distance budget is spent; MOOSE and FrontISTR start from
+// the previous point and face):
+//  1. The broad phase (face_grid.hpp) lists each face by its box inflated by a margin m
+//     (TrackingOptions::grid_margin_relative x the capture distance), and is kept from one increment to the
+//     next while every face's box stays inside its inflated box at the build: a face within some reach of a
+//     slave node is then still listed in the cells around it. Otherwise it is rebuilt (TrackingCounts::
+//     grid_builds).
+//  2. A node that had a face at the previous increment starts from it (SurfaceSearcher::nearest_fresh's
+//     hint): that face's point, its distance bounding the faces the node gathers from the grid. A bilinear
+//     face with a certificate (bilinear_certificate.hpp) is projected by one Newton run from the node's
+//     previous point on it; every other face by the fresh search's reference, and its nearest corner bounds
+//     the gathering. A warm start on a face without a certificate could end on another stationary point than
+//     the face's nearest (a farther local minimum of a Gregory patch around a slave node inside a closed
+//     body: issue 39), so none is made.
+//  3. A node without one (the first increment, no point at the previous one, other slave ids or faces)
+//     starts from a face listed in its grid cell, as a fresh search.
+// Then the scan as the fresh search's: the same faces, points and gaps (the tests and `replay` compare every
+// increment with a fresh search and count the differences). No list per node is kept: a node costs its
+// previous face and point.
+//
+// NarrowPhase::kReference keeps the tracker as it was before the grid (the search it is measured against):
+// each node's list of the faces whose sphere came within capture + m at its build, valid while the node's
+// movement plus the surface's drift (the largest movement of a face's sphere since) stays within m, and
+// each list's faces pruned by their bounds less that movement.
 #pragma once
 
 #include <cstdint>
 #include <span>
 #include <vector>
 
+#include "contact/face_grid.hpp"
 #include "contact/surface_search.hpp"
 
 namespace contactnn::contact {
 
 struct TrackingOptions {
-  /// The list margin m in units of the capture distance: larger lists that stay valid for longer.
+  /// The reference tracker's list margin m in units of the capture distance: larger lists that stay valid
+  /// for longer.
   double margin_relative = 0.5;
+  /// The grid's margin (rule 1) in units of the capture distance: a grid kept for longer, its cells holding
+  /// more faces (at 0.5, twice the cost of a query on the large history).
+  double grid_margin_relative = 0.1;
 };
 
 /// What one increment cost the tracker, node by node.
 struct TrackingCounts {
-  long fresh = 0;    ///< nodes whose list was built by a fresh query (first increment, moved past the margin)
-  long tracked = 0;  ///< nodes answered from their list
+  long fresh = 0;    ///< nodes searched without a previous face (the reference's: whose list was rebuilt)
+  long tracked = 0;  ///< nodes that started from their previous face (the reference's: answered from a list)
   long warm = 0;     ///< nodes whose previous face was tried first (warm where it has a certificate)
-  long list_faces = 0;  ///< faces in the lists used (sum over the nodes)
+  long list_faces = 0;   ///< faces gathered from the grid (the reference's: in the lists), over the nodes
+  long grid_builds = 0;  ///< 1 where the broad phase was rebuilt at this increment (rule 1)
 };
 
 /// The surface search over a history. step() takes the states in increment order; the surface's faces and the
@@ -67,6 +76,13 @@ class SurfaceTracker {
   void reset();
 
  private:
+  void step_hints(const mesh::SurfaceMesh& master, std::span<const Vec3> master_normals,
+                  std::span<const long> slave_ids, std::span<const Vec3> slave_positions,
+                  std::vector<NodeSegmentPair>& pairs, TrackingCounts* counts);
+  void step_lists(const mesh::SurfaceMesh& master, std::span<const Vec3> master_normals,
+                  std::span<const long> slave_ids, std::span<const Vec3> slave_positions,
+                  std::vector<NodeSegmentPair>& pairs, TrackingCounts* counts);
+
   SearchOptions options_;
   TrackingOptions tracking_;
   std::vector<long> ids_;
@@ -74,6 +90,8 @@ class SurfaceTracker {
   std::vector<double> drift_at_build_;                      ///< D0 of each node's list
   std::vector<std::vector<std::pair<double, int>>> lists_;  ///< each node's candidate faces (b_f, f), sorted
   std::vector<FaceHint> hints_;  ///< each node's previous face and point (face -1: none)
+  int faces_ = -1;               ///< the previous state's face count (the grid's tracker)
+  FaceGrid grid_;                ///< rule 1's broad phase
   std::vector<Vec3> centres_;    ///< the previous state's face spheres
   std::vector<double> radii_;
   double drift_ = 0.0;

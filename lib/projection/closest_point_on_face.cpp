@@ -183,7 +183,7 @@ FaceClosestPoint closest_point_on_face(const SurfaceT& surface, const Vec3& slav
 template <geometry::Surface SurfaceT>
 FaceClosestPoint nearest_of_interior_and_edges(const SurfaceT& surface, const Vec3& slave,
                                                const std::array<double, 2>* interior, int iterations,
-                                               bool* from_interior) {
+                                               bool* from_interior, bool edges_farther) {
   const ParamDomain d = param_domain(SurfaceT::kKind);
   FaceClosestPoint out;
   out.iterations = iterations;
@@ -195,7 +195,7 @@ FaceClosestPoint nearest_of_interior_and_edges(const SurfaceT& surface, const Ve
     interior_wins = true;
   }
   // 2. The edges, ends included; 3. the nearest wins (strictly nearer replaces: ties keep the earlier).
-  for (int edge = 0; edge < kQuadEdges; ++edge) {
+  for (int edge = 0; edge < (interior != nullptr && edges_farther ? 0 : kQuadEdges); ++edge) {
     const EdgePoint e = closest_point_on_edge(surface, edge, slave);
     if (e.distance < best) {
       best = e.distance;
@@ -303,7 +303,7 @@ FaceClosestPoint closest_point_on_triangle(const std::array<Vec3, 3>& nodes, con
                                                             const ProjectionOptions&);    \
   template EdgePoint closest_point_on_edge<SurfaceT>(const SurfaceT&, int, const Vec3&);  \
   template FaceClosestPoint nearest_of_interior_and_edges<SurfaceT>(                      \
-      const SurfaceT&, const Vec3&, const std::array<double, 2>*, int, bool*);
+      const SurfaceT&, const Vec3&, const std::array<double, 2>*, int, bool*, bool);
 CONTACTNN_INSTANTIATE(geometry::BilinearPatch)
 CONTACTNN_INSTANTIATE(geometry::GregoryPatch)
 #undef CONTACTNN_INSTANTIATE

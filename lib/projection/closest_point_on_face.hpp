@@ -64,11 +64,14 @@ template <geometry::Surface SurfaceT>
 /// four edge points (strictly nearer replaces), located and reported as closest_point_on_face does; status
 /// invalid where a surface value is not finite. `from_interior` (optional): whether the interior point won.
 /// For closest_point_on_face and for faster interior solvers that must answer as it does (lib/contact's
-/// BilinearCertificate).
+/// BilinearCertificate). `edges_farther`: the caller has proved every edge point farther than the interior
+/// one by more than the rounding of either distance (a strictly convex f, the point well inside): the
+/// edges are not computed, and the answer is the one they would have lost to.
 template <geometry::Surface SurfaceT>
 [[nodiscard]] FaceClosestPoint nearest_of_interior_and_edges(const SurfaceT& surface, const Vec3& slave,
                                                              const std::array<double, 2>* interior,
-                                                             int iterations, bool* from_interior = nullptr);
+                                                             int iterations, bool* from_interior = nullptr,
+                                                             bool edges_farther = false);
 
 /// The nearest point of edge `edge` (0..3) of `surface` to `slave` (step 2 above): its parameters on the
 /// face and |S - P|. For tests and the surface search's own use.

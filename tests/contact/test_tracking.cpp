@@ -1,5 +1,7 @@
 // contact::SurfaceTracker: over a moving history the tracked surface search gives the fresh search's faces,
-// points and gaps at every increment, and answers most nodes from their lists.
+// points and gaps at every increment, starts most nodes from their previous faces and keeps its grid while
+// the faces move within its margin; the reference tracker (NarrowPhase::kReference) answers most nodes from
+// their lists.
 #include <gtest/gtest.h>
 #include <omp.h>
 
@@ -63,7 +65,7 @@ TEST_P(Tracking, GivesTheFreshSearchsFacesPointsAndGapsAtEveryIncrement) {
   SearchOptions options;
   options.surface = GetParam();
   SurfaceTracker tracker(options);
-  long tracked = 0, warm = 0;
+  long tracked = 0, warm = 0, grid_builds = 0;
   for (int increment = 0; increment < 12; ++increment) {
     const mesh::SurfaceMesh m = sheet(0.05 * increment);
     const std::vector<Vec3> normals = mesh::node_normals(m);
@@ -80,71 +82,111 @@ TEST_P(Tracking, GivesTheFreshSearchsFacesPointsAndGapsAtEveryIncrement) {
     }
     tracked += counts.tracked;
     warm += counts.warm;
+    grid_builds += counts.grid_builds;
+    if (increment == 0) {
+      EXPECT_EQ(counts.grid_builds, 1);
+    }
   }
-  // Most nodes are answered from their lists, from their previous point.
+  // Most nodes start from their previous face and point.
   EXPECT_GT(tracked, 8 * n);
   EXPECT_GT(warm, 8 * n);
+  // The waves move the faces by less than the grid's margin at most increments: the answers above were found
+  // with grids kept from earlier increments.
+  EXPECT_LT(grid_builds, 6);
+  EXPECT_GT(grid_builds, 1);
 }
 
-TEST_P(Tracking, ANodeThatJumpsFarGetsAFreshListAndItsNewFace) {
+TEST(Tracking, TheReferenceTrackerAnswersFromItsLists) {
+  const History h = slaves(600);
   SearchOptions options;
-  options.surface = GetParam();
+  options.narrow = NarrowPhase::kReference;
   SurfaceTracker tracker(options);
-  const mesh::SurfaceMesh m = sheet(0.0);
-  const std::vector<Vec3> normals = mesh::node_normals(m);
-  const std::vector<long> ids = {7};
-  TrackingCounts counts;
-  (void)tracker.step(m, normals, ids, std::vector<Vec3>{Vec3(1.5, 1.5, 0.3)}, &counts);
-  const std::vector<Vec3> far = {Vec3(10.5, 6.5, 0.3)};
-  const auto jumped = tracker.step(m, normals, ids, far, &counts);
-  EXPECT_EQ(counts.fresh, 1);
-  expect_same(jumped, surface_search(m, normals, ids, far, options), 1);
-  // A surface with other faces starts over.
-  const mesh::SurfaceMesh smaller =
-      testing::grid_surface(3, 3, [](double i, double j) { return Vec3(i, j, 0.0); });
-  mesh::SurfaceMesh with_ids = smaller;
-  for (std::size_t q = 0; q < with_ids.segments.size(); ++q) {
-    with_ids.segment_faces.push_back({static_cast<int>(q), 1});
-    with_ids.segment_element_ids.push_back(static_cast<long>(q) + 1);
+  long tracked = 0;
+  for (int increment = 0; increment < 6; ++increment) {
+    const mesh::SurfaceMesh m = sheet(0.05 * increment);
+    const std::vector<Vec3> normals = mesh::node_normals(m);
+    std::vector<Vec3> positions;
+    for (std::size_t i = 0; i < h.ids.size(); ++i)
+      positions.push_back(h.start[i] + increment * h.velocity[i]);
+    TrackingCounts counts;
+    const auto by_tracking = tracker.step(m, normals, h.ids, positions, &counts);
+    expect_same(by_tracking, surface_search(m, normals, h.ids, positions, options), increment);
+    EXPECT_EQ(counts.fresh + counts.tracked, static_cast<long>(h.ids.size()));
+    EXPECT_EQ(counts.grid_builds, 0);
+    tracked += counts.tracked;
   }
-  const std::vector<Vec3> on = {Vec3(1.5, 1.5, 0.2)};
-  const auto other = tracker.step(with_ids, mesh::node_normals(with_ids), ids, on, &counts);
-  EXPECT_EQ(counts.fresh, 1);
-  expect_same(other, surface_search(with_ids, mesh::node_normals(with_ids), ids, on, options), 2);
+  EXPECT_GT(tracked, 4 * 600);
+}
+
+TEST_P(Tracking, ANodeThatJumpsFarGetsItsNewFace) {
+  for (const NarrowPhase narrow : {NarrowPhase::kCertified, NarrowPhase::kReference}) {
+    SearchOptions options;
+    options.surface = GetParam();
+    options.narrow = narrow;
+    SurfaceTracker tracker(options);
+    const mesh::SurfaceMesh m = sheet(0.0);
+    const std::vector<Vec3> normals = mesh::node_normals(m);
+    const std::vector<long> ids = {7};
+    TrackingCounts counts;
+    (void)tracker.step(m, normals, ids, std::vector<Vec3>{Vec3(1.5, 1.5, 0.3)}, &counts);
+    const std::vector<Vec3> far = {Vec3(10.5, 6.5, 0.3)};
+    const auto jumped = tracker.step(m, normals, ids, far, &counts);
+    // The certified tracker starts from the previous face, far away now; the reference rebuilds the list.
+    EXPECT_EQ(counts.tracked, narrow == NarrowPhase::kCertified ? 1 : 0);
+    EXPECT_EQ(counts.fresh, narrow == NarrowPhase::kCertified ? 0 : 1);
+    expect_same(jumped, surface_search(m, normals, ids, far, options), 1);
+    // A surface with other faces starts over (and the grid is rebuilt).
+    const mesh::SurfaceMesh with_ids =
+        testing::searched_grid_surface(3, 3, [](double i, double j) { return Vec3(i, j, 0.0); });
+    const std::vector<Vec3> on = {Vec3(1.5, 1.5, 0.2)};
+    const auto other = tracker.step(with_ids, mesh::node_normals(with_ids), ids, on, &counts);
+    EXPECT_EQ(counts.fresh, 1);
+    EXPECT_EQ(counts.grid_builds, narrow == NarrowPhase::kCertified ? 1 : 0);
+    expect_same(other, surface_search(with_ids, mesh::node_normals(with_ids), ids, on, options), 2);
+  }
 }
 
 TEST(Tracking, AFaceTurningInPlaceIntoACandidateIsFound) {
   // A long thin face (2 x 0.2) turns by 90 degrees about its centre: its bounding sphere stays where it was
   // (no drift), its box does not. The slave node, 0.9 off its long axis, was 0.8 from the box at the first
-  // increment (beyond capture 0.5 + margin 0.25) and lies 0.05 above the face at the second. A list built by
-  // the boxes left the face out (no_segment where the fresh search finds it); lists are built by the spheres.
-  SearchOptions options;
-  options.capture_distance = 0.5;
-  SurfaceTracker tracker(options, TrackingOptions{0.5});
-  const auto face_at = [](double angle) {
-    mesh::SurfaceMesh m = testing::grid_surface(1, 1, [&](double i, double j) {
-      const double x = 2.0 * i - 1.0, y = 0.2 * j - 0.1;
-      return Vec3(std::cos(angle) * x - std::sin(angle) * y, std::sin(angle) * x + std::cos(angle) * y, 0.0);
-    });
-    m.segment_faces.push_back({0, 1});
-    m.segment_element_ids.push_back(1);
-    return m;
-  };
-  const std::vector<long> ids = {1};
-  const std::vector<Vec3> slave = {Vec3(0.0, 0.9, 0.05)};
-  std::vector<NodeSegmentPair> pairs;  // one buffer for both increments, as an FE code's
-  const mesh::SurfaceMesh before = face_at(0.0);
-  tracker.step(before, mesh::node_normals(before), ids, slave, pairs);
-  ASSERT_EQ(pairs.size(), 1u);
-  EXPECT_EQ(pairs[0].status, PairStatus::kNoSegment);
-  const mesh::SurfaceMesh after = face_at(0.5 * std::numbers::pi);
-  TrackingCounts counts;
-  tracker.step(after, mesh::node_normals(after), ids, slave, pairs, &counts);
-  EXPECT_EQ(counts.tracked, 1);  // the list is still valid: nothing moved by the rule
-  const auto fresh = surface_search(after, mesh::node_normals(after), ids, slave, options);
-  ASSERT_EQ(fresh[0].status, PairStatus::kFound);
-  EXPECT_NEAR(fresh[0].label.gap, 0.05, 1e-12);
-  expect_same(pairs, fresh, 1);
+  // increment (beyond capture 0.5 + margin 0.25) and lies 0.05 above the face at the second. A reference list
+  // built by the boxes left the face out (no_segment where the fresh search finds it); lists are built by the
+  // spheres. The grid lists the face by its box: it is rebuilt, the box having left its margin.
+  for (const NarrowPhase narrow : {NarrowPhase::kCertified, NarrowPhase::kReference}) {
+    SearchOptions options;
+    options.capture_distance = 0.5;
+    options.narrow = narrow;
+    SurfaceTracker tracker(options, TrackingOptions{0.5, 0.5});
+    const auto face_at = [](double angle) {
+      mesh::SurfaceMesh m = testing::grid_surface(1, 1, [&](double i, double j) {
+        const double x = 2.0 * i - 1.0, y = 0.2 * j - 0.1;
+        return Vec3(std::cos(angle) * x - std::sin(angle) * y, std::sin(angle) * x + std::cos(angle) * y,
+                    0.0);
+      });
+      m.segment_faces.push_back({0, 1});
+      m.segment_element_ids.push_back(1);
+      return m;
+    };
+    const std::vector<long> ids = {1};
+    const std::vector<Vec3> slave = {Vec3(0.0, 0.9, 0.05)};
+    std::vector<NodeSegmentPair> pairs;  // one buffer for both increments, as an FE code's
+    const mesh::SurfaceMesh before = face_at(0.0);
+    tracker.step(before, mesh::node_normals(before), ids, slave, pairs);
+    ASSERT_EQ(pairs.size(), 1u);
+    EXPECT_EQ(pairs[0].status, PairStatus::kNoSegment);
+    const mesh::SurfaceMesh after = face_at(0.5 * std::numbers::pi);
+    TrackingCounts counts;
+    tracker.step(after, mesh::node_normals(after), ids, slave, pairs, &counts);
+    if (narrow == NarrowPhase::kReference) {
+      EXPECT_EQ(counts.tracked, 1);  // the list is still valid: nothing moved by the rule
+    } else {
+      EXPECT_EQ(counts.grid_builds, 1);
+    }
+    const auto fresh = surface_search(after, mesh::node_normals(after), ids, slave, options);
+    ASSERT_EQ(fresh[0].status, PairStatus::kFound);
+    EXPECT_NEAR(fresh[0].label.gap, 0.05, 1e-12);
+    expect_same(pairs, fresh, 1);
+  }
 }
 
 TEST(Tracking, TwoWarmRunsEndingOnTheirSharedEdgeGetTheGrid) {

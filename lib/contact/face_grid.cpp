@@ -1,0 +1,132 @@
+#include "contact/face_grid.hpp"
+
+#include <algorithm>
+#include <limits>
+
+namespace contactnn::contact {
+
+namespace {
+
+/// The most cells the grid may have for `faces` faces (header).
+double cell_budget(std::size_t faces) { return 4.0 * static_cast<double>(faces) + 64.0; }
+
+}  // namespace
+
+void FaceGrid::build(std::span<const Vec3> box_lo, std::span<const Vec3> box_hi, double margin, double unit) {
+  faces_ = box_lo.size();
+  margin_ = margin;
+  unit_ = unit;
+  built_lo_.resize(faces_);
+  built_hi_.resize(faces_);
+  first_cell_.resize(faces_);
+  last_cell_.resize(faces_);
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  low_ = Vec3::Constant(kInf);
+  high_ = Vec3::Constant(-kInf);
+  double side_sum = 0.0;
+  std::size_t finite = 0;
+  for (std::size_t f = 0; f < faces_; ++f) {
+    built_lo_[f] = box_lo[f] - Vec3::Constant(margin);
+    built_hi_[f] = box_hi[f] + Vec3::Constant(margin);
+    if (!built_lo_[f].allFinite() || !built_hi_[f].allFinite()) continue;
+    low_ = low_.cwiseMin(built_lo_[f]);
+    high_ = high_.cwiseMax(built_hi_[f]);
+    side_sum += (built_hi_[f] - built_lo_[f]).maxCoeff();
+    ++finite;
+  }
+  offsets_.assign(2, 0);
+  entries_.clear();
+  dims_ = {1, 1, 1};
+  if (finite == 0) {
+    faces_ = 0;
+    return;
+  }
+  const Vec3 extent = high_ - low_;
+  cell_ = std::max(side_sum / static_cast<double>(finite), 1e-300 * std::max(extent.maxCoeff(), 1e-300));
+  // Cells of side cell_, grown until they fit the budget; at most 2^20 along an axis.
+  for (;;) {
+    double cells = 1.0;
+    for (int k = 0; k < 3; ++k) cells *= std::min(std::floor(extent[k] / cell_) + 1.0, 1048576.0);
+    if (cells <= cell_budget(finite)) break;
+    cell_ *= std::max(1.01, std::cbrt(cells / cell_budget(finite)));
+  }
+  inverse_ = 1.0 / cell_;
+  for (int k = 0; k < 3; ++k) {
+    dims_[static_cast<std::size_t>(k)] =
+        static_cast<int>(std::min(std::floor(extent[k] * inverse_) + 1.0, 1048576.0));
+  }
+  const std::size_t cells = static_cast<std::size_t>(dims_[0]) * static_cast<std::size_t>(dims_[1]) *
+                            static_cast<std::size_t>(dims_[2]);
+  // Counted, then filled in face order (CSR).
+  offsets_.assign(cells + 1, 0);
+  const auto cell_index = [&](int i, int j, int k) {
+    return static_cast<std::size_t>((static_cast<long>(k) * dims_[1] + j) * static_cast<long>(dims_[0]) + i);
+  };
+  for (std::size_t f = 0; f < faces_; ++f) {
+    if (!built_lo_[f].allFinite() || !built_hi_[f].allFinite()) {
+      first_cell_[f] = {1, 1, 1};  // an empty range: listed nowhere
+      last_cell_[f] = {0, 0, 0};
+      continue;
+    }
+    for (int k = 0; k < 3; ++k) {
+      first_cell_[f][static_cast<std::size_t>(k)] = cell_of(built_lo_[f][k], k);
+      last_cell_[f][static_cast<std::size_t>(k)] = cell_of(built_hi_[f][k], k);
+    }
+    for (int k = first_cell_[f][2]; k <= last_cell_[f][2]; ++k)
+      for (int j = first_cell_[f][1]; j <= last_cell_[f][1]; ++j)
+        for (int i = first_cell_[f][0]; i <= last_cell_[f][0]; ++i) ++offsets_[cell_index(i, j, k) + 1];
+  }
+  for (std::size_t c = 1; c < offsets_.size(); ++c) offsets_[c] += offsets_[c - 1];
+  entries_.resize(offsets_.back());
+  std::vector<std::uint32_t> at(offsets_.begin(), offsets_.end() - 1);
+  for (std::size_t f = 0; f < faces_; ++f) {
+    for (int k = first_cell_[f][2]; k <= last_cell_[f][2]; ++k)
+      for (int j = first_cell_[f][1]; j <= last_cell_[f][1]; ++j)
+        for (int i = first_cell_[f][0]; i <= last_cell_[f][0]; ++i)
+          entries_[at[cell_index(i, j, k)]++] = static_cast<std::uint32_t>(f);
+  }
+}
+
+bool FaceGrid::holds(std::span<const Vec3> box_lo, std::span<const Vec3> box_hi) const {
+  if (box_lo.size() != built_lo_.size()) return false;
+  for (std::size_t f = 0; f < box_lo.size(); ++f) {
+    // A face listed nowhere (a non-finite box at the build) must stay so: its box must stay non-finite.
+    const bool listed = built_lo_[f].allFinite() && built_hi_[f].allFinite();
+    if (!listed) {
+      if (box_lo[f].allFinite() && box_hi[f].allFinite()) return false;
+      continue;
+    }
+    if (!(box_lo[f].array() >= built_lo_[f].array()).all() ||
+        !(box_hi[f].array() <= built_hi_[f].array()).all())
+      return false;
+  }
+  return true;
+}
+
+int FaceGrid::face_near(const Vec3& x, std::span<const Vec3> centres) const {
+  if (faces_ == 0 || !x.allFinite()) return -1;
+  std::array<int, 3> at{};
+  for (int k = 0; k < 3; ++k) at[static_cast<std::size_t>(k)] = cell_of(x[k], k);
+  int best = -1;
+  double nearest = std::numeric_limits<double>::infinity();
+  const auto scan = [&](int i, int j, int k) {
+    const auto c =
+        static_cast<std::size_t>((static_cast<long>(k) * dims_[1] + j) * static_cast<long>(dims_[0]) + i);
+    for (std::uint32_t e = offsets_[c]; e < offsets_[c + 1]; ++e) {
+      const std::uint32_t f = entries_[e];
+      const double d = (centres[f] - x).squaredNorm();
+      if (d < nearest || (d == nearest && static_cast<int>(f) < best)) {
+        nearest = d;
+        best = static_cast<int>(f);
+      }
+    }
+  };
+  scan(at[0], at[1], at[2]);
+  if (best >= 0) return best;
+  for (int k = std::max(at[2] - 1, 0); k <= std::min(at[2] + 1, dims_[2] - 1); ++k)
+    for (int j = std::max(at[1] - 1, 0); j <= std::min(at[1] + 1, dims_[1] - 1); ++j)
+      for (int i = std::max(at[0] - 1, 0); i <= std::min(at[0] + 1, dims_[0] - 1); ++i) scan(i, j, k);
+  return best;
+}
+
+}  // namespace contactnn::contact

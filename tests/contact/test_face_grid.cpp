@@ -1,0 +1,133 @@
+// contact::FaceGrid: every face whose box comes within the reach of a point is reported, each once, against a
+// brute-force distance to every box; the kept grid's rule (holds) against boxes moved inside and outside
+// their margin.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <random>
+#include <vector>
+
+#include "contact/face_grid.hpp"
+
+namespace contactnn::contact {
+namespace {
+
+/// The distance from x to the box [lo, hi] (0 inside), computed independently of the grid.
+double box_distance(const Vec3& x, const Vec3& lo, const Vec3& hi) {
+  double squared = 0.0;
+  for (int k = 0; k < 3; ++k) {
+    const double d = std::max({lo[k] - x[k], x[k] - hi[k], 0.0});
+    squared += d * d;
+  }
+  return std::sqrt(squared);
+}
+
+struct Boxes {
+  std::vector<Vec3> lo, hi;
+};
+
+/// Boxes of mixed sizes: a sheet of small ones and a few large ones far away (the cells then grow).
+Boxes random_boxes(int n, unsigned seed) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> at(0.0, 20.0), side(0.01, 1.5), z(-0.5, 0.5);
+  Boxes b;
+  for (int f = 0; f < n; ++f) {
+    const Vec3 lo(at(rng), at(rng), z(rng));
+    b.lo.push_back(lo);
+    b.hi.push_back(lo + Vec3(side(rng), side(rng), 0.1 * side(rng)));
+  }
+  b.lo.emplace_back(500.0, 500.0, 500.0);  // a lone face far from the others
+  b.hi.emplace_back(503.0, 502.0, 501.0);
+  return b;
+}
+
+void expect_exact_superset(const FaceGrid& grid, const Boxes& b, double margin, unsigned seed) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> at(-2.0, 22.0), z(-2.0, 2.0), reach(0.0, 3.0);
+  std::vector<int> seen(b.lo.size());
+  for (int q = 0; q < 2000; ++q) {
+    const Vec3 x = q == 0 ? Vec3(501.0, 501.0, 499.5) : Vec3(at(rng), at(rng), z(rng));
+    const double r = q % 7 == 0 ? 0.0 : reach(rng);
+    std::fill(seen.begin(), seen.end(), 0);
+    grid.for_faces_near(x, r, [&](int f) { ++seen[static_cast<std::size_t>(f)]; });
+    for (std::size_t f = 0; f < b.lo.size(); ++f) {
+      ASSERT_LE(seen[f], 1) << "face " << f << " reported twice, query " << q;
+      const Vec3 m = Vec3::Constant(margin);
+      if (box_distance(x, b.lo[f] - m, b.hi[f] + m) <= r) {
+        ASSERT_EQ(seen[f], 1) << "face " << f << " within reach " << r << " missed, query " << q;
+      }
+    }
+  }
+}
+
+TEST(FaceGrid, ReportsEveryFaceWithinReachOnce) {
+  const Boxes b = random_boxes(3000, 1);
+  FaceGrid grid;
+  grid.build(b.lo, b.hi, 0.0);
+  expect_exact_superset(grid, b, 0.0, 2);
+}
+
+TEST(FaceGrid, InflatedBoxesAndTheirMovement) {
+  Boxes b = random_boxes(500, 3);
+  FaceGrid grid;
+  grid.build(b.lo, b.hi, 0.25);
+  expect_exact_superset(grid, b, 0.25, 4);
+  EXPECT_TRUE(grid.holds(b.lo, b.hi));
+  // Moved by less than the margin: the grid still holds; by more (one face): it does not.
+  Boxes moved = b;
+  for (auto& x : moved.lo) x += Vec3(0.2, -0.2, 0.1);
+  for (auto& x : moved.hi) x += Vec3(0.2, -0.2, 0.1);
+  EXPECT_TRUE(grid.holds(moved.lo, moved.hi));
+  moved.hi[17].x() += 0.1;
+  EXPECT_FALSE(grid.holds(moved.lo, moved.hi));
+  // Another face count never holds.
+  moved = b;
+  moved.lo.pop_back();
+  moved.hi.pop_back();
+  EXPECT_FALSE(grid.holds(moved.lo, moved.hi));
+}
+
+TEST(FaceGrid, NonFiniteBoxesAndPointsAreListedNowhere) {
+  Boxes b = random_boxes(50, 5);
+  b.lo[3].x() = std::numeric_limits<double>::quiet_NaN();
+  FaceGrid grid;
+  grid.build(b.lo, b.hi, 0.0);
+  int reported = 0;
+  grid.for_faces_near(Vec3(10.0, 10.0, 0.0), 1e6, [&](int f) {
+    EXPECT_NE(f, 3);
+    ++reported;
+  });
+  EXPECT_EQ(reported, 50);  // every finite face of the 51
+  grid.for_faces_near(Vec3(std::numeric_limits<double>::quiet_NaN(), 0.0, 0.0), 1.0,
+                      [&](int) { ++reported; });
+  EXPECT_EQ(reported, 50);
+  EXPECT_EQ(grid.face_near(Vec3(std::numeric_limits<double>::infinity(), 0.0, 0.0), {}), -1);
+  // A box made finite again does not hold (it is listed nowhere).
+  Boxes fixed = b;
+  fixed.lo[3] = fixed.hi[3] - Vec3::Constant(0.1);
+  EXPECT_FALSE(grid.holds(fixed.lo, fixed.hi));
+  EXPECT_TRUE(grid.holds(b.lo, b.hi));
+}
+
+TEST(FaceGrid, FaceNearIsAFaceOfTheCellsAround) {
+  const Boxes b = random_boxes(400, 6);
+  std::vector<Vec3> centres;
+  for (std::size_t f = 0; f < b.lo.size(); ++f) centres.push_back(0.5 * (b.lo[f] + b.hi[f]));
+  FaceGrid grid;
+  grid.build(b.lo, b.hi, 0.0);
+  const int f = grid.face_near(Vec3(10.0, 10.0, 0.0), centres);
+  ASSERT_GE(f, 0);
+  // Within a few cells of the point (the cells are the mean box side, under 1.5 here).
+  EXPECT_LT((centres[static_cast<std::size_t>(f)] - Vec3(10.0, 10.0, 0.0)).norm(), 8.0);
+  FaceGrid empty;
+  empty.build({}, {}, 0.0);
+  EXPECT_EQ(empty.face_near(Vec3::Zero(), centres), -1);
+  int reported = 0;
+  empty.for_faces_near(Vec3::Zero(), 1.0, [&](int) { ++reported; });
+  EXPECT_EQ(reported, 0);
+}
+
+}  // namespace
+}  // namespace contactnn::contact
