@@ -18,13 +18,15 @@
 //  1. Candidates: the faces whose bounding sphere (centre: the mean of the corner nodes; radius: the largest
 //     distance from it to a node, to a Gregory control point, or to a Bezier control point of a quadratic
 //     face, which bound the patch: a quadratic face may bulge beyond its nodes) comes within the capture
-//     distance of S. A k-d tree over the centres (nanoflann) finds them; brute_force_faces tries every face
-//     (the oracle).
+//     distance of S, and whose bounding box does (each face's bound is the larger of the two distances). A
+//     grid of the boxes (face_grid.hpp) finds them; NarrowPhase::kReference keeps the search as it was, a
+//     k-d tree over the centres (nanoflann); brute_force_faces tries every face (the oracle).
 //  2. Candidates in increasing order of their sphere's distance; the closest point on each (by its type, as
 //     above: the references of lib/projection; a bilinear quad4 by one Newton run where a convexity
 //     certificate proves its answer is the face's nearest, bilinear_certificate.hpp, NarrowPhase); a face
-//     whose sphere is farther than the best point so far cannot hold a nearer one and ends the scan. A fresh
-//     query projects the face whose centre is nearest S first and gathers only the faces within its distance.
+//     whose sphere is farther than the best point so far cannot hold a nearer one and ends the scan. A query
+//     projects a first face (a tracked node's previous face, else one listed in the grid cell of S) and
+//     gathers only the faces within its distance.
 //     With SearchOptions::interior (narrow_phase.hpp), a method of the user's choice answers each face first
 //     where it puts the point inside the face and within the capture distance (the exact point otherwise).
 //  3. The nearest point wins; ties (equal distances to 1e-12 of the face size) go to the lower element id,
@@ -89,8 +91,8 @@ struct FaceHint {
   std::array<double, 2> param{0.0, 0.0};  ///< local coordinates in the face's own node order
 };
 
-/// The surface search's pieces for one state of a master surface: the faces' bounding spheres, their k-d
-/// tree and adjacency, built once; queries are const and may run concurrently. `master` and
+/// The surface search's pieces for one state of a master surface: the faces' bounding spheres and boxes,
+/// their grid (or k-d tree) and adjacency, built once; queries are const and may run concurrently. `master` and
 /// `master_normals` must outlive it.
 class SurfaceSearcher {
  public:
