@@ -147,6 +147,8 @@ FaceIndex index_faces(const mesh::SurfaceMesh& master, std::span<const Vec3> nor
       }
     }
   }
+  // Each face on its own (threads for a large surface: the answers do not depend on them).
+#pragma omp parallel for schedule(static) if (n >= 4096)
   for (std::size_t f = 0; f < n; ++f) {
     const auto face = static_cast<int>(f);
     const std::span<const int> corners = master.face_corners(face);
@@ -656,10 +658,13 @@ struct SurfaceSearcher::Impl {
         options(in_unit(o, unit)),
         checked_options(with_face_checked(options)),
         index(index_faces(master, n, options)),
-        capture(capture_distance(master, options)),
+
         largest_radius(index.radii.empty() ? 0.0 : *std::max_element(index.radii.begin(), index.radii.end())),
         largest_size(index.sizes.empty() ? 0.0 : *std::max_element(index.sizes.begin(), index.sizes.end())),
         cloud{&index.centres} {
+    // capture_distance's, from the sizes the index has computed (the same products, the same largest).
+    capture =
+        options.capture_distance > 0.0 ? options.capture_distance : options.capture_relative * largest_size;
     if (options.narrow != NarrowPhase::kReference && !options.brute_force_faces) {
       FaceGrid& g = kept != nullptr ? *kept : own_grid;
       if (kept == nullptr || kept->unit() != unit || !kept->holds(index.box_lo, index.box_hi)) {
