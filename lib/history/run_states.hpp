@@ -5,14 +5,17 @@
 //  - Built once: the pair's scene (contact::make_scene) from the deck's model as given, with its nodes where
 //    the deck puts them: the master faces in their outward order, the faces' sets and adjacency, the cyclic
 //    copies, the slave nodes. Nothing of it is built again: a face's outward order (the element-centroid
-//    test of mesh::outward_quad_corners) is the deck's. (make_scene on a moved deck decides it at each state;
-//    the two differ only for an element the run turns inside out.)
+//    test of mesh::outward_quad_corners) is the deck's. (make_scene on a moved deck decides it again at each
+//    state; the two differ only where the run distorts an element so far that the test turns: the shared
+//    cycliccontact.inp, run by ccx, has 3 master faces "inside out" at its increment and none in the deck,
+//    and there the deck's order is the right one: the numbering of an element does not change.)
 //  - move_to(i) puts the scene at increment results.increments[i]: every master node of the pair's own
 //    surface and every slave node at its node-block coordinates plus the increment's DISP (bit for bit where
 //    io::move_to_increment puts the deck's node; a slave node of a node surface that no element uses and the
 //    results lack keeps the deck's position), the master node normals computed again, the cyclic copies
 //    rotated again (contact::move_scene). The positions and normals are those of make_scene on the deck moved
-//    by io::move_to_increment, bit for bit, so every search on the state answers as before.
+//    by io::move_to_increment, bit for bit (with the faces oriented alike), so every search on the state
+//    answers as before.
 //  - Where the results hold each node (io::node_rows: a map of the whole node block and the increment's
 //    DISP) is looked up at the first increment moved to, and again only at an increment whose DISP lists
 //    other nodes, or the same in another order, than the last one looked up (ccx writes every increment's
