@@ -58,6 +58,7 @@
 #include "dataset/sampling.hpp"
 #include "dataset/scene_sampling.hpp"
 #include "history/plan_search.hpp"
+#include "history/run_states.hpp"
 #include "io/csv.hpp"
 #include "io/dataset_file.hpp"
 #include "io/file_identity.hpp"
@@ -223,18 +224,25 @@ void print_scene_summary(const std::string& deck, const contact::Scene& scene,
   std::printf("  time                 %.3f s\n", seconds);
 }
 
-/// Pair `pair` of `model` (read from `deck`) made ready for the global search. A deck without that pair is a
-/// usage error (exit 2) whose message names the deck.
-contact::Scene scene_of(const mesh::ContactModel& model, const std::string& deck, int pair) {
+/// A deck without pair `pair` is a usage error (exit 2) whose message names the deck.
+template <typename Make>
+auto in_deck(const std::string& deck, Make make) {
   try {
-    return contact::make_scene(model, pair);
+    return make();
   } catch (const InvalidArgument& e) {
     throw InvalidArgument("'" + deck + "': " + e.what());
   }
 }
 
+/// Pair `pair` of the deck at `deck` made ready for the global search.
 contact::Scene read_scene(const std::string& deck, int pair) {
-  return scene_of(io::read_inp_deck(deck), deck, pair);
+  return in_deck(deck, [&] { return contact::make_scene(io::read_inp_deck(deck), pair); });
+}
+
+/// Pair `pair` of `model` (read from `deck`) over the increments of `results` (null: the deck's state).
+history::RunStates run_states(mesh::ContactModel model, const std::string& deck, int pair,
+                              const io::FrdResults* results) {
+  return in_deck(deck, [&] { return history::RunStates(std::move(model), pair, results); });
 }
 
 /// The increments --increment names (SPEC 10): N, "last" or "all"; indices into results.increments.
@@ -283,14 +291,15 @@ int scene_mode(const std::string& deck, int pair, const contact::SearchOptions& 
   std::string text;
   io::append_csv_row(text, study::pairs_csv_header(layout));
 
-  // 3. For each state: move the nodes, build the pair's master faces, node normals and slave nodes, search.
-  std::optional<contact::Scene> scene;
+  // 3. The pair's master faces, node normals and slave nodes, built once (history::RunStates); for each
+  //    state: the nodes moved, the search.
+  history::RunStates run = run_states(std::move(model), deck, pair, results ? &*results : nullptr);
+  if (!surface_search) study::keep_corner_slaves(run.scene());
+  const contact::Scene* scene = &run.scene();
   std::optional<contact::SceneResult> result;
   std::array<long, 3> locations{};
   for (const std::size_t increment : increments) {
-    if (results) io::move_to_increment(model.mesh, *results, increment);
-    scene = scene_of(model, deck, pair);
-    if (!surface_search) study::keep_corner_slaves(*scene);
+    if (results) scene = &run.move_to(increment);
     result = contact::search_scene(*scene, options);
     // 4. One row per slave node: ids, world coordinates (round-trip exact), the label, the closest point.
     for (const contact::NodeSegmentPair& p : result->pairs) {

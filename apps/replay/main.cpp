@@ -201,8 +201,8 @@ int main(int argc, char** argv) {
     // 4. Replay every increment; 5. the report.
     cli::Progress progress("replay: increments", paths.quiet);
     const auto start = std::chrono::steady_clock::now();
-    const std::vector<history::IncrementRow> rows =
-        history::replay(model, results, options, [&](int done, int total) { progress.update(done, total); });
+    const std::vector<history::IncrementRow> rows = history::replay(
+        std::move(model), results, options, [&](int done, int total) { progress.update(done, total); });
     progress.finish();
     const std::string title = paths.deck + " pair " + std::to_string(options.pair) + ", " + paths.results;
     history::write_replay_report(report_directory.write_path().string(), title, options, rows);

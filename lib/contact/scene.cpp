@@ -8,6 +8,7 @@
 #include <string>
 
 #include "contact/surface_search.hpp"
+#include "core/error.hpp"
 
 namespace contactnn::contact {
 
@@ -32,26 +33,39 @@ const mesh::CyclicSymmetry* cyclic_model_of(const mesh::ContactModel& model,
   return nullptr;
 }
 
-/// `surface` and its copies rotated by +-2 pi / N about the model's axis; `normals` likewise.
-void add_neighbour_sectors(const mesh::CyclicSymmetry& c, mesh::SurfaceMesh& surface,
-                           std::vector<Vec3>& normals) {
-  const Vec3 a = c.axis_a;
+/// The cyclic copies' positions and normals from the sector's (Scene::sector_nodes).
+void place_copies(Scene& scene) {
+  const auto nodes = static_cast<std::size_t>(scene.sector_nodes);
+  const Vec3 a = scene.cyclic_origin;
+  for (std::size_t copy = 1; copy <= 2; ++copy) {
+    const Eigen::Matrix3d& r = scene.cyclic_rotations[copy - 1];
+    for (std::size_t i = 0; i < nodes; ++i) {
+      scene.master.positions[copy * nodes + i] = a + r * (scene.master.positions[i] - a);
+      scene.master_normals[copy * nodes + i] = r * scene.master_normals[i];
+    }
+  }
+}
+
+/// The scene's master surface and its copies rotated by +-2 pi / N about the model's axis (their faces and
+/// node lists; place_copies puts their nodes).
+void add_neighbour_sectors(const mesh::CyclicSymmetry& c, Scene& scene) {
+  mesh::SurfaceMesh& surface = scene.master;
+  scene.cyclic_origin = c.axis_a;
   const Vec3 axis = (c.axis_b - c.axis_a).normalized();
   const double angle = 2.0 * std::numbers::pi / c.sectors;
+  scene.cyclic_rotations = {Eigen::AngleAxisd(angle, axis).toRotationMatrix(),
+                            Eigen::AngleAxisd(-angle, axis).toRotationMatrix()};
   const mesh::SurfaceMesh sector = surface;
-  const std::vector<Vec3> sector_normals = normals;
   const auto nodes = static_cast<int>(sector.positions.size());
   const auto segments = static_cast<int>(sector.segments.size());
   const auto links = static_cast<int>(sector.adjacency.size());
-  for (const int turn : {1, -1}) {
-    const Eigen::Matrix3d r = Eigen::AngleAxisd(turn * angle, axis).toRotationMatrix();
-    const int copy = turn == 1 ? 1 : 2;
+  surface.positions.resize(3 * sector.positions.size());
+  scene.master_normals.resize(3 * sector.positions.size());
+  for (const int copy : {1, 2}) {
     for (int i = 0; i < nodes; ++i) {
       const auto u = static_cast<std::size_t>(i);
       surface.mesh_nodes.push_back(sector.mesh_nodes[u]);
       surface.node_ids.push_back(sector.node_ids[u]);
-      surface.positions.push_back(a + r * (sector.positions[u] - a));
-      normals.push_back(r * sector_normals[u]);
     }
     for (int s = 0; s < segments; ++s) {
       std::array<int, 4> quad = sector.segments[static_cast<std::size_t>(s)];
@@ -99,8 +113,10 @@ Scene make_scene(const mesh::ContactModel& model, int k) {
   scene.master = mesh::master_surface(model, k);
   scene.master_normals = mesh::node_normals(scene.master);
   scene.slaves = mesh::slave_nodes(model, k, scene.master);
+  scene.sector_nodes = scene.master.node_count();
   if (const mesh::CyclicSymmetry* cyclic = cyclic_model_of(model, pair)) {
-    add_neighbour_sectors(*cyclic, scene.master, scene.master_normals);
+    add_neighbour_sectors(*cyclic, scene);
+    place_copies(scene);
     scene.cyclic_sectors = cyclic->sectors;
     scene.cyclic_where = cyclic->where;
   }
@@ -109,6 +125,17 @@ Scene make_scene(const mesh::ContactModel& model, int k) {
     scene.slave_positions.push_back(model.mesh.position(n));
   }
   return scene;
+}
+
+void move_scene(Scene& scene, std::span<const Vec3> master, std::span<const Vec3> slaves) {
+  const auto nodes = static_cast<std::size_t>(scene.sector_nodes);
+  CONTACTNN_REQUIRE(master.size() == nodes && slaves.size() == scene.slave_positions.size(),
+                    master.size() << " master and " << slaves.size() << " slave positions for a scene of "
+                                  << nodes << " and " << scene.slave_positions.size());
+  std::copy(master.begin(), master.end(), scene.master.positions.begin());
+  std::copy(slaves.begin(), slaves.end(), scene.slave_positions.begin());
+  mesh::node_normals(scene.master, std::span<Vec3>(scene.master_normals).first(nodes));
+  if (scene.cyclic_sectors > 0) place_copies(scene);
 }
 
 SceneResult search_scene(const Scene& scene, const SearchOptions& options) {

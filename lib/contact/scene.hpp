@@ -2,7 +2,9 @@
 // shape statistics (what `gen-configs --scene` reports, SPEC 7).
 #pragma once
 
+#include <Eigen/Core>
 #include <array>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -26,6 +28,12 @@ struct Scene {
   mesh::SlaveNodes slaves;           ///< slave nodes in increasing id, skipped slave faces
   std::vector<long> slave_ids;       ///< deck ids of slaves.nodes
   std::vector<Vec3> slave_positions;
+  /// The master nodes of the pair's own surface: all of master's without cyclic symmetry, the sector's
+  /// (master's first sector_nodes) with it; copy c (1: +360/N, 2: -360/N) of sector node i is master node
+  /// c * sector_nodes + i, at cyclic_origin + cyclic_rotations[c - 1] * (position - cyclic_origin).
+  int sector_nodes = 0;
+  Vec3 cyclic_origin = Vec3::Zero();
+  std::array<Eigen::Matrix3d, 2> cyclic_rotations{Eigen::Matrix3d::Identity(), Eigen::Matrix3d::Identity()};
 };
 
 /// The scene of pair `k` of `model`: master surface, its node normals, slave nodes (SPEC 7). When the pair's
@@ -33,6 +41,14 @@ struct Scene {
 /// the master surface is repeated in the two neighbouring sectors (Scene::master).
 /// Errors of mesh::contact_pair, mesh::master_surface and mesh::slave_nodes.
 [[nodiscard]] Scene make_scene(const mesh::ContactModel& model, int k);
+
+/// Moves `scene` (make_scene's) to new node positions without building anything again: `master` the
+/// positions of the sector's master nodes (scene.master's first sector_nodes, in their order), `slaves` those
+/// of scene.slaves.nodes; the node normals computed again (mesh::node_normals) and the cyclic copies placed
+/// again. Faces, their orientation, ids and sets stay as they are. Gives the positions and normals
+/// make_scene gives for a model whose nodes are at these positions, bit for bit. InvalidArgument if a
+/// count differs from the scene's.
+void move_scene(Scene& scene, std::span<const Vec3> master, std::span<const Vec3> slaves);
 
 struct SceneResult {
   std::vector<NodeSegmentPair> pairs;                    ///< one per slave node, in increasing slave id

@@ -14,6 +14,7 @@
 #include "contact/surface_search.hpp"
 #include "core/error.hpp"
 #include "eval/svg_plot.hpp"
+#include "history/run_states.hpp"
 #include "io/csv.hpp"
 #include "search/local_search.hpp"
 
@@ -163,16 +164,15 @@ class Replayer {
         reference_tracker_(reference_options_, options.tracking),
         plan_tracker_(plan_options_, options.tracking) {}
 
-  IncrementRow increment(mesh::ContactModel& model, const io::FrdResults& results, std::size_t k) {
-    const io::FrdIncrement& increment = results.increments[k];
+  IncrementRow increment(RunStates& run, std::size_t k) {
+    const io::FrdIncrement& increment = run.increment(k);
     IncrementRow row;
     row.increment = increment.number;
     row.step = increment.step;
     row.time = increment.time;
-    // 1. The state: nodes moved, the pair's faces, node normals and slave nodes.
+    // 1. The state: the pair's nodes moved, its node normals (the faces and slave nodes are built once).
     const auto start = Clock::now();
-    io::move_to_increment(model.mesh, results, k);
-    const contact::Scene scene = contact::make_scene(model, options_.pair);
+    const contact::Scene& scene = run.move_to(k);
     const double scene_seconds = seconds_since(start);
     row.slaves = static_cast<long>(scene.slave_ids.size());
     per_node_ = row.slaves > 0 ? 1e9 / static_cast<double>(row.slaves) : 0.0;
@@ -371,17 +371,18 @@ PlanRow judge_plan(const mesh::SurfaceMesh& master, SurfaceKind surface,
   return row;
 }
 
-std::vector<IncrementRow> replay(mesh::ContactModel& model, const io::FrdResults& results,
+std::vector<IncrementRow> replay(mesh::ContactModel model, const io::FrdResults& results,
                                  const ReplayOptions& options,
                                  const std::function<void(int, int)>& progress) {
   check_methods(options);
+  RunStates run(std::move(model), options.pair, &results);
   const int saved_threads = omp_get_max_threads();
   omp_set_num_threads(std::max(options.threads, 1));
   Replayer replayer(options);
   std::vector<IncrementRow> rows;
-  const int total = static_cast<int>(results.increments.size());
+  const int total = static_cast<int>(run.count());
   for (int k = 0; k < total; ++k) {
-    rows.push_back(replayer.increment(model, results, static_cast<std::size_t>(k)));
+    rows.push_back(replayer.increment(run, static_cast<std::size_t>(k)));
     if (progress) progress(k + 1, total);
   }
   omp_set_num_threads(saved_threads);

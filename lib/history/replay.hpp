@@ -83,7 +83,7 @@ struct IncrementRow {
   long tracking_differences = 0;    ///< nodes whose tracked face, point (1e-12 of its face) or gap differs
   std::vector<std::string> differences;  ///< the first few of them, each a Markdown table row (report.md)
   contact::TrackingCounts tracking;
-  double ns_scene = 0.0;     ///< per slave node: nodes moved, faces, node normals, slave positions
+  double ns_scene = 0.0;     ///< per slave node: the pair's nodes moved, node normals (RunStates::move_to)
   double ns_fresh = 0.0;     ///< per slave node: the fresh surface search
   double ns_tracked = 0.0;   ///< per slave node: the tracked search
   long reference_faces = 0;  ///< faces whose closest point needed the reference (no certificate)
@@ -99,9 +99,9 @@ struct IncrementRow {
   PlanRow plan;                              ///< ReplayOptions::plan (zeros without one)
 };
 
-/// Replays every increment of `results` on pair options.pair of `model` (whose nodes it moves).
-/// `progress` (may be empty) is called after each increment with (done, total).
-[[nodiscard]] std::vector<IncrementRow> replay(mesh::ContactModel& model, const io::FrdResults& results,
+/// Replays every increment of `results` on pair options.pair of `model` (its states: RunStates, the scene
+/// built once). `progress` (may be empty) is called after each increment with (done, total).
+[[nodiscard]] std::vector<IncrementRow> replay(mesh::ContactModel model, const io::FrdResults& results,
                                                const ReplayOptions& options,
                                                const std::function<void(int, int)>& progress = {});
 

@@ -553,7 +553,7 @@ std::size_t increment_index(const FrdResults& results, int number) {
   return static_cast<std::size_t>(number - 1);
 }
 
-void move_to_increment(mesh::SolidMesh& mesh, const FrdResults& results, std::size_t increment) {
+NodeRows node_rows(const mesh::SolidMesh& mesh, const FrdResults& results, std::size_t increment) {
   CONTACTNN_REQUIRE_AS(InvalidArgument, increment < results.increments.size(),
                        "increment index " << increment << " is out of range: '" << results.file << "' holds "
                                           << results.increments.size());
@@ -572,7 +572,7 @@ void move_to_increment(mesh::SolidMesh& mesh, const FrdResults& results, std::si
   in_disp.reserve(inc.disp_nodes.size());
   for (std::size_t i = 0; i < inc.disp_nodes.size(); ++i) in_disp.emplace(inc.disp_nodes[i], i);
 
-  // Check everything first, so that a failure leaves `mesh` as it was.
+  // Check everything first, so that a failure leaves `mesh` as it was (move_to_increment).
   int first_missing_block = -1, missing_block = 0, first_missing_disp = -1, missing_disp = 0;
   for (int n = 0; n < mesh.node_count(); ++n) {
     if (element_of[static_cast<std::size_t>(n)] < 0) continue;
@@ -618,13 +618,25 @@ void move_to_increment(mesh::SolidMesh& mesh, const FrdResults& results, std::si
           << ", time " << inc.time << "): no displacement of " << describe(first_missing_disp, missing_disp)
           << " (U written for a node set only? write it for all nodes: *NODE FILE without NSET=)");
 
+  NodeRows rows;
+  rows.block.assign(static_cast<std::size_t>(mesh.node_count()), -1);
+  rows.disp.assign(static_cast<std::size_t>(mesh.node_count()), -1);
   for (int n = 0; n < mesh.node_count(); ++n) {
     const auto b = in_block.find(mesh.node_id(n));
-    if (b == in_block.end()) continue;  // used by no element, absent from the results: stays where it is
-    geometry::Vec3 p = results.coordinates[b->second];
+    if (b != in_block.end()) rows.block[static_cast<std::size_t>(n)] = static_cast<long>(b->second);
     const auto d = in_disp.find(mesh.node_id(n));
-    if (d != in_disp.end()) p += inc.displacement[d->second];
-    mesh.set_position(n, p);
+    if (d != in_disp.end()) rows.disp[static_cast<std::size_t>(n)] = static_cast<long>(d->second);
+  }
+  return rows;
+}
+
+void move_to_increment(mesh::SolidMesh& mesh, const FrdResults& results, std::size_t increment) {
+  const NodeRows rows = node_rows(mesh, results, increment);
+  const FrdIncrement& inc = results.increments[increment];
+  for (int n = 0; n < mesh.node_count(); ++n) {
+    // A node used by no element, absent from the results, stays where it is.
+    if (rows.block[static_cast<std::size_t>(n)] >= 0)
+      mesh.set_position(n, position_at(results, inc, rows, n));
   }
 }
 

@@ -116,4 +116,29 @@ void check_node_block(const mesh::ContactModel& model, const FrdResults& results
 /// InvalidArgument if `increment` is out of range.
 void move_to_increment(mesh::SolidMesh& mesh, const FrdResults& results, std::size_t increment);
 
+/// Where `results` holds each node of a mesh at one increment: its row of the node block
+/// (results.node_ids) and of the increment's DISP (disp_nodes), -1 where it has none; indexed by SolidMesh
+/// node index.
+struct NodeRows {
+  std::vector<long> block, disp;
+};
+
+/// The rows of every node of `mesh` in `results` and its increment `increment`, after move_to_increment's
+/// checks (the same errors: every node an element uses is in both). They depend only on the mesh, the node
+/// block and the increment's disp_nodes: an increment that lists the same DISP nodes in the same order has
+/// the same rows (history::RunStates looks them up once for a run whose increments all do).
+[[nodiscard]] NodeRows node_rows(const mesh::SolidMesh& mesh, const FrdResults& results,
+                                 std::size_t increment);
+
+/// Node n's position at increment `inc` of `results` by `rows` (node_rows of that increment, or of one with
+/// the same disp_nodes): its node-block coordinates plus its DISP, as move_to_increment places it. Only for a
+/// node with a node-block row.
+[[nodiscard]] inline geometry::Vec3 position_at(const FrdResults& results, const FrdIncrement& inc,
+                                                const NodeRows& rows, int n) {
+  const auto u = static_cast<std::size_t>(n);
+  geometry::Vec3 p = results.coordinates[static_cast<std::size_t>(rows.block[u])];
+  if (rows.disp[u] >= 0) p += inc.displacement[static_cast<std::size_t>(rows.disp[u])];
+  return p;
+}
+
 }  // namespace contactnn::io

@@ -477,7 +477,15 @@ SurfaceMesh build_surface_mesh(const SolidMesh& mesh, std::span<const ElementFac
 
 std::vector<Vec3> node_normals(const SurfaceMesh& surface) {
   std::vector<Vec3> normals(surface.positions.size(), Vec3::Zero());
-  for (int node = 0; node < surface.node_count(); ++node) {
+  node_normals(surface, normals);
+  return normals;
+}
+
+void node_normals(const SurfaceMesh& surface, std::span<Vec3> normals) {
+  CONTACTNN_REQUIRE(normals.size() <= surface.positions.size(), normals.size()
+                                                                    << " normals asked of a surface of "
+                                                                    << surface.positions.size() << " nodes");
+  for (int node = 0; node < static_cast<int>(normals.size()); ++node) {
     Vec3 sum = Vec3::Zero();
     int corners = 0;
     for (int s : surface.segments_of(node)) {
@@ -507,10 +515,9 @@ std::vector<Vec3> node_normals(const SurfaceMesh& surface) {
       }
     }
     const double length = sum.norm();
-    if (corners > 0 && length > kMinSumPerCorner * corners)
-      normals[static_cast<std::size_t>(node)] = sum / length;
+    normals[static_cast<std::size_t>(node)] =
+        corners > 0 && length > kMinSumPerCorner * corners ? Vec3(sum / length) : Vec3::Zero();
   }
-  return normals;
 }
 
 }  // namespace contactnn::mesh

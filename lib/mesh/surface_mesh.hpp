@@ -178,5 +178,8 @@ struct SurfaceMesh {
 /// Gregory projection reports as degenerate. A node of no segment (a mid-side node, a node of extra faces
 /// only) gets the zero vector too: no Gregory patch uses it.
 [[nodiscard]] std::vector<Vec3> node_normals(const SurfaceMesh& surface);
+/// The same for the first normals.size() nodes, written into `normals` (no allocation: a surface moved to a
+/// new state, history::RunStates). InvalidArgument if `normals` is longer than the surface has nodes.
+void node_normals(const SurfaceMesh& surface, std::span<Vec3> normals);
 
 }  // namespace contactnn::mesh

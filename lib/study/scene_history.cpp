@@ -3,9 +3,13 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <memory>
 #include <sstream>
 
+#include "contact/narrow_phase.hpp"
+#include "contact/surface_search.hpp"
 #include "core/error.hpp"
+#include "history/run_states.hpp"
 #include "io/csv.hpp"
 #include "io/json_text.hpp"
 #include "search/local_search.hpp"
@@ -34,19 +38,55 @@ const search::NetworkModel* model_of(const std::vector<const SceneNetwork*>& net
   return index >= 0 ? networks.at(static_cast<std::size_t>(index))->model.get() : nullptr;
 }
 
+/// The plan's surface search over every increment.
+struct SearchTotals {
+  long by_method = 0, fallbacks = 0, refused = 0;
+};
+
+SearchTotals search_totals(const HistoryJudgement& j) {
+  SearchTotals t;
+  for (const history::PlanRow& p : j.plan_search) {
+    t.by_method += p.by_method;
+    t.fallbacks += p.fallbacks;
+    t.refused += p.refused;
+  }
+  return t;
+}
+
+/// The plan's method as the surface search's face locator (null without a plan's method among `methods`).
+std::unique_ptr<contact::FaceLocator> plan_locator(const std::vector<HistoryMethod>& methods,
+                                                   const std::vector<const SceneNetwork*>& networks) {
+  for (const HistoryMethod& m : methods) {
+    if (m.plan) return std::make_unique<contact::FaceLocator>(m.method, model_of(networks, m.network));
+  }
+  return nullptr;
+}
+
+/// The surface search with the plan's method on face interiors (as replay --plan runs it) at one state,
+/// judged against the exact search's answers `exact` (history::judge_plan).
+history::PlanRow plan_search(const contact::Scene& scene, SurfaceKind surface,
+                             const contact::FaceLocator& locator,
+                             const std::vector<contact::NodeSegmentPair>& exact) {
+  contact::SearchOptions options = pairs_search_options(surface);
+  options.interior = &locator;
+  const std::vector<contact::NodeSegmentPair> plan = contact::surface_search(
+      scene.master, scene.master_normals, scene.slave_ids, scene.slave_positions, options);
+  return history::judge_plan(scene.master, surface, exact, plan);
+}
+
 }  // namespace
 
 std::vector<HistoryState> history_states(mesh::ContactModel model, const io::FrdResults& results, int pair,
                                          const StudyLog& log) {
+  history::RunStates run(std::move(model), pair, &results);
   std::vector<HistoryState> states;
   states.reserve(results.increments.size());
   for (std::size_t i = 0; i < results.increments.size(); ++i) {
-    io::move_to_increment(model.mesh, results, i);
     HistoryState s;
     s.increment = results.increments[i].number;
     s.step = results.increments[i].step;
     s.time = results.increments[i].time;
-    s.scene = contact::make_scene(model, pair);
+    s.scene = run.move_to(i);
     states.push_back(std::move(s));
     if (log && ((i + 1) % 10 == 0 || i + 1 == results.increments.size())) {
       log("history: " + std::to_string(i + 1) + " of " + std::to_string(results.increments.size()) +
@@ -58,6 +98,7 @@ std::vector<HistoryState> history_states(mesh::ContactModel model, const io::Frd
 
 bool HistoryJudgement::meets(std::size_t m, std::size_t increment) const {
   const HistoryCell& c = cells.at(m).at(increment);
+  if (methods.at(m).plan && !plan_search.empty() && plan_search.at(increment).refused > 0) return false;
   if (c.errors.rows == 0) return true;
   return c.errors.failures_method == 0 && c.worse_mean() <= target &&
          c.out_of_domain_fraction() <= kMaxOutOfDomain;
@@ -123,8 +164,10 @@ HistoryJudgement judge_history(const std::vector<HistoryState>& states, SurfaceK
     alone.emplace_back(surface, search::Method::parse("network"), search::SearchOptions{},
                        model_of(networks, static_cast<int>(k)));
   }
+  const std::unique_ptr<contact::FaceLocator> locator = plan_locator(methods, networks);
   for (const HistoryState& state : states) {
     const ScenePairs pairs = search_pairs(state.scene, surface);
+    if (locator) j.plan_search.push_back(plan_search(state.scene, surface, *locator, pairs.result.pairs));
     j.increments.push_back(state.increment);
     j.steps.push_back(state.step);
     j.times.push_back(state.time);
@@ -163,6 +206,11 @@ HistoryJudgement judge_history(const std::vector<HistoryState>& states, SurfaceK
         line += "; " + methods[m].name + " " + g4(c.worse_mean());
         if (methods[m].network >= 0) line += " (" + percent(c.out_of_domain_fraction()) + " out of domain)";
       }
+      if (locator) {
+        const history::PlanRow& p = j.plan_search.back();
+        line += "; the plan's surface search: " + std::to_string(p.by_method) + " by the method, " +
+                std::to_string(p.fallbacks) + " fallbacks, " + std::to_string(p.refused) + " refused";
+      }
       log(line);
     }
   }
@@ -191,11 +239,15 @@ std::string history_csv(const HistoryJudgement& j) {
                             "failures",
                             "out_of_domain",
                             "out_of_domain_fraction",
-                            "meets_target"});
+                            "meets_target",
+                            "search_by_method",
+                            "search_fallbacks",
+                            "search_refused"});
   for (std::size_t m = 0; m < j.methods.size(); ++m) {
     for (std::size_t i = 0; i < j.increments.size(); ++i) {
       const HistoryCell& c = j.cells[m][i];
       const bool network = j.methods[m].network >= 0;
+      const history::PlanRow* p = j.methods[m].plan && !j.plan_search.empty() ? &j.plan_search[i] : nullptr;
       io::append_csv_row(text, {std::to_string(j.increments[i]),
                                 std::to_string(j.steps[i]),
                                 io::format_double(j.times[i]),
@@ -217,7 +269,10 @@ std::string history_csv(const HistoryJudgement& j) {
                                 std::to_string(c.errors.failures_method),
                                 network ? std::to_string(c.out_of_domain) : "",
                                 network ? io::format_double(c.out_of_domain_fraction()) : "",
-                                j.meets(m, i) ? "true" : "false"});
+                                j.meets(m, i) ? "true" : "false",
+                                p != nullptr ? std::to_string(p->by_method) : "",
+                                p != nullptr ? std::to_string(p->fallbacks) : "",
+                                p != nullptr ? std::to_string(p->refused) : ""});
     }
   }
   return text;
@@ -254,6 +309,11 @@ std::string history_markdown(const HistoryJudgement& j) {
        << " with mean |error| " << g4(c.errors.stats[0].mean_abs) << " / " << g4(c.errors.stats[1].mean_abs)
        << " on " << c.errors.rows << " pairs";
     if (method.network >= 0) md << "; at most " << percent(worst_ood) << " out of domain";
+    if (method.plan && !j.plan_search.empty()) {
+      const SearchTotals t = search_totals(j);
+      md << "; in the surface search " << t.by_method << " points by the method, " << t.fallbacks
+         << " fallbacks to the exact point, " << t.refused << " refused (all increments)";
+    }
     md << "; "
        << (missed == 0 ? std::string("target met on every increment")
                        : "**target missed on " + std::to_string(missed) + " of " +
@@ -262,13 +322,24 @@ std::string history_markdown(const HistoryJudgement& j) {
   }
   for (std::size_t m = 0; m < j.methods.size(); ++m) {
     const HistoryMethod& method = j.methods[m];
+    const bool search = method.plan && !j.plan_search.empty();
     md << "\n### `" << method.name << "`" << method.role() << "\n\n";
+    if (search) {
+      md << "Search: the surface search with this method on face interiors (as `replay --plan`): the slave "
+            "points whose point it gave, the fallbacks (an exact answer inside a face whose point it did not "
+            "give) and the refused (a slave point the exact search answers and it does not).\n\n";
+    }
     md << "| increment | step | time | slave nodes | face / edge / vertex | pairs inside a face | mean abs "
-       << names[0] << " | mean abs " << names[1] << " | max abs | failures | out of domain | target |\n"
-       << "|---:|---:|---:|---:|---|---:|---:|---:|---:|---:|---:|:---:|\n";
+       << names[0] << " | mean abs " << names[1] << " | max abs | failures | out of domain |"
+       << (search ? " search: by the method / fallbacks / refused |" : "") << " target |\n"
+       << "|---:|---:|---:|---:|---|---:|---:|---:|---:|---:|---:|" << (search ? "---|" : "") << ":---:|\n";
     for (std::size_t i = 0; i < j.increments.size(); ++i) {
       const HistoryCell& c = j.cells[m][i];
       const bool any = c.errors.rows > 0;
+      const std::string searched = search ? " " + std::to_string(j.plan_search[i].by_method) + " / " +
+                                                std::to_string(j.plan_search[i].fallbacks) + " / " +
+                                                std::to_string(j.plan_search[i].refused) + " |"
+                                          : std::string();
       md << "| " << j.increments[i] << " | " << j.steps[i] << " | " << g4(j.times[i]) << " | "
          << j.slave_nodes[i] << " | " << j.locations[i][0] << " / " << j.locations[i][1] << " / "
          << j.locations[i][2] << " | " << c.errors.rows << " | "
@@ -279,7 +350,7 @@ std::string history_markdown(const HistoryJudgement& j) {
          << (method.network >= 0 && any
                  ? std::to_string(c.out_of_domain) + " (" + percent(c.out_of_domain_fraction()) + ")"
                  : std::string("-"))
-         << " | " << (j.meets(m, i) ? "met" : "**missed**") << " |\n";
+         << " |" << searched << " " << (j.meets(m, i) ? "met" : "**missed**") << " |\n";
     }
   }
   return md.str();
@@ -306,7 +377,13 @@ std::string history_json(const HistoryJudgement& j) {
         << json_number(c.errors.stats[0].mean_abs) << ", " << json_number(c.errors.stats[1].mean_abs)
         << "], \"worst_out_of_domain_fraction\": "
         << (j.methods[m].network >= 0 ? json_number(worst_ood) : "null")
-        << ", \"increments_missed\": " << missed << "}";
+        << ", \"increments_missed\": " << missed;
+    if (j.methods[m].plan && !j.plan_search.empty()) {
+      const SearchTotals t = search_totals(j);
+      out << ", \"search\": {\"by_method\": " << t.by_method << ", \"fallbacks\": " << t.fallbacks
+          << ", \"refused\": " << t.refused << "}";
+    }
+    out << "}";
   }
   out << "]}";
   return out.str();

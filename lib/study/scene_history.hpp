@@ -2,25 +2,33 @@
 // increment of a solver's run (SPEC 10), and the states whose union is the domain a network trained for the
 // whole history is drawn from.
 //
-// scene-study --results RUN.frd reads the results once, moves the deck's nodes to each increment
-// (io::move_to_increment: the node block's coordinates plus the increment's DISP, as gen-configs --results
-// does), builds the pair's scene at each (history_states), and after the study judges on each increment's
-// pairs inside a 4-node quadrilateral face (the surface search of SPEC 9, labelled by the reference):
+// scene-study --results RUN.frd reads the results once, walks the pair's states (history::RunStates: the
+// scene built once from the deck, its nodes moved to each increment: the node block's coordinates plus the
+// increment's DISP, as gen-configs --results and replay move them; history_states), and after the study
+// judges on each increment's pairs inside a 4-node quadrilateral face (the surface search of SPEC 9, labelled
+// by the reference):
 //  - every scene network alone ("network[16-32-2]") and the plan's method;
 //  - per increment: the mean |error| of each local coordinate (xi units for bilinear, u units for Gregory),
 //    the largest |error|, failures (eval::compare_with_labels), and the fraction of those pairs outside the
 //    training domain of the method's network (the network alone's out_of_domain status, SearchOptions::
-//    check_domain); a method without a network has no domain ("-").
+//    check_domain); a method without a network has no domain ("-");
+//  - the plan's method in the surface search, as replay --plan runs it (SearchOptions::interior: a
+//    contact::FaceLocator of the plan's method and network, on every face interior of every slave node),
+//    judged against the exact search by history::judge_plan: the slave points whose point the method gave,
+//    the fallbacks (an exact answer inside a face whose point the method did not give: refused or outside
+//    the face) and the refused (a slave point the exact search answers and the plan's does not; 0 by the
+//    locator's design).
 // An increment meets the acceptance target when the worse coordinate's mean |error| is at most the study's
-// target, no estimate fails, and at most kMaxOutOfDomain of its pairs are out of the network's domain.
-// history_markdown (one table per method, a row per increment; the worst increment of each) goes into
-// report.md, history_csv into history.csv.
+// target, no estimate fails, and at most kMaxOutOfDomain of its pairs are out of the network's domain; for
+// the plan's method also when its surface search refuses none. history_markdown (one table per method, a row
+// per increment; the worst increment of each) goes into report.md, history_csv into history.csv.
 #pragma once
 
 #include <string>
 #include <vector>
 
 #include "contact/scene.hpp"
+#include "history/replay.hpp"
 #include "io/frd_results.hpp"
 #include "mesh/contact_model.hpp"
 #include "study/scene_domain.hpp"
@@ -39,9 +47,9 @@ struct HistoryState {
   contact::Scene scene;
 };
 
-/// Pair `pair` of `model` at every increment of `results` (SPEC 10), in file order. Errors of
-/// io::move_to_increment (FormatError naming the results file and line when its nodes are not the deck's)
-/// and of contact::make_scene. `log` gets one line per 10 increments read.
+/// Pair `pair` of `model` at every increment of `results` (SPEC 10), in file order: history::RunStates'
+/// states, each kept. Errors of RunStates (FormatError naming the results file and line when its nodes are
+/// not the deck's; those of contact::make_scene). `log` gets one line per 10 increments read.
 [[nodiscard]] std::vector<HistoryState> history_states(mesh::ContactModel model,
                                                        const io::FrdResults& results, int pair,
                                                        const StudyLog& log = {});
@@ -81,7 +89,10 @@ struct HistoryJudgement {
   std::vector<long> quad4;                     ///< per increment: pairs on 4-node quadrilaterals
   std::vector<HistoryMethod> methods;
   std::vector<std::vector<HistoryCell>> cells;  ///< [method][increment]
-  /// The increment meets the target for method m (no face pair: met).
+  /// Per increment: the plan's method in the surface search against the exact search (history::judge_plan;
+  /// its times 0); empty when no method is the plan's.
+  std::vector<history::PlanRow> plan_search;
+  /// The increment meets the target for method m (no face pair: met; the plan's method: none refused).
   [[nodiscard]] bool meets(std::size_t m, std::size_t increment) const;
   /// Index of the increment with the largest worse-coordinate mean |error| of method m (failures first).
   [[nodiscard]] std::size_t worst(std::size_t m) const;

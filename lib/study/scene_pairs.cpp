@@ -35,12 +35,16 @@ struct SetBuilder {
 
 }  // namespace
 
-ScenePairs search_pairs(const contact::Scene& scene, SurfaceKind surface) {
+contact::SearchOptions pairs_search_options(SurfaceKind surface) {
   contact::SearchOptions options;
   options.surface = surface;
   options.search = contact::GlobalSearchKind::kSurface;
+  return options;
+}
+
+ScenePairs search_pairs(const contact::Scene& scene, SurfaceKind surface) {
   ScenePairs out;
-  out.result = contact::search_scene(scene, options);
+  out.result = contact::search_scene(scene, pairs_search_options(surface));
   SetBuilder face("face-pairs", "the deck's pairs inside a face", surface);
   SetBuilder quad4("quad4-pairs", "the deck's pairs on quadrilaterals", surface);
   for (const contact::NodeSegmentPair& p : out.result.pairs) {

@@ -23,8 +23,11 @@ struct ScenePairs {
   eval::EvaluationSet quad4_pairs;  ///< every quad4 pair, edges and vertices included (for comparison)
 };
 
-/// The surface search over the scene's slave nodes with the reference labels (`surface`, projection
-/// defaults).
+/// The search options of search_pairs: the surface search (SPEC 9) on `surface`, every other option its
+/// default (the exact search).
+[[nodiscard]] contact::SearchOptions pairs_search_options(SurfaceKind surface);
+
+/// The surface search over the scene's slave nodes with the reference labels (pairs_search_options).
 [[nodiscard]] ScenePairs search_pairs(const contact::Scene& scene, SurfaceKind surface);
 
 /// The pairs as gen-configs --scene writes them (SPEC 7 and 9 columns): the text of DIR/pairs.csv.

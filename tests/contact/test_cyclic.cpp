@@ -14,6 +14,7 @@
 #include <string>
 
 #include "contact/scene.hpp"
+#include "core/error.hpp"
 #include "io/inp_deck.hpp"
 #include "scene_checks.hpp"
 #include "test_support.hpp"
@@ -106,6 +107,32 @@ Vec3 point_on(const geometry::Configuration& c, double xi, double eta) {
   Vec3 p = Vec3::Zero();
   for (int n = 0; n < 4; ++n) p += w[n] * c.nodes[static_cast<std::size_t>(n)];
   return p;
+}
+
+/// move_scene (a run's states, history::RunStates): the deck's scene moved to new node positions is the
+/// scene make_scene builds from the moved deck, bit for bit, the rotated copies and their normals included.
+TEST(CyclicSymmetry, AMovedSceneIsTheSceneOfTheMovedDeck) {
+  mesh::ContactModel model = read_sector(true);
+  Scene moved = make_scene(model, 0);
+  ASSERT_EQ(moved.cyclic_sectors, kSectors);
+  ASSERT_EQ(moved.master.node_count(), 3 * moved.sector_nodes);
+  for (int n = 0; n < model.mesh.node_count(); ++n) {
+    const Vec3 x = model.mesh.position(n);
+    model.mesh.set_position(n, x + Vec3(0.01 * x.y(), -0.02 * x.x(), 0.003 * x.z() * x.y()));
+  }
+  const Scene rebuilt = make_scene(model, 0);
+  std::vector<Vec3> master, slaves;
+  for (int j = 0; j < moved.sector_nodes; ++j)
+    master.push_back(model.mesh.position(moved.master.mesh_nodes[static_cast<std::size_t>(j)]));
+  for (const int n : moved.slaves.nodes) slaves.push_back(model.mesh.position(n));
+  move_scene(moved, master, slaves);
+  EXPECT_EQ(moved.master.positions, rebuilt.master.positions);
+  EXPECT_EQ(moved.master_normals, rebuilt.master_normals);
+  EXPECT_EQ(moved.slave_positions, rebuilt.slave_positions);
+  EXPECT_EQ(moved.master.segments, rebuilt.master.segments);
+  EXPECT_NE(moved.master.positions[0], make_scene(read_sector(true), 0).master.positions[0]);
+  EXPECT_THROW(move_scene(moved, std::span<const Vec3>(master).first(master.size() - 1), slaves),
+               InvalidArgument);
 }
 
 TEST(CyclicSymmetry, TheReaderKeepsTheModelAndItsTie) {

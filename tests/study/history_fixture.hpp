@@ -37,10 +37,13 @@ inline std::vector<std::array<double, 3>> two_blocks_coordinates() {
 using Displacements = std::vector<std::array<double, 3>>;
 
 /// A .frd in ccx's long layout: the node block (`nodes`, `coordinates`) and one static DISP block per entry
-/// of `increments` (times 1, 2, ...).
+/// of `increments` (times 1, 2, ...). `orders[k]` (where given and not empty): the indices into `nodes` whose
+/// records increment k's DISP block lists, in that order (another order, or some nodes only); else every node
+/// in `nodes` order.
 inline std::string frd_text(const std::vector<long>& nodes,
                             const std::vector<std::array<double, 3>>& coordinates,
-                            const std::vector<Displacements>& increments) {
+                            const std::vector<Displacements>& increments,
+                            const std::vector<std::vector<std::size_t>>& orders = {}) {
   char b[256];
   std::string text = "    1C\n    1UPGM               CalculiX                                        \n";
   std::snprintf(b, sizeof b, "    2C                  %12zu                                     1\n",
@@ -54,13 +57,17 @@ inline std::string frd_text(const std::vector<long>& nodes,
   text += " -3\n";
   for (std::size_t k = 0; k < increments.size(); ++k) {
     text += "    1PSTEP                         1           1           1          \n";
+    std::vector<std::size_t> order = k < orders.size() ? orders[k] : std::vector<std::size_t>();
+    if (order.empty()) {
+      for (std::size_t i = 0; i < nodes.size(); ++i) order.push_back(i);
+    }
     std::snprintf(b, sizeof b, "  100CL  101%12.5E%12zu                     0%5zu           1\n",
-                  static_cast<double>(k + 1), nodes.size(), k + 1);
+                  static_cast<double>(k + 1), order.size(), k + 1);
     text += b;
     text +=
         " -4  DISP        4    1\n -5  D1          1    2    1    0\n -5  D2          1    2    2    0\n"
         " -5  D3          1    2    3    0\n -5  ALL         1    2    0    0    1ALL\n";
-    for (std::size_t i = 0; i < nodes.size(); ++i) record(nodes[i], increments[k][i]);
+    for (const std::size_t i : order) record(nodes[i], increments[k][i]);
     text += " -3\n";
   }
   return text + " 9999\n";

@@ -110,11 +110,54 @@ TEST(SceneHistory, OneRowPerIncrementAndTheStretchedStateOutOfTheRestDomain) {
   const std::string csv = history_csv(j);
   EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 1 + 2 * 2) << csv;
   EXPECT_NE(csv.find("\n2,1,2,network[8-4-2],false,true,,4,4,0,0,0,4,"), std::string::npos) << csv;
-  EXPECT_NE(csv.find(",4,1,false\n"), std::string::npos) << csv;  // 4 out of domain, fraction 1, missed
+  EXPECT_NE(csv.find(",4,1,false,,,\n"), std::string::npos) << csv;  // 4 out of domain, fraction 1, missed
+  // closed_form, the plan, in the surface search: exact on the flat face, so its point for every slave node.
+  ASSERT_EQ(j.plan_search.size(), 2u);
+  for (const history::PlanRow& p : j.plan_search) {
+    EXPECT_EQ(p.by_method, 4);
+    EXPECT_EQ(p.fallbacks, 0);
+    EXPECT_EQ(p.refused, 0);
+  }
+  EXPECT_NE(csv.find("\n2,1,2,closed_form,true,false,,4,4,0,0,0,4,"), std::string::npos) << csv;
+  EXPECT_NE(csv.find(",true,4,0,0\n"), std::string::npos) << csv;
   const std::string md = history_markdown(j);
   EXPECT_NE(md.find("| 2 | 1 | 2 | 4 | 4 / 0 / 0 | 4 |"), std::string::npos) << md;
   EXPECT_NE(md.find("4 (100.00%) | **missed** |"), std::string::npos) << md;
   EXPECT_NE(md.find("worst increment"), std::string::npos) << md;
+}
+
+/// The plan's method in the surface search (as replay --plan runs it): a network trained on the rest state
+/// answers the rest state's pairs itself and refuses the stretched state's (out of its domain), whose exact
+/// points the search takes instead: fallbacks, none refused.
+TEST(SceneHistory, ThePlansNetworkInTheSurfaceSearchFallsBackOutOfItsDomain) {
+  const TwoBlocks t;
+  const SceneStudyOptions o = small_options();
+  const SceneDomain rest_domain = sample_domain(t.rest, SurfaceKind::kBilinear, o);
+  const NetworkTraining training = train_networks(rest_domain, SurfaceKind::kBilinear, o, o.sizes);
+  std::vector<const SceneNetwork*> networks;
+  for (const SceneNetwork& n : training.tried) networks.push_back(&n);
+  MethodMeasurement plan;
+  plan.name = "network[" + networks.at(0)->name + "]";
+  plan.method = "network";
+  plan.network = 0;
+  const std::vector<HistoryMethod> methods = history_methods(networks, training.scene, {plan}, 0);
+  ASSERT_EQ(methods.size(), 1u);
+  ASSERT_TRUE(methods[0].plan);
+  const HistoryJudgement j = judge_history(t.states, SurfaceKind::kBilinear, networks, methods, o);
+  ASSERT_EQ(j.plan_search.size(), 2u);
+  EXPECT_EQ(j.plan_search[0].by_method + j.plan_search[0].fallbacks, 4);
+  EXPECT_GT(j.plan_search[0].by_method, 0);
+  EXPECT_EQ(j.plan_search[1].by_method, 0);
+  EXPECT_EQ(j.plan_search[1].fallbacks, 4);
+  EXPECT_EQ(j.plan_search[0].refused + j.plan_search[1].refused, 0);
+  EXPECT_NE(history_csv(j).find(",false,0,4,0\n"), std::string::npos) << history_csv(j);
+  const std::string md = history_markdown(j);
+  EXPECT_NE(md.find("| 0 / 4 / 0 | **missed** |"), std::string::npos) << md;
+  EXPECT_NE(history_json(j).find("\"search\": {\"by_method\": "), std::string::npos);
+  // A slave point the plan's search lost misses the target whatever its errors.
+  HistoryJudgement lost = j;
+  lost.plan_search[0].refused = 1;
+  EXPECT_FALSE(lost.meets(0, 0));
 }
 
 TEST(SceneHistory, TheHistoryDomainCoversEveryIncrement) {
