@@ -15,7 +15,9 @@
 // at spacing 0.3, 0.05 above it; 9 increments pressed 0.02 down, slid 0.05 along x, turned 0.05 degree),
 // in exact doubles and without the deck or the .frd: one iteration is the whole history, fresh at every
 // increment (surface_search) or tracked (SurfaceTracker) over the increments after the first; ns_per_slave
-// is per slave node and increment. Argument surface: 0 bilinear, 1 Gregory.
+// is per slave node and increment. Arguments: surface 0 bilinear, 1 Gregory; narrow 0 the search, 1 the
+// search before the grid and the certificate (NarrowPhase::kReference: a k-d tree, the reference projection
+// on every face, the tracker's lists). scripts/bench-surface runs them and writes results/surface-search.md.
 //
 // Counters per benchmark: ns_per_slave (wall time / slave nodes), candidates (mean faces whose closest point
 // was computed per slave node for the surface search; segments that passed the segment test for the
@@ -123,6 +125,7 @@ contact::SearchOptions history_options(const benchmark::State& state) {
   contact::SearchOptions options;
   options.surface =
       state.range(1) == 0 ? contactnn::SurfaceKind::kBilinear : contactnn::SurfaceKind::kGregory;
+  options.narrow = state.range(2) == 0 ? contact::NarrowPhase::kCertified : contact::NarrowPhase::kReference;
   return options;
 }
 
@@ -135,6 +138,7 @@ void history_fresh(benchmark::State& state) {
     for (const auto& x : h.positions) contact::surface_search(h.master, h.normals, h.ids, x, options, pairs);
     benchmark::DoNotOptimize(pairs.data());
   }
+  report(state, pairs);  // the last increment's counters; ns_per_slave over them all
   state.counters["ns_per_slave"] =
       benchmark::Counter(static_cast<double>(h.ids.size() * h.positions.size()) * 1e-9,
                          benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
@@ -154,6 +158,7 @@ void history_tracked(benchmark::State& state) {
       tracker.step(h.master, h.normals, h.ids, h.positions[i], pairs);
     benchmark::DoNotOptimize(pairs.data());
   }
+  report(state, pairs);  // the last increment's counters; ns_per_slave over them all
   state.counters["ns_per_slave"] =
       benchmark::Counter(static_cast<double>(h.ids.size() * (h.positions.size() - 1)) * 1e-9,
                          benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
@@ -291,16 +296,19 @@ int main(int argc, char** argv) {
         ->UseRealTime()
         ->Unit(benchmark::kMillisecond);
   }
+  // narrow 1: the search before the grid and the certificate (NarrowPhase::kReference), measured beside.
   for (int threads : {1, 2}) {
     for (int surface : {0, 1}) {
-      for (const auto& [name, fn] :
-           {std::pair<const char*, void (*)(benchmark::State&)>{"history/fresh", history_fresh},
-            {"history/tracked", history_tracked}}) {
-        benchmark::RegisterBenchmark(name, fn)
-            ->Args({threads, surface})
-            ->ArgNames({"threads", "surface"})
-            ->UseRealTime()
-            ->Unit(benchmark::kMillisecond);
+      for (int narrow : {0, 1}) {
+        for (const auto& [name, fn] :
+             {std::pair<const char*, void (*)(benchmark::State&)>{"history/fresh", history_fresh},
+              {"history/tracked", history_tracked}}) {
+          benchmark::RegisterBenchmark(name, fn)
+              ->Args({threads, surface, narrow})
+              ->ArgNames({"threads", "surface", "narrow"})
+              ->UseRealTime()
+              ->Unit(benchmark::kMillisecond);
+        }
       }
     }
   }

@@ -92,8 +92,8 @@ struct FaceHint {
 };
 
 /// The surface search's pieces for one state of a master surface: the faces' bounding spheres and boxes,
-/// their grid (or k-d tree) and adjacency, built once; queries are const and may run concurrently. `master` and
-/// `master_normals` must outlive it.
+/// their grid (or k-d tree) and adjacency, built once; queries are const and may run concurrently. `master`
+/// and `master_normals` must outlive it.
 class SurfaceSearcher {
  public:
   /// InvalidArgument if Gregory normals are missing or the surface's element ids do not match its faces.

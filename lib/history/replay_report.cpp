@@ -168,11 +168,12 @@ std::string summary_md(const std::string& title, const ReplayOptions& options,
   md += ".\n\n";
   md += "Tracking: " + std::to_string(t.differences) + " answers of " + std::to_string(t.slaves) +
         " differ from the fresh search's (face, point to 1e-12, gap); " + std::to_string(t.fresh_lists) +
-        " fresh lists, " + std::to_string(t.tracked) + " nodes answered from their lists (margin " +
-        fmt("%g", options.tracking.margin_relative) +
-        " x the capture distance). Points found: " + std::to_string(t.found) + " (face " +
-        std::to_string(t.locations[0]) + ", edge " + std::to_string(t.locations[1]) + ", vertex " +
-        std::to_string(t.locations[2]) + "); " + std::to_string(t.changed) +
+        " node searches without a previous face, " + std::to_string(t.tracked) +
+        " from their previous face (the grid's margin " + fmt("%g", options.tracking.grid_margin_relative) +
+        " x the capture distance; the reference tracker's lists: " +
+        fmt("%g", options.tracking.margin_relative) + "). Points found: " + std::to_string(t.found) +
+        " (face " + std::to_string(t.locations[0]) + ", edge " + std::to_string(t.locations[1]) +
+        ", vertex " + std::to_string(t.locations[2]) + "); " + std::to_string(t.changed) +
         " times a node moved to another face.\n\n";
   if (t.differences > 0) {
     md +=
@@ -266,7 +267,7 @@ std::string plan_md(const ReplayOptions& options, const std::vector<IncrementRow
 std::string increments_md(const std::vector<IncrementRow>& rows, bool calculix) {
   std::string md =
       "## Per increment\n\n| increment | time | found | face / edge / vertex | faces changed | tracking "
-      "differences | fresh lists | ns fresh | ns tracked |" +
+      "differences | nodes without a previous face | ns fresh | ns tracked |" +
       std::string(calculix ? " CalculiX contacts / found / max \\|gap - COPEN\\| |" : "") +
       "\n|---|---|---|---|---|---|---|---|---|" + std::string(calculix ? "---|" : "") + "\n";
   for (const IncrementRow& r : rows) {
