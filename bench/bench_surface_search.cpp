@@ -73,6 +73,8 @@ Scene make_scene(long slave_count) {
 long g_slaves = 100000;
 long g_history_slaves = 1000;
 
+void report(benchmark::State& state, const std::vector<contact::NodeSegmentPair>& pairs);
+
 /// The large history (header): the master, its normals, the slave ids and the positions per increment.
 struct History {
   mesh::SurfaceMesh master;
