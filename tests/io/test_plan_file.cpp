@@ -8,6 +8,7 @@
 #include <string>
 
 #include "core/error.hpp"
+#include "error_message.hpp"
 #include "io/plan_file.hpp"
 
 namespace contactnn::io {
@@ -73,12 +74,7 @@ std::string with_line(int line, const std::string& text) {
 
 /// The FormatError message of parsing `text` as "plan.toml" ("" when it parses).
 std::string error_of(const std::string& text) {
-  try {
-    (void)parse_plan(text, "plan.toml");
-  } catch (const FormatError& e) {
-    return e.what();
-  }
-  return "";
+  return testing::error_message<FormatError>([&] { (void)parse_plan(text, "plan.toml"); }, "");
 }
 
 TEST(ScenePlan, ReadsEveryFieldOfAHandWrittenPlan) {
