@@ -9,6 +9,7 @@
 #include <string>
 #include <type_traits>
 
+#include "core/enum_names.hpp"
 #include "core/error.hpp"
 #include "core/quote_text.hpp"
 #include "geometry/quadratic_triangle.hpp"
@@ -20,19 +21,14 @@
 
 namespace contactnn::search {
 
-std::string_view to_string(FaceKind kind) {
-  switch (kind) {
-    case FaceKind::kTri3: return "tri3";
-    case FaceKind::kTri6: return "tri6";
-    case FaceKind::kQuad8: return "quad8";
-  }
-  return "?";
-}
+namespace {
+constexpr std::array<std::string_view, 3> kFaceKindNames = {"tri3", "tri6", "quad8"};
+}  // namespace
+
+std::string_view to_string(FaceKind kind) { return enum_name(kFaceKindNames, kind, "?"); }
 
 FaceKind face_kind_from_string(std::string_view name) {
-  if (name == "tri3") return FaceKind::kTri3;
-  if (name == "tri6") return FaceKind::kTri6;
-  if (name == "quad8") return FaceKind::kQuad8;
+  if (const auto kind = enum_from_name<FaceKind>(kFaceKindNames, name)) return *kind;
   CONTACTNN_REQUIRE_AS(InvalidArgument, false,
                        "unknown face type '" << quote_text(name) << "', expected tri3, tri6 or quad8");
   return FaceKind::kTri3;
