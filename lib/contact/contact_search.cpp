@@ -268,18 +268,7 @@ ContactSearch::ContactSearch(std::span<const mesh::FaceType> face_types, std::sp
     m.caller_face.push_back(f);
   }
   // The segments at each node (mesh::node_normals reads them), increasing, as build_surface_mesh makes them.
-  const std::size_t n_nodes = s.mesh_nodes.size();
-  s.adjacency_offsets.assign(n_nodes + 1, 0);
-  for (const auto& quad : s.segments) {
-    for (int n : quad) ++s.adjacency_offsets[static_cast<std::size_t>(n) + 1];
-  }
-  for (std::size_t i = 0; i < n_nodes; ++i) s.adjacency_offsets[i + 1] += s.adjacency_offsets[i];
-  s.adjacency.resize(static_cast<std::size_t>(s.adjacency_offsets[n_nodes]));
-  std::vector<int> fill(s.adjacency_offsets.begin(), s.adjacency_offsets.end() - 1);
-  for (std::size_t q = 0; q < s.segments.size(); ++q) {
-    for (int n : s.segments[q])
-      s.adjacency[static_cast<std::size_t>(fill[static_cast<std::size_t>(n)]++)] = static_cast<int>(q);
-  }
+  mesh::set_adjacency(s);
 
   // The slave points.
   if (free) {
