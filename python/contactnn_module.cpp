@@ -603,13 +603,7 @@ std::unique_ptr<Scene> make_scene(const mesh::ContactModel& model, int pair) {
     s->node_ids.push_back(id);
     s->mesh_index.push_back(index);
   }
-  std::vector<int> order(static_cast<std::size_t>(scene.master.face_count()));
-  std::iota(order.begin(), order.end(), 0);
-  const auto key = [&](int f) {
-    return std::pair(scene.master.face_element_id(f), scene.master.face_of(f).face);
-  };
-  std::sort(order.begin(), order.end(), [&](int a, int b) { return key(a) < key(b); });
-  for (int f : order) {
+  for (int f : contact::master_faces_in_deck_order(scene)) {
     const mesh::FaceNodes face = scene.master.face_nodes(f);
     s->face_types.push_back(static_cast<std::uint8_t>(face.type));
     for (int k : face) s->connectivity.push_back(scene.master.node_ids[static_cast<std::size_t>(k)]);

@@ -63,12 +63,7 @@ HandleInput handle_input(const Scene& scene) {
   std::sort(in.ids.begin(), in.ids.end());
   in.ids.erase(std::unique(in.ids.begin(), in.ids.end()), in.ids.end());
   const int n = scene.master.face_count();
-  in.deck_face.resize(static_cast<std::size_t>(n));
-  std::iota(in.deck_face.begin(), in.deck_face.end(), 0);
-  const auto key = [&](int f) {
-    return std::pair(scene.master.face_element_id(f), scene.master.face_of(f).face);
-  };
-  std::sort(in.deck_face.begin(), in.deck_face.end(), [&](int a, int b) { return key(a) < key(b); });
+  in.deck_face = master_faces_in_deck_order(scene);
   in.caller_face.resize(static_cast<std::size_t>(n));
   for (int i = 0; i < n; ++i) {
     const int f = in.deck_face[static_cast<std::size_t>(i)];
