@@ -274,12 +274,8 @@ CgalRun run_cgal(const Scene& s, int repeats) {
 }
 
 /// The handle's output arrays for the slave nodes.
-struct Outputs {
-  std::vector<int> status, face, location;
-  std::vector<double> param, point, gap, normal;
-  explicit Outputs(std::size_t m)
-      : status(m), face(m), location(m), param(2 * m), point(3 * m), gap(m), normal(3 * m) {}
-  contact::ContactResults results() { return {status, face, location, param, point, gap, normal}; }
+struct Outputs : contact::ContactAnswers {
+  using ContactAnswers::ContactAnswers;
   Answers answers() const {
     for (int st : status)
       if (st != 0) throw std::runtime_error("a slave node without a point");

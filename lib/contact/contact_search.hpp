@@ -88,6 +88,23 @@ struct ContactResults {
   std::span<double> normal;  ///< 3m
 };
 
+/// Arrays that own the answers for m slave points, and the ContactResults over them: status filled with
+/// `status_fill`, face and location with `face_fill`, the reals with `fill`, until an update writes them.
+struct ContactAnswers {
+  std::vector<int> status, face, location;
+  std::vector<double> param, point, gap, normal;
+  explicit ContactAnswers(std::size_t m, int status_fill = 0, int face_fill = 0, double fill = 0.0)
+      : status(m, status_fill),
+        face(m, face_fill),
+        location(m, face_fill),
+        param(2 * m, fill),
+        point(3 * m, fill),
+        gap(m, fill),
+        normal(3 * m, fill) {}
+  ContactResults results() { return {status, face, location, param, point, gap, normal}; }
+  friend bool operator==(const ContactAnswers&, const ContactAnswers&) = default;
+};
+
 class ContactSearch {
  public:
   /// `face_types[i]` and its nodes, concatenated in `connectivity` (4, 8, 3 or 6 ids per face by its type).

@@ -224,18 +224,7 @@ std::array<double, 6> slave_box(std::span<const int> slaves, const std::function
 }
 
 /// The local search's answers for a rank's slave nodes, before they are written to the caller's arrays.
-struct ContactAnswers {
-  std::vector<int> status, face, location;
-  std::vector<double> param, point, gap, normal;
-  explicit ContactAnswers(std::size_t n)
-      : status(n, static_cast<int>(Status::kNoSegment)),
-        face(n, -1),
-        location(n, -1),
-        param(2 * n, 0.0),
-        point(3 * n, 0.0),
-        gap(n, 0.0),
-        normal(3 * n, 0.0) {}
-};
+using contact::ContactAnswers;
 
 /// Sorts `v` and removes repeats.
 template <class T, class Less = std::less<>>
@@ -785,7 +774,7 @@ void DistributedContactSearch::update(std::span<const double> coordinates, const
 
   // 5-6. The ghost faces' coordinates and the local search, whose errors every rank agrees on.
   const auto xyz_in = m.exchange_ghost_coordinates(c);
-  ContactAnswers answers(m.slave_ids.size());
+  ContactAnswers answers(m.slave_ids.size(), static_cast<int>(Status::kNoSegment), -1);
   capture_error(error, [&] { m.search_locally(capture, xyz_in, answers); });
   agree(m.comm, error, c);
 

@@ -165,12 +165,7 @@ Share share_of(const mpi_test::Input& in, const contact::Scene& scene, const std
 }
 
 /// The serial search's answers for every slave node.
-struct Answers {
-  std::vector<int> status, face, location;
-  std::vector<double> param, point, gap, normal;
-  explicit Answers(std::size_t m)
-      : status(m), face(m), location(m), param(2 * m), point(3 * m), gap(m), normal(3 * m) {}
-};
+using Answers = contact::ContactAnswers;
 
 /// One increment of one share: the distributed search, checked against the serial answers `s` (when given).
 void update_share(Share& share, const mpi_test::Input& in, const std::vector<double>& all, const Answers* s) {
@@ -271,10 +266,7 @@ int run(int argc, char** argv, int rank, int size) {
     io::move_to_increment(model.mesh, results, increment);
     scene = contact::make_scene(model, pair);
     const std::vector<double> all = mpi_test::coordinates(in, scene);
-    if (serial)
-      serial->update(all, {},
-                     {answers.status, answers.face, answers.location, answers.param, answers.point,
-                      answers.gap, answers.normal});
+    if (serial) serial->update(all, {}, answers.results());
     for (Share& s : shares) {
       update_share(s, in, all, serial ? &answers : nullptr);
       gather(s, std::to_string(increment + 1));

@@ -62,13 +62,6 @@ std::string arg(int argc, char** argv, const std::string& name, const std::strin
   return fallback;
 }
 
-struct Answers {
-  std::vector<int> status, face, location;
-  std::vector<double> param, point, gap, normal;
-  explicit Answers(std::size_t m)
-      : status(m, -7), face(m, -7), location(m, -7), param(2 * m), point(3 * m), gap(m), normal(3 * m) {}
-};
-
 bool same_bits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
 
 int run(int argc, char** argv, int rank, int size) {
@@ -200,8 +193,8 @@ int run(int argc, char** argv, int rank, int size) {
     std::vector<long> face(k);
     std::vector<double> param(2 * k), point(3 * k), gap(k), normal(3 * k);
     search.update(x, {status, face, owner, location, param, point, gap, normal});
-    Answers s(m);
-    serial.update(all, {}, {s.status, s.face, s.location, s.param, s.point, s.gap, s.normal});
+    contact::ContactAnswers s(m, -7, -7);
+    serial.update(all, {}, s.results());
     for (std::size_t j = 0; j < k; ++j) {
       const std::size_t i = my_slaves[j];
       bool same = status[j] == s.status[i] && face[j] == s.face[i] && location[j] == s.location[i] &&
