@@ -33,6 +33,7 @@
 #include "io/frd_results.hpp"
 #include "io/inp_deck.hpp"
 #include "mpi/distributed_contact_search.hpp"
+#include "mpi_main.hpp"
 
 namespace {
 
@@ -299,17 +300,8 @@ int run(int argc, char** argv, int rank, int size) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  MPI_Init(&argc, &argv);
-  int rank = 0, size = 1;
-  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
-  MPI_Comm_size(MPI_COMM_WORLD, &size);
-  int code = 0;
-  try {
-    code = run(argc, argv, rank, size);
-  } catch (const contactnn::Error& e) {
+  return contactnn::mpi_test::mpi_main(argc, argv, run, [](const contactnn::Error& e, int rank) {
     std::fprintf(stderr, "mpi_communication rank %d: %s\n", rank, e.what());
-    code = 1;
-  }
-  MPI_Finalize();
-  return code;
+    return 1;
+  });
 }

@@ -35,6 +35,7 @@
 #include "deck_input.hpp"
 #include "io/inp_deck.hpp"
 #include "mpi/distributed_contact_search.hpp"
+#include "mpi_main.hpp"
 
 namespace {
 
@@ -246,15 +247,8 @@ int run(int argc, char** argv, int rank, int size) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  MPI_Init(&argc, &argv);
-  int rank = 0, size = 1;
-  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
-  MPI_Comm_size(MPI_COMM_WORLD, &size);
   const bool hostile = !arg(argc, argv, "--hostile", "").empty();
-  int code = 0;
-  try {
-    code = run(argc, argv, rank, size);
-  } catch (const contactnn::Error& e) {
+  return contactnn::mpi_test::mpi_main(argc, argv, run, [&](const contactnn::Error& e, int rank) {
     // Every rank must end with the same error: its exit code and a hash of its message agree everywhere.
     const long mine[2] = {e.exit_code(), static_cast<long>(std::hash<std::string>{}(e.what()) >> 1)};
     long low[2] = {0, 0}, high[2] = {0, 0};
@@ -265,8 +259,6 @@ int main(int argc, char** argv) {
       std::printf("every rank: %s error (exit code %d): %s\n", same ? "the same" : "NOT the same",
                   e.exit_code(), e.what());
     }
-    code = hostile && same ? 0 : 1;
-  }
-  MPI_Finalize();
-  return code;
+    return hostile && same ? 0 : 1;
+  });
 }
