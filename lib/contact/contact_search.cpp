@@ -310,18 +310,7 @@ void ContactSearch::update(std::span<const double> coordinates, std::span<const 
         "contact search update: " << free_points.size()
                                   << " free-point coordinates given to a search of slave nodes");
   }
-  const auto check_size = [&](const char* name, std::size_t size, std::size_t per, bool required) {
-    CONTACTNN_REQUIRE_AS(InvalidArgument, size == per * n || (!required && size == 0),
-                         "contact search update: output " << name << " holds " << size << " values, expected "
-                                                          << per * n << (required ? "" : " (or none)"));
-  };
-  check_size("status", out.status.size(), 1, true);
-  check_size("face", out.face.size(), 1, true);
-  check_size("location", out.location.size(), 1, false);
-  check_size("param", out.param.size(), 2, false);
-  check_size("point", out.point.size(), 3, false);
-  check_size("gap", out.gap.size(), 1, false);
-  check_size("normal", out.normal.size(), 3, false);
+  check_output_sizes("contact search update", out, n);
   const auto node_at = [&](int i) {
     const auto u = 3 * static_cast<std::size_t>(i);
     return Vec3(coordinates[u], coordinates[u + 1], coordinates[u + 2]);

@@ -470,20 +470,7 @@ void DistributedContactSearch::Impl::check_update(const DistributedResults& out)
                        "contact search under MPI update: " << coordinates.size()
                                                            << " coordinates, expected 3 x " << node_ids.size()
                                                            << " nodes");
-  const auto check_size = [&](const char* name, std::size_t given, std::size_t per, bool required) {
-    CONTACTNN_REQUIRE_AS(InvalidArgument, given == per * n || (!required && given == 0),
-                         "contact search under MPI update: output " << name << " holds " << given
-                                                                    << " values, expected " << per * n
-                                                                    << (required ? "" : " (or none)"));
-  };
-  check_size("status", out.status.size(), 1, true);
-  check_size("face", out.face.size(), 1, true);
-  check_size("owner", out.owner.size(), 1, false);
-  check_size("location", out.location.size(), 1, false);
-  check_size("param", out.param.size(), 2, false);
-  check_size("point", out.point.size(), 3, false);
-  check_size("gap", out.gap.size(), 1, false);
-  check_size("normal", out.normal.size(), 3, false);
+  contact::check_output_sizes("contact search under MPI update", out, n);
   for (std::size_t i = 0; i < used.size(); ++i) {
     if (used[i] == 0) continue;
     const Vec3 x = node_at(static_cast<int>(i));
