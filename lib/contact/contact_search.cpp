@@ -247,26 +247,27 @@ ContactSearch::ContactSearch(std::span<const mesh::FaceType> face_types, std::sp
     }
     return out;
   };
-  for (const int f : quads) {
-    const auto& n = face_nodes[static_cast<std::size_t>(f)];
-    s.segments.push_back(to_local(n, 0, 4));
-    s.segment_faces.push_back({f, 1});
-    s.segment_element_ids.push_back(f);
-    if (quad8)
-      s.segment_midsides.push_back(
-          to_local(n, 4, face_types[static_cast<std::size_t>(f)] == mesh::FaceType::kQuad8 ? 4 : 0));
-    m.caller_face.push_back(f);
-  }
-  for (const int f : triangles) {
-    const auto& n = face_nodes[static_cast<std::size_t>(f)];
-    s.extra_faces.push_back(to_local(n, 0, 3));
-    s.extra_face_faces.push_back({f, 1});
-    s.extra_face_element_ids.push_back(f);
-    if (tri6)
-      s.extra_face_midsides.push_back(
-          to_local(n, 3, face_types[static_cast<std::size_t>(f)] == mesh::FaceType::kTri6 ? 3 : 0));
-    m.caller_face.push_back(f);
-  }
+  // Faces `list` with `corners` corners into the surface's lists (corners, element faces, element ids,
+  // mid-side nodes: those of a face of type `quadratic`, none for the others, kept only when
+  // `any_quadratic`).
+  const auto add_faces = [&](const std::vector<int>& list, int corners, mesh::FaceType quadratic,
+                             bool any_quadratic, auto& faces, auto& element_faces, auto& element_ids,
+                             auto& midsides) {
+    for (const int f : list) {
+      const auto& n = face_nodes[static_cast<std::size_t>(f)];
+      faces.push_back(to_local(n, 0, corners));
+      element_faces.push_back({f, 1});
+      element_ids.push_back(f);
+      if (any_quadratic)
+        midsides.push_back(
+            to_local(n, corners, face_types[static_cast<std::size_t>(f)] == quadratic ? corners : 0));
+      m.caller_face.push_back(f);
+    }
+  };
+  add_faces(quads, 4, mesh::FaceType::kQuad8, quad8, s.segments, s.segment_faces, s.segment_element_ids,
+            s.segment_midsides);
+  add_faces(triangles, 3, mesh::FaceType::kTri6, tri6, s.extra_faces, s.extra_face_faces,
+            s.extra_face_element_ids, s.extra_face_midsides);
   // The segments at each node (mesh::node_normals reads them), increasing, as build_surface_mesh makes them.
   mesh::set_adjacency(s);
 
