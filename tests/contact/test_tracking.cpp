@@ -9,6 +9,7 @@
 
 #include "contact/tracking.hpp"
 #include "mesh/grid_surface.hpp"
+#include "surface_params.hpp"
 
 namespace contactnn::contact {
 namespace {
@@ -203,10 +204,7 @@ TEST(Tracking, SameResultsForAnyThreadCount) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(Surfaces, Tracking, ::testing::Values(SurfaceKind::kBilinear, SurfaceKind::kGregory),
-                         [](const ::testing::TestParamInfo<SurfaceKind>& param_info) {
-                           return std::string(to_string(param_info.param));
-                         });
+INSTANTIATE_TEST_SUITE_P(Surfaces, Tracking, testing::kBothSurfaces, testing::surface_name);
 
 }  // namespace
 }  // namespace contactnn::contact
