@@ -274,12 +274,8 @@ CgalRun run_cgal(const Scene& s, int repeats) {
 }
 
 /// The handle's output arrays for the slave nodes.
-struct Outputs {
-  std::vector<int> status, face, location;
-  std::vector<double> param, point, gap, normal;
-  explicit Outputs(std::size_t m)
-      : status(m), face(m), location(m), param(2 * m), point(3 * m), gap(m), normal(3 * m) {}
-  contact::ContactResults results() { return {status, face, location, param, point, gap, normal}; }
+struct Outputs : contact::ContactAnswers {
+  using ContactAnswers::ContactAnswers;
   Answers answers() const {
     for (int st : status)
       if (st != 0) throw std::runtime_error("a slave node without a point");
@@ -307,6 +303,21 @@ struct ContactRun {
   contact::TrackingCounts counts;  ///< of the tracked run's last increment
 };
 
+/// `handle` updated at increment 0, then timed at every later increment, after(increment) following each
+/// update.
+template <class After>
+Times later_increments(contact::ContactSearch& handle, const Scene& s, Outputs& out, const After& after) {
+  handle.update(s.coordinates[0], {}, out.results());
+  Times times;
+  for (std::size_t inc = 1; inc < s.coordinates.size(); ++inc) {
+    const Stamp t0 = now();
+    handle.update(s.coordinates[inc], {}, out.results());
+    times.add(t0);
+    after(inc);
+  }
+  return times;
+}
+
 /// The fresh and the tracked runs (either alone for a profile); checked against `cgal` where given.
 ContactRun run_contactnn(const Scene& s, const CgalRun* cgal, int repeats, const std::string& part) {
   ContactRun run;
@@ -326,26 +337,13 @@ ContactRun run_contactnn(const Scene& s, const CgalRun* cgal, int repeats, const
     if (part == "fresh") continue;
     if (part == "all") {
       contact::ContactSearch again = make_handle(s, false);
-      again.update(s.coordinates[0], {}, out.results());
-      Times reused;
-      for (std::size_t inc = 1; inc < s.coordinates.size(); ++inc) {
-        const Stamp t0 = now();
-        again.update(s.coordinates[inc], {}, out.results());
-        reused.add(t0);
-      }
-      run.reused.take(reused);
+      run.reused.take(later_increments(again, s, out, [](std::size_t) {}));
     }
     contact::ContactSearch handle = make_handle(s, true);
-    handle.update(s.coordinates[0], {}, out.results());
-    Times tracked;
-    for (std::size_t inc = 1; inc < s.coordinates.size(); ++inc) {
-      const Stamp t0 = now();
-      handle.update(s.coordinates[inc], {}, out.results());
-      tracked.add(t0);
+    run.tracked.take(later_increments(handle, s, out, [&](std::size_t inc) {
       if (r == 0 && cgal != nullptr)
         run.tracked_difference.add(out.answers(), cgal->answers[inc], s.face_size);
-    }
-    run.tracked.take(tracked);
+    }));
     run.counts = handle.counts();
   }
   return run;

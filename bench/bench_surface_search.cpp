@@ -280,17 +280,14 @@ int main(int argc, char** argv) {
   for (int threads : {1, 2}) {
     for (int narrow : {0, 1}) {
       const char* name = narrow == 0 ? "global/surface" : "global/surface_reference";
-      benchmark::RegisterBenchmark(name, surface)
-          ->Args({threads, narrow})
-          ->ArgNames({"threads", "narrow"})
-          ->UseRealTime()
-          ->Unit(benchmark::kMillisecond);
       const char* tracked = narrow == 0 ? "global/surface_tracked" : "global/surface_tracked_reference";
-      benchmark::RegisterBenchmark(tracked, surface_tracked)
-          ->Args({threads, narrow})
-          ->ArgNames({"threads", "narrow"})
-          ->UseRealTime()
-          ->Unit(benchmark::kMillisecond);
+      for (const auto& [label, run] : {std::pair{name, &surface}, std::pair{tracked, &surface_tracked}}) {
+        benchmark::RegisterBenchmark(label, run)
+            ->Args({threads, narrow})
+            ->ArgNames({"threads", "narrow"})
+            ->UseRealTime()
+            ->Unit(benchmark::kMillisecond);
+      }
     }
     benchmark::RegisterBenchmark("global/nearest_node", nearest_node)
         ->Arg(threads)

@@ -6,6 +6,8 @@
 
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <exception>
 #include <sstream>
@@ -167,6 +169,16 @@ inline std::string fuzz_config(const std::uint8_t* data, std::size_t size) {
     return std::string("reading the effective config back threw: ") + e.what();
   }
   return "";
+}
+
+/// A libFuzzer target's verdict on one input: a `problem` ("" for none) is printed, named by the `target`,
+/// and aborts the process (libFuzzer's finding); otherwise 0, what LLVMFuzzerTestOneInput returns.
+inline int verdict(const char* target, const std::string& problem) {
+  if (!problem.empty()) {
+    std::fprintf(stderr, "%s: %s\n", target, problem.c_str());
+    std::abort();
+  }
+  return 0;
 }
 
 }  // namespace contactnn::fuzz

@@ -271,6 +271,24 @@ std::shared_ptr<Network> make_network(const py::list& weights, const py::list& t
   refuse_value("network: real_type '" + real_type + "', expected float64 or float32");
 }
 
+/// Per layer l of `net`, a float64 copy: W_l of shape (n_{l+1}, n_l) (`weights`), else theta_l of n_{l+1}
+/// values.
+template <class Net>
+py::list layer_arrays(const Net& net, bool weights) {
+  py::list out;
+  for (int l = 0; l < net.layer_count(); ++l) {
+    const auto rows = net.layer_sizes()[static_cast<std::size_t>(l) + 1];
+    const auto cols = weights ? net.layer_sizes()[static_cast<std::size_t>(l)] : 1;
+    py::array_t<double> a =
+        weights ? py::array_t<double>({static_cast<py::ssize_t>(rows), static_cast<py::ssize_t>(cols)})
+                : py::array_t<double>(rows);
+    const auto* from = weights ? net.weights(l) : net.thresholds(l);
+    std::copy(from, from + rows * cols, a.mutable_data());
+    out.append(a);
+  }
+  return out;
+}
+
 py::array_t<double> network_evaluate(const Network& n, const py::handle& object) {
   py::array features = as_array(object);
   const int inputs = n.visit([](const auto& t) { return t.network.input_count(); });
@@ -603,13 +621,7 @@ std::unique_ptr<Scene> make_scene(const mesh::ContactModel& model, int pair) {
     s->node_ids.push_back(id);
     s->mesh_index.push_back(index);
   }
-  std::vector<int> order(static_cast<std::size_t>(scene.master.face_count()));
-  std::iota(order.begin(), order.end(), 0);
-  const auto key = [&](int f) {
-    return std::pair(scene.master.face_element_id(f), scene.master.face_of(f).face);
-  };
-  std::sort(order.begin(), order.end(), [&](int a, int b) { return key(a) < key(b); });
-  for (int f : order) {
+  for (int f : contact::master_faces_in_deck_order(scene)) {
     const mesh::FaceNodes face = scene.master.face_nodes(f);
     s->face_types.push_back(static_cast<std::uint8_t>(face.type));
     for (int k : face) s->connectivity.push_back(scene.master.node_ids[static_cast<std::size_t>(k)]);
@@ -697,32 +709,13 @@ PYBIND11_MODULE(_contactnn, m) {
       .def_property_readonly(
           "weights",
           [](const Network& n) {
-            return n.visit([](const auto& t) {
-              py::list out;
-              for (int l = 0; l < t.network.layer_count(); ++l) {
-                const auto rows = t.network.layer_sizes()[static_cast<std::size_t>(l) + 1];
-                const auto cols = t.network.layer_sizes()[static_cast<std::size_t>(l)];
-                py::array_t<double> w({static_cast<py::ssize_t>(rows), static_cast<py::ssize_t>(cols)});
-                std::copy(t.network.weights(l), t.network.weights(l) + rows * cols, w.mutable_data());
-                out.append(w);
-              }
-              return out;
-            });
+            return n.visit([](const auto& t) { return layer_arrays(t.network, true); });
           },
           "W_l, float64 arrays of shape (n_{l+1}, n_l) (Eq 13: row j holds unit j's incoming weights)")
       .def_property_readonly(
           "thresholds",
           [](const Network& n) {
-            return n.visit([](const auto& t) {
-              py::list out;
-              for (int l = 0; l < t.network.layer_count(); ++l) {
-                const auto rows = t.network.layer_sizes()[static_cast<std::size_t>(l) + 1];
-                py::array_t<double> b(rows);
-                std::copy(t.network.thresholds(l), t.network.thresholds(l) + rows, b.mutable_data());
-                out.append(b);
-              }
-              return out;
-            });
+            return n.visit([](const auto& t) { return layer_arrays(t.network, false); });
           },
           "theta_l, float64 arrays of n_{l+1} values (U_j = sum_i W_ji I_i - theta_j)")
       .def_property_readonly("scaling",

@@ -4,6 +4,8 @@ succeed, and the exit status at the end (0 all passed, 1 a failure).
   sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
   from check_support import Failures, run_or_exit
 """
+import os
+import shutil
 import subprocess
 
 
@@ -39,3 +41,27 @@ def run_or_exit(command, **kwargs):
     if p.returncode != 0:
         raise SystemExit(f"FAIL: {' '.join(command)} exited {p.returncode}:\n{p.stdout}\n{p.stderr}")
     return p
+
+
+def add_consumer_options(parser):
+    """The options build_consumer reads (CMake gives them: tests/capi/CMakeLists.txt, tests/examples/), and
+    --source-dir and --valgrind, which every such check takes too."""
+    for name in ("--cmake", "--generator", "--prefix", "--work", "--source-dir"):
+        parser.add_argument(name, required=True)
+    parser.add_argument("--valgrind", default="")
+    parser.add_argument("--set", action="append", default=[])
+
+
+def build_consumer(args, project, configure_extra=(), build_extra=()):
+    """A fresh build of the consumer project `project` in args.work/build, against the installed package at
+    args.prefix alone (CMAKE_PREFIX_PATH, no package registry), args.set as more -D settings: what an FE code's
+    build sees (args: cmake, generator, prefix, work, set). A failing step ends the script. Returns the build
+    directory and the build's output."""
+    if os.path.exists(args.work):
+        shutil.rmtree(args.work)
+    build = os.path.join(args.work, "build")
+    configure = [args.cmake, "-S", project, "-B", build, "-G", args.generator,
+                 f"-DCMAKE_PREFIX_PATH={os.path.abspath(args.prefix)}", "-DCMAKE_FIND_USE_PACKAGE_REGISTRY=OFF"]
+    configure += list(configure_extra) + [f"-D{s}" for s in args.set]
+    run_or_exit(configure)
+    return build, run_or_exit([args.cmake, "--build", build, *build_extra]).stdout

@@ -110,4 +110,12 @@ inline std::filesystem::path test_output_dir(const std::string& name) {
   return dir;
 }
 
+/// test_output_dir(group) / name, emptied (or created): a fresh folder for one test case.
+inline std::filesystem::path fresh_test_dir(const std::string& group, const std::string& name) {
+  const auto dir = test_output_dir(group) / name;
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  return dir;
+}
+
 }  // namespace contactnn::testing

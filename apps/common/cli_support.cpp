@@ -621,4 +621,18 @@ std::vector<std::string> warn_unapplied_geometry(const char* tool, const std::st
   return keywords;
 }
 
+std::string join_command_line(int argc, char** argv) {
+  std::string out;
+  for (int i = 0; i < argc; ++i) {
+    std::string arg = argv[i];
+    if (arg.find_first_of(" \t\"'$\\") != std::string::npos) {
+      std::string quoted = "'";
+      for (const char c : arg) quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
+      arg = quoted + "'";
+    }
+    out += (i > 0 ? " " : "") + arg;
+  }
+  return out;
+}
+
 }  // namespace contactnn::cli

@@ -109,6 +109,10 @@ void warn_about_raw_output(const char* tools, const std::string& input, const st
 /// warning from `tool`; returned for the tool's summary.
 std::vector<std::string> warn_unapplied_geometry(const char* tool, const std::string& deck);
 
+/// The command line as one shell-quoted string (an argument with a space, a quote, '$' or '\' in single
+/// quotes), for the provenance lines of a tool's outputs.
+[[nodiscard]] std::string join_command_line(int argc, char** argv);
+
 /// Adds the exit-code table to the app's --help footer.
 void add_exit_code_footer(CLI::App& app);
 

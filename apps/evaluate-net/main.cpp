@@ -85,20 +85,6 @@ struct Paths {
   std::string command_line;
 };
 
-std::string join_command_line(int argc, char** argv) {
-  std::string out;
-  for (int i = 0; i < argc; ++i) {
-    std::string arg = argv[i];
-    if (arg.find_first_of(" \t\"'$\\") != std::string::npos) {
-      std::string quoted = "'";
-      for (const char c : arg) quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
-      arg = quoted + "'";
-    }
-    out += (i > 0 ? " " : "") + arg;
-  }
-  return out;
-}
-
 /// A network file read and made ready for lib/search.
 struct LoadedNetwork {
   std::string path, name, summary;
@@ -495,7 +481,7 @@ int main(int argc, char** argv) {
     // 2. Mode, threads and outputs, checked before any work.
     check_mode(paths);
     if (threads > 0) omp_set_num_threads(threads);
-    paths.command_line = join_command_line(argc, argv);
+    paths.command_line = cli::join_command_line(argc, argv);
     const std::string effective = cli::effective_config(app, "evaluate-net");
     const std::unique_ptr<io::AtomicDirectory> report_directory = check_outputs(app, paths);
 

@@ -70,20 +70,6 @@ using namespace contactnn;
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
-std::string join_command_line(int argc, char** argv) {
-  std::string out;
-  for (int i = 0; i < argc; ++i) {
-    std::string arg = argv[i];
-    if (arg.find_first_of(" \t\"'$\\") != std::string::npos) {
-      std::string quoted = "'";
-      for (const char c : arg) quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
-      arg = quoted + "'";
-    }
-    out += (i > 0 ? " " : "") + arg;
-  }
-  return out;
-}
-
 /// "16,32,48" -> {16, 32, 48}; InvalidArgument naming --sizes otherwise.
 std::vector<int> parse_sizes(const std::string& text) {
   std::vector<int> sizes;
@@ -660,9 +646,9 @@ int main(int argc, char** argv) {
           InvalidArgument, a.general != !a.scene_path.empty(),
           "--face: give --scene DECK (the deck's faces) or --general (the paper-like domain), not both");
       return run_face_mode(a.scene_path, a.pair, search::face_kind_from_string(a.face_name), f, a.output,
-                           inputs, a.check_only, a.quiet, join_command_line(argc, argv),
+                           inputs, a.check_only, a.quiet, cli::join_command_line(argc, argv),
                            a.general ? a.curvature : -1.0);
     }
-    return run_scene_study(app, a, inputs, join_command_line(argc, argv), start);
+    return run_scene_study(app, a, inputs, cli::join_command_line(argc, argv), start);
   });
 }

@@ -247,39 +247,29 @@ ContactSearch::ContactSearch(std::span<const mesh::FaceType> face_types, std::sp
     }
     return out;
   };
-  for (const int f : quads) {
-    const auto& n = face_nodes[static_cast<std::size_t>(f)];
-    s.segments.push_back(to_local(n, 0, 4));
-    s.segment_faces.push_back({f, 1});
-    s.segment_element_ids.push_back(f);
-    if (quad8)
-      s.segment_midsides.push_back(
-          to_local(n, 4, face_types[static_cast<std::size_t>(f)] == mesh::FaceType::kQuad8 ? 4 : 0));
-    m.caller_face.push_back(f);
-  }
-  for (const int f : triangles) {
-    const auto& n = face_nodes[static_cast<std::size_t>(f)];
-    s.extra_faces.push_back(to_local(n, 0, 3));
-    s.extra_face_faces.push_back({f, 1});
-    s.extra_face_element_ids.push_back(f);
-    if (tri6)
-      s.extra_face_midsides.push_back(
-          to_local(n, 3, face_types[static_cast<std::size_t>(f)] == mesh::FaceType::kTri6 ? 3 : 0));
-    m.caller_face.push_back(f);
-  }
+  // Faces `list` with `corners` corners into the surface's lists (corners, element faces, element ids,
+  // mid-side nodes: those of a face of type `quadratic`, none for the others, kept only when
+  // `any_quadratic`).
+  const auto add_faces = [&](const std::vector<int>& list, int corners, mesh::FaceType quadratic,
+                             bool any_quadratic, auto& faces, auto& element_faces, auto& element_ids,
+                             auto& midsides) {
+    for (const int f : list) {
+      const auto& n = face_nodes[static_cast<std::size_t>(f)];
+      faces.push_back(to_local(n, 0, corners));
+      element_faces.push_back({f, 1});
+      element_ids.push_back(f);
+      if (any_quadratic)
+        midsides.push_back(
+            to_local(n, corners, face_types[static_cast<std::size_t>(f)] == quadratic ? corners : 0));
+      m.caller_face.push_back(f);
+    }
+  };
+  add_faces(quads, 4, mesh::FaceType::kQuad8, quad8, s.segments, s.segment_faces, s.segment_element_ids,
+            s.segment_midsides);
+  add_faces(triangles, 3, mesh::FaceType::kTri6, tri6, s.extra_faces, s.extra_face_faces,
+            s.extra_face_element_ids, s.extra_face_midsides);
   // The segments at each node (mesh::node_normals reads them), increasing, as build_surface_mesh makes them.
-  const std::size_t n_nodes = s.mesh_nodes.size();
-  s.adjacency_offsets.assign(n_nodes + 1, 0);
-  for (const auto& quad : s.segments) {
-    for (int n : quad) ++s.adjacency_offsets[static_cast<std::size_t>(n) + 1];
-  }
-  for (std::size_t i = 0; i < n_nodes; ++i) s.adjacency_offsets[i + 1] += s.adjacency_offsets[i];
-  s.adjacency.resize(static_cast<std::size_t>(s.adjacency_offsets[n_nodes]));
-  std::vector<int> fill(s.adjacency_offsets.begin(), s.adjacency_offsets.end() - 1);
-  for (std::size_t q = 0; q < s.segments.size(); ++q) {
-    for (int n : s.segments[q])
-      s.adjacency[static_cast<std::size_t>(fill[static_cast<std::size_t>(n)]++)] = static_cast<int>(q);
-  }
+  mesh::set_adjacency(s);
 
   // The slave points.
   if (free) {
@@ -321,18 +311,7 @@ void ContactSearch::update(std::span<const double> coordinates, std::span<const 
         "contact search update: " << free_points.size()
                                   << " free-point coordinates given to a search of slave nodes");
   }
-  const auto check_size = [&](const char* name, std::size_t size, std::size_t per, bool required) {
-    CONTACTNN_REQUIRE_AS(InvalidArgument, size == per * n || (!required && size == 0),
-                         "contact search update: output " << name << " holds " << size << " values, expected "
-                                                          << per * n << (required ? "" : " (or none)"));
-  };
-  check_size("status", out.status.size(), 1, true);
-  check_size("face", out.face.size(), 1, true);
-  check_size("location", out.location.size(), 1, false);
-  check_size("param", out.param.size(), 2, false);
-  check_size("point", out.point.size(), 3, false);
-  check_size("gap", out.gap.size(), 1, false);
-  check_size("normal", out.normal.size(), 3, false);
+  check_output_sizes("contact search update", out, n);
   const auto node_at = [&](int i) {
     const auto u = 3 * static_cast<std::size_t>(i);
     return Vec3(coordinates[u], coordinates[u + 1], coordinates[u + 2]);

@@ -46,12 +46,14 @@
 // Bad input throws (InvalidArgument, NumericalError for a non-finite coordinate) before anything is written.
 #pragma once
 
+#include <cstddef>
 #include <memory>
 #include <span>
 #include <vector>
 
 #include "contact/surface_search.hpp"
 #include "contact/tracking.hpp"
+#include "core/error.hpp"
 #include "mesh/surface_mesh.hpp"
 
 namespace contactnn::contact {
@@ -86,6 +88,43 @@ struct ContactResults {
   std::span<double> point;  ///< 3m
   std::span<double> gap;
   std::span<double> normal;  ///< 3m
+};
+
+/// InvalidArgument ("<who>: output face holds 3 values, expected 2") unless every output array of `out`
+/// (ContactResults, or mpi::DistributedResults with its owner) holds its values for n slave points: status
+/// and face required, the others as many or none.
+template <class Results>
+void check_output_sizes(const char* who, const Results& out, std::size_t n) {
+  const auto check = [&](const char* name, std::size_t given, std::size_t per, bool required) {
+    CONTACTNN_REQUIRE_AS(InvalidArgument, given == per * n || (!required && given == 0),
+                         who << ": output " << name << " holds " << given << " values, expected " << per * n
+                             << (required ? "" : " (or none)"));
+  };
+  check("status", out.status.size(), 1, true);
+  check("face", out.face.size(), 1, true);
+  if constexpr (requires { out.owner; }) check("owner", out.owner.size(), 1, false);
+  check("location", out.location.size(), 1, false);
+  check("param", out.param.size(), 2, false);
+  check("point", out.point.size(), 3, false);
+  check("gap", out.gap.size(), 1, false);
+  check("normal", out.normal.size(), 3, false);
+}
+
+/// Arrays that own the answers for m slave points, and the ContactResults over them: status filled with
+/// `status_fill`, face and location with `face_fill`, the reals with `fill`, until an update writes them.
+struct ContactAnswers {
+  std::vector<int> status, face, location;
+  std::vector<double> param, point, gap, normal;
+  explicit ContactAnswers(std::size_t m, int status_fill = 0, int face_fill = 0, double fill = 0.0)
+      : status(m, status_fill),
+        face(m, face_fill),
+        location(m, face_fill),
+        param(2 * m, fill),
+        point(3 * m, fill),
+        gap(m, fill),
+        normal(3 * m, fill) {}
+  ContactResults results() { return {status, face, location, param, point, gap, normal}; }
+  friend bool operator==(const ContactAnswers&, const ContactAnswers&) = default;
 };
 
 class ContactSearch {

@@ -5,7 +5,9 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <numeric>
 #include <string>
+#include <utility>
 
 #include "contact/surface_search.hpp"
 #include "core/error.hpp"
@@ -168,6 +170,16 @@ double largest_relative_offset(const SceneResult& result) {
     if (shortest > 0.0) largest = std::max(largest, std::abs(p.label.gap) / shortest);
   }
   return largest;
+}
+
+std::vector<int> master_faces_in_deck_order(const Scene& scene) {
+  std::vector<int> order(static_cast<std::size_t>(scene.master.face_count()));
+  std::iota(order.begin(), order.end(), 0);
+  const auto key = [&](int f) {
+    return std::pair(scene.master.face_element_id(f), scene.master.face_of(f).face);
+  };
+  std::sort(order.begin(), order.end(), [&](int a, int b) { return key(a) < key(b); });
+  return order;
 }
 
 }  // namespace contactnn::contact

@@ -62,6 +62,11 @@ struct SceneResult {
 /// counts and statistics.
 [[nodiscard]] SceneResult search_scene(const Scene& scene, const SearchOptions& options);
 
+/// The master surface's faces in the deck's order, by element id and then face number: the order in which an
+/// FE code lists them to the contact search handle (contact_search.hpp), as the tests, the MPI checks and the
+/// Python module give them.
+[[nodiscard]] std::vector<int> master_faces_in_deck_order(const Scene& scene);
+
 /// The largest |gap| of the found pairs (statuses ok and outside) divided by the shortest edge of the pair's
 /// segment: how far from its segments the scene's own slave nodes lie (0 when no pair has a gap).
 [[nodiscard]] double largest_relative_offset(const SceneResult& result);

@@ -8,6 +8,7 @@
 
 #include "core/error.hpp"
 #include "dataset/labeller.hpp"
+#include "dataset/progress_counter.hpp"
 #include "dataset/random_stream.hpp"
 #include "geometry/segment_checks.hpp"
 
@@ -139,8 +140,7 @@ LabelledSet enumerate_configurations(const EnumerationOptions& options, Enumerat
   // 2. Label every candidate in parallel into preallocated arrays; row order is fixed by the index.
   LabelledSet all;
   all.resize(total, kind);
-  std::atomic<std::int64_t> done{0};
-  auto last_report = std::chrono::steady_clock::now();
+  detail::ProgressCounter rows_done(progress, total, 1024);
   const Vec3 a = Vec3::Zero();
   const Vec3 b(1.0, 0.0, 0.0);
 #pragma omp parallel for schedule(dynamic, 1024)
@@ -156,16 +156,9 @@ LabelledSet enumerate_configurations(const EnumerationOptions& options, Enumerat
     }
     const Label label = label_configuration(config, kind, options.projection);
     store_label(label, row, all);
-    const std::int64_t finished = ++done;
-    if (progress && omp_get_thread_num() == 0 && (finished & 1023) == 0) {
-      const auto now = std::chrono::steady_clock::now();
-      if (now - last_report > std::chrono::milliseconds(500)) {
-        last_report = now;
-        progress(finished, total);
-      }
-    }
+    rows_done.row_done();
   }
-  if (progress) progress(total, total);
+  rows_done.finish();
 
   // 3. Counts, then (optionally) keep only projections inside the segment.
   LabelledSet result = kept_rows(all, options, summary);

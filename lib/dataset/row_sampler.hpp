@@ -16,6 +16,7 @@
 #include "dataset/enumeration.hpp"
 #include "dataset/labelled_set.hpp"
 #include "dataset/labeller.hpp"
+#include "dataset/progress_counter.hpp"
 #include "dataset/random_stream.hpp"
 
 namespace contactnn::dataset::detail {
@@ -44,9 +45,8 @@ LabelledSet sample_rows(SurfaceKind kind, std::int64_t count, std::uint64_t seed
   LabelledSet set;
   set.resize(count, kind);
   std::vector<RowTally> tally(static_cast<std::size_t>(count));
-  std::atomic<std::int64_t> done{0};
+  ProgressCounter rows_done(progress, count, 256);
   std::atomic<bool> hopeless{false};
-  auto last_report = std::chrono::steady_clock::now();
 #pragma omp parallel for schedule(dynamic, 256)
   for (std::int64_t row = 0; row < count; ++row) {
     if (hopeless.load(std::memory_order_relaxed)) continue;
@@ -66,17 +66,10 @@ LabelledSet sample_rows(SurfaceKind kind, std::int64_t count, std::uint64_t seed
       store_label(*a.label, static_cast<Eigen::Index>(row), set);
       break;
     }
-    const std::int64_t finished = ++done;
-    if (progress && omp_get_thread_num() == 0 && (finished & 255) == 0) {
-      const auto now = std::chrono::steady_clock::now();
-      if (now - last_report > std::chrono::milliseconds(500)) {
-        last_report = now;
-        progress(finished, count);
-      }
-    }
+    rows_done.row_done();
   }
   CONTACTNN_REQUIRE(!hopeless, hopeless_message);
-  if (progress) progress(count, count);
+  rows_done.finish();
 
   summary = EnumerationSummary{};
   for (const RowTally& t : tally) {

@@ -5,9 +5,14 @@
 namespace contactnn::geometry {
 
 double max_node_distance(const std::array<Vec3, 4>& nodes) {
+  return max_node_distance(std::span<const Vec3>(nodes));
+}
+
+double max_node_distance(std::span<const Vec3> nodes) {
   double longest = 0.0;
-  for (int i = 0; i < 4; ++i) {
-    for (int j = i + 1; j < 4; ++j) longest = std::max(longest, (nodes[i] - nodes[j]).norm());
+  for (std::size_t i = 0; i < nodes.size(); ++i) {
+    for (std::size_t j = i + 1; j < nodes.size(); ++j)
+      longest = std::max(longest, (nodes[i] - nodes[j]).norm());
   }
   return longest;
 }

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <array>
+#include <span>
 
 #include "geometry/surface_point.hpp"
 
@@ -43,5 +44,7 @@ class BilinearPatch {
 
 /// Longest distance between any two of the four nodes (0 for a fully collapsed segment).
 [[nodiscard]] double max_node_distance(const std::array<Vec3, 4>& nodes);
+/// Longest distance between any two of a face's nodes (the length scale of the quadratic faces too).
+[[nodiscard]] double max_node_distance(std::span<const Vec3> nodes);
 
 }  // namespace contactnn::geometry

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "geometry/bilinear_patch.hpp"
+
 namespace contactnn::geometry {
 
 QuadraticTriangle::QuadraticTriangle(const std::array<Vec3, 6>& nodes) : nodes_(nodes) {
@@ -31,14 +33,7 @@ SurfacePoint QuadraticTriangle::evaluate(double r, double s) const {
   return p;
 }
 
-double QuadraticTriangle::characteristic_length() const {
-  double longest = 0.0;
-  for (std::size_t i = 0; i < nodes_.size(); ++i) {
-    for (std::size_t j = i + 1; j < nodes_.size(); ++j)
-      longest = std::max(longest, (nodes_[i] - nodes_[j]).norm());
-  }
-  return longest;
-}
+double QuadraticTriangle::characteristic_length() const { return max_node_distance(nodes_); }
 
 std::array<Vec3, 6> QuadraticTriangle::bezier_control_points() const {
   const auto edge = [&](std::size_t x, std::size_t y, std::size_t m) {

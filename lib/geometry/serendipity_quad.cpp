@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "geometry/bilinear_patch.hpp"
+
 namespace contactnn::geometry {
 
 SerendipityQuad::SerendipityQuad(const std::array<Vec3, 8>& nodes) : nodes_(nodes) {
@@ -37,14 +39,7 @@ SurfacePoint SerendipityQuad::evaluate(double xi, double eta) const {
   return p;
 }
 
-double SerendipityQuad::characteristic_length() const {
-  double longest = 0.0;
-  for (std::size_t i = 0; i < nodes_.size(); ++i) {
-    for (std::size_t j = i + 1; j < nodes_.size(); ++j)
-      longest = std::max(longest, (nodes_[i] - nodes_[j]).norm());
-  }
-  return longest;
-}
+double SerendipityQuad::characteristic_length() const { return max_node_distance(nodes_); }
 
 std::array<Vec3, 9> SerendipityQuad::bezier_control_points() const {
   // The biquadratic interpolant of the 9 points (xi, eta) in {-1, 0, 1}^2 is the surface itself; a quadratic

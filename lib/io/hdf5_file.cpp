@@ -191,6 +191,32 @@ void require_stored(hid_t dataset, const std::filesystem::path& path, const std:
                                   << " bytes for it (the file is truncated or corrupt)");
 }
 
+/// The dataset `name` of `file` for reading as a whole: it must have `rank` dimensions (`expected` says so in
+/// words: "a 2-D matrix") and be stored whole (require_stored); `dims` receives its dimensions.
+Handle open_stored(hid_t file, const std::filesystem::path& path, const std::string& name, std::size_t rank,
+                   const char* expected, std::vector<hsize_t>& dims) {
+  Handle dataset = open_dataset(file, path, name);
+  dims = dataset_dims(dataset.get());
+  CONTACTNN_REQUIRE_AS(
+      FormatError, dims.size() == rank,
+      "dataset " << where(path, name) << " has rank " << dims.size() << ", expected " << expected);
+  require_stored(dataset.get(), path, name, dims);
+  return dataset;
+}
+
+/// resize(), with FormatError for std::bad_alloc: dimensions (`claimed`, "3x4") that memory cannot hold are a
+/// corrupt file's.
+template <class Resize>
+void resize_to_claim(const std::filesystem::path& path, const std::string& name, const std::string& claimed,
+                     const Resize& resize) {
+  try {
+    resize();
+  } catch (const std::bad_alloc&) {
+    throw FormatError("dataset " + where(path, name) + " claims " + claimed +
+                      " elements: more than memory holds (corrupt?)");
+  }
+}
+
 /// What a stored type is, in words, for messages: "float32", "uint16", "variable-length string".
 std::string type_text(hid_t type) {
   const H5T_class_t type_class = H5Tget_class(type);
@@ -372,38 +398,22 @@ void Hdf5File::write_vector(const std::string& name, const std::vector<T>& value
 
 template <class T>
 MatrixRM<T> Hdf5File::read_matrix(const std::string& name) const {
-  Handle dataset = open_dataset(file_id_, path_, name);
-  const auto dims = dataset_dims(dataset.get());
-  CONTACTNN_REQUIRE_AS(
-      FormatError, dims.size() == 2,
-      "dataset " << where(path_, name) << " has rank " << dims.size() << ", expected a 2-D matrix");
-  require_stored(dataset.get(), path_, name, dims);
+  std::vector<hsize_t> dims;
+  const Handle dataset = open_stored(file_id_, path_, name, 2, "a 2-D matrix", dims);
   MatrixRM<T> matrix;
-  try {
+  resize_to_claim(path_, name, std::to_string(dims[0]) + "x" + std::to_string(dims[1]), [&] {
     matrix.resize(static_cast<Eigen::Index>(dims[0]), static_cast<Eigen::Index>(dims[1]));
-  } catch (const std::bad_alloc&) {
-    throw FormatError("dataset " + where(path_, name) + " claims " + std::to_string(dims[0]) + "x" +
-                      std::to_string(dims[1]) + " elements: more than memory holds (corrupt?)");
-  }
+  });
   read_numbers(dataset.get(), path_, name, static_cast<std::size_t>(matrix.size()), matrix.data());
   return matrix;
 }
 
 template <class T>
 std::vector<T> Hdf5File::read_vector(const std::string& name) const {
-  Handle dataset = open_dataset(file_id_, path_, name);
-  const auto dims = dataset_dims(dataset.get());
-  CONTACTNN_REQUIRE_AS(
-      FormatError, dims.size() == 1,
-      "dataset " << where(path_, name) << " has rank " << dims.size() << ", expected a 1-D vector");
-  require_stored(dataset.get(), path_, name, dims);
+  std::vector<hsize_t> dims;
+  const Handle dataset = open_stored(file_id_, path_, name, 1, "a 1-D vector", dims);
   std::vector<T> values;
-  try {
-    values.resize(dims[0]);
-  } catch (const std::bad_alloc&) {
-    throw FormatError("dataset " + where(path_, name) + " claims " + std::to_string(dims[0]) +
-                      " elements: more than memory holds (corrupt?)");
-  }
+  resize_to_claim(path_, name, std::to_string(dims[0]), [&] { values.resize(dims[0]); });
   read_numbers(dataset.get(), path_, name, values.size(), values.data());
   return values;
 }

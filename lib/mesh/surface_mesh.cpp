@@ -426,9 +426,11 @@ void set_local_faces(const FaceLists& lists, const std::vector<int>& local, Surf
   }
 }
 
-/// Adjacency (compressed rows): count, prefix sum, fill in segment order so each row is increasing.
+}  // namespace
+
+// Count, prefix sum, fill in segment order so each row is increasing.
 void set_adjacency(SurfaceMesh& surface) {
-  const std::size_t n_nodes = surface.mesh_nodes.size();
+  const std::size_t n_nodes = surface.node_ids.size();
   surface.adjacency_offsets.assign(n_nodes + 1, 0);
   for (const auto& quad : surface.segments) {
     for (int n : quad) ++surface.adjacency_offsets[static_cast<std::size_t>(n) + 1];
@@ -442,8 +444,6 @@ void set_adjacency(SurfaceMesh& surface) {
     }
   }
 }
-
-}  // namespace
 
 SurfaceMesh build_surface_mesh(const SolidMesh& mesh, std::span<const ElementFace> faces) {
   SurfaceMesh surface;

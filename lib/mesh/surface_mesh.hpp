@@ -171,6 +171,11 @@ struct SurfaceMesh {
 /// A triangle made so is an extra face, never a segment: the paper's search (SPEC 7) pairs quadrilaterals.
 [[nodiscard]] SurfaceMesh build_surface_mesh(const SolidMesh& mesh, std::span<const ElementFace> faces);
 
+/// Sets surface.adjacency_offsets and adjacency (compressed rows: the segments at each node, increasing) from
+/// surface.segments, over its node_ids.size() nodes; build_surface_mesh calls it, and so does any code that
+/// makes a SurfaceMesh of its own.
+void set_adjacency(SurfaceMesh& surface);
+
 /// Unit node normal at every surface node (paper Eq 26, SPEC 3): the normalised sum of the unit corner
 /// normals (next - X) x (prev - X) of the segments sharing the node. A corner whose cross product is at
 /// most 1e-12 |next - X| |prev - X| (collapsed) adds nothing; a node left without a direction (every corner

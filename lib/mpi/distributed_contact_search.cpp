@@ -224,18 +224,7 @@ std::array<double, 6> slave_box(std::span<const int> slaves, const std::function
 }
 
 /// The local search's answers for a rank's slave nodes, before they are written to the caller's arrays.
-struct ContactAnswers {
-  std::vector<int> status, face, location;
-  std::vector<double> param, point, gap, normal;
-  explicit ContactAnswers(std::size_t n)
-      : status(n, static_cast<int>(Status::kNoSegment)),
-        face(n, -1),
-        location(n, -1),
-        param(2 * n, 0.0),
-        point(3 * n, 0.0),
-        gap(n, 0.0),
-        normal(3 * n, 0.0) {}
-};
+using contact::ContactAnswers;
 
 /// Sorts `v` and removes repeats.
 template <class T, class Less = std::less<>>
@@ -481,20 +470,7 @@ void DistributedContactSearch::Impl::check_update(const DistributedResults& out)
                        "contact search under MPI update: " << coordinates.size()
                                                            << " coordinates, expected 3 x " << node_ids.size()
                                                            << " nodes");
-  const auto check_size = [&](const char* name, std::size_t given, std::size_t per, bool required) {
-    CONTACTNN_REQUIRE_AS(InvalidArgument, given == per * n || (!required && given == 0),
-                         "contact search under MPI update: output " << name << " holds " << given
-                                                                    << " values, expected " << per * n
-                                                                    << (required ? "" : " (or none)"));
-  };
-  check_size("status", out.status.size(), 1, true);
-  check_size("face", out.face.size(), 1, true);
-  check_size("owner", out.owner.size(), 1, false);
-  check_size("location", out.location.size(), 1, false);
-  check_size("param", out.param.size(), 2, false);
-  check_size("point", out.point.size(), 3, false);
-  check_size("gap", out.gap.size(), 1, false);
-  check_size("normal", out.normal.size(), 3, false);
+  contact::check_output_sizes("contact search under MPI update", out, n);
   for (std::size_t i = 0; i < used.size(); ++i) {
     if (used[i] == 0) continue;
     const Vec3 x = node_at(static_cast<int>(i));
@@ -785,7 +761,7 @@ void DistributedContactSearch::update(std::span<const double> coordinates, const
 
   // 5-6. The ghost faces' coordinates and the local search, whose errors every rank agrees on.
   const auto xyz_in = m.exchange_ghost_coordinates(c);
-  ContactAnswers answers(m.slave_ids.size());
+  ContactAnswers answers(m.slave_ids.size(), static_cast<int>(Status::kNoSegment), -1);
   capture_error(error, [&] { m.search_locally(capture, xyz_in, answers); });
   agree(m.comm, error, c);
 

@@ -278,26 +278,29 @@ void finish(const Face& face, const Vec3& slave, FaceClosestPoint& out) {
   out.status = std::isfinite(out.distance) && out.point.allFinite() ? Status::kOk : Status::kInvalid;
 }
 
-}  // namespace
-
-EdgePoint closest_point_on_quadratic_edge(const SerendipityQuad& face, int edge, const Vec3& slave) {
+/// The point of edge `edge` (from corner `edge` through its mid-side node, corners `corners` first) of `face`
+/// nearest to `slave`, its edge parameter mapped to the face's by `face_param`.
+template <class Face>
+EdgePoint nearest_on_edge(const Face& face, std::size_t corners, int edge, const Vec3& slave,
+                          std::array<double, 2> (*face_param)(int, double)) {
   const auto& x = face.nodes();
   const auto e = static_cast<std::size_t>(edge);
-  const double t = nearest_parameter(QuadraticCurve::through(x[e], x[4 + e], x[(e + 1) % 4]), slave);
+  const double t =
+      nearest_parameter(QuadraticCurve::through(x[e], x[corners + e], x[(e + 1) % corners]), slave);
   EdgePoint out;
-  out.param = quad_edge_param(edge, t);
+  out.param = face_param(edge, t);
   out.distance = (slave - face.position(out.param[0], out.param[1])).norm();
   return out;
 }
 
+}  // namespace
+
+EdgePoint closest_point_on_quadratic_edge(const SerendipityQuad& face, int edge, const Vec3& slave) {
+  return nearest_on_edge(face, 4, edge, slave, quad_edge_param);
+}
+
 EdgePoint closest_point_on_quadratic_edge(const QuadraticTriangle& face, int edge, const Vec3& slave) {
-  const auto& x = face.nodes();
-  const auto e = static_cast<std::size_t>(edge);
-  const double t = nearest_parameter(QuadraticCurve::through(x[e], x[3 + e], x[(e + 1) % 3]), slave);
-  EdgePoint out;
-  out.param = triangle_edge_param(edge, t);
-  out.distance = (slave - face.position(out.param[0], out.param[1])).norm();
-  return out;
+  return nearest_on_edge(face, 3, edge, slave, triangle_edge_param);
 }
 
 namespace {
@@ -400,32 +403,29 @@ Face shifted(const Face& face, const Vec3& origin) {
   return Face(nodes);
 }
 
+/// `local` (a closest point about the world's origin) on the face shifted to its first node, the answer moved
+/// back; about the world's origin itself where the face or the slave is not finite, or the face starts there.
 template <class Face>
-FaceClosestPoint in_world(FaceClosestPoint local, const Vec3& origin) {
-  local.point += origin;
-  return local;
+FaceClosestPoint about_first_node(const Face& face, const Vec3& slave, const ProjectionOptions& options,
+                                  FaceClosestPoint (*local)(const Face&, const Vec3&,
+                                                            const ProjectionOptions&)) {
+  const Vec3 origin = face.nodes()[0];
+  if (!finite(slave) || !all_finite(face.nodes()) || origin.isZero(0.0)) return local(face, slave, options);
+  FaceClosestPoint answer = local(shifted(face, origin), slave - origin, options);
+  answer.point += origin;
+  return answer;
 }
 
 }  // namespace
 
 FaceClosestPoint closest_point_on_serendipity_quad(const SerendipityQuad& face, const Vec3& slave,
                                                    const ProjectionOptions& options) {
-  const Vec3 origin = face.nodes()[0];
-  if (!finite(slave) || !all_finite(face.nodes()) || origin.isZero(0.0)) {
-    return closest_point_on_serendipity_quad_local(face, slave, options);
-  }
-  return in_world<SerendipityQuad>(
-      closest_point_on_serendipity_quad_local(shifted(face, origin), slave - origin, options), origin);
+  return about_first_node(face, slave, options, closest_point_on_serendipity_quad_local);
 }
 
 FaceClosestPoint closest_point_on_quadratic_triangle(const QuadraticTriangle& face, const Vec3& slave,
                                                      const ProjectionOptions& options) {
-  const Vec3 origin = face.nodes()[0];
-  if (!finite(slave) || !all_finite(face.nodes()) || origin.isZero(0.0)) {
-    return closest_point_on_quadratic_triangle_local(face, slave, options);
-  }
-  return in_world<QuadraticTriangle>(
-      closest_point_on_quadratic_triangle_local(shifted(face, origin), slave - origin, options), origin);
+  return about_first_node(face, slave, options, closest_point_on_quadratic_triangle_local);
 }
 
 }  // namespace contactnn::projection

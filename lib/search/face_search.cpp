@@ -9,6 +9,7 @@
 #include <string>
 #include <type_traits>
 
+#include "core/enum_names.hpp"
 #include "core/error.hpp"
 #include "core/quote_text.hpp"
 #include "geometry/quadratic_triangle.hpp"
@@ -17,54 +18,38 @@
 #include "projection/closest_point_on_quadratic_face.hpp"
 #include "search/face_block.hpp"
 #include "search/face_network.hpp"
+#include "search/search_run.hpp"
 
 namespace contactnn::search {
 
-std::string_view to_string(FaceKind kind) {
-  switch (kind) {
-    case FaceKind::kTri3: return "tri3";
-    case FaceKind::kTri6: return "tri6";
-    case FaceKind::kQuad8: return "quad8";
-  }
-  return "?";
-}
+namespace {
+constexpr std::array<std::string_view, 3> kFaceKindNames = {"tri3", "tri6", "quad8"};
+}  // namespace
+
+std::string_view to_string(FaceKind kind) { return enum_name(kFaceKindNames, kind, "?"); }
 
 FaceKind face_kind_from_string(std::string_view name) {
-  if (name == "tri3") return FaceKind::kTri3;
-  if (name == "tri6") return FaceKind::kTri6;
-  if (name == "quad8") return FaceKind::kQuad8;
+  if (const auto kind = enum_from_name<FaceKind>(kFaceKindNames, name)) return *kind;
   CONTACTNN_REQUIRE_AS(InvalidArgument, false,
                        "unknown face type '" << quote_text(name) << "', expected tri3, tri6 or quad8");
   return FaceKind::kTri3;
 }
 
 FaceSearch::FaceSearch(FaceKind kind, Method method, SearchOptions options, const FaceNetwork* network) {
-  CONTACTNN_REQUIRE_AS(InvalidArgument, method.newton_steps >= 0 && method.newton_steps <= Method::kMaxSteps,
-                       "method " << method.name() << ": newton_steps = " << method.newton_steps
-                                 << ", expected 0 to " << Method::kMaxSteps);
+  detail::check_method_steps(method);
   CONTACTNN_REQUIRE_AS(
       InvalidArgument, method.start != Method::Start::kFourTriangles,
       "method four_triangles splits a 4-node quad; it has no form for " << to_string(kind) << " faces");
   CONTACTNN_REQUIRE_AS(InvalidArgument, !method.to_convergence || method.start == Method::Start::kCentre,
                        "Newton to convergence starts from the centre; got start " << method.name());
-  if (method.needs_network()) {
-    CONTACTNN_REQUIRE_AS(
-        InvalidArgument, kind != FaceKind::kTri3,
-        "method " << method.name()
-                  << " on tri3 faces: a flat triangle's closed form is exact (method closed_form), "
-                     "no network is made for it");
-    CONTACTNN_REQUIRE_AS(InvalidArgument, network != nullptr,
-                         "method " << method.name() << " needs a network");
-    CONTACTNN_REQUIRE_AS(InvalidArgument, network->face() == kind,
-                         "method " << method.name() << " on " << to_string(kind) << " faces got a "
-                                   << to_string(network->face()) << " network");
-  }
-  check_search_options(options);
-  auto plan = std::make_shared<detail::FacePlan>();
-  plan->kind = kind;
-  plan->method = method;
-  plan->options = options;
-  plan->network = method.needs_network() ? network : nullptr;
+  CONTACTNN_REQUIRE_AS(
+      InvalidArgument, !method.needs_network() || kind != FaceKind::kTri3,
+      "method " << method.name()
+                << " on tri3 faces: a flat triangle's closed form is exact (method closed_form), "
+                   "no network is made for it");
+  detail::check_network(
+      method, network, kind, [](const FaceNetwork& n) { return n.face(); }, "faces");
+  auto plan = detail::new_plan<detail::FacePlan>(kind, method, options, network);
   // Widths: 1 for a triangle's (r, s), 2 for the quad's (xi, eta). The hybrids' box is the quads'
   // (SearchOptions:: bilinear_box_margin widths beyond the face): a face's closest point beyond that is no
   // contact on it.
@@ -163,33 +148,13 @@ void move_to_boundary(FaceKind kind, const Real* raw, Real* param, Real* gap, St
 
 template <class Real>
 void FaceSearch::run(std::size_t count, const Real* raw, const Results<Real>& out, int threads) const {
-  if (count == 0) return;
-  CONTACTNN_REQUIRE_AS(
-      InvalidArgument, raw != nullptr && out.param != nullptr && out.status != nullptr,
-      "FaceSearch::run: raw, out.param and out.status must not be null for " << count << " queries");
+  if (!detail::queries_to_run(count, raw, out, "FaceSearch::run")) return;
   const detail::FacePlan& plan = *plan_;
-  detail::FaceBlockFn<Real> block, single;
-  if constexpr (std::is_same_v<Real, float>) {
-    block = plan.block_f;
-    single = plan.single_f;
-  } else {
-    block = plan.block_d;
-    single = plan.single_d;
-  }
-  const auto width = static_cast<std::size_t>(plan.block_size);
-  const std::size_t blocks = count / width;
-  // OpenMP's default team asked only of a run that may use it (a query alone, or a few, never does).
-  const bool large = blocks >= 2 && count >= plan.options.min_parallel_count;
-  const int team = !large ? 1 : (threads > 0 ? threads : omp_get_max_threads());
-  const bool parallel = team > 1;
-  if (parallel) {
-    const auto n = static_cast<std::ptrdiff_t>(blocks);
-#pragma omp parallel for num_threads(team) schedule(static)
-    for (std::ptrdiff_t b = 0; b < n; ++b) block(plan, raw, out, static_cast<std::size_t>(b) * width);
-  } else {
-    for (std::size_t b = 0; b < blocks; ++b) block(plan, raw, out, b * width);
-  }
-  for (std::size_t i = blocks * width; i < count; ++i) single(plan, raw, out, i);
+  const auto kernels = detail::block_kernels<Real>(plan);
+  const auto block = kernels.block, single = kernels.single;
+  const detail::BlockSplit split(count, plan.block_size, plan.options.min_parallel_count, threads);
+  split.each_block([&](std::size_t first) { block(plan, raw, out, first); });
+  split.each_rest(count, [&](std::size_t i) { single(plan, raw, out, i); });
 
   if (out.location != nullptr) std::fill(out.location, out.location + count, Location::kFace);
   if (plan.options.closest_point_on_face) {

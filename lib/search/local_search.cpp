@@ -9,14 +9,13 @@
 #include "core/error.hpp"
 #include "search/face_boundary.hpp"
 #include "search/search_plan.hpp"
+#include "search/search_run.hpp"
 
 namespace contactnn::search {
 
 LocalSearch::LocalSearch(SurfaceKind kind, Method method, SearchOptions options,
                          const NetworkModel* network) {
-  CONTACTNN_REQUIRE_AS(InvalidArgument, method.newton_steps >= 0 && method.newton_steps <= Method::kMaxSteps,
-                       "method " << method.name() << ": newton_steps = " << method.newton_steps
-                                 << ", expected 0 to " << Method::kMaxSteps);
+  detail::check_method_steps(method);
   if (method.start == Method::Start::kFourTriangles) {
     CONTACTNN_REQUIRE_AS(InvalidArgument, kind == SurfaceKind::kBilinear,
                          "method four_triangles splits a bilinear segment; it has no form for "
@@ -26,20 +25,10 @@ LocalSearch::LocalSearch(SurfaceKind kind, Method method, SearchOptions options,
   }
   CONTACTNN_REQUIRE_AS(InvalidArgument, !method.to_convergence || method.start == Method::Start::kCentre,
                        "Newton to convergence starts from the centre; got start " << method.name());
-  if (method.needs_network()) {
-    CONTACTNN_REQUIRE_AS(InvalidArgument, network != nullptr,
-                         "method " << method.name() << " needs a network");
-    CONTACTNN_REQUIRE_AS(InvalidArgument, network->surface() == kind,
-                         "method " << method.name() << " on " << to_string(kind) << " segments got a "
-                                   << to_string(network->surface()) << " network");
-  }
-  check_search_options(options);
+  detail::check_network(
+      method, network, kind, [](const NetworkModel& n) { return n.surface(); }, "segments");
 
-  auto plan = std::make_shared<detail::Plan>();
-  plan->kind = kind;
-  plan->method = method;
-  plan->options = options;
-  plan->network = method.needs_network() ? network : nullptr;
+  auto plan = detail::new_plan<detail::Plan>(kind, method, options, network);
   const ParamDomain d = param_domain(kind);
   const double width = d.hi - d.lo;
   const double box = kind == SurfaceKind::kGregory ? options.gregory_box_margin : options.bilinear_box_margin;
@@ -93,25 +82,14 @@ void to_face_boundary(const detail::Plan& plan, std::size_t count, const Real* r
 
 template <class Real>
 void LocalSearch::run(std::size_t count, const Real* raw, const Results<Real>& out, int threads) const {
-  if (count == 0) return;
-  CONTACTNN_REQUIRE_AS(
-      InvalidArgument, raw != nullptr && out.param != nullptr && out.status != nullptr,
-      "LocalSearch::run: raw, out.param and out.status must not be null for " << count << " queries");
+  if (!detail::queries_to_run(count, raw, out, "LocalSearch::run")) return;
   const detail::Plan& plan = *plan_;
-  detail::BlockFn<Real> block, single;
-  if constexpr (std::is_same_v<Real, float>) {
-    block = plan.block_f;
-    single = plan.single_f;
-  } else {
-    block = plan.block_d;
-    single = plan.single_d;
-  }
-  const auto width = static_cast<std::size_t>(plan.block_size);
-  const std::size_t blocks = count / width;
-  // OpenMP's default team asked only of a run that may use it (a query alone, or a few, never does).
-  const bool large = blocks >= 2 && count >= plan.options.min_parallel_count;
-  const int team = !large ? 1 : (threads > 0 ? threads : omp_get_max_threads());
-  const bool parallel = team > 1;
+  const auto kernels = detail::block_kernels<Real>(plan);
+  const auto block = kernels.block, single = kernels.single;
+  const detail::BlockSplit split(count, plan.block_size, plan.options.min_parallel_count, threads);
+  const std::size_t width = split.width, blocks = split.blocks;
+  const int team = split.team;
+  const bool parallel = split.parallel;
   detail::RowsFn<Real> rows = nullptr;
   if constexpr (std::is_same_v<Real, float>) {
     rows = plan.rows_f;
@@ -175,14 +153,10 @@ void LocalSearch::run(std::size_t count, const Real* raw, const Results<Real>& o
         if (cap == 0) break;
       }
     });
-  } else if (parallel) {
-    const auto n = static_cast<std::ptrdiff_t>(blocks);
-#pragma omp parallel for num_threads(team) schedule(static)
-    for (std::ptrdiff_t b = 0; b < n; ++b) block(plan, raw, out, static_cast<std::size_t>(b) * width);
   } else {
-    for (std::size_t b = 0; b < blocks; ++b) block(plan, raw, out, b * width);
+    split.each_block([&](std::size_t first) { block(plan, raw, out, first); });
   }
-  for (std::size_t i = blocks * width; i < count; ++i) single(plan, raw, out, i);
+  split.each_rest(count, [&](std::size_t i) { single(plan, raw, out, i); });
 
   to_face_boundary(plan, count, raw, out);
 }

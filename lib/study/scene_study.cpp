@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/enum_names.hpp"
 #include "core/error.hpp"
 #include "core/input_features.hpp"
 #include "search/local_search.hpp"
@@ -14,35 +15,22 @@ namespace contactnn::study {
 using detail::join;
 using detail::split_methods;
 
-std::string_view to_string(TrainNetworks mode) {
-  switch (mode) {
-    case TrainNetworks::kAuto: return "auto";
-    case TrainNetworks::kAlways: return "always";
-    case TrainNetworks::kNever: return "never";
-  }
-  return "unknown";
-}
+namespace {
+constexpr std::array<std::string_view, 3> kTrainNetworksNames = {"auto", "always", "never"};
+constexpr std::array<std::string_view, 3> kDomainStatesNames = {"auto", "rest", "history"};
+}  // namespace
 
-std::string_view to_string(DomainStates states) {
-  switch (states) {
-    case DomainStates::kAuto: return "auto";
-    case DomainStates::kRest: return "rest";
-    case DomainStates::kHistory: return "history";
-  }
-  return "unknown";
-}
+std::string_view to_string(TrainNetworks mode) { return enum_name(kTrainNetworksNames, mode, "unknown"); }
+
+std::string_view to_string(DomainStates states) { return enum_name(kDomainStatesNames, states, "unknown"); }
 
 DomainStates domain_states_from_string(std::string_view name) {
-  if (name == "auto") return DomainStates::kAuto;
-  if (name == "rest") return DomainStates::kRest;
-  if (name == "history") return DomainStates::kHistory;
+  if (const auto states = enum_from_name<DomainStates>(kDomainStatesNames, name)) return *states;
   throw InvalidArgument("domain: expected auto, rest or history, got '" + std::string(name) + "'");
 }
 
 TrainNetworks train_networks_from_string(std::string_view name) {
-  if (name == "auto") return TrainNetworks::kAuto;
-  if (name == "always") return TrainNetworks::kAlways;
-  if (name == "never") return TrainNetworks::kNever;
+  if (const auto mode = enum_from_name<TrainNetworks>(kTrainNetworksNames, name)) return *mode;
   throw InvalidArgument("train_networks: expected auto, always or never, got '" + std::string(name) + "'");
 }
 

@@ -40,7 +40,7 @@ import shutil
 import sys
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
-from check_support import Failures, run_or_exit  # noqa: E402  (tests/check_support.py)
+from check_support import Failures, build_consumer, run_or_exit  # noqa: E402  (tests/check_support.py)
 
 POINT_COLUMNS = "ax,ay,az,bx,by,bz,cx,cy,cz,dx,dy,dz,sx,sy,sz".split(",")
 NORMAL_COLUMNS = "nax,nay,naz,nbx,nby,nbz,ncx,ncy,ncz,ndx,ndy,ndz".split(",")
@@ -257,15 +257,7 @@ def compare(name, surface, raw, reference, output, precision):
 
 def consumer(args):
     # 1. A fresh build of the consumer project against the installed package only.
-    if os.path.exists(args.work):
-        shutil.rmtree(args.work)
-    build = os.path.join(args.work, "build")
-    configure = [args.cmake, "-S", args.project, "-B", build, "-G", args.generator,
-                 f"-DCMAKE_PREFIX_PATH={os.path.abspath(args.prefix)}", "-DCMAKE_EXPORT_COMPILE_COMMANDS=ON",
-                 "-DCMAKE_FIND_USE_PACKAGE_REGISTRY=OFF"]
-    configure += [f"-D{s}" for s in args.set]
-    run(configure)
-    build_log = run([args.cmake, "--build", build, "--verbose"]).stdout
+    build, build_log = build_consumer(args, args.project, ["-DCMAKE_EXPORT_COMPILE_COMMANDS=ON"], ["--verbose"])
     with open(os.path.join(build, "compile_commands.json")) as f:
         commands = [entry["command"] for entry in json.load(f)]
     for command in commands:

@@ -27,7 +27,7 @@ import time
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import consumer_check  # noqa: E402  (raw_text: RAW.csv -> the programs' input)
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
-from check_support import Failures  # noqa: E402  (tests/check_support.py)
+from check_support import Failures, add_consumer_options, build_consumer  # noqa: E402  (tests/check_support.py)
 
 QUERIES = 60
 MEMCHECK = ["--tool=memcheck", "--error-exitcode=99", "--leak-check=full", "--errors-for-leak-kinds=definite",
@@ -54,15 +54,9 @@ def run(command, env=None):
 
 def main():
     ap = argparse.ArgumentParser()
-    ap.add_argument("--valgrind", default="")
-    ap.add_argument("--cmake", required=True)
-    ap.add_argument("--generator", required=True)
-    ap.add_argument("--prefix", required=True)
+    add_consumer_options(ap)
     ap.add_argument("--project", required=True)
-    ap.add_argument("--work", required=True)
-    ap.add_argument("--source-dir", required=True)
     ap.add_argument("--make-queries", required=True)
-    ap.add_argument("--set", action="append", default=[])
     a = ap.parse_args()
     valgrind = a.valgrind or shutil.which("valgrind")
     if not valgrind or not os.access(valgrind, os.X_OK):
@@ -70,17 +64,7 @@ def main():
         return 77
 
     # 1. The consumer, built against the installed package only.
-    if os.path.exists(a.work):
-        shutil.rmtree(a.work)
-    build = os.path.join(a.work, "build")
-    configure = [a.cmake, "-S", a.project, "-B", build, "-G", a.generator,
-                 f"-DCMAKE_PREFIX_PATH={os.path.abspath(a.prefix)}", "-DCMAKE_FIND_USE_PACKAGE_REGISTRY=OFF"]
-    configure += [f"-D{s}" for s in a.set]
-    for command in (configure, [a.cmake, "--build", build]):
-        p = run(command)
-        if p.returncode != 0:
-            print(f"FAIL: {' '.join(command)} exited {p.returncode}:\n{p.stdout}\n{p.stderr}")
-            return 1
+    build, _ = build_consumer(a, a.project)
 
     suppressions = os.path.join(a.work, "fortran-main.supp")
     with open(suppressions, "w") as f:

@@ -10,14 +10,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-static int failures = 0;
-
-static void expect(int condition, const char* what) {
-  if (!condition) {
-    printf("FAIL: %s\n", what);
-    ++failures;
-  }
-}
+#include "refusal_check.h"
 
 /* A creation that must fail with `code` and a message containing `needle`. */
 static void expect_create_fails(int surface, const char* method, const char* network,
@@ -25,19 +18,7 @@ static void expect_create_fails(int surface, const char* method, const char* net
                                 const char* what) {
   contactnn_search* search = (contactnn_search*)&failures; /* not NULL: a failed create must clear it */
   const int result = contactnn_search_create(&search, surface, method, network, options);
-  printf("%-44s -> %d: %s\n", what, result, contactnn_last_error());
-  if (result != code) {
-    printf("FAIL: %s: returned %d, expected %d\n", what, result, code);
-    ++failures;
-  }
-  if (search != NULL) {
-    printf("FAIL: %s: a handle was written\n", what);
-    ++failures;
-  }
-  if (strstr(contactnn_last_error(), needle) == NULL) {
-    printf("FAIL: %s: the message does not name '%s'\n", what, needle);
-    ++failures;
-  }
+  expect_refusal(result, search, code, needle, what);
   /* The user's message alone: no internal condition or source path (those are for broken invariants). */
   if (strstr(contactnn_last_error(), "[requirement") != NULL ||
       strstr(contactnn_last_error(), ".cpp:") != NULL) {

@@ -5,13 +5,13 @@
 program test_faces_fortran
   use, intrinsic :: iso_c_binding, only: c_double, c_int
   use contactnn
+  use fortran_checks, only: expect, finish
   implicit none
   type(contactnn_search) :: search
   real(c_double) :: quad(27, 1), tri(21, 1), param(2, 1), gap(1), wrong(15, 1)
   integer(c_int) :: status(1)
-  integer :: ierr, failures
+  integer :: ierr
 
-  failures = 0
   quad(:, 1) = [-1d0, -1d0, 0d0, 1d0, -1d0, 0d0, 1d0, 1d0, 0d0, -1d0, 1d0, 0d0, &
                 0d0, -1d0, 0.2d0, 1d0, 0d0, 0.2d0, 0d0, 1d0, 0.2d0, -1d0, 0d0, 0.2d0, 0d0, 0d0, 2d0]
   call contactnn_create(search, CONTACTNN_SURFACE_QUAD8, 'newton', ierr)
@@ -36,21 +36,5 @@ program test_faces_fortran
               abs(gap(1) - 0.5d0) < 1d-12, 'tri6: (0.2, 0.3), gap 0.5')
   call contactnn_destroy(search)
 
-  if (failures > 0) then
-    print '(i0,a)', failures, ' check(s) failed'
-    stop 1
-  end if
-  print '(a)', 'PASS: the Fortran module searches every face type'
-
-contains
-
-  subroutine expect(condition, what)
-    logical, intent(in) :: condition
-    character(len=*), intent(in) :: what
-    if (.not. condition) then
-      print '(2a)', 'FAIL: ', what
-      failures = failures + 1
-    end if
-  end subroutine expect
-
+  call finish('PASS: the Fortran module searches every face type')
 end program test_faces_fortran

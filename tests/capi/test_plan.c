@@ -12,16 +12,9 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "refusal_check.h"
+
 #define QUERIES 40
-
-static int failures = 0;
-
-static void expect(int condition, const char* what) {
-  if (!condition) {
-    printf("FAIL: %s\n", what);
-    ++failures;
-  }
-}
 
 /* Writes `text` to `path`; 0 on failure. */
 static int write_text(const char* path, const char* text) {
@@ -123,19 +116,7 @@ static void expect_same_search(const char* plan, int surface, const char* method
 static void expect_refused(const char* plan, int code, const char* needle, const char* what) {
   contactnn_search* search = (contactnn_search*)&failures; /* not NULL: a failed create must clear it */
   const int result = contactnn_search_create_from_plan(&search, plan, NULL);
-  printf("%-44s -> %d: %s\n", what, result, contactnn_last_error());
-  if (result != code) {
-    printf("FAIL: %s: returned %d, expected %d\n", what, result, code);
-    ++failures;
-  }
-  if (search != NULL) {
-    printf("FAIL: %s: a handle was written\n", what);
-    ++failures;
-  }
-  if (strstr(contactnn_last_error(), needle) == NULL) {
-    printf("FAIL: %s: the message does not name '%s'\n", what, needle);
-    ++failures;
-  }
+  expect_refusal(result, search, code, needle, what);
 }
 
 int main(int argc, char** argv) {

@@ -7,11 +7,10 @@
 program test_plan_fortran
   use, intrinsic :: iso_c_binding, only: c_double, c_int
   use contactnn
+  use fortran_checks, only: expect, finish
   implicit none
   character(len=4096) :: source
-  integer :: failures
 
-  failures = 0
   if (command_argument_count() /= 1) then
     print '(a)', 'usage: test_plan_fortran SOURCE_DIR'
     stop 2
@@ -26,22 +25,9 @@ program test_plan_fortran
   call write_plan('unknown.toml', 'bilinear', 'newton:2', '', 'colour = "blue"')
   call check_refused('unknown.toml', "'unknown.toml':7: unknown key 'colour' in [plan]")
 
-  if (failures > 0) then
-    print '(i0,a)', failures, ' check(s) failed'
-    stop 1
-  end if
-  print '(a)', 'PASS: the Fortran module loads scene plans'
+  call finish('PASS: the Fortran module loads scene plans')
 
 contains
-
-  subroutine expect(condition, what)
-    logical, intent(in) :: condition
-    character(len=*), intent(in) :: what
-    if (.not. condition) then
-      print '(2a)', 'FAIL: ', what
-      failures = failures + 1
-    end if
-  end subroutine expect
 
   !> A plan in the format of lib/io/plan_file.hpp; `extra` (if not blank) goes on line 7, inside [plan].
   subroutine write_plan(path, surface, method, network, extra)

@@ -79,13 +79,31 @@ def fresh(path):
     return path
 
 
+# The lines that open a block of displacements (D1, D2, D3, ALL) and one of contact results (COPEN ... CSHEAR2),
+# as ccx writes them.
+DISP_HEADER = """ -4  DISP        4    1
+ -5  D1          1    2    1    0
+ -5  D2          1    2    2    0
+ -5  D3          1    2    3    0
+ -5  ALL         1    2    0    0    1ALL
+"""
+CONTACT_HEADER = """ -4  CONTACT     6    1
+ -5  COPEN       1    4    1    1
+ -5  CSLIP1      1    4    2    2
+ -5  CSLIP2      1    4    3    3
+ -5  CPRESS      1    4    1    2
+ -5  CSHEAR1     1    4    2    3
+ -5  CSHEAR2     1    4    3    1
+"""
+
+
 # ---------------------------------------------------------------------------------------------------------
 # frd-reader
 def frd_reader_case(work):
     cc = load_compare()
     # Long format (ids in 10 columns), values touching, a continuation record, and a COPEN block of the
     # same step number after each DISP block; an increment without COPEN.
-    long_frd = """    1C
+    long_frd = f"""    1C
     2C                             3                                     1
  -1         1 1.00000E+00-2.00000E+00 0.00000E+00
  -1         2 1.23456E+01 3.00000E-01-4.50000E+02
@@ -93,36 +111,19 @@ def frd_reader_case(work):
  -3
     1PSTEP                         1           1           1
   100CL  101 5.00000E-01           3                     0    1           1
- -4  DISP        4    1
- -5  D1          1    2    1    0
- -5  D2          1    2    2    0
- -5  D3          1    2    3    0
- -5  ALL         1    2    0    0    1ALL
- -1         1 1.00000E-02-2.00000E-02 3.00000E-02
+{DISP_HEADER} -1         1 1.00000E-02-2.00000E-02 3.00000E-02
  -1         2 0.00000E+00 0.00000E+00 0.00000E+00
  -1        10 0.00000E+00 0.00000E+00-5.00000E-03
  -3
     1PSTEP                         2           1           1
   100CL  101 5.00000E-01           2                     0    1           1
- -4  CONTACT     6    1
- -5  COPEN       1    4    1    1
- -5  CSLIP1      1    4    2    2
- -5  CSLIP2      1    4    3    3
- -5  CPRESS      1    4    1    2
- -5  CSHEAR1     1    4    2    3
- -5  CSHEAR2     1    4    3    1
- -1         1-1.25000E-03 1.00000E-06 2.00000E-06 3.00000E+01 0.00000E+00
+{CONTACT_HEADER} -1         1-1.25000E-03 1.00000E-06 2.00000E-06 3.00000E+01 0.00000E+00
  -2           0.00000E+00
  -1        10 2.00000E-03 0.00000E+00 0.00000E+00 0.00000E+00 0.00000E+00 0.00000E+00
  -3
     1PSTEP                         3           2           1
   100CL  102 1.00000E+00           3                     0    2           1
- -4  DISP        4    1
- -5  D1          1    2    1    0
- -5  D2          1    2    2    0
- -5  D3          1    2    3    0
- -5  ALL         1    2    0    0    1ALL
- -1         1 2.00000E-02-4.00000E-02 6.00000E-02
+{DISP_HEADER} -1         1 2.00000E-02-4.00000E-02 6.00000E-02
  -1         2 0.00000E+00 0.00000E+00 0.00000E+00
  -1        10 0.00000E+00 0.00000E+00-1.00000E-02
  -3

@@ -104,19 +104,25 @@ void expect_bottom_point(const Scene& scene) {
   }
 }
 
-TEST(CollapsedFaces, WedgeAsC3D8WithCoincidentNodesIsSearchedAsItsTrianglesAndQuadrilaterals) {
-  const mesh::ContactModel model = read_deck("wedge-c3d8-coincident.inp");
-  const Scene scene = make_scene(model, 0);
+/// The scene of a linear wedge written as a C3D8 (`model`): searched as the wedge (its bottom point, the
+/// oracle's answers), S1 and S2 triangles, S3, S4, S6 segments, S5 a line.
+Scene expect_linear_wedge(const mesh::ContactModel& model) {
+  Scene scene = make_scene(model, 0);
   expect_bottom_point(scene);
   check_against_oracle(scene, linear_wedge(model));
-  // S1 and S2 triangles, S3, S4, S6 segments, S5 a line.
   EXPECT_EQ(scene.master.segments.size(), 3u);
   EXPECT_EQ(scene.master.extra_faces.size(), 2u);
-  for (int f = 3; f < std::min(5, scene.master.face_count()); ++f)
-    EXPECT_EQ(scene.master.face_type(f), mesh::FaceType::kTri3);
   EXPECT_EQ(scene.master.skipped_faces,
             (std::map<std::string, int>{{"C3D8 face collapsed to a line", 1},
                                         {"C3D8 face collapsed to a triangle", 2}}));
+  return scene;
+}
+
+TEST(CollapsedFaces, WedgeAsC3D8WithCoincidentNodesIsSearchedAsItsTrianglesAndQuadrilaterals) {
+  const mesh::ContactModel model = read_deck("wedge-c3d8-coincident.inp");
+  const Scene scene = expect_linear_wedge(model);
+  for (int f = 3; f < std::min(5, scene.master.face_count()); ++f)
+    EXPECT_EQ(scene.master.face_type(f), mesh::FaceType::kTri3);
   // Node 4 is node 3 on every face, 8 is 7; neither is a surface node.
   EXPECT_EQ(scene.master.node_ids, (std::vector<long>{1, 2, 3, 5, 6, 7}));
   ASSERT_EQ(scene.master.merged_nodes.size(), 2u);
@@ -127,15 +133,7 @@ TEST(CollapsedFaces, WedgeAsC3D8WithCoincidentNodesIsSearchedAsItsTrianglesAndQu
 }
 
 TEST(CollapsedFaces, WedgeAsC3D8WithRepeatedNodeIdsKeepsItsTwoTriangles) {
-  const mesh::ContactModel model = read_deck("wedge-c3d8-repeated.inp");
-  const Scene scene = make_scene(model, 0);
-  expect_bottom_point(scene);
-  check_against_oracle(scene, linear_wedge(model));
-  EXPECT_EQ(scene.master.segments.size(), 3u);
-  EXPECT_EQ(scene.master.extra_faces.size(), 2u);
-  EXPECT_EQ(scene.master.skipped_faces,
-            (std::map<std::string, int>{{"C3D8 face collapsed to a line", 1},
-                                        {"C3D8 face collapsed to a triangle", 2}}));
+  const Scene scene = expect_linear_wedge(read_deck("wedge-c3d8-repeated.inp"));
   EXPECT_TRUE(scene.master.merged_nodes.empty());
 }
 

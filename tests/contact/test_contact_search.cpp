@@ -30,19 +30,8 @@ constexpr int kFound = static_cast<int>(Status::kOk);
 constexpr int kNone = static_cast<int>(Status::kNoSegment);
 
 /// The handle's answers, in arrays as an FE code holds them.
-struct Answers {
-  std::vector<int> status, face, location;
-  std::vector<double> param, point, gap, normal;
-  explicit Answers(std::size_t m, double fill = 0.0)
-      : status(m, -7),
-        face(m, -7),
-        location(m, -7),
-        param(2 * m, fill),
-        point(3 * m, fill),
-        gap(m, fill),
-        normal(3 * m, fill) {}
-  ContactResults results() { return {status, face, location, param, point, gap, normal}; }
-  friend bool operator==(const Answers&, const Answers&) = default;
+struct Answers : ContactAnswers {
+  explicit Answers(std::size_t m, double fill = 0.0) : ContactAnswers(m, -7, -7, fill) {}
 };
 
 /// A deck's scene in the handle's terms: every node of the pair (master surface and slave nodes) in
@@ -63,12 +52,7 @@ HandleInput handle_input(const Scene& scene) {
   std::sort(in.ids.begin(), in.ids.end());
   in.ids.erase(std::unique(in.ids.begin(), in.ids.end()), in.ids.end());
   const int n = scene.master.face_count();
-  in.deck_face.resize(static_cast<std::size_t>(n));
-  std::iota(in.deck_face.begin(), in.deck_face.end(), 0);
-  const auto key = [&](int f) {
-    return std::pair(scene.master.face_element_id(f), scene.master.face_of(f).face);
-  };
-  std::sort(in.deck_face.begin(), in.deck_face.end(), [&](int a, int b) { return key(a) < key(b); });
+  in.deck_face = master_faces_in_deck_order(scene);
   in.caller_face.resize(static_cast<std::size_t>(n));
   for (int i = 0; i < n; ++i) {
     const int f = in.deck_face[static_cast<std::size_t>(i)];

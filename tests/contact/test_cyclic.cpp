@@ -17,6 +17,7 @@
 #include "core/error.hpp"
 #include "io/inp_deck.hpp"
 #include "scene_checks.hpp"
+#include "surface_params.hpp"
 #include "test_support.hpp"
 
 namespace contactnn::contact {
@@ -212,11 +213,7 @@ TEST_P(CyclicScene, WithoutTheCyclicModelTheSameSlavesOnlySeeTheirOwnSectorsFarF
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(Surfaces, CyclicScene,
-                         ::testing::Values(SurfaceKind::kBilinear, SurfaceKind::kGregory),
-                         [](const ::testing::TestParamInfo<SurfaceKind>& p) {
-                           return std::string(to_string(p.param));
-                         });
+INSTANTIATE_TEST_SUITE_P(Surfaces, CyclicScene, testing::kBothSurfaces, testing::surface_name);
 
 }  // namespace
 }  // namespace contactnn::contact

@@ -11,6 +11,7 @@
 
 #include "contact/tracking.hpp"
 #include "mesh/grid_surface.hpp"
+#include "surface_params.hpp"
 
 namespace contactnn::contact {
 namespace {
@@ -245,10 +246,7 @@ TEST(Tracking, SameResultsForAnyThreadCount) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(Surfaces, Tracking, ::testing::Values(SurfaceKind::kBilinear, SurfaceKind::kGregory),
-                         [](const ::testing::TestParamInfo<SurfaceKind>& param_info) {
-                           return std::string(to_string(param_info.param));
-                         });
+INSTANTIATE_TEST_SUITE_P(Surfaces, Tracking, testing::kBothSurfaces, testing::surface_name);
 
 }  // namespace
 }  // namespace contactnn::contact

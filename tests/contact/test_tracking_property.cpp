@@ -67,36 +67,33 @@ class BlockBuilder {
   }
 
   /// kind 0: C3D8, 1: C3D20, 2: two C3D6, 3: two C3D15 (split along a vertical diagonal plane).
+  /// The nodes of the prism over `base` (its corners, then the same one layer up) and, when `quadratic`, the
+  /// mid-side nodes of its bottom edges, its top edges and its vertical edges: CalculiX's order for C3D8 and
+  /// C3D20 over a quadrilateral, C3D6 and C3D15 over a triangle.
+  template <std::size_t N>
+  std::vector<int> prism_nodes(const std::array<Point, N>& base, bool quadratic) {
+    std::vector<int> n;
+    for (const Point& p : base) n.push_back(node(p));
+    for (const Point& p : base) n.push_back(node(up(p)));
+    if (quadratic) {
+      for (std::size_t e = 0; e < N; ++e) n.push_back(node(mid(base[e], base[(e + 1) % N])));
+      for (std::size_t e = 0; e < N; ++e) n.push_back(node(mid(up(base[e]), up(base[(e + 1) % N]))));
+      for (std::size_t e = 0; e < N; ++e) n.push_back(node(mid(base[e], up(base[e]))));
+    }
+    return n;
+  }
+
   void add_cell(int i, int j, int k, int kind, bool diagonal) {
     const Point c00{2 * i, 2 * j, 2 * k}, c10{2 * i + 2, 2 * j, 2 * k}, c11{2 * i + 2, 2 * j + 2, 2 * k},
         c01{2 * i, 2 * j + 2, 2 * k};
     if (kind <= 1) {
-      const std::array<Point, 4> q = {c00, c10, c11, c01};
-      std::vector<int> n;
-      for (const Point& p : q) n.push_back(node(p));
-      for (const Point& p : q) n.push_back(node(up(p)));
-      if (kind == 1) {
-        for (int e = 0; e < 4; ++e) n.push_back(node(mid(q[e], q[(e + 1) % 4])));
-        for (int e = 0; e < 4; ++e) n.push_back(node(mid(up(q[e]), up(q[(e + 1) % 4]))));
-        for (int e = 0; e < 4; ++e) n.push_back(node(mid(q[e], up(q[e]))));
-      }
-      element(kind == 0 ? "C3D8" : "C3D20", n);
+      element(kind == 0 ? "C3D8" : "C3D20", prism_nodes(std::array<Point, 4>{c00, c10, c11, c01}, kind == 1));
       return;
     }
     const std::array<std::array<Point, 3>, 2> triangles =
         diagonal ? std::array<std::array<Point, 3>, 2>{{{c00, c10, c11}, {c00, c11, c01}}}
                  : std::array<std::array<Point, 3>, 2>{{{c00, c10, c01}, {c10, c11, c01}}};
-    for (const auto& t : triangles) {
-      std::vector<int> n;
-      for (const Point& p : t) n.push_back(node(p));
-      for (const Point& p : t) n.push_back(node(up(p)));
-      if (kind == 3) {
-        for (int e = 0; e < 3; ++e) n.push_back(node(mid(t[e], t[(e + 1) % 3])));
-        for (int e = 0; e < 3; ++e) n.push_back(node(mid(up(t[e]), up(t[(e + 1) % 3]))));
-        for (int e = 0; e < 3; ++e) n.push_back(node(mid(t[e], up(t[e]))));
-      }
-      element(kind == 2 ? "C3D6" : "C3D15", n);
-    }
+    for (const auto& t : triangles) element(kind == 2 ? "C3D6" : "C3D15", prism_nodes(t, kind == 3));
   }
 
   Block b_;

@@ -77,6 +77,33 @@ class EvaluateNetApp : public ::testing::Test {
 
   static std::string evaluate_net() { return (kBin / "apps/evaluate-net/evaluate-net").string(); }
 
+  /// The tiny dataset's rows 0, step, 2 step, ... below `end`, row r placed by placement(r), as a bilinear
+  /// RAW.csv `name`.csv, labelled by gen-configs (label mode) into `name`-labels.csv; its log is `log`.
+  template <class Placement>
+  static void labelled_raw_csv(const std::string& name, Eigen::Index end, Eigen::Index step,
+                               const Placement& placement, const std::string& log) {
+    std::string csv;
+    for (const auto column : kRawPointColumns) csv += (csv.empty() ? "" : ",") + std::string(column);
+    csv += "\n";
+    for (Eigen::Index r = 0; r < end; r += step) {
+      const geometry::Configuration c = place(
+          configuration_from_features(SurfaceKind::kBilinear, set_.features.row(r).data()), placement(r));
+      std::string line;
+      for (int node = 0; node < 4; ++node) {
+        for (int k = 0; k < 3; ++k) line += (line.empty() ? "" : ",") + io::format_double(c.nodes[node][k]);
+      }
+      for (int k = 0; k < 3; ++k) line += "," + io::format_double(c.slave[k]);
+      csv += line + "\n";
+    }
+    std::ofstream(dir_ / (name + ".csv")) << csv;
+    const std::string gen = (kBin / "apps/gen-configs/gen-configs").string();
+    ASSERT_EQ(run(gen + " --surface bilinear --input " + (dir_ / (name + ".csv")).string() + " --output " +
+                      (dir_ / (name + "-labels.csv")).string(),
+                  dir_ / log),
+              0)
+        << read_file(dir_ / log);
+  }
+
   static inline fs::path dir_;
   static inline dataset::LabelledSet set_;
   static inline geometry::TrainingDomain domain_;
@@ -129,27 +156,8 @@ TEST_F(EvaluateNetApp, SeveralNetworksAndAPairsFileInOneReport) {
   // The same network under a second name, the dataset and a labelled RAW.csv of its first rows (label mode of
   // gen-configs on raw rows): one report with both sets and both networks' methods.
   fs::copy_file(dir_ / "net.h5", dir_ / "twin.h5", fs::copy_options::overwrite_existing);
-  std::string csv;
-  for (const auto name : kRawPointColumns) csv += (csv.empty() ? "" : ",") + std::string(name);
-  csv += "\n";
-  for (Eigen::Index r = 0; r < 20; ++r) {
-    const geometry::Configuration c =
-        place(configuration_from_features(SurfaceKind::kBilinear, set_.features.row(r).data()),
-              random_placement(5, 0));
-    std::string line;
-    for (int node = 0; node < 4; ++node) {
-      for (int k = 0; k < 3; ++k) line += (line.empty() ? "" : ",") + io::format_double(c.nodes[node][k]);
-    }
-    for (int k = 0; k < 3; ++k) line += "," + io::format_double(c.slave[k]);
-    csv += line + "\n";
-  }
-  std::ofstream(dir_ / "some.csv") << csv;
-  const std::string gen = (kBin / "apps/gen-configs/gen-configs").string();
-  ASSERT_EQ(run(gen + " --surface bilinear --input " + (dir_ / "some.csv").string() + " --output " +
-                    (dir_ / "some-labels.csv").string(),
-                dir_ / "label.log"),
-            0)
-      << read_file(dir_ / "label.log");
+  ASSERT_NO_FATAL_FAILURE(labelled_raw_csv(
+      "some", 20, 1, [](Eigen::Index) { return random_placement(5, 0); }, "label.log"));
   const fs::path report = dir_ / "report2";
   ASSERT_EQ(run(evaluate_net() + " --quiet --weights " + (dir_ / "net.h5").string() + " --weights " +
                     (dir_ / "twin.h5").string() + " --data " + (dir_ / "tiny.h5").string() + " --pairs " +
@@ -189,26 +197,8 @@ TEST_F(EvaluateNetApp, SeveralNetworksAndAPairsFileInOneReport) {
 TEST_F(EvaluateNetApp, NewtonStepsAfterTheNetworkReachTheLabels) {
   // SPEC 8: --newton-steps K refines the network's estimate on the caller's segment; with enough steps the
   // answer is the reference's (gen-configs label mode) to Newton's tolerance, whatever the network.
-  std::string csv;
-  for (const auto name : kRawPointColumns) csv += (csv.empty() ? "" : ",") + std::string(name);
-  csv += "\n";
-  for (Eigen::Index r = 0; r < set_.size(); r += 7) {
-    const geometry::Configuration c =
-        place(configuration_from_features(SurfaceKind::kBilinear, set_.features.row(r).data()),
-              random_placement(6, r));
-    std::string line;
-    for (int node = 0; node < 4; ++node) {
-      for (int k = 0; k < 3; ++k) line += (line.empty() ? "" : ",") + io::format_double(c.nodes[node][k]);
-    }
-    for (int k = 0; k < 3; ++k) line += "," + io::format_double(c.slave[k]);
-    csv += line + "\n";
-  }
-  std::ofstream(dir_ / "steps.csv") << csv;
-  const std::string gen = (kBin / "apps/gen-configs/gen-configs").string();
-  ASSERT_EQ(run(gen + " --surface bilinear --input " + (dir_ / "steps.csv").string() + " --output " +
-                    (dir_ / "steps-labels.csv").string(),
-                dir_ / "steps-label.log"),
-            0);
+  ASSERT_NO_FATAL_FAILURE(labelled_raw_csv(
+      "steps", set_.size(), 7, [](Eigen::Index r) { return random_placement(6, r); }, "steps-label.log"));
   ASSERT_EQ(run(evaluate_net() + " --weights " + (dir_ / "net.h5").string() + " --input " +
                     (dir_ / "steps.csv").string() + " --output " + (dir_ / "steps-pred.csv").string() +
                     " --newton-steps 12",

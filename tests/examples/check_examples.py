@@ -26,7 +26,7 @@ import subprocess
 import sys
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
-from check_support import Failures, run_or_exit  # noqa: E402  (tests/check_support.py)
+from check_support import Failures, add_consumer_options, build_consumer, run_or_exit  # noqa: E402  (tests/check_support.py)
 
 TOL = 1e-10  # of the face size (the plate's cells are 1 x 1)
 failures = Failures()
@@ -108,26 +108,13 @@ def compare(name, answers, k, expected, nodes, faces):
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--cmake", required=True)
-    parser.add_argument("--generator", required=True)
-    parser.add_argument("--prefix", required=True)
-    parser.add_argument("--source-dir", required=True)
+    add_consumer_options(parser)
     parser.add_argument("--gen-configs", required=True)
-    parser.add_argument("--work", required=True)
-    parser.add_argument("--valgrind", default="")
-    parser.add_argument("--set", action="append", default=[])
     args = parser.parse_args()
 
-    if os.path.exists(args.work):
-        shutil.rmtree(args.work)
-    build = os.path.join(args.work, "build")
+    build, _ = build_consumer(args, os.path.join(args.source_dir, "examples"))
     decks = os.path.join(args.work, "decks")
     os.makedirs(decks)
-    configure = [args.cmake, "-S", os.path.join(args.source_dir, "examples"), "-B", build, "-G", args.generator,
-                 f"-DCMAKE_PREFIX_PATH={os.path.abspath(args.prefix)}", "-DCMAKE_FIND_USE_PACKAGE_REGISTRY=OFF"]
-    configure += [f"-D{s}" for s in args.set]
-    run(configure)
-    run([args.cmake, "--build", build])
     programs = {"C": [os.path.join(build, "contact_search_c"), decks],
                 "Fortran": [os.path.join(build, "contact_search_fortran")]}
     outputs = {name: run(command).stdout for name, command in programs.items()}

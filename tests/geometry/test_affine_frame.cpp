@@ -103,45 +103,47 @@ Configuration random_world_configuration(std::mt19937_64& rng, bool gregory) {
                             Vec3(u(rng), u(rng), u(rng)) * 50);
 }
 
-TEST(CanonicalConfiguration, EveryNodeOrderReachesTheSameFeaturesBitForBit) {
-  std::mt19937_64 rng(41);
+/// check(kind, world, its normalised form) for `count` random world configurations of each surface kind.
+template <class Check>
+void for_random_worlds(std::uint64_t seed, int count, const Check& check) {
+  std::mt19937_64 rng(seed);
   for (const SurfaceKind kind : {SurfaceKind::kBilinear, SurfaceKind::kGregory}) {
-    for (int k = 0; k < 200; ++k) {
+    for (int k = 0; k < count; ++k) {
       const Configuration world = random_world_configuration(rng, kind == SurfaceKind::kGregory);
       const auto base = normalise(world, kind);
       ASSERT_TRUE(base.value);
-      for (const SquareSymmetry& order : all_square_symmetries()) {
-        const auto other = normalise(relabel(world, order), kind);
-        ASSERT_TRUE(other.value);
-        EXPECT_EQ(other.value->features, base.value->features) << "order " << order.rotation << order.mirror;
-        // A relabelling that reverses the node order reverses the caller's normal, hence its gap sign.
-        EXPECT_EQ(other.value->orientation, base.value->orientation * order.orientation());
-      }
+      check(kind, world, base, rng);
     }
   }
+}
+
+TEST(CanonicalConfiguration, EveryNodeOrderReachesTheSameFeaturesBitForBit) {
+  for_random_worlds(41, 200, [](SurfaceKind kind, const Configuration& world, const auto& base, auto&) {
+    for (const SquareSymmetry& order : all_square_symmetries()) {
+      const auto other = normalise(relabel(world, order), kind);
+      ASSERT_TRUE(other.value);
+      EXPECT_EQ(other.value->features, base.value->features) << "order " << order.rotation << order.mirror;
+      // A relabelling that reverses the node order reverses the caller's normal, hence its gap sign.
+      EXPECT_EQ(other.value->orientation, base.value->orientation * order.orientation());
+    }
+  });
 }
 
 TEST(CanonicalConfiguration, OrdersReflectedThroughSpaceAgreeToRounding) {
   // The mirror of SPEC 4 as a caller may present it: the node order A, D, C, B of a reflected copy of space,
   // which keeps the front side. Same problem, same features up to the rounding of the reflection.
-  std::mt19937_64 rng(42);
-  for (const SurfaceKind kind : {SurfaceKind::kBilinear, SurfaceKind::kGregory}) {
-    for (int k = 0; k < 100; ++k) {
-      const Configuration world = random_world_configuration(rng, kind == SurfaceKind::kGregory);
-      const auto base = normalise(world, kind);
-      ASSERT_TRUE(base.value);
-      const Vec3 plane = testing::random_rotation(rng).col(0);
-      const Eigen::Matrix3d reflection = Eigen::Matrix3d::Identity() - 2.0 * plane * plane.transpose();
-      Configuration reflected = testing::transform(world, reflection, 1.0, Vec3(3, -2, 1));
-      for (const SquareSymmetry& order : all_square_symmetries()) {
-        const auto other = normalise(relabel(reflected, order), kind);
-        ASSERT_TRUE(other.value);
-        for (int f = 0; f < feature_count(kind); ++f) {
-          EXPECT_NEAR(other.value->features[f], base.value->features[f], kRoundTripTol) << kFeatureNames[f];
-        }
+  for_random_worlds(42, 100, [](SurfaceKind kind, const Configuration& world, const auto& base, auto& rng) {
+    const Vec3 plane = testing::random_rotation(rng).col(0);
+    const Eigen::Matrix3d reflection = Eigen::Matrix3d::Identity() - 2.0 * plane * plane.transpose();
+    Configuration reflected = testing::transform(world, reflection, 1.0, Vec3(3, -2, 1));
+    for (const SquareSymmetry& order : all_square_symmetries()) {
+      const auto other = normalise(relabel(reflected, order), kind);
+      ASSERT_TRUE(other.value);
+      for (int f = 0; f < feature_count(kind); ++f) {
+        EXPECT_NEAR(other.value->features[f], base.value->features[f], kRoundTripTol) << kFeatureNames[f];
       }
     }
-  }
+  });
 }
 
 TEST(CanonicalConfiguration, IsThePapersForm) {

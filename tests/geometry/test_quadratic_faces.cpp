@@ -78,38 +78,34 @@ void expect_derivatives_match_differences(const Face& face, double a, double b) 
   EXPECT_LE((p.d_st - dst).norm(), kSecondDifferenceTol);
 }
 
-TEST(SerendipityQuad, IsTheTextbookInterpolantThroughItsEightNodes) {
-  std::mt19937_64 rng(11);
-  std::uniform_real_distribution<double> u(-1.3, 1.3);
-  const double at[8][2] = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}, {0, -1}, {1, 0}, {0, 1}, {-1, 0}};
+/// Faces of N random nodes: each node at its parameters `at`, and at random parameters in [lo, hi]^2 the
+/// textbook interpolant (`shape`: the N shape functions) with derivatives that match finite differences.
+template <class Face, std::size_t N, class Shape>
+void expect_textbook_interpolant(std::uint64_t seed, double lo, double hi, const double (&at)[N][2],
+                                 const Shape& shape) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(lo, hi);
   for (int trial = 0; trial < 50; ++trial) {
-    const auto x = random_nodes<8>(rng);
-    const SerendipityQuad face(x);
-    for (std::size_t i = 0; i < 8; ++i)
+    const auto x = random_nodes<N>(rng);
+    const Face face(x);
+    for (std::size_t i = 0; i < N; ++i)
       EXPECT_LE((face.position(at[i][0], at[i][1]) - x[i]).norm(), kRounding) << i;
     for (int k = 0; k < 20; ++k) {
-      const double xi = u(rng), eta = u(rng);
-      EXPECT_LE((face.position(xi, eta) - combine(quad8_shape(xi, eta), x)).norm(), kRounding);
-      expect_derivatives_match_differences(face, xi, eta);
+      const double s = u(rng), t = u(rng);
+      EXPECT_LE((face.position(s, t) - combine(shape(s, t), x)).norm(), kRounding);
+      expect_derivatives_match_differences(face, s, t);
     }
   }
 }
 
+TEST(SerendipityQuad, IsTheTextbookInterpolantThroughItsEightNodes) {
+  const double at[8][2] = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}, {0, -1}, {1, 0}, {0, 1}, {-1, 0}};
+  expect_textbook_interpolant<SerendipityQuad>(11, -1.3, 1.3, at, quad8_shape);
+}
+
 TEST(QuadraticTriangle, IsTheTextbookInterpolantThroughItsSixNodes) {
-  std::mt19937_64 rng(12);
-  std::uniform_real_distribution<double> u(-0.3, 1.3);
   const double at[6][2] = {{0, 0}, {1, 0}, {0, 1}, {0.5, 0}, {0.5, 0.5}, {0, 0.5}};
-  for (int trial = 0; trial < 50; ++trial) {
-    const auto x = random_nodes<6>(rng);
-    const QuadraticTriangle face(x);
-    for (std::size_t i = 0; i < 6; ++i)
-      EXPECT_LE((face.position(at[i][0], at[i][1]) - x[i]).norm(), kRounding) << i;
-    for (int k = 0; k < 20; ++k) {
-      const double r = u(rng), s = u(rng);
-      EXPECT_LE((face.position(r, s) - combine(tri6_shape(r, s), x)).norm(), kRounding);
-      expect_derivatives_match_differences(face, r, s);
-    }
-  }
+  expect_textbook_interpolant<QuadraticTriangle>(12, -0.3, 1.3, at, tri6_shape);
 }
 
 TEST(QuadraticFaces, MidpointMidSideNodesGiveTheLinearFace) {

@@ -21,12 +21,7 @@ namespace {
 namespace fs = std::filesystem;
 
 /// A fresh, empty directory for one test.
-fs::path fresh_dir(const std::string& name) {
-  const fs::path dir = testing::test_output_dir("test-atomic-output") / name;
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
+fs::path fresh_dir(const std::string& name) { return testing::fresh_test_dir("test-atomic-output", name); }
 
 std::string read_text(const fs::path& path) {
   std::ifstream in(path, std::ios::binary);

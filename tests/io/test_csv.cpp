@@ -5,6 +5,7 @@
 #include <random>
 
 #include "core/error.hpp"
+#include "error_message.hpp"
 #include "io/csv.hpp"
 #include "io/raw_configurations.hpp"
 #include "test_support.hpp"
@@ -13,12 +14,7 @@ namespace contactnn::io {
 namespace {
 
 std::string message_of(const std::string& text) {
-  try {
-    (void)parse_csv(text, "in.csv");
-  } catch (const FormatError& e) {
-    return e.what();
-  }
-  return "(no error)";
+  return testing::error_message<FormatError>([&] { (void)parse_csv(text, "in.csv"); });
 }
 
 TEST(Csv, ParsesColumnsQuotesCrlfAndBlankLines) {

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "core/error.hpp"
+#include "error_message.hpp"
 #include "io/dataset_file.hpp"
 #include "io/hdf5_file.hpp"
 #include "test_support.hpp"
@@ -33,12 +34,7 @@ dataset::LabelledSet small_set() {
 }
 
 std::string error_of(const std::filesystem::path& path) {
-  try {
-    (void)read_dataset(path);
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "(no error)";
+  return testing::error_message<Error>([&] { (void)read_dataset(path); });
 }
 
 TEST(DatasetFile, RoundTripIsExact) {

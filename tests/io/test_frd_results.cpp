@@ -90,6 +90,23 @@ std::string location(const std::string& name, int line) {
   return "'" + (dir() / name).string() + "':" + std::to_string(line) + ":";
 }
 
+/// The lines that open a block of displacements (D1, D2, D3, ALL) and one of contact results (COPEN ...
+/// CSHEAR2), as ccx writes them: the blocks of the files below.
+const std::string kDispHeader =
+    " -4  DISP        4    1\n"
+    " -5  D1          1    2    1    0\n"
+    " -5  D2          1    2    2    0\n"
+    " -5  D3          1    2    3    0\n"
+    " -5  ALL         1    2    0    0    1ALL\n";
+const std::string kContactHeader =
+    " -4  CONTACT     6    1\n"
+    " -5  COPEN       1    4    1    1\n"
+    " -5  CSLIP1      1    4    2    2\n"
+    " -5  CSLIP2      1    4    3    3\n"
+    " -5  CPRESS      1    4    1    2\n"
+    " -5  CSHEAR1     1    4    2    3\n"
+    " -5  CSHEAR2     1    4    3    1\n";
+
 // ccx 2.20's layout (long format): node block, element block, DISP and CONTACT of increment 1 (time 0.25),
 // DISP of increment 2 (time 1.0, no CONTACT). Values touch their neighbours where they are negative.
 // Line numbers, used by the error tests: 2C header 3, first DISP header 14 (records 20-23, " -3" 24),
@@ -108,36 +125,22 @@ const std::string kLong =
     " -2         1         2        10       123\n"
     " -3\n"
     "    1PSTEP                         1           1           1          \n"
-    "  100CL  101 2.50000E-01           4                     0    1           1\n"
-    " -4  DISP        4    1\n"
-    " -5  D1          1    2    1    0\n"
-    " -5  D2          1    2    2    0\n"
-    " -5  D3          1    2    3    0\n"
-    " -5  ALL         1    2    0    0    1ALL\n"
+    "  100CL  101 2.50000E-01           4                     0    1           1\n" +
+    kDispHeader +
     " -1         1 0.00000E+00 0.00000E+00 0.00000E+00\n"
     " -1         2 1.00000E-03-2.00000E-03 3.00000E-03\n"
     " -1        10-1.50000E-04-2.50000E-04-3.50000E-04\n"
     " -1       123 0.00000E+00 0.00000E+00-1.25000E-03\n"
     " -3\n"
     "    1PSTEP                         2           1           1          \n"
-    "  100CL  101 2.50000E-01           2                     0    1           1\n"
-    " -4  CONTACT     6    1\n"
-    " -5  COPEN       1    4    1    1\n"
-    " -5  CSLIP1      1    4    2    2\n"
-    " -5  CSLIP2      1    4    3    3\n"
-    " -5  CPRESS      1    4    1    2\n"
-    " -5  CSHEAR1     1    4    2    3\n"
-    " -5  CSHEAR2     1    4    3    1\n"
+    "  100CL  101 2.50000E-01           2                     0    1           1\n" +
+    kContactHeader +
     " -1       123-2.34698E-04 1.00000E-06-2.00000E-06 2.31699E+02 3.00000E-01-4.00000E-01\n"
     " -1        10 1.00000E-02 0.00000E+00 0.00000E+00 0.00000E+00 0.00000E+00 0.00000E+00\n"
     " -3\n"
     "    1PSTEP                         3           2           1          \n"
-    "  100CL  102 1.000000000           4                     0    2           1\n"
-    " -4  DISP        4    1\n"
-    " -5  D1          1    2    1    0\n"
-    " -5  D2          1    2    2    0\n"
-    " -5  D3          1    2    3    0\n"
-    " -5  ALL         1    2    0    0    1ALL\n"
+    "  100CL  102 1.000000000           4                     0    2           1\n" +
+    kDispHeader +
     " -1         1 0.00000E+00 0.00000E+00 0.00000E+00\n"
     " -1         2 2.00000E-03-4.00000E-03 6.00000E-03\n"
     " -1        10-3.00000E-04-5.00000E-04-7.00000E-04\n"
@@ -232,12 +235,8 @@ const std::string kSteps =
     " -1         2 1.00000E+00 0.00000E+00 0.00000E+00\n"
     " -3\n"
     "    1PSTEP                         1           1           1          \n"
-    "  100CL  101 1.000000000           2                     0    1           1\n"
-    " -4  DISP        4    1\n"
-    " -5  D1          1    2    1    0\n"
-    " -5  D2          1    2    2    0\n"
-    " -5  D3          1    2    3    0\n"
-    " -5  ALL         1    2    0    0    1ALL\n"
+    "  100CL  101 1.000000000           2                     0    1           1\n" +
+    kDispHeader +
     " -1         1 1.00000E+00 0.00000E+00 0.00000E+00\n"
     " -1         2 2.00000E+00 0.00000E+00 0.00000E+00\n"
     " -3\n"
@@ -259,45 +258,27 @@ const std::string kSteps =
     "    1PSTEP                         3           1           2          \n"
     "    1PGM                1.000000E+00                                  \n"
     "    1PMODE                         1                                  \n"
-    "  100CL  102 654708.0902           2                     2    2MODAL      1\n"
-    " -4  DISP        4    1\n"
-    " -5  D1          1    2    1    0\n"
-    " -5  D2          1    2    2    0\n"
-    " -5  D3          1    2    3    0\n"
-    " -5  ALL         1    2    0    0    1ALL\n"
+    "  100CL  102 654708.0902           2                     2    2MODAL      1\n" +
+    kDispHeader +
     " -1         1 5.00000E-01 0.00000E+00 0.00000E+00\n"
     " -1         2 5.00000E-01 0.00000E+00 0.00000E+00\n"
     " -3\n"
     "    1PSTEP                         4           1           2          \n"
     "    1PMODE                         2                                  \n"
-    "  100CL  103 887067.0158           2                     2    3MODAL      1\n"
-    " -4  DISP        4    1\n"
-    " -5  D1          1    2    1    0\n"
-    " -5  D2          1    2    2    0\n"
-    " -5  D3          1    2    3    0\n"
-    " -5  ALL         1    2    0    0    1ALL\n"
+    "  100CL  103 887067.0158           2                     2    3MODAL      1\n" +
+    kDispHeader +
     " -1         1 0.00000E+00 5.00000E-01 0.00000E+00\n"
     " -1         2 0.00000E+00 5.00000E-01 0.00000E+00\n"
     " -3\n"
     "    1PSTEP                         5           1           3          \n"
-    "  100CL  104 1.500000000           2                     1    4           1\n"
-    " -4  DISP        4    1\n"
-    " -5  D1          1    2    1    0\n"
-    " -5  D2          1    2    2    0\n"
-    " -5  D3          1    2    3    0\n"
-    " -5  ALL         1    2    0    0    1ALL\n"
+    "  100CL  104 1.500000000           2                     1    4           1\n" +
+    kDispHeader +
     " -1         1 0.00000E+00 0.00000E+00 3.00000E+00\n"
     " -1         2 0.00000E+00 0.00000E+00 4.00000E+00\n"
     " -3\n"
     "    1PSTEP                         6           1           3          \n"
-    "  100CL  104 1.500000000           1                     1    4           1\n"
-    " -4  CONTACT     6    1\n"
-    " -5  COPEN       1    4    1    1\n"
-    " -5  CSLIP1      1    4    2    2\n"
-    " -5  CSLIP2      1    4    3    3\n"
-    " -5  CPRESS      1    4    1    2\n"
-    " -5  CSHEAR1     1    4    2    3\n"
-    " -5  CSHEAR2     1    4    3    1\n"
+    "  100CL  104 1.500000000           1                     1    4           1\n" +
+    kContactHeader +
     " -1         2-5.00000E-05 0.00000E+00 0.00000E+00 5.00000E+01 0.00000E+00 0.00000E+00\n"
     " -3\n"
     " 9999\n";

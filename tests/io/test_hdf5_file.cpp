@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "core/error.hpp"
+#include "error_message.hpp"
 #include "io/dataset_file.hpp"
 #include "io/hdf5_file.hpp"
 #include "io/network_file.hpp"
@@ -148,14 +149,7 @@ struct H5pyDataset {
 };
 
 std::string read_error(const fs::path& path) {
-  try {
-    (void)read_dataset(path);
-  } catch (const FormatError& e) {
-    return e.what();
-  } catch (const Error& e) {
-    return std::string("wrong error type: ") + e.what();
-  }
-  return "(no error)";
+  return testing::error_message<FormatError>([&] { (void)read_dataset(path); });
 }
 
 TEST(Hdf5File, ADatasetWrittenAsH5pyWritesItReadsToTheSameValues) {
@@ -293,15 +287,10 @@ void set_root_string(const fs::path& path, const char* name, const std::string& 
 }
 
 std::string network_error(const fs::path& path) {
-  try {
+  return testing::error_message<FormatError>([&] {
     (void)read_network<float>(path);
     (void)read_network_real_type(path);
-  } catch (const FormatError& e) {
-    return e.what();
-  } catch (const Error& e) {
-    return std::string("wrong error type: ") + e.what();
-  }
-  return "(no error)";
+  });
 }
 
 TEST(NetworkFileChecks, AnUnsupportedRealTypeOrActivationIsRefusedByName) {

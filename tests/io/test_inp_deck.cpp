@@ -9,6 +9,7 @@
 
 #include "core/error.hpp"
 #include "core/quote_text.hpp"
+#include "error_message.hpp"
 #include "io/inp_deck.hpp"
 #include "mesh/contact_model.hpp"
 #include "test_support.hpp"
@@ -332,12 +333,7 @@ TEST(InpDeck, MissingIncludeIsAnIoErrorNamingTheFile) {
 
 /// The message of the FormatError that reading the deck at `path` throws; "" if it throws nothing.
 std::string format_error_of(const fs::path& path) {
-  try {
-    (void)read_inp_deck(path);
-  } catch (const FormatError& e) {
-    return e.what();
-  }
-  return "";
+  return testing::error_message<FormatError>([&] { (void)read_inp_deck(path); }, "");
 }
 
 TEST(InpDeck, ADeckOrIncludeThatIsNotARegularFileIsRefused) {

@@ -21,10 +21,7 @@ namespace {
 namespace fs = std::filesystem;
 
 fs::path fresh_dir(const std::string& name) {
-  const fs::path dir = testing::test_output_dir("test-interrupt-cleanup") / name;
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
+  return testing::fresh_test_dir("test-interrupt-cleanup", name);
 }
 
 void touch(const fs::path& path) { std::ofstream(path) << "x"; }

@@ -1,6 +1,6 @@
 // A structured quad surface mesh for the tests of lib/mesh and lib/contact: nodes and segments of an
-// nx x ny grid, counter-clockwise seen from +z, with the node-to-segment adjacency built independently of
-// mesh::build_surface_mesh (the tests check that against it).
+// nx x ny grid, counter-clockwise seen from +z, with the node-to-segment adjacency of mesh::set_adjacency
+// (which tests/mesh/test_surface_mesh.cpp checks against a hand-made surface).
 #pragma once
 
 #include <functional>
@@ -27,18 +27,7 @@ inline mesh::SurfaceMesh grid_surface(int nx, int ny,
     for (int i = 0; i < nx; ++i)
       s.segments.push_back({at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)});
   }
-  const std::size_t n = s.positions.size();
-  s.adjacency_offsets.assign(n + 1, 0);
-  for (const auto& q : s.segments) {
-    for (int v : q) ++s.adjacency_offsets[static_cast<std::size_t>(v) + 1];
-  }
-  for (std::size_t i = 0; i < n; ++i) s.adjacency_offsets[i + 1] += s.adjacency_offsets[i];
-  s.adjacency.resize(static_cast<std::size_t>(s.adjacency_offsets[n]));
-  std::vector<int> fill(s.adjacency_offsets.begin(), s.adjacency_offsets.end() - 1);
-  for (std::size_t q = 0; q < s.segments.size(); ++q) {
-    for (int v : s.segments[q])
-      s.adjacency[static_cast<std::size_t>(fill[static_cast<std::size_t>(v)]++)] = static_cast<int>(q);
-  }
+  mesh::set_adjacency(s);
   return s;
 }
 

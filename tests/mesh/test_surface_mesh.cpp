@@ -84,45 +84,44 @@ SolidMesh random_hexahedron(std::mt19937_64& rng, double distortion, bool mirror
   return mesh;
 }
 
+/// Every face of the hexahedron `mesh` (element 0), as outward_quad_corners orders it: `order(quad, manual)`
+/// checks its corners against the manual's, then its normal must point away from the element's centroid.
+template <class Order>
+void expect_faces_point_outward(const SolidMesh& mesh, int trial, const Order& order) {
+  Vec3 centroid = Vec3::Zero();
+  for (int n = 0; n < 8; ++n) centroid += mesh.position(n) / 8.0;
+  for (int f = 1; f <= 6; ++f) {
+    const auto quad = outward_quad_corners(mesh, {0, f});
+    order(quad, face_corner_indices(ElementShape::kHexahedron, f));
+    const Vec3& a = mesh.position(quad[0]);
+    const Vec3 normal = (mesh.position(quad[1]) - a).cross(mesh.position(quad[3]) - a);
+    const Vec3 face_centre =
+        0.25 * (a + mesh.position(quad[1]) + mesh.position(quad[2]) + mesh.position(quad[3]));
+    EXPECT_GT(normal.dot(face_centre - centroid), 0.0) << "trial " << trial << " S" << f;
+  }
+}
+
 TEST(OutwardQuadCorners, CalculixNumberingReversedPointsOutOfEveryFace) {
   std::mt19937_64 rng(41);
   for (int trial = 0; trial < 200; ++trial) {
-    const SolidMesh mesh = random_hexahedron(rng, 0.2, false);
-    Vec3 centroid = Vec3::Zero();
-    for (int n = 0; n < 8; ++n) centroid += mesh.position(n) / 8.0;
-    for (int f = 1; f <= 6; ++f) {
-      const auto quad = outward_quad_corners(mesh, {0, f});
-      const auto manual = face_corner_indices(ElementShape::kHexahedron, f);
-      // A is the manual's first corner, then the manual's order reversed.
-      EXPECT_EQ(quad[0], manual[0]);
-      EXPECT_EQ(quad[1], manual[3]);
-      EXPECT_EQ(quad[2], manual[2]);
-      EXPECT_EQ(quad[3], manual[1]);
-      const Vec3& a = mesh.position(quad[0]);
-      const Vec3 normal = (mesh.position(quad[1]) - a).cross(mesh.position(quad[3]) - a);
-      const Vec3 face_centre =
-          0.25 * (a + mesh.position(quad[1]) + mesh.position(quad[2]) + mesh.position(quad[3]));
-      EXPECT_GT(normal.dot(face_centre - centroid), 0.0) << "trial " << trial << " S" << f;
-    }
+    expect_faces_point_outward(random_hexahedron(rng, 0.2, false), trial,
+                               [](const auto& quad, const auto& manual) {
+                                 // A is the manual's first corner, then the manual's order reversed.
+                                 EXPECT_EQ(quad[0], manual[0]);
+                                 EXPECT_EQ(quad[1], manual[3]);
+                                 EXPECT_EQ(quad[2], manual[2]);
+                                 EXPECT_EQ(quad[3], manual[1]);
+                               });
   }
 }
 
 TEST(OutwardQuadCorners, InsideOutElementIsOrientedByItsCentroid) {
   std::mt19937_64 rng(43);
   for (int trial = 0; trial < 50; ++trial) {
-    const SolidMesh mesh = random_hexahedron(rng, 0.1, true);
-    Vec3 centroid = Vec3::Zero();
-    for (int n = 0; n < 8; ++n) centroid += mesh.position(n) / 8.0;
-    for (int f = 1; f <= 6; ++f) {
-      const auto quad = outward_quad_corners(mesh, {0, f});
-      const auto manual = face_corner_indices(ElementShape::kHexahedron, f);
-      EXPECT_EQ(quad[1], manual[1]);  // the manual's own order
-      const Vec3& a = mesh.position(quad[0]);
-      const Vec3 normal = (mesh.position(quad[1]) - a).cross(mesh.position(quad[3]) - a);
-      const Vec3 face_centre =
-          0.25 * (a + mesh.position(quad[1]) + mesh.position(quad[2]) + mesh.position(quad[3]));
-      EXPECT_GT(normal.dot(face_centre - centroid), 0.0) << "trial " << trial << " S" << f;
-    }
+    expect_faces_point_outward(random_hexahedron(rng, 0.1, true), trial,
+                               [](const auto& quad, const auto& manual) {
+                                 EXPECT_EQ(quad[1], manual[1]);  // the manual's own order
+                               });
   }
 }
 

@@ -31,14 +31,7 @@ inline Input input_of(const contact::Scene& scene) {
   in.ids.insert(in.ids.end(), scene.slave_ids.begin(), scene.slave_ids.end());
   std::sort(in.ids.begin(), in.ids.end());
   in.ids.erase(std::unique(in.ids.begin(), in.ids.end()), in.ids.end());
-  const int n = scene.master.face_count();
-  std::vector<int> order(static_cast<std::size_t>(n));
-  std::iota(order.begin(), order.end(), 0);
-  const auto key = [&](int f) {
-    return std::pair(scene.master.face_element_id(f), scene.master.face_of(f).face);
-  };
-  std::sort(order.begin(), order.end(), [&](int a, int b) { return key(a) < key(b); });
-  for (int f : order) {
+  for (int f : contact::master_faces_in_deck_order(scene)) {
     const mesh::FaceNodes nodes = scene.master.face_nodes(f);
     in.types.push_back(nodes.type);
     in.offsets.push_back(static_cast<long>(in.connectivity.size()));

@@ -33,6 +33,7 @@
 #include "io/frd_results.hpp"
 #include "io/inp_deck.hpp"
 #include "mpi/distributed_contact_search.hpp"
+#include "mpi_main.hpp"
 
 namespace {
 
@@ -165,12 +166,7 @@ Share share_of(const mpi_test::Input& in, const contact::Scene& scene, const std
 }
 
 /// The serial search's answers for every slave node.
-struct Answers {
-  std::vector<int> status, face, location;
-  std::vector<double> param, point, gap, normal;
-  explicit Answers(std::size_t m)
-      : status(m), face(m), location(m), param(2 * m), point(3 * m), gap(m), normal(3 * m) {}
-};
+using Answers = contact::ContactAnswers;
 
 /// One increment of one share: the distributed search, checked against the serial answers `s` (when given).
 void update_share(Share& share, const mpi_test::Input& in, const std::vector<double>& all, const Answers* s) {
@@ -271,10 +267,7 @@ int run(int argc, char** argv, int rank, int size) {
     io::move_to_increment(model.mesh, results, increment);
     scene = contact::make_scene(model, pair);
     const std::vector<double> all = mpi_test::coordinates(in, scene);
-    if (serial)
-      serial->update(all, {},
-                     {answers.status, answers.face, answers.location, answers.param, answers.point,
-                      answers.gap, answers.normal});
+    if (serial) serial->update(all, {}, answers.results());
     for (Share& s : shares) {
       update_share(s, in, all, serial ? &answers : nullptr);
       gather(s, std::to_string(increment + 1));
@@ -307,17 +300,8 @@ int run(int argc, char** argv, int rank, int size) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  MPI_Init(&argc, &argv);
-  int rank = 0, size = 1;
-  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
-  MPI_Comm_size(MPI_COMM_WORLD, &size);
-  int code = 0;
-  try {
-    code = run(argc, argv, rank, size);
-  } catch (const contactnn::Error& e) {
+  return contactnn::mpi_test::mpi_main(argc, argv, run, [](const contactnn::Error& e, int rank) {
     std::fprintf(stderr, "mpi_communication rank %d: %s\n", rank, e.what());
-    code = 1;
-  }
-  MPI_Finalize();
-  return code;
+    return 1;
+  });
 }

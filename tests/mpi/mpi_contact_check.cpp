@@ -35,6 +35,7 @@
 #include "deck_input.hpp"
 #include "io/inp_deck.hpp"
 #include "mpi/distributed_contact_search.hpp"
+#include "mpi_main.hpp"
 
 namespace {
 
@@ -61,13 +62,6 @@ std::string arg(int argc, char** argv, const std::string& name, const std::strin
     if (argv[i] == name) return argv[i + 1];
   return fallback;
 }
-
-struct Answers {
-  std::vector<int> status, face, location;
-  std::vector<double> param, point, gap, normal;
-  explicit Answers(std::size_t m)
-      : status(m, -7), face(m, -7), location(m, -7), param(2 * m), point(3 * m), gap(m), normal(3 * m) {}
-};
 
 bool same_bits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
 
@@ -200,8 +194,8 @@ int run(int argc, char** argv, int rank, int size) {
     std::vector<long> face(k);
     std::vector<double> param(2 * k), point(3 * k), gap(k), normal(3 * k);
     search.update(x, {status, face, owner, location, param, point, gap, normal});
-    Answers s(m);
-    serial.update(all, {}, {s.status, s.face, s.location, s.param, s.point, s.gap, s.normal});
+    contact::ContactAnswers s(m, -7, -7);
+    serial.update(all, {}, s.results());
     for (std::size_t j = 0; j < k; ++j) {
       const std::size_t i = my_slaves[j];
       bool same = status[j] == s.status[i] && face[j] == s.face[i] && location[j] == s.location[i] &&
@@ -253,15 +247,8 @@ int run(int argc, char** argv, int rank, int size) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  MPI_Init(&argc, &argv);
-  int rank = 0, size = 1;
-  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
-  MPI_Comm_size(MPI_COMM_WORLD, &size);
   const bool hostile = !arg(argc, argv, "--hostile", "").empty();
-  int code = 0;
-  try {
-    code = run(argc, argv, rank, size);
-  } catch (const contactnn::Error& e) {
+  return contactnn::mpi_test::mpi_main(argc, argv, run, [&](const contactnn::Error& e, int rank) {
     // Every rank must end with the same error: its exit code and a hash of its message agree everywhere.
     const long mine[2] = {e.exit_code(), static_cast<long>(std::hash<std::string>{}(e.what()) >> 1)};
     long low[2] = {0, 0}, high[2] = {0, 0};
@@ -272,8 +259,6 @@ int main(int argc, char** argv) {
       std::printf("every rank: %s error (exit code %d): %s\n", same ? "the same" : "NOT the same",
                   e.exit_code(), e.what());
     }
-    code = hostile && same ? 0 : 1;
-  }
-  MPI_Finalize();
-  return code;
+    return hostile && same ? 0 : 1;
+  });
 }

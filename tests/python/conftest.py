@@ -14,29 +14,18 @@ def env_path(name):
     return value
 
 
-@pytest.fixture(scope="session")
-def scenes_dir():
-    return env_path("CONTACTNN_EXAMPLE_SCENES")
+def path_fixture(fixture, variable):
+    """The session fixture `fixture`: the path ctest passes in the environment variable `variable`."""
+    def path():
+        return env_path(variable)
+    return pytest.fixture(scope="session", name=fixture)(path)
 
 
-@pytest.fixture(scope="session")
-def histories_dir():
-    return env_path("CONTACTNN_EXAMPLE_HISTORIES")
-
-
-@pytest.fixture(scope="session")
-def gen_configs():
-    return env_path("CONTACTNN_GEN_CONFIGS")
-
-
-@pytest.fixture(scope="session")
-def evaluate_net():
-    return env_path("CONTACTNN_EVALUATE_NET")
-
-
-@pytest.fixture(scope="session")
-def source_dir():
-    return env_path("CONTACTNN_SOURCE_DIR")
+scenes_dir = path_fixture("scenes_dir", "CONTACTNN_EXAMPLE_SCENES")
+histories_dir = path_fixture("histories_dir", "CONTACTNN_EXAMPLE_HISTORIES")
+gen_configs = path_fixture("gen_configs", "CONTACTNN_GEN_CONFIGS")
+evaluate_net = path_fixture("evaluate_net", "CONTACTNN_EVALUATE_NET")
+source_dir = path_fixture("source_dir", "CONTACTNN_SOURCE_DIR")
 
 
 def run_tool(args):

@@ -11,6 +11,7 @@
 #include "projection/closest_point_on_face.hpp"
 #include "search/local_search.hpp"
 #include "search/random_queries.hpp"
+#include "surface_params.hpp"
 
 namespace contactnn::search {
 namespace {
@@ -98,11 +99,7 @@ TEST_P(FaceBoundary, AnswersOutsideGoToTheReferencesBoundaryPointAndInsideOnesSt
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(Surfaces, FaceBoundary,
-                         ::testing::Values(SurfaceKind::kBilinear, SurfaceKind::kGregory),
-                         [](const ::testing::TestParamInfo<SurfaceKind>& param_info) {
-                           return std::string(to_string(param_info.param));
-                         });
+INSTANTIATE_TEST_SUITE_P(Surfaces, FaceBoundary, testing::kBothSurfaces, testing::surface_name);
 
 }  // namespace
 }  // namespace contactnn::search

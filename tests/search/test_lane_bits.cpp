@@ -88,6 +88,26 @@ struct Searcher {
   std::size_t block = 0;
 };
 
+/// A LocalSearch or FaceSearch (kept alive by the caller) on one thread, its rows `columns` wide.
+template <class Real, class Search>
+Searcher<Real> searcher_of(const Search& search, std::size_t columns) {
+  Searcher<Real> s;
+  s.run = [&search](std::size_t n, const Real* raw, Results<Real> out) { search.run(n, raw, out, 1); };
+  s.columns = columns;
+  s.block = static_cast<std::size_t>(search.block_size());
+  return s;
+}
+
+/// A network's input scaling from the box [-2, 2] of `inputs` features, outputs in [lo, hi].
+mlp::Scaling box_scaling(int inputs, double lo, double hi) {
+  mlp::Scaling scaling;
+  scaling.input_min.assign(static_cast<std::size_t>(inputs), -2.0);
+  scaling.input_max.assign(static_cast<std::size_t>(inputs), 2.0);
+  scaling.output_min.assign(2, lo);
+  scaling.output_max.assign(2, hi);
+  return scaling;
+}
+
 /// The queries `rows` of `pool` (a pool row index each) as one batch; each query's start (start+newton:K) is
 /// its pool row's `starts` entry. Returns each query's answer.
 template <class Real>
@@ -189,18 +209,35 @@ std::vector<double> segment_pool(SurfaceKind kind) {
   return testing::mixed_queries(kind, 96, kind == SurfaceKind::kBilinear ? 61 : 62);
 }
 
+/// Every (method, network) of `cases` in each variant: 0 the default options; 1 the whole face
+/// (SearchOptions::closest_point_on_face), for newton and `hybrid`; 2 Newton to convergence cut at 4 steps
+/// (lanes that stop early beside lanes that run to the limit and fail), newton only. check(method, network,
+/// options, suffix naming the variant, whether the variant leaves lanes unconverged).
+template <class Net, class Check>
+void for_each_variant(const std::vector<std::pair<std::string, Net>>& cases, const std::string& hybrid,
+                      const Check& check) {
+  for (const int variant : {0, 1, 2}) {
+    for (const auto& [method, net] : cases) {
+      if (variant == 1 && method != "newton" && method != hybrid) continue;
+      if (variant == 2 && method != "newton") continue;
+      SearchOptions options;
+      options.closest_point_on_face = variant == 1;
+      if (variant == 2) options.max_iterations = 4;
+      const std::string suffix =
+          std::string(variant == 1 ? " (whole face)" : "") + (variant == 2 ? " (max_iterations 4)" : "");
+      check(method, net, options, suffix, variant == 2);
+    }
+  }
+}
+
 /// A random network of the surface (float or double), its training domain a box of the features narrow enough
 /// that some queries are out of it.
 template <class Net>
 NetworkModel random_segment_network(SurfaceKind kind, std::uint64_t seed) {
   const int n_in = feature_count(kind);
-  mlp::Scaling scaling;
-  scaling.input_min.assign(static_cast<std::size_t>(n_in), -2.0);
-  scaling.input_max.assign(static_cast<std::size_t>(n_in), 2.0);
-  scaling.input_features = InputFeatures::kPaper;
   const ParamDomain range = param_domain(kind);
-  scaling.output_min.assign(2, range.lo);
-  scaling.output_max.assign(2, range.hi);
+  mlp::Scaling scaling = box_scaling(n_in, range.lo, range.hi);
+  scaling.input_features = InputFeatures::kPaper;
   mlp::Network<Net> net({n_in, 12, 7, 2}, 1.7, scaling);
   net.initialize(seed);
   geometry::TrainingDomain domain;
@@ -225,29 +262,17 @@ void check_segments(SurfaceKind kind, const std::string& isa) {
   cases.emplace_back("network+newton:2", &double_net);
   cases.emplace_back("start+newton:5", &float_net);
   cases.emplace_back("newton:5", &float_net);
-  // Variants: 0 the default options, 1 the whole face (SearchOptions::closest_point_on_face), 2 Newton to
-  // convergence cut at 4 steps (lanes that stop early beside lanes that run to the limit and fail).
-  for (const int variant : {0, 1, 2}) {
-    for (const auto& [method, net] : cases) {
-      if (variant == 1 && method != "newton" && method != "closed_form+newton:2") continue;
-      if (variant == 2 && method != "newton") continue;
-      const bool whole_face = variant == 1;
-      SearchOptions options;
-      options.closest_point_on_face = whole_face;
-      if (variant == 2) options.max_iterations = 4;
-      const LocalSearch search(kind, Method::parse(method), options, net);
-      Searcher<Real> s;
-      s.run = [&search](std::size_t n, const Real* raw, Results<Real> out) { search.run(n, raw, out, 1); };
-      s.columns = columns;
-      s.block = static_cast<std::size_t>(search.block_size());
-      const std::string what =
-          std::string(to_string(kind)) + " " + method + (net == &double_net ? " (double net)" : "") +
-          (whole_face ? " (whole face)" : "") + (variant == 2 ? " (max_iterations 4)" : "") + ", " +
-          (sizeof(Real) == 4 ? "float" : "double") + ", " + isa;
-      const bool unconverged = variant == 2;
-      EXPECT_EQ(lane_mismatches(s, as<Real>(pool), as<Real>(starts), what, unconverged), 0u) << what;
-    }
-  }
+  for_each_variant(cases, "closed_form+newton:2",
+                   [&](const std::string& method, const NetworkModel* net, const SearchOptions& options,
+                       const std::string& suffix, bool unconverged) {
+                     const LocalSearch search(kind, Method::parse(method), options, net);
+                     const Searcher<Real> s = searcher_of<Real>(search, columns);
+                     const std::string what = std::string(to_string(kind)) + " " + method +
+                                              (net == &double_net ? " (double net)" : "") + suffix + ", " +
+                                              (sizeof(Real) == 4 ? "float" : "double") + ", " + isa;
+                     EXPECT_EQ(lane_mismatches(s, as<Real>(pool), as<Real>(starts), what, unconverged), 0u)
+                         << what;
+                   });
 }
 
 // --- FaceSearch: tri3, tri6, quad8
@@ -284,12 +309,7 @@ std::vector<double> face_pool(FaceKind kind, std::size_t count, std::uint64_t se
 template <class Net>
 FaceNetwork random_face_network(FaceKind kind, std::uint64_t seed) {
   const int nf = face_feature_count(kind);
-  mlp::Scaling scaling;
-  scaling.input_min.assign(static_cast<std::size_t>(nf), -2.0);
-  scaling.input_max.assign(static_cast<std::size_t>(nf), 2.0);
-  scaling.output_min.assign(2, -0.3);
-  scaling.output_max.assign(2, 0.3);
-  mlp::Network<Net> net({nf, 12, 2}, 1.0, scaling);
+  mlp::Network<Net> net({nf, 12, 2}, 1.0, box_scaling(nf, -0.3, 0.3));
   net.initialize(seed);
   // A narrow domain: some queries are out of it.
   return FaceNetwork(kind, net, std::vector<double>(static_cast<std::size_t>(nf), -1.0),
@@ -319,31 +339,21 @@ void check_faces(FaceKind kind, const std::string& isa) {
       cases.emplace_back("network+newton:2", net);
     }
   }
-  // Variants as check_segments'.
-  for (const int variant : {0, 1, 2}) {
-    for (const auto& [method, net] : cases) {
-      if (variant == 1 && method != "newton" && method != "closed_form+newton:3") continue;
-      if (variant == 2 && method != "newton") continue;
-      const bool whole_face = variant == 1;
-      SearchOptions options;
-      options.closest_point_on_face = whole_face;
-      if (variant == 2) options.max_iterations = 4;
-      const FaceSearch search(kind, Method::parse(method), options, net);
-      Searcher<Real> s;
-      s.run = [&search](std::size_t n, const Real* raw, Results<Real> out) { search.run(n, raw, out, 1); };
-      s.columns = columns;
-      s.block = static_cast<std::size_t>(search.block_size());
-      const std::string what =
-          std::string(to_string(kind)) + " " + method +
-          (net == nullptr ? "" : (net == &*double_net ? " (double net)" : " (float net)")) +
-          (whole_face ? " (whole face)" : "") + (variant == 2 ? " (max_iterations 4)" : "") + ", " +
-          (sizeof(Real) == 4 ? "float" : "double") + ", " + isa;
-      // Float rows: the faces as they are (float rounds their placement; the same bits are asked of whatever
-      // float makes of them).
-      const bool unconverged = variant == 2 && kind != FaceKind::kTri3;
-      EXPECT_EQ(lane_mismatches(s, as<Real>(pool), as<Real>(starts), what, unconverged), 0u) << what;
-    }
-  }
+  for_each_variant(cases, "closed_form+newton:3",
+                   [&](const std::string& method, const FaceNetwork* net, const SearchOptions& options,
+                       const std::string& suffix, bool cut) {
+                     const FaceSearch search(kind, Method::parse(method), options, net);
+                     const Searcher<Real> s = searcher_of<Real>(search, columns);
+                     const std::string what =
+                         std::string(to_string(kind)) + " " + method +
+                         (net == nullptr ? "" : (net == &*double_net ? " (double net)" : " (float net)")) +
+                         suffix + ", " + (sizeof(Real) == 4 ? "float" : "double") + ", " + isa;
+                     // Float rows: the faces as they are (float rounds their placement; the same bits are
+                     // asked of whatever float makes of them).
+                     const bool unconverged = cut && kind != FaceKind::kTri3;
+                     EXPECT_EQ(lane_mismatches(s, as<Real>(pool), as<Real>(starts), what, unconverged), 0u)
+                         << what;
+                   });
 }
 
 class LaneBits : public ::testing::TestWithParam<KernelIsa> {};

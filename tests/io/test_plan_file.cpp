@@ -8,6 +8,7 @@
 #include <string>
 
 #include "core/error.hpp"
+#include "error_message.hpp"
 #include "io/plan_file.hpp"
 
 namespace contactnn::io {
@@ -73,12 +74,14 @@ std::string with_line(int line, const std::string& text) {
 
 /// The FormatError message of parsing `text` as "plan.toml" ("" when it parses).
 std::string error_of(const std::string& text) {
-  try {
-    (void)parse_plan(text, "plan.toml");
-  } catch (const FormatError& e) {
-    return e.what();
-  }
-  return "";
+  return testing::error_message<FormatError>([&] { (void)parse_plan(text, "plan.toml"); }, "");
+}
+
+/// Whether the FormatError of parsing `text` names `part` (its message says what it was otherwise).
+::testing::AssertionResult error_names(const std::string& text, const std::string& part) {
+  const std::string message = error_of(text);
+  if (message.find(part) != std::string::npos) return ::testing::AssertionSuccess();
+  return ::testing::AssertionFailure() << "the error '" << message << "' does not name '" << part << "'";
 }
 
 TEST(ScenePlan, ReadsEveryFieldOfAHandWrittenPlan) {
@@ -148,20 +151,18 @@ TEST(ScenePlan, UnknownKeyNamesFileLineAndKey) {
             "'plan.toml':7: unknown key 'colour' in [plan] (expected one of: schema_version, surface, "
             "method, network, "
             "target, margin, reached)");
-  EXPECT_NE(error_of(with_line(25, "failures = 0\nspeed = 3"))
-                .find("'plan.toml':26: unknown key 'speed' in "
-                      "[[measurement]] 1"),
-            std::string::npos);
+  EXPECT_TRUE(error_names(with_line(25, "failures = 0\nspeed = 3"),
+                          "'plan.toml':26: unknown key 'speed' in "
+                          "[[measurement]] 1"));
 }
 
 TEST(ScenePlan, MissingFieldNamesFileAndKey) {
   const std::string e = error_of(with_line(4, ""));  // no method
   EXPECT_NE(e.find("'plan.toml':"), std::string::npos) << e;
   EXPECT_NE(e.find("[plan] has no key 'method' (required)"), std::string::npos) << e;
-  EXPECT_NE(error_of(with_line(22, "")).find("[[measurement]] 1 has no key 'mean_abs'"), std::string::npos);
+  EXPECT_TRUE(error_names(with_line(22, ""), "[[measurement]] 1 has no key 'mean_abs'"));
   // A missing table.
-  EXPECT_NE(error_of(kPlanText.substr(0, kPlanText.find("[domain]"))).find("no [domain] table"),
-            std::string::npos);
+  EXPECT_TRUE(error_names(kPlanText.substr(0, kPlanText.find("[domain]")), "no [domain] table"));
 }
 
 TEST(ScenePlan, WrongTypesAndValuesAreRefused) {
@@ -175,28 +176,23 @@ TEST(ScenePlan, WrongTypesAndValuesAreRefused) {
             "'plan.toml':8: key 'reached' in [plan]: expected true or false");
   EXPECT_EQ(error_of(with_line(2, "schema_version = 2")),
             "'plan.toml':2: key 'schema_version' in [plan]: 2, this version reads 1");
-  EXPECT_NE(error_of(with_line(3, "surface = \"quadratic\"")).find("'plan.toml':3: key 'surface' in [plan]"),
-            std::string::npos);
-  EXPECT_NE(error_of(with_line(22, "mean_abs = [0.01]"))
-                .find("'plan.toml':22: key 'mean_abs' in [[measurement]] 1: "
-                      "expected an array of 2 numbers"),
-            std::string::npos);
-  EXPECT_NE(error_of(kPlanText + "[extra]\nx = 1\n").find("unknown table [extra]"), std::string::npos);
-  EXPECT_NE(error_of("[plan\n").find("'plan.toml':1: not valid TOML"), std::string::npos);
+  EXPECT_TRUE(error_names(with_line(3, "surface = \"quadratic\""), "'plan.toml':3: key 'surface' in [plan]"));
+  EXPECT_TRUE(error_names(with_line(22, "mean_abs = [0.01]"),
+                          "'plan.toml':22: key 'mean_abs' in [[measurement]] 1: "
+                          "expected an array of 2 numbers"));
+  EXPECT_TRUE(error_names(kPlanText + "[extra]\nx = 1\n", "unknown table [extra]"));
+  EXPECT_TRUE(error_names("[plan\n", "'plan.toml':1: not valid TOML"));
 }
 
 TEST(ScenePlan, MethodAndNetworkMustAgree) {
-  EXPECT_NE(error_of(with_line(4, "method = \"newton:x\"")).find("'plan.toml':4: key 'method' in [plan]"),
-            std::string::npos);
+  EXPECT_TRUE(error_names(with_line(4, "method = \"newton:x\""), "'plan.toml':4: key 'method' in [plan]"));
   // A network method without a network file, and a network file for a method that uses none.
-  EXPECT_NE(error_of(with_line(5, "network = \"\""))
-                .find("'plan.toml':5: key 'network' in [plan]: method "
-                      "'network+newton:1' needs a network file"),
-            std::string::npos);
-  EXPECT_NE(error_of(with_line(4, "method = \"closed_form\""))
-                .find("'plan.toml':5: key 'network' in [plan]: method "
-                      "'closed_form' uses no network"),
-            std::string::npos);
+  EXPECT_TRUE(error_names(with_line(5, "network = \"\""),
+                          "'plan.toml':5: key 'network' in [plan]: method "
+                          "'network+newton:1' needs a network file"));
+  EXPECT_TRUE(error_names(with_line(4, "method = \"closed_form\""),
+                          "'plan.toml':5: key 'network' in [plan]: method "
+                          "'closed_form' uses no network"));
 }
 
 TEST(ScenePlan, NetworkPathIsRelativeToThePlan) {
