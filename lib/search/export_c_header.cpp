@@ -377,7 +377,7 @@ void embedded_kernels(std::ostringstream& o, const std::string& p) {
   const std::string_view sigmoid = vector_sigmoid_source();
   const std::string frame_version = macro_value(frame, "CNN_CANONICAL_FRAME_VERSION");
   const std::string sigmoid_version = macro_value(sigmoid, "CNN_VECTOR_SIGMOID_VERSION");
-  o << "/* ======== lib/search/canonical_frame.h, verbatim ======== */\n"
+  o << "/* ======== lib/search/canonical_frame.h and its parts, verbatim ======== */\n"
     << frame << "\n/* ======== lib/search/vector_sigmoid.h, verbatim ======== */\n"
     << sigmoid << "\n"
     << "/* ======== the network ======== */\n"
