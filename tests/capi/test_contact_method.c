@@ -77,6 +77,19 @@ static void write_plan(const char* path, const char* surface, const char* method
   expect(write_text(path, text), "the plan is written");
 }
 
+/* A bilinear plan naming `method` and `network`, written to `path`: its search gives `expected`, bit for bit.
+ */
+static void check_plan(const char* path, const char* method, const char* network, const double* points,
+                       const answers* expected) {
+  contactnn_contact_options options;
+  answers a;
+  write_plan(path, "bilinear", method, network);
+  contactnn_contact_options_init(&options);
+  options.plan_file = path;
+  expect(run_handle(&options, points, &a), "the search with a plan");
+  expect(memcmp(&a, expected, sizeof a) == 0, "the plan's search is its method's, bit for bit");
+}
+
 /* A create that must fail with `code`, a message holding `needle` (and `needle2` when not NULL), and no
  * handle.
  */
@@ -148,22 +161,14 @@ int main(int argc, char** argv) {
   check_against_local_search(points, &method, &exact);
 
   /* A plan naming newton:1: the same bits. */
-  write_plan(plan, "bilinear", "newton:1", "");
-  contactnn_contact_options_init(&options);
-  options.plan_file = plan;
-  expect(run_handle(&options, points, &from_plan), "the search with the plan");
-  expect(memcmp(&from_plan, &method, sizeof method) == 0, "the plan's search is the method's, bit for bit");
+  check_plan(plan, "newton:1", "", points, &method);
 
-  /* A network method with its network file, and with a plan naming it (relative to the plan). */
+  /* A network method with its network file, and a plan naming it (an absolute path). */
   contactnn_contact_options_init(&options);
   options.method = "network+newton:1";
   options.network_file = network;
   expect(run_handle(&options, points, &net), "the search with network+newton:1");
-  write_plan(network_plan, "bilinear", "network+newton:1", network);
-  contactnn_contact_options_init(&options);
-  options.plan_file = network_plan;
-  expect(run_handle(&options, points, &from_plan), "the search with a network plan");
-  expect(memcmp(&from_plan, &net, sizeof net) == 0, "the network plan's search is the method's, bit for bit");
+  check_plan(network_plan, "network+newton:1", network, points, &net);
 
   /* Refusals. */
   contactnn_contact_options_init(&options);
