@@ -34,6 +34,7 @@
 #include "io/frd_results.hpp"
 #include "io/inp_deck.hpp"
 #include "io/network_file.hpp"
+#include "io/network_model_file.hpp"
 #include "mlp/network.hpp"
 #include "search/face_network.hpp"
 #include "search/face_search.hpp"
@@ -472,7 +473,8 @@ struct Handle {
 std::unique_ptr<Handle> make_handle(const py::iterable& face_types, const py::handle& connectivity,
                                     std::optional<long> node_count, const py::object& ids, long base,
                                     const py::object& slave_nodes, long free_points, double capture_distance,
-                                    const std::string& quad4, int threads, bool tracking) {
+                                    const std::string& quad4, int threads, bool tracking,
+                                    const std::string& method, const std::string& network) {
   std::vector<mesh::FaceType> types;
   if (py::isinstance<py::array>(face_types)) {
     for (const auto& v : ids_of(face_types, "ContactSearch: face_types"))
@@ -501,6 +503,8 @@ std::unique_ptr<Handle> make_handle(const py::iterable& face_types, const py::ha
   options.quad4 = surface_from_string(quad4);
   options.threads = threads;
   options.tracking = tracking;
+  options.method = method;
+  if (!network.empty()) options.network = io::read_network_model(network);
   auto h = std::make_unique<Handle>();
   h->search = std::make_unique<contact::ContactSearch>(types, conn, numbering, points, options);
   h->nodes = h->search->node_count();
@@ -852,7 +856,7 @@ PYBIND11_MODULE(_contactnn, m) {
            py::arg("node_count") = std::nullopt, py::kw_only(), py::arg("ids") = py::none(),
            py::arg("base") = 0, py::arg("slave_nodes") = py::none(), py::arg("free_points") = 0,
            py::arg("capture_distance") = 0.0, py::arg("quad4") = "bilinear", py::arg("threads") = 0,
-           py::arg("tracking") = true)
+           py::arg("tracking") = true, py::arg("method") = "", py::arg("network") = "")
       .def(
           "update",
           [](Handle& h, const py::handle& coordinates, const py::object& free_points,

@@ -3,14 +3,27 @@
 // else leaves.
 #pragma once
 
+#include <cstddef>
 #include <exception>
+#include <memory>
 #include <new>
 #include <string>
 
 #include "contactnn/contactnn.h"
 #include "core/error.hpp"
 
+namespace contactnn::search {
+class NetworkModel;
+}  // namespace contactnn::search
+
 namespace contactnn::capi {
+
+/// A path longer than Linux's PATH_MAX names no file: refused before it is echoed or opened.
+inline constexpr std::size_t kMaxPathBytes = 4096;
+
+/// io::read_network_model(path), one read at a time (HDF5 as Debian builds it is not thread-safe); shared by
+/// the searches' and the contact handles' creation (contactnn.cpp).
+std::unique_ptr<const search::NetworkModel> load_network(const std::string& path);
 
 /// Runs `body` and turns what it throws into a return code and this thread's message (recorded through
 /// contactnn_set_last_error, the one place that stores it).

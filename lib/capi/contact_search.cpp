@@ -7,8 +7,11 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <filesystem>
 #include <memory>
 #include <span>
+#include <string>
+#include <string_view>
 #include <type_traits>
 #include <vector>
 
@@ -16,6 +19,9 @@
 #include "contactnn/contactnn.h"
 #include "core/conventions.hpp"
 #include "core/error.hpp"
+#include "core/quote_text.hpp"
+#include "io/plan_file.hpp"
+#include "search/network_model.hpp"
 
 using namespace contactnn;
 
@@ -55,6 +61,70 @@ contactnn_contact& live_handle(const char* function, contactnn_contact* handle) 
   return *handle;
 }
 
+/// A C string option: empty for NULL; InvalidArgument naming it when longer than any path.
+std::string text_option(const char* text, const char* field) {
+  if (text == nullptr) return {};
+  const std::string_view view(text);
+  CONTACTNN_REQUIRE_AS(InvalidArgument, view.size() <= capi::kMaxPathBytes,
+                       "contactnn_contact_create: options." << field << " " << quote_text(view)
+                                                            << " is longer than any path ("
+                                                            << capi::kMaxPathBytes << " bytes)");
+  return std::string(view);
+}
+
+/// Runs `read`, its errors (of the same kind) prefixed by `context`: the option and the file.
+template <class Read>
+auto in_context(const std::string& context, Read&& read) {
+  try {
+    return read();
+  } catch (const InvalidArgument& e) {
+    throw InvalidArgument(context + e.what());
+  } catch (const FormatError& e) {
+    throw FormatError(context + e.what());
+  } catch (const IoError& e) {
+    throw IoError(context + e.what());
+  }
+}
+
+/// The face-interior method of `options` (method and network_file, or plan_file) into `o`: the files read
+/// here, once (contactnn.h: the options' contract).
+void read_method(const contactnn_contact_options& options, contact::ContactSearchOptions& o) {
+  constexpr const char* kFunction = "contactnn_contact_create";
+  const std::string method = text_option(options.method, "method");
+  const std::string network = text_option(options.network_file, "network_file");
+  const std::string plan_file = text_option(options.plan_file, "plan_file");
+  if (plan_file.empty()) {
+    CONTACTNN_REQUIRE_AS(
+        InvalidArgument, !method.empty() || network.empty(),
+        kFunction << ": options.network_file " << quote_text(network) << " is given without options.method");
+    o.method = method;
+    if (!network.empty()) {
+      o.network = in_context(std::string(kFunction) + ": options.network_file: ",
+                             [&] { return capi::load_network(network); });
+    }
+    return;
+  }
+  CONTACTNN_REQUIRE_AS(InvalidArgument, method.empty() && network.empty(),
+                       kFunction << ": options.plan_file " << quote_text(plan_file)
+                                 << " is given with options.method " << quote_text(method)
+                                 << " and options.network_file " << quote_text(network)
+                                 << "; the plan names both: give one or the other");
+  const std::string context = std::string(kFunction) + ": options.plan_file: ";
+  const io::ScenePlan plan = in_context(context, [&] { return io::read_plan(plan_file); });
+  CONTACTNN_REQUIRE_AS(InvalidArgument, plan.surface == o.quad4,
+                       kFunction << ": options.plan_file '" << plan_file << "' is a plan for "
+                                 << to_string(plan.surface) << " surfaces, options.quad4_surface is "
+                                 << to_string(o.quad4));
+  o.method = plan.method;
+  const std::filesystem::path plan_network = io::plan_network_path(plan, plan_file);
+  if (plan_network.empty()) return;
+  o.network = in_context(context, [&] { return capi::load_network(plan_network.string()); });
+  CONTACTNN_REQUIRE_AS(FormatError, o.network->surface() == plan.surface,
+                       kFunction << ": options.plan_file: '" << plan_network.string() << "' is a "
+                                 << to_string(o.network->surface()) << " network, the plan '" << plan_file
+                                 << "' is for " << to_string(plan.surface) << " surfaces");
+}
+
 }  // namespace
 
 extern "C" {
@@ -69,6 +139,9 @@ int contactnn_contact_options_init(contactnn_contact_options* options) {
     options->quad4_surface = static_cast<int>(d.quad4);
     options->threads = d.threads;
     options->tracking = d.tracking ? 1 : 0;
+    options->method = nullptr;
+    options->network_file = nullptr;
+    options->plan_file = nullptr;
   });
 }
 
@@ -128,6 +201,7 @@ int contactnn_contact_create(contactnn_contact** out, size_t n_faces, const int*
     o.quad4 = static_cast<SurfaceKind>(options->quad4_surface);
     o.threads = options->threads;
     o.tracking = options->tracking != 0;
+    read_method(*options, o);
     auto handle = std::make_unique<contactnn_contact>();
     handle->search = std::make_unique<contact::ContactSearch>(
         types, conn, contact::NodeNumbering{static_cast<long>(n_nodes), id_base, ids},

@@ -52,9 +52,23 @@ static_assert(CONTACTNN_SURFACE_GREGORY == static_cast<int>(SurfaceKind::kGregor
 // iterations are written straight into the caller's int array.
 static_assert(std::is_same_v<std::int32_t, int>);
 // A network_file longer than Linux's PATH_MAX names no file: refused before it is echoed or opened.
-constexpr std::size_t kMaxPathBytes = 4096;
+using capi::kMaxPathBytes;
 /// A run of at most this many queries keeps its statuses on the stack (contactnn_search_run).
 constexpr std::size_t kStackStatuses = 64;
+
+namespace contactnn::capi {
+
+namespace {
+/// HDF5 as Debian builds it is not thread-safe: one network file read at a time.
+std::mutex g_network_read_mutex;
+}  // namespace
+
+std::unique_ptr<const search::NetworkModel> load_network(const std::string& path) {
+  const std::lock_guard<std::mutex> lock(g_network_read_mutex);
+  return io::read_network_model(path);
+}
+
+}  // namespace contactnn::capi
 
 namespace {
 /// The check value of a live handle ("cnnsrch" and a version byte). Written at creation, cleared at destroy.
@@ -95,13 +109,7 @@ int record_error(int code, const char* message) noexcept {
 /// contact search handle's entry points).
 using capi::guarded;
 
-/// HDF5 as Debian builds it is not thread-safe: one network file read at a time.
-std::mutex g_network_read_mutex;
-
-std::unique_ptr<const search::NetworkModel> load_network(const std::string& path) {
-  const std::lock_guard<std::mutex> lock(g_network_read_mutex);
-  return io::read_network_model(path);
-}
+using capi::load_network;
 
 /// Whether `handle` points to a live search: its check value, read as bytes (a pointer that is not a handle
 /// may point to anything readable, aligned or not).

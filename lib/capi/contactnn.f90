@@ -191,6 +191,9 @@ module contactnn
     integer(c_int) :: quad4_surface    ! CONTACTNN_SURFACE_BILINEAR or CONTACTNN_SURFACE_GREGORY
     integer(c_int) :: threads          ! OpenMP threads of an update; <= 0: OpenMP's default
     integer(c_int) :: tracking         ! /= 0: reuse the previous increment's candidates (the same answers)
+    ! The face-interior method as C strings (contactnn.h): give them as contactnn_contact_create's method=,
+    ! network= and plan= instead; these stay null (the exact search) unless a caller sets them with c_loc.
+    type(c_ptr) :: method, network_file, plan_file
   end type contactnn_contact_options
 
   !> A contact search; create with contactnn_contact_create, free with contactnn_contact_destroy. A copy shares the
@@ -239,6 +242,19 @@ module contactnn
   end interface
 
 contains
+
+  !> `text` without its trailing blanks as a C string (an array of characters ending in c_null_char).
+  subroutine to_c_chars(text, chars)
+    character(len=*), intent(in) :: text
+    character(kind=c_char), allocatable, intent(out) :: chars(:)
+    integer :: i, n
+    n = len_trim(text)
+    allocate (chars(n + 1))
+    do i = 1, n
+      chars(i) = text(i:i)
+    end do
+    chars(n + 1) = c_null_char
+  end subroutine to_c_chars
 
   !> A Fortran string from a C string (empty for a null pointer).
   function from_c_string(p) result(s)
@@ -467,10 +483,16 @@ contains
   !>                        coordinates every update passes in points(3, n_points)
   !>   id_base              the id of coords(:, 1) (default 1); node_ids(n_nodes): each node's id (global ids)
   !>   options              contactnn_default_contact_options() when absent
-  !> On failure contact holds no handle and ierr /= CONTACTNN_SUCCESS (contactnn_last_error() says why). A contact
-  !> that already holds a handle is destroyed first.
+  !>   method, network      the face-interior method ('closed_form+newton:2', 'newton:4', 'network+newton:1' with
+  !>                        its network file; contactnn.h's options.method and .network_file); absent or '': the
+  !>                        exact search
+  !>   plan                 or a scene plan (scene-study's DIR/plan.toml): its method and network file
+  !>                        (options.plan_file); its surface must be options%quad4_surface
+  !> On failure contact holds no handle and ierr /= CONTACTNN_SUCCESS (contactnn_last_error() says why: a bad
+  !> method CONTACTNN_ERROR_INVALID_ARGUMENT, a missing plan or network file CONTACTNN_ERROR_IO). A contact that
+  !> already holds a handle is destroyed first.
   subroutine contactnn_contact_create(contact, face_types, connectivity, n_nodes, ierr, slave_nodes, n_points, &
-                                      id_base, node_ids, options)
+                                      id_base, node_ids, options, method, network, plan)
     type(contactnn_contact), intent(inout) :: contact
     integer(c_int), intent(in), contiguous, target :: face_types(:), connectivity(:)
     integer, intent(in) :: n_nodes
@@ -478,7 +500,9 @@ contains
     integer(c_int), intent(in), optional, contiguous, target :: slave_nodes(:), node_ids(:)
     integer, intent(in), optional :: n_points, id_base
     type(contactnn_contact_options), intent(in), optional :: options
+    character(len=*), intent(in), optional :: method, network, plan
     type(contactnn_contact_options) :: effective
+    character(kind=c_char), allocatable, target :: method_c(:), network_c(:), plan_c(:)
     type(c_ptr) :: handle, ids_ptr, slaves_ptr
     integer :: base, m, expected, f
     logical :: known
@@ -524,6 +548,18 @@ contains
     if (len_trim(message) /= 0) then
       ierr = c_set_last_error(int(CONTACTNN_ERROR_INVALID_ARGUMENT, c_int), trim(message)//c_null_char)
       return
+    end if
+    if (present(method)) then
+      call to_c_chars(method, method_c)
+      effective%method = c_loc(method_c)
+    end if
+    if (present(network)) then
+      call to_c_chars(network, network_c)
+      effective%network_file = c_loc(network_c)
+    end if
+    if (present(plan)) then
+      call to_c_chars(plan, plan_c)
+      effective%plan_file = c_loc(plan_c)
     end if
     ids_ptr = c_null_ptr
     slaves_ptr = c_null_ptr

@@ -10,10 +10,12 @@
 #include <unordered_map>
 #include <utility>
 
+#include "contact/narrow_phase.hpp"
 #include "core/error.hpp"
 #include "geometry/quadratic_triangle.hpp"
 #include "geometry/serendipity_quad.hpp"
 #include "geometry/surface_of.hpp"
+#include "search/network_model.hpp"
 
 namespace contactnn::contact {
 
@@ -91,7 +93,8 @@ class ThreadCount {
 
 struct ContactSearch::Impl {
   ContactSearchOptions options;
-  SearchOptions search;
+  std::unique_ptr<const FaceLocator> locator;  ///< options.method's (null: the exact search)
+  SearchOptions search;                        ///< its interior the locator
   long node_count = 0;
   bool free = false;
   mesh::SurfaceMesh surface;
@@ -105,17 +108,41 @@ struct ContactSearch::Impl {
   std::vector<Vec3> contact_normals;
   TrackingCounts counts;
 
-  Impl(const ContactSearchOptions& o, const SearchOptions& s) : options(o), search(s), tracker(s) {}
+  Impl(const ContactSearchOptions& o, std::unique_ptr<const FaceLocator> l, const SearchOptions& s)
+      : options(o), locator(std::move(l)), search(s), tracker(s) {}
 };
 
 namespace {
 
-SearchOptions search_options(const ContactSearchOptions& o) {
+SearchOptions search_options(const ContactSearchOptions& o, const FaceLocator* locator) {
   SearchOptions s;
   s.surface = o.quad4;
   s.search = GlobalSearchKind::kSurface;
   if (o.capture_distance > 0.0) s.capture_distance = o.capture_distance;
+  s.interior = locator;
   return s;
+}
+
+/// The face locator of options.method (null for the exact search): InvalidArgument naming the option for a
+/// method the surface search cannot run, a network without a method or a network of the other surface.
+std::unique_ptr<const FaceLocator> method_locator(const ContactSearchOptions& o) {
+  if (o.method.empty()) {
+    CONTACTNN_REQUIRE_AS(InvalidArgument, o.network == nullptr,
+                         "contact search: a network is given without a method (options.method is empty: "
+                         "the exact search)");
+    return nullptr;
+  }
+  if (o.network != nullptr) {
+    CONTACTNN_REQUIRE_AS(InvalidArgument, o.network->surface() == o.quad4,
+                         "contact search: the network of method '"
+                             << o.method << "' is a " << to_string(o.network->surface())
+                             << " network, options.quad4 is " << to_string(o.quad4));
+  }
+  try {
+    return std::make_unique<const FaceLocator>(o.method, o.network.get());
+  } catch (const InvalidArgument& e) {
+    throw InvalidArgument(std::string("contact search: options.method: ") + e.what());
+  }
 }
 
 }  // namespace
@@ -151,7 +178,9 @@ ContactSearch::ContactSearch(std::span<const mesh::FaceType> face_types, std::sp
                        slaves.free_points >= 0 && slaves.free_points <= std::numeric_limits<int>::max(),
                        "contact search: free point count " << slaves.free_points << ", expected 0 to "
                                                            << std::numeric_limits<int>::max());
-  impl_ = std::make_unique<Impl>(options, search_options(options));
+  std::unique_ptr<const FaceLocator> locator = method_locator(options);
+  const SearchOptions search = search_options(options, locator.get());
+  impl_ = std::make_unique<Impl>(options, std::move(locator), search);
   Impl& m = *impl_;
   m.node_count = nodes.count;
   m.free = free;

@@ -28,8 +28,16 @@
 //  - Every quad4 face is a segment: with Gregory quad4 it becomes a Gregory patch. A deck's C3D6
 //    quadrilaterals stay bilinear facets under --surface gregory (surface_search.hpp); the handle has no such
 //    faces.
-//  - Only the exact search (lib/projection's reference on every candidate face) is implemented; the options
-//    take no method or plan yet.
+//
+// The face-interior method (ContactSearchOptions::method): empty, the exact search (lib/projection's
+// reference on every candidate face). Otherwise a search::Method name ("closed_form+newton:2", "newton:4", a
+// network method with ContactSearchOptions::network): the handle builds a FaceLocator (narrow_phase.hpp) of
+// it once and sets SearchOptions::interior to it for every update, fresh and tracked, so that its answers are
+// surface_search's with that locator: the method's point where it puts one inside a face and within the
+// capture distance, the exact point otherwise (edges, vertices, tri3, pairs it refuses). A scene plan
+// (scene-study's plan.toml) is read above this module: lib/contact links no file reader (docs/library.md's
+// modules), so a C++ caller reads it with io::read_plan (io/plan_file.hpp) and io::read_network_model and
+// passes its method and network here, as the C interface's options.plan_file does.
 //
 // What an update writes, per slave point i (arrays of the caller, m points; an empty span is not written):
 //  status[i]    Status::kOk (0) found, Status::kNoSegment (6) no face point within the capture distance
@@ -49,12 +57,17 @@
 #include <cstddef>
 #include <memory>
 #include <span>
+#include <string>
 #include <vector>
 
 #include "contact/surface_search.hpp"
 #include "contact/tracking.hpp"
 #include "core/error.hpp"
 #include "mesh/surface_mesh.hpp"
+
+namespace contactnn::search {
+class NetworkModel;
+}  // namespace contactnn::search
 
 namespace contactnn::contact {
 
@@ -77,6 +90,12 @@ struct ContactSearchOptions {
   SurfaceKind quad4 = SurfaceKind::kBilinear;  ///< a quad4 face's surface: bilinear facet or Gregory patch
   int threads = 0;  ///< OpenMP threads of an update, at most 1024; <= 0 OpenMP's default (capped at 1024)
   bool tracking = true;  ///< false: every update a fresh search (the same answers)
+  /// The face-interior method: a search::Method name (search/method.hpp; not start+newton:K, which needs a
+  /// start the search does not have), or empty for the exact search (see the header).
+  std::string method;
+  /// The network of a network method (null otherwise); its surface must be `quad4` (a network answers only
+  /// quad4 faces of its own surface). Shared: the handle keeps it as long as it lives.
+  std::shared_ptr<const search::NetworkModel> network;
 };
 
 /// The caller's output arrays for m slave points (sizes m, 2m, 3m); an empty optional span is not written.
@@ -132,7 +151,9 @@ class ContactSearch {
   /// `face_types[i]` and its nodes, concatenated in `connectivity` (4, 8, 3 or 6 ids per face by its type).
   /// InvalidArgument for a face naming a node that does not exist, a face with a node twice, a connectivity
   /// of the wrong length, repeated node ids, a slave node that does not exist, no faces, or both or neither
-  /// kind of slave point.
+  /// kind of slave point; for a method that does not parse, start+newton:K, a network method without a
+  /// network, a network without a method or one of the other surface than `quad4` (the message names the
+  /// option). Nothing is created then.
   ContactSearch(std::span<const mesh::FaceType> face_types, std::span<const long> connectivity,
                 const NodeNumbering& nodes, const SlavePoints& slaves,
                 const ContactSearchOptions& options = {});

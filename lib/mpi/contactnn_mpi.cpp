@@ -43,6 +43,12 @@ int contactnn_mpi_contact_create(contactnn_mpi_contact** contact, MPI_Comm comm,
                                                                      : contactnn::SurfaceKind::kGregory;
       o.threads = options->threads;
       o.tracking = options->tracking != 0;
+      const auto given = [](const char* text) { return text != nullptr && text[0] != '\0'; };
+      CONTACTNN_REQUIRE_AS(
+          contactnn::InvalidArgument,
+          !given(options->method) && !given(options->network_file) && !given(options->plan_file),
+          "contactnn_mpi_contact_create: options.method, .network_file and .plan_file must be "
+          "NULL or empty: the distributed search runs the exact search only");
     }
     // A face type that is none of CONTACTNN_FACE_* becomes one the C++ class refuses (on every rank).
     std::vector<contactnn::mesh::FaceType> types;

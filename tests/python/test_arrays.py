@@ -190,6 +190,26 @@ def test_handle_bad_inputs():
     assert handle.closed
 
 
+def test_handle_method_is_the_local_searchs_and_not_the_exact_search(source_dir):
+    """ContactSearch(method=...): on a twisted quad4, points over its interior get LocalSearch's newton:1 answers
+    (not the exact search's); a network method takes its network file; a bad method is refused."""
+    x = np.array([[0, 0, 0], [1, 0, 0.4], [1, 1, 0], [0, 1, 0.4]], float)
+    points = np.array([[0.3 + 0.4 * (i % 3) / 2, 0.3 + 0.4 * (i // 3) / 2, 0.2 if i % 2 else -0.15] for i in range(9)])
+    exact = contactnn.ContactSearch(["quad4"], [0, 1, 2, 3], 4, free_points=9).update(x, points)
+    c = contactnn.ContactSearch(["quad4"], [0, 1, 2, 3], 4, free_points=9, method="newton:1").update(x, points)
+    raw = np.hstack([np.tile(x.reshape(1, 12), (9, 1)), points])
+    param, _, status = contactnn.LocalSearch("bilinear", "newton:1").run(raw)
+    ok = status == 0
+    assert ok.sum() > 4 and np.all(c.status == 0) and np.all(c.location[ok] == 0)
+    assert np.max(np.abs(c.param[ok] - param[ok])) < 1e-12
+    assert np.max(np.abs(c.param - exact.param)) > 1e-6
+    network = os.path.join(source_dir, "data", "weights", "bilinear-8.h5")
+    n = contactnn.ContactSearch(["quad4"], [0, 1, 2, 3], 4, free_points=9, method="network+newton:1", network=network)
+    assert np.all(n.update(x, points).status == 0)
+    with pytest.raises(contactnn.InvalidArgument, match="options.method"):
+        contactnn.ContactSearch(["quad4"], [0, 1, 2, 3], 4, free_points=9, method="newton:two")
+
+
 def test_face_search_with_a_face_network(source_dir):
     """A shipped tri6 network (scene-study --face) in FaceSearch: its estimate refined by Newton is the flat face's
     exact answer; the network of another face type is refused."""

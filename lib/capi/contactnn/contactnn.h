@@ -237,8 +237,16 @@ CONTACTNN_API const char* contactnn_search_method(const contactnn_search* search
  * points  n_slaves slave node ids (slave_node_ids), or, with slave_node_ids NULL, n_slaves free points
  *                 (integration points) whose coordinates every update passes
  * Face i is reported as face i (from 0). SPEC 9's tie rule (equal distances to 1e-12 of the face size) takes
- * the lower face index. Only the exact search (lib/projection's reference) runs for now: no method or plan
- * option.
+ * the lower face index.
+ *
+ * The face-interior method (options.method, .network_file, .plan_file; all NULL by default): without one the
+ * search is exact (lib/projection's reference on every candidate face). With a method of
+ * contactnn_search_create ("closed_form+newton:2", "newton:4", "network+newton:1" with its network file; not
+ * start+newton:K) or a scene plan (scene-study's DIR/plan.toml: its method and network file), that method
+ * answers each candidate face first (contact/narrow_phase.hpp): its point is taken where it lies inside the
+ * face and within the capture distance, the exact closest point otherwise (edges, vertices, tri3 faces, pairs
+ * it refuses), so no slave point the exact search finds is lost and only face-interior points carry the
+ * method's error. The files are read once, at creation.
  *
  * Per slave point i, an update writes (optional arrays may be NULL):
  *   status[i]     CONTACTNN_STATUS_OK: found; CONTACTNN_STATUS_NO_SEGMENT: no face within the capture
@@ -286,10 +294,17 @@ typedef struct contactnn_contact_options {
                               <= 0: one largest face size of the state searched. Default 0 */
   int quad4_surface;       /* CONTACTNN_SURFACE_BILINEAR or CONTACTNN_SURFACE_GREGORY (node normals of Eq 26
                               over the quad4 and quad8 faces). Default bilinear */
-  int threads;  /* OpenMP threads of an update, at most CONTACTNN_MAX_THREADS; <= 0: OpenMP's default.
-                   The answers are the same bits for any count. Default 0 */
-  int tracking; /* nonzero: reuse the previous increment's candidates and points (the same answers);
-                   0: every update a fresh search. Default 1 */
+  int threads;        /* OpenMP threads of an update, at most CONTACTNN_MAX_THREADS; <= 0: OpenMP's default.
+                         The answers are the same bits for any count. Default 0 */
+  int tracking;       /* nonzero: reuse the previous increment's candidates and points (the same answers);
+                         0: every update a fresh search. Default 1 */
+  const char* method; /* the face-interior method (see above): a method name of contactnn_search_create
+                         but start+newton:K; NULL or "": the exact search. Default NULL */
+  const char* network_file; /* the network file of a network method (train-net's, of quad4_surface's kind);
+                               NULL or "" for the other methods. Default NULL */
+  const char* plan_file;    /* a scene plan (DIR/plan.toml, SPEC 7) in place of method and network_file: its
+                               method and network file (relative to the plan's directory). Its surface must be
+                               quad4_surface. NULL or "": none. Default NULL */
 } contactnn_contact_options;
 
 /* Opaque handle of a contact search. */
@@ -298,11 +313,17 @@ typedef struct contactnn_contact contactnn_contact;
 /* Writes the default options to *options. INVALID_ARGUMENT when options is NULL. */
 CONTACTNN_API int contactnn_contact_options_init(contactnn_contact_options* options);
 
-/* Creates a contact search (the arguments above; options NULL for the defaults). The arrays are read here and
- * not kept. Errors: INVALID_ARGUMENT (NULL contact, faces, connectivity or, with n_slaves > 0, nothing to say
- * what the slave points are; n_faces or n_nodes 0; a face type that is none of CONTACTNN_FACE_*; a face
- * naming a node that does not exist or a node twice; repeated node_ids; a slave node that does not exist; an
- * option out of range), OUT_OF_MEMORY. The message names the face, its node and the id. */
+/* Creates a contact search (the arguments above; options NULL for the defaults). The arrays and the options'
+ * strings are read here and not kept. Errors: INVALID_ARGUMENT (NULL contact, faces, connectivity or, with
+ * n_slaves > 0, nothing to say what the slave points are; n_faces or n_nodes 0; a face type that is none of
+ * CONTACTNN_FACE_*; a face naming a node that does not exist or a node twice; repeated node_ids; a slave node
+ * that does not exist; an option out of range; options.method not a method name, start+newton:K, a network
+ * method without network_file, a network_file without a method; a network or a plan of the other surface than
+ * quad4_surface; plan_file with method or network_file; a path longer than 4096 bytes), IO (network_file,
+ * plan_file or the plan's network file cannot be opened or read: the message names the file), FORMAT (the
+ * plan is not a valid plan: the message names the file, the line and the key; a network file that is not a
+ * contactnn network), OUT_OF_MEMORY. The message names the face, its node and the id, or the option and the
+ * file. On failure *contact is NULL: nothing is created. */
 CONTACTNN_API int contactnn_contact_create(contactnn_contact** contact, size_t n_faces, const int* face_types,
                                            const int* connectivity, size_t n_nodes, const int* node_ids,
                                            int id_base, size_t n_slaves, const int* slave_node_ids,

@@ -20,7 +20,8 @@
  *
  * Options: contactnn_contact_options; quad4_surface must be bilinear (Gregory: INVALID_ARGUMENT), `tracking`
  * keeps the ghost layer (the faces exchanged between ranks) until the movement budget is spent (0: exchanged
- * at every update; the answers are the same), `threads` the local search's.
+ * at every update; the answers are the same), `threads` the local search's; `method`, `network_file` and
+ * `plan_file` NULL or empty (the exact search only; a face-interior method is INVALID_ARGUMENT).
  *
  * Sample use (error handling shortened):
  *   MPI_Init(&argc, &argv);
