@@ -131,39 +131,41 @@ contact::SearchOptions history_options(const benchmark::State& state) {
   return options;
 }
 
-void history_fresh(benchmark::State& state) {
+/// One history benchmark: `run(options, pairs)` is one iteration over `states` slave-node states.
+template <class Run>
+void history_run(benchmark::State& state, std::size_t states, Run&& run) {
   const History& h = history();
   omp_set_num_threads(static_cast<int>(state.range(0)));
   const contact::SearchOptions options = history_options(state);
   std::vector<contact::NodeSegmentPair> pairs;
   for (auto _ : state) {
-    for (const auto& x : h.positions) contact::surface_search(h.master, h.normals, h.ids, x, options, pairs);
+    run(options, pairs);
     benchmark::DoNotOptimize(pairs.data());
   }
   report(state, pairs);  // the last increment's counters; ns_per_slave over them all
   state.counters["ns_per_slave"] =
-      benchmark::Counter(static_cast<double>(h.ids.size() * h.positions.size()) * 1e-9,
+      benchmark::Counter(static_cast<double>(h.ids.size() * states) * 1e-9,
                          benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
 }
 
+void history_fresh(benchmark::State& state) {
+  const History& h = history();
+  history_run(state, h.positions.size(), [&](const contact::SearchOptions& options, auto& pairs) {
+    for (const auto& x : h.positions) contact::surface_search(h.master, h.normals, h.ids, x, options, pairs);
+  });
+}
+
+/// The increments after the first (the first, the tracker's fresh search, untimed).
 void history_tracked(benchmark::State& state) {
   const History& h = history();
-  omp_set_num_threads(static_cast<int>(state.range(0)));
-  const contact::SearchOptions options = history_options(state);
-  std::vector<contact::NodeSegmentPair> pairs;
-  for (auto _ : state) {
+  history_run(state, h.positions.size() - 1, [&](const contact::SearchOptions& options, auto& pairs) {
     state.PauseTiming();
     contact::SurfaceTracker tracker(options);
     tracker.step(h.master, h.normals, h.ids, h.positions[0], pairs);
     state.ResumeTiming();
     for (std::size_t i = 1; i < h.positions.size(); ++i)
       tracker.step(h.master, h.normals, h.ids, h.positions[i], pairs);
-    benchmark::DoNotOptimize(pairs.data());
-  }
-  report(state, pairs);  // the last increment's counters; ns_per_slave over them all
-  state.counters["ns_per_slave"] =
-      benchmark::Counter(static_cast<double>(h.ids.size() * (h.positions.size() - 1)) * 1e-9,
-                         benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
+  });
 }
 
 const Scene& scene() {

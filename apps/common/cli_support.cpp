@@ -621,6 +621,25 @@ std::vector<std::string> warn_unapplied_geometry(const char* tool, const std::st
   return keywords;
 }
 
+std::vector<int> integer_list(const std::string& text, int lo, int hi, const std::string& expected) {
+  std::vector<int> values;
+  std::stringstream in(text);
+  std::string item;
+  while (std::getline(in, item, ',')) {
+    std::size_t used = 0;
+    int n = 0;
+    try {
+      n = std::stoi(item, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    CONTACTNN_REQUIRE_AS(InvalidArgument, !item.empty() && used == item.size() && n >= lo && n <= hi,
+                         expected << ", got " << io::quote_text(text));
+    values.push_back(n);
+  }
+  return values;
+}
+
 std::string join_command_line(int argc, char** argv) {
   std::string out;
   for (int i = 0; i < argc; ++i) {

@@ -113,6 +113,11 @@ std::vector<std::string> warn_unapplied_geometry(const char* tool, const std::st
 /// quotes), for the provenance lines of a tool's outputs.
 [[nodiscard]] std::string join_command_line(int argc, char** argv);
 
+/// "16,32,48" -> {16, 32, 48}: comma-separated integers in [lo, hi]; InvalidArgument "<expected>, got 'TEXT'"
+/// for an empty item, a non-integer or one out of range. An empty text is an empty list.
+[[nodiscard]] std::vector<int> integer_list(const std::string& text, int lo, int hi,
+                                            const std::string& expected);
+
 /// Adds the exit-code table to the app's --help footer.
 void add_exit_code_footer(CLI::App& app);
 

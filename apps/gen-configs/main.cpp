@@ -46,6 +46,7 @@
 #include <iostream>
 #include <optional>
 #include <span>
+#include <tuple>
 #include <unordered_map>
 
 #include "cli_support.hpp"
@@ -469,16 +470,15 @@ void add_data_options(CLI::App& app, Settings& s) {
   auto& f = options.filters;
   app.add_option("--seed", options.seed, "seed of the Gregory node-normal sampling")
       ->transform(cli::integer_in(0, cli::kMaxSeed));
-  app.add_option("--d_xy_points", options.d_xy_points, "grid points per axis, x and y of D")
-      ->transform(cli::integer_in(1, 400));
-  app.add_option("--c_xy_points", options.c_xy_points, "grid points per axis, x and y of C")
-      ->transform(cli::integer_in(1, 400));
-  app.add_option("--c_z_points", options.c_z_points, "grid points, z of C")
-      ->transform(cli::integer_in(1, 400));
-  app.add_option("--s_xy_points", options.s_xy_points, "grid points per axis, x and y of S")
-      ->transform(cli::integer_in(1, 400));
-  app.add_option("--s_z_points", options.s_z_points, "grid points, z of S")
-      ->transform(cli::integer_in(1, 400));
+  // The enumeration's grids (SPEC 3), 1 to 400 points each.
+  for (const auto& [flag, points, what] :
+       {std::tuple{"--d_xy_points", &options.d_xy_points, "grid points per axis, x and y of D"},
+        std::tuple{"--c_xy_points", &options.c_xy_points, "grid points per axis, x and y of C"},
+        std::tuple{"--c_z_points", &options.c_z_points, "grid points, z of C"},
+        std::tuple{"--s_xy_points", &options.s_xy_points, "grid points per axis, x and y of S"},
+        std::tuple{"--s_z_points", &options.s_z_points, "grid points, z of S"}}) {
+    app.add_option(flag, *points, what)->transform(cli::integer_in(1, 400));
+  }
   app.add_option("--normal_sets", options.normal_sets, "Gregory: node-normal sets per configuration")
       ->transform(cli::integer_in(1, 1000));
   app.add_option("--deformation", s.scene_options.deformation,

@@ -44,6 +44,7 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <limits>
 #include <optional>
 #include <sstream>
 
@@ -72,23 +73,8 @@ using Clock = std::chrono::steady_clock;
 
 /// "16,32,48" -> {16, 32, 48}; InvalidArgument naming --sizes otherwise.
 std::vector<int> parse_sizes(const std::string& text) {
-  std::vector<int> sizes;
-  std::stringstream in(text);
-  std::string item;
-  while (std::getline(in, item, ',')) {
-    std::size_t used = 0;
-    int n = 0;
-    try {
-      n = std::stoi(item, &used);
-    } catch (const std::exception&) {
-      used = 0;
-    }
-    CONTACTNN_REQUIRE_AS(
-        InvalidArgument, !item.empty() && used == item.size() && n >= 1,
-        "--sizes: expected comma-separated hidden sizes >= 1, smallest first, got " << quote_text(text));
-    sizes.push_back(n);
-  }
-  return sizes;
+  return cli::integer_list(text, 1, std::numeric_limits<int>::max(),
+                           "--sizes: expected comma-separated hidden sizes >= 1, smallest first");
 }
 
 double seconds_since(Clock::time_point start) {

@@ -65,22 +65,8 @@ struct NetSettings {
 };
 
 std::vector<int> parse_hidden(const std::string& text) {
-  std::vector<int> sizes;
-  std::stringstream in(text);
-  std::string item;
-  while (std::getline(in, item, ',')) {
-    std::size_t used = 0;
-    int n = 0;
-    try {
-      n = std::stoi(item, &used);
-    } catch (const std::exception&) {
-      used = 0;
-    }
-    CONTACTNN_REQUIRE_AS(
-        InvalidArgument, used == item.size() && n >= 1 && n <= 4096,
-        "--hidden: expected comma-separated layer sizes in 1..4096, got " << io::quote_text(text));
-    sizes.push_back(n);
-  }
+  const std::vector<int> sizes =
+      cli::integer_list(text, 1, 4096, "--hidden: expected comma-separated layer sizes in 1..4096");
   CONTACTNN_REQUIRE_AS(InvalidArgument, !sizes.empty(), "--hidden: at least one hidden layer size is needed");
   return sizes;
 }

@@ -5,6 +5,8 @@
 #include <limits>
 #include <nanoflann.hpp>
 
+#include "contact/point_cloud.hpp"
+
 namespace contactnn::contact {
 
 double squared_distance(const Vec3& a, const Vec3& b) {
@@ -28,19 +30,6 @@ int nearest_point_brute_force(std::span<const Vec3> points, const Vec3& query) {
 }
 
 namespace {
-
-/// nanoflann's dataset adaptor over the copied points.
-struct PointCloud {
-  const std::vector<Vec3>* points = nullptr;
-  [[nodiscard]] std::size_t kdtree_get_point_count() const { return points->size(); }
-  [[nodiscard]] double kdtree_get_pt(std::size_t i, std::size_t dim) const {
-    return (*points)[i][static_cast<Eigen::Index>(dim)];
-  }
-  template <class BoundingBox>
-  bool kdtree_get_bbox(BoundingBox&) const {
-    return false;
-  }
-};
 
 // Points within this relative margin of the best squared distance seen are kept as candidates: far above
 // the rounding by which nanoflann's distances may differ from squared_distance, far below any real gap.

@@ -12,6 +12,7 @@
 #include "contact/bilinear_certificate.hpp"
 #include "contact/face_grid.hpp"
 #include "contact/narrow_phase.hpp"
+#include "contact/point_cloud.hpp"
 #include "core/error.hpp"
 #include "geometry/bilinear_patch.hpp"
 #include "geometry/gregory_patch.hpp"
@@ -28,20 +29,8 @@ namespace {
 /// Distances within this fraction of the face size count as equal (SPEC 9's tie rule applies).
 constexpr double kTieTolerance = 1e-12;
 
-/// nanoflann's dataset adaptor over the face centres.
-struct Centres {
-  const std::vector<Vec3>* points = nullptr;
-  [[nodiscard]] std::size_t kdtree_get_point_count() const { return points->size(); }
-  [[nodiscard]] double kdtree_get_pt(std::size_t i, std::size_t dim) const {
-    return (*points)[i][static_cast<Eigen::Index>(dim)];
-  }
-  template <class BoundingBox>
-  bool kdtree_get_bbox(BoundingBox&) const {
-    return false;
-  }
-};
-using CentreTree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, Centres>, Centres,
-                                                       3, std::uint32_t>;
+using CentreTree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, PointCloud>,
+                                                       PointCloud, 3, std::uint32_t>;
 
 /// The surface kind a quad4 face f is searched on: the segments (C3D8) on the search's own surface, the extra
 /// faces (wedge quadrilaterals) always as bilinear facets (their nodes need not have Eq 26 normals).
@@ -595,7 +584,7 @@ struct SurfaceSearcher::Impl {
   double capture = 0.0;
   double largest_radius = 0.0;
   double largest_size = 0.0;  ///< the largest face size (the tie band's widest)
-  Centres cloud;
+  PointCloud cloud;           ///< the face centres
   /// The broad phase of the certified search (face_grid.hpp): the searcher's own, or a caller's kept between
   /// states (`grid`); null for the reference search and brute_force_faces (the k-d tree, every face).
   FaceGrid own_grid;

@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "core/error.hpp"
+#include "core/number_text.hpp"
 #include "eval/svg_plot.hpp"
 #include "io/csv.hpp"
 
@@ -14,11 +15,6 @@ namespace contactnn::eval {
 
 namespace {
 
-std::string fmt(const char* format, double x) {
-  char buffer[64];
-  std::snprintf(buffer, sizeof buffer, format, x);
-  return buffer;
-}
 std::string g3(double x) { return fmt("%.3g", x); }
 std::string g4(double x) { return fmt("%.4g", x); }
 std::string ns(double x) { return fmt("%.1f", x); }

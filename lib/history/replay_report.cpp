@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "core/number_text.hpp"
 #include "eval/svg_plot.hpp"
 #include "history/replay.hpp"
 #include "io/csv.hpp"
@@ -12,12 +13,6 @@
 namespace contactnn::history {
 
 namespace {
-
-std::string fmt(const char* format, double x) {
-  char buffer[64];
-  std::snprintf(buffer, sizeof buffer, format, x);
-  return buffer;
-}
 
 /// Totals over the increments of one method's row (by position: every increment has the same methods).
 struct MethodTotal {

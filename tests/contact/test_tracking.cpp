@@ -29,6 +29,12 @@ mesh::SurfaceMesh sheet(double t) {
 struct History {
   std::vector<long> ids;
   std::vector<Vec3> start, velocity;
+  /// The slave nodes' positions at an increment.
+  [[nodiscard]] std::vector<Vec3> at(int increment) const {
+    std::vector<Vec3> x;
+    for (std::size_t i = 0; i < ids.size(); ++i) x.push_back(start[i] + increment * velocity[i]);
+    return x;
+  }
 };
 
 History slaves(int n) {
@@ -59,34 +65,38 @@ void expect_same(const std::vector<NodeSegmentPair>& a, const std::vector<NodeSe
 
 class Tracking : public ::testing::TestWithParam<SurfaceKind> {};
 
+/// Tracks h over `increments` states of the travelling sheet, each answer expected to be the fresh search's;
+/// the counts of every increment.
+std::vector<TrackingCounts> track_against_fresh(const SearchOptions& options, const History& h,
+                                                int increments) {
+  SurfaceTracker tracker(options);
+  std::vector<TrackingCounts> all;
+  for (int increment = 0; increment < increments; ++increment) {
+    const mesh::SurfaceMesh m = sheet(0.05 * increment);
+    const std::vector<Vec3> normals = mesh::node_normals(m);
+    const std::vector<Vec3> positions = h.at(increment);
+    TrackingCounts counts;
+    const auto by_tracking = tracker.step(m, normals, h.ids, positions, &counts);
+    expect_same(by_tracking, surface_search(m, normals, h.ids, positions, options), increment);
+    EXPECT_EQ(counts.fresh + counts.tracked, static_cast<long>(h.ids.size()));
+    all.push_back(counts);
+  }
+  return all;
+}
+
 TEST_P(Tracking, GivesTheFreshSearchsFacesPointsAndGapsAtEveryIncrement) {
   // Fewer nodes on Gregory patches, whose closest points cost ten times more.
   const int n = GetParam() == SurfaceKind::kGregory ? 300 : 1500;
-  const History h = slaves(n);
   SearchOptions options;
   options.surface = GetParam();
-  SurfaceTracker tracker(options);
+  const std::vector<TrackingCounts> counts = track_against_fresh(options, slaves(n), 12);
+  EXPECT_EQ(counts[0].fresh, n);
+  EXPECT_EQ(counts[0].grid_builds, 1);
   long tracked = 0, warm = 0, grid_builds = 0;
-  for (int increment = 0; increment < 12; ++increment) {
-    const mesh::SurfaceMesh m = sheet(0.05 * increment);
-    const std::vector<Vec3> normals = mesh::node_normals(m);
-    std::vector<Vec3> positions;
-    for (std::size_t i = 0; i < h.ids.size(); ++i)
-      positions.push_back(h.start[i] + increment * h.velocity[i]);
-    TrackingCounts counts;
-    const auto by_tracking = tracker.step(m, normals, h.ids, positions, &counts);
-    const auto fresh = surface_search(m, normals, h.ids, positions, options);
-    expect_same(by_tracking, fresh, increment);
-    EXPECT_EQ(counts.fresh + counts.tracked, static_cast<long>(h.ids.size()));
-    if (increment == 0) {
-      EXPECT_EQ(counts.fresh, static_cast<long>(h.ids.size()));
-    }
-    tracked += counts.tracked;
-    warm += counts.warm;
-    grid_builds += counts.grid_builds;
-    if (increment == 0) {
-      EXPECT_EQ(counts.grid_builds, 1);
-    }
+  for (const TrackingCounts& c : counts) {
+    tracked += c.tracked;
+    warm += c.warm;
+    grid_builds += c.grid_builds;
   }
   // Most nodes start from their previous face and point.
   EXPECT_GT(tracked, 8 * n);
@@ -98,23 +108,12 @@ TEST_P(Tracking, GivesTheFreshSearchsFacesPointsAndGapsAtEveryIncrement) {
 }
 
 TEST(Tracking, TheReferenceTrackerAnswersFromItsLists) {
-  const History h = slaves(600);
   SearchOptions options;
   options.narrow = NarrowPhase::kReference;
-  SurfaceTracker tracker(options);
   long tracked = 0;
-  for (int increment = 0; increment < 6; ++increment) {
-    const mesh::SurfaceMesh m = sheet(0.05 * increment);
-    const std::vector<Vec3> normals = mesh::node_normals(m);
-    std::vector<Vec3> positions;
-    for (std::size_t i = 0; i < h.ids.size(); ++i)
-      positions.push_back(h.start[i] + increment * h.velocity[i]);
-    TrackingCounts counts;
-    const auto by_tracking = tracker.step(m, normals, h.ids, positions, &counts);
-    expect_same(by_tracking, surface_search(m, normals, h.ids, positions, options), increment);
-    EXPECT_EQ(counts.fresh + counts.tracked, static_cast<long>(h.ids.size()));
-    EXPECT_EQ(counts.grid_builds, 0);
-    tracked += counts.tracked;
+  for (const TrackingCounts& c : track_against_fresh(options, slaves(600), 6)) {
+    EXPECT_EQ(c.grid_builds, 0);
+    tracked += c.tracked;
   }
   EXPECT_GT(tracked, 4 * 600);
 }
@@ -233,9 +232,7 @@ TEST(Tracking, SameResultsForAnyThreadCount) {
     std::vector<NodeSegmentPair> last;
     for (int increment = 0; increment < 5; ++increment) {
       const mesh::SurfaceMesh m = sheet(0.05 * increment);
-      std::vector<Vec3> positions;
-      for (std::size_t i = 0; i < h.ids.size(); ++i)
-        positions.push_back(h.start[i] + increment * h.velocity[i]);
+      const std::vector<Vec3> positions = h.at(increment);
       last = tracker.step(m, mesh::node_normals(m), h.ids, positions);
     }
     runs.push_back(last);
