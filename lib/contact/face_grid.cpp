@@ -59,9 +59,6 @@ void FaceGrid::build(std::span<const Vec3> box_lo, std::span<const Vec3> box_hi,
                             static_cast<std::size_t>(dims_[2]);
   // Counted, then filled in face order (CSR).
   offsets_.assign(cells + 1, 0);
-  const auto cell_index = [&](int i, int j, int k) {
-    return static_cast<std::size_t>((static_cast<long>(k) * dims_[1] + j) * static_cast<long>(dims_[0]) + i);
-  };
   for (std::size_t f = 0; f < faces_; ++f) {
     if (!built_lo_[f].allFinite() || !built_hi_[f].allFinite()) {
       first_cell_[f] = {1, 1, 1};  // an empty range: listed nowhere
@@ -110,8 +107,7 @@ int FaceGrid::face_near(const Vec3& x, std::span<const Vec3> centres) const {
   int best = -1;
   double nearest = std::numeric_limits<double>::infinity();
   const auto scan = [&](int i, int j, int k) {
-    const auto c =
-        static_cast<std::size_t>((static_cast<long>(k) * dims_[1] + j) * static_cast<long>(dims_[0]) + i);
+    const std::size_t c = cell_index(i, j, k);
     for (std::uint32_t e = offsets_[c]; e < offsets_[c + 1]; ++e) {
       const std::uint32_t f = entries_[e];
       const double d = (centres[f] - x).squaredNorm();

@@ -53,10 +53,8 @@ class FaceGrid {
     }
     for (int k = lo[2]; k <= hi[2]; ++k) {
       for (int j = lo[1]; j <= hi[1]; ++j) {
-        const std::size_t row =
-            static_cast<std::size_t>((static_cast<long>(k) * dims_[1] + j) * static_cast<long>(dims_[0]));
         for (int i = lo[0]; i <= hi[0]; ++i) {
-          const std::size_t c = row + static_cast<std::size_t>(i);
+          const std::size_t c = cell_index(i, j, k);
           for (std::uint32_t e = offsets_[c]; e < offsets_[c + 1]; ++e) {
             const std::uint32_t f = entries_[e];
             const std::array<int, 3>& first = first_cell_[f];
@@ -77,6 +75,10 @@ class FaceGrid {
   [[nodiscard]] int face_near(const Vec3& x, std::span<const Vec3> centres) const;
 
  private:
+  /// Cell (i, j, k)'s index in offsets_ (x fastest).
+  [[nodiscard]] std::size_t cell_index(int i, int j, int k) const {
+    return static_cast<std::size_t>((static_cast<long>(k) * dims_[1] + j) * static_cast<long>(dims_[0]) + i);
+  }
   [[nodiscard]] int cell_of(double v, int k) const {
     const double t = std::floor((v - low_[k]) * inverse_);
     const int last = dims_[static_cast<std::size_t>(k)] - 1;

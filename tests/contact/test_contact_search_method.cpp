@@ -176,9 +176,9 @@ INSTANTIATE_TEST_SUITE_P(Methods, ContactSearchMethod,
                          ::testing::Values(MethodCase{SurfaceKind::kBilinear, "newton:1"},
                                            MethodCase{SurfaceKind::kBilinear, "closed_form"},
                                            MethodCase{SurfaceKind::kGregory, "newton:1"}),
-                         [](const auto& info) {
+                         [](const auto& param_info) {
                            std::string name =
-                               std::string(to_string(info.param.kind)) + "_" + info.param.method;
+                               std::string(to_string(param_info.param.kind)) + "_" + param_info.param.method;
                            for (char& c : name) c = std::isalnum(static_cast<unsigned char>(c)) ? c : '_';
                            return name;
                          });
