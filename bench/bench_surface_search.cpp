@@ -73,7 +73,8 @@ Scene make_scene(long slave_count) {
 long g_slaves = 100000;
 long g_history_slaves = 1000;
 
-void report(benchmark::State& state, const std::vector<contact::NodeSegmentPair>& pairs);
+template <class Answer>
+void report(benchmark::State& state, const std::vector<Answer>& pairs);
 
 /// The large history (header): the master, its normals, the slave ids and the positions per increment.
 struct History {
@@ -137,7 +138,7 @@ void history_run(benchmark::State& state, std::size_t states, Run&& run) {
   const History& h = history();
   omp_set_num_threads(static_cast<int>(state.range(0)));
   const contact::SearchOptions options = history_options(state);
-  std::vector<contact::NodeSegmentPair> pairs;
+  std::vector<contact::Contact> pairs;  // the answers an FE code's handle reads
   for (auto _ : state) {
     run(options, pairs);
     benchmark::DoNotOptimize(pairs.data());
@@ -173,7 +174,8 @@ const Scene& scene() {
   return s;
 }
 
-void report(benchmark::State& state, const std::vector<contact::NodeSegmentPair>& pairs) {
+template <class Answer>
+void report(benchmark::State& state, const std::vector<Answer>& pairs) {
   double candidates = 0.0, reference = 0.0;
   long found = 0;
   for (const auto& p : pairs) {

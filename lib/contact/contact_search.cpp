@@ -104,8 +104,7 @@ struct ContactSearch::Impl {
   std::vector<Vec3> slave_positions;
   std::vector<Vec3> normals;  ///< Gregory node normals of the state
   SurfaceTracker tracker;
-  std::vector<NodeSegmentPair> pairs;
-  std::vector<Vec3> contact_normals;
+  std::vector<Contact> contacts;
   TrackingCounts counts;
 
   Impl(const ContactSearchOptions& o, std::unique_ptr<const FaceLocator> l, const SearchOptions& s)
@@ -388,27 +387,17 @@ void ContactSearch::update(std::span<const double> coordinates, std::span<const 
     const ThreadCount team(m.options.threads);
     m.counts = TrackingCounts{};
     if (m.options.tracking) {
-      m.tracker.step(m.surface, m.normals, m.slave_ids, m.slave_positions, m.pairs, &m.counts);
+      m.tracker.step(m.surface, m.normals, m.slave_ids, m.slave_positions, m.contacts, &m.counts);
     } else {
-      surface_search(m.surface, m.normals, m.slave_ids, m.slave_positions, m.search, m.pairs);
+      surface_search(m.surface, m.normals, m.slave_ids, m.slave_positions, m.search, m.contacts);
     }
-    m.contact_normals.resize(n);
+    // A method's point inside a face may come without the face's normal: computed here.
     const auto count = static_cast<long>(n);
 #pragma omp parallel for schedule(dynamic, 256) if (count >= 2048)
     for (long i = 0; i < count; ++i) {
-      const auto u = static_cast<std::size_t>(i);
-      const NodeSegmentPair& p = m.pairs[u];
-      Vec3 normal = Vec3::Zero();
-      if (p.status == PairStatus::kFound) {
-        const Vec3 d = m.slave_positions[u] - p.point;
-        const double length = d.norm();
-        if (p.location != Location::kFace && length > 0.0 && p.label.gap != 0.0 && std::isfinite(length)) {
-          normal = (p.label.gap < 0.0 ? -d : d) / length;
-        } else {
-          normal = face_normal_at(m.surface, m.normals, m.options.quad4, p.segment, p.face_param);
-        }
-      }
-      m.contact_normals[u] = normal;
+      Contact& c = m.contacts[static_cast<std::size_t>(i)];
+      if (c.status == PairStatus::kFound && c.normal == Vec3::Zero())
+        c.normal = face_normal_at(m.surface, m.normals, m.options.quad4, c.face, c.param);
     }
   } catch (...) {
     m.tracker.reset();
@@ -417,19 +406,18 @@ void ContactSearch::update(std::span<const double> coordinates, std::span<const 
 
   // The caller's arrays.
   for (std::size_t i = 0; i < n; ++i) {
-    const NodeSegmentPair& p = m.pairs[i];
+    const Contact& p = m.contacts[i];
     const bool found = p.status == PairStatus::kFound;
     out.status[i] = static_cast<int>(found ? Status::kOk : Status::kNoSegment);
-    out.face[i] = found ? m.caller_face[static_cast<std::size_t>(p.segment)] : -1;
+    out.face[i] = found ? m.caller_face[static_cast<std::size_t>(p.face)] : -1;
     if (!out.location.empty()) out.location[i] = found ? static_cast<int>(p.location) : -1;
-    for (std::size_t k = 0; k < 2 && !out.param.empty(); ++k)
-      out.param[2 * i + k] = found ? p.face_param[k] : 0.0;
+    for (std::size_t k = 0; k < 2 && !out.param.empty(); ++k) out.param[2 * i + k] = found ? p.param[k] : 0.0;
     for (std::size_t k = 0; k < 3; ++k) {
       const auto e = static_cast<Eigen::Index>(k);
       if (!out.point.empty()) out.point[3 * i + k] = found ? p.point[e] : 0.0;
-      if (!out.normal.empty()) out.normal[3 * i + k] = m.contact_normals[i][e];
+      if (!out.normal.empty()) out.normal[3 * i + k] = found ? p.normal[e] : 0.0;
     }
-    if (!out.gap.empty()) out.gap[i] = found ? p.label.gap : 0.0;
+    if (!out.gap.empty()) out.gap[i] = found ? p.gap : 0.0;
   }
 }
 

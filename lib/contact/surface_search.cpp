@@ -433,13 +433,30 @@ struct KnownPoint {
   int reference_faces = 0;
 };
 
-/// The reported pair's order (search_one's last step): a quad4 in SPEC 7's node order, A the corner nearest S
-/// (ties: the first in the face's order), the label's parameters (`param`, in the face's own order) in that
-/// order. Other faces keep their own order and parameters and have no SPEC 7 configuration; a quad8's corners
-/// (its own order) fill `config` for the shape statistics.
-void in_spec7_order(const mesh::SurfaceMesh& master, std::span<const Vec3> normals,
-                    const SearchOptions& options, const Vec3& slave, const std::array<double, 2>& param,
-                    NodeSegmentPair& best) {
+/// The reported pair of `contact` (to_pair), all in the unit of `master`'s positions: a quad4 in SPEC 7's
+/// node order, A the corner nearest S (ties: the first in the face's order; distances compared after dividing
+/// by `unit`, the searches' working unit, so that their squares stay in range), the label's parameters in
+/// that order. Other faces keep their own order and parameters and have no SPEC 7 configuration; a quad8's
+/// corners (its own order) fill `config` for the shape statistics.
+void expand_pair(const mesh::SurfaceMesh& master, std::span<const Vec3> normals, const SearchOptions& options,
+                 double unit, const Contact& contact, const Vec3& slave, NodeSegmentPair& best) {
+  std::construct_at(&best);
+  best.slave_id = contact.slave_id;
+  best.reference_faces = contact.reference_faces;
+  if (contact.status != PairStatus::kFound) return;
+  best.status = PairStatus::kFound;
+  best.segment = contact.face;
+  best.candidates = contact.candidates;
+  best.location = contact.location;
+  best.point = contact.point;
+  best.face_param = contact.param;
+  best.by_method = contact.by_method;
+  best.config.slave = slave;
+  dataset::Label& label = best.label;
+  label.status = Status::kOk;
+  label.iterations = contact.iterations;
+  label.param = contact.param;
+  label.gap = contact.gap;
   const std::span<const int> corners = master.face_corners(best.segment);
   const mesh::FaceType type = master.face_type(best.segment);
   if (type == mesh::FaceType::kQuad8) {
@@ -451,7 +468,7 @@ void in_spec7_order(const mesh::SurfaceMesh& master, std::span<const Vec3> norma
   double nearest = std::numeric_limits<double>::infinity();
   for (int i = 0; i < 4; ++i) {
     const double d2 =
-        (master.positions[static_cast<std::size_t>(corners[static_cast<std::size_t>(i)])] - slave)
+        ((master.positions[static_cast<std::size_t>(corners[static_cast<std::size_t>(i)])] - slave) / unit)
             .squaredNorm();
     if (d2 < nearest) {
       nearest = d2;
@@ -467,7 +484,13 @@ void in_spec7_order(const mesh::SurfaceMesh& master, std::span<const Vec3> norma
     best.config.nodes[i] = own.nodes[(static_cast<std::size_t>(k) + i) % 4];
     best.config.normals[i] = own.normals[(static_cast<std::size_t>(k) + i) % 4];
   }
-  best.label.param = rotate_param(param, k, kind);
+  best.label.param = rotate_param(contact.param, k, kind);
+}
+
+/// A Contact's lengths in world units (its point and gap times the working unit).
+void contact_to_world(Contact& contact, double unit) {
+  contact.point *= unit;
+  contact.gap *= unit;
 }
 
 /// Steps 2-4 of the header for one slave node, given its candidate faces (unordered; with `loose`, sorted by
@@ -478,7 +501,7 @@ void in_spec7_order(const mesh::SurfaceMesh& master, std::span<const Vec3> norma
 void search_one(const mesh::SurfaceMesh& master, std::span<const Vec3> normals, const SearchOptions& options,
                 const SearchOptions& checked, const FaceIndex& index, double capture, long slave_id,
                 const Vec3& slave, std::vector<std::pair<double, int>>& candidates, const FaceHint* hint,
-                bool loose, const KnownPoint* known, NodeSegmentPair& best) {
+                bool loose, const KnownPoint* known, Contact& best) {
   std::construct_at(&best);
   best.slave_id = slave_id;
   if (known != nullptr) best.reference_faces = known->reference_faces;
@@ -495,13 +518,13 @@ void search_one(const mesh::SurfaceMesh& master, std::span<const Vec3> normals, 
   projection::FaceClosestPoint best_point;
   const auto consider = [&](int f, const projection::FaceClosestPoint& p) {
     const double tie = kTieTolerance * index.sizes[static_cast<std::size_t>(f)];
-    bool better = best.segment < 0 || p.distance < best_distance - tie;
+    bool better = best.face < 0 || p.distance < best_distance - tie;
     if (!better && p.distance <= best_distance + tie) {
       const auto key = [&](int g) { return std::pair(master.face_element_id(g), master.face_of(g).face); };
-      better = key(f) < key(best.segment);
+      better = key(f) < key(best.face);
     }
     if (better) {
-      best.segment = f;
+      best.face = f;
       best_distance = p.distance;
       best_point = p;
     }
@@ -533,34 +556,33 @@ void search_one(const mesh::SurfaceMesh& master, std::span<const Vec3> normals, 
     ++best.candidates;
     consider(f, p);
   }
-  if (best.segment < 0 || best_distance > capture) {
-    best.segment = -1;
+  if (best.face < 0 || best_distance > capture) {
+    best.face = -1;
     best.candidates = 0;
     return;
   }
   best.status = PairStatus::kFound;
   best.location = best_point.location;
   best.point = best_point.point;
-  best.config.slave = slave;
-  dataset::Label& label = best.label;
-  label.status = Status::kOk;
-  label.iterations = best_point.iterations;
-  label.param = best_point.param;
-  best.face_param = best_point.param;
+  best.iterations = best_point.iterations;
+  best.param = best_point.param;
   best.by_method = best_point.by_method;
-  const Vec3 n = pseudo_normal(master, normals, options, index, best.segment, best_point);
-  const double side = (slave - best_point.point).dot(n);
-  label.gap = side < 0.0 ? -best_point.distance : best_point.distance;
-
-  in_spec7_order(master, normals, options, slave, best_point.param, best);
+  const Vec3 n = pseudo_normal(master, normals, options, index, best.face, best_point);
+  const Vec3 d = slave - best_point.point;
+  const double side = d.dot(n);
+  best.gap = side < 0.0 ? -best_point.distance : best_point.distance;
+  // The contact normal (Contact::normal): the face's at an interior point or where S is on the surface.
+  best.normal = best_point.normal;
+  const double length = d.norm();
+  if (best.location != Location::kFace && best.gap != 0.0 && length > 0.0 && std::isfinite(length))
+    best.normal = (best.gap < 0.0 ? -d : d) / length;
 }
 
-NodeSegmentPair search_one(const mesh::SurfaceMesh& master, std::span<const Vec3> normals,
-                           const SearchOptions& options, const SearchOptions& checked, const FaceIndex& index,
-                           double capture, long slave_id, const Vec3& slave,
-                           std::vector<std::pair<double, int>>& candidates, const FaceHint* hint,
-                           bool loose) {
-  NodeSegmentPair best;
+Contact search_one(const mesh::SurfaceMesh& master, std::span<const Vec3> normals,
+                   const SearchOptions& options, const SearchOptions& checked, const FaceIndex& index,
+                   double capture, long slave_id, const Vec3& slave,
+                   std::vector<std::pair<double, int>>& candidates, const FaceHint* hint, bool loose) {
+  Contact best;
   search_one(master, normals, options, checked, index, capture, slave_id, slave, candidates, hint, loose,
              nullptr, best);
   return best;
@@ -602,6 +624,20 @@ struct SurfaceSearcher::Impl {
   }
   std::vector<Vec3> world_centres;  ///< index's, in world units (where unit != 1)
   std::vector<double> world_radii;
+
+  /// The reported pair of an answer in world units (expand_pair in the working unit, then to world).
+  NodeSegmentPair pair_of(Contact contact, const Vec3& world_slave) const {
+    NodeSegmentPair pair;
+    if (unit == 1.0) {
+      expand_pair(master, normals, options, 1.0, contact, world_slave, pair);
+      return pair;
+    }
+    contact.point /= unit;
+    contact.gap /= unit;
+    expand_pair(master, normals, options, 1.0, contact, world_slave / unit, pair);
+    to_world(pair, unit, world_slave);
+    return pair;
+  }
 
   /// Step 1 in working units (faces_within): every face whose bound comes within `reach` of `slave`.
   void collect(const Vec3& slave, double reach, std::vector<std::pair<double, int>>& out,
@@ -730,15 +766,15 @@ NodeSegmentPair SurfaceSearcher::nearest_fresh(long slave_id, const Vec3& slave,
                                                std::vector<std::pair<double, int>>& candidates,
                                                std::vector<std::pair<std::uint32_t, double>>& scratch,
                                                const FaceHint* hint) const {
-  NodeSegmentPair pair;
-  nearest_fresh(slave_id, slave, candidates, scratch, pair, hint);
-  return pair;
+  Contact contact;
+  nearest_fresh(slave_id, slave, candidates, scratch, contact, hint);
+  return impl_->pair_of(contact, slave);
 }
 
 void SurfaceSearcher::nearest_fresh(long slave_id, const Vec3& world_slave,
                                     std::vector<std::pair<double, int>>& candidates,
-                                    std::vector<std::pair<std::uint32_t, double>>& scratch,
-                                    NodeSegmentPair& pair, const FaceHint* hint) const {
+                                    std::vector<std::pair<std::uint32_t, double>>& scratch, Contact& contact,
+                                    const FaceHint* hint) const {
   const Impl& m = *impl_;
   const Vec3 slave = world_slave / m.unit;
   candidates.clear();
@@ -746,7 +782,7 @@ void SurfaceSearcher::nearest_fresh(long slave_id, const Vec3& world_slave,
   if (!slave.allFinite() || m.index.centres.empty() || m.options.brute_force_faces ||
       m.options.narrow == NarrowPhase::kReference) {
     faces_within(world_slave, capture(), candidates, scratch);
-    pair = nearest(slave_id, world_slave, candidates);
+    contact = nearest_contact(slave_id, world_slave, candidates);
     return;
   }
   // The first face: the hint's, else one listed in the grid cell of S (or around it). Any face would do (the
@@ -784,23 +820,23 @@ void SurfaceSearcher::nearest_fresh(long slave_id, const Vec3& world_slave,
   reach = std::min(m.capture, reach + 4.0 * band);
   m.collect(slave, reach, candidates, scratch, false);
   search_one(m.master, m.normals, m.options, m.checked_options, m.index, m.capture, slave_id, slave,
-             candidates, nullptr, false, first, pair);
+             candidates, nullptr, false, first, contact);
   // |gap| is the scan's own distance of the best, bit for bit (a distance recomputed from the point may
   // differ by the rounding of the face's origin, as much as the band itself far from the origin).
   const bool complete =
-      reach >= m.capture || (pair.status == PairStatus::kFound && std::abs(pair.label.gap) + band <= reach);
+      reach >= m.capture || (contact.status == PairStatus::kFound && std::abs(contact.gap) + band <= reach);
   if (!complete) {
-    const int spent = pair.reference_faces - (first != nullptr ? first->reference_faces : 0);
+    const int spent = contact.reference_faces - (first != nullptr ? first->reference_faces : 0);
     candidates.clear();
     m.collect(slave, m.capture, candidates, scratch, false);
     search_one(m.master, m.normals, m.options, m.checked_options, m.index, m.capture, slave_id, slave,
-               candidates, nullptr, false, first, pair);
-    pair.reference_faces += spent;
+               candidates, nullptr, false, first, contact);
+    contact.reference_faces += spent;
   }
-  if (m.unit != 1.0) to_world(pair, m.unit, world_slave);
+  if (m.unit != 1.0) contact_to_world(contact, m.unit);
 }
 
-NodeSegmentPair SurfaceSearcher::nearest(long slave_id, const Vec3& slave,
+Contact SurfaceSearcher::nearest_contact(long slave_id, const Vec3& slave,
                                          std::vector<std::pair<double, int>>& candidates,
                                          const FaceHint* hint, Bounds bounds) const {
   const double unit = impl_->unit;
@@ -809,12 +845,57 @@ NodeSegmentPair SurfaceSearcher::nearest(long slave_id, const Vec3& slave,
                       impl_->capture, slave_id, slave, candidates, hint, bounds == Bounds::kLooseSorted);
   }
   for (auto& c : candidates) c.first /= unit;
-  NodeSegmentPair pair =
+  Contact contact =
       search_one(impl_->master, impl_->normals, impl_->options, impl_->checked_options, impl_->index,
                  impl_->capture, slave_id, slave / unit, candidates, hint, bounds == Bounds::kLooseSorted);
   for (auto& c : candidates) c.first *= unit;
-  to_world(pair, unit, slave);
+  contact_to_world(contact, unit);
+  return contact;
+}
+
+NodeSegmentPair SurfaceSearcher::nearest(long slave_id, const Vec3& slave,
+                                         std::vector<std::pair<double, int>>& candidates,
+                                         const FaceHint* hint, Bounds bounds) const {
+  return impl_->pair_of(nearest_contact(slave_id, slave, candidates, hint, bounds), slave);
+}
+
+NodeSegmentPair to_pair(const mesh::SurfaceMesh& master, std::span<const Vec3> master_normals,
+                        const SearchOptions& options, const Contact& contact, const Vec3& slave) {
+  NodeSegmentPair pair;
+  expand_pair(master, master_normals, options, working_unit(master), contact, slave, pair);
   return pair;
+}
+
+Contact contact_of(const NodeSegmentPair& pair) {
+  Contact c;
+  c.slave_id = pair.slave_id;
+  c.reference_faces = pair.reference_faces;
+  if (pair.status != PairStatus::kFound) return c;
+  c.face = pair.segment;
+  c.status = pair.status;
+  c.location = pair.location;
+  c.by_method = pair.by_method;
+  c.iterations = pair.label.iterations;
+  c.candidates = pair.candidates;
+  c.param = pair.face_param;
+  c.point = pair.point;
+  c.gap = pair.label.gap;
+  return c;
+}
+
+void to_pairs(const mesh::SurfaceMesh& master, std::span<const Vec3> master_normals,
+              const SearchOptions& options, std::span<const Contact> contacts,
+              std::span<const Vec3> slave_positions, std::vector<NodeSegmentPair>& pairs) {
+  CONTACTNN_REQUIRE(contacts.size() == slave_positions.size(),
+                    contacts.size() << " answers for " << slave_positions.size() << " positions");
+  const double unit = working_unit(master);
+  const auto n = static_cast<long>(contacts.size());
+  pairs.resize(contacts.size());
+#pragma omp parallel for schedule(static) if (n >= 4096)
+  for (long i = 0; i < n; ++i) {
+    const auto u = static_cast<std::size_t>(i);
+    expand_pair(master, master_normals, options, unit, contacts[u], slave_positions[u], pairs[u]);
+  }
 }
 
 std::vector<NodeSegmentPair> surface_search(const mesh::SurfaceMesh& master,
@@ -830,11 +911,19 @@ std::vector<NodeSegmentPair> surface_search(const mesh::SurfaceMesh& master,
 void surface_search(const mesh::SurfaceMesh& master, std::span<const Vec3> master_normals,
                     std::span<const long> slave_ids, std::span<const Vec3> slave_positions,
                     const SearchOptions& options, std::vector<NodeSegmentPair>& pairs) {
+  std::vector<Contact> contacts;
+  surface_search(master, master_normals, slave_ids, slave_positions, options, contacts);
+  to_pairs(master, master_normals, options, contacts, slave_positions, pairs);
+}
+
+void surface_search(const mesh::SurfaceMesh& master, std::span<const Vec3> master_normals,
+                    std::span<const long> slave_ids, std::span<const Vec3> slave_positions,
+                    const SearchOptions& options, std::vector<Contact>& contacts) {
   CONTACTNN_REQUIRE(slave_ids.size() == slave_positions.size(),
                     slave_ids.size() << " slave ids for " << slave_positions.size() << " positions");
   const SurfaceSearcher searcher(master, master_normals, options);
   const auto n = static_cast<long>(slave_ids.size());
-  pairs.resize(static_cast<std::size_t>(n));
+  contacts.resize(static_cast<std::size_t>(n));
   // The slave nodes in Morton order (the search before the certificate, NarrowPhase::kReference, in theirs).
   thread_local std::vector<std::uint32_t> order;
   thread_local std::vector<std::uint64_t> codes;
@@ -853,7 +942,7 @@ void surface_search(const mesh::SurfaceMesh& master, std::span<const Vec3> maste
 #pragma omp for schedule(dynamic, 64)
     for (long i = 0; i < n; ++i) {
       const std::size_t u = at[i];
-      searcher.nearest_fresh(slave_ids[u], slave_positions[u], candidates, scratch, pairs[u]);
+      searcher.nearest_fresh(slave_ids[u], slave_positions[u], candidates, scratch, contacts[u]);
     }
   }
 }

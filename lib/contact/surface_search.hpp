@@ -40,7 +40,9 @@
 //     inside a concave corner penetrates, whichever face it reports.
 //     S on the surface (|S - P| = 0) has gap 0.
 //
-// The reported pair (NodeSegmentPair): `segment` the winning face (an index of SurfaceMesh::face_corners);
+// The answer (Contact): the winning face, where its point lies, its local coordinates in the face's own node
+// order, the point, the gap of step 4 and a unit normal. The reported pair (NodeSegmentPair, to_pair: what
+// gen-configs writes for training): `segment` the winning face (an index of SurfaceMesh::face_corners);
 // for a quad4, `nodes` and `config` its corners rotated so that A is the corner nearest S (ties: the first in
 // the face's own order), then counter-clockwise about the outward normal (SPEC 7's node order), and the
 // label's parameters in that order; for every other face the label's parameters in the face's own order
@@ -82,6 +84,40 @@ void to_world(NodeSegmentPair& pair, double unit, const Vec3& slave);
 /// The capture distance of `options` for `master` (world units): options.capture_distance when positive,
 /// else options.capture_relative x the largest face size (0 for a surface without faces).
 [[nodiscard]] double capture_distance(const mesh::SurfaceMesh& master, const SearchOptions& options);
+
+/// One slave point's answer (steps 1-4): what an FE code reads of it, 112 bytes (the training set's
+/// NodeSegmentPair, 504 bytes with its SPEC 7 configuration and label, is made from it where a tool needs
+/// one: to_pair).
+struct Contact {
+  long slave_id = 0;
+  int face = -1;  ///< index of SurfaceMesh::face_corners; -1 none (no point within the capture distance)
+  PairStatus status = PairStatus::kNoSegment;
+  Location location = Location::kFace;  ///< where the point lies on its face
+  bool by_method = false;  ///< SearchOptions::interior's method gave the point (else the exact closest point)
+  int iterations = 0;      ///< Newton iterations of the point's interior projection
+  int candidates = 0;      ///< faces projected with a point (status ok)
+  int reference_faces = 0;                ///< faces whose closest point needed the reference (NarrowPhase)
+  std::array<double, 2> param{0.0, 0.0};  ///< the point's local coordinates in the face's own node order
+  Vec3 point = Vec3::Zero();              ///< the closest point P
+  double gap = 0.0;                       ///< the signed distance (step 4)
+  /// Unit normal: inside the face, the face's unit normal at P; on an edge or a vertex, (S - P) / gap (so
+  /// that S = P + gap n); where S lies on the surface (gap 0), the face's normal at P. Zero without a face.
+  Vec3 normal = Vec3::Zero();
+};
+
+/// The training set's pair of an answer (the header's "reported pair": a quad4 in SPEC 7's node order, the
+/// label's parameters in that order; every other face in its own), from the master the answer was found on
+/// (world units) and the slave's position.
+[[nodiscard]] NodeSegmentPair to_pair(const mesh::SurfaceMesh& master, std::span<const Vec3> master_normals,
+                                      const SearchOptions& options, const Contact& contact,
+                                      const Vec3& slave);
+/// The answer a pair holds (to_pair's inverse, but for the normal, which a pair does not keep: zero).
+[[nodiscard]] Contact contact_of(const NodeSegmentPair& pair);
+/// The same for every answer, in parallel (OpenMP): pairs[i] of contacts[i] and slave_positions[i]; `pairs`
+/// resized.
+void to_pairs(const mesh::SurfaceMesh& master, std::span<const Vec3> master_normals,
+              const SearchOptions& options, std::span<const Contact> contacts,
+              std::span<const Vec3> slave_positions, std::vector<NodeSegmentPair>& pairs);
 
 /// A face to try first and the start of its projection (an FE code's previous point: tracking.hpp).
 class FaceGrid;
@@ -142,10 +178,14 @@ class SurfaceSearcher {
                                               std::vector<std::pair<double, int>>& candidates,
                                               std::vector<std::pair<std::uint32_t, double>>& scratch,
                                               const FaceHint* hint = nullptr) const;
-  /// The same into `pair` (written once, in place: an FE code's buffer).
+  /// The same into `contact` (written once, in place: an FE code's buffer).
   void nearest_fresh(long slave_id, const Vec3& slave, std::vector<std::pair<double, int>>& candidates,
-                     std::vector<std::pair<std::uint32_t, double>>& scratch, NodeSegmentPair& pair,
+                     std::vector<std::pair<std::uint32_t, double>>& scratch, Contact& contact,
                      const FaceHint* hint = nullptr) const;
+  /// nearest's answer as a Contact.
+  [[nodiscard]] Contact nearest_contact(long slave_id, const Vec3& slave,
+                                        std::vector<std::pair<double, int>>& candidates,
+                                        const FaceHint* hint = nullptr, Bounds bounds = Bounds::kExact) const;
   [[nodiscard]] const std::vector<Vec3>& centres() const;  ///< face centres (mean of the corners)
   [[nodiscard]] const std::vector<double>& radii() const;  ///< bounding-sphere radii
 
@@ -173,10 +213,14 @@ void spatial_order(std::span<const Vec3> points, std::vector<std::uint32_t>& ord
                                                           std::span<const long> slave_ids,
                                                           std::span<const Vec3> slave_positions,
                                                           const SearchOptions& options);
-/// The same into `pairs` (resized to the slave nodes; its storage reused: an FE code's search at every
-/// increment allocates nothing once the buffer has its size).
+/// The same into `pairs` (resized to the slave nodes).
 void surface_search(const mesh::SurfaceMesh& master, std::span<const Vec3> master_normals,
                     std::span<const long> slave_ids, std::span<const Vec3> slave_positions,
                     const SearchOptions& options, std::vector<NodeSegmentPair>& pairs);
+/// The same as Contacts (resized to the slave nodes; its storage reused: an FE code's search at every
+/// increment allocates nothing for the answers once the buffer has its size).
+void surface_search(const mesh::SurfaceMesh& master, std::span<const Vec3> master_normals,
+                    std::span<const long> slave_ids, std::span<const Vec3> slave_positions,
+                    const SearchOptions& options, std::vector<Contact>& contacts);
 
 }  // namespace contactnn::contact

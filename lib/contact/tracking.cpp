@@ -43,6 +43,13 @@ std::vector<NodeSegmentPair> SurfaceTracker::step(const mesh::SurfaceMesh& maste
 void SurfaceTracker::step(const mesh::SurfaceMesh& master, std::span<const Vec3> master_normals,
                           std::span<const long> slave_ids, std::span<const Vec3> slave_positions,
                           std::vector<NodeSegmentPair>& pairs, TrackingCounts* counts) {
+  step(master, master_normals, slave_ids, slave_positions, contacts_, counts);
+  to_pairs(master, master_normals, options_, contacts_, slave_positions, pairs);
+}
+
+void SurfaceTracker::step(const mesh::SurfaceMesh& master, std::span<const Vec3> master_normals,
+                          std::span<const long> slave_ids, std::span<const Vec3> slave_positions,
+                          std::vector<Contact>& pairs, TrackingCounts* counts) {
   CONTACTNN_REQUIRE(slave_ids.size() == slave_positions.size(),
                     slave_ids.size() << " slave ids for " << slave_positions.size() << " positions");
   if (options_.narrow == NarrowPhase::kReference) {
@@ -54,7 +61,7 @@ void SurfaceTracker::step(const mesh::SurfaceMesh& master, std::span<const Vec3>
 
 void SurfaceTracker::step_hints(const mesh::SurfaceMesh& master, std::span<const Vec3> master_normals,
                                 std::span<const long> slave_ids, std::span<const Vec3> slave_positions,
-                                std::vector<NodeSegmentPair>& pairs, TrackingCounts* counts) {
+                                std::vector<Contact>& pairs, TrackingCounts* counts) {
   const std::size_t n = slave_ids.size();
   const bool same = master.face_count() == faces_ &&
                     std::equal(slave_ids.begin(), slave_ids.end(), ids_.begin(), ids_.end());
@@ -79,9 +86,9 @@ void SurfaceTracker::step_hints(const mesh::SurfaceMesh& master, std::span<const
       const std::size_t i = order[k];
       // Steps 2-3: the previous face first, from the previous point.
       const FaceHint* hint = hints_[i].face >= 0 ? &hints_[i] : nullptr;
-      NodeSegmentPair& pair = pairs[i];
-      searcher.nearest_fresh(slave_ids[i], slave_positions[i], candidates, scratch, pair, hint);
-      hints_[i] = pair.status == PairStatus::kFound ? FaceHint{pair.segment, pair.face_param} : FaceHint{};
+      Contact& contact = pairs[i];
+      searcher.nearest_fresh(slave_ids[i], slave_positions[i], candidates, scratch, contact, hint);
+      hints_[i] = contact.status == PairStatus::kFound ? FaceHint{contact.face, contact.param} : FaceHint{};
       fresh += hint == nullptr;
       tracked += hint != nullptr;
       list_faces += static_cast<long>(candidates.size());
@@ -92,7 +99,7 @@ void SurfaceTracker::step_hints(const mesh::SurfaceMesh& master, std::span<const
 
 void SurfaceTracker::step_lists(const mesh::SurfaceMesh& master, std::span<const Vec3> master_normals,
                                 std::span<const long> slave_ids, std::span<const Vec3> slave_positions,
-                                std::vector<NodeSegmentPair>& pairs, TrackingCounts* counts) {
+                                std::vector<Contact>& pairs, TrackingCounts* counts) {
   const SurfaceSearcher searcher(master, master_normals, options_);
   const double unit = searcher.unit();
   const std::vector<Vec3>& centres = searcher.centres();
@@ -170,9 +177,9 @@ void SurfaceTracker::step_lists(const mesh::SurfaceMesh& master, std::span<const
       // Step 3: the previous face first from its previous point.
       const FaceHint* hint = hints_[i].face >= 0 ? &hints_[i] : nullptr;
       warm += hint != nullptr;
-      pairs[i] = searcher.nearest(slave_ids[i], slave, candidates, hint, bounds);
-      hints_[i] = pairs[i].status == PairStatus::kFound ? FaceHint{pairs[i].segment, pairs[i].face_param}
-                                                        : FaceHint{};
+      pairs[i] = searcher.nearest_contact(slave_ids[i], slave, candidates, hint, bounds);
+      hints_[i] =
+          pairs[i].status == PairStatus::kFound ? FaceHint{pairs[i].face, pairs[i].param} : FaceHint{};
     }
   }
   if (counts != nullptr) *counts = {fresh, tracked, warm, list_faces, 0};

@@ -68,20 +68,24 @@ class SurfaceTracker {
                                                   std::span<const long> slave_ids,
                                                   std::span<const Vec3> slave_positions,
                                                   TrackingCounts* counts = nullptr);
-  /// The same into `pairs` (resized; its storage reused).
+  /// The same into `pairs` (resized).
   void step(const mesh::SurfaceMesh& master, std::span<const Vec3> master_normals,
             std::span<const long> slave_ids, std::span<const Vec3> slave_positions,
             std::vector<NodeSegmentPair>& pairs, TrackingCounts* counts = nullptr);
+  /// The same as Contacts (resized; its storage reused: what an FE code's handle keeps).
+  void step(const mesh::SurfaceMesh& master, std::span<const Vec3> master_normals,
+            std::span<const long> slave_ids, std::span<const Vec3> slave_positions,
+            std::vector<Contact>& contacts, TrackingCounts* counts = nullptr);
   /// Forgets everything: the next step is searched fresh.
   void reset();
 
  private:
   void step_hints(const mesh::SurfaceMesh& master, std::span<const Vec3> master_normals,
                   std::span<const long> slave_ids, std::span<const Vec3> slave_positions,
-                  std::vector<NodeSegmentPair>& pairs, TrackingCounts* counts);
+                  std::vector<Contact>& contacts, TrackingCounts* counts);
   void step_lists(const mesh::SurfaceMesh& master, std::span<const Vec3> master_normals,
                   std::span<const long> slave_ids, std::span<const Vec3> slave_positions,
-                  std::vector<NodeSegmentPair>& pairs, TrackingCounts* counts);
+                  std::vector<Contact>& contacts, TrackingCounts* counts);
 
   SearchOptions options_;
   TrackingOptions tracking_;
@@ -97,6 +101,7 @@ class SurfaceTracker {
   double drift_ = 0.0;
   std::vector<std::uint32_t> order_;  ///< the slave nodes in Morton order (spatial_order), and its work space
   std::vector<std::uint64_t> order_scratch_;
+  std::vector<Contact> contacts_;  ///< the answers of a step into NodeSegmentPairs, before they are made
 };
 
 }  // namespace contactnn::contact

@@ -29,12 +29,11 @@ double seconds_since(Clock::time_point start) {
 }
 
 /// Faces, points (to 1e-12 of their magnitude) and gaps equal: the tracked search answered as the fresh one.
-bool same_answer(const contact::NodeSegmentPair& a, const contact::NodeSegmentPair& b) {
+bool same_answer(const contact::Contact& a, const contact::Contact& b) {
   if (a.status != b.status) return false;
   if (a.status != contact::PairStatus::kFound) return true;
   const double tol = 1e-12 * (1.0 + a.point.norm());
-  return a.segment == b.segment && (a.point - b.point).norm() <= tol &&
-         std::abs(a.label.gap - b.label.gap) <= tol;
+  return a.face == b.face && (a.point - b.point).norm() <= tol && std::abs(a.gap - b.gap) <= tol;
 }
 
 /// Face f's size: its longest corner distance.
@@ -52,28 +51,27 @@ double face_size(const mesh::SurfaceMesh& master, int f) {
 
 /// The same answer as the reference search's to 1e-10 of the face's size: status, face and location, the
 /// point and the gap.
-bool same_as_reference(const mesh::SurfaceMesh& master, const contact::NodeSegmentPair& a,
-                       const contact::NodeSegmentPair& b) {
+bool same_as_reference(const mesh::SurfaceMesh& master, const contact::Contact& a,
+                       const contact::Contact& b) {
   if (a.status != b.status) return false;
   if (a.status != contact::PairStatus::kFound) return true;
-  if (a.segment != b.segment || a.location != b.location) return false;
-  const double tol = 1e-10 * face_size(master, a.segment);
-  return (a.point - b.point).norm() <= tol && std::abs(a.label.gap - b.label.gap) <= tol;
+  if (a.face != b.face || a.location != b.location) return false;
+  const double tol = 1e-10 * face_size(master, a.face);
+  return (a.point - b.point).norm() <= tol && std::abs(a.gap - b.gap) <= tol;
 }
 
 /// One answer as a report cell: status, or face, location, point and gap.
-std::string answer_cell(const contact::NodeSegmentPair& p) {
+std::string answer_cell(const contact::Contact& p) {
   if (p.status != contact::PairStatus::kFound) return "no_segment";
   static constexpr const char* kWhere[] = {"face", "edge", "vertex"};
   char text[200];
-  std::snprintf(text, sizeof text, "face %d (%s), P (%.17g, %.17g, %.17g), gap %.17g", p.segment,
-                kWhere[static_cast<int>(p.location)], p.point.x(), p.point.y(), p.point.z(), p.label.gap);
+  std::snprintf(text, sizeof text, "face %d (%s), P (%.17g, %.17g, %.17g), gap %.17g", p.face,
+                kWhere[static_cast<int>(p.location)], p.point.x(), p.point.y(), p.point.z(), p.gap);
   return text;
 }
 
 /// A node whose tracked answer differs from the fresh one, as a Markdown table row.
-std::string difference_row(int increment, const contact::NodeSegmentPair& fresh,
-                           const contact::NodeSegmentPair& tracked) {
+std::string difference_row(int increment, const contact::Contact& fresh, const contact::Contact& tracked) {
   return "| " + std::to_string(increment) + " | " + std::to_string(fresh.slave_id) + " | " +
          answer_cell(fresh) + " | " + answer_cell(tracked) + " |";
 }
@@ -86,18 +84,18 @@ struct Queries {
   std::vector<std::size_t> node;  ///< index of the slave node
 };
 
-Queries face_queries(const contact::Scene& scene, const std::vector<contact::NodeSegmentPair>& pairs,
+Queries face_queries(const contact::Scene& scene, const std::vector<contact::Contact>& pairs,
                      SurfaceKind kind, const std::vector<char>* only) {
   Queries q;
   const bool gregory = kind == SurfaceKind::kGregory;
   for (std::size_t i = 0; i < pairs.size(); ++i) {
-    const contact::NodeSegmentPair& p = pairs[i];
+    const contact::Contact& p = pairs[i];
     if (p.status != contact::PairStatus::kFound || p.location != Location::kFace) continue;
     // lib/search's methods are for the segments' quad4 surfaces (a C3D20 face is a quad8 for the search).
-    if (static_cast<std::size_t>(p.segment) >= scene.master.segments.size()) continue;
-    if (scene.master.face_type(p.segment) != mesh::FaceType::kQuad4) continue;
+    if (static_cast<std::size_t>(p.face) >= scene.master.segments.size()) continue;
+    if (scene.master.face_type(p.face) != mesh::FaceType::kQuad4) continue;
     if (only != nullptr && (*only)[i] == 0) continue;
-    const auto& quad = scene.master.segments[static_cast<std::size_t>(p.segment)];
+    const auto& quad = scene.master.segments[static_cast<std::size_t>(p.face)];
     for (int n : quad) {
       for (int k = 0; k < 3; ++k) q.raw.push_back(scene.master.positions[static_cast<std::size_t>(n)][k]);
     }
@@ -107,7 +105,7 @@ Queries face_queries(const contact::Scene& scene, const std::vector<contact::Nod
         for (int k = 0; k < 3; ++k) q.raw.push_back(scene.master_normals[static_cast<std::size_t>(n)][k]);
       }
     }
-    q.reference.push_back(p.face_param);
+    q.reference.push_back(p.param);
     q.node.push_back(i);
   }
   return q;
@@ -197,7 +195,7 @@ class Replayer {
 
   /// The fastest of `repeats` fresh searches with `search`, ns per slave node (answers in `out`).
   double time_fresh(const contact::Scene& scene, const contact::SearchOptions& search,
-                    std::vector<contact::NodeSegmentPair>& out) const {
+                    std::vector<contact::Contact>& out) const {
     double best = std::numeric_limits<double>::infinity();
     for (int r = 0; r < repeats_; ++r) {
       const auto start = Clock::now();
@@ -211,7 +209,7 @@ class Replayer {
   /// The same for a tracked step: tracking keeps state, so each timed run steps a copy of the tracker (the
   /// copy outside the time), and the last one goes on.
   double time_tracked(const contact::Scene& scene, contact::SurfaceTracker& kept,
-                      std::vector<contact::NodeSegmentPair>& out, contact::TrackingCounts* counts) const {
+                      std::vector<contact::Contact>& out, contact::TrackingCounts* counts) const {
     double best = std::numeric_limits<double>::infinity();
     for (int r = 0; r < repeats_; ++r) {
       contact::SurfaceTracker trial = kept;
@@ -226,7 +224,7 @@ class Replayer {
   void search(const contact::Scene& scene, IncrementRow& row) {
     row.ns_fresh = time_fresh(scene, options_.search, fresh_);
     row.ns_tracked = time_tracked(scene, tracker_, tracked_, &row.tracking);
-    for (const contact::NodeSegmentPair& p : fresh_) row.reference_faces += p.reference_faces;
+    for (const contact::Contact& p : fresh_) row.reference_faces += p.reference_faces;
     if (beside_) {
       // The search as it was, timed the same way beside this one; the fresh answers compared.
       row.ns_fresh_reference = time_fresh(scene, reference_options_, reference_);
@@ -246,7 +244,7 @@ class Replayer {
       ++row.found;
       ++row.locations[static_cast<std::size_t>(fresh_[i].location)];
       if (previous_.size() == fresh_.size() && previous_[i].status == contact::PairStatus::kFound) {
-        if (previous_[i].segment == fresh_[i].segment) {
+        if (previous_[i].face == fresh_[i].face) {
           kept_[i] = 1;
         } else {
           ++row.faces_changed;
@@ -273,8 +271,8 @@ class Replayer {
     const Queries warm = face_queries(scene, fresh_, surface, &kept_);
     std::vector<double> starts;
     for (std::size_t j = 0; j < warm.node.size(); ++j) {
-      starts.push_back(previous_[warm.node[j]].face_param[0]);
-      starts.push_back(previous_[warm.node[j]].face_param[1]);
+      starts.push_back(previous_[warm.node[j]].param[0]);
+      starts.push_back(previous_[warm.node[j]].param[1]);
     }
     for (int steps : options_.warm_steps) {
       row.methods.push_back(
@@ -294,11 +292,10 @@ class Replayer {
       const auto it = slave_index.find(c.node);
       if (it == slave_index.end() || !(c.copen < 0.0)) continue;
       ++row.calculix_contacts;
-      const contact::NodeSegmentPair& p = fresh_[it->second];
+      const contact::Contact& p = fresh_[it->second];
       if (p.status != contact::PairStatus::kFound) continue;
       ++row.calculix_found;
-      row.calculix_largest_difference =
-          std::max(row.calculix_largest_difference, std::abs(p.label.gap - c.copen));
+      row.calculix_largest_difference = std::max(row.calculix_largest_difference, std::abs(p.gap - c.copen));
     }
   }
 
@@ -308,8 +305,8 @@ class Replayer {
   bool beside_;
   double per_node_ = 0.0;
   contact::SurfaceTracker tracker_, reference_tracker_, plan_tracker_;
-  std::vector<contact::NodeSegmentPair> previous_, fresh_, tracked_, reference_, reference_tracked_;
-  std::vector<contact::NodeSegmentPair> plan_fresh_, plan_tracked_;
+  std::vector<contact::Contact> previous_, fresh_, tracked_, reference_, reference_tracked_;
+  std::vector<contact::Contact> plan_fresh_, plan_tracked_;
   std::vector<char> kept_;  ///< nodes whose fresh face is the previous increment's
 };
 
@@ -337,15 +334,14 @@ double domain_width(const mesh::SurfaceMesh& master, SurfaceKind surface, int f)
 }  // namespace
 
 PlanRow judge_plan(const mesh::SurfaceMesh& master, SurfaceKind surface,
-                   const std::vector<contact::NodeSegmentPair>& exact,
-                   const std::vector<contact::NodeSegmentPair>& plan) {
+                   const std::vector<contact::Contact>& exact, const std::vector<contact::Contact>& plan) {
   CONTACTNN_REQUIRE(exact.size() == plan.size(), exact.size() << " exact answers for " << plan.size());
   PlanRow row;
   double error_sum = 0.0, distance_sum = 0.0;
   long both = 0;
   for (std::size_t i = 0; i < exact.size(); ++i) {
-    const contact::NodeSegmentPair& e = exact[i];
-    const contact::NodeSegmentPair& p = plan[i];
+    const contact::Contact& e = exact[i];
+    const contact::Contact& p = plan[i];
     const bool found = p.status == contact::PairStatus::kFound;
     if (found && p.by_method) ++row.by_method;
     if (e.status != contact::PairStatus::kFound) continue;
@@ -354,15 +350,15 @@ PlanRow judge_plan(const mesh::SurfaceMesh& master, SurfaceKind surface,
       continue;
     }
     if (!p.by_method && e.location == Location::kFace) ++row.fallbacks;
-    if (p.segment != e.segment) ++row.other_face;
-    const double distance = (p.point - e.point).norm() / face_size(master, e.segment);
+    if (p.face != e.face) ++row.other_face;
+    const double distance = (p.point - e.point).norm() / face_size(master, e.face);
     distance_sum += distance;
     row.max_distance = std::max(row.max_distance, distance);
     ++both;
     if (!p.by_method) continue;
-    const double error = p.segment != e.segment ? domain_width(master, surface, e.segment)
-                                                : std::max(std::abs(p.face_param[0] - e.face_param[0]),
-                                                           std::abs(p.face_param[1] - e.face_param[1]));
+    const double error = p.face != e.face
+                             ? domain_width(master, surface, e.face)
+                             : std::max(std::abs(p.param[0] - e.param[0]), std::abs(p.param[1] - e.param[1]));
     error_sum += error;
     row.max_error = std::max(row.max_error, error);
   }

@@ -9,8 +9,8 @@
 #include <string>
 #include <vector>
 
-#include "contact/global_search.hpp"
 #include "contact/narrow_phase.hpp"
+#include "contact/surface_search.hpp"
 #include "contact/tracking.hpp"
 #include "io/frd_results.hpp"
 #include "mesh/contact_model.hpp"
@@ -45,7 +45,7 @@ struct ReplayOptions {
 struct PlanRow {
   double ns_fresh = 0.0;    ///< per slave node: the plan's fresh surface search
   double ns_tracked = 0.0;  ///< per slave node: the plan's tracked search
-  long by_method = 0;       ///< slave points whose point the method gave (NodeSegmentPair::by_method)
+  long by_method = 0;       ///< slave points whose point the method gave (Contact::by_method)
   /// Slave points whose exact answer lies inside a face and whose point the exact answer gave all the same
   /// (the method refused the pair or put it outside the face: FaceLocator).
   long fallbacks = 0;
@@ -108,8 +108,8 @@ struct IncrementRow {
 /// The plan's answers `plan` judged against the exact search's `exact` (the same slave points) on `master`
 /// (PlanRow; its times are left 0). InvalidArgument if the sizes differ.
 [[nodiscard]] PlanRow judge_plan(const mesh::SurfaceMesh& master, SurfaceKind surface,
-                                 const std::vector<contact::NodeSegmentPair>& exact,
-                                 const std::vector<contact::NodeSegmentPair>& plan);
+                                 const std::vector<contact::Contact>& exact,
+                                 const std::vector<contact::Contact>& plan);
 
 /// report.md (summary and per-increment tables), increments.csv, and the SVG plots time.svg (ns per slave
 /// node of each phase), error.svg (mean |error| of each method, log scale) and locations.svg (contacts by

@@ -69,9 +69,11 @@ history::PlanRow plan_search(const contact::Scene& scene, SurfaceKind surface,
                              const std::vector<contact::NodeSegmentPair>& exact) {
   contact::SearchOptions options = pairs_search_options(surface);
   options.interior = &locator;
-  const std::vector<contact::NodeSegmentPair> plan = contact::surface_search(
-      scene.master, scene.master_normals, scene.slave_ids, scene.slave_positions, options);
-  return history::judge_plan(scene.master, surface, exact, plan);
+  std::vector<contact::Contact> plan, exact_contacts(exact.size());
+  contact::surface_search(scene.master, scene.master_normals, scene.slave_ids, scene.slave_positions, options,
+                          plan);
+  std::transform(exact.begin(), exact.end(), exact_contacts.begin(), contact::contact_of);
+  return history::judge_plan(scene.master, surface, exact_contacts, plan);
 }
 
 }  // namespace

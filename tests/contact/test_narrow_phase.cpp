@@ -137,12 +137,12 @@ TEST(NarrowPhase, MethodsTheSearchCannotRunAreRefusedAtConstruction) {
 }
 
 /// A found pair on face `face` at local coordinates `param` and point `point`.
-NodeSegmentPair found(int face, std::array<double, 2> param, const Vec3& point, bool by_method,
-                      Location location = Location::kFace) {
-  NodeSegmentPair p;
+Contact found(int face, std::array<double, 2> param, const Vec3& point, bool by_method,
+              Location location = Location::kFace) {
+  Contact p;
   p.status = PairStatus::kFound;
-  p.segment = face;
-  p.face_param = param;
+  p.face = face;
+  p.param = param;
   p.point = point;
   p.by_method = by_method;
   p.location = location;
@@ -153,13 +153,13 @@ TEST(NarrowPhase, TheJudgeOfReplayPlanCountsAndMeasuresACaseWorkedByHand) {
   // Two unit squares side by side (face size sqrt 2), bilinear: a domain width is 2.
   const mesh::SurfaceMesh m = surface_of(2, 1, [](double i, double j) { return Vec3(i, j, 0.0); });
   const double size = std::sqrt(2.0);
-  std::vector<NodeSegmentPair> exact, plan;
+  std::vector<Contact> exact, plan;
   // 0: the method's point off by (0.03, -0.01) in (xi, eta), i.e. (0.015, -0.005) in length.
   exact.push_back(found(0, {0.1, 0.2}, Vec3(0.55, 0.6, 0), false));
   plan.push_back(found(0, {0.13, 0.19}, Vec3(0.565, 0.595, 0), true));
   // 1: refused (the plan found nothing).
   exact.push_back(found(0, {0.0, 0.0}, Vec3(0.5, 0.5, 0), false));
-  plan.push_back(NodeSegmentPair{});
+  plan.push_back(Contact{});
   // 2: the method's point on the other face: one domain width; its point 0.2 away.
   exact.push_back(found(0, {0.9, 0.0}, Vec3(0.95, 0.5, 0), false));
   plan.push_back(found(1, {-0.7, 0.0}, Vec3(1.15, 0.5, 0), true));
