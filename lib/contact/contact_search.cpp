@@ -12,9 +12,6 @@
 
 #include "contact/narrow_phase.hpp"
 #include "core/error.hpp"
-#include "geometry/quadratic_triangle.hpp"
-#include "geometry/serendipity_quad.hpp"
-#include "geometry/surface_of.hpp"
 #include "search/network_model.hpp"
 
 namespace contactnn::contact {
@@ -30,44 +27,6 @@ int face_node_count(mesh::FaceType type) {
 }
 
 namespace {
-
-Vec3 unit_or_zero(const Vec3& n) {
-  const double length = n.norm();
-  return length > 0.0 && std::isfinite(length) ? Vec3(n / length) : Vec3(Vec3::Zero());
-}
-
-/// Face f's unit normal d_s x d_t at its local coordinates `param` (its own node order), zero where the
-/// surface has none there.
-Vec3 face_normal_at(const mesh::SurfaceMesh& surface, std::span<const Vec3> normals, SurfaceKind quad4, int f,
-                    const std::array<double, 2>& param) {
-  const mesh::FaceNodes nodes = surface.face_nodes(f);
-  const auto x = [&](int k) -> const Vec3& { return surface.positions[static_cast<std::size_t>(nodes[k])]; };
-  switch (nodes.type) {
-    case mesh::FaceType::kTri3: return unit_or_zero((x(1) - x(0)).cross(x(2) - x(0)));
-    case mesh::FaceType::kTri6: {
-      const geometry::QuadraticTriangle face({x(0), x(1), x(2), x(3), x(4), x(5)});
-      const geometry::SurfacePoint p = face.evaluate(param[0], param[1]);
-      return unit_or_zero(p.d_s.cross(p.d_t));
-    }
-    case mesh::FaceType::kQuad8: {
-      const geometry::SerendipityQuad face({x(0), x(1), x(2), x(3), x(4), x(5), x(6), x(7)});
-      const geometry::SurfacePoint p = face.evaluate(param[0], param[1]);
-      return unit_or_zero(p.d_s.cross(p.d_t));
-    }
-    case mesh::FaceType::kQuad4: break;
-  }
-  geometry::Configuration config;
-  for (std::size_t i = 0; i < 4; ++i) {
-    const auto n = static_cast<std::size_t>(nodes.nodes[i]);
-    config.nodes[i] = surface.positions[n];
-    config.normals[i] = quad4 == SurfaceKind::kGregory ? normals[n] : Vec3::Zero();
-  }
-  if (geometry::surface_defect(config, quad4)) return Vec3::Zero();
-  return geometry::with_surface(config, quad4, [&](const auto& patch) {
-    const geometry::SurfacePoint p = patch.evaluate(param[0], param[1]);
-    return unit_or_zero(p.d_s.cross(p.d_t));
-  });
-}
 
 /// The most threads an update uses (the C interface's CONTACTNN_MAX_THREADS, the tools' --threads limit):
 /// libgomp fails inside the parallel region when it cannot start the team an OMP_NUM_THREADS of 100000 asks
@@ -390,14 +349,6 @@ void ContactSearch::update(std::span<const double> coordinates, std::span<const 
       m.tracker.step(m.surface, m.normals, m.slave_ids, m.slave_positions, m.contacts, &m.counts);
     } else {
       surface_search(m.surface, m.normals, m.slave_ids, m.slave_positions, m.search, m.contacts);
-    }
-    // A method's point inside a face may come without the face's normal: computed here.
-    const auto count = static_cast<long>(n);
-#pragma omp parallel for schedule(dynamic, 256) if (count >= 2048)
-    for (long i = 0; i < count; ++i) {
-      Contact& c = m.contacts[static_cast<std::size_t>(i)];
-      if (c.status == PairStatus::kFound && c.normal == Vec3::Zero())
-        c.normal = face_normal_at(m.surface, m.normals, m.options.quad4, c.face, c.param);
     }
   } catch (...) {
     m.tracker.reset();
