@@ -11,6 +11,7 @@
 
 #include "contact/bilinear_certificate.hpp"
 #include "contact/face_grid.hpp"
+#include "contact/face_surface.hpp"
 #include "contact/narrow_phase.hpp"
 #include "contact/point_cloud.hpp"
 #include "core/error.hpp"
@@ -20,7 +21,6 @@
 #include "geometry/serendipity_quad.hpp"
 #include "geometry/surface_of.hpp"
 #include "projection/closest_point_on_face.hpp"
-#include "projection/closest_point_on_quadratic_face.hpp"
 
 namespace contactnn::contact {
 
@@ -32,56 +32,12 @@ constexpr double kTieTolerance = 1e-12;
 using CentreTree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, PointCloud>,
                                                        PointCloud, 3, std::uint32_t>;
 
-/// The surface kind a quad4 face f is searched on: the segments (C3D8) on the search's own surface, the extra
-/// faces (wedge quadrilaterals) always as bilinear facets (their nodes need not have Eq 26 normals).
-SurfaceKind kind_of(const mesh::SurfaceMesh& master, const SearchOptions& options, int f) {
-  return static_cast<std::size_t>(f) < master.segments.size() ? options.surface : SurfaceKind::kBilinear;
-}
-
-/// The configuration of quadrilateral face f's corners in its own node order (Gregory: with the master's node
-/// normals).
-geometry::Configuration face_configuration(const mesh::SurfaceMesh& master, std::span<const Vec3> normals,
-                                           SurfaceKind kind, int f) {
-  geometry::Configuration config;
-  const std::span<const int> corners = master.face_corners(f);
-  for (std::size_t i = 0; i < 4; ++i) {
-    const auto n = static_cast<std::size_t>(corners[i]);
-    config.nodes[i] = master.positions[n];
-    config.normals[i] = kind == SurfaceKind::kGregory ? normals[n] : Vec3::Zero();
-  }
-  return config;
-}
-
-std::array<Vec3, 3> triangle_nodes(const mesh::SurfaceMesh& master, int f) {
-  const std::span<const int> c = master.face_corners(f);
-  return {master.positions[static_cast<std::size_t>(c[0])], master.positions[static_cast<std::size_t>(c[1])],
-          master.positions[static_cast<std::size_t>(c[2])]};
-}
-
-template <std::size_t N>
-std::array<Vec3, N> face_positions(const mesh::SurfaceMesh& master, const mesh::FaceNodes& nodes) {
-  std::array<Vec3, N> x;
-  for (std::size_t i = 0; i < N; ++i) x[i] = master.positions[static_cast<std::size_t>(nodes.nodes[i])];
-  return x;
-}
-
-/// Returns fn(surface) for face f's surface, a face that is not a flat triangle: a BilinearPatch or a
-/// GregoryPatch (quad4, kind_of), a SerendipityQuad (quad8) or a QuadraticTriangle (tri6; under either
-/// --surface, a quadratic face is its own surface). `fallback` where a Gregory patch does not exist (its
-/// defect, e.g. a zero node normal).
-template <class R, class Fn>
-R with_face_surface(const mesh::SurfaceMesh& master, std::span<const Vec3> normals,
-                    const SearchOptions& options, int f, const R& fallback, Fn&& fn) {
-  const mesh::FaceNodes nodes = master.face_nodes(f);
-  if (nodes.type == mesh::FaceType::kQuad8)
-    return fn(geometry::SerendipityQuad(face_positions<8>(master, nodes)));
-  if (nodes.type == mesh::FaceType::kTri6)
-    return fn(geometry::QuadraticTriangle(face_positions<6>(master, nodes)));
-  const SurfaceKind kind = kind_of(master, options, f);
-  const geometry::Configuration config = face_configuration(master, normals, kind, f);
-  if (geometry::surface_defect(config, kind)) return fallback;
-  return geometry::with_surface(config, kind, [&](const auto& surface) -> R { return fn(surface); });
-}
+using detail::closest_on_face;
+using detail::face_configuration;
+using detail::face_positions;
+using detail::kind_of;
+using detail::normal_on_edge;
+using detail::weighted_corner_normal;
 
 /// Everything the search needs of the faces, built once: centres, bounding radii, sizes, adjacency.
 struct FaceIndex {
@@ -202,147 +158,6 @@ FaceIndex index_faces(const mesh::SurfaceMesh& master, std::span<const Vec3> nor
     index.sizes[f] = size;
   }
   return index;
-}
-
-/// The closest point of a face's surface (the overloads pick the projection of each face type).
-template <geometry::Surface SurfaceT>
-projection::FaceClosestPoint closest_on(const SurfaceT& surface, const Vec3& slave,
-                                        const SearchOptions& options) {
-  return projection::closest_point_on_face(surface, slave, options.projection);
-}
-projection::FaceClosestPoint closest_on(const geometry::SerendipityQuad& face, const Vec3& slave,
-                                        const SearchOptions& options) {
-  return projection::closest_point_on_serendipity_quad(face, slave, options.projection);
-}
-projection::FaceClosestPoint closest_on(const geometry::QuadraticTriangle& face, const Vec3& slave,
-                                        const SearchOptions& options) {
-  return projection::closest_point_on_quadratic_triangle(face, slave, options.projection);
-}
-
-/// The nearest point of a face's edge (the overloads: straight or cubic edges of quad4 faces, quadratic
-/// ones).
-template <geometry::Surface SurfaceT>
-projection::EdgePoint edge_point_on(const SurfaceT& surface, int edge, const Vec3& p) {
-  return projection::closest_point_on_edge(surface, edge, p);
-}
-projection::EdgePoint edge_point_on(const geometry::SerendipityQuad& face, int edge, const Vec3& p) {
-  return projection::closest_point_on_quadratic_edge(face, edge, p);
-}
-projection::EdgePoint edge_point_on(const geometry::QuadraticTriangle& face, int edge, const Vec3& p) {
-  return projection::closest_point_on_quadratic_edge(face, edge, p);
-}
-
-/// The closest point of face f to `slave` (closest_point_on_triangle for a flat triangle, else closest_on).
-/// With `certificate` (a checked bilinear face's, NarrowPhase::kCertified): its certified Newton run first,
-/// from `start` (a tracked node's previous point on the face, in its own order) or the centre. Otherwise, or
-/// where the certificate does not hold, the reference (its grid of starts, never a warm start: a warm run
-/// can end on another stationary point than the face's nearest, on its boundary or, on a curved face, inside;
-/// issue 39), and *reference_count counts the face.
-projection::FaceClosestPoint closest_on_face(const mesh::SurfaceMesh& master, std::span<const Vec3> normals,
-                                             const SearchOptions& options, int f, const Vec3& slave,
-                                             const BilinearCertificate* certificate = nullptr,
-                                             const std::array<double, 2>* start = nullptr,
-                                             int* reference_count = nullptr) {
-  if (certificate != nullptr && certificate->lambda_floor > 0.0) {
-    if (auto p = certificate->closest_point(slave, options.projection, start)) return *p;
-  }
-  if (master.face_type(f) == mesh::FaceType::kTri3) {
-    return projection::closest_point_on_triangle(triangle_nodes(master, f), slave);
-  }
-  if (reference_count != nullptr) ++*reference_count;
-  // The projection at `at` (S, or S relative to a quad4's first node).
-  const auto project = [&](const auto& surface, const Vec3& at) { return closest_on(surface, at, options); };
-  projection::FaceClosestPoint none;
-  if (master.face_type(f) != mesh::FaceType::kQuad4) {
-    return with_face_surface(master, normals, options, f, none,
-                             [&](const auto& surface) { return project(surface, slave); });
-  }
-  // A quad4: its configuration built and checked once, and its patch built relative to its first node, as
-  // projection::closest_point_on_face would rebuild it (the same bits: it then has nothing to shift).
-  const SurfaceKind kind = kind_of(master, options, f);
-  geometry::Configuration config = face_configuration(master, normals, kind, f);
-  if (const auto defect = geometry::surface_defect(config, kind)) {
-    none.status = *defect;
-    return none;
-  }
-  const Vec3 origin = config.nodes[0];
-  if (!origin.allFinite()) {
-    return geometry::with_surface(config, kind, [&](const auto& surface) { return project(surface, slave); });
-  }
-  for (Vec3& x : config.nodes) x -= origin;
-  const Vec3 relative = slave - origin;
-  projection::FaceClosestPoint p =
-      geometry::with_surface(config, kind, [&](const auto& surface) { return project(surface, relative); });
-  if (p.status == Status::kOk) p.point += origin;
-  return p;
-}
-
-/// Parameters of corner k (A, B, C, D) of a quadrilateral face.
-std::array<double, 2> corner_param(int k, ParamDomain d) {
-  switch (k) {
-    case 0: return {d.lo, d.lo};
-    case 1: return {d.hi, d.lo};
-    case 2: return {d.hi, d.hi};
-    default: return {d.lo, d.hi};
-  }
-}
-
-Vec3 unit_or_zero(const Vec3& n) {
-  const double length = n.norm();
-  return length > 0.0 && std::isfinite(length) ? Vec3(n / length) : Vec3(Vec3::Zero());
-}
-
-/// Face f's unit normal at the point of its edge `edge` nearest `p` (a point of that edge).
-Vec3 normal_on_edge(const mesh::SurfaceMesh& master, std::span<const Vec3> normals,
-                    const SearchOptions& options, int f, int edge, const Vec3& p) {
-  if (master.face_type(f) == mesh::FaceType::kTri3) {
-    const auto x = triangle_nodes(master, f);
-    return unit_or_zero((x[1] - x[0]).cross(x[2] - x[0]));
-  }
-  return with_face_surface(master, normals, options, f, Vec3(Vec3::Zero()), [&](const auto& surface) -> Vec3 {
-    const auto q = edge_point_on(surface, edge, p);
-    const geometry::SurfacePoint sp = surface.evaluate(q.param[0], q.param[1]);
-    return unit_or_zero(sp.d_s.cross(sp.d_t));
-  });
-}
-
-/// The angle between two tangents at a corner times the unit normal there (a vertex pseudo-normal's term).
-Vec3 angle_weighted(const Vec3& t1, const Vec3& t2, const Vec3& normal) {
-  return std::atan2(t1.cross(t2).norm(), t1.dot(t2)) * unit_or_zero(normal);
-}
-
-/// Face f's corner angle at its corner k times its unit normal there (a vertex pseudo-normal's term). The
-/// angle is between the tangents of the face's two edges at the corner (curved edges: their tangents there).
-Vec3 weighted_corner_normal(const mesh::SurfaceMesh& master, std::span<const Vec3> normals,
-                            const SearchOptions& options, int f, int k) {
-  const mesh::FaceType type = master.face_type(f);
-  if (type == mesh::FaceType::kTri3) {
-    const auto x = triangle_nodes(master, f);
-    const Vec3 a = x[static_cast<std::size_t>((k + 1) % 3)] - x[static_cast<std::size_t>(k)];
-    const Vec3 b = x[static_cast<std::size_t>((k + 2) % 3)] - x[static_cast<std::size_t>(k)];
-    return angle_weighted(a, b, (x[1] - x[0]).cross(x[2] - x[0]));
-  }
-  if (type == mesh::FaceType::kTri6) {
-    const geometry::QuadraticTriangle face(face_positions<6>(master, master.face_nodes(f)));
-    // Corners (0,0), (1,0), (0,1); the directions in (r, s) of the two edges leaving each.
-    static constexpr std::array<std::array<double, 2>, 3> kCorner = {{{0, 0}, {1, 0}, {0, 1}}};
-    static constexpr std::array<std::array<double, 4>, 3> kDirections = {
-        {{1, 0, 0, 1}, {-1, 1, -1, 0}, {0, -1, 1, -1}}};
-    const auto& c = kCorner[static_cast<std::size_t>(k)];
-    const auto& d = kDirections[static_cast<std::size_t>(k)];
-    const geometry::SurfacePoint sp = face.evaluate(c[0], c[1]);
-    return angle_weighted(d[0] * sp.d_s + d[1] * sp.d_t, d[2] * sp.d_s + d[3] * sp.d_t, sp.d_s.cross(sp.d_t));
-  }
-  const ParamDomain d =
-      param_domain(type == mesh::FaceType::kQuad8 ? SurfaceKind::kBilinear : kind_of(master, options, f));
-  return with_face_surface(master, normals, options, f, Vec3(Vec3::Zero()), [&](const auto& surface) -> Vec3 {
-    const auto corner = corner_param(k, d);
-    const geometry::SurfacePoint sp = surface.evaluate(corner[0], corner[1]);
-    // Tangents pointing into the face from the corner.
-    const Vec3 ts = (corner[0] == d.lo ? 1.0 : -1.0) * sp.d_s;
-    const Vec3 tt = (corner[1] == d.lo ? 1.0 : -1.0) * sp.d_t;
-    return angle_weighted(ts, tt, sp.d_s.cross(sp.d_t));
-  });
 }
 
 /// The pseudo-normal direction (not normalised) at the closest point `p` of face f (header, step 4).
