@@ -232,12 +232,22 @@ projection::FaceClosestPoint closest_on_indexed_face(
                          reference_count);
 }
 
-/// |S - c_f| - r_f and the distance to face f's box, the larger (SurfaceSearcher::lower_bound).
-double face_lower_bound(const FaceIndex& index, const Vec3& slave, int face) {
+/// |S - c_f| - r_f and the distance to face f's box, the larger (SurfaceSearcher::lower_bound; the sphere's
+/// is loose beside a flat face, the box's tight), where it is at most `reach`; otherwise some number above.
+/// The box's squared distance is tested first, with a relative slack far above its rounding: most faces a
+/// grid cell lists are then refused without a square root, and every face within reach gets
+/// face_lower_bound's own bits.
+double face_bound_within(const FaceIndex& index, const Vec3& slave, int face, double reach) {
   const auto f = static_cast<std::size_t>(face);
-  // The larger of two bounds: the sphere's (loose beside a flat face) and the box's (tight beside one).
   const Vec3 outside = (index.box_lo[f] - slave).cwiseMax(slave - index.box_hi[f]).cwiseMax(Vec3::Zero());
-  return std::max((slave - index.centres[f]).norm() - index.radii[f], outside.norm());
+  const double squared = outside.squaredNorm();
+  if (squared > reach * reach * (1.0 + 1e-12)) return std::numeric_limits<double>::infinity();
+  return std::max((slave - index.centres[f]).norm() - index.radii[f], std::sqrt(squared));
+}
+
+/// The bound itself.
+double face_lower_bound(const FaceIndex& index, const Vec3& slave, int face) {
+  return face_bound_within(index, slave, face, std::numeric_limits<double>::infinity());
 }
 
 /// A face's closest point computed before the scan (SurfaceSearcher::nearest_fresh's first face), and the
@@ -460,7 +470,7 @@ struct SurfaceSearcher::Impl {
     const auto bound_of = [&](int face) {
       const auto f = static_cast<std::size_t>(face);
       return spheres_only ? (slave - index.centres[f]).norm() - index.radii[f]
-                          : face_lower_bound(index, slave, face);
+                          : face_bound_within(index, slave, face, reach);
     };
     if (options.brute_force_faces) {
       for (std::size_t s = 0; s < index.centres.size(); ++s) {

@@ -74,7 +74,9 @@ void SurfaceTracker::step_hints(const mesh::SurfaceMesh& master, std::span<const
   // Step 1: the grid kept while every face stays inside its box at the build, inflated by the margin.
   const SurfaceSearcher searcher(master, master_normals, options_, &grid_, tracking_.grid_margin_relative);
   pairs.resize(n);
-  spatial_order(slave_positions, order_, order_scratch_);
+  // The nodes in Morton order, kept while the grid is (the order serves the caches, not the answers).
+  if (!same || order_.size() != n || searcher.grid_rebuilt())
+    spatial_order(slave_positions, order_, order_scratch_);
   const std::uint32_t* order = order_.data();
   long fresh = 0, tracked = 0, list_faces = 0;
 #pragma omp parallel reduction(+ : fresh, tracked, list_faces) if (n >= 512)
