@@ -67,13 +67,14 @@ void expect_same(const std::vector<NodeSegmentPair>& a, const std::vector<NodeSe
 class Tracking : public ::testing::TestWithParam<SurfaceKind> {};
 
 /// Tracks h over `increments` states of the travelling sheet, each answer expected to be the fresh search's;
-/// the counts of every increment.
+/// the counts of every increment. The waves travel `wave_speed` an increment.
 std::vector<TrackingCounts> track_against_fresh(const SearchOptions& options, const History& h,
-                                                int increments) {
-  SurfaceTracker tracker(options);
+                                                int increments, double wave_speed = 0.05,
+                                                TrackingOptions tracking = {}) {
+  SurfaceTracker tracker(options, tracking);
   std::vector<TrackingCounts> all;
   for (int increment = 0; increment < increments; ++increment) {
-    const mesh::SurfaceMesh m = sheet(0.05 * increment);
+    const mesh::SurfaceMesh m = sheet(wave_speed * increment);
     const std::vector<Vec3> normals = mesh::node_normals(m);
     const std::vector<Vec3> positions = h.at(increment);
     TrackingCounts counts;
@@ -230,18 +231,10 @@ TEST(Tracking, NodesWithinTheirMovementBudgetTakeTheirPreviousFaceAlone) {
   History h = slaves(1000);
   for (Vec3& v : h.velocity) v *= 0.1;
   for (const double budget : {0.1, 0.0}) {
-    SearchOptions options;
-    SurfaceTracker tracker(options, TrackingOptions{0.5, 0.1, budget});
     long within = 0;
-    for (int increment = 0; increment < 8; ++increment) {
-      const mesh::SurfaceMesh m = sheet(0.005 * increment);
-      const std::vector<Vec3> normals = mesh::node_normals(m);
-      const std::vector<Vec3> positions = h.at(increment);
-      TrackingCounts counts;
-      const auto tracked = tracker.step(m, normals, h.ids, positions, &counts);
-      expect_same(tracked, surface_search(m, normals, h.ids, positions, options), increment);
-      EXPECT_LE(counts.budget, counts.tracked);
-      within += counts.budget;
+    for (const TrackingCounts& c : track_against_fresh(SearchOptions{}, h, 8, 0.005, {0.5, 0.1, budget})) {
+      EXPECT_LE(c.budget, c.tracked);
+      within += c.budget;
     }
     if (budget > 0.0) {
       EXPECT_GT(within, 3 * 1000);
