@@ -56,6 +56,9 @@ struct FaceIndex {
   /// The certificates of the checked quad4 bilinear faces (lambda_floor 0 for every other face): their
   /// closest points in one Newton run where the certificate holds (NarrowPhase::kCertified).
   std::vector<BilinearCertificate> bilinear;
+  /// The tri3 faces prepared (projection::PreparedTriangle; every face's slot, where the surface has a tri3
+  /// face and the search is certified): their closest points without rebuilding their edges per slave.
+  std::vector<projection::PreparedTriangle> triangles;
 
   [[nodiscard]] std::span<const int> faces_at(int node) const {
     const auto n = static_cast<std::size_t>(node);
@@ -75,6 +78,10 @@ FaceIndex index_faces(const mesh::SurfaceMesh& master, std::span<const Vec3> nor
   index.sizes.resize(n);
   index.checked.assign(n, 0);
   index.bilinear.resize(options.narrow == NarrowPhase::kCertified ? n : 0);
+  bool any_triangle = false;
+  for (std::size_t f = 0; f < n && !any_triangle; ++f)
+    any_triangle = master.face_type(static_cast<int>(f)) == mesh::FaceType::kTri3;
+  index.triangles.resize(options.narrow == NarrowPhase::kCertified && any_triangle ? n : 0);
   // The faces at each node, counted, then filled in face order.
   index.node_offsets.assign(master.positions.size() + 1, 0);
   for (std::size_t f = 0; f < n; ++f) {
@@ -98,6 +105,8 @@ FaceIndex index_faces(const mesh::SurfaceMesh& master, std::span<const Vec3> nor
     const auto face = static_cast<int>(f);
     const std::span<const int> corners = master.face_corners(face);
     const mesh::FaceNodes nodes = master.face_nodes(face);
+    if (nodes.type == mesh::FaceType::kTri3 && !index.triangles.empty())
+      index.triangles[f] = projection::prepare_triangle(detail::triangle_nodes(master, face));
     if (nodes.type == mesh::FaceType::kQuad4 && kind_of(master, options, face) == SurfaceKind::kBilinear) {
       // closest_on_face's patch: the face's configuration relative to its first node.
       geometry::Configuration config = face_configuration(master, normals, SurfaceKind::kBilinear, face);
@@ -227,6 +236,9 @@ projection::FaceClosestPoint closest_on_indexed_face(
     const auto p = options.interior->locate(master, normals, kind_of(master, options, f), f, slave);
     if (p && p->distance <= capture) return *p;
   }
+  if (!index.triangles.empty() && master.face_type(f) == mesh::FaceType::kTri3)
+    return projection::closest_point_on_prepared_triangle(index.triangles[static_cast<std::size_t>(f)],
+                                                          slave);
   const SearchOptions& face_options = index.checked[static_cast<std::size_t>(f)] != 0 ? checked : options;
   return closest_on_face(master, normals, face_options, f, slave, certificate_of(index, f), start,
                          reference_count);

@@ -258,27 +258,48 @@ void locate_on_triangle(FaceClosestPoint& out) {
   }
 }
 
-FaceClosestPoint closest_point_on_triangle(const std::array<Vec3, 3>& nodes, const Vec3& slave) {
-  FaceClosestPoint out;
-  if (!finite(slave) || !finite(nodes[0]) || !finite(nodes[1]) || !finite(nodes[2])) return out;  // invalid
-  const Vec3 e1 = nodes[1] - nodes[0], e2 = nodes[2] - nodes[0];
+PreparedTriangle prepare_triangle(const std::array<Vec3, 3>& nodes) {
+  PreparedTriangle t;
+  t.nodes = nodes;
+  if (!finite(nodes[0]) || !finite(nodes[1]) || !finite(nodes[2])) return t;  // invalid
+  for (std::size_t k = 0; k < 3; ++k) t.chords[k] = nodes[(k + 1) % 3] - nodes[k];
+  const Vec3& e1 = t.chords[0];
+  const Vec3 e2 = nodes[2] - nodes[0];
   const Vec3 n = e1.cross(e2);
-  const double longest2 = std::max({e1.squaredNorm(), e2.squaredNorm(), (nodes[2] - nodes[1]).squaredNorm()});
+  const double longest2 = std::max({e1.squaredNorm(), e2.squaredNorm(), t.chords[1].squaredNorm()});
   if (!(n.norm() > 1e-12 * longest2)) {
-    out.status = Status::kDegenerate;
+    t.status = Status::kDegenerate;
+    return t;
+  }
+  t.normal = n.normalized();
+  t.g11 = e1.dot(e1);
+  t.g12 = e1.dot(e2);
+  t.g22 = e2.dot(e2);
+  t.det = t.g11 * t.g22 - t.g12 * t.g12;
+  t.status = Status::kOk;
+  return t;
+}
+
+FaceClosestPoint closest_point_on_prepared_triangle(const PreparedTriangle& triangle, const Vec3& slave) {
+  FaceClosestPoint out;
+  if (triangle.status != Status::kOk || !finite(slave)) {
+    out.status = finite(slave) ? triangle.status : Status::kInvalid;
     return out;
   }
+  const std::array<Vec3, 3>& nodes = triangle.nodes;
+  const Vec3& e1 = triangle.chords[0];
+  const Vec3 e2 = nodes[2] - nodes[0];
   // The plane's foot point in (r, s): the Gram system of the two edges.
   const Vec3 d = slave - nodes[0];
-  const double g11 = e1.dot(e1), g12 = e1.dot(e2), g22 = e2.dot(e2), b1 = e1.dot(d), b2 = e2.dot(d);
-  const double det = g11 * g22 - g12 * g12;
+  const double b1 = e1.dot(d), b2 = e2.dot(d);
+  const double g11 = triangle.g11, g12 = triangle.g12, g22 = triangle.g22, det = triangle.det;
   double r = (g22 * b1 - g12 * b2) / det, s = (g11 * b2 - g12 * b1) / det;
   if (!(r >= 0.0 && s >= 0.0 && r + s <= 1.0)) {
     // Outside: the nearest of the clamped edge points (an edge's ends are the vertices).
     double best = std::numeric_limits<double>::infinity();
     for (int edge = 0; edge < 3; ++edge) {
       const Vec3& x0 = nodes[static_cast<std::size_t>(edge)];
-      const Vec3 chord = nodes[static_cast<std::size_t>((edge + 1) % 3)] - x0;
+      const Vec3& chord = triangle.chords[static_cast<std::size_t>(edge)];
       const double t = std::clamp((slave - x0).dot(chord) / chord.squaredNorm(), 0.0, 1.0);
       const double distance = (slave - (x0 + t * chord)).norm();
       if (distance < best) {
@@ -292,10 +313,15 @@ FaceClosestPoint closest_point_on_triangle(const std::array<Vec3, 3>& nodes, con
   out.param = {r, s};
   locate_on_triangle(out);
   out.point = nodes[0] + r * e1 + s * e2;
-  out.normal = n.normalized();
+  out.normal = triangle.normal;
   out.distance = (slave - out.point).norm();
   out.status = std::isfinite(out.distance) ? Status::kOk : Status::kInvalid;
   return out;
+}
+
+FaceClosestPoint closest_point_on_triangle(const std::array<Vec3, 3>& nodes, const Vec3& slave) {
+  if (!finite(slave)) return FaceClosestPoint{};  // invalid
+  return closest_point_on_prepared_triangle(prepare_triangle(nodes), slave);
 }
 
 #define CONTACTNN_INSTANTIATE(SurfaceT)                                                   \

@@ -89,4 +89,18 @@ template <geometry::Surface SurfaceT>
 /// a non-finite input; degenerate when |(B - A) x (C - A)| is at most 1e-12 of its longest edge squared.
 [[nodiscard]] FaceClosestPoint closest_point_on_triangle(const std::array<Vec3, 3>& nodes, const Vec3& slave);
 
+/// What closest_point_on_triangle computes of the triangle alone, computed once (a search's master face at
+/// one state): its edges, their Gram system, its unit normal; status invalid or degenerate as there.
+struct PreparedTriangle {
+  std::array<Vec3, 3> nodes;
+  std::array<Vec3, 3> chords;  ///< B - A, C - B, A - C
+  Vec3 normal = Vec3::Zero();  ///< unit (B - A) x (C - A)
+  double g11 = 0.0, g12 = 0.0, g22 = 0.0, det = 0.0;
+  Status status = Status::kInvalid;
+};
+[[nodiscard]] PreparedTriangle prepare_triangle(const std::array<Vec3, 3>& nodes);
+/// closest_point_on_triangle(triangle.nodes, slave), bit for bit (it is this with the triangle prepared).
+[[nodiscard]] FaceClosestPoint closest_point_on_prepared_triangle(const PreparedTriangle& triangle,
+                                                                  const Vec3& slave);
+
 }  // namespace contactnn::projection
