@@ -42,7 +42,8 @@ void FaceGrid::build(std::span<const Vec3> box_lo, std::span<const Vec3> box_hi,
     return;
   }
   const Vec3 extent = high_ - low_;
-  cell_ = std::max(0.5 * side_sum / static_cast<double>(finite), 1e-300 * std::max(extent.maxCoeff(), 1e-300));
+  cell_ =
+      std::max(0.5 * side_sum / static_cast<double>(finite), 1e-300 * std::max(extent.maxCoeff(), 1e-300));
   // Cells of side cell_, grown until they fit the budget; at most 2^20 along an axis.
   for (;;) {
     double cells = 1.0;
@@ -100,7 +101,7 @@ bool FaceGrid::holds(std::span<const Vec3> box_lo, std::span<const Vec3> box_hi)
   return true;
 }
 
-int FaceGrid::face_near(const Vec3& x, std::span<const Vec3> centres) const {
+int FaceGrid::face_near(const Vec3& x, std::span<const Vec3> centres, bool around) const {
   if (faces_ == 0 || !x.allFinite()) return -1;
   std::array<int, 3> at{};
   for (int k = 0; k < 3; ++k) at[static_cast<std::size_t>(k)] = cell_of(x[k], k);
@@ -118,7 +119,7 @@ int FaceGrid::face_near(const Vec3& x, std::span<const Vec3> centres) const {
     }
   };
   scan(at[0], at[1], at[2]);
-  if (best >= 0) return best;
+  if (best >= 0 || !around) return best;
   for (int k = std::max(at[2] - 1, 0); k <= std::min(at[2] + 1, dims_[2] - 1); ++k)
     for (int j = std::max(at[1] - 1, 0); j <= std::min(at[1] + 1, dims_[1] - 1); ++j)
       for (int i = std::max(at[0] - 1, 0); i <= std::min(at[0] + 1, dims_[0] - 1); ++i) scan(i, j, k);

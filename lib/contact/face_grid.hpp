@@ -74,7 +74,8 @@ class FaceGrid {
   /// A face listed in x's cell (the one whose box centre is nearest x), else in one of the 26 cells around
   /// it; -1 when none is (or x is not finite). Any face does for the search's first reach; a near one
   /// gathers fewer candidates.
-  [[nodiscard]] int face_near(const Vec3& x, std::span<const Vec3> centres) const;
+  /// With `around` false, only x's own cell (-1 where it lists none).
+  [[nodiscard]] int face_near(const Vec3& x, std::span<const Vec3> centres, bool around = true) const;
 
  private:
   /// Cell (i, j, k)'s index in offsets_ (x fastest).

@@ -388,7 +388,8 @@ void search_one(const mesh::SurfaceMesh& master, std::span<const Vec3> normals, 
         known != nullptr && f == known->face
             ? known->point
             : closest_on_indexed_face(master, normals, options, checked, index, f, slave,
-                                      hinted ? &hint->param : nullptr, &best.reference_faces, capture);
+                                      hinted && hint->warm ? &hint->param : nullptr, &best.reference_faces,
+                                      capture);
     if (p.status != Status::kOk) continue;
     ++best.candidates;
     consider(f, p);
@@ -634,7 +635,9 @@ void SurfaceSearcher::nearest_fresh(long slave_id, const Vec3& world_slave,
   // answer does not depend on it; a nearer one gathers fewer candidates).
   const bool hinted =
       hint != nullptr && hint->face >= 0 && hint->face < static_cast<int>(m.index.centres.size());
-  const int nearest = hinted ? hint->face : m.grid->face_near(slave, m.index.centres);
+  // A hint that is not warm (a neighbouring node's face) is taken where S's own cell lists no face.
+  int nearest = hinted && hint->warm ? hint->face : m.grid->face_near(slave, m.index.centres, !hinted);
+  if (nearest < 0 && hinted) nearest = hint->face;
   // Its distance d bounds the answer's: where the face has a certificate (or is a flat triangle), its closest
   // point, computed once and taken again by the scan; otherwise its nearest corner (a point of the face), so
   // that no reference projection is spent on a face the scan may never reach.
@@ -646,9 +649,9 @@ void SurfaceSearcher::nearest_fresh(long slave_id, const Vec3& world_slave,
   } else if (certificate_of(m.index, nearest) != nullptr ||
              m.master.face_type(nearest) == mesh::FaceType::kTri3) {
     known.face = nearest;
-    known.point =
-        closest_on_indexed_face(m.master, m.normals, m.options, m.checked_options, m.index, nearest, slave,
-                                hinted ? &hint->param : nullptr, &known.reference_faces, m.capture);
+    known.point = closest_on_indexed_face(m.master, m.normals, m.options, m.checked_options, m.index, nearest,
+                                          slave, hinted && hint->warm ? &hint->param : nullptr,
+                                          &known.reference_faces, m.capture);
     first = &known;
     if (known.point.status == Status::kOk) reach = std::min(reach, known.point.distance);
   } else {
@@ -854,10 +857,17 @@ void surface_search(const mesh::SurfaceMesh& master, std::span<const Vec3> maste
   {
     std::vector<std::pair<double, int>> candidates;
     std::vector<std::pair<std::uint32_t, double>> scratch;
+    // Each node's first face: the previous node's answer (its neighbour in Morton order; any face gives the
+    // same answer, bit for bit, when its run is not warm-started: a near one gathers fewer candidates),
+    // else one of its grid cell's.
+    FaceHint previous;
+    previous.warm = false;
 #pragma omp for schedule(dynamic, 64)
     for (long i = 0; i < n; ++i) {
       const std::size_t u = at[i];
-      searcher.nearest_fresh(slave_ids[u], slave_positions[u], candidates, scratch, contacts[u]);
+      searcher.nearest_fresh(slave_ids[u], slave_positions[u], candidates, scratch, contacts[u],
+                             previous.face >= 0 ? &previous : nullptr);
+      previous.face = contacts[u].status == PairStatus::kFound ? contacts[u].face : -1;
     }
   }
 }

@@ -125,6 +125,9 @@ class FaceGrid;
 struct FaceHint {
   int face = -1;                          ///< index of SurfaceMesh::face_corners
   std::array<double, 2> param{0.0, 0.0};  ///< local coordinates in the face's own node order
+  /// Whether the face's certified run starts from `param` (a tracked node's previous point); false: from the
+  /// face's centre, as a fresh search (the face is then only the first one, e.g. a neighbouring node's).
+  bool warm = true;
 };
 
 /// The faces' bounds at one state (their boxes and spheres, in the searcher's unit), kept by a tracker to

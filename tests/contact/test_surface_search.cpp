@@ -384,5 +384,27 @@ TEST(SurfaceSearch, SameResultForAnyThreadCount) {
   }
 }
 
+TEST(SurfaceSearch, SameBitsInAnyNodeOrder) {
+  // Each node's first face is its neighbour's answer or a face of its grid cell, whichever the order gives;
+  // the answer must not depend on it: every node's point, gap and parameters bit for bit when searched
+  // alone (no neighbour) and among all the others.
+  const mesh::SurfaceMesh m = surface_of(9, 4, roof);
+  const std::vector<Vec3> slaves = random_slaves(2000, 29);
+  for (const SurfaceKind surface : {SurfaceKind::kBilinear, SurfaceKind::kGregory}) {
+    SearchOptions options;
+    options.surface = surface;
+    const auto all = search(m, slaves, options);
+    for (std::size_t i = 0; i < slaves.size(); i += 5) {
+      const NodeSegmentPair& a = all[i];
+      const NodeSegmentPair b = search(m, {slaves[i]}, options)[0];
+      ASSERT_EQ(a.status, b.status) << i;
+      ASSERT_EQ(a.segment, b.segment) << i;
+      ASSERT_EQ(a.label.gap, b.label.gap) << i;
+      ASSERT_EQ(a.face_param, b.face_param) << i;
+      ASSERT_EQ(a.point, b.point) << i;
+    }
+  }
+}
+
 }  // namespace
 }  // namespace contactnn::contact
