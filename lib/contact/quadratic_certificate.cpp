@@ -1,0 +1,283 @@
+#include "contact/quadratic_certificate.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "geometry/segment_checks.hpp"
+#include "projection/closest_point_on_quadratic_face.hpp"
+
+namespace contactnn::contact {
+
+namespace {
+
+/// The certificate holds where the bound of |M|_2 is below this fraction of lambda_floor: the Hessian's
+/// smallest eigenvalue is then at least (1 - kMargin) lambda_floor everywhere on the face.
+constexpr double kMargin = 0.9;
+/// Newton's iterations before the run is given up (a strongly convex f converges in a few).
+constexpr int kMaxIterations = 16;
+
+/// lambda_min(J^T J) >= this, from |P_s x P_t| >= nu > 0 and |P_s|^2 + |P_t|^2 <= trace (written without the
+/// cancellation); 0 where the bounds give nothing.
+double eigenvalue_floor(double nu, double trace) {
+  if (!(nu > 0.0) || !(trace > 0.0) || !std::isfinite(nu) || !std::isfinite(trace)) return 0.0;
+  const double det = nu * nu;
+  const double floor = 2.0 * det / (trace + std::sqrt(std::max(trace * trace - 4.0 * det, 0.0)));
+  return std::isfinite(floor) ? floor : 0.0;
+}
+
+template <std::size_t N>
+bool all_finite(const std::array<Vec3, N>& x) {
+  return std::all_of(x.begin(), x.end(), [](const Vec3& v) { return v.allFinite(); });
+}
+
+/// lo_k, hi_k: the range of Q.v_k over the control points `q`.
+template <std::size_t N>
+void ranges(QuadraticCertificate& c, const std::array<Vec3, N>& q, std::size_t count) {
+  for (std::size_t k = 0; k < count; ++k) {
+    c.lo[k] = std::numeric_limits<double>::infinity();
+    c.hi[k] = -std::numeric_limits<double>::infinity();
+    for (const Vec3& x : q) {
+      const double v = x.dot(c.curvature[k]);
+      c.lo[k] = std::min(c.lo[k], v);
+      c.hi[k] = std::max(c.hi[k], v);
+    }
+  }
+}
+
+/// The largest S.v_k - Q.v_k over the control points (an upper bound of r.v), for k in [from, to).
+double upper(const QuadraticCertificate& c, const Vec3& relative, std::size_t from, std::size_t to) {
+  double m = -std::numeric_limits<double>::infinity();
+  for (std::size_t k = from; k < to; ++k) m = std::max(m, relative.dot(c.curvature[k]) - c.lo[k]);
+  return m;
+}
+
+/// The largest |S.v_k - Q.v_k| over the control points (a bound of |r.v|), for k in [from, to).
+double largest(const QuadraticCertificate& c, const Vec3& relative, std::size_t from, std::size_t to) {
+  double m = 0.0;
+  for (std::size_t k = from; k < to; ++k) {
+    const double at = relative.dot(c.curvature[k]);
+    m = std::max({m, std::abs(at - c.lo[k]), std::abs(at - c.hi[k])});
+  }
+  return m;
+}
+
+constexpr double kBinomial[4][4] = {{1, 0, 0, 0}, {1, 1, 0, 0}, {1, 2, 1, 0}, {1, 3, 3, 1}};
+
+/// The Newton run, the edges and the certificate of a boundary answer, for either face (Face: the face
+/// relative to its first node).
+template <class Face>
+std::optional<projection::FaceClosestPoint> certified(const QuadraticCertificate& c, const Face& face,
+                                                      const Vec3& relative,
+                                                      const projection::ProjectionOptions& options,
+                                                      const std::array<double, 2>* start) {
+  const bool triangle = c.triangle;
+  // 1. One Newton run on grad f = 0 (undamped: f is strictly convex on the face).
+  std::array<double, 2> p = start != nullptr ? *start
+                            : triangle       ? std::array<double, 2>{1.0 / 3.0, 1.0 / 3.0}
+                                             : std::array<double, 2>{0.0, 0.0};
+  const double residual_floor = options.tol_residual * c.length * c.length;
+  bool converged = false;
+  int iterations = 0;
+  for (int it = 1; it <= kMaxIterations; ++it) {
+    const geometry::SurfacePoint sp = face.evaluate(p[0], p[1]);
+    const Vec3 r = relative - sp.position;
+    const double r0 = sp.d_s.dot(r), r1 = sp.d_t.dot(r);
+    if (std::abs(r0) <= residual_floor && std::abs(r1) <= residual_floor) {
+      converged = true;
+      iterations = it - 1;
+      break;
+    }
+    const double h00 = sp.d_s.squaredNorm() - sp.d_ss.dot(r), h11 = sp.d_t.squaredNorm() - sp.d_tt.dot(r);
+    const double h01 = sp.d_s.dot(sp.d_t) - sp.d_st.dot(r);
+    const double det = h00 * h11 - h01 * h01;
+    if (!(det > 0.0) || !(h00 > 0.0)) break;  // beyond the face, where nothing is certified
+    const double d0 = (h11 * r0 - h01 * r1) / det, d1 = (h00 * r1 - h01 * r0) / det;
+    p = {p[0] + d0, p[1] + d1};
+    if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || std::max(std::abs(p[0]), std::abs(p[1])) > 4.0) break;
+    if (std::max(std::abs(d0), std::abs(d1)) <= options.tol_param) {
+      converged = true;
+      iterations = it;
+      break;
+    }
+  }
+  const double margin = options.domain_margin;
+  const bool interior =
+      converged && (triangle ? p[0] >= -margin && p[1] >= -margin && p[0] + p[1] <= 1.0 + margin
+                             : std::abs(p[0]) <= 1.0 + margin && std::abs(p[1]) <= 1.0 + margin);
+
+  // 2. As the reference: the interior point (moved onto the face), then the edges, the nearest wins. f grows
+  //    by at least mu |q - p|^2 / 2 from the interior minimum p to any q of the face (mu = (1 - kMargin) x
+  //    lambda_floor), so every edge point's squared distance exceeds p's by mu delta^2 at least, delta the
+  //    parameter distance from p to the boundary. Where that is 1e8 times the rounding of the squared
+  //    distances, the edges cannot win and are not computed.
+  bool edges_farther = false;
+  if (interior) {
+    const double delta = triangle ? std::min({p[0], p[1], (1.0 - p[0] - p[1]) / std::sqrt(2.0)})
+                                  : 1.0 - std::max(std::abs(p[0]), std::abs(p[1]));
+    const double squared = (relative - face.position(p[0], p[1])).squaredNorm();
+    edges_farther = delta > 0.0 &&
+                    (1.0 - kMargin) * c.lambda_floor * delta * delta > 1e-8 * (squared + c.length * c.length);
+  }
+  bool from_interior = false;
+  projection::FaceClosestPoint out = projection::nearest_of_interior_and_quadratic_edges(
+      face, relative, interior ? &p : nullptr, iterations, &from_interior, edges_farther);
+  if (out.status != Status::kOk) return std::nullopt;
+
+  // 3. The certificate of a boundary answer: no descent into the face from it (Karush-Kuhn-Tucker; the edge
+  //    search leaves it stationary along its edge). Otherwise the face holds a nearer point that the run did
+  //    not reach: the reference decides.
+  if (!from_interior) {
+    const geometry::SurfacePoint sp = face.evaluate(out.param[0], out.param[1]);
+    const Vec3 r = relative - sp.position;
+    const double g[2] = {-sp.d_s.dot(r), -sp.d_t.dot(r)};
+    const double tol = 1e-12 * (1.0 - kMargin) * c.lambda_floor;
+    const double lo = triangle ? 0.0 : -1.0;
+    for (std::size_t k = 0; k < 2; ++k) {
+      if (out.param[k] == lo && g[k] < -tol) return std::nullopt;
+      if (!triangle && out.param[k] == 1.0 && g[k] > tol) return std::nullopt;
+    }
+    // The triangle's edge r + s = 1 (its points are (1 - t, t): the sum is 1 to rounding): no descent along
+    // -(1, 1).
+    if (triangle && out.param[0] + out.param[1] >= 1.0 - 4.0 * std::numeric_limits<double>::epsilon() &&
+        g[0] + g[1] > tol) {
+      return std::nullopt;
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+QuadraticCertificate QuadraticCertificate::prepare(const geometry::SerendipityQuad& world) {
+  QuadraticCertificate c;
+  c.origin = world.nodes()[0];
+  if (!c.origin.allFinite() || !all_finite(world.nodes())) return c;
+  std::array<Vec3, 8> x;
+  for (std::size_t k = 0; k < 8; ++k) x[k] = world.nodes()[k] - c.origin;
+  c.nodes = x;
+  const geometry::SerendipityQuad face(x);
+  c.length = face.characteristic_length();
+  if (!(c.length > 0.0) || !std::isfinite(c.length) || geometry::is_degenerate_segment(face.corners()))
+    return c;
+  // The second derivatives' corner values.
+  c.curvature[0] = face.evaluate(0.0, -1.0).d_ss;
+  c.curvature[1] = face.evaluate(0.0, 1.0).d_ss;
+  c.curvature[2] = face.evaluate(-1.0, 0.0).d_tt;
+  c.curvature[3] = face.evaluate(1.0, 0.0).d_tt;
+  c.curvature[4] = face.evaluate(-1.0, -1.0).d_st;
+  c.curvature[5] = face.evaluate(1.0, -1.0).d_st;
+  c.curvature[6] = face.evaluate(1.0, 1.0).d_st;
+  c.curvature[7] = face.evaluate(-1.0, 1.0).d_st;
+  const std::array<Vec3, 9> q = face.bezier_control_points();  // q[3 j + i]: i along s, j along t
+  ranges(c, q, 8);
+  // The Bezier forms of P_s (degree 1 in s, 2 in t: D_ij = Q_{i+1, j} - Q_ij, the factor 2 of d/du and the
+  // 1/2 of du/ds cancelling) and P_t (E_ij = Q_{i, j+1} - Q_ij).
+  const auto at = [&](std::size_t i, std::size_t j) { return q[3 * j + i]; };
+  Vec3 d[2][3], e[3][2];
+  double most_d = 0.0, most_e = 0.0;
+  for (std::size_t i = 0; i < 2; ++i) {
+    for (std::size_t j = 0; j < 3; ++j) {
+      d[i][j] = at(i + 1, j) - at(i, j);
+      e[j][i] = at(j, i + 1) - at(j, i);
+      most_d = std::max(most_d, d[i][j].squaredNorm());
+      most_e = std::max(most_e, e[j][i].squaredNorm());
+    }
+  }
+  const Vec3 centre = face.evaluate(0.0, 0.0).d_s.cross(face.evaluate(0.0, 0.0).d_t);
+  const double norm = centre.norm();
+  if (!(norm > 0.0) || !std::isfinite(norm)) return c;
+  const Vec3 n = centre / norm;
+  // (P_s x P_t).n in the Bernstein basis of degree (3, 3): B^1_a B^2_b = C(1,a) C(2,b) / C(3,a+b) B^3_{a+b}.
+  double coefficient[4][4] = {};
+  for (std::size_t i1 = 0; i1 < 2; ++i1) {
+    for (std::size_t j1 = 0; j1 < 3; ++j1) {
+      for (std::size_t i2 = 0; i2 < 3; ++i2) {
+        for (std::size_t j2 = 0; j2 < 2; ++j2) {
+          const std::size_t k = i1 + i2, l = j1 + j2;
+          const double weight = kBinomial[1][i1] * kBinomial[2][i2] / kBinomial[3][k] * kBinomial[2][j1] *
+                                kBinomial[1][j2] / kBinomial[3][l];
+          coefficient[k][l] += weight * d[i1][j1].cross(e[i2][j2]).dot(n);
+        }
+      }
+    }
+  }
+  double nu = std::numeric_limits<double>::infinity();
+  for (const auto& row : coefficient) {
+    for (const double v : row) nu = std::min(nu, v);
+  }
+  c.lambda_floor = eigenvalue_floor(nu, most_d + most_e);
+  return c;
+}
+
+QuadraticCertificate QuadraticCertificate::prepare(const geometry::QuadraticTriangle& world) {
+  QuadraticCertificate c;
+  c.triangle = true;
+  c.origin = world.nodes()[0];
+  if (!c.origin.allFinite() || !all_finite(world.nodes())) return c;
+  std::array<Vec3, 6> x;
+  for (std::size_t k = 0; k < 6; ++k) x[k] = world.nodes()[k] - c.origin;
+  std::copy(x.begin(), x.end(), c.nodes.begin());
+  const geometry::QuadraticTriangle face(x);
+  c.length = face.characteristic_length();
+  // The reference's degenerate triangle.
+  const Vec3 e1 = x[1] - x[0], e2 = x[2] - x[0];
+  const double longest2 = std::max({e1.squaredNorm(), e2.squaredNorm(), (x[2] - x[1]).squaredNorm()});
+  if (!(c.length > 0.0) || !std::isfinite(c.length) || !(e1.cross(e2).norm() > 1e-12 * longest2)) return c;
+  const geometry::SurfacePoint centre = face.evaluate(1.0 / 3.0, 1.0 / 3.0);
+  c.curvature[0] = centre.d_ss;
+  c.curvature[1] = centre.d_st;
+  c.curvature[2] = centre.d_tt;
+  ranges(c, face.bezier_control_points(), 3);
+  // P_r, P_s are affine: their values D_m, E_m at the corners are their Bezier coefficients (barycentric).
+  static constexpr std::array<std::array<double, 2>, 3> kCorner = {{{0.0, 0.0}, {1.0, 0.0}, {0.0, 1.0}}};
+  std::array<Vec3, 3> d, e;
+  double trace = 0.0;
+  for (std::size_t m = 0; m < 3; ++m) {
+    const geometry::SurfacePoint sp = face.evaluate(kCorner[m][0], kCorner[m][1]);
+    d[m] = sp.d_s;
+    e[m] = sp.d_t;
+    trace = std::max(trace, d[m].squaredNorm() + e[m].squaredNorm());  // convex: largest at a corner
+  }
+  const Vec3 normal = centre.d_s.cross(centre.d_t);
+  const double norm = normal.norm();
+  if (!(norm > 0.0) || !std::isfinite(norm)) return c;
+  const Vec3 n = normal / norm;
+  // (P_r x P_s).n in the quadratic Bernstein basis: D_m x E_m at the corners, (D_m x E_l + D_l x E_m) / 2
+  // between.
+  double nu = std::numeric_limits<double>::infinity();
+  for (std::size_t m = 0; m < 3; ++m) {
+    for (std::size_t l = m; l < 3; ++l) nu = std::min(nu, 0.5 * (d[m].cross(e[l]) + d[l].cross(e[m])).dot(n));
+  }
+  c.lambda_floor = eigenvalue_floor(nu, trace);
+  return c;
+}
+
+bool QuadraticCertificate::convex_for(const Vec3& relative) const {
+  // lambda_max(M) <= max(m00, m11) + |m01| (Gershgorin), with upper bounds of m00 = r.P_ss and m11 = r.P_tt
+  // (signed: on a face's convex side they are negative and help) and a bound of |m01| = |r.P_st|.
+  const double bound = triangle ? std::max(upper(*this, relative, 0, 1), upper(*this, relative, 2, 3)) +
+                                      largest(*this, relative, 1, 2)
+                                : std::max(upper(*this, relative, 0, 2), upper(*this, relative, 2, 4)) +
+                                      largest(*this, relative, 4, 8);
+  return bound < kMargin * lambda_floor;
+}
+
+std::optional<projection::FaceClosestPoint> QuadraticCertificate::closest_point(
+    const Vec3& slave, const projection::ProjectionOptions& options,
+    const std::array<double, 2>* start) const {
+  const Vec3 relative = slave - origin;
+  if (!(lambda_floor > 0.0) || !relative.allFinite() || !convex_for(relative)) return std::nullopt;
+  std::optional<projection::FaceClosestPoint> out;
+  if (triangle) {
+    out = certified(*this,
+                    geometry::QuadraticTriangle({nodes[0], nodes[1], nodes[2], nodes[3], nodes[4], nodes[5]}),
+                    relative, options, start);
+  } else {
+    out = certified(*this, geometry::SerendipityQuad(nodes), relative, options, start);
+  }
+  if (out) out->point += origin;
+  return out;
+}
+
+}  // namespace contactnn::contact
