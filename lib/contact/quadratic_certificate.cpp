@@ -64,6 +64,55 @@ double largest(const QuadraticCertificate& c, const Vec3& relative, std::size_t 
 
 constexpr double kBinomial[4][4] = {{1, 0, 0, 0}, {1, 1, 0, 0}, {1, 2, 1, 0}, {1, 3, 3, 1}};
 
+/// Face parameters of the point t of edge `edge` (as the reference maps them: the ends exact).
+std::array<double, 2> edge_param(bool triangle, int edge, double t) {
+  if (triangle) {
+    switch (edge) {
+      case 0: return {t, 0.0};
+      case 1: return {1.0 - t, t};
+      default: return {0.0, 1.0 - t};
+    }
+  }
+  switch (edge) {
+    case 0: return {-1.0 + 2.0 * t, -1.0};
+    case 1: return {1.0, -1.0 + 2.0 * t};
+    case 2: return {1.0 - 2.0 * t, 1.0};
+    default: return {-1.0, 1.0 - 2.0 * t};
+  }
+}
+
+/// The t in [0, 1] of the nearest point to `slave` of the curve C(t) = c0 + c1 t + c2 t^2 through the edge's
+/// corners X, Y and mid-side node M (the reference's edge curve), where f = |C - S|^2 / 2 is strictly convex
+/// in t (the certificate holds on the face, and an edge is a segment of its parameters): f' = C'.(C - S)
+/// increases, so its root (or the end where it has none) is the edge's one minimum, found by Newton kept in
+/// a shrinking bracket (bisection where a step leaves it), to rounding.
+double convex_edge_minimum(const Vec3& x, const Vec3& m, const Vec3& y, const Vec3& slave) {
+  const Vec3 c0 = x - slave, c1 = -3.0 * x + 4.0 * m - y, c2 = 2.0 * x - 4.0 * m + 2.0 * y;
+  const auto slope = [&](double t) { return (c1 + (2.0 * t) * c2).dot(c0 + t * (c1 + t * c2)); };
+  if (!(slope(0.0) < 0.0)) return 0.0;
+  if (!(slope(1.0) > 0.0)) return 1.0;
+  double a = 0.0, b = 1.0, t = 0.5;
+  for (int it = 0; it < 100; ++it) {
+    const Vec3 d1 = c1 + (2.0 * t) * c2;
+    const double g = d1.dot(c0 + t * (c1 + t * c2));
+    if (g == 0.0 || !std::isfinite(g)) break;
+    if (g < 0.0) {
+      a = t;
+    } else {
+      b = t;
+    }
+    const double h = d1.squaredNorm() + 2.0 * c2.dot(c0 + t * (c1 + t * c2));
+    double next = h > 0.0 ? t - g / h : 0.5 * (a + b);
+    if (!(next > a && next < b)) next = 0.5 * (a + b);
+    if (next == t || std::abs(next - t) <= 4.0 * std::numeric_limits<double>::epsilon()) {
+      t = next;
+      break;
+    }
+    t = next;
+  }
+  return t;
+}
+
 /// The Newton run, the edges and the certificate of a boundary answer, for either face (Face: the face
 /// relative to its first node).
 template <class Face>
@@ -119,10 +168,38 @@ std::optional<projection::FaceClosestPoint> certified(const QuadraticCertificate
     edges_farther = delta > 0.0 &&
                     (1.0 - kMargin) * c.lambda_floor * delta * delta > 1e-8 * (squared + c.length * c.length);
   }
+  // The edges: each one's minimum by convex_edge_minimum (f is strictly convex along it), not the reference's
+  // 33 samples; the same point to rounding, compared as the reference compares (strictly nearer replaces).
+  projection::FaceClosestPoint out;
+  double best = std::numeric_limits<double>::infinity();
   bool from_interior = false;
-  projection::FaceClosestPoint out = projection::nearest_of_interior_and_quadratic_edges(
-      face, relative, interior ? &p : nullptr, iterations, &from_interior, edges_farther);
-  if (out.status != Status::kOk) return std::nullopt;
+  if (interior) {
+    out = projection::nearest_of_interior_and_quadratic_edges(face, relative, &p, iterations, nullptr, true);
+    if (out.status != Status::kOk) return std::nullopt;
+    best = (relative - face.position(out.param[0], out.param[1])).norm();
+    from_interior = true;
+  }
+  if (!(interior && edges_farther)) {
+    const std::size_t corners = triangle ? 3 : 4;
+    std::array<double, 2> nearest{};
+    bool edge_wins = false;
+    for (std::size_t e = 0; e < corners; ++e) {
+      const double t =
+          convex_edge_minimum(c.nodes[e], c.nodes[corners + e], c.nodes[(e + 1) % corners], relative);
+      const std::array<double, 2> q = edge_param(triangle, static_cast<int>(e), t);
+      const double distance = (relative - face.position(q[0], q[1])).norm();
+      if (distance < best) {
+        best = distance;
+        nearest = q;
+        edge_wins = true;
+      }
+    }
+    if (edge_wins) {
+      out = projection::quadratic_face_point(face, relative, nearest, interior ? iterations : 0);
+      from_interior = false;
+    }
+  }
+  if (!std::isfinite(best) || out.status != Status::kOk) return std::nullopt;
 
   // 3. The certificate of a boundary answer: no descent into the face from it (Karush-Kuhn-Tucker; the edge
   //    search leaves it stationary along its edge). Otherwise the face holds a nearer point that the run did
@@ -188,6 +265,10 @@ QuadraticCertificate QuadraticCertificate::prepare(const geometry::SerendipityQu
   const double norm = centre.norm();
   if (!(norm > 0.0) || !std::isfinite(norm)) return c;
   const Vec3 n = centre / norm;
+  Vec3 e_cross_n[3][2];  // (D x E).n = D.(E x n)
+  for (std::size_t i = 0; i < 3; ++i) {
+    for (std::size_t j = 0; j < 2; ++j) e_cross_n[i][j] = e[i][j].cross(n);
+  }
   // (P_s x P_t).n in the Bernstein basis of degree (3, 3): B^1_a B^2_b = C(1,a) C(2,b) / C(3,a+b) B^3_{a+b}.
   double coefficient[4][4] = {};
   for (std::size_t i1 = 0; i1 < 2; ++i1) {
@@ -197,7 +278,7 @@ QuadraticCertificate QuadraticCertificate::prepare(const geometry::SerendipityQu
           const std::size_t k = i1 + i2, l = j1 + j2;
           const double weight = kBinomial[1][i1] * kBinomial[2][i2] / kBinomial[3][k] * kBinomial[2][j1] *
                                 kBinomial[1][j2] / kBinomial[3][l];
-          coefficient[k][l] += weight * d[i1][j1].cross(e[i2][j2]).dot(n);
+          coefficient[k][l] += weight * d[i1][j1].dot(e_cross_n[i2][j2]);
         }
       }
     }

@@ -376,6 +376,26 @@ FaceClosestPoint nearest_of_interior_and_quadratic_edges(const QuadraticTriangle
   return out;
 }
 
+FaceClosestPoint quadratic_face_point(const SerendipityQuad& face, const Vec3& slave,
+                                      const std::array<double, 2>& param, int iterations) {
+  FaceClosestPoint out;
+  out.param = param;
+  out.iterations = iterations;
+  locate_on_quad({-1.0, 1.0}, out);
+  finish(face, slave, out);
+  return out;
+}
+
+FaceClosestPoint quadratic_face_point(const QuadraticTriangle& face, const Vec3& slave,
+                                      const std::array<double, 2>& param, int iterations) {
+  FaceClosestPoint out;
+  out.param = param;
+  out.iterations = iterations;
+  locate_on_triangle(out);
+  finish(face, slave, out);
+  return out;
+}
+
 namespace {
 
 FaceClosestPoint closest_point_on_serendipity_quad_local(const SerendipityQuad& face, const Vec3& slave,

@@ -64,6 +64,14 @@ inline constexpr int kTriangleEdges = 3;
     const geometry::QuadraticTriangle& face, const Vec3& slave, const std::array<double, 2>* interior,
     int iterations, bool* from_interior = nullptr, bool edges_farther = false);
 
+/// The report of those functions for the point `param` of `face` (on the closed face): param, location,
+/// point, unit normal, distance and status as they set them, `iterations` as given.
+[[nodiscard]] FaceClosestPoint quadratic_face_point(const geometry::SerendipityQuad& face, const Vec3& slave,
+                                                    const std::array<double, 2>& param, int iterations);
+[[nodiscard]] FaceClosestPoint quadratic_face_point(const geometry::QuadraticTriangle& face,
+                                                    const Vec3& slave, const std::array<double, 2>& param,
+                                                    int iterations);
+
 /// The nearest point of edge `edge` of a quadratic face to `slave` (step 2 above): its parameters on the face
 /// and |S - P|. The curve through the edge's corners X, Y and mid-side node M is
 /// C(t) = X (1 - t)(1 - 2t) + 4 M t (1 - t) + Y t (2t - 1), t in [0, 1]; the ends are exact corner
