@@ -62,6 +62,20 @@ double largest(const QuadraticCertificate& c, const Vec3& relative, std::size_t 
   return m;
 }
 
+/// Each edge's sphere: about the mean of its Bezier control points X, 2 M - (X + Y) / 2, Y, through the
+/// farthest (a little larger, for rounding).
+template <std::size_t N>
+void edge_spheres(QuadraticCertificate& c, const std::array<Vec3, N>& x, std::size_t corners) {
+  for (std::size_t e = 0; e < corners; ++e) {
+    const Vec3& a = x[e];
+    const Vec3& b = x[(e + 1) % corners];
+    const Vec3 m = 2.0 * x[corners + e] - 0.5 * (a + b);
+    c.edge_centre[e] = (a + b + m) / 3.0;
+    c.edge_radius[e] = (1.0 + 1e-12) * std::max({(a - c.edge_centre[e]).norm(), (b - c.edge_centre[e]).norm(),
+                                                 (m - c.edge_centre[e]).norm()});
+  }
+}
+
 constexpr double kBinomial[4][4] = {{1, 0, 0, 0}, {1, 1, 0, 0}, {1, 2, 1, 0}, {1, 3, 3, 1}};
 
 /// Face parameters of the point t of edge `edge` (as the reference maps them: the ends exact).
@@ -180,18 +194,28 @@ std::optional<projection::FaceClosestPoint> certified(const QuadraticCertificate
     from_interior = true;
   }
   if (!(interior && edges_farther)) {
+    // Nearest sphere first; an edge whose sphere is beyond the best point is farther than it (with a margin
+    // for rounding) and cannot win. Equal distances keep the lower edge, as the reference's order does.
     const std::size_t corners = triangle ? 3 : 4;
+    std::array<std::pair<double, std::size_t>, 4> order;
+    for (std::size_t e = 0; e < corners; ++e)
+      order[e] = {(relative - c.edge_centre[e]).norm() - c.edge_radius[e], e};
+    std::sort(order.begin(), order.begin() + static_cast<std::ptrdiff_t>(corners));
+    const auto& x = face.nodes();
     std::array<double, 2> nearest{};
     bool edge_wins = false;
-    for (std::size_t e = 0; e < corners; ++e) {
-      const double t =
-          convex_edge_minimum(c.nodes[e], c.nodes[corners + e], c.nodes[(e + 1) % corners], relative);
+    std::size_t winner = 0;
+    for (std::size_t k = 0; k < corners; ++k) {
+      const auto [bound, e] = order[k];
+      if (bound > best + 1e-12 * (best + c.length)) break;
+      const double t = convex_edge_minimum(x[e], x[corners + e], x[(e + 1) % corners], relative);
       const std::array<double, 2> q = edge_param(triangle, static_cast<int>(e), t);
       const double distance = (relative - face.position(q[0], q[1])).norm();
-      if (distance < best) {
+      if (distance < best || (edge_wins && distance == best && e < winner)) {
         best = distance;
         nearest = q;
         edge_wins = true;
+        winner = e;
       }
     }
     if (edge_wins) {
@@ -209,16 +233,20 @@ std::optional<projection::FaceClosestPoint> certified(const QuadraticCertificate
     const Vec3 r = relative - sp.position;
     const double g[2] = {-sp.d_s.dot(r), -sp.d_t.dot(r)};
     const double tol = 1e-12 * (1.0 - kMargin) * c.lambda_floor;
-    const double lo = triangle ? 0.0 : -1.0;
-    for (std::size_t k = 0; k < 2; ++k) {
-      if (out.param[k] == lo && g[k] < -tol) return std::nullopt;
-      if (!triangle && out.param[k] == 1.0 && g[k] > tol) return std::nullopt;
-    }
-    // The triangle's edge r + s = 1 (its points are (1 - t, t): the sum is 1 to rounding): no descent along
-    // -(1, 1).
-    if (triangle && out.param[0] + out.param[1] >= 1.0 - 4.0 * std::numeric_limits<double>::epsilon() &&
-        g[0] + g[1] > tol) {
-      return std::nullopt;
+    if (triangle) {
+      // f is convex: the point is the minimum where no direction to a vertex of the triangle descends (the
+      // directions to the vertices span the cone into the face from any point of its boundary; along the
+      // point's own edge the slope is the edge search's rounding).
+      static constexpr std::array<std::array<double, 2>, 3> kVertex = {{{0.0, 0.0}, {1.0, 0.0}, {0.0, 1.0}}};
+      for (const auto& q : kVertex) {
+        if (g[0] * (q[0] - out.param[0]) + g[1] * (q[1] - out.param[1]) < -tol) return std::nullopt;
+      }
+    } else {
+      // The square: at a bound, no descent back into it (a corner: both bounds, its whole cone).
+      for (std::size_t k = 0; k < 2; ++k) {
+        if (out.param[k] == -1.0 && g[k] < -tol) return std::nullopt;
+        if (out.param[k] == 1.0 && g[k] > tol) return std::nullopt;
+      }
     }
   }
   return out;
@@ -232,8 +260,8 @@ QuadraticCertificate QuadraticCertificate::prepare(const geometry::SerendipityQu
   if (!c.origin.allFinite() || !all_finite(world.nodes())) return c;
   std::array<Vec3, 8> x;
   for (std::size_t k = 0; k < 8; ++k) x[k] = world.nodes()[k] - c.origin;
-  c.nodes = x;
-  const geometry::SerendipityQuad face(x);
+  const geometry::SerendipityQuad& face = c.face.emplace<geometry::SerendipityQuad>(x);
+  edge_spheres(c, x, 4);
   c.length = face.characteristic_length();
   if (!(c.length > 0.0) || !std::isfinite(c.length) || geometry::is_degenerate_segment(face.corners()))
     return c;
@@ -298,8 +326,8 @@ QuadraticCertificate QuadraticCertificate::prepare(const geometry::QuadraticTria
   if (!c.origin.allFinite() || !all_finite(world.nodes())) return c;
   std::array<Vec3, 6> x;
   for (std::size_t k = 0; k < 6; ++k) x[k] = world.nodes()[k] - c.origin;
-  std::copy(x.begin(), x.end(), c.nodes.begin());
-  const geometry::QuadraticTriangle face(x);
+  const geometry::QuadraticTriangle& face = c.face.emplace<geometry::QuadraticTriangle>(x);
+  edge_spheres(c, x, 3);
   c.length = face.characteristic_length();
   // The reference's degenerate triangle.
   const Vec3 e1 = x[1] - x[0], e2 = x[2] - x[0];
@@ -350,12 +378,10 @@ std::optional<projection::FaceClosestPoint> QuadraticCertificate::closest_point(
   const Vec3 relative = slave - origin;
   if (!(lambda_floor > 0.0) || !relative.allFinite() || !convex_for(relative)) return std::nullopt;
   std::optional<projection::FaceClosestPoint> out;
-  if (triangle) {
-    out = certified(*this,
-                    geometry::QuadraticTriangle({nodes[0], nodes[1], nodes[2], nodes[3], nodes[4], nodes[5]}),
-                    relative, options, start);
-  } else {
-    out = certified(*this, geometry::SerendipityQuad(nodes), relative, options, start);
+  if (const auto* tri6 = std::get_if<geometry::QuadraticTriangle>(&face)) {
+    out = certified(*this, *tri6, relative, options, start);
+  } else if (const auto* quad8 = std::get_if<geometry::SerendipityQuad>(&face)) {
+    out = certified(*this, *quad8, relative, options, start);
   }
   if (out) out->point += origin;
   return out;

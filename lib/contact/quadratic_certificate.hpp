@@ -28,6 +28,7 @@
 
 #include <array>
 #include <optional>
+#include <variant>
 
 #include "geometry/quadratic_triangle.hpp"
 #include "geometry/serendipity_quad.hpp"
@@ -40,9 +41,14 @@ using geometry::Vec3;
 /// A quad8 or tri6 face prepared once per state of the master: its nodes relative to its first node (as the
 /// reference projection moves it) and the certificate's bounds.
 struct QuadraticCertificate {
-  bool triangle = false;             ///< a tri6 (nodes 0..5) rather than a quad8 (nodes 0..7)
-  Vec3 origin = Vec3::Zero();        ///< the face's first node; everything below is relative to it
-  std::array<Vec3, 8> nodes{};       ///< the face's nodes minus origin
+  bool triangle = false;       ///< a tri6 (nodes 0..5) rather than a quad8 (nodes 0..7)
+  Vec3 origin = Vec3::Zero();  ///< the face's first node; everything below is relative to it
+  /// The face on its nodes minus origin (as the reference moves it), built once.
+  std::variant<std::monostate, geometry::SerendipityQuad, geometry::QuadraticTriangle> face;
+  /// Each edge's sphere about the mean of its Bezier control points (the edge lies in their hull): the edges
+  /// it shows farther than a nearer point are not searched.
+  std::array<Vec3, 4> edge_centre{};
+  std::array<double, 4> edge_radius{};
   std::array<Vec3, 8> curvature{};   ///< v_k: quad8 P_ss at t = -1, 1, P_tt at s = -1, 1, P_st at the
                                      ///< corners; tri6 P_ss, P_st, P_tt
   std::array<double, 8> lo{}, hi{};  ///< the range of Q.v_k over the relative control points Q
