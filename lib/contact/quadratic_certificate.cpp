@@ -103,25 +103,30 @@ std::array<double, 2> edge_param(bool triangle, int edge, double t) {
 double convex_edge_minimum(const Vec3& x, const Vec3& m, const Vec3& y, const Vec3& slave) {
   const Vec3 c0 = x - slave, c1 = -3.0 * x + 4.0 * m - y, c2 = 2.0 * x - 4.0 * m + 2.0 * y;
   const auto slope = [&](double t) { return (c1 + (2.0 * t) * c2).dot(c0 + t * (c1 + t * c2)); };
-  if (!(slope(0.0) < 0.0)) return 0.0;
-  if (!(slope(1.0) > 0.0)) return 1.0;
-  double a = 0.0, b = 1.0, t = 0.5;
+  const double s0 = slope(0.0), s1 = slope(1.0);
+  if (!(s0 < 0.0)) return 0.0;
+  if (!(s1 > 0.0)) return 1.0;
+  // The root of f' between, from the secant's (f' is nearly linear on a mildly curved edge).
+  double a = 0.0, b = 1.0, t = s0 / (s0 - s1);
   for (int it = 0; it < 100; ++it) {
     const Vec3 d1 = c1 + (2.0 * t) * c2;
-    const double g = d1.dot(c0 + t * (c1 + t * c2));
+    const Vec3 r = c0 + t * (c1 + t * c2);
+    const double g = d1.dot(r);
     if (g == 0.0 || !std::isfinite(g)) break;
     if (g < 0.0) {
       a = t;
     } else {
       b = t;
     }
-    const double h = d1.squaredNorm() + 2.0 * c2.dot(c0 + t * (c1 + t * c2));
-    double next = h > 0.0 ? t - g / h : 0.5 * (a + b);
-    if (!(next > a && next < b)) next = 0.5 * (a + b);
-    if (next == t || std::abs(next - t) <= 4.0 * std::numeric_limits<double>::epsilon()) {
-      t = next;
+    const double h = d1.squaredNorm() + 2.0 * c2.dot(r);
+    const double step = h > 0.0 ? -g / h : std::numeric_limits<double>::infinity();
+    if (std::abs(step) <= 4.0 * std::numeric_limits<double>::epsilon()) {
+      t = std::clamp(t + step, 0.0, 1.0);  // converged: the last step, to rounding
       break;
     }
+    double next = t + step;
+    if (!(next > a && next < b)) next = 0.5 * (a + b);  // a step out of the bracket: bisection
+    if (next == t) break;
     t = next;
   }
   return t;
