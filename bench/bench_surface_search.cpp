@@ -21,10 +21,10 @@
 //
 // quadratic/quad8_fresh, quadratic/tri6_fresh and their _tracked: the surface search and the tracker (as
 // global/surface and global/surface_tracked) on a wavy sheet of quadratic faces (Issue 38: the
-// QuadraticCertificate), 200 x 200 quad8 faces (C3D20 tops) or 150 x 150 cells of two tri6 each (C3D10 tops),
-// unit spacing, mid-side nodes on the sheet z = 0.3 sin(x / 3) cos(y / 4); the --slaves slave nodes at random
-// over it, |z| offset up to half an element. Arguments: threads; narrow 0 certified, 1 the reference on
-// every face.
+// QuadraticCertificate) in the manner of the large history: 120 x 120 unit quad8 faces (C3D20 tops) or cells
+// of two tri6 each (C3D10 tops), every node (mid-side nodes included) on z = 0.2 sin(x / 5) cos(y / 7); a
+// square grid of at least --slaves slave nodes at spacing 0.3 over its middle, 0.05 above it; tracked: moved
+// 0.001 down per increment. Arguments: threads; narrow 0 certified, 1 the reference on every face.
 //
 // Counters per benchmark: ns_per_slave (wall time / slave nodes), candidates (mean faces whose closest point
 // was computed per slave node for the surface search; segments that passed the segment test for the
@@ -178,8 +178,8 @@ void history_tracked(benchmark::State& state) {
 
 /// The quadratic sheet (header): quad8 faces (`triangles` false) or tri6 faces, nodes on the doubled grid.
 Scene make_quadratic_scene(long slave_count, bool triangles) {
-  const int cells = triangles ? 150 : 200;
-  const auto height = [](double x, double y) { return 0.3 * std::sin(x / 3.0) * std::cos(y / 4.0); };
+  const int cells = 120;
+  const auto height = [](double x, double y) { return 0.2 * std::sin(x / 5.0) * std::cos(y / 7.0); };
   Scene s;
   mesh::SurfaceMesh& m = s.master;
   // Node (a, b) of the doubled grid at (a / 2, b / 2); a quad8 sheet has no node at a cell's centre.
@@ -219,12 +219,13 @@ Scene make_quadratic_scene(long slave_count, bool triangles) {
   }
   mesh::set_adjacency(m);
   s.normals = mesh::node_normals(m);
-  std::mt19937_64 rng(2);
-  std::uniform_real_distribution<double> xy(0.0, cells), dz(-0.5, 0.5);
-  for (long i = 0; i < slave_count; ++i) {
-    const double x = xy(rng), y = xy(rng);
-    s.ids.push_back(i + 1);
-    s.slaves.emplace_back(x, y, height(x, y) + dz(rng));
+  const auto side = static_cast<long>(std::ceil(std::sqrt(static_cast<double>(slave_count))));
+  const double spacing = 0.3, offset = 0.5 * (cells - spacing * static_cast<double>(side - 1));
+  for (long k = 0; k < side * side; ++k) {
+    const double x = offset + spacing * static_cast<double>(k % side),
+                 y = offset + spacing * static_cast<double>(k / side);
+    s.ids.push_back(k + 1);
+    s.slaves.emplace_back(x, y, height(x, y) + 0.05);
   }
   return s;
 }
@@ -321,7 +322,7 @@ void quadratic_fresh(benchmark::State& state, bool triangles) {
   report(state, pairs);
 }
 
-/// The same tracked: the slave nodes move by 0.001 in z per increment; one iteration is one increment.
+/// The same tracked: the slave nodes move 0.001 down per increment; one iteration is one increment.
 void quadratic_tracked(benchmark::State& state, bool triangles) {
   const Scene& s = quadratic_scene(triangles);
   omp_set_num_threads(static_cast<int>(state.range(0)));
@@ -332,7 +333,7 @@ void quadratic_tracked(benchmark::State& state, bool triangles) {
   std::vector<contact::Contact> pairs;
   tracker.step(s.master, s.normals, s.ids, slaves, pairs);
   for (auto _ : state) {
-    for (auto& x : slaves) x.z() += 0.001;
+    for (auto& x : slaves) x.z() -= 0.001;
     tracker.step(s.master, s.normals, s.ids, slaves, pairs);
     benchmark::DoNotOptimize(pairs.data());
   }
