@@ -162,7 +162,13 @@ std::optional<projection::FaceClosestPoint> certified(const QuadraticCertificate
     if (!(det > 0.0) || !(h00 > 0.0)) break;  // beyond the face, where nothing is certified
     const double d0 = (h11 * r0 - h01 * r1) / det, d1 = (h00 * r1 - h01 * r0) / det;
     p = {p[0] + d0, p[1] + d1};
-    if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || std::max(std::abs(p[0]), std::abs(p[1])) > 4.0) break;
+    // Far beyond the face (f is nearly quadratic: its minimum over the face is on the boundary), the edges
+    // decide; were it inside after all, the boundary point fails step 3's test and the reference decides.
+    if (!std::isfinite(p[0]) || !std::isfinite(p[1]) ||
+        (triangle ? std::min(p[0], p[1]) < -0.5 || p[0] + p[1] > 1.5
+                  : std::max(std::abs(p[0]), std::abs(p[1])) > 1.5)) {
+      break;
+    }
     if (std::max(std::abs(d0), std::abs(d1)) <= options.tol_param) {
       converged = true;
       iterations = it;
@@ -187,73 +193,73 @@ std::optional<projection::FaceClosestPoint> certified(const QuadraticCertificate
     edges_farther = delta > 0.0 &&
                     (1.0 - kMargin) * c.lambda_floor * delta * delta > 1e-8 * (squared + c.length * c.length);
   }
-  // The edges: each one's minimum by convex_edge_minimum (f is strictly convex along it), not the reference's
-  // 33 samples; the same point to rounding, compared as the reference compares (strictly nearer replaces).
-  projection::FaceClosestPoint out;
-  double best = std::numeric_limits<double>::infinity();
-  bool from_interior = false;
-  if (interior) {
-    out = projection::nearest_of_interior_and_quadratic_edges(face, relative, &p, iterations, nullptr, true);
-    if (out.status != Status::kOk) return std::nullopt;
-    best = (relative - face.position(out.param[0], out.param[1])).norm();
-    from_interior = true;
-  }
-  if (!(interior && edges_farther)) {
-    // Nearest sphere first; an edge whose sphere is beyond the best point is farther than it (with a margin
-    // for rounding) and cannot win. Equal distances keep the lower edge, as the reference's order does.
-    const std::size_t corners = triangle ? 3 : 4;
-    std::array<std::pair<double, std::size_t>, 4> order;
-    for (std::size_t e = 0; e < corners; ++e)
-      order[e] = {(relative - c.edge_centre[e]).norm() - c.edge_radius[e], e};
-    std::sort(order.begin(), order.begin() + static_cast<std::ptrdiff_t>(corners));
-    const auto& x = face.nodes();
-    std::array<double, 2> nearest{};
-    bool edge_wins = false;
-    std::size_t winner = 0;
-    for (std::size_t k = 0; k < corners; ++k) {
-      const auto [bound, e] = order[k];
-      if (bound > best + 1e-12 * (best + c.length)) break;
-      const double t = convex_edge_minimum(x[e], x[corners + e], x[(e + 1) % corners], relative);
-      const std::array<double, 2> q = edge_param(triangle, static_cast<int>(e), t);
-      const double distance = (relative - face.position(q[0], q[1])).norm();
-      if (distance < best || (edge_wins && distance == best && e < winner)) {
-        best = distance;
-        nearest = q;
-        edge_wins = true;
-        winner = e;
-      }
-    }
-    if (edge_wins) {
-      out = projection::quadratic_face_point(face, relative, nearest, interior ? iterations : 0);
-      from_interior = false;
-    }
-  }
-  if (!std::isfinite(best) || out.status != Status::kOk) return std::nullopt;
-
-  // 3. The certificate of a boundary answer: no descent into the face from it (Karush-Kuhn-Tucker; the edge
-  //    search leaves it stationary along its edge). Otherwise the face holds a nearer point that the run did
-  //    not reach: the reference decides.
-  if (!from_interior) {
-    const geometry::SurfacePoint sp = face.evaluate(out.param[0], out.param[1]);
+  // 3. The certificate of a boundary point q: no descent into the face from it (Karush-Kuhn-Tucker; the edge
+  //    search leaves it stationary along its edge). f being convex, q is then the face's minimum.
+  const auto minimum_at = [&](const std::array<double, 2>& q) {
+    const geometry::SurfacePoint sp = face.evaluate(q[0], q[1]);
     const Vec3 r = relative - sp.position;
     const double g[2] = {-sp.d_s.dot(r), -sp.d_t.dot(r)};
     const double tol = 1e-12 * (1.0 - kMargin) * c.lambda_floor;
     if (triangle) {
-      // f is convex: the point is the minimum where no direction to a vertex of the triangle descends (the
-      // directions to the vertices span the cone into the face from any point of its boundary; along the
-      // point's own edge the slope is the edge search's rounding).
+      // The directions to the triangle's vertices span the cone into the face from any point of its
+      // boundary (along the point's own edge the slope is the edge search's rounding).
       static constexpr std::array<std::array<double, 2>, 3> kVertex = {{{0.0, 0.0}, {1.0, 0.0}, {0.0, 1.0}}};
-      for (const auto& q : kVertex) {
-        if (g[0] * (q[0] - out.param[0]) + g[1] * (q[1] - out.param[1]) < -tol) return std::nullopt;
+      for (const auto& v : kVertex) {
+        if (g[0] * (v[0] - q[0]) + g[1] * (v[1] - q[1]) < -tol) return false;
       }
-    } else {
-      // The square: at a bound, no descent back into it (a corner: both bounds, its whole cone).
-      for (std::size_t k = 0; k < 2; ++k) {
-        if (out.param[k] == -1.0 && g[k] < -tol) return std::nullopt;
-        if (out.param[k] == 1.0 && g[k] > tol) return std::nullopt;
-      }
+      return true;
+    }
+    // The square: at a bound, no descent back into it (a corner: both bounds, its whole cone).
+    for (std::size_t k = 0; k < 2; ++k) {
+      if (q[k] == -1.0 && g[k] < -tol) return false;
+      if (q[k] == 1.0 && g[k] > tol) return false;
+    }
+    return true;
+  };
+
+  // The edges: each one's minimum by convex_edge_minimum (f is strictly convex along it), not the reference's
+  // 33 samples; the same point to rounding. Nearest sphere first; an edge whose sphere is beyond the best
+  // point (with a margin for rounding) cannot win.
+  projection::FaceClosestPoint out;
+  double best = std::numeric_limits<double>::infinity();
+  if (interior) {
+    out = projection::nearest_of_interior_and_quadratic_edges(face, relative, &p, iterations, nullptr, true);
+    if (out.status != Status::kOk) return std::nullopt;
+    if (edges_farther) return out;
+    best = (relative - face.position(out.param[0], out.param[1])).norm();
+  }
+  const std::size_t corners = triangle ? 3 : 4;
+  std::array<std::pair<double, std::size_t>, 4> order;
+  for (std::size_t e = 0; e < corners; ++e)
+    order[e] = {(relative - c.edge_centre[e]).norm() - c.edge_radius[e], e};
+  std::sort(order.begin(), order.begin() + static_cast<std::ptrdiff_t>(corners));
+  const auto& x = face.nodes();
+  std::array<double, 2> nearest{};
+  bool edge_wins = false;
+  std::size_t winner = 0;
+  for (std::size_t k = 0; k < corners; ++k) {
+    const auto [bound, e] = order[k];
+    if (bound > best + 1e-12 * (best + c.length)) break;
+    const double t = convex_edge_minimum(x[e], x[corners + e], x[(e + 1) % corners], relative);
+    const std::array<double, 2> q = edge_param(triangle, static_cast<int>(e), t);
+    const double distance = (relative - face.position(q[0], q[1])).norm();
+    // Strictly nearer replaces (the interior first, as the reference); equal distances keep the lower edge,
+    // as the reference's order does.
+    if (distance < best || (edge_wins && distance == best && e < winner)) {
+      best = distance;
+      nearest = q;
+      edge_wins = true;
+      winner = e;
+      // Without an interior point: the first edge point that is the face's minimum (step 3) is the answer;
+      // every other edge point is farther by mu |q' - q|^2 / 2 in f (the same corner where they meet).
+      if (!interior && minimum_at(q)) break;
     }
   }
+  if (!std::isfinite(best)) return std::nullopt;
+  if (!edge_wins) return out;                     // the interior point, nearer than every edge
+  if (!minimum_at(nearest)) return std::nullopt;  // the face holds a nearer point the run missed
+  out = projection::quadratic_face_point(face, relative, nearest, interior ? iterations : 0);
+  if (out.status != Status::kOk) return std::nullopt;
   return out;
 }
 
