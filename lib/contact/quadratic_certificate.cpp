@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <span>
 
 #include "geometry/segment_checks.hpp"
 #include "projection/closest_point_on_quadratic_face.hpp"
@@ -64,8 +65,7 @@ double largest(const QuadraticCertificate& c, const Vec3& relative, std::size_t 
 
 /// Each edge's sphere: about the mean of its Bezier control points X, 2 M - (X + Y) / 2, Y, through the
 /// farthest (a little larger, for rounding).
-template <std::size_t N>
-void edge_spheres(QuadraticCertificate& c, const std::array<Vec3, N>& x, std::size_t corners) {
+void edge_spheres(QuadraticCertificate& c, std::span<const Vec3> x, std::size_t corners) {
   for (std::size_t e = 0; e < corners; ++e) {
     const Vec3& a = x[e];
     const Vec3& b = x[(e + 1) % corners];
@@ -147,9 +147,11 @@ std::optional<projection::FaceClosestPoint> certified(const QuadraticCertificate
   const double residual_floor = options.tol_residual * c.length * c.length;
   bool converged = false;
   int iterations = 0;
+  double squared = 0.0;  // |S - P|^2 at the last iterate evaluated (the converged point's, to rounding)
   for (int it = 1; it <= kMaxIterations; ++it) {
     const geometry::SurfacePoint sp = face.evaluate(p[0], p[1]);
     const Vec3 r = relative - sp.position;
+    squared = r.squaredNorm();
     const double r0 = sp.d_s.dot(r), r1 = sp.d_t.dot(r);
     if (std::abs(r0) <= residual_floor && std::abs(r1) <= residual_floor) {
       converged = true;
@@ -189,7 +191,6 @@ std::optional<projection::FaceClosestPoint> certified(const QuadraticCertificate
   if (interior) {
     const double delta = triangle ? std::min({p[0], p[1], (1.0 - p[0] - p[1]) / std::sqrt(2.0)})
                                   : 1.0 - std::max(std::abs(p[0]), std::abs(p[1]));
-    const double squared = (relative - face.position(p[0], p[1])).squaredNorm();
     edges_farther = delta > 0.0 &&
                     (1.0 - kMargin) * c.lambda_floor * delta * delta > 1e-8 * (squared + c.length * c.length);
   }
