@@ -162,7 +162,8 @@ std::optional<projection::FaceClosestPoint> certified(const QuadraticCertificate
     const double h01 = sp.d_s.dot(sp.d_t) - sp.d_st.dot(r);
     const double det = h00 * h11 - h01 * h01;
     if (!(det > 0.0) || !(h00 > 0.0)) break;  // beyond the face, where nothing is certified
-    const double d0 = (h11 * r0 - h01 * r1) / det, d1 = (h00 * r1 - h01 * r0) / det;
+    const double inverse = 1.0 / det;
+    const double d0 = (h11 * r0 - h01 * r1) * inverse, d1 = (h00 * r1 - h01 * r0) * inverse;
     p = {p[0] + d0, p[1] + d1};
     // Far beyond the face (f is nearly quadratic: its minimum over the face is on the boundary), the edges
     // decide; were it inside after all, the boundary point fails step 3's test and the reference decides.
