@@ -165,14 +165,16 @@ std::optional<projection::FaceClosestPoint> certified(const QuadraticCertificate
     const double inverse = 1.0 / det;
     const double d0 = (h11 * r0 - h01 * r1) * inverse, d1 = (h00 * r1 - h01 * r0) * inverse;
     p = {p[0] + d0, p[1] + d1};
-    // Far beyond the face (f is nearly quadratic: its minimum over the face is on the boundary), the edges
-    // decide; were it inside after all, the boundary point fails step 3's test and the reference decides.
-    if (!std::isfinite(p[0]) || !std::isfinite(p[1]) ||
-        (triangle ? std::min(p[0], p[1]) < -0.5 || p[0] + p[1] > 1.5
-                  : std::max(std::abs(p[0]), std::abs(p[1])) > 1.5)) {
+    // Beyond the face by far, or (from the second step, the run converging) by ten times the last step: the
+    // stationary point lies outside and the face's minimum on its boundary, where the edges decide. Were it
+    // inside after all, the boundary point fails step 3's test and the reference decides.
+    const double step = std::max(std::abs(d0), std::abs(d1));
+    const double outside = triangle ? std::max({-p[0], -p[1], p[0] + p[1] - 1.0})
+                                    : std::max(std::abs(p[0]), std::abs(p[1])) - 1.0;
+    if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || outside > 0.5 || (it > 1 && outside > 10.0 * step)) {
       break;
     }
-    if (std::max(std::abs(d0), std::abs(d1)) <= options.tol_param) {
+    if (step <= options.tol_param) {
       converged = true;
       iterations = it;
       break;
