@@ -265,6 +265,26 @@ void set_counters(benchmark::State& state, const search::FlopCount& flops, const
   state.counters["steps"] = a.steps;
 }
 
+/// Registers the benchmark `name` of a method over `n` queries: `setup` (outside the timing) gives the pass,
+/// a callable that answers the n queries once with the buffers it holds; each iteration runs it and
+/// clobbers memory. Items are the queries, with the method's counters; real time, in microseconds.
+template <class Setup>
+void register_passes(const std::string& name, std::size_t n, const search::FlopCount& flops,
+                     const Accuracy& acc, Setup setup) {
+  benchmark::RegisterBenchmark(name.c_str(),
+                               [=](benchmark::State& state) {
+                                 auto pass = setup();
+                                 for (auto _ : state) {
+                                   pass();
+                                   benchmark::ClobberMemory();
+                                 }
+                                 state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(n));
+                                 set_counters(state, flops, acc);
+                               })
+      ->UseRealTime()
+      ->Unit(benchmark::kMicrosecond);
+}
+
 template <class Real>
 void gemm(benchmark::State& state, int threads) {
   const int n = 768;
@@ -437,27 +457,18 @@ int main(int argc, char** argv) {
     const std::size_t n = set.count();
     const auto stride = static_cast<std::size_t>(search::LocalSearch::raw_columns(c.kind));
 
-    benchmark::RegisterBenchmark(
-        (case_name(c) + "/one").c_str(),
-        [=, &set](benchmark::State& state) {
-          std::vector<double> param(2 * n);
-          std::vector<Status> status(n);
-          for (auto _ : state) {
-            for (std::size_t i = 0; i < n; ++i) {
-              if (!start.empty()) {
-                param[2 * i] = start[2 * i];
-                param[2 * i + 1] = start[2 * i + 1];
-              }
-              search->run(1, set.raw.data() + i * stride,
-                          search::Results<double>{param.data() + 2 * i, nullptr, status.data() + i}, 1);
-            }
-            benchmark::ClobberMemory();
+    register_passes(case_name(c) + "/one", n, flops, acc, [=, &set] {
+      return [=, &set, param = std::vector<double>(2 * n), status = std::vector<Status>(n)]() mutable {
+        for (std::size_t i = 0; i < n; ++i) {
+          if (!start.empty()) {
+            param[2 * i] = start[2 * i];
+            param[2 * i + 1] = start[2 * i + 1];
           }
-          state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(n));
-          set_counters(state, flops, acc);
-        })
-        ->UseRealTime()
-        ->Unit(benchmark::kMicrosecond);
+          search->run(1, set.raw.data() + i * stride,
+                      search::Results<double>{param.data() + 2 * i, nullptr, status.data() + i}, 1);
+        }
+      };
+    });
     // The same one at a time through the C interface (contactnn_search_run, count = 1: the call an FE code
     // makes per pair), for the methods a handle takes as they are (no caller's starts, no whole-face step,
     // the domain checked); scripts/bench-search's table leaves these rows out.
@@ -492,22 +503,13 @@ int main(int argc, char** argv) {
           ->Unit(benchmark::kMicrosecond);
     }
     for (const int threads : args.threads) {
-      benchmark::RegisterBenchmark(
-          (case_name(c) + "/batched/threads:" + std::to_string(threads)).c_str(),
-          [=, &set](benchmark::State& state) {
-            std::vector<double> param(2 * n);
-            std::vector<Status> status(n);
-            for (auto _ : state) {
-              if (!start.empty()) std::copy(start.begin(), start.end(), param.begin());
-              search->run(n, set.raw.data(), search::Results<double>{param.data(), nullptr, status.data()},
-                          threads);
-              benchmark::ClobberMemory();
-            }
-            state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(n));
-            set_counters(state, flops, acc);
-          })
-          ->UseRealTime()
-          ->Unit(benchmark::kMicrosecond);
+      register_passes(case_name(c) + "/batched/threads:" + std::to_string(threads), n, flops, acc, [=, &set] {
+        return [=, &set, param = std::vector<double>(2 * n), status = std::vector<Status>(n)]() mutable {
+          if (!start.empty()) std::copy(start.begin(), start.end(), param.begin());
+          search->run(n, set.raw.data(), search::Results<double>{param.data(), nullptr, status.data()},
+                      threads);
+        };
+      });
     }
   }
   // 3b. The exported C headers of the two paper networks (the network method's flops: the same arithmetic).
@@ -523,21 +525,12 @@ int main(int argc, char** argv) {
     const int gregory = kind == SurfaceKind::kGregory ? 1 : 0;
     const std::size_t n = set.count();
     for (const bool batched : {false, true}) {
-      benchmark::RegisterBenchmark(
-          (name + (batched ? "/batched/threads:1" : "/one")).c_str(),
-          [=, &set](benchmark::State& state) {
-            std::vector<double> param(2 * n);
-            std::vector<int> code(n);
-            for (auto _ : state) {
-              (batched ? cnn_bench_c_header_batch : cnn_bench_c_header_one)(gregory, n, set.raw.data(),
-                                                                            param.data(), code.data());
-              benchmark::ClobberMemory();
-            }
-            state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(n));
-            set_counters(state, flops, acc);
-          })
-          ->UseRealTime()
-          ->Unit(benchmark::kMicrosecond);
+      register_passes(name + (batched ? "/batched/threads:1" : "/one"), n, flops, acc, [=, &set] {
+        return [=, &set, param = std::vector<double>(2 * n), code = std::vector<int>(n)]() mutable {
+          (batched ? cnn_bench_c_header_batch : cnn_bench_c_header_one)(gregory, n, set.raw.data(),
+                                                                        param.data(), code.data());
+        };
+      });
     }
   }
   // 3c. FaceSearch on the other faces of SPEC 9 (tri3, tri6, quad8): random faces of unit size, corners
@@ -612,39 +605,21 @@ int main(int argc, char** argv) {
       const std::string name = std::string(search::to_string(kind)) + "/" + method +
                                (uses ? "[" + std::string(search::to_string(kind)) + "-48-48]" : "");
       const std::vector<double>* rows = &raw;
-      benchmark::RegisterBenchmark(
-          (name + "/one").c_str(),
-          [=](benchmark::State& state) {
-            std::vector<double> p(2 * n);
-            std::vector<Status> st(n);
-            for (auto _ : state) {
-              for (std::size_t i = 0; i < n; ++i) {
-                search->run<double>(1, rows->data() + i * stride,
-                                    search::Results<double>{p.data() + 2 * i, nullptr, st.data() + i}, 1);
-              }
-              benchmark::ClobberMemory();
-            }
-            state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(n));
-            set_counters(state, flops, acc);
-          })
-          ->UseRealTime()
-          ->Unit(benchmark::kMicrosecond);
+      register_passes(name + "/one", n, flops, acc, [=] {
+        return [=, p = std::vector<double>(2 * n), st = std::vector<Status>(n)]() mutable {
+          for (std::size_t i = 0; i < n; ++i) {
+            search->run<double>(1, rows->data() + i * stride,
+                                search::Results<double>{p.data() + 2 * i, nullptr, st.data() + i}, 1);
+          }
+        };
+      });
       for (const int threads : args.threads) {
-        benchmark::RegisterBenchmark(
-            (name + "/batched/threads:" + std::to_string(threads)).c_str(),
-            [=](benchmark::State& state) {
-              std::vector<double> p(2 * n);
-              std::vector<Status> st(n);
-              for (auto _ : state) {
-                search->run<double>(n, rows->data(), search::Results<double>{p.data(), nullptr, st.data()},
-                                    threads);
-                benchmark::ClobberMemory();
-              }
-              state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(n));
-              set_counters(state, flops, acc);
-            })
-            ->UseRealTime()
-            ->Unit(benchmark::kMicrosecond);
+        register_passes(name + "/batched/threads:" + std::to_string(threads), n, flops, acc, [=] {
+          return [=, p = std::vector<double>(2 * n), st = std::vector<Status>(n)]() mutable {
+            search->run<double>(n, rows->data(), search::Results<double>{p.data(), nullptr, st.data()},
+                                threads);
+          };
+        });
       }
     }
   }

@@ -164,16 +164,24 @@ void history_fresh(benchmark::State& state) {
 }
 
 /// The increments after the first (the first, the tracker's fresh search, untimed).
+/// budget: the share of the nodes and increments answered within their movement budget (tracking.hpp, rule
+/// 4).
 void history_tracked(benchmark::State& state) {
   const History& h = history();
+  long within = 0, answers = 0;
   history_run(state, h.positions.size() - 1, [&](const contact::SearchOptions& options, auto& pairs) {
     state.PauseTiming();
     contact::SurfaceTracker tracker(options);
     tracker.step(h.master, h.normals, h.ids, h.positions[0], pairs);
     state.ResumeTiming();
-    for (std::size_t i = 1; i < h.positions.size(); ++i)
-      tracker.step(h.master, h.normals, h.ids, h.positions[i], pairs);
+    contact::TrackingCounts counts;
+    for (std::size_t i = 1; i < h.positions.size(); ++i) {
+      tracker.step(h.master, h.normals, h.ids, h.positions[i], pairs, &counts);
+      within += counts.budget;
+      answers += static_cast<long>(pairs.size());
+    }
   });
+  state.counters["budget"] = answers > 0 ? static_cast<double>(within) / static_cast<double>(answers) : 0.0;
 }
 
 /// The quadratic sheet (header): quad8 faces (`triangles` false) or tri6 faces, nodes on the doubled grid.

@@ -2,8 +2,9 @@
 succeed, and the exit status at the end (0 all passed, 1 a failure).
 
   sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
-  from check_support import Failures, run_or_exit
+  from check_support import Failures, run_or_exit, required_options
 """
+import argparse
 import os
 import shutil
 import subprocess
@@ -41,6 +42,15 @@ def run_or_exit(command, **kwargs):
     if p.returncode != 0:
         raise SystemExit(f"FAIL: {' '.join(command)} exited {p.returncode}:\n{p.stdout}\n{p.stderr}")
     return p
+
+
+def required_options(*names):
+    """The command line of a check whose options are all required (`names`, e.g. "--work"), parsed: the value of
+    "--make-scene" is .make_scene."""
+    parser = argparse.ArgumentParser()
+    for name in names:
+        parser.add_argument(name, required=True)
+    return parser.parse_args()
 
 
 def add_consumer_options(parser):

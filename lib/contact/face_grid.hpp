@@ -8,8 +8,10 @@
 // 27 times the cell lookup on the large history (results/cgal.md), and its reach had to add the largest
 // face's radius.
 //
-// The cell size is the faces' mean box side (at least 1e-300 of the extent), grown where the cells would
-// outnumber 4 x faces + 64 (a small body far from a large one): a cell then holds more faces, never fewer.
+// The cell size is half the faces' mean box side (at least 1e-300 of the extent), grown where the cells would
+// outnumber 16 x faces + 64 (a small body far from a large one): a cell then holds more faces, never fewer.
+// Half a side: a tracked node's query (a reach of its gap) reads a cell of a few faces; at a whole side, the
+// large history's tracked search and the tri3 block's (bench_cgal) took 7-10% longer.
 // Boxes may be inflated by a margin when the grid is built (tracking.hpp reuses a grid while every face's
 // box stays inside its inflated box at the build: a movement budget).
 #pragma once

@@ -130,47 +130,28 @@ contains
 
     m = contact%slaves
     fits = size(coords, 1) == 3 .and. size(coords, 2) == contact%nodes .and. size(status) == m .and. size(face) == m
+    if (present(owner)) fits = fits .and. size(owner) == m
+    if (present(location)) fits = fits .and. size(location) == m
+    if (present(param)) fits = fits .and. size(param, 1) == 2 .and. size(param, 2) == m
+    if (present(point)) fits = fits .and. size(point, 1) == 3 .and. size(point, 2) == m
+    if (present(gap)) fits = fits .and. size(gap) == m
+    if (present(normal)) fits = fits .and. size(normal, 1) == 3 .and. size(normal, 2) == m
+    ! The optional arrays go only where every array fits and there are slave nodes: no arrays for no slave nodes;
+    ! arrays that do not fit go as none at all, which the C++ class refuses on every rank (the other ranks must
+    ! take part in the collective error).
     owner_ptr = c_null_ptr
     location_ptr = c_null_ptr
     param_ptr = c_null_ptr
     point_ptr = c_null_ptr
     gap_ptr = c_null_ptr
     normal_ptr = c_null_ptr
-    if (present(owner)) then
-      fits = fits .and. size(owner) == m
-      owner_ptr = c_loc(owner)
-    end if
-    if (present(location)) then
-      fits = fits .and. size(location) == m
-      location_ptr = c_loc(location)
-    end if
-    if (present(param)) then
-      fits = fits .and. size(param, 1) == 2 .and. size(param, 2) == m
-      param_ptr = c_loc(param)
-    end if
-    if (present(point)) then
-      fits = fits .and. size(point, 1) == 3 .and. size(point, 2) == m
-      point_ptr = c_loc(point)
-    end if
-    if (present(gap)) then
-      fits = fits .and. size(gap) == m
-      gap_ptr = c_loc(gap)
-    end if
-    if (present(normal)) then
-      fits = fits .and. size(normal, 1) == 3 .and. size(normal, 2) == m
-      normal_ptr = c_loc(normal)
-    end if
-    if (m == 0 .or. .not. fits) then
-      ! No arrays for no slave nodes; arrays that do not fit go as none at all, which the C++ class refuses on
-      ! every rank (the other ranks must take part in the collective error).
-      owner_ptr = c_null_ptr
-      location_ptr = c_null_ptr
-      param_ptr = c_null_ptr
-      point_ptr = c_null_ptr
-      gap_ptr = c_null_ptr
-      normal_ptr = c_null_ptr
-    end if
     if (fits .and. m > 0) then
+      if (present(owner)) owner_ptr = c_loc(owner)
+      if (present(location)) location_ptr = c_loc(location)
+      if (present(param)) param_ptr = c_loc(param)
+      if (present(point)) point_ptr = c_loc(point)
+      if (present(gap)) gap_ptr = c_loc(gap)
+      if (present(normal)) normal_ptr = c_loc(normal)
       ierr = c_update(contact%handle, int(contact%nodes, c_size_t), c_loc(coords), int(m, c_size_t), c_loc(status), &
                       c_loc(face), owner_ptr, location_ptr, param_ptr, point_ptr, gap_ptr, normal_ptr)
     else if (fits .and. size(coords) > 0) then

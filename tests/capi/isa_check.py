@@ -12,7 +12,6 @@ mode), 0xc4 and 0xc5 are VEX (AVX, AVX2, FMA; LES and LDS are invalid in 64-bit 
 Usage: isa_check.py --objdump OBJDUMP --library LIB --variants baseline,avx2,avx512
 Exit 0 passed, 1 failed, 77 skipped (a CONTACTNN_NATIVE build: everything is the build machine's).
 """
-import argparse
 import collections
 import re
 import os
@@ -20,7 +19,7 @@ import subprocess
 import sys
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
-from check_support import Failures  # noqa: E402  (tests/check_support.py)
+from check_support import Failures, required_options  # noqa: E402  (tests/check_support.py)
 
 PREFIXES = {0x26, 0x2E, 0x36, 0x3E, 0x64, 0x65, 0x67}
 FUNCTION = re.compile(r"^[0-9a-f]+ <(.+)>:$")
@@ -49,11 +48,7 @@ def variant_of(function, variants):
 
 
 def main():
-    ap = argparse.ArgumentParser()
-    ap.add_argument("--objdump", required=True)
-    ap.add_argument("--library", required=True)
-    ap.add_argument("--variants", required=True)
-    a = ap.parse_args()
+    a = required_options("--objdump", "--library", "--variants")
     variants = a.variants.split(",")
     if variants == ["native"]:
         print("a CONTACTNN_NATIVE build: compiled for the build machine throughout, nothing to check")

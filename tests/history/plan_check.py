@@ -8,11 +8,13 @@ scripts/make-large-history (a prescribed motion, no solver), with plan files wri
   - the errors' exit codes (docs/tools.md): a malformed plan 3, a missing one 2, --surface against the plan's 2,
     a method the search cannot run 2, --plan with --method 2.
 """
-import argparse
 import csv
 import os
 import subprocess
 import sys
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+from check_support import required_options  # noqa: E402  (tests/check_support.py)
 
 PLAN = """[plan]
 schema_version = 1
@@ -65,12 +67,7 @@ def pairs(path):
 
 
 def main():
-    p = argparse.ArgumentParser()
-    p.add_argument("--replay", required=True)
-    p.add_argument("--gen-configs", required=True)
-    p.add_argument("--make-large-history", required=True)
-    p.add_argument("--work", required=True)
-    a = p.parse_args()
+    a = required_options("--replay", "--gen-configs", "--make-large-history", "--work")
     os.makedirs(a.work, exist_ok=True)
     run([sys.executable, a.make_large_history, "--output", a.work, "--slaves", "60", "--faces", "24", "--increments",
          "3"])

@@ -12,13 +12,15 @@ results file of another deck is refused (exit 3, the file named). Skipped (77) w
 
 Usage: replay_check.py --replay PATH --make-scene PATH --work DIR
 """
-import argparse
 import csv
 import os
 import shutil
 import subprocess
 import sys
 import xml.etree.ElementTree as ET
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+from check_support import required_options  # noqa: E402  (tests/check_support.py)
 
 
 def fail(message):
@@ -40,11 +42,7 @@ def read(path):
 
 
 def main():
-    p = argparse.ArgumentParser()
-    p.add_argument("--replay", required=True)
-    p.add_argument("--make-scene", required=True)
-    p.add_argument("--work", required=True)
-    a = p.parse_args()
+    a = required_options("--replay", "--make-scene", "--work")
     if shutil.which("ccx") is None:
         print("ccx (calculix-ccx) is not installed: skipped")
         return 77

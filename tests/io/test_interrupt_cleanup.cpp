@@ -26,12 +26,14 @@ fs::path fresh_dir(const std::string& name) {
 
 void touch(const fs::path& path) { std::ofstream(path) << "x"; }
 
-/// Runs `child` in a forked process and returns its wait status. The child ends with _exit(0) if `child`
-/// returns (it should have been ended by a signal before), _exit(99) if it throws.
+/// Runs `child` in a forked process, after install_interrupt_cleanup() there, and returns its wait status.
+/// The child ends with _exit(0) if `child` returns (it should have been ended by a signal before), _exit(99)
+/// if it throws.
 int in_child(const std::function<void()>& child) {
   const pid_t pid = ::fork();
   if (pid == 0) {
     try {
+      install_interrupt_cleanup();
       child();
     } catch (...) {
       ::_exit(99);
@@ -46,7 +48,6 @@ int in_child(const std::function<void()>& child) {
 TEST(InterruptCleanup, SigtermRemovesRegisteredFilesAndDirectoriesAndExits143) {
   const fs::path dir = fresh_dir("sigterm");
   const int status = in_child([&] {
-    install_interrupt_cleanup();
     const TemporaryRegistration file(dir / ".out.csv.1.0.tmp");
     touch(dir / ".out.csv.1.0.tmp");
     const TemporaryRegistration directory(dir / ".report.1.1.tmp", true);
@@ -67,7 +68,6 @@ TEST(InterruptCleanup, SigtermRemovesRegisteredFilesAndDirectoriesAndExits143) {
 TEST(InterruptCleanup, SigintDuringAnAtomicOutputLeavesNoTemporaryAndExits130) {
   const fs::path dir = fresh_dir("sigint");
   const int status = in_child([&] {
-    install_interrupt_cleanup();
     AtomicOutput output(dir / "out.csv");
     touch(output.write_path());
     ::raise(SIGINT);
@@ -81,7 +81,6 @@ TEST(InterruptCleanup, SigintDuringAnAtomicOutputLeavesNoTemporaryAndExits130) {
 TEST(InterruptCleanup, ASignalInsideDeferInterruptsActsAfterTheCommits) {
   const fs::path dir = fresh_dir("deferred");
   const int status = in_child([&] {
-    install_interrupt_cleanup();
     auto a = write_text_uncommitted(dir / "a.h5", "A");
     auto b = write_text_uncommitted(dir / "a.h5.config.toml", "B");
     {
@@ -103,7 +102,6 @@ TEST(InterruptCleanup, ASignalInsideDeferInterruptsActsAfterTheCommits) {
 TEST(InterruptCleanup, ASignalToAnotherThreadIsHandledOnTheMainThread) {
   const fs::path dir = fresh_dir("other-thread");
   const int status = in_child([&] {
-    install_interrupt_cleanup();
     const TemporaryRegistration file(dir / ".x.tmp");
     touch(dir / ".x.tmp");
     std::thread worker([] {

@@ -103,6 +103,14 @@ double param_error(const Output<double>& out, std::size_t i, const dataset::Labe
                   std::abs(out.param[2 * i + 1] - label.param[1]));
 }
 
+/// Query i is ok at its label's point: the same status, coordinates and gap, exact up to the rounding of the
+/// placement (coordinates ~10 element sizes from the origin; size is the element's).
+void expect_label_point(const Output<double>& out, std::size_t i, const dataset::Label& label, double size) {
+  EXPECT_EQ(out.status[i], Status::kOk) << "query " << i;
+  EXPECT_LT(param_error(out, i, label), 1e-10) << "query " << i;
+  EXPECT_NEAR(out.gap[i], label.gap, 1e-10 * size) << "query " << i;
+}
+
 // ---- network ----
 
 /// The network method against its definition, for every query: the reference frame, mlp::predict on its
@@ -645,19 +653,31 @@ TEST(NewtonMethod, ACollapsedGregorySegmentIsDegenerateAsItsLabelForEveryMethod)
 
 // ---- closed form ----
 
-TEST(ClosedForm, IsExactOnFlatSegmentsInsideAndOutside) {
-  std::mt19937_64 rng(13);
+/// `attempts` random bilinear domain quads that `flatten` makes flat (it answers false for a quad to skip),
+/// each with its slave above or below P(xi, eta), |xi|, |eta| < reach (inside or beyond an edge), placed at
+/// random: SPEC 6 rows.
+template <class Flatten>
+std::vector<double> flat_queries(int attempts, std::uint64_t seed, double reach, Flatten flatten) {
+  std::mt19937_64 rng(seed);
   std::vector<double> raw;
   std::uniform_real_distribution<double> u(-1.0, 1.0);
-  for (int i = 0; i < 500; ++i) {
-    // A flat convex quad, a slave above or below P(xi, eta) with |xi|, |eta| < 1.4 (inside or beyond an
-    // edge), placed at random.
+  for (int i = 0; i < attempts; ++i) {
     Configuration local = testing::random_domain_configuration(kBilinear, rng);
-    local.nodes[2].z() = 0.0;
+    if (!flatten(local)) continue;
     local.slave =
-        geometry::BilinearPatch(local.nodes).position(1.4 * u(rng), 1.4 * u(rng)) + Vec3(0, 0, u(rng));
+        geometry::BilinearPatch(local.nodes).position(reach * u(rng), reach * u(rng)) + Vec3(0, 0, u(rng));
     testing::append_raw(testing::place(local, rng, testing::random_order(rng)), kBilinear, raw);
   }
+  return raw;
+}
+
+TEST(ClosedForm, IsExactOnFlatSegmentsInsideAndOutside) {
+  // A flat convex quad, a slave above or below P(xi, eta) with |xi|, |eta| < 1.4 (inside or beyond an edge),
+  // placed at random.
+  const std::vector<double> raw = flat_queries(500, 13, 1.4, [](Configuration& local) {
+    local.nodes[2].z() = 0.0;
+    return true;
+  });
   const Output<double> out = run_method(kBilinear, "closed_form", raw);
   const std::vector<dataset::Label> labels = labels_of(raw, kBilinear);
   int inside = 0, outside = 0;
@@ -666,11 +686,8 @@ TEST(ClosedForm, IsExactOnFlatSegmentsInsideAndOutside) {
     const double size = (c.nodes[1] - c.nodes[0]).norm();
     EXPECT_EQ(out.iterations[i], 0);
     if (labels[i].status == Status::kOk) {
-      // Exact up to the rounding of the placement (coordinates ~10 element sizes from the origin).
       ++inside;
-      EXPECT_EQ(out.status[i], Status::kOk) << "query " << i;
-      EXPECT_LT(param_error(out, i, labels[i]), 1e-10) << "query " << i;
-      EXPECT_NEAR(out.gap[i], labels[i].gap, 1e-10 * size) << "query " << i;
+      expect_label_point(out, i, labels[i], size);
     } else if (labels[i].status == Status::kOutside) {
       // Beyond an edge the extended map covers the plane twice (it folds): both preimages of S's projection
       // are stationary points at the same distance |gap|, in opposite orientations. The closed form takes the
@@ -778,26 +795,24 @@ Real3 point_of(const Vec3& v) { return {v.x(), v.y(), v.z()}; }
 
 /// Barycentric weights (a, b, c) of the point of triangle a b c nearest p (Ericson).
 std::array<long double, 3> closest_weights(const Real3& p, const Real3& a, const Real3& b, const Real3& c) {
-  const Real3 ab = minus(b, a), ac = minus(c, a), ap = minus(p, a);
-  const long double d1 = dot(ab, ap), d2 = dot(ac, ap);
+  // Every quantity first (the reference need not stop early), then the regions in Ericson's order: a, b, edge
+  // ab, c, edge ac, edge bc, the face.
+  const Real3 ab = minus(b, a), ac = minus(c, a);
+  const Real3 ap = minus(p, a), bp = minus(p, b), cp = minus(p, c);
+  const long double d1 = dot(ab, ap), d2 = dot(ac, ap), d3 = dot(ab, bp), d4 = dot(ac, bp), d5 = dot(ab, cp),
+                    d6 = dot(ac, cp);
+  const long double va = d3 * d6 - d5 * d4, vb = d5 * d2 - d1 * d6, vc = d1 * d4 - d3 * d2;
   if (d1 <= 0 && d2 <= 0) return {1, 0, 0};
-  const Real3 bp = minus(p, b);
-  const long double d3 = dot(ab, bp), d4 = dot(ac, bp);
   if (d3 >= 0 && d4 <= d3) return {0, 1, 0};
-  const long double vc = d1 * d4 - d3 * d2;
   if (vc <= 0 && d1 >= 0 && d3 <= 0) {
     const long double v = d1 / (d1 - d3);
     return {1 - v, v, 0};
   }
-  const Real3 cp = minus(p, c);
-  const long double d5 = dot(ab, cp), d6 = dot(ac, cp);
   if (d6 >= 0 && d5 <= d6) return {0, 0, 1};
-  const long double vb = d5 * d2 - d1 * d6;
   if (vb <= 0 && d2 >= 0 && d6 <= 0) {
     const long double w = d2 / (d2 - d6);
     return {1 - w, 0, w};
   }
-  const long double va = d3 * d6 - d5 * d4;
   if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) {
     const long double w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
     return {0, 1 - w, w};
@@ -1054,17 +1069,10 @@ TEST(FourTriangles, OnAFlatParallelogramIsTheBilinearFacetsPointWhereSProjectsIn
   // A flat parallelogram is affine in (xi, eta), and O = P(0, 0): the four triangles are the facet and their
   // piecewise-linear parametrisation its own. Against the labels: the same point, coordinates and gap where
   // S projects inside; outside where it projects beyond, at the same |S - P| only if P is the nearest point.
-  std::mt19937_64 rng(47);
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
-  std::vector<double> raw;
-  for (int i = 0; i < 600; ++i) {
-    Configuration local = testing::random_domain_configuration(kBilinear, rng);
+  const std::vector<double> raw = flat_queries(600, 47, 1.3, [](Configuration& local) {
     local.nodes[2] = local.nodes[1] + local.nodes[3];  // C = B + D - A with A at the origin
-    if (geometry::is_degenerate_segment(local.nodes)) continue;
-    local.slave =
-        geometry::BilinearPatch(local.nodes).position(1.3 * u(rng), 1.3 * u(rng)) + Vec3(0, 0, u(rng));
-    testing::append_raw(testing::place(local, rng, testing::random_order(rng)), kBilinear, raw);
-  }
+    return !geometry::is_degenerate_segment(local.nodes);
+  });
   const Output<double> out = run_method(kBilinear, "four_triangles", raw);
   const std::vector<dataset::Label> labels = labels_of(raw, kBilinear);
   int inside = 0, outside = 0;
@@ -1073,9 +1081,7 @@ TEST(FourTriangles, OnAFlatParallelogramIsTheBilinearFacetsPointWhereSProjectsIn
     const double size = (c.nodes[1] - c.nodes[0]).norm() + (c.nodes[3] - c.nodes[0]).norm();
     if (labels[i].status == Status::kOk) {
       ++inside;
-      EXPECT_EQ(out.status[i], Status::kOk) << "query " << i;
-      EXPECT_LT(param_error(out, i, labels[i]), 1e-10) << "query " << i;
-      EXPECT_NEAR(out.gap[i], labels[i].gap, 1e-10 * size) << "query " << i;
+      expect_label_point(out, i, labels[i], size);
     } else if (labels[i].status == Status::kOutside) {
       ++outside;
       const double beyond = std::max(std::abs(labels[i].param[0]), std::abs(labels[i].param[1])) - 1.0;

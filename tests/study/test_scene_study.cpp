@@ -13,14 +13,13 @@ namespace {
 
 MethodMeasurement measured(const std::string& name, double effective, double ns, bool reaches,
                            int network = -1) {
-  MethodMeasurement m;
-  m.name = name;
-  m.method = name.substr(0, name.find('['));
-  m.effective_mean = effective;
-  m.batched_ns = ns;
-  m.reaches = reaches;
-  m.network = network;
-  return m;
+  return {.name = name,
+          .method = name.substr(0, name.find('[')),
+          .network = network,
+          .errors = {},
+          .effective_mean = effective,
+          .batched_ns = ns,
+          .reaches = reaches};
 }
 
 TEST(ChoosePlan, FastestAmongThoseThatReachTheTarget) {
