@@ -703,7 +703,8 @@ bool SurfaceSearcher::nearest_within(long slave_id, const Vec3& world_slave, con
   const Vec3 slave = world_slave / m.unit;
   const int f = hint.face;
   if (m.grid == nullptr || f < 0 || f >= static_cast<int>(m.index.centres.size()) || !slave.allFinite() ||
-      (certificate_of(m.index, f) == nullptr && m.master.face_type(f) != mesh::FaceType::kTri3)) {
+      (certificate_of(m.index, f) == nullptr && quadratic_of(m.index, f) == nullptr &&
+       m.master.face_type(f) != mesh::FaceType::kTri3)) {
     return false;
   }
   KnownPoint known;
