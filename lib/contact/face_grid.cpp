@@ -42,7 +42,8 @@ void FaceGrid::build(std::span<const Vec3> box_lo, std::span<const Vec3> box_hi,
     return;
   }
   const Vec3 extent = high_ - low_;
-  cell_ = std::max(0.5 * side_sum / static_cast<double>(finite), 1e-300 * std::max(extent.maxCoeff(), 1e-300));
+  cell_ =
+      std::max(0.5 * side_sum / static_cast<double>(finite), 1e-300 * std::max(extent.maxCoeff(), 1e-300));
   // Cells of side cell_, grown until they fit the budget; at most 2^20 along an axis.
   for (;;) {
     double cells = 1.0;
