@@ -19,6 +19,13 @@
 // search before the grid and the certificate (NarrowPhase::kReference: a k-d tree, the reference projection
 // on every face, the tracker's lists). scripts/bench-surface runs them and writes results/surface-search.md.
 //
+// quadratic/quad8_fresh, quadratic/tri6_fresh and their _tracked: the surface search and the tracker (as
+// global/surface and global/surface_tracked) on a wavy sheet of quadratic faces (Issue 38: the
+// QuadraticCertificate) in the manner of the large history: 120 x 120 unit quad8 faces (C3D20 tops) or cells
+// of two tri6 each (C3D10 tops), every node (mid-side nodes included) on z = 0.2 sin(x / 5) cos(y / 7); a
+// square grid of at least --slaves slave nodes at spacing 0.3 over its middle, 0.05 above it; tracked: moved
+// 0.001 down per increment. Arguments: threads; narrow 0 certified, 1 the reference on every face.
+//
 // Counters per benchmark: ns_per_slave (wall time / slave nodes), candidates (mean faces whose closest point
 // was computed per slave node for the surface search; segments that passed the segment test for the
 // nearest-node search), found (slave nodes with a point).
@@ -177,6 +184,66 @@ void history_tracked(benchmark::State& state) {
   state.counters["budget"] = answers > 0 ? static_cast<double>(within) / static_cast<double>(answers) : 0.0;
 }
 
+/// The quadratic sheet (header): quad8 faces (`triangles` false) or tri6 faces, nodes on the doubled grid.
+Scene make_quadratic_scene(long slave_count, bool triangles) {
+  const int cells = 120;
+  const auto height = [](double x, double y) { return 0.2 * std::sin(x / 5.0) * std::cos(y / 7.0); };
+  Scene s;
+  mesh::SurfaceMesh& m = s.master;
+  // Node (a, b) of the doubled grid at (a / 2, b / 2); a quad8 sheet has no node at a cell's centre.
+  const int n = 2 * cells + 1;
+  std::vector<int> index(static_cast<std::size_t>(n) * static_cast<std::size_t>(n), -1);
+  for (int b = 0; b < n; ++b) {
+    for (int a = 0; a < n; ++a) {
+      if (!triangles && a % 2 == 1 && b % 2 == 1) continue;
+      index[static_cast<std::size_t>(a + n * b)] = m.node_count();
+      m.node_ids.push_back(static_cast<long>(m.node_ids.size()) + 1);
+      m.mesh_nodes.push_back(static_cast<int>(m.mesh_nodes.size()));
+      m.positions.emplace_back(0.5 * a, 0.5 * b, height(0.5 * a, 0.5 * b));
+    }
+  }
+  const auto at = [&](int a, int b) { return index[static_cast<std::size_t>(a + n * b)]; };
+  long element = 1;
+  for (int j = 0; j < cells; ++j) {
+    for (int i = 0; i < cells; ++i) {
+      const int a = 2 * i, b = 2 * j;
+      if (!triangles) {
+        m.segments.push_back({at(a, b), at(a + 2, b), at(a + 2, b + 2), at(a, b + 2)});
+        m.segment_midsides.push_back({at(a + 1, b), at(a + 2, b + 1), at(a + 1, b + 2), at(a, b + 1)});
+        m.segment_faces.push_back({static_cast<int>(element - 1), 2});
+        m.segment_element_ids.push_back(element++);
+        continue;
+      }
+      // Two triangles across the diagonal (a, b)-(a + 2, b + 2), its mid-side node the cell's centre.
+      m.extra_faces.push_back({at(a, b), at(a + 2, b), at(a + 2, b + 2), -1});
+      m.extra_face_midsides.push_back({at(a + 1, b), at(a + 2, b + 1), at(a + 1, b + 1), -1});
+      m.extra_faces.push_back({at(a, b), at(a + 2, b + 2), at(a, b + 2), -1});
+      m.extra_face_midsides.push_back({at(a + 1, b + 1), at(a + 1, b + 2), at(a, b + 1), -1});
+      for (int k = 0; k < 2; ++k) {
+        m.extra_face_faces.push_back({static_cast<int>(element - 1), 1});
+        m.extra_face_element_ids.push_back(element++);
+      }
+    }
+  }
+  mesh::set_adjacency(m);
+  s.normals = mesh::node_normals(m);
+  const auto side = static_cast<long>(std::ceil(std::sqrt(static_cast<double>(slave_count))));
+  const double spacing = 0.3, offset = 0.5 * (cells - spacing * static_cast<double>(side - 1));
+  for (long k = 0; k < side * side; ++k) {
+    const double x = offset + spacing * static_cast<double>(k % side),
+                 y = offset + spacing * static_cast<double>(k / side);
+    s.ids.push_back(k + 1);
+    s.slaves.emplace_back(x, y, height(x, y) + 0.05);
+  }
+  return s;
+}
+
+const Scene& quadratic_scene(bool triangles) {
+  static const Scene quad8 = make_quadratic_scene(g_slaves, false);
+  static const Scene tri6 = make_quadratic_scene(g_slaves, true);
+  return triangles ? tri6 : quad8;
+}
+
 const Scene& scene() {
   static const Scene s = make_scene(g_slaves);
   return s;
@@ -247,6 +314,44 @@ void surface_tracked(benchmark::State& state) {
     benchmark::DoNotOptimize(pairs.data());
   }
   report(state, pairs);
+}
+
+/// The quadratic sheet's fresh search (`triangles`: tri6, else quad8), narrow state.range(1).
+void quadratic_fresh(benchmark::State& state, bool triangles) {
+  const Scene& s = quadratic_scene(triangles);
+  omp_set_num_threads(static_cast<int>(state.range(0)));
+  contact::SearchOptions options;
+  options.narrow = state.range(1) == 0 ? contact::NarrowPhase::kCertified : contact::NarrowPhase::kReference;
+  std::vector<contact::Contact> pairs;
+  for (auto _ : state) {
+    contact::surface_search(s.master, s.normals, s.ids, s.slaves, options, pairs);
+    benchmark::DoNotOptimize(pairs.data());
+  }
+  report(state, pairs);
+}
+
+/// The same tracked: the slave nodes move 0.001 down per increment; one iteration is one increment. budget:
+/// as history/tracked's.
+void quadratic_tracked(benchmark::State& state, bool triangles) {
+  const Scene& s = quadratic_scene(triangles);
+  omp_set_num_threads(static_cast<int>(state.range(0)));
+  contact::SearchOptions options;
+  options.narrow = state.range(1) == 0 ? contact::NarrowPhase::kCertified : contact::NarrowPhase::kReference;
+  contact::SurfaceTracker tracker(options);
+  std::vector<geometry::Vec3> slaves = s.slaves;
+  std::vector<contact::Contact> pairs;
+  tracker.step(s.master, s.normals, s.ids, slaves, pairs);
+  long within = 0, answers = 0;
+  for (auto _ : state) {
+    for (auto& x : slaves) x.z() -= 0.001;
+    contact::TrackingCounts counts;
+    tracker.step(s.master, s.normals, s.ids, slaves, pairs, &counts);
+    within += counts.budget;
+    answers += static_cast<long>(pairs.size());
+    benchmark::DoNotOptimize(pairs.data());
+  }
+  report(state, pairs);
+  state.counters["budget"] = answers > 0 ? static_cast<double>(within) / static_cast<double>(answers) : 0.0;
 }
 
 void nearest_node(benchmark::State& state) {
@@ -320,6 +425,27 @@ int main(int argc, char** argv) {
               ->UseRealTime()
               ->Unit(benchmark::kMillisecond);
         }
+      }
+    }
+  }
+  // Issue 38: the quadratic sheets, one thread, certified (narrow 0) beside the reference (narrow 1).
+  for (const bool triangles : {false, true}) {
+    for (const bool tracked : {false, true}) {
+      const std::string name =
+          std::string("quadratic/") + (triangles ? "tri6" : "quad8") + (tracked ? "_tracked" : "_fresh");
+      for (int narrow : {0, 1}) {
+        const auto run = [triangles, tracked](benchmark::State& state) {
+          if (tracked) {
+            quadratic_tracked(state, triangles);
+          } else {
+            quadratic_fresh(state, triangles);
+          }
+        };
+        benchmark::RegisterBenchmark(name.c_str(), run)
+            ->Args({1, narrow})
+            ->ArgNames({"threads", "narrow"})
+            ->UseRealTime()
+            ->Unit(benchmark::kMillisecond);
       }
     }
   }

@@ -80,9 +80,13 @@ std::array<Vec3, 3> triangle_nodes(const mesh::SurfaceMesh& master, int f) {
 projection::FaceClosestPoint closest_on_face(const mesh::SurfaceMesh& master, std::span<const Vec3> normals,
                                              const SearchOptions& options, int f, const Vec3& slave,
                                              const BilinearCertificate* certificate,
-                                             const std::array<double, 2>* start, int* reference_count) {
+                                             const std::array<double, 2>* start, int* reference_count,
+                                             const QuadraticCertificate* quadratic) {
   if (certificate != nullptr && certificate->lambda_floor > 0.0) {
     if (auto p = certificate->closest_point(slave, options.projection, start)) return *p;
+  }
+  if (quadratic != nullptr && quadratic->lambda_floor > 0.0) {
+    if (auto p = quadratic->closest_point(slave, options.projection, start)) return *p;
   }
   if (master.face_type(f) == mesh::FaceType::kTri3) {
     return projection::closest_point_on_triangle(triangle_nodes(master, f), slave);

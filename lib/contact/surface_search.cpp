@@ -14,6 +14,7 @@
 #include "contact/face_surface.hpp"
 #include "contact/narrow_phase.hpp"
 #include "contact/point_cloud.hpp"
+#include "contact/quadratic_certificate.hpp"
 #include "core/error.hpp"
 #include "geometry/bilinear_patch.hpp"
 #include "geometry/gregory_patch.hpp"
@@ -59,6 +60,8 @@ struct FaceIndex {
   /// The tri3 faces prepared (projection::PreparedTriangle; every face's slot, where the surface has a tri3
   /// face and the search is certified): their closest points without rebuilding their edges per slave.
   std::vector<projection::PreparedTriangle> triangles;
+  /// The same for the quad8 and tri6 faces (empty where the master has none or under kReference).
+  std::vector<QuadraticCertificate> quadratic;
 
   [[nodiscard]] std::span<const int> faces_at(int node) const {
     const auto n = static_cast<std::size_t>(node);
@@ -82,6 +85,13 @@ FaceIndex index_faces(const mesh::SurfaceMesh& master, std::span<const Vec3> nor
   for (std::size_t f = 0; f < n && !any_triangle; ++f)
     any_triangle = master.face_type(static_cast<int>(f)) == mesh::FaceType::kTri3;
   index.triangles.resize(options.narrow == NarrowPhase::kCertified && any_triangle ? n : 0);
+  const auto quadratic = [&](std::size_t f) {
+    const mesh::FaceType type = master.face_type(static_cast<int>(f));
+    return type == mesh::FaceType::kQuad8 || type == mesh::FaceType::kTri6;
+  };
+  bool any_quadratic = false;
+  for (std::size_t f = 0; f < n && !any_quadratic; ++f) any_quadratic = quadratic(f);
+  index.quadratic.resize(options.narrow == NarrowPhase::kCertified && any_quadratic ? n : 0);
   // The faces at each node, counted, then filled in face order.
   index.node_offsets.assign(master.positions.size() + 1, 0);
   for (std::size_t f = 0; f < n; ++f) {
@@ -143,15 +153,13 @@ FaceIndex index_faces(const mesh::SurfaceMesh& master, std::span<const Vec3> nor
     }
     // A curved face lies in the convex hull of its control points, not of its nodes: the sphere holds those.
     if (nodes.type == mesh::FaceType::kQuad8) {
-      for (const Vec3& x :
-           geometry::SerendipityQuad(face_positions<8>(master, nodes)).bezier_control_points()) {
-        include(x);
-      }
+      const geometry::SerendipityQuad quad8(face_positions<8>(master, nodes));
+      for (const Vec3& x : quad8.bezier_control_points()) include(x);
+      if (!index.quadratic.empty()) index.quadratic[f] = QuadraticCertificate::prepare(quad8);
     } else if (nodes.type == mesh::FaceType::kTri6) {
-      for (const Vec3& x :
-           geometry::QuadraticTriangle(face_positions<6>(master, nodes)).bezier_control_points()) {
-        include(x);
-      }
+      const geometry::QuadraticTriangle tri6(face_positions<6>(master, nodes));
+      for (const Vec3& x : tri6.bezier_control_points()) include(x);
+      if (!index.quadratic.empty()) index.quadratic[f] = QuadraticCertificate::prepare(tri6);
     } else if (corners.size() == 4 && kind_of(master, options, face) == SurfaceKind::kGregory) {
       const geometry::Configuration config = face_configuration(master, normals, SurfaceKind::kGregory, face);
       if (!geometry::surface_defect(config, SurfaceKind::kGregory)) {
@@ -224,6 +232,13 @@ const BilinearCertificate* certificate_of(const FaceIndex& index, int face) {
   return c.lambda_floor > 0.0 ? &c : nullptr;
 }
 
+/// Face f's quadratic certificate, or null where it has none (kReference, not a quad8 or tri6, or folded).
+const QuadraticCertificate* quadratic_of(const FaceIndex& index, int face) {
+  if (index.quadratic.empty()) return nullptr;
+  const QuadraticCertificate& c = index.quadratic[static_cast<std::size_t>(face)];
+  return c.lambda_floor > 0.0 ? &c : nullptr;
+}
+
 /// closest_on_face for face f of an indexed state: `checked` (the options with face_checked) where the index
 /// checked the face, and its certificate where it has one. With options.interior, its method's point first
 /// where it gives one within `capture` (narrow_phase.hpp; beyond, the face's exact point may still be
@@ -241,7 +256,7 @@ projection::FaceClosestPoint closest_on_indexed_face(
                                                           slave);
   const SearchOptions& face_options = index.checked[static_cast<std::size_t>(f)] != 0 ? checked : options;
   return closest_on_face(master, normals, face_options, f, slave, certificate_of(index, f), start,
-                         reference_count);
+                         reference_count, quadratic_of(index, f));
 }
 
 /// |S - c_f| - r_f and the distance to face f's box, the larger (SurfaceSearcher::lower_bound; the sphere's
@@ -646,7 +661,7 @@ void SurfaceSearcher::nearest_fresh(long slave_id, const Vec3& world_slave,
   double reach = m.capture;
   if (nearest < 0) {
     // No face in the cells around S: the scan gathers over the capture distance.
-  } else if (certificate_of(m.index, nearest) != nullptr ||
+  } else if (certificate_of(m.index, nearest) != nullptr || quadratic_of(m.index, nearest) != nullptr ||
              m.master.face_type(nearest) == mesh::FaceType::kTri3) {
     known.face = nearest;
     known.point = closest_on_indexed_face(m.master, m.normals, m.options, m.checked_options, m.index, nearest,
@@ -703,7 +718,8 @@ bool SurfaceSearcher::nearest_within(long slave_id, const Vec3& world_slave, con
   const Vec3 slave = world_slave / m.unit;
   const int f = hint.face;
   if (m.grid == nullptr || f < 0 || f >= static_cast<int>(m.index.centres.size()) || !slave.allFinite() ||
-      (certificate_of(m.index, f) == nullptr && m.master.face_type(f) != mesh::FaceType::kTri3)) {
+      (certificate_of(m.index, f) == nullptr && quadratic_of(m.index, f) == nullptr &&
+       m.master.face_type(f) != mesh::FaceType::kTri3)) {
     return false;
   }
   KnownPoint known;

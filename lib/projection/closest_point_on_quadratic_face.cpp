@@ -313,28 +313,90 @@ std::vector<std::array<double, 2>> interior_starts(const Face& face, const Vec3&
                             : sampled_minima(face, slave, options.starts_per_axis, triangle);
 }
 
-/// Steps 2-3: the interior's minimum (moved onto the face by `keep`) against the closest point of each of
-/// the face's `edges` quadratic edges, ends included; the nearest wins (strictly nearer replaces: ties keep
-/// the earlier). Writes out.param (and out.iterations from the interior); returns the distance, infinite when
-/// there is none.
+/// Steps 2-3: the interior's minimum (`interior`, moved onto the face by `keep`; null: none) against the
+/// closest point of each of the face's `edges` quadratic edges, ends included; the nearest wins (strictly
+/// nearer replaces: ties keep the earlier). Writes out.param (and out.iterations from the interior); returns
+/// the distance, infinite when there is none. `edges_farther`: the edges are known to lose to the interior.
 template <class Face, class Keep>
-double nearest_of_interior_and_edges(const Face& face, const Vec3& slave, const Interior& interior,
-                                     const Keep& keep, int edges, FaceClosestPoint& out) {
+double nearest_of_interior_and_edges(const Face& face, const Vec3& slave,
+                                     const std::array<double, 2>* interior, int iterations, const Keep& keep,
+                                     int edges, FaceClosestPoint& out, bool* from_interior,
+                                     bool edges_farther) {
   double best = std::numeric_limits<double>::infinity();
-  if (interior.found) {
-    out.param = keep(interior.param);
-    out.iterations = interior.iterations;
+  bool interior_wins = false;
+  if (interior != nullptr) {
+    out.param = keep(*interior);
+    out.iterations = iterations;
     best = (slave - face.position(out.param[0], out.param[1])).norm();
+    interior_wins = true;
   }
-  for (int edge = 0; edge < edges; ++edge) {
+  for (int edge = 0; edge < (interior != nullptr && edges_farther ? 0 : edges); ++edge) {
     const EdgePoint e = closest_point_on_quadratic_edge(face, edge, slave);
     if (e.distance < best) {
       best = e.distance;
       out.param = e.param;
+      interior_wins = false;
     }
   }
+  if (from_interior != nullptr) *from_interior = interior_wins;
   return best;
 }
+
+std::array<double, 2> onto_square(const std::array<double, 2>& p) {
+  return std::array<double, 2>{std::clamp(p[0], -1.0, 1.0), std::clamp(p[1], -1.0, 1.0)};
+}
+
+}  // namespace
+
+FaceClosestPoint nearest_of_interior_and_quadratic_edges(const SerendipityQuad& face, const Vec3& slave,
+                                                         const std::array<double, 2>* interior,
+                                                         int iterations, bool* from_interior,
+                                                         bool edges_farther) {
+  FaceClosestPoint out;
+  if (!std::isfinite(nearest_of_interior_and_edges(face, slave, interior, iterations, onto_square, kQuadEdges,
+                                                   out, from_interior, edges_farther))) {
+    return out;  // invalid
+  }
+  locate_on_quad({-1.0, 1.0}, out);
+  finish(face, slave, out);
+  return out;
+}
+
+FaceClosestPoint nearest_of_interior_and_quadratic_edges(const QuadraticTriangle& face, const Vec3& slave,
+                                                         const std::array<double, 2>* interior,
+                                                         int iterations, bool* from_interior,
+                                                         bool edges_farther) {
+  FaceClosestPoint out;
+  if (!std::isfinite(nearest_of_interior_and_edges(face, slave, interior, iterations, onto_triangle,
+                                                   kTriangleEdges, out, from_interior, edges_farther))) {
+    return out;  // invalid
+  }
+  locate_on_triangle(out);
+  finish(face, slave, out);
+  return out;
+}
+
+FaceClosestPoint quadratic_face_point(const SerendipityQuad& face, const Vec3& slave,
+                                      const std::array<double, 2>& param, int iterations) {
+  FaceClosestPoint out;
+  out.param = param;
+  out.iterations = iterations;
+  locate_on_quad({-1.0, 1.0}, out);
+  finish(face, slave, out);
+  return out;
+}
+
+FaceClosestPoint quadratic_face_point(const QuadraticTriangle& face, const Vec3& slave,
+                                      const std::array<double, 2>& param, int iterations) {
+  FaceClosestPoint out;
+  out.param = param;
+  out.iterations = iterations;
+  locate_on_triangle(out);
+  finish(face, slave, out);
+  return out;
+}
+
+namespace {
 
 FaceClosestPoint closest_point_on_serendipity_quad_local(const SerendipityQuad& face, const Vec3& slave,
                                                          const ProjectionOptions& options) {
@@ -350,17 +412,11 @@ FaceClosestPoint closest_point_on_serendipity_quad_local(const SerendipityQuad& 
   const auto inside = [&](const std::array<double, 2>& p) {
     return p[0] >= -1.0 - margin && p[0] <= 1.0 + margin && p[1] >= -1.0 - margin && p[1] <= 1.0 + margin;
   };
-  const auto keep = [](const std::array<double, 2>& p) {
-    return std::array<double, 2>{std::clamp(p[0], -1.0, 1.0), std::clamp(p[1], -1.0, 1.0)};
-  };
-  const Interior interior = interior_minimum(face, slave, starts, keep, 2.0, inside, options);
+  const Interior interior = interior_minimum(face, slave, starts, onto_square, 2.0, inside, options);
   if (interior.invalid) return out;
   // 2. The edges, ends included; 3. the nearest wins.
-  if (!std::isfinite(nearest_of_interior_and_edges(face, slave, interior, keep, kQuadEdges, out))) return out;
-
-  locate_on_quad({-1.0, 1.0}, out);
-  finish(face, slave, out);
-  return out;
+  return nearest_of_interior_and_quadratic_edges(face, slave, interior.found ? &interior.param : nullptr,
+                                                 interior.iterations);
 }
 
 FaceClosestPoint closest_point_on_quadratic_triangle_local(const QuadraticTriangle& face, const Vec3& slave,
@@ -383,14 +439,8 @@ FaceClosestPoint closest_point_on_quadratic_triangle_local(const QuadraticTriang
   const Interior interior = interior_minimum(face, slave, starts, onto_triangle, 1.0, inside, options);
   if (interior.invalid) return out;
   // 2. The edges; 3. the nearest wins.
-  const auto keep = [](const std::array<double, 2>& p) { return onto_triangle(p); };
-  if (!std::isfinite(nearest_of_interior_and_edges(face, slave, interior, keep, kTriangleEdges, out))) {
-    return out;  // invalid
-  }
-
-  locate_on_triangle(out);
-  finish(face, slave, out);
-  return out;
+  return nearest_of_interior_and_quadratic_edges(face, slave, interior.found ? &interior.param : nullptr,
+                                                 interior.iterations);
 }
 
 /// The face and the slave moved so that the face's first node is the origin: every value then carries the

@@ -49,6 +49,29 @@ inline constexpr int kTriangleEdges = 3;
                                                                    const Vec3& slave,
                                                                    const ProjectionOptions& options = {});
 
+/// Steps 2-3 of closest_point_on_serendipity_quad (closest_point_on_quadratic_triangle) given step 1's
+/// answer, on `face` as given (those functions pass it moved to its first node): `interior` the converged
+/// interior point (moved onto the closed face here; null: none) and `iterations` its Newton iterations. The
+/// nearest of it and the edge points, located and reported as those functions do; status invalid where a
+/// value is not finite. For faster interior solvers that must answer as the reference does (lib/contact's
+/// QuadraticCertificate). `from_interior` (optional): whether the interior point won. `edges_farther`: the
+/// caller has proved every edge point farther than the interior one by more than the rounding of either
+/// distance; the edges are then not computed.
+[[nodiscard]] FaceClosestPoint nearest_of_interior_and_quadratic_edges(
+    const geometry::SerendipityQuad& face, const Vec3& slave, const std::array<double, 2>* interior,
+    int iterations, bool* from_interior = nullptr, bool edges_farther = false);
+[[nodiscard]] FaceClosestPoint nearest_of_interior_and_quadratic_edges(
+    const geometry::QuadraticTriangle& face, const Vec3& slave, const std::array<double, 2>* interior,
+    int iterations, bool* from_interior = nullptr, bool edges_farther = false);
+
+/// The report of those functions for the point `param` of `face` (on the closed face): param, location,
+/// point, unit normal, distance and status as they set them, `iterations` as given.
+[[nodiscard]] FaceClosestPoint quadratic_face_point(const geometry::SerendipityQuad& face, const Vec3& slave,
+                                                    const std::array<double, 2>& param, int iterations);
+[[nodiscard]] FaceClosestPoint quadratic_face_point(const geometry::QuadraticTriangle& face,
+                                                    const Vec3& slave, const std::array<double, 2>& param,
+                                                    int iterations);
+
 /// The nearest point of edge `edge` of a quadratic face to `slave` (step 2 above): its parameters on the face
 /// and |S - P|. The curve through the edge's corners X, Y and mid-side node M is
 /// C(t) = X (1 - t)(1 - 2t) + 4 M t (1 - t) + Y t (2t - 1), t in [0, 1]; the ends are exact corner

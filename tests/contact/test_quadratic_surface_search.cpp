@@ -288,5 +288,46 @@ TEST(QuadraticSurfaceSearch, InconsistentMidSideListsAreRefused) {
   EXPECT_THROW((void)surface_search(master, {}, ids, slaves, SearchOptions{}), InvalidArgument);
 }
 
+TEST(QuadraticSurfaceSearch, TheCertificateAnswersAsTheReferenceWithFewerReferenceFaces) {
+  // Issue 38: the quad8 and tri6 faces' QuadraticCertificate (NarrowPhase::kCertified) gives the reference's
+  // answers (NarrowPhase::kReference: every face by the reference), spending the reference on far fewer
+  // faces.
+  const Body body = make_body();
+  const mesh::SurfaceMesh master = mesh::build_surface_mesh(body.mesh, body.top);
+  std::mt19937_64 rng(38);
+  std::uniform_real_distribution<double> uv(-0.05, 1.05), off(-0.3, 0.3);
+  const double h = 4.0 / kNx;
+  std::vector<Vec3> slaves;
+  for (int i = 0; i < 2000; ++i) {
+    const double u = uv(rng), v = uv(rng);
+    slaves.push_back(body_point(u, v, 0.0) + off(rng) * h * top_normal(u, v));
+  }
+  std::vector<long> ids(slaves.size());
+  for (std::size_t i = 0; i < ids.size(); ++i) ids[i] = static_cast<long>(i) + 1;
+  SearchOptions options;
+  options.narrow = NarrowPhase::kCertified;
+  const auto certified = surface_search(master, {}, ids, slaves, options);
+  options.narrow = NarrowPhase::kReference;
+  const auto reference = surface_search(master, {}, ids, slaves, options);
+  long certified_faces = 0, reference_faces = 0;
+  for (std::size_t i = 0; i < slaves.size(); ++i) {
+    SCOPED_TRACE(::testing::Message() << "slave " << i << " at " << slaves[i].transpose());
+    ASSERT_EQ(certified[i].status, reference[i].status);
+    certified_faces += certified[i].reference_faces;
+    reference_faces += reference[i].reference_faces;
+    if (reference[i].status != PairStatus::kFound) continue;
+    EXPECT_EQ(certified[i].segment, reference[i].segment);
+    EXPECT_EQ(certified[i].location, reference[i].location);
+    EXPECT_NEAR(certified[i].label.gap, reference[i].label.gap, kExact);
+    EXPECT_LE((certified[i].point - reference[i].point).norm(), kExact);
+    EXPECT_NEAR(certified[i].face_param[0], reference[i].face_param[0], 1e-10);
+    EXPECT_NEAR(certified[i].face_param[1], reference[i].face_param[1], 1e-10);
+  }
+  std::printf("reference faces: certified %ld, reference %ld (%zu slaves)\n", certified_faces,
+              reference_faces, slaves.size());
+  EXPECT_GT(reference_faces, static_cast<long>(slaves.size()));
+  EXPECT_LT(certified_faces, reference_faces / 5);
+}
+
 }  // namespace
 }  // namespace contactnn::contact
