@@ -266,19 +266,51 @@ void report(benchmark::State& state, const std::vector<Answer>& pairs) {
       n * 1e-9, benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
 }
 
-/// The surface search with the narrow phase state.range(1) (0: certified, 1: the reference on every face).
-void surface(benchmark::State& state) {
-  const Scene& s = scene();
+/// The scene benchmarks' options: the threads state.range(0) (set here), the narrow phase state.range(1) (0:
+/// certified, 1: the reference on every face).
+contact::SearchOptions scene_options(const benchmark::State& state) {
   omp_set_num_threads(static_cast<int>(state.range(0)));
   contact::SearchOptions options;
   options.narrow = state.range(1) == 0 ? contact::NarrowPhase::kCertified : contact::NarrowPhase::kReference;
-  std::vector<contact::NodeSegmentPair> pairs;
+  return options;
+}
+
+/// The surface search of scene `s` (scene_options), its answers as `Answer`s.
+template <class Answer>
+void scene_fresh(benchmark::State& state, const Scene& s) {
+  const contact::SearchOptions options = scene_options(state);
+  std::vector<Answer> pairs;
   for (auto _ : state) {
     contact::surface_search(s.master, s.normals, s.ids, s.slaves, options, pairs);
     benchmark::DoNotOptimize(pairs.data());
   }
   report(state, pairs);
 }
+
+/// The tracked search of scene `s` (contact::SurfaceTracker): its slave nodes move by `dz` in z per
+/// increment; one iteration is one increment after the first. budget: the share of the node increments
+/// answered within their movement budget (tracking.hpp, rule 4; 0 under the default TrackingOptions).
+template <class Answer>
+void scene_tracked(benchmark::State& state, const Scene& s, double dz) {
+  contact::SurfaceTracker tracker(scene_options(state));
+  std::vector<geometry::Vec3> slaves = s.slaves;
+  std::vector<Answer> pairs;
+  tracker.step(s.master, s.normals, s.ids, slaves, pairs);
+  long within = 0, answers = 0;
+  for (auto _ : state) {
+    for (auto& x : slaves) x.z() += dz;
+    contact::TrackingCounts counts;
+    tracker.step(s.master, s.normals, s.ids, slaves, pairs, &counts);
+    within += counts.budget;
+    answers += static_cast<long>(pairs.size());
+    benchmark::DoNotOptimize(pairs.data());
+  }
+  report(state, pairs);
+  state.counters["budget"] = answers > 0 ? static_cast<double>(within) / static_cast<double>(answers) : 0.0;
+}
+
+/// The surface search with the narrow phase state.range(1) (0: certified, 1: the reference on every face).
+void surface(benchmark::State& state) { scene_fresh<contact::NodeSegmentPair>(state, scene()); }
 
 /// The per-state part alone: the searcher's face index (spheres, boxes, certificates, node-to-face lists) for
 /// the 90,000 faces; counters per slave node of the scene as the searches', and per face.
@@ -297,61 +329,19 @@ void searcher_build(benchmark::State& state) {
                          benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
 }
 
-/// The tracked search (contact::SurfaceTracker): the slave nodes move by 0.001 (1e-3 of a face) in z per
-/// increment; one iteration is one increment after the first.
+/// The tracked search: the slave nodes move by 0.001 (1e-3 of a face) up per increment.
 void surface_tracked(benchmark::State& state) {
-  const Scene& s = scene();
-  omp_set_num_threads(static_cast<int>(state.range(0)));
-  contact::SearchOptions options;
-  options.narrow = state.range(1) == 0 ? contact::NarrowPhase::kCertified : contact::NarrowPhase::kReference;
-  contact::SurfaceTracker tracker(options);
-  std::vector<geometry::Vec3> slaves = s.slaves;
-  std::vector<contact::NodeSegmentPair> pairs;
-  tracker.step(s.master, s.normals, s.ids, slaves, pairs);
-  for (auto _ : state) {
-    for (auto& x : slaves) x.z() += 0.001;
-    tracker.step(s.master, s.normals, s.ids, slaves, pairs);
-    benchmark::DoNotOptimize(pairs.data());
-  }
-  report(state, pairs);
+  scene_tracked<contact::NodeSegmentPair>(state, scene(), 0.001);
 }
 
 /// The quadratic sheet's fresh search (`triangles`: tri6, else quad8), narrow state.range(1).
 void quadratic_fresh(benchmark::State& state, bool triangles) {
-  const Scene& s = quadratic_scene(triangles);
-  omp_set_num_threads(static_cast<int>(state.range(0)));
-  contact::SearchOptions options;
-  options.narrow = state.range(1) == 0 ? contact::NarrowPhase::kCertified : contact::NarrowPhase::kReference;
-  std::vector<contact::Contact> pairs;
-  for (auto _ : state) {
-    contact::surface_search(s.master, s.normals, s.ids, s.slaves, options, pairs);
-    benchmark::DoNotOptimize(pairs.data());
-  }
-  report(state, pairs);
+  scene_fresh<contact::Contact>(state, quadratic_scene(triangles));
 }
 
-/// The same tracked: the slave nodes move 0.001 down per increment; one iteration is one increment. budget:
-/// as history/tracked's.
+/// The same tracked: the slave nodes move 0.001 down per increment.
 void quadratic_tracked(benchmark::State& state, bool triangles) {
-  const Scene& s = quadratic_scene(triangles);
-  omp_set_num_threads(static_cast<int>(state.range(0)));
-  contact::SearchOptions options;
-  options.narrow = state.range(1) == 0 ? contact::NarrowPhase::kCertified : contact::NarrowPhase::kReference;
-  contact::SurfaceTracker tracker(options);
-  std::vector<geometry::Vec3> slaves = s.slaves;
-  std::vector<contact::Contact> pairs;
-  tracker.step(s.master, s.normals, s.ids, slaves, pairs);
-  long within = 0, answers = 0;
-  for (auto _ : state) {
-    for (auto& x : slaves) x.z() -= 0.001;
-    contact::TrackingCounts counts;
-    tracker.step(s.master, s.normals, s.ids, slaves, pairs, &counts);
-    within += counts.budget;
-    answers += static_cast<long>(pairs.size());
-    benchmark::DoNotOptimize(pairs.data());
-  }
-  report(state, pairs);
-  state.counters["budget"] = answers > 0 ? static_cast<double>(within) / static_cast<double>(answers) : 0.0;
+  scene_tracked<contact::Contact>(state, quadratic_scene(triangles), -0.001);
 }
 
 void nearest_node(benchmark::State& state) {

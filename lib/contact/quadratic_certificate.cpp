@@ -267,17 +267,27 @@ std::optional<projection::FaceClosestPoint> certified(const QuadraticCertificate
   return out;
 }
 
+/// The certificate's face: `world` relative to its first node (c.origin), with its edges' spheres and its
+/// characteristic length; null (c left without a certificate) where a node is not finite.
+template <class Face>
+const Face* relative_face(QuadraticCertificate& c, const Face& world, std::size_t corners) {
+  c.origin = world.nodes()[0];
+  if (!c.origin.allFinite() || !all_finite(world.nodes())) return nullptr;
+  auto x = world.nodes();
+  for (Vec3& node : x) node -= c.origin;
+  const Face& face = c.face.emplace<Face>(x);
+  edge_spheres(c, x, corners);
+  c.length = face.characteristic_length();
+  return &face;
+}
+
 }  // namespace
 
 QuadraticCertificate QuadraticCertificate::prepare(const geometry::SerendipityQuad& world) {
   QuadraticCertificate c;
-  c.origin = world.nodes()[0];
-  if (!c.origin.allFinite() || !all_finite(world.nodes())) return c;
-  std::array<Vec3, 8> x;
-  for (std::size_t k = 0; k < 8; ++k) x[k] = world.nodes()[k] - c.origin;
-  const geometry::SerendipityQuad& face = c.face.emplace<geometry::SerendipityQuad>(x);
-  edge_spheres(c, x, 4);
-  c.length = face.characteristic_length();
+  const geometry::SerendipityQuad* relative = relative_face(c, world, 4);
+  if (relative == nullptr) return c;
+  const geometry::SerendipityQuad& face = *relative;
   if (!(c.length > 0.0) || !std::isfinite(c.length) || geometry::is_degenerate_segment(face.corners()))
     return c;
   // The second derivatives' corner values.
@@ -337,13 +347,10 @@ QuadraticCertificate QuadraticCertificate::prepare(const geometry::SerendipityQu
 QuadraticCertificate QuadraticCertificate::prepare(const geometry::QuadraticTriangle& world) {
   QuadraticCertificate c;
   c.triangle = true;
-  c.origin = world.nodes()[0];
-  if (!c.origin.allFinite() || !all_finite(world.nodes())) return c;
-  std::array<Vec3, 6> x;
-  for (std::size_t k = 0; k < 6; ++k) x[k] = world.nodes()[k] - c.origin;
-  const geometry::QuadraticTriangle& face = c.face.emplace<geometry::QuadraticTriangle>(x);
-  edge_spheres(c, x, 3);
-  c.length = face.characteristic_length();
+  const geometry::QuadraticTriangle* relative = relative_face(c, world, 3);
+  if (relative == nullptr) return c;
+  const geometry::QuadraticTriangle& face = *relative;
+  const std::array<Vec3, 6>& x = face.nodes();
   // The reference's degenerate triangle.
   const Vec3 e1 = x[1] - x[0], e2 = x[2] - x[0];
   const double longest2 = std::max({e1.squaredNorm(), e2.squaredNorm(), (x[2] - x[1]).squaredNorm()});

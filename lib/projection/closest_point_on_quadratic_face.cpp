@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <type_traits>
 #include <vector>
 
 #include "geometry/segment_checks.hpp"
@@ -346,55 +347,53 @@ std::array<double, 2> onto_square(const std::array<double, 2>& p) {
   return std::array<double, 2>{std::clamp(p[0], -1.0, 1.0), std::clamp(p[1], -1.0, 1.0)};
 }
 
+/// out's location on the face (its domain's), then its point, normal and distance there (finish).
+void locate_and_finish(const SerendipityQuad& face, const Vec3& slave, FaceClosestPoint& out) {
+  locate_on_quad({-1.0, 1.0}, out);
+  finish(face, slave, out);
+}
+void locate_and_finish(const QuadraticTriangle& face, const Vec3& slave, FaceClosestPoint& out) {
+  locate_on_triangle(out);
+  finish(face, slave, out);
+}
+
 }  // namespace
 
-FaceClosestPoint nearest_of_interior_and_quadratic_edges(const SerendipityQuad& face, const Vec3& slave,
+template <class Face>
+FaceClosestPoint nearest_of_interior_and_quadratic_edges(const Face& face, const Vec3& slave,
                                                          const std::array<double, 2>* interior,
                                                          int iterations, bool* from_interior,
                                                          bool edges_farther) {
   FaceClosestPoint out;
-  if (!std::isfinite(nearest_of_interior_and_edges(face, slave, interior, iterations, onto_square, kQuadEdges,
-                                                   out, from_interior, edges_farther))) {
+  constexpr bool kQuad = std::is_same_v<Face, SerendipityQuad>;
+  const auto onto = [](const std::array<double, 2>& p) { return kQuad ? onto_square(p) : onto_triangle(p); };
+  if (!std::isfinite(nearest_of_interior_and_edges(face, slave, interior, iterations, onto,
+                                                   kQuad ? kQuadEdges : kTriangleEdges, out, from_interior,
+                                                   edges_farther))) {
     return out;  // invalid
   }
-  locate_on_quad({-1.0, 1.0}, out);
-  finish(face, slave, out);
+  locate_and_finish(face, slave, out);
   return out;
 }
 
-FaceClosestPoint nearest_of_interior_and_quadratic_edges(const QuadraticTriangle& face, const Vec3& slave,
-                                                         const std::array<double, 2>* interior,
-                                                         int iterations, bool* from_interior,
-                                                         bool edges_farther) {
-  FaceClosestPoint out;
-  if (!std::isfinite(nearest_of_interior_and_edges(face, slave, interior, iterations, onto_triangle,
-                                                   kTriangleEdges, out, from_interior, edges_farther))) {
-    return out;  // invalid
-  }
-  locate_on_triangle(out);
-  finish(face, slave, out);
-  return out;
-}
-
-FaceClosestPoint quadratic_face_point(const SerendipityQuad& face, const Vec3& slave,
-                                      const std::array<double, 2>& param, int iterations) {
+template <class Face>
+FaceClosestPoint quadratic_face_point(const Face& face, const Vec3& slave, const std::array<double, 2>& param,
+                                      int iterations) {
   FaceClosestPoint out;
   out.param = param;
   out.iterations = iterations;
-  locate_on_quad({-1.0, 1.0}, out);
-  finish(face, slave, out);
+  locate_and_finish(face, slave, out);
   return out;
 }
 
-FaceClosestPoint quadratic_face_point(const QuadraticTriangle& face, const Vec3& slave,
-                                      const std::array<double, 2>& param, int iterations) {
-  FaceClosestPoint out;
-  out.param = param;
-  out.iterations = iterations;
-  locate_on_triangle(out);
-  finish(face, slave, out);
-  return out;
-}
+#define CONTACTNN_INSTANTIATE(Face)                                              \
+  template FaceClosestPoint nearest_of_interior_and_quadratic_edges<Face>(       \
+      const Face&, const Vec3&, const std::array<double, 2>*, int, bool*, bool); \
+  template FaceClosestPoint quadratic_face_point<Face>(const Face&, const Vec3&, \
+                                                       const std::array<double, 2>&, int);
+CONTACTNN_INSTANTIATE(SerendipityQuad)
+CONTACTNN_INSTANTIATE(QuadraticTriangle)
+#undef CONTACTNN_INSTANTIATE
 
 namespace {
 

@@ -57,20 +57,19 @@ inline constexpr int kTriangleEdges = 3;
 /// QuadraticCertificate). `from_interior` (optional): whether the interior point won. `edges_farther`: the
 /// caller has proved every edge point farther than the interior one by more than the rounding of either
 /// distance; the edges are then not computed.
-[[nodiscard]] FaceClosestPoint nearest_of_interior_and_quadratic_edges(
-    const geometry::SerendipityQuad& face, const Vec3& slave, const std::array<double, 2>* interior,
-    int iterations, bool* from_interior = nullptr, bool edges_farther = false);
-[[nodiscard]] FaceClosestPoint nearest_of_interior_and_quadratic_edges(
-    const geometry::QuadraticTriangle& face, const Vec3& slave, const std::array<double, 2>* interior,
-    int iterations, bool* from_interior = nullptr, bool edges_farther = false);
+/// Face: geometry::SerendipityQuad or geometry::QuadraticTriangle (instantiated for both).
+template <class Face>
+[[nodiscard]] FaceClosestPoint nearest_of_interior_and_quadratic_edges(const Face& face, const Vec3& slave,
+                                                                       const std::array<double, 2>* interior,
+                                                                       int iterations,
+                                                                       bool* from_interior = nullptr,
+                                                                       bool edges_farther = false);
 
 /// The report of those functions for the point `param` of `face` (on the closed face): param, location,
 /// point, unit normal, distance and status as they set them, `iterations` as given.
-[[nodiscard]] FaceClosestPoint quadratic_face_point(const geometry::SerendipityQuad& face, const Vec3& slave,
+template <class Face>
+[[nodiscard]] FaceClosestPoint quadratic_face_point(const Face& face, const Vec3& slave,
                                                     const std::array<double, 2>& param, int iterations);
-[[nodiscard]] FaceClosestPoint quadratic_face_point(const geometry::QuadraticTriangle& face,
-                                                    const Vec3& slave, const std::array<double, 2>& param,
-                                                    int iterations);
 
 /// The nearest point of edge `edge` of a quadratic face to `slave` (step 2 above): its parameters on the face
 /// and |S - P|. The curve through the edge's corners X, Y and mid-side node M is
