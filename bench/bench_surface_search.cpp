@@ -164,24 +164,16 @@ void history_fresh(benchmark::State& state) {
 }
 
 /// The increments after the first (the first, the tracker's fresh search, untimed).
-/// budget: the share of the nodes and increments answered within their movement budget (tracking.hpp, rule
-/// 4).
 void history_tracked(benchmark::State& state) {
   const History& h = history();
-  long within = 0, answers = 0;
   history_run(state, h.positions.size() - 1, [&](const contact::SearchOptions& options, auto& pairs) {
     state.PauseTiming();
     contact::SurfaceTracker tracker(options);
     tracker.step(h.master, h.normals, h.ids, h.positions[0], pairs);
     state.ResumeTiming();
-    contact::TrackingCounts counts;
-    for (std::size_t i = 1; i < h.positions.size(); ++i) {
-      tracker.step(h.master, h.normals, h.ids, h.positions[i], pairs, &counts);
-      within += counts.budget;
-      answers += static_cast<long>(pairs.size());
-    }
+    for (std::size_t i = 1; i < h.positions.size(); ++i)
+      tracker.step(h.master, h.normals, h.ids, h.positions[i], pairs);
   });
-  state.counters["budget"] = answers > 0 ? static_cast<double>(within) / static_cast<double>(answers) : 0.0;
 }
 
 /// The quadratic sheet (header): quad8 faces (`triangles` false) or tri6 faces, nodes on the doubled grid.
@@ -288,25 +280,19 @@ void scene_fresh(benchmark::State& state, const Scene& s) {
 }
 
 /// The tracked search of scene `s` (contact::SurfaceTracker): its slave nodes move by `dz` in z per
-/// increment; one iteration is one increment after the first. budget: the share of the node increments
-/// answered within their movement budget (tracking.hpp, rule 4; 0 under the default TrackingOptions).
+/// increment; one iteration is one increment after the first.
 template <class Answer>
 void scene_tracked(benchmark::State& state, const Scene& s, double dz) {
   contact::SurfaceTracker tracker(scene_options(state));
   std::vector<geometry::Vec3> slaves = s.slaves;
   std::vector<Answer> pairs;
   tracker.step(s.master, s.normals, s.ids, slaves, pairs);
-  long within = 0, answers = 0;
   for (auto _ : state) {
     for (auto& x : slaves) x.z() += dz;
-    contact::TrackingCounts counts;
-    tracker.step(s.master, s.normals, s.ids, slaves, pairs, &counts);
-    within += counts.budget;
-    answers += static_cast<long>(pairs.size());
+    tracker.step(s.master, s.normals, s.ids, slaves, pairs);
     benchmark::DoNotOptimize(pairs.data());
   }
   report(state, pairs);
-  state.counters["budget"] = answers > 0 ? static_cast<double>(within) / static_cast<double>(answers) : 0.0;
 }
 
 /// The surface search with the narrow phase state.range(1) (0: certified, 1: the reference on every face).

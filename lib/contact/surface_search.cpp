@@ -624,21 +624,13 @@ NodeSegmentPair SurfaceSearcher::nearest_fresh(long slave_id, const Vec3& slave,
   return impl_->pair_of(contact, slave);
 }
 
-void SurfaceSearcher::nearest_fresh(long slave_id, const Vec3& slave,
-                                    std::vector<std::pair<double, int>>& candidates,
-                                    std::vector<std::pair<std::uint32_t, double>>& scratch, Contact& contact,
-                                    const FaceHint* hint) const {
-  nearest_fresh(slave_id, slave, candidates, scratch, contact, hint, 0.0, nullptr);
-}
-
 void SurfaceSearcher::nearest_fresh(long slave_id, const Vec3& world_slave,
                                     std::vector<std::pair<double, int>>& candidates,
                                     std::vector<std::pair<std::uint32_t, double>>& scratch, Contact& contact,
-                                    const FaceHint* hint, double budget, double* clearance) const {
+                                    const FaceHint* hint) const {
   const Impl& m = *impl_;
   const Vec3 slave = world_slave / m.unit;
   candidates.clear();
-  if (clearance != nullptr) *clearance = 0.0;
   // NarrowPhase::kReference is the search as it was before the certificate, its broad phase included.
   if (!slave.allFinite() || m.index.centres.empty() || m.options.brute_force_faces ||
       m.options.narrow == NarrowPhase::kReference) {
@@ -679,9 +671,8 @@ void SurfaceSearcher::nearest_fresh(long slave_id, const Vec3& world_slave,
   // distance as long as it reaches none of the faces left out: its final best B (and B's tie band) must stay
   // within `reach`. Then every face left out has a bound beyond B and its band, where the full scan stops.
   // Where that does not hold (no point, or a best beyond), the scan runs again over the capture distance.
-  // A budget gathers further: the faces' bounds beyond the answer give the node's clearance (tracking.hpp).
   const double band = kTieTolerance * m.largest_size;
-  reach = std::min(m.capture, reach + 4.0 * band + (first != nullptr ? budget / m.unit : 0.0));
+  reach = std::min(m.capture, reach + 4.0 * band);
   m.collect(slave, reach, candidates, scratch, false);
   search_one(m.master, m.normals, m.options, m.checked_options, m.index, m.capture, slave_id, slave,
              candidates, nullptr, false, first, contact);
@@ -692,82 +683,12 @@ void SurfaceSearcher::nearest_fresh(long slave_id, const Vec3& world_slave,
   if (!complete) {
     const int spent = contact.reference_faces - (first != nullptr ? first->reference_faces : 0);
     candidates.clear();
-    reach = m.capture;
     m.collect(slave, m.capture, candidates, scratch, false);
     search_one(m.master, m.normals, m.options, m.checked_options, m.index, m.capture, slave_id, slave,
                candidates, nullptr, false, first, contact);
     contact.reference_faces += spent;
   }
-  // Every face left out has a bound beyond `reach`; the scan sorted those gathered by bound.
-  if (clearance != nullptr && contact.status == PairStatus::kFound) {
-    double nearest_other = reach;
-    for (const auto& [bound, f] : candidates) {
-      if (f == contact.face) continue;
-      nearest_other = std::min(nearest_other, bound);
-      break;
-    }
-    *clearance = std::max(nearest_other, 0.0) * m.unit;
-  }
   if (m.unit != 1.0) contact_to_world(contact, m.unit);
-}
-
-bool SurfaceSearcher::nearest_within(long slave_id, const Vec3& world_slave, const FaceHint& hint,
-                                     double clearance, std::vector<std::pair<double, int>>& candidates,
-                                     Contact& contact) const {
-  const Impl& m = *impl_;
-  const Vec3 slave = world_slave / m.unit;
-  const int f = hint.face;
-  if (m.grid == nullptr || f < 0 || f >= static_cast<int>(m.index.centres.size()) || !slave.allFinite() ||
-      (certificate_of(m.index, f) == nullptr && quadratic_of(m.index, f) == nullptr &&
-       m.master.face_type(f) != mesh::FaceType::kTri3)) {
-    return false;
-  }
-  KnownPoint known;
-  known.face = f;
-  known.point = closest_on_indexed_face(m.master, m.normals, m.options, m.checked_options, m.index, f, slave,
-                                        &hint.param, &known.reference_faces, m.capture);
-  // No other face's bound is below clearance: the full scan would project this face first and stop there,
-  // where its point and tie band stay below it. The slack covers the rounding of the bounds themselves.
-  const double band = kTieTolerance * m.largest_size;
-  const double slack = 1e-12 * (slave.lpNorm<Eigen::Infinity>() + m.capture);
-  if (known.reference_faces != 0 || known.point.status != Status::kOk ||
-      !(known.point.distance <= m.capture) ||
-      !(known.point.distance + 4.0 * band + slack < clearance / m.unit)) {
-    return false;
-  }
-  candidates.clear();
-  candidates.emplace_back(face_lower_bound(m.index, slave, f), f);
-  search_one(m.master, m.normals, m.options, m.checked_options, m.index, m.capture, slave_id, slave,
-             candidates, nullptr, false, &known, contact);
-  if (m.unit != 1.0) contact_to_world(contact, m.unit);
-  return contact.status == PairStatus::kFound;
-}
-
-double SurfaceSearcher::bound_drift(FaceBounds& kept) const {
-  const Impl& m = *impl_;
-  const FaceIndex& x = m.index;
-  const std::size_t n = x.centres.size();
-  double largest = std::numeric_limits<double>::infinity();
-  if (kept.unit == m.unit && kept.centres.size() == n) {
-    largest = 0.0;
-    const auto faces = static_cast<long>(n);
-#pragma omp parallel for reduction(max : largest) schedule(static) if (faces >= 65536)
-    for (long g = 0; g < faces; ++g) {
-      const auto f = static_cast<std::size_t>(g);
-      // The sphere's bound moves by at most |dc| + |dr|, the box's by the larger movement of its faces.
-      const double sphere = (x.centres[f] - kept.centres[f]).norm() + std::abs(x.radii[f] - kept.radii[f]);
-      const Vec3 box =
-          (x.box_lo[f] - kept.box_lo[f]).cwiseAbs().cwiseMax((x.box_hi[f] - kept.box_hi[f]).cwiseAbs());
-      const double move = std::max(sphere, box.norm());
-      largest = std::max(largest, std::isfinite(move) ? move : std::numeric_limits<double>::infinity());
-    }
-  }
-  kept.unit = m.unit;
-  kept.box_lo = x.box_lo;
-  kept.box_hi = x.box_hi;
-  kept.centres = x.centres;
-  kept.radii = x.radii;
-  return largest * m.unit;
 }
 
 Contact SurfaceSearcher::nearest_contact(long slave_id, const Vec3& slave,

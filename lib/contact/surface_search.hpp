@@ -130,14 +130,6 @@ struct FaceHint {
   bool warm = true;
 };
 
-/// The faces' bounds at one state (their boxes and spheres, in the searcher's unit), kept by a tracker to
-/// bound how far any face's lower bound has moved since (SurfaceSearcher::bound_drift).
-struct FaceBounds {
-  double unit = 0.0;  ///< the unit they are in (0: none kept)
-  std::vector<Vec3> box_lo, box_hi, centres;
-  std::vector<double> radii;
-};
-
 /// The surface search's pieces for one state of a master surface: the faces' bounding spheres and boxes,
 /// their grid (or k-d tree) and adjacency, built once; queries are const and may run concurrently. `master`
 /// and `master_normals` must outlive it.
@@ -193,22 +185,6 @@ class SurfaceSearcher {
   void nearest_fresh(long slave_id, const Vec3& slave, std::vector<std::pair<double, int>>& candidates,
                      std::vector<std::pair<std::uint32_t, double>>& scratch, Contact& contact,
                      const FaceHint* hint = nullptr) const;
-  /// The same for a tracked node with a movement budget (tracking.hpp, rule 4): the gather reaches `budget`
-  /// (world units) beyond the first face's distance, and *clearance is set to a distance from S within
-  /// which no face but the answer's comes (every other face's bound is at least it; 0 without an answer).
-  void nearest_fresh(long slave_id, const Vec3& slave, std::vector<std::pair<double, int>>& candidates,
-                     std::vector<std::pair<std::uint32_t, double>>& scratch, Contact& contact,
-                     const FaceHint* hint, double budget, double* clearance) const;
-  /// The hinted face alone, where no other face can compete: when the face has a certified point (or is a
-  /// flat triangle) within the capture distance whose distance plus the tie band is below `clearance` (world
-  /// units: a lower bound of every other face's bound at S), writes the contact nearest_fresh would and
-  /// returns true; otherwise writes nothing and returns false.
-  bool nearest_within(long slave_id, const Vec3& slave, const FaceHint& hint, double clearance,
-                      std::vector<std::pair<double, int>>& candidates, Contact& contact) const;
-  /// The largest movement of any face's lower bound between `kept` and this state (world units): a bound at
-  /// any S changes by at most it. Infinity when `kept` holds another surface or unit. Stores this state's
-  /// bounds into `kept` (its storage reused).
-  double bound_drift(FaceBounds& kept) const;
   /// nearest's answer as a Contact.
   [[nodiscard]] Contact nearest_contact(long slave_id, const Vec3& slave,
                                         std::vector<std::pair<double, int>>& candidates,

@@ -15,8 +15,6 @@ SurfaceTracker::SurfaceTracker(const SearchOptions& options, TrackingOptions tra
   CONTACTNN_REQUIRE(
       std::isfinite(tracking.grid_margin_relative) && tracking.grid_margin_relative >= 0.0,
       "tracking grid margin " << tracking.grid_margin_relative << " is not a finite non-negative number");
-  CONTACTNN_REQUIRE(std::isfinite(tracking.budget_relative) && tracking.budget_relative >= 0.0,
-                    "tracking budget " << tracking.budget_relative << " is not a finite non-negative number");
 }
 
 void SurfaceTracker::reset() {
@@ -25,9 +23,6 @@ void SurfaceTracker::reset() {
   drift_at_build_.clear();
   lists_.clear();
   hints_.clear();
-  budgets_.clear();
-  bounds_ = FaceBounds{};
-  budget_drift_ = 0.0;
   centres_.clear();
   radii_.clear();
   drift_ = 0.0;
@@ -78,64 +73,30 @@ void SurfaceTracker::step_hints(const mesh::SurfaceMesh& master, std::span<const
   }
   // Step 1: the grid kept while every face stays inside its box at the build, inflated by the margin.
   const SurfaceSearcher searcher(master, master_normals, options_, &grid_, tracking_.grid_margin_relative);
-  // Rule 4: the surface's drift since the last increment; where it is not finite (another unit, a face
-  // without a box), every budget starts over.
-  const bool budgeted = tracking_.budget_relative > 0.0;
-  if (budgeted) {
-    const double drift = searcher.bound_drift(bounds_);
-    if (!same || !std::isfinite(drift) || budgets_.size() != n) {
-      budgets_.assign(n, Budget{});
-      budget_drift_ = 0.0;
-    } else {
-      budget_drift_ += drift;
-    }
-  }
-  const double budget = tracking_.budget_relative * searcher.capture();
-  const double unit = searcher.unit();
   pairs.resize(n);
   // The nodes in Morton order, kept while the grid is (the order serves the caches, not the answers).
   if (!same || order_.size() != n || searcher.grid_rebuilt())
     spatial_order(slave_positions, order_, order_scratch_);
   const std::uint32_t* order = order_.data();
-  long fresh = 0, tracked = 0, list_faces = 0, within = 0;
-#pragma omp parallel reduction(+ : fresh, tracked, list_faces, within) if (n >= 512)
+  long fresh = 0, tracked = 0, list_faces = 0;
+#pragma omp parallel reduction(+ : fresh, tracked, list_faces) if (n >= 512)
   {
     std::vector<std::pair<double, int>> candidates;
     std::vector<std::pair<std::uint32_t, double>> scratch;
 #pragma omp for schedule(dynamic, 64)
     for (std::size_t k = 0; k < n; ++k) {
       const std::size_t i = order[k];
-      const Vec3& slave = slave_positions[i];
       // Steps 2-3: the previous face first, from the previous point.
       const FaceHint* hint = hints_[i].face >= 0 ? &hints_[i] : nullptr;
       Contact& contact = pairs[i];
-      bool answered = false;
-      if (budgeted && hint != nullptr && budgets_[i].clearance > 0.0) {
-        // Step 4: what is left of the node's clearance after its movement and the surface's drift.
-        const Budget& b = budgets_[i];
-        const double left =
-            b.clearance - ((slave - b.anchor) / unit).norm() * unit - (budget_drift_ - b.drift);
-        answered =
-            left > 0.0 && searcher.nearest_within(slave_ids[i], slave, *hint, left, candidates, contact);
-      }
-      if (answered) {
-        ++within;
-      } else if (budgeted) {
-        Budget& b = budgets_[i];
-        searcher.nearest_fresh(slave_ids[i], slave, candidates, scratch, contact, hint, budget, &b.clearance);
-        b.anchor = slave;
-        b.drift = budget_drift_;
-      } else {
-        searcher.nearest_fresh(slave_ids[i], slave, candidates, scratch, contact, hint);
-      }
+      searcher.nearest_fresh(slave_ids[i], slave_positions[i], candidates, scratch, contact, hint);
       hints_[i] = contact.status == PairStatus::kFound ? FaceHint{contact.face, contact.param} : FaceHint{};
       fresh += hint == nullptr;
       tracked += hint != nullptr;
       list_faces += static_cast<long>(candidates.size());
     }
   }
-  if (counts != nullptr)
-    *counts = {fresh, tracked, tracked, list_faces, searcher.grid_rebuilt() ? 1 : 0, within};
+  if (counts != nullptr) *counts = {fresh, tracked, tracked, list_faces, searcher.grid_rebuilt() ? 1 : 0};
 }
 
 void SurfaceTracker::step_lists(const mesh::SurfaceMesh& master, std::span<const Vec3> master_normals,

@@ -18,14 +18,6 @@
 //     body: issue 39), so none is made.
 //  3. A node without one (the first increment, no point at the previous one, other slave ids or faces)
 //     starts from a face listed in its grid cell, as a fresh search.
-//  4. (Optional: TrackingOptions::budget_relative.) A movement budget per node: where a node's full gather
-//  (rule 2 or 3) reached
-//     TrackingOptions::budget_relative x the capture distance beyond its first face, every face but the
-//     answer's had a bound of at least some clearance c at the node's position then (its anchor). A face's
-//     bound moves by at most the node's movement since plus the surface's drift (the sum over the increments
-//     of the largest movement of any face's box or sphere: SurfaceSearcher::bound_drift). While the previous
-//     face's certified point (and its tie band) stays nearer than c less both, no other face can compete:
-//     that point is the answer, and nothing is gathered (TrackingCounts::budget). Otherwise rule 2.
 // Then the scan as the fresh search's: the same faces, points and gaps (the tests and `replay` compare every
 // increment with a fresh search and count the differences). No list per node is kept: a node costs its
 // previous face and point.
@@ -52,12 +44,6 @@ struct TrackingOptions {
   /// The grid's margin (rule 1) in units of the capture distance: a grid kept for longer, its cells holding
   /// more faces (at 0.5, twice the cost of a query on the large history).
   double grid_margin_relative = 0.1;
-  /// Rule 4's reach beyond a node's first face, in units of the capture distance (0: no budget). Off by
-  /// default: at 0.1 it answered 60% of the large history's node increments from their budgets
-  /// (bench_surface_search's history/tracked, counter budget), but the wider gathers at the anchors cost
-  /// as much as it saved there (1645-1676 ms against 1657-1700 without), and on bench_cgal's tri3 block
-  /// (344 ns tracked against 283) more; it pays where increments move nodes little against the faces.
-  double budget_relative = 0.0;
 };
 
 /// What one increment cost the tracker, node by node.
@@ -67,7 +53,6 @@ struct TrackingCounts {
   long warm = 0;     ///< nodes whose previous face was tried first (warm where it has a certificate)
   long list_faces = 0;   ///< faces gathered from the grid (the reference's: in the lists), over the nodes
   long grid_builds = 0;  ///< 1 where the broad phase was rebuilt at this increment (rule 1)
-  long budget = 0;       ///< nodes answered within their movement budget (rule 4), among the tracked
 };
 
 /// The surface search over a history. step() takes the states in increment order; the surface's faces and the
@@ -109,18 +94,9 @@ class SurfaceTracker {
   std::vector<double> drift_at_build_;                      ///< D0 of each node's list
   std::vector<std::vector<std::pair<double, int>>> lists_;  ///< each node's candidate faces (b_f, f), sorted
   std::vector<FaceHint> hints_;  ///< each node's previous face and point (face -1: none)
-  /// Rule 4: each node's anchor, its clearance there (0: none) and the surface's drift at the anchor.
-  struct Budget {
-    Vec3 anchor = Vec3::Zero();
-    double clearance = 0.0;
-    double drift = 0.0;
-  };
-  std::vector<Budget> budgets_;
-  FaceBounds bounds_;          ///< the previous state's face bounds (rule 4's drift)
-  double budget_drift_ = 0.0;  ///< the surface's drift since the budgets' first increment
-  int faces_ = -1;             ///< the previous state's face count (the grid's tracker)
-  FaceGrid grid_;              ///< rule 1's broad phase
-  std::vector<Vec3> centres_;  ///< the previous state's face spheres
+  int faces_ = -1;               ///< the previous state's face count (the grid's tracker)
+  FaceGrid grid_;                ///< rule 1's broad phase
+  std::vector<Vec3> centres_;    ///< the previous state's face spheres
   std::vector<double> radii_;
   double drift_ = 0.0;
   std::vector<std::uint32_t> order_;  ///< the slave nodes in Morton order (spatial_order), and its work space

@@ -5,7 +5,6 @@
 #include <gtest/gtest.h>
 #include <omp.h>
 
-#include <array>
 #include <cmath>
 #include <numbers>
 #include <random>
@@ -67,14 +66,13 @@ void expect_same(const std::vector<NodeSegmentPair>& a, const std::vector<NodeSe
 class Tracking : public ::testing::TestWithParam<SurfaceKind> {};
 
 /// Tracks h over `increments` states of the travelling sheet, each answer expected to be the fresh search's;
-/// the counts of every increment. The waves travel `wave_speed` an increment.
+/// the counts of every increment.
 std::vector<TrackingCounts> track_against_fresh(const SearchOptions& options, const History& h,
-                                                int increments, double wave_speed = 0.05,
-                                                TrackingOptions tracking = {}) {
-  SurfaceTracker tracker(options, tracking);
+                                                int increments) {
+  SurfaceTracker tracker(options);
   std::vector<TrackingCounts> all;
   for (int increment = 0; increment < increments; ++increment) {
-    const mesh::SurfaceMesh m = sheet(wave_speed * increment);
+    const mesh::SurfaceMesh m = sheet(0.05 * increment);
     const std::vector<Vec3> normals = mesh::node_normals(m);
     const std::vector<Vec3> positions = h.at(increment);
     TrackingCounts counts;
@@ -223,68 +221,6 @@ TEST(Tracking, TwoWarmRunsEndingOnTheirSharedEdgeGetTheGrid) {
   const FaceHint previous{0, {0.9001424304424398, 0.30042795947597628}};
   const NodeSegmentPair tracked = searcher.nearest(1, slave, candidates, &previous);
   expect_same({fresh}, {tracked}, 4);
-}
-
-TEST(Tracking, NodesWithinTheirMovementBudgetTakeTheirPreviousFaceAlone) {
-  // Slow nodes over a slowly travelling sheet: most stay within their budgets (rule 4) for some increments,
-  // and every answer is still the fresh search's. Without a budget, none is answered that way.
-  History h = slaves(1000);
-  for (Vec3& v : h.velocity) v *= 0.1;
-  for (const double budget : {0.1, 0.0}) {
-    long within = 0;
-    for (const TrackingCounts& c : track_against_fresh(SearchOptions{}, h, 8, 0.005, {0.5, 0.1, budget})) {
-      EXPECT_LE(c.budget, c.tracked);
-      within += c.budget;
-    }
-    if (budget > 0.0) {
-      EXPECT_GT(within, 3 * 1000);
-    } else {
-      EXPECT_EQ(within, 0);
-    }
-  }
-}
-
-TEST(Tracking, AFaceComingIntoANodesBudgetIsFound) {
-  // A punch's face comes down 0.05 an increment towards nodes 0.3 above a flat sheet's face centres. Each
-  // node's clearance was set while the punch was far; the surface's drift (the punch's movement) spends it,
-  // and the punch's face is the answer once it is nearer than the sheet. Without the drift the nodes would
-  // keep the sheet's faces.
-  const auto two_bodies = [](double punch_z) {
-    mesh::SurfaceMesh m =
-        testing::searched_grid_surface(4, 4, [](double i, double j) { return Vec3(i, j, 0.0); });
-    const int base = static_cast<int>(m.positions.size());
-    const std::array<std::pair<double, double>, 4> corners = {
-        {{1.0, 1.0}, {1.0, 3.0}, {3.0, 3.0}, {3.0, 1.0}}};
-    for (const auto& [x, y] : corners) {
-      m.node_ids.push_back(static_cast<long>(m.positions.size()) + 1);
-      m.positions.emplace_back(x, y, punch_z);
-    }
-    m.segments.push_back({base, base + 1, base + 2, base + 3});
-    m.segment_faces.push_back({static_cast<int>(m.segments.size()) - 1, 1});
-    m.segment_element_ids.push_back(static_cast<long>(m.segments.size()));
-    mesh::set_adjacency(m);
-    return m;
-  };
-  const std::vector<long> ids = {1, 2, 3, 4};
-  const std::vector<Vec3> nodes = {Vec3(1.5, 1.5, 0.3), Vec3(2.5, 1.5, 0.3), Vec3(1.5, 2.5, 0.3),
-                                   Vec3(2.5, 2.5, 0.3)};
-  SearchOptions options;
-  options.capture_distance = 2.5;
-  SurfaceTracker tracker(options, TrackingOptions{0.5, 0.1, 0.5});
-  long within = 0;
-  std::vector<NodeSegmentPair> last;
-  for (int increment = 0; increment < 36; ++increment) {
-    const mesh::SurfaceMesh m = two_bodies(2.0 - 0.05 * increment);
-    const std::vector<Vec3> normals = mesh::node_normals(m);
-    TrackingCounts counts;
-    last = tracker.step(m, normals, ids, nodes, &counts);
-    expect_same(last, surface_search(m, normals, ids, nodes, options), increment);
-    within += counts.budget;
-  }
-  EXPECT_GT(within, 0);
-  for (const NodeSegmentPair& p : last) {
-    EXPECT_EQ(p.segment, 16) << "slave " << p.slave_id;  // the punch's face, 0.05 away (the sheet: 0.3)
-  }
 }
 
 TEST(Tracking, SameResultsForAnyThreadCount) {
