@@ -29,15 +29,27 @@ void spatial_order(std::span<const Vec3> points, std::vector<std::uint32_t>& ord
   const std::size_t n = points.size();
   CONTACTNN_REQUIRE(n < (std::size_t{1} << 32), n << " points: at most 2^32 - 1");
   order.resize(n);
-  Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
-  double step = 0.0;  // the summed distance between consecutive points
-  for (std::size_t i = 0; i < n; ++i) {
+  // The points' box and the summed distance between consecutive points (threads for many points: the order
+  // serves the caches, and the answers do not depend on it).
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  double lo0 = kInf, lo1 = kInf, lo2 = kInf, hi0 = -kInf, hi1 = -kInf, hi2 = -kInf;
+  double step = 0.0;
+  const auto total = static_cast<long>(n);
+#pragma omp parallel for schedule(static) reduction(min : lo0, lo1, lo2) reduction(max : hi0, hi1, hi2) \
+    reduction(+ : step) if (total >= 65536)
+  for (long k = 0; k < total; ++k) {
+    const auto i = static_cast<std::size_t>(k);
     const Vec3& x = points[i];
     if (!x.allFinite()) continue;
-    lo = lo.cwiseMin(x);
-    hi = hi.cwiseMax(x);
+    lo0 = std::min(lo0, x[0]);
+    lo1 = std::min(lo1, x[1]);
+    lo2 = std::min(lo2, x[2]);
+    hi0 = std::max(hi0, x[0]);
+    hi1 = std::max(hi1, x[1]);
+    hi2 = std::max(hi2, x[2]);
     if (i > 0 && points[i - 1].allFinite()) step += (x - points[i - 1]).norm();
   }
+  const Vec3 lo(lo0, lo1, lo2), hi(hi0, hi1, hi2);
   // A mesh's own order (rows of a grid, an element's nodes together) steps a node spacing or two on average,
   // about extent / sqrt(n) on a surface; kept, it is at least as local as the Z curve. Only an order that
   // steps farther (a random one) is sorted.
@@ -54,7 +66,9 @@ void spatial_order(std::span<const Vec3> points, std::vector<std::uint32_t>& ord
   // Cubic cells, the largest extent's 1/1024: a thin direction (a sheet's thickness) takes few cells and the
   // low bits, where a cell count of its own would let its jitter scatter neighbours along the sheet.
   const double extent = (hi - lo).maxCoeff();
-  for (std::size_t i = 0; i < n; ++i) {
+#pragma omp parallel for schedule(static) if (total >= 65536)
+  for (long k = 0; k < total; ++k) {
+    const auto i = static_cast<std::size_t>(k);
     std::uint64_t code = 0;
     if (points[i].allFinite()) {
       for (int d = 0; d < 3; ++d) {
