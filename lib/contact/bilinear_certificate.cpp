@@ -19,6 +19,13 @@ constexpr std::array<std::array<double, 2>, 4> kCorners = {
 
 }  // namespace
 
+double eigenvalue_floor(double nu, double trace) {
+  if (!(nu > 0.0) || !(trace > 0.0) || !std::isfinite(nu) || !std::isfinite(trace)) return 0.0;
+  const double det = nu * nu;
+  const double floor = 2.0 * det / (trace + std::sqrt(std::max(trace * trace - 4.0 * det, 0.0)));
+  return std::isfinite(floor) ? floor : 0.0;
+}
+
 BilinearCertificate BilinearCertificate::prepare(const std::array<Vec3, 4>& nodes) {
   BilinearCertificate c;
   c.origin = nodes[0];
@@ -43,12 +50,7 @@ BilinearCertificate BilinearCertificate::prepare(const std::array<Vec3, 4>& node
   for (const auto& [s, t] : kCorners) nu = std::min(nu, (a1 + t * a3).cross(a2 + s * a3).dot(n));
   const double trace = std::max((a1 - a3).squaredNorm(), (a1 + a3).squaredNorm()) +
                        std::max((a2 - a3).squaredNorm(), (a2 + a3).squaredNorm());
-  if (!(nu > 0.0) || !(trace > 0.0)) return c;
-  // lambda_min = (tr - sqrt(tr^2 - 4 det)) / 2 grows with det and falls with tr: the bounds give a bound,
-  // written without the cancellation.
-  const double det = nu * nu;
-  const double floor = 2.0 * det / (trace + std::sqrt(std::max(trace * trace - 4.0 * det, 0.0)));
-  c.lambda_floor = std::isfinite(floor) ? floor : 0.0;
+  c.lambda_floor = eigenvalue_floor(nu, trace);
   return c;
 }
 

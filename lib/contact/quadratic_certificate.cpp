@@ -5,6 +5,7 @@
 #include <limits>
 #include <span>
 
+#include "contact/bilinear_certificate.hpp"
 #include "geometry/segment_checks.hpp"
 #include "projection/closest_point_on_quadratic_face.hpp"
 
@@ -17,15 +18,6 @@ namespace {
 constexpr double kMargin = 0.9;
 /// Newton's iterations before the run is given up (a strongly convex f converges in a few).
 constexpr int kMaxIterations = 16;
-
-/// lambda_min(J^T J) >= this, from |P_s x P_t| >= nu > 0 and |P_s|^2 + |P_t|^2 <= trace (written without the
-/// cancellation); 0 where the bounds give nothing.
-double eigenvalue_floor(double nu, double trace) {
-  if (!(nu > 0.0) || !(trace > 0.0) || !std::isfinite(nu) || !std::isfinite(trace)) return 0.0;
-  const double det = nu * nu;
-  const double floor = 2.0 * det / (trace + std::sqrt(std::max(trace * trace - 4.0 * det, 0.0)));
-  return std::isfinite(floor) ? floor : 0.0;
-}
 
 template <std::size_t N>
 bool all_finite(const std::array<Vec3, N>& x) {
@@ -77,23 +69,6 @@ void edge_spheres(QuadraticCertificate& c, std::span<const Vec3> x, std::size_t 
 }
 
 constexpr double kBinomial[4][4] = {{1, 0, 0, 0}, {1, 1, 0, 0}, {1, 2, 1, 0}, {1, 3, 3, 1}};
-
-/// Face parameters of the point t of edge `edge` (as the reference maps them: the ends exact).
-std::array<double, 2> edge_param(bool triangle, int edge, double t) {
-  if (triangle) {
-    switch (edge) {
-      case 0: return {t, 0.0};
-      case 1: return {1.0 - t, t};
-      default: return {0.0, 1.0 - t};
-    }
-  }
-  switch (edge) {
-    case 0: return {-1.0 + 2.0 * t, -1.0};
-    case 1: return {1.0, -1.0 + 2.0 * t};
-    case 2: return {1.0 - 2.0 * t, 1.0};
-    default: return {-1.0, 1.0 - 2.0 * t};
-  }
-}
 
 /// The t in [0, 1] of the nearest point to `slave` of the curve C(t) = c0 + c1 t + c2 t^2 through the edge's
 /// corners X, Y and mid-side node M (the reference's edge curve), where f = |C - S|^2 / 2 is strictly convex
@@ -245,7 +220,8 @@ std::optional<projection::FaceClosestPoint> certified(const QuadraticCertificate
     const auto [bound, e] = order[k];
     if (bound > best + 1e-12 * (best + c.length)) break;
     const double t = convex_edge_minimum(x[e], x[corners + e], x[(e + 1) % corners], relative);
-    const std::array<double, 2> q = edge_param(triangle, static_cast<int>(e), t);
+    const std::array<double, 2> q = triangle ? projection::triangle_edge_param(static_cast<int>(e), t)
+                                             : projection::quad_edge_param(static_cast<int>(e), t);
     const double distance = (relative - face.position(q[0], q[1])).norm();
     // Strictly nearer replaces (the interior first, as the reference); equal distances keep the lower edge,
     // as the reference's order does.

@@ -81,17 +81,16 @@ FaceIndex index_faces(const mesh::SurfaceMesh& master, std::span<const Vec3> nor
   index.sizes.resize(n);
   index.checked.assign(n, 0);
   index.bilinear.resize(options.narrow == NarrowPhase::kCertified ? n : 0);
-  bool any_triangle = false;
-  for (std::size_t f = 0; f < n && !any_triangle; ++f)
-    any_triangle = master.face_type(static_cast<int>(f)) == mesh::FaceType::kTri3;
-  index.triangles.resize(options.narrow == NarrowPhase::kCertified && any_triangle ? n : 0);
-  const auto quadratic = [&](std::size_t f) {
+  // Slots for prepared triangles and quadratic certificates where the surface has such faces.
+  bool any_triangle = false, any_quadratic = false;
+  for (std::size_t f = 0; f < n; ++f) {
     const mesh::FaceType type = master.face_type(static_cast<int>(f));
-    return type == mesh::FaceType::kQuad8 || type == mesh::FaceType::kTri6;
-  };
-  bool any_quadratic = false;
-  for (std::size_t f = 0; f < n && !any_quadratic; ++f) any_quadratic = quadratic(f);
-  index.quadratic.resize(options.narrow == NarrowPhase::kCertified && any_quadratic ? n : 0);
+    any_triangle = any_triangle || type == mesh::FaceType::kTri3;
+    any_quadratic = any_quadratic || type == mesh::FaceType::kQuad8 || type == mesh::FaceType::kTri6;
+  }
+  const bool certified = options.narrow == NarrowPhase::kCertified;
+  index.triangles.resize(certified && any_triangle ? n : 0);
+  index.quadratic.resize(certified && any_quadratic ? n : 0);
   // The faces at each node, counted, then filled in face order.
   index.node_offsets.assign(master.positions.size() + 1, 0);
   for (std::size_t f = 0; f < n; ++f) {

@@ -94,24 +94,6 @@ double nearest_parameter(const QuadraticCurve& curve, const Vec3& slave) {
   return best_t;
 }
 
-/// Face parameters of the point t of an edge (t = 0 at the edge's first corner, t = 1 at its second,
-/// exactly).
-std::array<double, 2> quad_edge_param(int edge, double t) {
-  switch (edge) {
-    case 0: return {-1.0 + 2.0 * t, -1.0};
-    case 1: return {1.0, -1.0 + 2.0 * t};
-    case 2: return {1.0 - 2.0 * t, 1.0};
-    default: return {-1.0, 1.0 - 2.0 * t};
-  }
-}
-std::array<double, 2> triangle_edge_param(int edge, double t) {
-  switch (edge) {
-    case 0: return {t, 0.0};
-    case 1: return {1.0 - t, t};
-    default: return {0.0, 1.0 - t};
-  }
-}
-
 /// The nearest local minimum of |S - P|^2 that damped Newton reaches from `starts` inside the face.
 struct Interior {
   bool found = false;
@@ -475,6 +457,22 @@ FaceClosestPoint closest_point_on_serendipity_quad(const SerendipityQuad& face, 
 FaceClosestPoint closest_point_on_quadratic_triangle(const QuadraticTriangle& face, const Vec3& slave,
                                                      const ProjectionOptions& options) {
   return about_first_node(face, slave, options, closest_point_on_quadratic_triangle_local);
+}
+
+std::array<double, 2> quad_edge_param(int edge, double t) {
+  switch (edge) {
+    case 0: return {-1.0 + 2.0 * t, -1.0};
+    case 1: return {1.0, -1.0 + 2.0 * t};
+    case 2: return {1.0 - 2.0 * t, 1.0};
+    default: return {-1.0, 1.0 - 2.0 * t};
+  }
+}
+std::array<double, 2> triangle_edge_param(int edge, double t) {
+  switch (edge) {
+    case 0: return {t, 0.0};
+    case 1: return {1.0 - t, t};
+    default: return {0.0, 1.0 - t};
+  }
 }
 
 }  // namespace contactnn::projection

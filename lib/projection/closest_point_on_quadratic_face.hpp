@@ -57,6 +57,11 @@ inline constexpr int kTriangleEdges = 3;
 /// QuadraticCertificate). `from_interior` (optional): whether the interior point won. `edges_farther`: the
 /// caller has proved every edge point farther than the interior one by more than the rounding of either
 /// distance; the edges are then not computed.
+/// Face parameters of the point t of edge `edge` (t = 0 at the edge's first corner, t = 1 at its second,
+/// exactly): a quad8's (xi, eta) or a tri6's (r, s).
+[[nodiscard]] std::array<double, 2> quad_edge_param(int edge, double t);
+[[nodiscard]] std::array<double, 2> triangle_edge_param(int edge, double t);
+
 /// Face: geometry::SerendipityQuad or geometry::QuadraticTriangle (instantiated for both).
 template <class Face>
 [[nodiscard]] FaceClosestPoint nearest_of_interior_and_quadratic_edges(const Face& face, const Vec3& slave,
