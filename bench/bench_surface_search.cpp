@@ -21,7 +21,7 @@
 //
 // quadratic/quad8_fresh, quadratic/tri6_fresh and their _tracked: the surface search and the tracker (as
 // global/surface and global/surface_tracked) on a wavy sheet of quadratic faces (Issue 38: the
-// QuadraticCertificate) in the manner of the large history: 120 x 120 unit quad8 faces (C3D20 tops) or cells
+// CurvedCertificate) in the manner of the large history: 120 x 120 unit quad8 faces (C3D20 tops) or cells
 // of two tri6 each (C3D10 tops), every node (mid-side nodes included) on z = 0.2 sin(x / 5) cos(y / 7); a
 // square grid of at least --slaves slave nodes at spacing 0.3 over its middle, 0.05 above it; tracked: moved
 // 0.001 down per increment. Arguments: threads; narrow 0 certified, 1 the reference on every face.

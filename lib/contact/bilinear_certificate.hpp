@@ -33,7 +33,7 @@ using geometry::Vec3;
 /// A lower bound of lambda_min(J^T J) over a face from bounds of |P_s x P_t| >= nu > 0 and of
 /// |P_s|^2 + |P_t|^2 <= trace (lambda_min = (tr - sqrt(tr^2 - 4 det)) / 2 grows with det and falls with tr;
 /// written without the cancellation); 0 where the bounds give nothing. Both certificates' (this one's and
-/// quadratic_certificate.hpp's).
+/// curved_certificate.hpp's).
 [[nodiscard]] double eigenvalue_floor(double nu, double trace);
 
 /// A quad4 face on its bilinear facet, prepared once per state of the master: the facet relative to its first

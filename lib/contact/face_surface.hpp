@@ -8,7 +8,7 @@
 #include <span>
 
 #include "contact/bilinear_certificate.hpp"
-#include "contact/quadratic_certificate.hpp"
+#include "contact/curved_certificate.hpp"
 #include "contact/surface_search.hpp"
 #include "geometry/configuration.hpp"
 #include "geometry/quadratic_triangle.hpp"
@@ -57,8 +57,8 @@ R with_face_surface(const mesh::SurfaceMesh& master, std::span<const Vec3> norma
 }
 
 /// The closest point of face f to `slave` (closest_point_on_triangle for a flat triangle, else the projection
-/// of its face type). With `certificate` (a checked bilinear face's, NarrowPhase::kCertified) or `quadratic`
-/// (a quad8 or tri6 face's, QuadraticCertificate): its certified
+/// of its face type). With `certificate` (a checked bilinear face's, NarrowPhase::kCertified) or `curved`
+/// (a quad8, tri6 or Gregory face's, CurvedCertificate): its certified
 /// Newton run first, from `start` (a tracked node's previous point on the face, in its own order) or the
 /// centre. Otherwise, or where the certificate does not hold, the reference (its grid of starts, never a warm
 /// start: a warm run can end on another stationary point than the face's nearest, on its boundary or, on a
@@ -68,7 +68,7 @@ projection::FaceClosestPoint closest_on_face(const mesh::SurfaceMesh& master, st
                                              const BilinearCertificate* certificate = nullptr,
                                              const std::array<double, 2>* start = nullptr,
                                              int* reference_count = nullptr,
-                                             const QuadraticCertificate* quadratic = nullptr);
+                                             const CurvedCertificate* curved = nullptr);
 
 /// n / |n|, or zero where |n| is zero or not finite.
 Vec3 unit_or_zero(const Vec3& n);

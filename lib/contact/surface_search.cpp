@@ -10,11 +10,11 @@
 #include <utility>
 
 #include "contact/bilinear_certificate.hpp"
+#include "contact/curved_certificate.hpp"
 #include "contact/face_grid.hpp"
 #include "contact/face_surface.hpp"
 #include "contact/narrow_phase.hpp"
 #include "contact/point_cloud.hpp"
-#include "contact/quadratic_certificate.hpp"
 #include "core/error.hpp"
 #include "geometry/bilinear_patch.hpp"
 #include "geometry/gregory_patch.hpp"
@@ -60,8 +60,9 @@ struct FaceIndex {
   /// The tri3 faces prepared (projection::PreparedTriangle; every face's slot, where the surface has a tri3
   /// face and the search is certified): their closest points without rebuilding their edges per slave.
   std::vector<projection::PreparedTriangle> triangles;
-  /// The same for the quad8 and tri6 faces (empty where the master has none or under kReference).
-  std::vector<QuadraticCertificate> quadratic;
+  /// The same for the curved faces: quad8, tri6 and Gregory patches (empty where the master has none or under
+  /// kReference).
+  std::vector<CurvedCertificate> curved;
 
   [[nodiscard]] std::span<const int> faces_at(int node) const {
     const auto n = static_cast<std::size_t>(node);
@@ -82,15 +83,17 @@ FaceIndex index_faces(const mesh::SurfaceMesh& master, std::span<const Vec3> nor
   index.checked.assign(n, 0);
   index.bilinear.resize(options.narrow == NarrowPhase::kCertified ? n : 0);
   // Slots for prepared triangles and quadratic certificates where the surface has such faces.
-  bool any_triangle = false, any_quadratic = false;
+  bool any_triangle = false, any_curved = false;
   for (std::size_t f = 0; f < n; ++f) {
     const mesh::FaceType type = master.face_type(static_cast<int>(f));
     any_triangle = any_triangle || type == mesh::FaceType::kTri3;
-    any_quadratic = any_quadratic || type == mesh::FaceType::kQuad8 || type == mesh::FaceType::kTri6;
+    any_curved = any_curved || type == mesh::FaceType::kQuad8 || type == mesh::FaceType::kTri6 ||
+                 (type == mesh::FaceType::kQuad4 &&
+                  kind_of(master, options, static_cast<int>(f)) == SurfaceKind::kGregory);
   }
   const bool certified = options.narrow == NarrowPhase::kCertified;
   index.triangles.resize(certified && any_triangle ? n : 0);
-  index.quadratic.resize(certified && any_quadratic ? n : 0);
+  index.curved.resize(certified && any_curved ? n : 0);
   // The faces at each node, counted, then filled in face order.
   index.node_offsets.assign(master.positions.size() + 1, 0);
   for (std::size_t f = 0; f < n; ++f) {
@@ -154,17 +157,19 @@ FaceIndex index_faces(const mesh::SurfaceMesh& master, std::span<const Vec3> nor
     if (nodes.type == mesh::FaceType::kQuad8) {
       const geometry::SerendipityQuad quad8(face_positions<8>(master, nodes));
       for (const Vec3& x : quad8.bezier_control_points()) include(x);
-      if (!index.quadratic.empty()) index.quadratic[f] = QuadraticCertificate::prepare(quad8);
+      if (!index.curved.empty()) index.curved[f] = CurvedCertificate::prepare(quad8);
     } else if (nodes.type == mesh::FaceType::kTri6) {
       const geometry::QuadraticTriangle tri6(face_positions<6>(master, nodes));
       for (const Vec3& x : tri6.bezier_control_points()) include(x);
-      if (!index.quadratic.empty()) index.quadratic[f] = QuadraticCertificate::prepare(tri6);
+      if (!index.curved.empty()) index.curved[f] = CurvedCertificate::prepare(tri6);
     } else if (corners.size() == 4 && kind_of(master, options, face) == SurfaceKind::kGregory) {
       const geometry::Configuration config = face_configuration(master, normals, SurfaceKind::kGregory, face);
       if (!geometry::surface_defect(config, SurfaceKind::kGregory)) {
         // The patch lies in the convex hull of its control points (each interior point mixes two of them).
         const geometry::GregoryPatch patch(config.nodes, config.normals);
         for (const Vec3& x : patch.control_points()) include(x);
+        if (!index.curved.empty())
+          index.curved[f] = CurvedCertificate::prepare_gregory(config.nodes, config.normals);
       }
     }
     index.centres[f] = centre;
@@ -231,10 +236,11 @@ const BilinearCertificate* certificate_of(const FaceIndex& index, int face) {
   return c.lambda_floor > 0.0 ? &c : nullptr;
 }
 
-/// Face f's quadratic certificate, or null where it has none (kReference, not a quad8 or tri6, or folded).
-const QuadraticCertificate* quadratic_of(const FaceIndex& index, int face) {
-  if (index.quadratic.empty()) return nullptr;
-  const QuadraticCertificate& c = index.quadratic[static_cast<std::size_t>(face)];
+/// Face f's curved certificate, or null where it has none (kReference, not a quad8, tri6 or Gregory patch, or
+/// no bound).
+const CurvedCertificate* curved_of(const FaceIndex& index, int face) {
+  if (index.curved.empty()) return nullptr;
+  const CurvedCertificate& c = index.curved[static_cast<std::size_t>(face)];
   return c.lambda_floor > 0.0 ? &c : nullptr;
 }
 
@@ -255,7 +261,7 @@ projection::FaceClosestPoint closest_on_indexed_face(
                                                           slave);
   const SearchOptions& face_options = index.checked[static_cast<std::size_t>(f)] != 0 ? checked : options;
   return closest_on_face(master, normals, face_options, f, slave, certificate_of(index, f), start,
-                         reference_count, quadratic_of(index, f));
+                         reference_count, curved_of(index, f));
 }
 
 /// |S - c_f| - r_f and the distance to face f's box, the larger (SurfaceSearcher::lower_bound; the sphere's
@@ -652,7 +658,7 @@ void SurfaceSearcher::nearest_fresh(long slave_id, const Vec3& world_slave,
   double reach = m.capture;
   if (nearest < 0) {
     // No face in the cells around S: the scan gathers over the capture distance.
-  } else if (certificate_of(m.index, nearest) != nullptr || quadratic_of(m.index, nearest) != nullptr ||
+  } else if (certificate_of(m.index, nearest) != nullptr || curved_of(m.index, nearest) != nullptr ||
              m.master.face_type(nearest) == mesh::FaceType::kTri3) {
     known.face = nearest;
     known.point = closest_on_indexed_face(m.master, m.normals, m.options, m.checked_options, m.index, nearest,

@@ -12,17 +12,6 @@ namespace contactnn::projection {
 
 namespace {
 
-/// Parameters of the point t in [lo, hi] of edge `edge` (t increases with the free parameter, whatever the
-/// edge's direction in the node order: the nearest point does not depend on it).
-std::array<double, 2> edge_param(int edge, double t, ParamDomain d) {
-  switch (edge) {
-    case 0: return {t, d.lo};
-    case 1: return {d.hi, t};
-    case 2: return {t, d.hi};
-    default: return {d.lo, t};
-  }
-}
-
 bool finite(const Vec3& x) { return std::isfinite(x[0]) && std::isfinite(x[1]) && std::isfinite(x[2]); }
 
 /// Half the squared distance along the edge and its first two derivatives in t:
@@ -35,11 +24,11 @@ struct EdgeFunction {
   ParamDomain d;
 
   [[nodiscard]] double value(double t) const {
-    const auto p = edge_param(edge, t, d);
+    const auto p = domain_edge_param(edge, t, d);
     return 0.5 * (surface.position(p[0], p[1]) - slave).squaredNorm();
   }
   void derivatives(double t, double& f1, double& f2) const {
-    const auto p = edge_param(edge, t, d);
+    const auto p = domain_edge_param(edge, t, d);
     const geometry::SurfacePoint sp = surface.evaluate(p[0], p[1]);
     const bool along_s = edge == 0 || edge == 2;
     const Vec3& c1 = along_s ? sp.d_s : sp.d_t;
@@ -101,15 +90,15 @@ EdgePoint closest_point_on_edge(const SurfaceT& surface, int edge, const Vec3& s
   EdgePoint best;
   if constexpr (SurfaceT::kKind == SurfaceKind::kBilinear) {
     // A bilinear facet's edges are straight and linear in the parameter: the clamped projection is exact.
-    const auto p0 = edge_param(edge, d.lo, d);
-    const auto p1 = edge_param(edge, d.hi, d);
+    const auto p0 = domain_edge_param(edge, d.lo, d);
+    const auto p1 = domain_edge_param(edge, d.hi, d);
     const Vec3 x0 = surface.position(p0[0], p0[1]);
     const Vec3 chord = surface.position(p1[0], p1[1]) - x0;
     const double length2 = chord.squaredNorm();
     const double tau = length2 > 0.0 ? std::clamp((slave - x0).dot(chord) / length2, 0.0, 1.0) : 0.0;
     // The ends exactly (vertices): lo + 1 x width may round away from hi.
     const double t = tau == 1.0 ? d.hi : d.lo + tau * (d.hi - d.lo);
-    best.param = edge_param(edge, t, d);
+    best.param = domain_edge_param(edge, t, d);
   } else {
     // A curved edge: 33 samples, every sampled local minimum refined in its neighbours' bracket.
     constexpr int kSamples = 33;
@@ -136,7 +125,7 @@ EdgePoint closest_point_on_edge(const SurfaceT& surface, int edge, const Vec3& s
         best_t = t;
       }
     }
-    best.param = edge_param(edge, best_t, d);
+    best.param = domain_edge_param(edge, best_t, d);
   }
   best.distance = (slave - surface.position(best.param[0], best.param[1])).norm();
   return best;

@@ -15,6 +15,17 @@ namespace contactnn::projection {
 /// edge 3 s = lo.
 inline constexpr int kQuadEdges = 4;
 
+/// Parameters of the point t in [lo, hi] of edge `edge` of the quadrilateral domain d (t increases with the
+/// free parameter, whatever the edge's direction in the node order: the nearest point does not depend on it).
+[[nodiscard]] constexpr std::array<double, 2> domain_edge_param(int edge, double t, ParamDomain d) {
+  switch (edge) {
+    case 0: return {t, d.lo};
+    case 1: return {d.hi, t};
+    case 2: return {t, d.hi};
+    default: return {d.lo, t};
+  }
+}
+
 /// The closest point P of a face to S.
 struct [[nodiscard]] FaceClosestPoint {
   std::array<double, 2> param{0.0, 0.0};  ///< (xi, eta) or (u, v) of P, inside the closed domain

@@ -54,7 +54,7 @@ inline constexpr int kTriangleEdges = 3;
 /// interior point (moved onto the closed face here; null: none) and `iterations` its Newton iterations. The
 /// nearest of it and the edge points, located and reported as those functions do; status invalid where a
 /// value is not finite. For faster interior solvers that must answer as the reference does (lib/contact's
-/// QuadraticCertificate). `from_interior` (optional): whether the interior point won. `edges_farther`: the
+/// CurvedCertificate). `from_interior` (optional): whether the interior point won. `edges_farther`: the
 /// caller has proved every edge point farther than the interior one by more than the rounding of either
 /// distance; the edges are then not computed.
 /// Face parameters of the point t of edge `edge` (t = 0 at the edge's first corner, t = 1 at its second,

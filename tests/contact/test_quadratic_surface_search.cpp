@@ -289,7 +289,7 @@ TEST(QuadraticSurfaceSearch, InconsistentMidSideListsAreRefused) {
 }
 
 TEST(QuadraticSurfaceSearch, TheCertificateAnswersAsTheReferenceWithFewerReferenceFaces) {
-  // Issue 38: the quad8 and tri6 faces' QuadraticCertificate (NarrowPhase::kCertified) gives the reference's
+  // Issue 38: the quad8 and tri6 faces' CurvedCertificate (NarrowPhase::kCertified) gives the reference's
   // answers (NarrowPhase::kReference: every face by the reference), spending the reference on far fewer
   // faces.
   const Body body = make_body();

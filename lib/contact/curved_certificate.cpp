@@ -1,12 +1,15 @@
-#include "contact/quadratic_certificate.hpp"
+#include "contact/curved_certificate.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <span>
+#include <type_traits>
 
 #include "contact/bilinear_certificate.hpp"
+#include "geometry/configuration.hpp"
 #include "geometry/segment_checks.hpp"
+#include "geometry/surface_of.hpp"
 #include "projection/closest_point_on_quadratic_face.hpp"
 
 namespace contactnn::contact {
@@ -26,7 +29,7 @@ bool all_finite(const std::array<Vec3, N>& x) {
 
 /// lo_k, hi_k: the range of Q.v_k over the control points `q`.
 template <std::size_t N>
-void ranges(QuadraticCertificate& c, const std::array<Vec3, N>& q, std::size_t count) {
+void ranges(CurvedCertificate& c, const std::array<Vec3, N>& q, std::size_t count) {
   for (std::size_t k = 0; k < count; ++k) {
     c.lo[k] = std::numeric_limits<double>::infinity();
     c.hi[k] = -std::numeric_limits<double>::infinity();
@@ -39,14 +42,14 @@ void ranges(QuadraticCertificate& c, const std::array<Vec3, N>& q, std::size_t c
 }
 
 /// The largest S.v_k - Q.v_k over the control points (an upper bound of r.v), for k in [from, to).
-double upper(const QuadraticCertificate& c, const Vec3& relative, std::size_t from, std::size_t to) {
+double upper(const CurvedCertificate& c, const Vec3& relative, std::size_t from, std::size_t to) {
   double m = -std::numeric_limits<double>::infinity();
   for (std::size_t k = from; k < to; ++k) m = std::max(m, relative.dot(c.curvature[k]) - c.lo[k]);
   return m;
 }
 
 /// The largest |S.v_k - Q.v_k| over the control points (a bound of |r.v|), for k in [from, to).
-double largest(const QuadraticCertificate& c, const Vec3& relative, std::size_t from, std::size_t to) {
+double largest(const CurvedCertificate& c, const Vec3& relative, std::size_t from, std::size_t to) {
   double m = 0.0;
   for (std::size_t k = from; k < to; ++k) {
     const double at = relative.dot(c.curvature[k]);
@@ -55,37 +58,53 @@ double largest(const QuadraticCertificate& c, const Vec3& relative, std::size_t 
   return m;
 }
 
-/// Each edge's sphere: about the mean of its Bezier control points X, 2 M - (X + Y) / 2, Y, through the
+/// Edge e's sphere about the mean of its Bezier control points `q` (the edge lies in their hull), through the
 /// farthest (a little larger, for rounding).
-void edge_spheres(QuadraticCertificate& c, std::span<const Vec3> x, std::size_t corners) {
+void edge_sphere(CurvedCertificate& c, std::size_t e, std::span<const Vec3> q) {
+  Vec3 centre = Vec3::Zero();
+  for (const Vec3& x : q) centre += x;
+  centre /= static_cast<double>(q.size());
+  double radius = 0.0;
+  for (const Vec3& x : q) radius = std::max(radius, (x - centre).norm());
+  c.edge_centre[e] = centre;
+  c.edge_radius[e] = (1.0 + 1e-12) * radius;
+}
+
+/// Each quadratic edge's sphere (about its Bezier control points X, 2 M - (X + Y) / 2, Y) and its curve
+/// C(t) = X (1 - t)(1 - 2t) + 4 M t (1 - t) + Y t (2t - 1) in powers of t.
+void quadratic_edges(CurvedCertificate& c, std::span<const Vec3> x, std::size_t corners) {
   for (std::size_t e = 0; e < corners; ++e) {
     const Vec3& a = x[e];
     const Vec3& b = x[(e + 1) % corners];
-    const Vec3 m = 2.0 * x[corners + e] - 0.5 * (a + b);
-    c.edge_centre[e] = (a + b + m) / 3.0;
-    c.edge_radius[e] = (1.0 + 1e-12) * std::max({(a - c.edge_centre[e]).norm(), (b - c.edge_centre[e]).norm(),
-                                                 (m - c.edge_centre[e]).norm()});
+    const Vec3& m = x[corners + e];
+    const std::array<Vec3, 3> q = {a, b, Vec3(2.0 * m - 0.5 * (a + b))};  // summed in this order, as before
+    edge_sphere(c, e, q);
+    c.edge_curve[e] = {a, Vec3(-3.0 * a + 4.0 * m - b), Vec3(2.0 * a - 4.0 * m + 2.0 * b), Vec3::Zero()};
   }
 }
 
 constexpr double kBinomial[4][4] = {{1, 0, 0, 0}, {1, 1, 0, 0}, {1, 2, 1, 0}, {1, 3, 3, 1}};
 
-/// The t in [0, 1] of the nearest point to `slave` of the curve C(t) = c0 + c1 t + c2 t^2 through the edge's
-/// corners X, Y and mid-side node M (the reference's edge curve), where f = |C - S|^2 / 2 is strictly convex
-/// in t (the certificate holds on the face, and an edge is a segment of its parameters): f' = C'.(C - S)
-/// increases, so its root (or the end where it has none) is the edge's one minimum, found by Newton kept in
-/// a shrinking bracket (bisection where a step leaves it), to rounding.
-double convex_edge_minimum(const Vec3& x, const Vec3& m, const Vec3& y, const Vec3& slave) {
-  const Vec3 c0 = x - slave, c1 = -3.0 * x + 4.0 * m - y, c2 = 2.0 * x - 4.0 * m + 2.0 * y;
-  const auto slope = [&](double t) { return (c1 + (2.0 * t) * c2).dot(c0 + t * (c1 + t * c2)); };
+/// The t in [0, 1] of the nearest point to `slave` of an edge's curve C(t) = c0 + c1 t + c2 t^2 + c3 t^3 (the
+/// reference's edge curve: quadratic through a quadratic face's corners and mid-side node, c3 = 0, or a
+/// Gregory patch's cubic boundary), where f = |C - S|^2 / 2 is strictly convex in t (the certificate holds
+/// on the face, and an edge is a segment of its parameters): f' = C'.(C - S) increases, so its root (or the
+/// end where it has none) is the edge's one minimum, found by Newton kept in a shrinking bracket (bisection
+/// where a step leaves it), to rounding. With c3 = 0 every operation below gives the quadratic's own bits.
+double convex_edge_minimum(const std::array<Vec3, 4>& curve, const Vec3& slave) {
+  const Vec3 c0 = curve[0] - slave;
+  const Vec3 &c1 = curve[1], &c2 = curve[2], &c3 = curve[3];
+  const auto slope = [&](double t) {
+    return (c1 + t * (2.0 * c2 + (3.0 * t) * c3)).dot(c0 + t * (c1 + t * (c2 + t * c3)));
+  };
   const double s0 = slope(0.0), s1 = slope(1.0);
   if (!(s0 < 0.0)) return 0.0;
   if (!(s1 > 0.0)) return 1.0;
   // The root of f' between, from the secant's (f' is nearly linear on a mildly curved edge).
   double a = 0.0, b = 1.0, t = s0 / (s0 - s1);
   for (int it = 0; it < 100; ++it) {
-    const Vec3 d1 = c1 + (2.0 * t) * c2;
-    const Vec3 r = c0 + t * (c1 + t * c2);
+    const Vec3 d1 = c1 + t * (2.0 * c2 + (3.0 * t) * c3);
+    const Vec3 r = c0 + t * (c1 + t * (c2 + t * c3));
     const double g = d1.dot(r);
     if (g == 0.0 || !std::isfinite(g)) break;
     if (g < 0.0) {
@@ -93,7 +112,7 @@ double convex_edge_minimum(const Vec3& x, const Vec3& m, const Vec3& y, const Ve
     } else {
       b = t;
     }
-    const double h = d1.squaredNorm() + 2.0 * c2.dot(r);
+    const double h = d1.squaredNorm() + (2.0 * c2 + (6.0 * t) * c3).dot(r);
     const double step = h > 0.0 ? -g / h : std::numeric_limits<double>::infinity();
     if (std::abs(step) <= 4.0 * std::numeric_limits<double>::epsilon()) {
       t = std::clamp(t + step, 0.0, 1.0);  // converged: the last step, to rounding
@@ -110,15 +129,20 @@ double convex_edge_minimum(const Vec3& x, const Vec3& m, const Vec3& y, const Ve
 /// The Newton run, the edges and the certificate of a boundary answer, for either face (Face: the face
 /// relative to its first node).
 template <class Face>
-std::optional<projection::FaceClosestPoint> certified(const QuadraticCertificate& c, const Face& face,
+std::optional<projection::FaceClosestPoint> certified(const CurvedCertificate& c, const Face& face,
                                                       const Vec3& relative,
                                                       const projection::ProjectionOptions& options,
                                                       const std::array<double, 2>* start) {
   const bool triangle = c.triangle;
+  constexpr bool gregory = std::is_same_v<Face, geometry::GregoryPatch>;
+  // The square's centre and half width ([-1, 1]^2 for a quad8, [0, 1]^2 for a Gregory patch), and how far
+  // outside it an iterate may go before the boundary decides: a Gregory patch's denominators vanish on lines
+  // through its corners just beyond the reference's box of 0.1.
+  constexpr double mid = gregory ? 0.5 : 0.0, half = gregory ? 0.5 : 1.0, escape = gregory ? 0.1 : 0.5;
   // 1. One Newton run on grad f = 0 (undamped: f is strictly convex on the face).
   std::array<double, 2> p = start != nullptr ? *start
                             : triangle       ? std::array<double, 2>{1.0 / 3.0, 1.0 / 3.0}
-                                             : std::array<double, 2>{0.0, 0.0};
+                                             : std::array<double, 2>{mid, mid};
   const double residual_floor = options.tol_residual * c.length * c.length;
   bool converged = false;
   int iterations = 0;
@@ -145,8 +169,9 @@ std::optional<projection::FaceClosestPoint> certified(const QuadraticCertificate
     // inside after all, the boundary point fails step 3's test and the reference decides.
     const double step = std::max(std::abs(d0), std::abs(d1));
     const double outside = triangle ? std::max({-p[0], -p[1], p[0] + p[1] - 1.0})
-                                    : std::max(std::abs(p[0]), std::abs(p[1])) - 1.0;
-    if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || outside > 0.5 || (it > 1 && outside > 10.0 * step)) {
+                                    : std::max(std::abs(p[0] - mid), std::abs(p[1] - mid)) - half;
+    if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || outside > escape ||
+        (it > 1 && outside > 10.0 * step)) {
       break;
     }
     if (step <= options.tol_param) {
@@ -157,8 +182,9 @@ std::optional<projection::FaceClosestPoint> certified(const QuadraticCertificate
   }
   const double margin = options.domain_margin;
   const bool interior =
-      converged && (triangle ? p[0] >= -margin && p[1] >= -margin && p[0] + p[1] <= 1.0 + margin
-                             : std::abs(p[0]) <= 1.0 + margin && std::abs(p[1]) <= 1.0 + margin);
+      converged &&
+      (triangle ? p[0] >= -margin && p[1] >= -margin && p[0] + p[1] <= 1.0 + margin
+                : std::abs(p[0] - mid) <= half + margin && std::abs(p[1] - mid) <= half + margin);
 
   // 2. As the reference: the interior point (moved onto the face), then the edges, the nearest wins. f grows
   //    by at least mu |q - p|^2 / 2 from the interior minimum p to any q of the face (mu = (1 - kMargin) x
@@ -168,7 +194,7 @@ std::optional<projection::FaceClosestPoint> certified(const QuadraticCertificate
   bool edges_farther = false;
   if (interior) {
     const double delta = triangle ? std::min({p[0], p[1], (1.0 - p[0] - p[1]) / std::sqrt(2.0)})
-                                  : 1.0 - std::max(std::abs(p[0]), std::abs(p[1]));
+                                  : half - std::max(std::abs(p[0] - mid), std::abs(p[1] - mid));
     edges_farther = delta > 0.0 &&
                     (1.0 - kMargin) * c.lambda_floor * delta * delta > 1e-8 * (squared + c.length * c.length);
   }
@@ -190,8 +216,8 @@ std::optional<projection::FaceClosestPoint> certified(const QuadraticCertificate
     }
     // The square: at a bound, no descent back into it (a corner: both bounds, its whole cone).
     for (std::size_t k = 0; k < 2; ++k) {
-      if (q[k] == -1.0 && g[k] < -tol) return false;
-      if (q[k] == 1.0 && g[k] > tol) return false;
+      if (q[k] == mid - half && g[k] < -tol) return false;
+      if (q[k] == mid + half && g[k] > tol) return false;
     }
     return true;
   };
@@ -201,8 +227,17 @@ std::optional<projection::FaceClosestPoint> certified(const QuadraticCertificate
   // point (with a margin for rounding) cannot win.
   projection::FaceClosestPoint out;
   double best = std::numeric_limits<double>::infinity();
+  // The report of the point q of the closed face, as the reference's (its steps 2 and 3 for a point that has
+  // already won).
+  const auto report = [&](const std::array<double, 2>& q, int its) {
+    if constexpr (gregory) {
+      return projection::nearest_of_interior_and_edges(face, relative, &q, its, nullptr, true);
+    } else {
+      return projection::nearest_of_interior_and_quadratic_edges(face, relative, &q, its, nullptr, true);
+    }
+  };
   if (interior) {
-    out = projection::nearest_of_interior_and_quadratic_edges(face, relative, &p, iterations, nullptr, true);
+    out = report(p, iterations);
     if (out.status != Status::kOk) return std::nullopt;
     if (edges_farther) return out;
     best = (relative - face.position(out.param[0], out.param[1])).norm();
@@ -212,16 +247,18 @@ std::optional<projection::FaceClosestPoint> certified(const QuadraticCertificate
   for (std::size_t e = 0; e < corners; ++e)
     order[e] = {(relative - c.edge_centre[e]).norm() - c.edge_radius[e], e};
   std::sort(order.begin(), order.begin() + static_cast<std::ptrdiff_t>(corners));
-  const auto& x = face.nodes();
   std::array<double, 2> nearest{};
   bool edge_wins = false;
   std::size_t winner = 0;
   for (std::size_t k = 0; k < corners; ++k) {
     const auto [bound, e] = order[k];
     if (bound > best + 1e-12 * (best + c.length)) break;
-    const double t = convex_edge_minimum(x[e], x[corners + e], x[(e + 1) % corners], relative);
-    const std::array<double, 2> q = triangle ? projection::triangle_edge_param(static_cast<int>(e), t)
-                                             : projection::quad_edge_param(static_cast<int>(e), t);
+    const double t = convex_edge_minimum(c.edge_curve[e], relative);
+    const auto edge = static_cast<int>(e);
+    const std::array<double, 2> q =
+        triangle  ? projection::triangle_edge_param(edge, t)
+        : gregory ? projection::domain_edge_param(edge, t, param_domain(SurfaceKind::kGregory))
+                  : projection::quad_edge_param(edge, t);
     const double distance = (relative - face.position(q[0], q[1])).norm();
     // Strictly nearer replaces (the interior first, as the reference); equal distances keep the lower edge,
     // as the reference's order does.
@@ -238,7 +275,11 @@ std::optional<projection::FaceClosestPoint> certified(const QuadraticCertificate
   if (!std::isfinite(best)) return std::nullopt;
   if (!edge_wins) return out;                     // the interior point, nearer than every edge
   if (!minimum_at(nearest)) return std::nullopt;  // the face holds a nearer point the run missed
-  out = projection::quadratic_face_point(face, relative, nearest, interior ? iterations : 0);
+  if constexpr (gregory) {
+    out = report(nearest, interior ? iterations : 0);
+  } else {
+    out = projection::quadratic_face_point(face, relative, nearest, interior ? iterations : 0);
+  }
   if (out.status != Status::kOk) return std::nullopt;
   return out;
 }
@@ -246,21 +287,21 @@ std::optional<projection::FaceClosestPoint> certified(const QuadraticCertificate
 /// The certificate's face: `world` relative to its first node (c.origin), with its edges' spheres and its
 /// characteristic length; null (c left without a certificate) where a node is not finite.
 template <class Face>
-const Face* relative_face(QuadraticCertificate& c, const Face& world, std::size_t corners) {
+const Face* relative_face(CurvedCertificate& c, const Face& world, std::size_t corners) {
   c.origin = world.nodes()[0];
   if (!c.origin.allFinite() || !all_finite(world.nodes())) return nullptr;
   auto x = world.nodes();
   for (Vec3& node : x) node -= c.origin;
   const Face& face = c.face.emplace<Face>(x);
-  edge_spheres(c, x, corners);
+  quadratic_edges(c, x, corners);
   c.length = face.characteristic_length();
   return &face;
 }
 
 }  // namespace
 
-QuadraticCertificate QuadraticCertificate::prepare(const geometry::SerendipityQuad& world) {
-  QuadraticCertificate c;
+CurvedCertificate CurvedCertificate::prepare(const geometry::SerendipityQuad& world) {
+  CurvedCertificate c;
   const geometry::SerendipityQuad* relative = relative_face(c, world, 4);
   if (relative == nullptr) return c;
   const geometry::SerendipityQuad& face = *relative;
@@ -320,8 +361,8 @@ QuadraticCertificate QuadraticCertificate::prepare(const geometry::SerendipityQu
   return c;
 }
 
-QuadraticCertificate QuadraticCertificate::prepare(const geometry::QuadraticTriangle& world) {
-  QuadraticCertificate c;
+CurvedCertificate CurvedCertificate::prepare(const geometry::QuadraticTriangle& world) {
+  CurvedCertificate c;
   c.triangle = true;
   const geometry::QuadraticTriangle* relative = relative_face(c, world, 3);
   if (relative == nullptr) return c;
@@ -360,7 +401,140 @@ QuadraticCertificate QuadraticCertificate::prepare(const geometry::QuadraticTria
   return c;
 }
 
-bool QuadraticCertificate::convex_for(const Vec3& relative) const {
+CurvedCertificate CurvedCertificate::prepare_gregory(const std::array<Vec3, 4>& nodes,
+                                                     const std::array<Vec3, 4>& normals) {
+  CurvedCertificate c;
+  c.origin = nodes[0];
+  if (!c.origin.allFinite() || !all_finite(nodes) || !all_finite(normals)) return c;
+  // The reference's checks (closest_on_face's, on the world nodes) and its patch: on the nodes relative to
+  // the first, with the normals as given.
+  geometry::Configuration config;
+  config.nodes = nodes;
+  config.normals = normals;
+  if (geometry::surface_defect(config, SurfaceKind::kGregory)) return c;
+  std::array<Vec3, 4> x = nodes;
+  for (Vec3& node : x) node -= c.origin;
+  if (geometry::GregoryPatch::diagnose(x, normals) != geometry::GregoryDefect::kNone) return c;
+  const geometry::GregoryPatch& face = c.face.emplace<geometry::GregoryPatch>(x, normals);
+  c.length = face.characteristic_length();
+  if (!(c.length > 0.0) || !std::isfinite(c.length) || geometry::is_degenerate_segment(face.nodes()))
+    return c;
+  using geometry::GregoryPatch;
+  const std::array<Vec3, 20>& q = face.control_points();
+  // The bicubic's points b_ij (interior ones P_ij1) and the rational terms' delta_k (gregory_patch.hpp).
+  const auto b = [&](int i, int j) -> const Vec3& {
+    const bool inner = i > 0 && i < 3 && j > 0 && j < 3;
+    return q[static_cast<std::size_t>(inner ? GregoryPatch::interior_index(i, j, 1)
+                                            : GregoryPatch::control_index(i, j))];
+  };
+  // Everything split along the unit normal n at the centre and across it: a patch near its tangent plane
+  // has small normal extent and mostly normal second derivatives, and r.P_ss <= |r.n| |P_ss.n| + |r_t|
+  // |P_ss_t|.
+  const geometry::SurfacePoint middle = face.evaluate(0.5, 0.5);
+  const Vec3 normal = middle.d_s.cross(middle.d_t);
+  if (!(normal.norm() > 0.0) || !normal.allFinite()) return c;
+  CurvedCertificate::GregoryBounds& g = c.gregory;
+  g.normal = normal.normalized();
+  // [along n, across n] of a vector.
+  const auto split = [&](const Vec3& v) {
+    const double along = v.dot(g.normal);
+    return std::array<double, 2>{std::abs(along), (v - along * g.normal).norm()};
+  };
+  std::array<double, 2> delta = {0.0, 0.0};
+  for (int i = 1; i <= 2; ++i) {
+    for (int j = 1; j <= 2; ++j) {
+      const auto d = split(q[static_cast<std::size_t>(GregoryPatch::interior_index(i, j, 0))] -
+                           q[static_cast<std::size_t>(GregoryPatch::interior_index(i, j, 1))]);
+      delta = {std::max(delta[0], d[0]), std::max(delta[1], d[1])};
+    }
+  }
+  // The largest second derivatives, each part: the bicubic's Bezier coefficients (second differences), plus
+  // the bounds of the rational terms (the largest |delta_k| part times kGregoryBound).
+  std::array<std::array<double, 2>, 3> most{};  // ss, st, tt; [along, across]
+  const auto include = [&](std::size_t k, const Vec3& v) {
+    const auto d = split(v);
+    most[k] = {std::max(most[k][0], d[0]), std::max(most[k][1], d[1])};
+  };
+  for (int i = 0; i < 4; ++i) {
+    for (int j = 0; j < 2; ++j) {
+      include(0, 6.0 * (b(j + 2, i) - 2.0 * b(j + 1, i) + b(j, i)));
+      include(2, 6.0 * (b(i, j + 2) - 2.0 * b(i, j + 1) + b(i, j)));
+    }
+  }
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j) include(1, 9.0 * (b(i + 1, j + 1) - b(i + 1, j) - b(i, j + 1) + b(i, j)));
+  }
+  std::array<double, 3> whole{};  // bounds of |P_ss|, |P_st|, |P_tt|
+  for (std::size_t k = 0; k < 3; ++k) {
+    for (std::size_t part = 0; part < 2; ++part) {
+      most[k][part] = (1.0 + 1e-12) * (most[k][part] + kGregoryBound[k] * delta[part]);
+      g.second[2 * k + part] = most[k][part];
+    }
+    whole[k] = std::hypot(most[k][0], most[k][1]);
+  }
+  // The control points, which hold the patch in their hull: their range along n and their largest distance
+  // across it from their mean.
+  g.centre = Vec3::Zero();
+  for (const Vec3& v : q) g.centre += v;
+  g.centre /= static_cast<double>(q.size());
+  g.below = std::numeric_limits<double>::infinity();
+  g.above = -g.below;
+  for (const Vec3& v : q) {
+    const double along = (v - g.centre).dot(g.normal);
+    g.below = std::min(g.below, along);
+    g.above = std::max(g.above, along);
+    g.across = std::max(g.across, split(v - g.centre)[1]);
+  }
+  g.across *= 1.0 + 1e-12;
+  const double slack = 1e-12 * c.length;
+  g.below -= slack;
+  g.above += slack;
+  // The edges: cubic Bezier curves on the boundary points (the rational terms vanish there), in powers of t.
+  for (int e = 0; e < 4; ++e) {
+    std::array<Vec3, 4> p;
+    for (int k = 0; k < 4; ++k) {
+      const std::array<int, 2> ij = e == 0   ? std::array<int, 2>{k, 0}
+                                    : e == 1 ? std::array<int, 2>{3, k}
+                                    : e == 2 ? std::array<int, 2>{k, 3}
+                                             : std::array<int, 2>{0, k};
+      p[static_cast<std::size_t>(k)] = b(ij[0], ij[1]);
+    }
+    const auto u = static_cast<std::size_t>(e);
+    edge_sphere(c, u, p);
+    c.edge_curve[u] = {p[0], Vec3(3.0 * (p[1] - p[0])), Vec3(3.0 * (p[0] - 2.0 * p[1] + p[2])),
+                       Vec3(p[3] - p[0] + 3.0 * (p[1] - p[2]))};
+  }
+  // lambda_min(J^T J) over the square: on each of kCells x kCells sub-squares, sigma_min(J) at its centre
+  // less |J - J(centre)|_F, each column's change at most half the sub-square's width times its second
+  // derivatives.
+  constexpr int kCells = 2;
+  const double change = std::hypot(whole[0] + whole[1], whole[1] + whole[2]) / (2.0 * kCells);
+  double smallest = std::numeric_limits<double>::infinity();
+  for (int i = 0; i < kCells; ++i) {
+    for (int j = 0; j < kCells; ++j) {
+      const geometry::SurfacePoint at = face.evaluate((i + 0.5) / kCells, (j + 0.5) / kCells);
+      smallest = std::min(smallest, eigenvalue_floor(at.d_s.cross(at.d_t).norm(),
+                                                     at.d_s.squaredNorm() + at.d_t.squaredNorm()));
+    }
+  }
+  const double sigma = std::sqrt(smallest) * (1.0 - 1e-12) - change * (1.0 + 1e-12);
+  c.lambda_floor = sigma > 0.0 && std::isfinite(sigma) ? sigma * sigma * (1.0 - 1e-12) : 0.0;
+  return c;
+}
+
+bool CurvedCertificate::convex_for(const Vec3& relative) const {
+  if (std::holds_alternative<geometry::GregoryPatch>(face)) {
+    // lambda_max(M) <= max(|m00|, |m11|) + |m01|, each |r.v| <= |r.n| |v.n| + |r_t| |v_t|: |r.n| at most the
+    // slave's height beyond the hull's range along n, |r_t| its distance across n plus the hull's.
+    const Vec3 d = relative - gregory.centre;
+    const double along = d.dot(gregory.normal);
+    const double r_n = std::max(std::abs(along - gregory.below), std::abs(along - gregory.above));
+    const double r_t = (d - along * gregory.normal).norm() + gregory.across;
+    const auto bound = [&](std::size_t k) {
+      return r_n * gregory.second[2 * k] + r_t * gregory.second[2 * k + 1];
+    };
+    return std::max(bound(0), bound(2)) + bound(1) < kMargin * lambda_floor;
+  }
   // lambda_max(M) <= max(m00, m11) + |m01| (Gershgorin), with upper bounds of m00 = r.P_ss and m11 = r.P_tt
   // (signed: on a face's convex side they are negative and help) and a bound of |m01| = |r.P_st|.
   const double bound = triangle ? std::max(upper(*this, relative, 0, 1), upper(*this, relative, 2, 3)) +
@@ -370,7 +544,7 @@ bool QuadraticCertificate::convex_for(const Vec3& relative) const {
   return bound < kMargin * lambda_floor;
 }
 
-std::optional<projection::FaceClosestPoint> QuadraticCertificate::closest_point(
+std::optional<projection::FaceClosestPoint> CurvedCertificate::closest_point(
     const Vec3& slave, const projection::ProjectionOptions& options,
     const std::array<double, 2>* start) const {
   const Vec3 relative = slave - origin;
@@ -378,6 +552,8 @@ std::optional<projection::FaceClosestPoint> QuadraticCertificate::closest_point(
   std::optional<projection::FaceClosestPoint> out;
   if (const auto* tri6 = std::get_if<geometry::QuadraticTriangle>(&face)) {
     out = certified(*this, *tri6, relative, options, start);
+  } else if (const auto* gregory = std::get_if<geometry::GregoryPatch>(&face)) {
+    out = certified(*this, *gregory, relative, options, start);
   } else if (const auto* quad8 = std::get_if<geometry::SerendipityQuad>(&face)) {
     out = certified(*this, *quad8, relative, options, start);
   }

@@ -1,0 +1,115 @@
+// The closest point of a curved face (quad8, tri6, or a quad4's Gregory patch) to a slave node in one Newton
+// run, certified to be the face's closest point, with the reference (lib/projection's sampled starts) only
+// where no certificate holds: the curved faces' BilinearCertificate (bilinear_certificate.hpp, the model).
+//
+// For the face P(s, t) and f = |S - P|^2 / 2, with r = S - P and J = [P_s P_t],
+//   grad f = -(P_s.r, P_t.r),   Hess f = J^T J - M,   M = [[r.P_ss, r.P_st], [r.P_st, r.P_tt]],
+// and for any direction w, w^T Hess f w >= (lambda_min(J^T J) - lambda_max(M)) |w|^2 (Weyl), lambda_max(M) <=
+// max(m00, m11) + |m01| (Gershgorin). Both terms are bounded over the whole face by numbers computed once per
+// face and state.
+//
+// quad8 and tri6 (polynomial faces):
+//  - r.v for a second derivative v: the face is P = sum_ij B_ij Q_ij over its Bezier control points Q_ij
+//    (Bernstein B_ij >= 0, summing to 1), so r = sum_ij B_ij (S - Q_ij); v is constant (tri6) or affine in
+//    each parameter (quad8: P_ss in t, P_tt in s, P_st in both), a mix with weights >= 0 of its values v_k at
+//    the face's corners (its extreme parameters). Hence r.v <= max_k (S.v_k - lo_k) and |r.v| <=
+//    max_k max(|S.v_k - lo_k|, |S.v_k - hi_k|), [lo_k, hi_k] the range of Q_ij.v_k over the control points
+//    (once per face): a few dot products per slave. m00 and m11 are bounded signed (on the convex side of a
+//    curved face they are negative: the curvature helps), m01 in magnitude;
+//  - lambda_min(J^T J) = (tr - sqrt(tr^2 - 4 det)) / 2 grows with det = |P_s x P_t|^2 and falls with
+//    tr = |P_s|^2 + |P_t|^2. |P_s x P_t| >= (P_s x P_t).n (n the unit normal at the face's centre), a
+//    polynomial bounded below by its Bernstein coefficients (the products of the derivatives' Bezier forms,
+//    degree (3, 3) for a quad8, 2 for a tri6); |P_s|^2 <= the largest |D|^2 over the Bezier coefficients D of
+//    P_s (a convex function of a convex combination), and the same for P_t.
+//
+// The Gregory patch (geometry/gregory_patch.hpp, (u, v) in [0, 1]^2) is rational: P = sum B_i B_j b_ij +
+// sum_k g_k delta_k, the bicubic on its 16 points b_ij (the interior ones P_ij1) plus, for each interior
+// point, g_k = B_i(u) B_j(v) w_k(u, v) times delta_k = P_ij0 - P_ij1. The four g_k are reflections of one
+// fixed function, whose second derivatives are bounded on the closed square (of degree 0 near the corner
+// where w's denominator vanishes): sum_k |g_k,uu| <= 18, sum_k |g_k,uv| <= 9, sum_k |g_k,vv| <= 19.5
+// (kGregoryBound, checked by a test on a dense grid and on circles about the corners). So over the square
+//  - |P_ss| <= U_ss = max |6 D_ss b| (the bicubic's second differences, its Bezier form) + 18 max |delta_k|,
+//    and likewise U_tt and U_st (9 D_s D_t b, 9 max |delta_k|);
+//  - |r| <= |S - c| + rho, c and rho a sphere about the 20 control points (the patch lies in their hull);
+//  - lambda_max(M) <= |r| (max(U_ss, U_tt) + U_st);
+//  - sigma_min(J) >= sigma_min(J at the centre) - |J - J(centre)|_F, the change bounded by the second
+//    derivatives over half the square: lambda_min(J^T J) >= that squared.
+//
+// Where the bound of lambda_max(M) < kMargin x lambda_floor, f is strictly convex on the face (a convex
+// domain): its minimum over the closed face is unique, an interior stationary point is that minimum, and a
+// boundary point that meets the Karush-Kuhn-Tucker conditions is that minimum. One Newton run (from the
+// centre, or from a tracked node's previous point) and the curved edges then give the reference's answer; a
+// run that does not end on a certified point returns nothing, and the caller takes the reference.
+#pragma once
+
+#include <array>
+#include <optional>
+#include <variant>
+
+#include "geometry/gregory_patch.hpp"
+#include "geometry/quadratic_triangle.hpp"
+#include "geometry/serendipity_quad.hpp"
+#include "projection/closest_point_on_face.hpp"
+
+namespace contactnn::contact {
+
+using geometry::Vec3;
+
+/// Bounds over [0, 1]^2 of sum_k |g_k,uu|, sum_k |g_k,uv|, sum_k |g_k,vv| for the four reflections g_k of
+/// g(u, v) = B_1(u) B_1(v) u / (u + v), B_1(x) = 3 x (1 - x)^2 (the header: g(u, v), g(1 - u, v), g(u, 1 -
+/// v), g(1 - u, 1 - v)): the suprema are 18, 9 (each in the limit at a corner) and 19.5; these hold 1% more.
+inline constexpr std::array<double, 3> kGregoryBound = {18.18, 9.09, 19.7};
+
+/// A quad8, tri6 or Gregory face prepared once per state of the master: its nodes relative to its first node
+/// (as the reference projection moves it) and the certificate's bounds.
+struct CurvedCertificate {
+  bool triangle = false;       ///< a tri6 (nodes 0..5) rather than a quad8 (nodes 0..7) or a Gregory patch
+  Vec3 origin = Vec3::Zero();  ///< the face's first node; everything below is relative to it
+  /// The face on its nodes minus origin (as the reference moves it), built once.
+  std::variant<std::monostate, geometry::SerendipityQuad, geometry::QuadraticTriangle, geometry::GregoryPatch>
+      face;
+  /// Each edge's sphere about the mean of its Bezier control points (the edge lies in their hull): the edges
+  /// it shows farther than a nearer point are not searched.
+  std::array<Vec3, 4> edge_centre{};
+  std::array<double, 4> edge_radius{};
+  /// Each edge's curve C(t) = sum_k edge_curve[e][k] t^k, t in [0, 1] along the edge's free parameter
+  /// (quadratic for quad8 and tri6, cubic for the Gregory patch).
+  std::array<std::array<Vec3, 4>, 4> edge_curve{};
+  /// A Gregory patch's bounds (the header), split along the unit normal at its centre and across it.
+  struct GregoryBounds {
+    Vec3 normal = Vec3::Zero();
+    Vec3 centre = Vec3::Zero();       ///< the mean of the 20 control points
+    double below = 0.0, above = 0.0;  ///< their range along normal, relative to centre
+    double across = 0.0;              ///< their largest distance across normal from centre
+    std::array<double, 6> second{};   ///< |P_ss.n|, |P_ss across|, the same for P_st, then P_tt
+  } gregory;
+  std::array<Vec3, 8> curvature{};   ///< v_k: quad8 P_ss at t = -1, 1, P_tt at s = -1, 1, P_st at the
+                                     ///< corners; tri6 P_ss, P_st, P_tt
+  std::array<double, 8> lo{}, hi{};  ///< the range of Q.v_k over the relative control points Q
+  double lambda_floor = 0.0;         ///< lower bound of lambda_min(J^T J) over the face; 0: no certificate
+  double length = 0.0;               ///< the face's characteristic length (the reference's tolerances use it)
+
+  /// The bounds for a quad8 / tri6 face (world or working units); lambda_floor 0 where the face is folded,
+  /// degenerate (as the reference calls it) or not finite (then every slave takes the reference).
+  static CurvedCertificate prepare(const geometry::SerendipityQuad& face);
+  static CurvedCertificate prepare(const geometry::QuadraticTriangle& face);
+  /// The bounds for the Gregory patch of a quad4 on `nodes` and its node normals `normals`, built relative to
+  /// nodes[0] exactly as the reference builds it (projection::closest_point_on_face's); lambda_floor 0 where
+  /// the patch does not exist, the face is degenerate or the bounds give nothing.
+  static CurvedCertificate prepare_gregory(const std::array<Vec3, 4>& nodes,
+                                           const std::array<Vec3, 4>& normals);
+
+  /// True when f is certified strictly convex on the face for `relative` (S minus origin).
+  [[nodiscard]] bool convex_for(const Vec3& relative) const;
+
+  /// The closest point of the face to `slave` as projection::closest_point_on_serendipity_quad (or
+  /// closest_point_on_quadratic_triangle, or closest_point_on_face for a Gregory patch) would report it
+  /// (point in the caller's coordinates, location, normal, distance), when the certificate holds and the
+  /// Newton run ends on a certified point; nothing otherwise. `start`: the first iterate (the centre when
+  /// null). `options`: the reference's tolerances.
+  [[nodiscard]] std::optional<projection::FaceClosestPoint> closest_point(
+      const Vec3& slave, const projection::ProjectionOptions& options,
+      const std::array<double, 2>* start = nullptr) const;
+};
+
+}  // namespace contactnn::contact
