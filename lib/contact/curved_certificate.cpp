@@ -401,24 +401,24 @@ CurvedCertificate CurvedCertificate::prepare(const geometry::QuadraticTriangle& 
   return c;
 }
 
-CurvedCertificate CurvedCertificate::prepare_gregory(const std::array<Vec3, 4>& nodes,
-                                                     const std::array<Vec3, 4>& normals) {
-  CurvedCertificate c;
+void CurvedCertificate::prepare_gregory(CurvedCertificate& c, const std::array<Vec3, 4>& nodes,
+                                        const std::array<Vec3, 4>& normals) {
+  c.lambda_floor = 0.0;
+  c.triangle = false;
   c.origin = nodes[0];
-  if (!c.origin.allFinite() || !all_finite(nodes) || !all_finite(normals)) return c;
-  // The reference's checks (closest_on_face's, on the world nodes) and its patch: on the nodes relative to
-  // the first, with the normals as given.
-  geometry::Configuration config;
-  config.nodes = nodes;
-  config.normals = normals;
-  if (geometry::surface_defect(config, SurfaceKind::kGregory)) return c;
+  // The reference's patch: on the nodes relative to the first, with the normals as given (the caller has
+  // found the world nodes sound: closest_on_face's check).
   std::array<Vec3, 4> x = nodes;
   for (Vec3& node : x) node -= c.origin;
-  if (geometry::GregoryPatch::diagnose(x, normals) != geometry::GregoryDefect::kNone) return c;
-  const geometry::GregoryPatch& face = c.face.emplace<geometry::GregoryPatch>(x, normals);
+  if (!c.origin.allFinite() || !all_finite(x) ||
+      geometry::GregoryPatch::diagnose(x, normals) != geometry::GregoryDefect::kNone) {
+    c.face.emplace<std::monostate>();
+    return;
+  }
+  const geometry::GregoryPatch& face =
+      c.face.emplace<geometry::GregoryPatch>(x, normals, geometry::GregoryPatch::Diagnosed{});
   c.length = face.characteristic_length();
-  if (!(c.length > 0.0) || !std::isfinite(c.length) || geometry::is_degenerate_segment(face.nodes()))
-    return c;
+  if (!(c.length > 0.0) || !std::isfinite(c.length) || geometry::is_degenerate_segment(face.nodes())) return;
   using geometry::GregoryPatch;
   const std::array<Vec3, 20>& q = face.control_points();
   // The bicubic's points b_ij (interior ones P_ij1) and the rational terms' delta_k (gregory_patch.hpp).
@@ -432,8 +432,9 @@ CurvedCertificate CurvedCertificate::prepare_gregory(const std::array<Vec3, 4>& 
   // |P_ss_t|.
   const geometry::SurfacePoint middle = face.evaluate(0.5, 0.5);
   const Vec3 normal = middle.d_s.cross(middle.d_t);
-  if (!(normal.norm() > 0.0) || !normal.allFinite()) return c;
+  if (!(normal.norm() > 0.0) || !normal.allFinite()) return;
   CurvedCertificate::GregoryBounds& g = c.gregory;
+  g = CurvedCertificate::GregoryBounds{};
   g.normal = normal.normalized();
   // [along n, across n] of a vector.
   const auto split = [&](const Vec3& v) {
@@ -504,22 +505,24 @@ CurvedCertificate CurvedCertificate::prepare_gregory(const std::array<Vec3, 4>& 
     c.edge_curve[u] = {p[0], Vec3(3.0 * (p[1] - p[0])), Vec3(3.0 * (p[0] - 2.0 * p[1] + p[2])),
                        Vec3(p[3] - p[0] + 3.0 * (p[1] - p[2]))};
   }
-  // lambda_min(J^T J) over the square: on each of kCells x kCells sub-squares, sigma_min(J) at its centre
-  // less |J - J(centre)|_F, each column's change at most half the sub-square's width times its second
-  // derivatives.
-  constexpr int kCells = 2;
-  const double change = std::hypot(whole[0] + whole[1], whole[1] + whole[2]) / (2.0 * kCells);
-  double smallest = std::numeric_limits<double>::infinity();
-  for (int i = 0; i < kCells; ++i) {
-    for (int j = 0; j < kCells; ++j) {
-      const geometry::SurfacePoint at = face.evaluate((i + 0.5) / kCells, (j + 0.5) / kCells);
-      smallest = std::min(smallest, eigenvalue_floor(at.d_s.cross(at.d_t).norm(),
-                                                     at.d_s.squaredNorm() + at.d_t.squaredNorm()));
+  // lambda_min(J^T J) over the square: sigma_min(J) at a point less |J - J(point)|_F, each column's change at
+  // most half the width of the square about the point times its second derivatives. First the centre for the
+  // whole square; where that gives under 3/4 of the centre's sigma, the better of it and 2 x 2 sub-squares.
+  const auto sigma_at = [&](const geometry::SurfacePoint& at) {
+    return std::sqrt(
+        eigenvalue_floor(at.d_s.cross(at.d_t).norm(), at.d_s.squaredNorm() + at.d_t.squaredNorm()));
+  };
+  const double change = std::hypot(whole[0] + whole[1], whole[1] + whole[2]) * 0.5 * (1.0 + 1e-12);
+  const double at_middle = sigma_at(middle) * (1.0 - 1e-12);
+  double sigma = at_middle - change;
+  if (sigma < 0.75 * at_middle) {
+    double smallest = std::numeric_limits<double>::infinity();
+    for (const double u : {0.25, 0.75}) {
+      for (const double v : {0.25, 0.75}) smallest = std::min(smallest, sigma_at(face.evaluate(u, v)));
     }
+    sigma = std::max(sigma, smallest * (1.0 - 1e-12) - 0.5 * change);
   }
-  const double sigma = std::sqrt(smallest) * (1.0 - 1e-12) - change * (1.0 + 1e-12);
   c.lambda_floor = sigma > 0.0 && std::isfinite(sigma) ? sigma * sigma * (1.0 - 1e-12) : 0.0;
-  return c;
 }
 
 bool CurvedCertificate::convex_for(const Vec3& relative) const {

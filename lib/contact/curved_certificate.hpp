@@ -43,7 +43,14 @@
 #pragma once
 
 #include <array>
+#include <atomic>
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <new>
 #include <optional>
+#include <thread>
+#include <type_traits>
 #include <variant>
 
 #include "geometry/gregory_patch.hpp"
@@ -93,11 +100,13 @@ struct CurvedCertificate {
   /// degenerate (as the reference calls it) or not finite (then every slave takes the reference).
   static CurvedCertificate prepare(const geometry::SerendipityQuad& face);
   static CurvedCertificate prepare(const geometry::QuadraticTriangle& face);
-  /// The bounds for the Gregory patch of a quad4 on `nodes` and its node normals `normals`, built relative to
-  /// nodes[0] exactly as the reference builds it (projection::closest_point_on_face's); lambda_floor 0 where
-  /// the patch does not exist, the face is degenerate or the bounds give nothing.
-  static CurvedCertificate prepare_gregory(const std::array<Vec3, 4>& nodes,
-                                           const std::array<Vec3, 4>& normals);
+  /// `c` made the certificate of the Gregory patch of a quad4 on `nodes` and its node normals `normals`,
+  /// built relative to nodes[0] exactly as the reference builds it (closest_on_face's); the caller has found
+  /// the world configuration sound (geometry::surface_defect). In place: a search prepares every face of
+  /// every state. lambda_floor 0 where the patch does not exist, the face is degenerate or the bounds give
+  /// nothing.
+  static void prepare_gregory(CurvedCertificate& c, const std::array<Vec3, 4>& nodes,
+                              const std::array<Vec3, 4>& normals);
 
   /// True when f is certified strictly convex on the face for `relative` (S minus origin).
   [[nodiscard]] bool convex_for(const Vec3& relative) const;
@@ -110,6 +119,47 @@ struct CurvedCertificate {
   [[nodiscard]] std::optional<projection::FaceClosestPoint> closest_point(
       const Vec3& slave, const projection::ProjectionOptions& options,
       const std::array<double, 2>* start = nullptr) const;
+};
+
+/// The certificates of one state's curved faces, each prepared on its first use: a face no slave reaches is
+/// never prepared and its memory never touched (a master's curved faces are mostly far from the slaves, and
+/// a certificate holds about 2 KB). Safe from any number of threads; the answers do not depend on which one
+/// prepares a face.
+class CurvedCertificates {
+ public:
+  CurvedCertificates() = default;
+  /// Room for `faces` certificates, none prepared.
+  explicit CurvedCertificates(std::size_t faces)
+      : size_(faces),
+        state_(faces > 0 ? new std::atomic<std::uint8_t>[faces]() : nullptr),
+        storage_(faces > 0 ? new std::byte[faces * sizeof(CurvedCertificate)] : nullptr) {}
+
+  [[nodiscard]] bool empty() const { return size_ == 0; }
+
+  /// Face f's certificate, made by prepare(CurvedCertificate&) (given a default one) on the first call for f;
+  /// a thread asking while another prepares it waits for it.
+  template <class Prepare>
+  const CurvedCertificate& get(std::size_t f, Prepare&& prepare) const {
+    static_assert(std::is_trivially_destructible_v<CurvedCertificate>, "the slots are never destroyed");
+    auto* slot = reinterpret_cast<CurvedCertificate*>(storage_.get() + f * sizeof(CurvedCertificate));
+    std::atomic<std::uint8_t>& state = state_[f];
+    if (state.load(std::memory_order_acquire) != kReady) {
+      std::uint8_t expected = kEmpty;
+      if (state.compare_exchange_strong(expected, kPreparing, std::memory_order_acq_rel)) {
+        prepare(*::new (slot) CurvedCertificate());
+        state.store(kReady, std::memory_order_release);
+      } else {
+        while (state.load(std::memory_order_acquire) != kReady) std::this_thread::yield();
+      }
+    }
+    return *std::launder(slot);
+  }
+
+ private:
+  static constexpr std::uint8_t kEmpty = 0, kPreparing = 1, kReady = 2;
+  std::size_t size_ = 0;
+  std::unique_ptr<std::atomic<std::uint8_t>[]> state_;
+  std::unique_ptr<std::byte[]> storage_;
 };
 
 }  // namespace contactnn::contact

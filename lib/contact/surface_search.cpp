@@ -62,7 +62,7 @@ struct FaceIndex {
   std::vector<projection::PreparedTriangle> triangles;
   /// The same for the curved faces: quad8, tri6 and Gregory patches (empty where the master has none or under
   /// kReference).
-  std::vector<CurvedCertificate> curved;
+  CurvedCertificates curved;
 
   [[nodiscard]] std::span<const int> faces_at(int node) const {
     const auto n = static_cast<std::size_t>(node);
@@ -93,7 +93,7 @@ FaceIndex index_faces(const mesh::SurfaceMesh& master, std::span<const Vec3> nor
   }
   const bool certified = options.narrow == NarrowPhase::kCertified;
   index.triangles.resize(certified && any_triangle ? n : 0);
-  index.curved.resize(certified && any_curved ? n : 0);
+  index.curved = CurvedCertificates(certified && any_curved ? n : 0);
   // The faces at each node, counted, then filled in face order.
   index.node_offsets.assign(master.positions.size() + 1, 0);
   for (std::size_t f = 0; f < n; ++f) {
@@ -157,19 +157,15 @@ FaceIndex index_faces(const mesh::SurfaceMesh& master, std::span<const Vec3> nor
     if (nodes.type == mesh::FaceType::kQuad8) {
       const geometry::SerendipityQuad quad8(face_positions<8>(master, nodes));
       for (const Vec3& x : quad8.bezier_control_points()) include(x);
-      if (!index.curved.empty()) index.curved[f] = CurvedCertificate::prepare(quad8);
     } else if (nodes.type == mesh::FaceType::kTri6) {
       const geometry::QuadraticTriangle tri6(face_positions<6>(master, nodes));
       for (const Vec3& x : tri6.bezier_control_points()) include(x);
-      if (!index.curved.empty()) index.curved[f] = CurvedCertificate::prepare(tri6);
     } else if (corners.size() == 4 && kind_of(master, options, face) == SurfaceKind::kGregory) {
       const geometry::Configuration config = face_configuration(master, normals, SurfaceKind::kGregory, face);
       if (!geometry::surface_defect(config, SurfaceKind::kGregory)) {
         // The patch lies in the convex hull of its control points (each interior point mixes two of them).
-        const geometry::GregoryPatch patch(config.nodes, config.normals);
+        const geometry::GregoryPatch patch(config.nodes, config.normals, geometry::GregoryPatch::Diagnosed{});
         for (const Vec3& x : patch.control_points()) include(x);
-        if (!index.curved.empty())
-          index.curved[f] = CurvedCertificate::prepare_gregory(config.nodes, config.normals);
       }
     }
     index.centres[f] = centre;
@@ -238,9 +234,26 @@ const BilinearCertificate* certificate_of(const FaceIndex& index, int face) {
 
 /// Face f's curved certificate, or null where it has none (kReference, not a quad8, tri6 or Gregory patch, or
 /// no bound).
-const CurvedCertificate* curved_of(const FaceIndex& index, int face) {
+/// Prepared on its first use in the state (CurvedCertificates).
+const CurvedCertificate* curved_of(const FaceIndex& index, const mesh::SurfaceMesh& master,
+                                   std::span<const Vec3> normals, const SearchOptions& options, int face) {
   if (index.curved.empty()) return nullptr;
-  const CurvedCertificate& c = index.curved[static_cast<std::size_t>(face)];
+  const mesh::FaceType type = master.face_type(face);
+  const bool gregory =
+      type == mesh::FaceType::kQuad4 && kind_of(master, options, face) == SurfaceKind::kGregory;
+  if (type != mesh::FaceType::kQuad8 && type != mesh::FaceType::kTri6 && !gregory) return nullptr;
+  const CurvedCertificate& c = index.curved.get(static_cast<std::size_t>(face), [&](CurvedCertificate& out) {
+    const mesh::FaceNodes nodes = master.face_nodes(face);
+    if (type == mesh::FaceType::kQuad8) {
+      out = CurvedCertificate::prepare(geometry::SerendipityQuad(face_positions<8>(master, nodes)));
+    } else if (type == mesh::FaceType::kTri6) {
+      out = CurvedCertificate::prepare(geometry::QuadraticTriangle(face_positions<6>(master, nodes)));
+    } else {
+      const geometry::Configuration config = face_configuration(master, normals, SurfaceKind::kGregory, face);
+      if (!geometry::surface_defect(config, SurfaceKind::kGregory))
+        CurvedCertificate::prepare_gregory(out, config.nodes, config.normals);
+    }
+  });
   return c.lambda_floor > 0.0 ? &c : nullptr;
 }
 
@@ -261,7 +274,7 @@ projection::FaceClosestPoint closest_on_indexed_face(
                                                           slave);
   const SearchOptions& face_options = index.checked[static_cast<std::size_t>(f)] != 0 ? checked : options;
   return closest_on_face(master, normals, face_options, f, slave, certificate_of(index, f), start,
-                         reference_count, curved_of(index, f));
+                         reference_count, curved_of(index, master, normals, options, f));
 }
 
 /// |S - c_f| - r_f and the distance to face f's box, the larger (SurfaceSearcher::lower_bound; the sphere's
@@ -658,7 +671,8 @@ void SurfaceSearcher::nearest_fresh(long slave_id, const Vec3& world_slave,
   double reach = m.capture;
   if (nearest < 0) {
     // No face in the cells around S: the scan gathers over the capture distance.
-  } else if (certificate_of(m.index, nearest) != nullptr || curved_of(m.index, nearest) != nullptr ||
+  } else if (certificate_of(m.index, nearest) != nullptr ||
+             curved_of(m.index, m.master, m.normals, m.options, nearest) != nullptr ||
              m.master.face_type(nearest) == mesh::FaceType::kTri3) {
     known.face = nearest;
     known.point = closest_on_indexed_face(m.master, m.normals, m.options, m.checked_options, m.index, nearest,

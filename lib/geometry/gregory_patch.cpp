@@ -77,10 +77,16 @@ GregoryDefect GregoryPatch::diagnose(const std::array<Vec3, 4>& nodes, const std
 }
 
 GregoryPatch::GregoryPatch(const std::array<Vec3, 4>& nodes, const std::array<Vec3, 4>& normals)
-    : nodes_(nodes) {
+    : GregoryPatch(nodes, normals, (check(nodes, normals), Diagnosed{})) {}
+
+void GregoryPatch::check(const std::array<Vec3, 4>& nodes, const std::array<Vec3, 4>& normals) {
   const GregoryDefect defect = diagnose(nodes, normals);
   CONTACTNN_REQUIRE(defect == GregoryDefect::kNone,
                     "GregoryPatch: the nodes and node normals define no patch: " << defect_name(defect));
+}
+
+GregoryPatch::GregoryPatch(const std::array<Vec3, 4>& nodes, const std::array<Vec3, 4>& normals, Diagnosed)
+    : nodes_(nodes) {
   for (int i = 0; i < 4; ++i) normals_[i] = normals[i].stableNormalized();
   characteristic_length_ = max_node_distance(nodes_);
 

@@ -58,6 +58,11 @@ class GregoryPatch {
   /// Throws InvalidArgument naming the defect when diagnose(nodes, normals) is not kNone.
   GregoryPatch(const std::array<Vec3, 4>& nodes, const std::array<Vec3, 4>& normals);
 
+  /// The patch of inputs the caller has found sound (diagnose(nodes, normals) == kNone), without checking
+  /// them again: a search that builds each face's patch once per state diagnoses it once.
+  struct Diagnosed {};
+  GregoryPatch(const std::array<Vec3, 4>& nodes, const std::array<Vec3, 4>& normals, Diagnosed);
+
   /// kNone when the constructor accepts these inputs, otherwise the first defect found. Cheap: a caller
   /// (the projection) uses it to report `invalid` / `degenerate` instead of catching.
   [[nodiscard]] static GregoryDefect diagnose(const std::array<Vec3, 4>& nodes,
@@ -90,6 +95,9 @@ class GregoryPatch {
   }
 
  private:
+  /// Throws InvalidArgument naming the defect where diagnose finds one.
+  static void check(const std::array<Vec3, 4>& nodes, const std::array<Vec3, 4>& normals);
+
   std::array<Vec3, 4> nodes_;
   std::array<Vec3, 4> normals_;
   std::array<Vec3, 20> control_;

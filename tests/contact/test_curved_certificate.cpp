@@ -92,9 +92,12 @@ CurvedCertificate prepare(const geometry::SerendipityQuad& face) { return Curved
 CurvedCertificate prepare(const geometry::QuadraticTriangle& face) {
   return CurvedCertificate::prepare(face);
 }
-CurvedCertificate prepare(const GregoryFace& face) {
-  return CurvedCertificate::prepare_gregory(face.nodes, face.normals);
+CurvedCertificate prepare_gregory(const std::array<Vec3, 4>& nodes, const std::array<Vec3, 4>& normals) {
+  CurvedCertificate c;
+  CurvedCertificate::prepare_gregory(c, nodes, normals);
+  return c;
 }
+CurvedCertificate prepare(const GregoryFace& face) { return prepare_gregory(face.nodes, face.normals); }
 
 /// The reference as the surface search calls it for a Gregory face: the patch on the nodes relative to the
 /// first, with the normals as given.
@@ -289,7 +292,7 @@ TEST(CurvedCertificate, GregoryRefusesBeyondTheCentreOfCurvature) {
   EXPECT_LE((p->point - reference(face, above, options).point).norm(), 1e-12);
   // A degenerate face (two corners together) has no certificate.
   const std::array<Vec3, 4> collapsed = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0)};
-  EXPECT_EQ(CurvedCertificate::prepare_gregory(collapsed, n).lambda_floor, 0.0);
+  EXPECT_EQ(prepare_gregory(collapsed, n).lambda_floor, 0.0);
 }
 
 TEST(CurvedCertificate, AFlatFaceIsCertifiedEverywhereNear) {
