@@ -22,8 +22,9 @@
 //     grid of the boxes (face_grid.hpp) finds them; NarrowPhase::kReference keeps the search as it was, a
 //     k-d tree over the centres (nanoflann); brute_force_faces tries every face (the oracle).
 //  2. Candidates in increasing order of their sphere's distance; the closest point on each (by its type, as
-//     above: the references of lib/projection; a bilinear quad4 by one Newton run where a convexity
-//     certificate proves its answer is the face's nearest, bilinear_certificate.hpp, NarrowPhase); a face
+//     above: the references of lib/projection; a bilinear quad4, a quad8, a tri6 or a Gregory patch by one
+//     Newton run where a convexity certificate proves its answer is the face's nearest,
+//     bilinear_certificate.hpp, curved_certificate.hpp, NarrowPhase); a face
 //     whose sphere is farther than the best point so far cannot hold a nearer one and ends the scan. A query
 //     projects a first face (a tracked node's previous face, else one listed in the grid cell of S) and
 //     gathers only the faces within its distance.
