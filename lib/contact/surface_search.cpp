@@ -664,15 +664,17 @@ void SurfaceSearcher::nearest_fresh(long slave_id, const Vec3& world_slave,
   int nearest = hinted && hint->warm ? hint->face : m.grid->face_near(slave, m.index.centres, !hinted);
   if (nearest < 0 && hinted) nearest = hint->face;
   // Its distance d bounds the answer's: where the face has a certificate (or is a flat triangle), its closest
-  // point, computed once and taken again by the scan; otherwise its nearest corner (a point of the face), so
-  // that no reference projection is spent on a face the scan may never reach.
+  // point, computed once and taken again by the scan; otherwise (a curved face's certificate included, where
+  // it does not hold for S) its nearest corner (a point of the face), so that no reference projection is
+  // spent on a face the scan may never reach.
   KnownPoint known;
   const KnownPoint* first = nullptr;
   double reach = m.capture;
   if (nearest < 0) {
     // No face in the cells around S: the scan gathers over the capture distance.
-  } else if (certificate_of(m.index, nearest) != nullptr ||
-             curved_of(m.index, m.master, m.normals, m.options, nearest) != nullptr ||
+  } else if (const CurvedCertificate* curved = curved_of(m.index, m.master, m.normals, m.options, nearest);
+             certificate_of(m.index, nearest) != nullptr ||
+             (curved != nullptr && curved->convex_for(slave - curved->origin)) ||
              m.master.face_type(nearest) == mesh::FaceType::kTri3) {
     known.face = nearest;
     known.point = closest_on_indexed_face(m.master, m.normals, m.options, m.checked_options, m.index, nearest,
