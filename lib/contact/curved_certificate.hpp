@@ -47,12 +47,11 @@
 #include <cstddef>
 #include <cstdint>
 #include <memory>
-#include <new>
 #include <optional>
 #include <thread>
-#include <type_traits>
 #include <variant>
 
+#include "contact/face_slots.hpp"
 #include "geometry/gregory_patch.hpp"
 #include "geometry/quadratic_triangle.hpp"
 #include "geometry/serendipity_quad.hpp"
@@ -130,36 +129,31 @@ class CurvedCertificates {
   CurvedCertificates() = default;
   /// Room for `faces` certificates, none prepared.
   explicit CurvedCertificates(std::size_t faces)
-      : size_(faces),
-        state_(faces > 0 ? new std::atomic<std::uint8_t>[faces]() : nullptr),
-        storage_(faces > 0 ? new std::byte[faces * sizeof(CurvedCertificate)] : nullptr) {}
+      : state_(faces > 0 ? new std::atomic<std::uint8_t>[faces]() : nullptr), slots_(faces) {}
 
-  [[nodiscard]] bool empty() const { return size_ == 0; }
+  [[nodiscard]] bool empty() const { return slots_.empty(); }
 
   /// Face f's certificate, made by prepare(CurvedCertificate&) (given a default one) on the first call for f;
   /// a thread asking while another prepares it waits for it.
   template <class Prepare>
   const CurvedCertificate& get(std::size_t f, Prepare&& prepare) const {
-    static_assert(std::is_trivially_destructible_v<CurvedCertificate>, "the slots are never destroyed");
-    auto* slot = reinterpret_cast<CurvedCertificate*>(storage_.get() + f * sizeof(CurvedCertificate));
     std::atomic<std::uint8_t>& state = state_[f];
     if (state.load(std::memory_order_acquire) != kReady) {
       std::uint8_t expected = kEmpty;
       if (state.compare_exchange_strong(expected, kPreparing, std::memory_order_acq_rel)) {
-        prepare(*::new (slot) CurvedCertificate());
+        prepare(slots_.construct(f));
         state.store(kReady, std::memory_order_release);
       } else {
         while (state.load(std::memory_order_acquire) != kReady) std::this_thread::yield();
       }
     }
-    return *std::launder(slot);
+    return slots_[f];
   }
 
  private:
   static constexpr std::uint8_t kEmpty = 0, kPreparing = 1, kReady = 2;
-  std::size_t size_ = 0;
   std::unique_ptr<std::atomic<std::uint8_t>[]> state_;
-  std::unique_ptr<std::byte[]> storage_;
+  mutable FaceSlots<CurvedCertificate> slots_;  ///< constructed by get(), under state_'s protocol
 };
 
 }  // namespace contactnn::contact

@@ -1,6 +1,7 @@
 #include "contact/face_grid.hpp"
 
 #include <algorithm>
+#include <array>
 #include <limits>
 
 namespace contactnn::contact {
@@ -21,18 +22,38 @@ void FaceGrid::build(std::span<const Vec3> box_lo, std::span<const Vec3> box_hi,
   first_cell_.resize(faces_);
   last_cell_.resize(faces_);
   constexpr double kInf = std::numeric_limits<double>::infinity();
+  // The inflated boxes, their hull and their mean side, over kChunks fixed runs of faces summed in order: the
+  // same bits at any thread count (the grid's layout does not change the answers, but stays reproducible).
+  constexpr std::size_t kChunks = 64;
+  struct Part {
+    Vec3 low = Vec3::Constant(std::numeric_limits<double>::infinity());
+    Vec3 high = Vec3::Constant(-std::numeric_limits<double>::infinity());
+    double side_sum = 0.0;
+    std::size_t finite = 0;
+  };
+  std::array<Part, kChunks> parts;
+#pragma omp parallel for schedule(static) if (faces_ >= 16384)
+  for (std::size_t chunk = 0; chunk < kChunks; ++chunk) {
+    Part& part = parts[chunk];
+    for (std::size_t f = faces_ * chunk / kChunks; f < faces_ * (chunk + 1) / kChunks; ++f) {
+      built_lo_[f] = box_lo[f] - Vec3::Constant(margin);
+      built_hi_[f] = box_hi[f] + Vec3::Constant(margin);
+      if (!built_lo_[f].allFinite() || !built_hi_[f].allFinite()) continue;
+      part.low = part.low.cwiseMin(built_lo_[f]);
+      part.high = part.high.cwiseMax(built_hi_[f]);
+      part.side_sum += (built_hi_[f] - built_lo_[f]).maxCoeff();
+      ++part.finite;
+    }
+  }
   low_ = Vec3::Constant(kInf);
   high_ = Vec3::Constant(-kInf);
   double side_sum = 0.0;
   std::size_t finite = 0;
-  for (std::size_t f = 0; f < faces_; ++f) {
-    built_lo_[f] = box_lo[f] - Vec3::Constant(margin);
-    built_hi_[f] = box_hi[f] + Vec3::Constant(margin);
-    if (!built_lo_[f].allFinite() || !built_hi_[f].allFinite()) continue;
-    low_ = low_.cwiseMin(built_lo_[f]);
-    high_ = high_.cwiseMax(built_hi_[f]);
-    side_sum += (built_hi_[f] - built_lo_[f]).maxCoeff();
-    ++finite;
+  for (const Part& part : parts) {
+    low_ = low_.cwiseMin(part.low);
+    high_ = high_.cwiseMax(part.high);
+    side_sum += part.side_sum;
+    finite += part.finite;
   }
   offsets_.assign(2, 0);
   entries_.clear();
@@ -58,8 +79,8 @@ void FaceGrid::build(std::span<const Vec3> box_lo, std::span<const Vec3> box_hi,
   }
   const std::size_t cells = static_cast<std::size_t>(dims_[0]) * static_cast<std::size_t>(dims_[1]) *
                             static_cast<std::size_t>(dims_[2]);
-  // Counted, then filled in face order (CSR).
-  offsets_.assign(cells + 1, 0);
+  // Each face's cells (in parallel), then counted and filled in face order (CSR).
+#pragma omp parallel for schedule(static) if (faces_ >= 16384)
   for (std::size_t f = 0; f < faces_; ++f) {
     if (!built_lo_[f].allFinite() || !built_hi_[f].allFinite()) {
       first_cell_[f] = {1, 1, 1};  // an empty range: listed nowhere
@@ -70,6 +91,9 @@ void FaceGrid::build(std::span<const Vec3> box_lo, std::span<const Vec3> box_hi,
       first_cell_[f][static_cast<std::size_t>(k)] = cell_of(built_lo_[f][k], k);
       last_cell_[f][static_cast<std::size_t>(k)] = cell_of(built_hi_[f][k], k);
     }
+  }
+  offsets_.assign(cells + 1, 0);
+  for (std::size_t f = 0; f < faces_; ++f) {
     for (int k = first_cell_[f][2]; k <= last_cell_[f][2]; ++k)
       for (int j = first_cell_[f][1]; j <= last_cell_[f][1]; ++j)
         for (int i = first_cell_[f][0]; i <= last_cell_[f][0]; ++i) ++offsets_[cell_index(i, j, k) + 1];
@@ -87,18 +111,16 @@ void FaceGrid::build(std::span<const Vec3> box_lo, std::span<const Vec3> box_hi,
 
 bool FaceGrid::holds(std::span<const Vec3> box_lo, std::span<const Vec3> box_hi) const {
   if (box_lo.size() != built_lo_.size()) return false;
+  bool inside = true;
+#pragma omp parallel for reduction(&& : inside) schedule(static) if (box_lo.size() >= 16384)
   for (std::size_t f = 0; f < box_lo.size(); ++f) {
     // A face listed nowhere (a non-finite box at the build) must stay so: its box must stay non-finite.
     const bool listed = built_lo_[f].allFinite() && built_hi_[f].allFinite();
-    if (!listed) {
-      if (box_lo[f].allFinite() && box_hi[f].allFinite()) return false;
-      continue;
-    }
-    if (!(box_lo[f].array() >= built_lo_[f].array()).all() ||
-        !(box_hi[f].array() <= built_hi_[f].array()).all())
-      return false;
+    inside = inside && (listed ? (box_lo[f].array() >= built_lo_[f].array()).all() &&
+                                     (box_hi[f].array() <= built_hi_[f].array()).all()
+                               : !(box_lo[f].allFinite() && box_hi[f].allFinite()));
   }
-  return true;
+  return inside;
 }
 
 int FaceGrid::face_near(const Vec3& x, std::span<const Vec3> centres, bool around) const {

@@ -46,33 +46,27 @@ struct FaceIndex {
   std::vector<double> radii;         ///< bounding-sphere radius about the centre
   std::vector<Vec3> box_lo, box_hi;  ///< bounding box of the same points
   std::vector<double> sizes;         ///< longest corner distance
-  /// The faces at each surface node (as a corner), increasing: node i's are node_faces[node_offsets[i] ..
-  /// node_offsets[i + 1]) (one flat list: a list per node cost 1e5 allocations per state of a large master).
-  /// The faces sharing an edge are those of its first corner that have it (faces_on_edge).
-  std::vector<int> node_offsets, node_faces;
+  /// The faces at each surface node (node_faces.hpp): a kept one where the connectivity is the same.
+  std::shared_ptr<const NodeFaces> topology;
   /// 1 for a quad4 face on a bilinear facet that passes projection::closest_point_on_face's checks (finite,
   /// not degenerate, on its nodes relative to the first): its projections skip them
   /// (ProjectionOptions::face_checked; the same answers, computed once per face instead of once per slave).
   std::vector<std::uint8_t> checked;
   /// The certificates of the checked quad4 bilinear faces (lambda_floor 0 for every other face): their
   /// closest points in one Newton run where the certificate holds (NarrowPhase::kCertified).
-  std::vector<BilinearCertificate> bilinear;
+  FaceSlots<BilinearCertificate> bilinear;  ///< every slot constructed by index_faces
   /// The tri3 faces prepared (projection::PreparedTriangle; every face's slot, where the surface has a tri3
   /// face and the search is certified): their closest points without rebuilding their edges per slave.
-  std::vector<projection::PreparedTriangle> triangles;
+  FaceSlots<projection::PreparedTriangle> triangles;  ///< the tri3 faces' slots constructed
   /// The same for the curved faces: quad8, tri6 and Gregory patches (empty where the master has none or under
   /// kReference).
   CurvedCertificates curved;
 
-  [[nodiscard]] std::span<const int> faces_at(int node) const {
-    const auto n = static_cast<std::size_t>(node);
-    return {node_faces.data() + node_offsets[n],
-            static_cast<std::size_t>(node_offsets[n + 1] - node_offsets[n])};
-  }
+  [[nodiscard]] std::span<const int> faces_at(int node) const { return topology->at(node); }
 };
 
 FaceIndex index_faces(const mesh::SurfaceMesh& master, std::span<const Vec3> normals,
-                      const SearchOptions& options) {
+                      const SearchOptions& options, std::shared_ptr<const NodeFaces>* topology) {
   FaceIndex index;
   const auto n = static_cast<std::size_t>(master.face_count());
   index.centres.resize(n);
@@ -81,7 +75,7 @@ FaceIndex index_faces(const mesh::SurfaceMesh& master, std::span<const Vec3> nor
   index.box_hi.resize(n);
   index.sizes.resize(n);
   index.checked.assign(n, 0);
-  index.bilinear.resize(options.narrow == NarrowPhase::kCertified ? n : 0);
+  index.bilinear = FaceSlots<BilinearCertificate>(options.narrow == NarrowPhase::kCertified ? n : 0);
   // Slots for prepared triangles and quadratic certificates where the surface has such faces.
   bool any_triangle = false, any_curved = false;
   for (std::size_t f = 0; f < n; ++f) {
@@ -92,24 +86,14 @@ FaceIndex index_faces(const mesh::SurfaceMesh& master, std::span<const Vec3> nor
                   kind_of(master, options, static_cast<int>(f)) == SurfaceKind::kGregory);
   }
   const bool certified = options.narrow == NarrowPhase::kCertified;
-  index.triangles.resize(certified && any_triangle ? n : 0);
+  index.triangles = FaceSlots<projection::PreparedTriangle>(certified && any_triangle ? n : 0);
   index.curved = CurvedCertificates(certified && any_curved ? n : 0);
-  // The faces at each node, counted, then filled in face order.
-  index.node_offsets.assign(master.positions.size() + 1, 0);
-  for (std::size_t f = 0; f < n; ++f) {
-    for (const int c : master.face_corners(static_cast<int>(f)))
-      ++index.node_offsets[static_cast<std::size_t>(c) + 1];
-  }
-  for (std::size_t i = 1; i < index.node_offsets.size(); ++i)
-    index.node_offsets[i] += index.node_offsets[i - 1];
-  index.node_faces.resize(static_cast<std::size_t>(index.node_offsets.back()));
-  {
-    std::vector<int> at(index.node_offsets.begin(), index.node_offsets.end() - 1);
-    for (std::size_t f = 0; f < n; ++f) {
-      for (const int c : master.face_corners(static_cast<int>(f))) {
-        index.node_faces[static_cast<std::size_t>(at[static_cast<std::size_t>(c)]++)] = static_cast<int>(f);
-      }
-    }
+  // The faces at each node: the kept ones where the connectivity has not changed.
+  if (topology != nullptr && *topology != nullptr && (*topology)->matches(master)) {
+    index.topology = *topology;
+  } else {
+    index.topology = std::make_shared<const NodeFaces>(master);
+    if (topology != nullptr) *topology = index.topology;
   }
   // Each face on its own (threads for a large surface: the answers do not depend on them).
 #pragma omp parallel for schedule(static) if (n >= 4096)
@@ -118,7 +102,8 @@ FaceIndex index_faces(const mesh::SurfaceMesh& master, std::span<const Vec3> nor
     const std::span<const int> corners = master.face_corners(face);
     const mesh::FaceNodes nodes = master.face_nodes(face);
     if (nodes.type == mesh::FaceType::kTri3 && !index.triangles.empty())
-      index.triangles[f] = projection::prepare_triangle(detail::triangle_nodes(master, face));
+      index.triangles.construct(f) = projection::prepare_triangle(detail::triangle_nodes(master, face));
+    if (!index.bilinear.empty()) index.bilinear.construct(f);  // lambda_floor 0: no certificate
     if (nodes.type == mesh::FaceType::kQuad4 && kind_of(master, options, face) == SurfaceKind::kBilinear) {
       // closest_on_face's patch: the face's configuration relative to its first node.
       geometry::Configuration config = face_configuration(master, normals, SurfaceKind::kBilinear, face);
@@ -546,14 +531,14 @@ struct SurfaceSearcher::Impl {
   }
 
   Impl(const mesh::SurfaceMesh& m, std::span<const Vec3> n, const SearchOptions& o, FaceGrid* kept,
-       double grid_margin_relative)
+       double grid_margin_relative, std::shared_ptr<const NodeFaces>* topology)
       : unit(working_unit(m)),
         scaled(unit == 1.0 ? nullptr : std::make_unique<mesh::SurfaceMesh>(in_unit(m, unit))),
         master(scaled ? *scaled : m),
         normals(n),
         options(in_unit(o, unit)),
         checked_options(with_face_checked(options)),
-        index(index_faces(master, n, options)),
+        index(index_faces(master, n, options, topology)),
 
         largest_radius(index.radii.empty() ? 0.0 : *std::max_element(index.radii.begin(), index.radii.end())),
         largest_size(index.sizes.empty() ? 0.0 : *std::max_element(index.sizes.begin(), index.sizes.end())),
@@ -576,7 +561,8 @@ struct SurfaceSearcher::Impl {
 };
 
 SurfaceSearcher::SurfaceSearcher(const mesh::SurfaceMesh& master, std::span<const Vec3> master_normals,
-                                 const SearchOptions& options, FaceGrid* grid, double grid_margin_relative) {
+                                 const SearchOptions& options, FaceGrid* grid, double grid_margin_relative,
+                                 std::shared_ptr<const NodeFaces>* topology) {
   const bool gregory = options.surface == SurfaceKind::kGregory;
   CONTACTNN_REQUIRE(!gregory || master_normals.size() == master.positions.size(),
                     "Gregory search needs one node normal per master node: "
@@ -590,7 +576,7 @@ SurfaceSearcher::SurfaceSearcher(const mesh::SurfaceMesh& master, std::span<cons
                         << master.segment_midsides.size() << " of " << master.segments.size()
                         << " segments and " << master.extra_face_midsides.size() << " of "
                         << master.extra_faces.size() << " extra faces (each list: none or all)");
-  impl_ = std::make_unique<Impl>(master, master_normals, options, grid, grid_margin_relative);
+  impl_ = std::make_unique<Impl>(master, master_normals, options, grid, grid_margin_relative, topology);
 }
 
 SurfaceSearcher::~SurfaceSearcher() = default;

@@ -65,6 +65,7 @@
 #include <vector>
 
 #include "contact/global_search.hpp"
+#include "contact/node_faces.hpp"
 #include "mesh/surface_mesh.hpp"
 
 namespace contactnn::contact {
@@ -140,9 +141,12 @@ class SurfaceSearcher {
   /// `grid`: a broad phase the caller keeps between states (tracking.hpp), used as it is where it still
   /// holds this state's faces (FaceGrid::holds, in the same unit), else rebuilt with their boxes inflated by
   /// `grid_margin_relative` x the capture distance; null: the searcher builds its own. The certified search's
-  /// only.
+  /// only. `topology`: the faces at each node, a caller's kept between states, used where it matches the
+  /// master's connectivity (NodeFaces::matches), else built afresh and put there (null: built for this
+  /// searcher alone).
   SurfaceSearcher(const mesh::SurfaceMesh& master, std::span<const Vec3> master_normals,
-                  const SearchOptions& options, FaceGrid* grid = nullptr, double grid_margin_relative = 0.0);
+                  const SearchOptions& options, FaceGrid* grid = nullptr, double grid_margin_relative = 0.0,
+                  std::shared_ptr<const NodeFaces>* topology = nullptr);
   ~SurfaceSearcher();
   SurfaceSearcher(const SurfaceSearcher&) = delete;
   SurfaceSearcher& operator=(const SurfaceSearcher&) = delete;

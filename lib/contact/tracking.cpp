@@ -28,6 +28,7 @@ void SurfaceTracker::reset() {
   drift_ = 0.0;
   faces_ = -1;
   grid_ = FaceGrid{};
+  topology_.reset();
 }
 
 std::vector<NodeSegmentPair> SurfaceTracker::step(const mesh::SurfaceMesh& master,
@@ -72,7 +73,8 @@ void SurfaceTracker::step_hints(const mesh::SurfaceMesh& master, std::span<const
     faces_ = master.face_count();
   }
   // Step 1: the grid kept while every face stays inside its box at the build, inflated by the margin.
-  const SurfaceSearcher searcher(master, master_normals, options_, &grid_, tracking_.grid_margin_relative);
+  const SurfaceSearcher searcher(master, master_normals, options_, &grid_, tracking_.grid_margin_relative,
+                                 &topology_);
   pairs.resize(n);
   // The nodes in Morton order, kept while the grid is (the order serves the caches, not the answers).
   if (!same || order_.size() != n || searcher.grid_rebuilt())

@@ -93,10 +93,11 @@ class SurfaceTracker {
   std::vector<Vec3> anchors_;                               ///< S0 of each node's list
   std::vector<double> drift_at_build_;                      ///< D0 of each node's list
   std::vector<std::vector<std::pair<double, int>>> lists_;  ///< each node's candidate faces (b_f, f), sorted
-  std::vector<FaceHint> hints_;  ///< each node's previous face and point (face -1: none)
-  int faces_ = -1;               ///< the previous state's face count (the grid's tracker)
-  FaceGrid grid_;                ///< rule 1's broad phase
-  std::vector<Vec3> centres_;    ///< the previous state's face spheres
+  std::vector<FaceHint> hints_;                ///< each node's previous face and point (face -1: none)
+  int faces_ = -1;                             ///< the previous state's face count (the grid's tracker)
+  FaceGrid grid_;                              ///< rule 1's broad phase
+  std::shared_ptr<const NodeFaces> topology_;  ///< the faces at each node, kept while the faces are
+  std::vector<Vec3> centres_;                  ///< the previous state's face spheres
   std::vector<double> radii_;
   double drift_ = 0.0;
   std::vector<std::uint32_t> order_;  ///< the slave nodes in Morton order (spatial_order), and its work space

@@ -1,15 +1,19 @@
 // contact::FaceGrid: every face whose box comes within the reach of a point is reported, each once, against a
 // brute-force distance to every box; the kept grid's rule (holds) against boxes moved inside and outside
-// their margin.
+// their margin. contact::NodeFaces: each node's faces against a scan of every face, and its rule for being
+// kept (matches) against moved nodes, a changed corner and another node count.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <random>
+#include <span>
 #include <vector>
 
 #include "contact/face_grid.hpp"
+#include "contact/node_faces.hpp"
+#include "mesh/grid_surface.hpp"
 
 namespace contactnn::contact {
 namespace {
@@ -127,6 +131,33 @@ TEST(FaceGrid, FaceNearIsAFaceOfTheCellsAround) {
   int reported = 0;
   empty.for_faces_near(Vec3::Zero(), 1.0, [&](int) { ++reported; });
   EXPECT_EQ(reported, 0);
+}
+
+TEST(NodeFaces, ListsEachNodesFacesAndIsKeptOnlyForTheSameConnectivity) {
+  const auto wavy = [](double t) {
+    return testing::searched_grid_surface(7, 5, [&](double i, double j) {
+      return Vec3(i, j, 0.3 * std::sin(0.7 * i + t) * std::cos(0.5 * j));
+    });
+  };
+  const mesh::SurfaceMesh m = wavy(0.0);
+  const NodeFaces topology(m);
+  for (int node = 0; node < static_cast<int>(m.positions.size()); ++node) {
+    std::vector<int> want;
+    for (int f = 0; f < m.face_count(); ++f) {
+      const std::span<const int> corners = m.face_corners(f);
+      if (std::find(corners.begin(), corners.end(), node) != corners.end()) want.push_back(f);
+    }
+    const std::span<const int> got = topology.at(node);
+    EXPECT_EQ(std::vector<int>(got.begin(), got.end()), want) << node;
+  }
+  // Moved nodes: the same topology. A face with another corner, or another node count: not.
+  EXPECT_TRUE(topology.matches(wavy(0.4)));
+  mesh::SurfaceMesh changed = wavy(0.0);
+  changed.segments[3][2] = changed.segments[3][2] == 0 ? 1 : 0;
+  EXPECT_FALSE(topology.matches(changed));
+  mesh::SurfaceMesh more = wavy(0.0);
+  more.positions.push_back(Vec3::Zero());
+  EXPECT_FALSE(topology.matches(more));
 }
 
 }  // namespace
