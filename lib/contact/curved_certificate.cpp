@@ -555,8 +555,8 @@ std::optional<projection::FaceClosestPoint> CurvedCertificate::closest_point(
   std::optional<projection::FaceClosestPoint> out;
   if (const auto* tri6 = std::get_if<geometry::QuadraticTriangle>(&face)) {
     out = certified(*this, *tri6, relative, options, start);
-  } else if (const auto* gregory = std::get_if<geometry::GregoryPatch>(&face)) {
-    out = certified(*this, *gregory, relative, options, start);
+  } else if (const auto* patch = std::get_if<geometry::GregoryPatch>(&face)) {
+    out = certified(*this, *patch, relative, options, start);
   } else if (const auto* quad8 = std::get_if<geometry::SerendipityQuad>(&face)) {
     out = certified(*this, *quad8, relative, options, start);
   }

@@ -128,8 +128,18 @@ class CurvedCertificates {
  public:
   CurvedCertificates() = default;
   /// Room for `faces` certificates, none prepared.
-  explicit CurvedCertificates(std::size_t faces)
-      : state_(faces > 0 ? new std::atomic<std::uint8_t>[faces]() : nullptr), slots_(faces) {}
+  explicit CurvedCertificates(std::size_t faces) { reset(faces); }
+
+  /// None prepared, room for `faces`: the storage kept where it is large enough.
+  void reset(std::size_t faces) {
+    if (faces > capacity_) {
+      state_.reset(new std::atomic<std::uint8_t>[faces]());
+      capacity_ = faces;
+    } else {
+      for (std::size_t f = 0; f < faces; ++f) state_[f].store(kEmpty, std::memory_order_relaxed);
+    }
+    slots_.reset(faces);
+  }
 
   [[nodiscard]] bool empty() const { return slots_.empty(); }
 
@@ -153,6 +163,7 @@ class CurvedCertificates {
  private:
   static constexpr std::uint8_t kEmpty = 0, kPreparing = 1, kReady = 2;
   std::unique_ptr<std::atomic<std::uint8_t>[]> state_;
+  std::size_t capacity_ = 0;
   mutable FaceSlots<CurvedCertificate> slots_;  ///< constructed by get(), under state_'s protocol
 };
 

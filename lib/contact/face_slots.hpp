@@ -20,8 +20,17 @@ class FaceSlots {
 
  public:
   FaceSlots() = default;
-  explicit FaceSlots(std::size_t faces)
-      : size_(faces), storage_(faces > 0 ? new std::byte[faces * sizeof(T)] : nullptr) {}
+  explicit FaceSlots(std::size_t faces) { reset(faces); }
+
+  /// Room for `faces` slots, none constructed: the storage kept where it is large enough (a searcher's tables
+  /// kept between states allocate nothing once warm).
+  void reset(std::size_t faces) {
+    if (faces > capacity_) {
+      storage_.reset(new std::byte[faces * sizeof(T)]);
+      capacity_ = faces;
+    }
+    size_ = faces;
+  }
 
   [[nodiscard]] bool empty() const { return size_ == 0; }
   [[nodiscard]] std::size_t size() const { return size_; }
@@ -37,7 +46,7 @@ class FaceSlots {
  private:
   [[nodiscard]] std::byte* address(std::size_t f) const { return storage_.get() + f * sizeof(T); }
 
-  std::size_t size_ = 0;
+  std::size_t size_ = 0, capacity_ = 0;
   std::unique_ptr<std::byte[]> storage_;
 };
 

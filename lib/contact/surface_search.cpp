@@ -25,22 +25,8 @@
 
 namespace contactnn::contact {
 
-namespace {
-
-/// Distances within this fraction of the face size count as equal (SPEC 9's tie rule applies).
-constexpr double kTieTolerance = 1e-12;
-
-using CentreTree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, PointCloud>,
-                                                       PointCloud, 3, std::uint32_t>;
-
-using detail::closest_on_face;
-using detail::face_configuration;
-using detail::face_positions;
-using detail::kind_of;
-using detail::normal_on_edge;
-using detail::weighted_corner_normal;
-
-/// Everything the search needs of the faces, built once: centres, bounding radii, sizes, adjacency.
+/// Everything the search needs of the faces, built per state (its buffers kept in a SearchStorage between
+/// states): centres, bounding radii, sizes, adjacency, prepared faces.
 struct FaceIndex {
   std::vector<Vec3> centres;
   std::vector<double> radii;         ///< bounding-sphere radius about the centre
@@ -65,9 +51,36 @@ struct FaceIndex {
   [[nodiscard]] std::span<const int> faces_at(int node) const { return topology->at(node); }
 };
 
+struct SearchStorage::Tables {
+  FaceIndex index;  ///< the last state's, its buffers to be reused
+};
+
+SearchStorage::SearchStorage() : tables_(std::make_unique<Tables>()) {}
+SearchStorage::~SearchStorage() = default;
+SearchStorage::SearchStorage(const SearchStorage&) : SearchStorage() {}
+SearchStorage& SearchStorage::operator=(const SearchStorage&) { return *this; }
+SearchStorage::SearchStorage(SearchStorage&&) noexcept = default;
+SearchStorage& SearchStorage::operator=(SearchStorage&&) noexcept = default;
+
+namespace {
+
+/// Distances within this fraction of the face size count as equal (SPEC 9's tie rule applies).
+constexpr double kTieTolerance = 1e-12;
+
+using CentreTree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, PointCloud>,
+                                                       PointCloud, 3, std::uint32_t>;
+
+using detail::closest_on_face;
+using detail::face_configuration;
+using detail::face_positions;
+using detail::kind_of;
+using detail::normal_on_edge;
+using detail::weighted_corner_normal;
+
 FaceIndex index_faces(const mesh::SurfaceMesh& master, std::span<const Vec3> normals,
-                      const SearchOptions& options, std::shared_ptr<const NodeFaces>* topology) {
-  FaceIndex index;
+                      const SearchOptions& options, std::shared_ptr<const NodeFaces>* topology,
+                      FaceIndex&& recycled) {
+  FaceIndex index = std::move(recycled);  // its buffers, every entry rewritten below
   const auto n = static_cast<std::size_t>(master.face_count());
   index.centres.resize(n);
   index.radii.resize(n);
@@ -75,7 +88,7 @@ FaceIndex index_faces(const mesh::SurfaceMesh& master, std::span<const Vec3> nor
   index.box_hi.resize(n);
   index.sizes.resize(n);
   index.checked.assign(n, 0);
-  index.bilinear = FaceSlots<BilinearCertificate>(options.narrow == NarrowPhase::kCertified ? n : 0);
+  index.bilinear.reset(options.narrow == NarrowPhase::kCertified ? n : 0);
   // Slots for prepared triangles and quadratic certificates where the surface has such faces.
   bool any_triangle = false, any_curved = false;
   for (std::size_t f = 0; f < n; ++f) {
@@ -86,8 +99,8 @@ FaceIndex index_faces(const mesh::SurfaceMesh& master, std::span<const Vec3> nor
                   kind_of(master, options, static_cast<int>(f)) == SurfaceKind::kGregory);
   }
   const bool certified = options.narrow == NarrowPhase::kCertified;
-  index.triangles = FaceSlots<projection::PreparedTriangle>(certified && any_triangle ? n : 0);
-  index.curved = CurvedCertificates(certified && any_curved ? n : 0);
+  index.triangles.reset(certified && any_triangle ? n : 0);
+  index.curved.reset(certified && any_curved ? n : 0);
   // The faces at each node: the kept ones where the connectivity has not changed.
   if (topology != nullptr && *topology != nullptr && (*topology)->matches(master)) {
     index.topology = *topology;
@@ -530,19 +543,23 @@ struct SurfaceSearcher::Impl {
     }
   }
 
+  SearchStorage* storage = nullptr;  ///< where the tables go back when the searcher ends
+
   Impl(const mesh::SurfaceMesh& m, std::span<const Vec3> n, const SearchOptions& o, FaceGrid* kept,
-       double grid_margin_relative, std::shared_ptr<const NodeFaces>* topology)
+       double grid_margin_relative, std::shared_ptr<const NodeFaces>* topology, SearchStorage* kept_storage)
       : unit(working_unit(m)),
         scaled(unit == 1.0 ? nullptr : std::make_unique<mesh::SurfaceMesh>(in_unit(m, unit))),
         master(scaled ? *scaled : m),
         normals(n),
         options(in_unit(o, unit)),
         checked_options(with_face_checked(options)),
-        index(index_faces(master, n, options, topology)),
+        index(index_faces(master, n, options, topology,
+                          kept_storage != nullptr ? std::move(kept_storage->tables().index) : FaceIndex{})),
 
         largest_radius(index.radii.empty() ? 0.0 : *std::max_element(index.radii.begin(), index.radii.end())),
         largest_size(index.sizes.empty() ? 0.0 : *std::max_element(index.sizes.begin(), index.sizes.end())),
-        cloud{&index.centres} {
+        cloud{&index.centres},
+        storage(kept_storage) {
     // capture_distance's, from the sizes the index has computed (the same products, the same largest).
     capture =
         options.capture_distance > 0.0 ? options.capture_distance : options.capture_relative * largest_size;
@@ -558,11 +575,16 @@ struct SurfaceSearcher::Impl {
     for (const Vec3& c : index.centres) world_centres.push_back(c * unit);
     for (double r : index.radii) world_radii.push_back(r * unit);
   }
+  Impl(const Impl&) = delete;
+  Impl& operator=(const Impl&) = delete;
+  ~Impl() {
+    if (storage != nullptr) storage->tables().index = std::move(index);
+  }
 };
 
 SurfaceSearcher::SurfaceSearcher(const mesh::SurfaceMesh& master, std::span<const Vec3> master_normals,
                                  const SearchOptions& options, FaceGrid* grid, double grid_margin_relative,
-                                 std::shared_ptr<const NodeFaces>* topology) {
+                                 std::shared_ptr<const NodeFaces>* topology, SearchStorage* storage) {
   const bool gregory = options.surface == SurfaceKind::kGregory;
   CONTACTNN_REQUIRE(!gregory || master_normals.size() == master.positions.size(),
                     "Gregory search needs one node normal per master node: "
@@ -576,7 +598,8 @@ SurfaceSearcher::SurfaceSearcher(const mesh::SurfaceMesh& master, std::span<cons
                         << master.segment_midsides.size() << " of " << master.segments.size()
                         << " segments and " << master.extra_face_midsides.size() << " of "
                         << master.extra_faces.size() << " extra faces (each list: none or all)");
-  impl_ = std::make_unique<Impl>(master, master_normals, options, grid, grid_margin_relative, topology);
+  impl_ =
+      std::make_unique<Impl>(master, master_normals, options, grid, grid_margin_relative, topology, storage);
 }
 
 SurfaceSearcher::~SurfaceSearcher() = default;

@@ -132,6 +132,26 @@ struct FaceHint {
   bool warm = true;
 };
 
+/// Buffers a caller keeps between states (a tracker's increments), so that a state's SurfaceSearcher writes
+/// its faces' tables (spheres, boxes, prepared faces and certificates) into the last state's memory instead
+/// of allocating it afresh: nothing is allocated per increment once warm, and no page is faulted in again. A
+/// copy starts empty (buffers, not state: the answers never depend on them).
+class SearchStorage {
+ public:
+  SearchStorage();
+  ~SearchStorage();
+  SearchStorage(const SearchStorage&);
+  SearchStorage& operator=(const SearchStorage&);
+  SearchStorage(SearchStorage&&) noexcept;
+  SearchStorage& operator=(SearchStorage&&) noexcept;
+
+  struct Tables;  ///< surface_search.cpp's
+  [[nodiscard]] Tables& tables() { return *tables_; }
+
+ private:
+  std::unique_ptr<Tables> tables_;
+};
+
 /// The surface search's pieces for one state of a master surface: the faces' bounding spheres and boxes,
 /// their grid (or k-d tree) and adjacency, built once; queries are const and may run concurrently. `master`
 /// and `master_normals` must outlive it.
@@ -143,10 +163,11 @@ class SurfaceSearcher {
   /// `grid_margin_relative` x the capture distance; null: the searcher builds its own. The certified search's
   /// only. `topology`: the faces at each node, a caller's kept between states, used where it matches the
   /// master's connectivity (NodeFaces::matches), else built afresh and put there (null: built for this
-  /// searcher alone).
+  /// searcher alone). `storage`: buffers kept between states (SearchStorage), taken by the searcher and given
+  /// back when it ends; it must outlive the searcher and serve one searcher at a time.
   SurfaceSearcher(const mesh::SurfaceMesh& master, std::span<const Vec3> master_normals,
                   const SearchOptions& options, FaceGrid* grid = nullptr, double grid_margin_relative = 0.0,
-                  std::shared_ptr<const NodeFaces>* topology = nullptr);
+                  std::shared_ptr<const NodeFaces>* topology = nullptr, SearchStorage* storage = nullptr);
   ~SurfaceSearcher();
   SurfaceSearcher(const SurfaceSearcher&) = delete;
   SurfaceSearcher& operator=(const SurfaceSearcher&) = delete;

@@ -74,7 +74,7 @@ void SurfaceTracker::step_hints(const mesh::SurfaceMesh& master, std::span<const
   }
   // Step 1: the grid kept while every face stays inside its box at the build, inflated by the margin.
   const SurfaceSearcher searcher(master, master_normals, options_, &grid_, tracking_.grid_margin_relative,
-                                 &topology_);
+                                 &topology_, &storage_);
   pairs.resize(n);
   // The nodes in Morton order, kept while the grid is (the order serves the caches, not the answers).
   if (!same || order_.size() != n || searcher.grid_rebuilt())

@@ -97,6 +97,7 @@ class SurfaceTracker {
   int faces_ = -1;                             ///< the previous state's face count (the grid's tracker)
   FaceGrid grid_;                              ///< rule 1's broad phase
   std::shared_ptr<const NodeFaces> topology_;  ///< the faces at each node, kept while the faces are
+  SearchStorage storage_;                      ///< the faces' tables' buffers, reused from state to state
   std::vector<Vec3> centres_;                  ///< the previous state's face spheres
   std::vector<double> radii_;
   double drift_ = 0.0;
