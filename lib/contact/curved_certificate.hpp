@@ -130,6 +130,18 @@ class CurvedCertificates {
   /// Room for `faces` certificates, none prepared.
   explicit CurvedCertificates(std::size_t faces) { reset(faces); }
 
+  /// Room for `faces` with the certificates prepared so far kept (the same faces, unmoved since): forget()
+  /// those of the faces that have moved. Where the storage is too small, none is kept.
+  void keep(std::size_t faces) {
+    if (faces > capacity_) {
+      reset(faces);
+      return;
+    }
+    slots_.reset(faces);
+  }
+  /// Face f's certificate made again on its next use.
+  void forget(std::size_t f) { state_[f].store(kEmpty, std::memory_order_relaxed); }
+
   /// None prepared, room for `faces`: the storage kept where it is large enough.
   void reset(std::size_t faces) {
     if (faces > capacity_) {

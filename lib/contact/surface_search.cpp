@@ -34,6 +34,10 @@ struct FaceIndex {
   std::vector<double> sizes;         ///< longest corner distance
   /// The faces at each surface node (node_faces.hpp): a kept one where the connectivity is the same.
   std::shared_ptr<const NodeFaces> topology;
+  /// The positions and normals (working units) the faces' entries were computed from, where the index is kept
+  /// between states (SearchStorage): a face none of whose nodes has moved since keeps its entries.
+  std::vector<Vec3> built_positions, built_normals;
+  double built_unit = 0.0;
   /// 1 for a quad4 face on a bilinear facet that passes projection::closest_point_on_face's checks (finite,
   /// not degenerate, on its nodes relative to the first): its projections skip them
   /// (ProjectionOptions::face_checked; the same answers, computed once per face instead of once per slave).
@@ -79,15 +83,37 @@ using detail::weighted_corner_normal;
 
 FaceIndex index_faces(const mesh::SurfaceMesh& master, std::span<const Vec3> normals,
                       const SearchOptions& options, std::shared_ptr<const NodeFaces>* topology,
-                      FaceIndex&& recycled) {
-  FaceIndex index = std::move(recycled);  // its buffers, every entry rewritten below
+                      FaceIndex&& recycled, double unit, bool keep) {
+  FaceIndex index = std::move(recycled);  // its buffers: every moved face's entries rewritten below
   const auto n = static_cast<std::size_t>(master.face_count());
   index.centres.resize(n);
   index.radii.resize(n);
   index.box_lo.resize(n);
   index.box_hi.resize(n);
   index.sizes.resize(n);
-  index.checked.assign(n, 0);
+  index.checked.resize(n);
+  // The faces at each node: the kept ones where the connectivity has not changed.
+  const bool same_faces = topology != nullptr && *topology != nullptr && (*topology)->matches(master);
+  if (same_faces) {
+    index.topology = *topology;
+  } else {
+    index.topology = std::make_shared<const NodeFaces>(master);
+    if (topology != nullptr) *topology = index.topology;
+  }
+  // The nodes that moved since the kept index was built (all of them without one): a face with none keeps
+  // its entries, bit for bit what they would be computed again.
+  const std::size_t node_count = master.positions.size();
+  const bool gregory = options.surface == SurfaceKind::kGregory && normals.size() == node_count;
+  const bool kept = same_faces && index.built_unit == unit && index.built_positions.size() == node_count &&
+                    (!gregory || index.built_normals.size() == node_count) && index.centres.size() == n;
+  std::vector<std::uint8_t> moved(node_count, 1);
+  if (kept) {
+#pragma omp parallel for schedule(static) if (node_count >= 16384)
+    for (std::size_t i = 0; i < node_count; ++i) {
+      moved[i] = !(master.positions[i] == index.built_positions[i]) ||
+                 (gregory && !(normals[i] == index.built_normals[i]));
+    }
+  }
   index.bilinear.reset(options.narrow == NarrowPhase::kCertified ? n : 0);
   // Slots for prepared triangles and quadratic certificates where the surface has such faces.
   bool any_triangle = false, any_curved = false;
@@ -100,13 +126,10 @@ FaceIndex index_faces(const mesh::SurfaceMesh& master, std::span<const Vec3> nor
   }
   const bool certified = options.narrow == NarrowPhase::kCertified;
   index.triangles.reset(certified && any_triangle ? n : 0);
-  index.curved.reset(certified && any_curved ? n : 0);
-  // The faces at each node: the kept ones where the connectivity has not changed.
-  if (topology != nullptr && *topology != nullptr && (*topology)->matches(master)) {
-    index.topology = *topology;
+  if (kept) {
+    index.curved.keep(certified && any_curved ? n : 0);
   } else {
-    index.topology = std::make_shared<const NodeFaces>(master);
-    if (topology != nullptr) *topology = index.topology;
+    index.curved.reset(certified && any_curved ? n : 0);
   }
   // Each face on its own (threads for a large surface: the answers do not depend on them).
 #pragma omp parallel for schedule(static) if (n >= 4096)
@@ -114,6 +137,11 @@ FaceIndex index_faces(const mesh::SurfaceMesh& master, std::span<const Vec3> nor
     const auto face = static_cast<int>(f);
     const std::span<const int> corners = master.face_corners(face);
     const mesh::FaceNodes nodes = master.face_nodes(face);
+    if (kept && std::none_of(nodes.begin(), nodes.end(),
+                             [&](int c) { return moved[static_cast<std::size_t>(c)] != 0; }))
+      continue;
+    if (!index.curved.empty()) index.curved.forget(f);
+    index.checked[f] = 0;
     if (nodes.type == mesh::FaceType::kTri3 && !index.triangles.empty())
       index.triangles.construct(f) = projection::prepare_triangle(detail::triangle_nodes(master, face));
     if (!index.bilinear.empty()) index.bilinear.construct(f);  // lambda_floor 0: no certificate
@@ -171,6 +199,13 @@ FaceIndex index_faces(const mesh::SurfaceMesh& master, std::span<const Vec3> nor
     index.box_lo[f] = box_lo;
     index.box_hi[f] = box_hi;
     index.sizes[f] = size;
+  }
+  if (keep) {
+    index.built_positions.assign(master.positions.begin(), master.positions.end());
+    index.built_normals.assign(normals.begin(), gregory ? normals.end() : normals.begin());
+    index.built_unit = unit;
+  } else {
+    index.built_unit = 0.0;
   }
   return index;
 }
@@ -554,7 +589,8 @@ struct SurfaceSearcher::Impl {
         options(in_unit(o, unit)),
         checked_options(with_face_checked(options)),
         index(index_faces(master, n, options, topology,
-                          kept_storage != nullptr ? std::move(kept_storage->tables().index) : FaceIndex{})),
+                          kept_storage != nullptr ? std::move(kept_storage->tables().index) : FaceIndex{},
+                          unit, kept_storage != nullptr)),
 
         largest_radius(index.radii.empty() ? 0.0 : *std::max_element(index.radii.begin(), index.radii.end())),
         largest_size(index.sizes.empty() ? 0.0 : *std::max_element(index.sizes.begin(), index.sizes.end())),

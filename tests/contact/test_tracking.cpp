@@ -107,6 +107,30 @@ TEST_P(Tracking, GivesTheFreshSearchsFacesPointsAndGapsAtEveryIncrement) {
   EXPECT_GT(grid_builds, 1);
 }
 
+TEST_P(Tracking, FacesThatDidNotMoveKeepTheirEntriesAndTheAnswersStayTheFreshOnes) {
+  // Half the sheet still (i < 6: its faces keep what the searcher computed for them, SearchStorage), the
+  // other half waving, and one node of the still half nudged at increment 3 (its faces, and on Gregory
+  // patches its neighbours' through the normals, computed again); every answer the fresh search's.
+  const auto half = [](double t, bool nudge) {
+    return testing::searched_grid_surface(12, 8, [&](double i, double j) {
+      const double wave = i < 6.0 ? 0.0 : t;
+      const double bump = nudge && i == 3.0 && j == 4.0 ? 0.05 : 0.0;
+      return Vec3(i, j, 0.4 * std::sin(0.5 * i + wave) * std::cos(0.4 * j) + bump);
+    });
+  };
+  const History h = slaves(GetParam() == SurfaceKind::kGregory ? 300 : 1200);
+  SearchOptions options;
+  options.surface = GetParam();
+  SurfaceTracker tracker(options);
+  for (int increment = 0; increment < 6; ++increment) {
+    const mesh::SurfaceMesh m = half(0.05 * increment, increment >= 3);
+    const std::vector<Vec3> normals = mesh::node_normals(m);
+    const std::vector<Vec3> positions = h.at(increment);
+    expect_same(tracker.step(m, normals, h.ids, positions),
+                surface_search(m, normals, h.ids, positions, options), increment);
+  }
+}
+
 TEST(Tracking, TheReferenceTrackerAnswersFromItsLists) {
   SearchOptions options;
   options.narrow = NarrowPhase::kReference;
