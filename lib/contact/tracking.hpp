@@ -10,14 +10,19 @@
 //     slave node is then still listed in the cells around it. Otherwise it is rebuilt (TrackingCounts::
 //     grid_builds).
 //  2. A node that had a face at the previous increment starts from it (SurfaceSearcher::nearest_fresh's
-//     hint): that face's point, its distance bounding the faces the node gathers from the grid. A bilinear
-//     face with a certificate (bilinear_certificate.hpp) is projected by one Newton run from the node's
-//     previous point on it; every other face by the fresh search's reference, and its nearest corner bounds
-//     the gathering. A warm start on a face without a certificate could end on another stationary point than
-//     the face's nearest (a farther local minimum of a Gregory patch around a slave node inside a closed
-//     body: issue 39), so none is made.
+//     hint): that face's point, its distance bounding the faces the node gathers from the grid. A face with
+//     a certificate that holds for the node (bilinear_certificate.hpp, curved_certificate.hpp) is projected
+//     by one Newton run from the node's previous point on it; every other face by the fresh search's
+//     reference, and its nearest corner bounds the gathering. A warm start on a face without a certificate
+//     could end on another stationary point than the face's nearest (a farther local minimum of a Gregory
+//     patch around a slave node inside a closed body: issue 39), so none is made.
 //  3. A node without one (the first increment, no point at the previous one, other slave ids or faces)
 //     starts from a face listed in its grid cell, as a fresh search.
+//  4. What a state computes of the master is kept for the next (SearchStorage, NodeFaces): the faces at each
+//     node while the connectivity is the same; the faces' tables' memory (nothing is allocated per increment
+//     once warm); and each face's entries (sphere, box, prepared face, certificate) where none of its nodes,
+//     nor on a Gregory patch their normals, has moved: they are what would be computed again, bit for bit. A
+//     state's work on the master is then in proportion to the part of it that moves.
 // Then the scan as the fresh search's: the same faces, points and gaps (the tests and `replay` compare every
 // increment with a fresh search and count the differences). No list per node is kept: a node costs its
 // previous face and point.
