@@ -401,6 +401,103 @@ CurvedCertificate CurvedCertificate::prepare(const geometry::QuadraticTriangle& 
   return c;
 }
 
+namespace {
+
+/// A Gregory patch's bicubic point b_ij (i along u, j along v; the interior ones P_ij1, gregory_patch.hpp).
+const Vec3& bicubic_point(const std::array<Vec3, 20>& q, int i, int j) {
+  using geometry::GregoryPatch;
+  const bool inner = i > 0 && i < 3 && j > 0 && j < 3;
+  return q[static_cast<std::size_t>(inner ? GregoryPatch::interior_index(i, j, 1)
+                                          : GregoryPatch::control_index(i, j))];
+}
+
+/// [along n, across n] of v.
+std::array<double, 2> split(const Vec3& v, const Vec3& n) {
+  const double along = v.dot(n);
+  return {std::abs(along), (v - along * n).norm()};
+}
+
+/// g.second (the header's bounds of P_ss, P_st, P_tt, along g.normal and across it) for control points `q`;
+/// returns the bounds of |P_ss|, |P_st|, |P_tt|.
+std::array<double, 3> second_derivative_bounds(CurvedCertificate::GregoryBounds& g,
+                                               const std::array<Vec3, 20>& q) {
+  using geometry::GregoryPatch;
+  std::array<double, 2> delta = {0.0, 0.0};
+  for (int i = 1; i <= 2; ++i) {
+    for (int j = 1; j <= 2; ++j) {
+      const auto d = split(q[static_cast<std::size_t>(GregoryPatch::interior_index(i, j, 0))] -
+                               q[static_cast<std::size_t>(GregoryPatch::interior_index(i, j, 1))],
+                           g.normal);
+      delta = {std::max(delta[0], d[0]), std::max(delta[1], d[1])};
+    }
+  }
+  // The bicubic's Bezier coefficients (second differences), plus the bounds of the rational terms (the
+  // largest |delta_k| part times kGregoryBound).
+  std::array<std::array<double, 2>, 3> most{};  // ss, st, tt; [along, across]
+  const auto include = [&](std::size_t k, const Vec3& v) {
+    const auto d = split(v, g.normal);
+    most[k] = {std::max(most[k][0], d[0]), std::max(most[k][1], d[1])};
+  };
+  const auto b = [&](int i, int j) -> const Vec3& { return bicubic_point(q, i, j); };
+  for (int i = 0; i < 4; ++i) {
+    for (int j = 0; j < 2; ++j) {
+      include(0, 6.0 * (b(j + 2, i) - 2.0 * b(j + 1, i) + b(j, i)));
+      include(2, 6.0 * (b(i, j + 2) - 2.0 * b(i, j + 1) + b(i, j)));
+    }
+  }
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j) include(1, 9.0 * (b(i + 1, j + 1) - b(i + 1, j) - b(i, j + 1) + b(i, j)));
+  }
+  std::array<double, 3> whole{};
+  for (std::size_t k = 0; k < 3; ++k) {
+    for (std::size_t part = 0; part < 2; ++part) {
+      most[k][part] = (1.0 + 1e-12) * (most[k][part] + kGregoryBound[k] * delta[part]);
+      g.second[2 * k + part] = most[k][part];
+    }
+    whole[k] = std::hypot(most[k][0], most[k][1]);
+  }
+  return whole;
+}
+
+/// g's hull: the control points' mean, their range along g.normal and their largest distance across it.
+void hull_bounds(CurvedCertificate::GregoryBounds& g, const std::array<Vec3, 20>& q, double length) {
+  g.centre = Vec3::Zero();
+  for (const Vec3& v : q) g.centre += v;
+  g.centre /= static_cast<double>(q.size());
+  g.below = std::numeric_limits<double>::infinity();
+  g.above = -g.below;
+  for (const Vec3& v : q) {
+    const double along = (v - g.centre).dot(g.normal);
+    g.below = std::min(g.below, along);
+    g.above = std::max(g.above, along);
+    g.across = std::max(g.across, split(v - g.centre, g.normal)[1]);
+  }
+  g.across *= 1.0 + 1e-12;
+  g.below -= 1e-12 * length;
+  g.above += 1e-12 * length;
+}
+
+/// The edges: cubic Bezier curves on the boundary points (the rational terms vanish there), in powers of t,
+/// and their spheres.
+void gregory_edges(CurvedCertificate& c, const std::array<Vec3, 20>& q) {
+  for (int e = 0; e < 4; ++e) {
+    std::array<Vec3, 4> p;
+    for (int k = 0; k < 4; ++k) {
+      const std::array<int, 2> ij = e == 0   ? std::array<int, 2>{k, 0}
+                                    : e == 1 ? std::array<int, 2>{3, k}
+                                    : e == 2 ? std::array<int, 2>{k, 3}
+                                             : std::array<int, 2>{0, k};
+      p[static_cast<std::size_t>(k)] = bicubic_point(q, ij[0], ij[1]);
+    }
+    const auto u = static_cast<std::size_t>(e);
+    edge_sphere(c, u, p);
+    c.edge_curve[u] = {p[0], Vec3(3.0 * (p[1] - p[0])), Vec3(3.0 * (p[0] - 2.0 * p[1] + p[2])),
+                       Vec3(p[3] - p[0] + 3.0 * (p[1] - p[2]))};
+  }
+}
+
+}  // namespace
+
 void CurvedCertificate::prepare_gregory(CurvedCertificate& c, const std::array<Vec3, 4>& nodes,
                                         const std::array<Vec3, 4>& normals) {
   c.lambda_floor = 0.0;
@@ -419,92 +516,18 @@ void CurvedCertificate::prepare_gregory(CurvedCertificate& c, const std::array<V
       c.face.emplace<geometry::GregoryPatch>(x, normals, geometry::GregoryPatch::Diagnosed{});
   c.length = face.characteristic_length();
   if (!(c.length > 0.0) || !std::isfinite(c.length) || geometry::is_degenerate_segment(face.nodes())) return;
-  using geometry::GregoryPatch;
   const std::array<Vec3, 20>& q = face.control_points();
-  // The bicubic's points b_ij (interior ones P_ij1) and the rational terms' delta_k (gregory_patch.hpp).
-  const auto b = [&](int i, int j) -> const Vec3& {
-    const bool inner = i > 0 && i < 3 && j > 0 && j < 3;
-    return q[static_cast<std::size_t>(inner ? GregoryPatch::interior_index(i, j, 1)
-                                            : GregoryPatch::control_index(i, j))];
-  };
   // Everything split along the unit normal n at the centre and across it: a patch near its tangent plane
   // has small normal extent and mostly normal second derivatives, and r.P_ss <= |r.n| |P_ss.n| + |r_t|
   // |P_ss_t|.
   const geometry::SurfacePoint middle = face.evaluate(0.5, 0.5);
   const Vec3 normal = middle.d_s.cross(middle.d_t);
   if (!(normal.norm() > 0.0) || !normal.allFinite()) return;
-  CurvedCertificate::GregoryBounds& g = c.gregory;
-  g = CurvedCertificate::GregoryBounds{};
-  g.normal = normal.normalized();
-  // [along n, across n] of a vector.
-  const auto split = [&](const Vec3& v) {
-    const double along = v.dot(g.normal);
-    return std::array<double, 2>{std::abs(along), (v - along * g.normal).norm()};
-  };
-  std::array<double, 2> delta = {0.0, 0.0};
-  for (int i = 1; i <= 2; ++i) {
-    for (int j = 1; j <= 2; ++j) {
-      const auto d = split(q[static_cast<std::size_t>(GregoryPatch::interior_index(i, j, 0))] -
-                           q[static_cast<std::size_t>(GregoryPatch::interior_index(i, j, 1))]);
-      delta = {std::max(delta[0], d[0]), std::max(delta[1], d[1])};
-    }
-  }
-  // The largest second derivatives, each part: the bicubic's Bezier coefficients (second differences), plus
-  // the bounds of the rational terms (the largest |delta_k| part times kGregoryBound).
-  std::array<std::array<double, 2>, 3> most{};  // ss, st, tt; [along, across]
-  const auto include = [&](std::size_t k, const Vec3& v) {
-    const auto d = split(v);
-    most[k] = {std::max(most[k][0], d[0]), std::max(most[k][1], d[1])};
-  };
-  for (int i = 0; i < 4; ++i) {
-    for (int j = 0; j < 2; ++j) {
-      include(0, 6.0 * (b(j + 2, i) - 2.0 * b(j + 1, i) + b(j, i)));
-      include(2, 6.0 * (b(i, j + 2) - 2.0 * b(i, j + 1) + b(i, j)));
-    }
-  }
-  for (int i = 0; i < 3; ++i) {
-    for (int j = 0; j < 3; ++j) include(1, 9.0 * (b(i + 1, j + 1) - b(i + 1, j) - b(i, j + 1) + b(i, j)));
-  }
-  std::array<double, 3> whole{};  // bounds of |P_ss|, |P_st|, |P_tt|
-  for (std::size_t k = 0; k < 3; ++k) {
-    for (std::size_t part = 0; part < 2; ++part) {
-      most[k][part] = (1.0 + 1e-12) * (most[k][part] + kGregoryBound[k] * delta[part]);
-      g.second[2 * k + part] = most[k][part];
-    }
-    whole[k] = std::hypot(most[k][0], most[k][1]);
-  }
-  // The control points, which hold the patch in their hull: their range along n and their largest distance
-  // across it from their mean.
-  g.centre = Vec3::Zero();
-  for (const Vec3& v : q) g.centre += v;
-  g.centre /= static_cast<double>(q.size());
-  g.below = std::numeric_limits<double>::infinity();
-  g.above = -g.below;
-  for (const Vec3& v : q) {
-    const double along = (v - g.centre).dot(g.normal);
-    g.below = std::min(g.below, along);
-    g.above = std::max(g.above, along);
-    g.across = std::max(g.across, split(v - g.centre)[1]);
-  }
-  g.across *= 1.0 + 1e-12;
-  const double slack = 1e-12 * c.length;
-  g.below -= slack;
-  g.above += slack;
-  // The edges: cubic Bezier curves on the boundary points (the rational terms vanish there), in powers of t.
-  for (int e = 0; e < 4; ++e) {
-    std::array<Vec3, 4> p;
-    for (int k = 0; k < 4; ++k) {
-      const std::array<int, 2> ij = e == 0   ? std::array<int, 2>{k, 0}
-                                    : e == 1 ? std::array<int, 2>{3, k}
-                                    : e == 2 ? std::array<int, 2>{k, 3}
-                                             : std::array<int, 2>{0, k};
-      p[static_cast<std::size_t>(k)] = b(ij[0], ij[1]);
-    }
-    const auto u = static_cast<std::size_t>(e);
-    edge_sphere(c, u, p);
-    c.edge_curve[u] = {p[0], Vec3(3.0 * (p[1] - p[0])), Vec3(3.0 * (p[0] - 2.0 * p[1] + p[2])),
-                       Vec3(p[3] - p[0] + 3.0 * (p[1] - p[2]))};
-  }
+  c.gregory = CurvedCertificate::GregoryBounds{};
+  c.gregory.normal = normal.normalized();
+  const std::array<double, 3> whole = second_derivative_bounds(c.gregory, q);
+  hull_bounds(c.gregory, q, c.length);
+  gregory_edges(c, q);
   // lambda_min(J^T J) over the square: sigma_min(J) at a point less |J - J(point)|_F, each column's change at
   // most half the width of the square about the point times its second derivatives. First the centre for the
   // whole square; where that gives under 3/4 of the centre's sigma, the better of it and 2 x 2 sub-squares.

@@ -145,7 +145,7 @@ class SearchStorage {
   SearchStorage(SearchStorage&&) noexcept;
   SearchStorage& operator=(SearchStorage&&) noexcept;
 
-  struct Tables;  ///< surface_search.cpp's
+  struct Tables;  ///< face_index.hpp's
   [[nodiscard]] Tables& tables() { return *tables_; }
 
  private:

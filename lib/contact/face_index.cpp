@@ -1,0 +1,199 @@
+#include "contact/face_index.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "contact/face_surface.hpp"
+#include "geometry/bilinear_patch.hpp"
+#include "geometry/gregory_patch.hpp"
+#include "geometry/quadratic_triangle.hpp"
+#include "geometry/segment_checks.hpp"
+#include "geometry/serendipity_quad.hpp"
+#include "geometry/surface_of.hpp"
+
+namespace contactnn::contact {
+
+using detail::face_configuration;
+using detail::face_positions;
+using detail::kind_of;
+
+SearchStorage::SearchStorage() : tables_(std::make_unique<Tables>()) {}
+SearchStorage::~SearchStorage() = default;
+SearchStorage::SearchStorage(const SearchStorage&) : SearchStorage() {}
+SearchStorage& SearchStorage::operator=(const SearchStorage&) { return *this; }
+SearchStorage::SearchStorage(SearchStorage&&) noexcept = default;
+SearchStorage& SearchStorage::operator=(SearchStorage&&) noexcept = default;
+
+namespace {
+
+/// Face f's prepared forms: its prepared triangle (tri3), whether its bilinear facet passes the reference's
+/// checks and its certificate (bilinear quad4); a curved face's certificate forgotten (made again on its
+/// next use).
+void prepare_face(FaceIndex& index, const mesh::SurfaceMesh& master, std::span<const Vec3> normals,
+                  const SearchOptions& options, int face, const mesh::FaceNodes& nodes) {
+  const auto f = static_cast<std::size_t>(face);
+  if (!index.curved.empty()) index.curved.forget(f);
+  index.checked[f] = 0;
+  if (nodes.type == mesh::FaceType::kTri3 && !index.triangles.empty())
+    index.triangles.construct(f) = projection::prepare_triangle(detail::triangle_nodes(master, face));
+  if (!index.bilinear.empty()) index.bilinear.construct(f);  // lambda_floor 0: no certificate
+  if (nodes.type == mesh::FaceType::kQuad4 && kind_of(master, options, face) == SurfaceKind::kBilinear) {
+    // closest_on_face's patch: the face's configuration relative to its first node.
+    geometry::Configuration config = face_configuration(master, normals, SurfaceKind::kBilinear, face);
+    const Vec3 origin = config.nodes[0];
+    if (origin.allFinite()) {
+      for (Vec3& x : config.nodes) x -= origin;
+      const geometry::BilinearPatch patch(config.nodes);
+      index.checked[f] =
+          std::isfinite(patch.characteristic_length()) && !geometry::is_degenerate_segment(patch.nodes()) ? 1
+                                                                                                          : 0;
+      if (index.checked[f] != 0 && !index.bilinear.empty()) {
+        index.bilinear[f] = BilinearCertificate::prepare(
+            face_configuration(master, normals, SurfaceKind::kBilinear, face).nodes);
+      }
+    }
+  }
+}
+
+/// Face f's centre, sphere, box (of the points whose convex hull holds it: nodes, control points) and size.
+void bound_face(FaceIndex& index, const mesh::SurfaceMesh& master, std::span<const Vec3> normals,
+                const SearchOptions& options, int face, const mesh::FaceNodes& nodes) {
+  const auto f = static_cast<std::size_t>(face);
+  const std::span<const int> corners = master.face_corners(face);
+  Vec3 centre = Vec3::Zero();
+  for (int c : corners) centre += master.positions[static_cast<std::size_t>(c)];
+  centre /= static_cast<double>(corners.size());
+  double radius = 0.0, size = 0.0;
+  // The bounding sphere and box of the points whose convex hull holds the face (nodes, control points).
+  Vec3 box_lo = Vec3::Constant(std::numeric_limits<double>::infinity());
+  Vec3 box_hi = -box_lo;
+  const auto include = [&](const Vec3& x) {
+    radius = std::max(radius, (x - centre).norm());
+    box_lo = box_lo.cwiseMin(x);
+    box_hi = box_hi.cwiseMax(x);
+  };
+  for (int c : nodes) include(master.positions[static_cast<std::size_t>(c)]);
+  for (int c : corners) {
+    const Vec3& x = master.positions[static_cast<std::size_t>(c)];
+    for (int d : corners) size = std::max(size, (x - master.positions[static_cast<std::size_t>(d)]).norm());
+  }
+  // A curved face lies in the convex hull of its control points, not of its nodes: the sphere holds those.
+  if (nodes.type == mesh::FaceType::kQuad8) {
+    const geometry::SerendipityQuad quad8(face_positions<8>(master, nodes));
+    for (const Vec3& x : quad8.bezier_control_points()) include(x);
+  } else if (nodes.type == mesh::FaceType::kTri6) {
+    const geometry::QuadraticTriangle tri6(face_positions<6>(master, nodes));
+    for (const Vec3& x : tri6.bezier_control_points()) include(x);
+  } else if (corners.size() == 4 && kind_of(master, options, face) == SurfaceKind::kGregory) {
+    const geometry::Configuration config = face_configuration(master, normals, SurfaceKind::kGregory, face);
+    if (!geometry::surface_defect(config, SurfaceKind::kGregory)) {
+      // The patch lies in the convex hull of its control points (each interior point mixes two of them).
+      const geometry::GregoryPatch patch(config.nodes, config.normals, geometry::GregoryPatch::Diagnosed{});
+      for (const Vec3& x : patch.control_points()) include(x);
+    }
+  }
+  index.centres[f] = centre;
+  index.radii[f] = radius;
+  index.box_lo[f] = box_lo;
+  index.box_hi[f] = box_hi;
+  index.sizes[f] = size;
+}
+
+}  // namespace
+
+FaceIndex index_faces(const mesh::SurfaceMesh& master, std::span<const Vec3> normals,
+                      const SearchOptions& options, std::shared_ptr<const NodeFaces>* topology,
+                      FaceIndex&& recycled, double unit, bool keep) {
+  FaceIndex index = std::move(recycled);  // its buffers: every moved face's entries rewritten below
+  const auto n = static_cast<std::size_t>(master.face_count());
+  index.centres.resize(n);
+  index.radii.resize(n);
+  index.box_lo.resize(n);
+  index.box_hi.resize(n);
+  index.sizes.resize(n);
+  index.checked.resize(n);
+  // The faces at each node: the kept ones where the connectivity has not changed.
+  const bool same_faces = topology != nullptr && *topology != nullptr && (*topology)->matches(master);
+  if (same_faces) {
+    index.topology = *topology;
+  } else {
+    index.topology = std::make_shared<const NodeFaces>(master);
+    if (topology != nullptr) *topology = index.topology;
+  }
+  // The nodes that moved since the kept index was built (all of them without one): a face with none keeps
+  // its entries, bit for bit what they would be computed again.
+  const std::size_t node_count = master.positions.size();
+  const bool gregory = options.surface == SurfaceKind::kGregory && normals.size() == node_count;
+  const bool kept = same_faces && index.built_unit == unit && index.built_positions.size() == node_count &&
+                    (!gregory || index.built_normals.size() == node_count) && index.centres.size() == n;
+  std::vector<std::uint8_t> moved(node_count, 1);
+  if (kept) {
+#pragma omp parallel for schedule(static) if (node_count >= 16384)
+    for (std::size_t i = 0; i < node_count; ++i) {
+      moved[i] = !(master.positions[i] == index.built_positions[i]) ||
+                 (gregory && !(normals[i] == index.built_normals[i]));
+    }
+  }
+  index.bilinear.reset(options.narrow == NarrowPhase::kCertified ? n : 0);
+  // Slots for prepared triangles and quadratic certificates where the surface has such faces.
+  bool any_triangle = false, any_curved = false;
+  for (std::size_t f = 0; f < n; ++f) {
+    const mesh::FaceType type = master.face_type(static_cast<int>(f));
+    any_triangle = any_triangle || type == mesh::FaceType::kTri3;
+    any_curved = any_curved || type == mesh::FaceType::kQuad8 || type == mesh::FaceType::kTri6 ||
+                 (type == mesh::FaceType::kQuad4 &&
+                  kind_of(master, options, static_cast<int>(f)) == SurfaceKind::kGregory);
+  }
+  const bool certified = options.narrow == NarrowPhase::kCertified;
+  index.triangles.reset(certified && any_triangle ? n : 0);
+  if (kept) {
+    index.curved.keep(certified && any_curved ? n : 0);
+  } else {
+    index.curved.reset(certified && any_curved ? n : 0);
+  }
+  // Each face on its own (threads for a large surface: the answers do not depend on them).
+#pragma omp parallel for schedule(static) if (n >= 4096)
+  for (std::size_t f = 0; f < n; ++f) {
+    const auto face = static_cast<int>(f);
+    const mesh::FaceNodes nodes = master.face_nodes(face);
+    if (kept && std::none_of(nodes.begin(), nodes.end(),
+                             [&](int c) { return moved[static_cast<std::size_t>(c)] != 0; }))
+      continue;
+    prepare_face(index, master, normals, options, face, nodes);
+    bound_face(index, master, normals, options, face, nodes);
+  }
+  if (keep) {
+    index.built_positions.assign(master.positions.begin(), master.positions.end());
+    index.built_normals.assign(normals.begin(), gregory ? normals.end() : normals.begin());
+    index.built_unit = unit;
+  } else {
+    index.built_unit = 0.0;
+  }
+  return index;
+}
+
+[[nodiscard]] const CurvedCertificate* curved_of(const FaceIndex& index, const mesh::SurfaceMesh& master,
+                                                 std::span<const Vec3> normals, const SearchOptions& options,
+                                                 int face) {
+  if (index.curved.empty()) return nullptr;
+  const mesh::FaceType type = master.face_type(face);
+  const bool gregory =
+      type == mesh::FaceType::kQuad4 && kind_of(master, options, face) == SurfaceKind::kGregory;
+  if (type != mesh::FaceType::kQuad8 && type != mesh::FaceType::kTri6 && !gregory) return nullptr;
+  const CurvedCertificate& c = index.curved.get(static_cast<std::size_t>(face), [&](CurvedCertificate& out) {
+    const mesh::FaceNodes nodes = master.face_nodes(face);
+    if (type == mesh::FaceType::kQuad8) {
+      out = CurvedCertificate::prepare(geometry::SerendipityQuad(face_positions<8>(master, nodes)));
+    } else if (type == mesh::FaceType::kTri6) {
+      out = CurvedCertificate::prepare(geometry::QuadraticTriangle(face_positions<6>(master, nodes)));
+    } else {
+      const geometry::Configuration config = face_configuration(master, normals, SurfaceKind::kGregory, face);
+      if (!geometry::surface_defect(config, SurfaceKind::kGregory))
+        CurvedCertificate::prepare_gregory(out, config.nodes, config.normals);
+    }
+  });
+  return c.lambda_floor > 0.0 ? &c : nullptr;
+}
+
+}  // namespace contactnn::contact
