@@ -156,18 +156,24 @@ class CurvedCertificates {
   [[nodiscard]] bool empty() const { return slots_.empty(); }
 
   /// Face f's certificate, made by prepare(CurvedCertificate&) (given a default one) on the first call for f;
-  /// a thread asking while another prepares it waits for it.
+  /// a thread asking while another prepares it waits for it (and prepares it itself where that one threw).
   template <class Prepare>
   const CurvedCertificate& get(std::size_t f, Prepare&& prepare) const {
     std::atomic<std::uint8_t>& state = state_[f];
-    if (state.load(std::memory_order_acquire) != kReady) {
-      std::uint8_t expected = kEmpty;
-      if (state.compare_exchange_strong(expected, kPreparing, std::memory_order_acq_rel)) {
-        prepare(slots_.construct(f));
+    for (;;) {
+      std::uint8_t seen = state.load(std::memory_order_acquire);
+      if (seen == kReady) break;
+      if (seen == kEmpty && state.compare_exchange_strong(seen, kPreparing, std::memory_order_acq_rel)) {
+        try {
+          prepare(slots_.construct(f));
+        } catch (...) {
+          state.store(kEmpty, std::memory_order_release);  // another caller may prepare it again
+          throw;
+        }
         state.store(kReady, std::memory_order_release);
-      } else {
-        while (state.load(std::memory_order_acquire) != kReady) std::this_thread::yield();
+        break;
       }
+      std::this_thread::yield();  // another thread is preparing it
     }
     return slots_[f];
   }

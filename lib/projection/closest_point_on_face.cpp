@@ -180,7 +180,9 @@ FaceClosestPoint nearest_of_interior_and_edges(const SurfaceT& surface, const Ve
   bool interior_wins = false;
   if (interior != nullptr) {
     out.param = {std::clamp((*interior)[0], d.lo, d.hi), std::clamp((*interior)[1], d.lo, d.hi)};
-    best = (slave - surface.position(out.param[0], out.param[1])).norm();
+    // Its distance only decides against the edges: where they are farther (the caller's proof), the report's
+    // own evaluation below gives it (a non-finite one makes the status invalid there).
+    best = edges_farther ? 0.0 : (slave - surface.position(out.param[0], out.param[1])).norm();
     interior_wins = true;
   }
   // 2. The edges, ends included; 3. the nearest wins (strictly nearer replaces: ties keep the earlier).

@@ -310,7 +310,9 @@ double nearest_of_interior_and_edges(const Face& face, const Vec3& slave,
   if (interior != nullptr) {
     out.param = keep(*interior);
     out.iterations = iterations;
-    best = (slave - face.position(out.param[0], out.param[1])).norm();
+    // Its distance only decides against the edges: where they are farther (the caller's proof), the report's
+    // own evaluation gives it (a non-finite one makes the status invalid there).
+    best = edges_farther ? 0.0 : (slave - face.position(out.param[0], out.param[1])).norm();
     interior_wins = true;
   }
   for (int edge = 0; edge < (interior != nullptr && edges_farther ? 0 : edges); ++edge) {

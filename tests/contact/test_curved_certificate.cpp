@@ -5,10 +5,14 @@
 // or the face is folded. The Gregory bounds are checked against the patch's own derivatives.
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <random>
+#include <stdexcept>
+#include <thread>
 #include <type_traits>
+#include <vector>
 
 #include "contact/curved_certificate.hpp"
 #include "projection/closest_point_on_face.hpp"
@@ -354,6 +358,43 @@ TEST(CurvedCertificate, NoCertificateForAFoldedOrDegenerateFace) {
   const CurvedCertificate c = CurvedCertificate::prepare(geometry::QuadraticTriangle(collapsed));
   EXPECT_EQ(c.lambda_floor, 0.0);
   EXPECT_FALSE(c.closest_point(Vec3(0.5, 0.5, 0.5), projection::ProjectionOptions{}));
+}
+
+TEST(CurvedCertificates, EachFaceIsPreparedOnceWhateverTheThreadsAndAgainAfterAFailure) {
+  // Four threads ask for every face of 64 in different orders: each face prepared once, every thread given
+  // it.
+  constexpr std::size_t kFaces = 64;
+  CurvedCertificates table(kFaces);
+  std::array<std::atomic<int>, kFaces> prepared{};
+  std::vector<std::thread> threads;
+  std::atomic<int> wrong = 0;
+  for (int t = 0; t < 4; ++t) {
+    threads.emplace_back([&, t] {
+      for (std::size_t k = 0; k < kFaces; ++k) {
+        const std::size_t f = (k * (2 * static_cast<std::size_t>(t) + 1)) % kFaces;
+        const CurvedCertificate& c = table.get(f, [&](CurvedCertificate& out) {
+          prepared[f].fetch_add(1);
+          out.lambda_floor = static_cast<double>(f) + 1.0;
+        });
+        if (c.lambda_floor != static_cast<double>(f) + 1.0) wrong.fetch_add(1);
+      }
+    });
+  }
+  for (std::thread& t : threads) t.join();
+  EXPECT_EQ(wrong.load(), 0);
+  for (std::size_t f = 0; f < kFaces; ++f) EXPECT_EQ(prepared[f].load(), 1) << f;
+  // A preparation that throws leaves the face to be prepared by the next caller (no caller waits forever).
+  table.reset(kFaces);
+  EXPECT_THROW((void)table.get(5, [](CurvedCertificate&) { throw std::runtime_error("no"); }),
+               std::runtime_error);
+  EXPECT_EQ(table.get(5, [](CurvedCertificate& out) { out.lambda_floor = 2.0; }).lambda_floor, 2.0);
+  // keep() holds what was prepared, forget() one face: only it is prepared again.
+  table.keep(kFaces);
+  table.forget(7);
+  int again = 0;
+  (void)table.get(5, [&](CurvedCertificate&) { ++again; });
+  (void)table.get(7, [&](CurvedCertificate&) { ++again; });
+  EXPECT_EQ(again, 1);
 }
 
 }  // namespace
