@@ -29,11 +29,17 @@
 // where w's denominator vanishes): sum_k |g_k,uu| <= 18, sum_k |g_k,uv| <= 9, sum_k |g_k,vv| <= 19.5
 // (kGregoryBound, checked by a test on a dense grid and on circles about the corners). So over the square
 //  - |P_ss| <= U_ss = max |6 D_ss b| (the bicubic's second differences, its Bezier form) + 18 max |delta_k|,
-//    and likewise U_tt and U_st (9 D_s D_t b, 9 max |delta_k|);
-//  - |r| <= |S - c| + rho, c and rho a sphere about the 20 control points (the patch lies in their hull);
-//  - lambda_max(M) <= |r| (max(U_ss, U_tt) + U_st);
-//  - sigma_min(J) >= sigma_min(J at the centre) - |J - J(centre)|_F, the change bounded by the second
-//    derivatives over half the square: lambda_min(J^T J) >= that squared.
+//    and likewise U_tt and U_st (9 D_s D_t b, 9 max |delta_k|); each bound is kept in two parts, along the
+//    unit normal n at the centre and across it (GregoryBounds::second);
+//  - r = S - P with P in the hull of the 20 control points: |r.n| is at most S's height beyond their range
+//    along n, |r across n| at most its distance across n from their mean plus theirs, and
+//    |r.v| <= |r.n| |v.n| + |r across| |v across| for each second derivative v. Near its tangent plane a
+//    patch's second derivatives are mostly normal and r mostly across: the split is what lets a curved face
+//    be certified for the slaves near it;
+//  - lambda_max(M) <= max(|m00|, |m11|) + |m01| with those bounds;
+//  - sigma_min(J) >= sigma_min(J at a point) - |J - J(point)|_F, the change bounded by the second derivatives
+//    over half the width of the square about the point: the centre for the whole square, or (where that is
+//    loose) the centres of its 2 x 2 sub-squares; lambda_min(J^T J) >= that squared.
 //
 // Where the bound of lambda_max(M) < kMargin x lambda_floor, f is strictly convex on the face (a convex
 // domain): its minimum over the closed face is unique, an interior stationary point is that minimum, and a
