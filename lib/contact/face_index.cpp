@@ -126,7 +126,7 @@ FaceIndex index_faces(const mesh::SurfaceMesh& master, std::span<const Vec3> nor
   const std::size_t node_count = master.positions.size();
   const bool gregory = options.surface == SurfaceKind::kGregory && normals.size() == node_count;
   const bool kept = same_faces && index.built_unit == unit && index.built_positions.size() == node_count &&
-                    (!gregory || index.built_normals.size() == node_count) && index.centres.size() == n;
+                    (!gregory || index.built_normals.size() == node_count);
   std::vector<std::uint8_t> moved(node_count, 1);
   if (kept) {
 #pragma omp parallel for schedule(static) if (node_count >= 16384)
