@@ -147,13 +147,18 @@ std::optional<projection::FaceClosestPoint> certified(const CurvedCertificate& c
   bool converged = false;
   int iterations = 0;
   double squared = 0.0;  // |S - P|^2 at the last iterate evaluated (the converged point's, to rounding)
+  // The run's last evaluation, and whether it is at p (a run that ends on its residual: the report reuses it).
+  geometry::SurfacePoint last{};
+  bool last_at_p = false;
   for (int it = 1; it <= kMaxIterations; ++it) {
     const geometry::SurfacePoint sp = face.evaluate(p[0], p[1]);
+    last = sp;
     const Vec3 r = relative - sp.position;
     squared = r.squaredNorm();
     const double r0 = sp.d_s.dot(r), r1 = sp.d_t.dot(r);
     if (std::abs(r0) <= residual_floor && std::abs(r1) <= residual_floor) {
       converged = true;
+      last_at_p = true;
       iterations = it - 1;
       break;
     }
@@ -236,6 +241,19 @@ std::optional<projection::FaceClosestPoint> certified(const CurvedCertificate& c
       return projection::nearest_of_interior_and_quadratic_edges(face, relative, &q, its, nullptr, true);
     }
   };
+  if (interior && edges_farther && last_at_p) {
+    // The answer is p, inside the face (delta > 0: no clamping), where the run has just evaluated the face.
+    out.param = p;
+    out.iterations = iterations;
+    if (triangle) {
+      projection::locate_on_triangle(out);
+    } else {
+      projection::locate_on_quad(gregory ? param_domain(SurfaceKind::kGregory) : ParamDomain{-1.0, 1.0}, out);
+    }
+    projection::report_at(last, relative, out);
+    if (out.status != Status::kOk) return std::nullopt;
+    return out;
+  }
   if (interior) {
     out = report(p, iterations);
     if (out.status != Status::kOk) return std::nullopt;

@@ -64,20 +64,22 @@ void bound_face(FaceIndex& index, const mesh::SurfaceMesh& master, std::span<con
   Vec3 centre = Vec3::Zero();
   for (int c : corners) centre += master.positions[static_cast<std::size_t>(c)];
   centre /= static_cast<double>(corners.size());
-  double radius = 0.0, size = 0.0;
+  double squared_radius = 0.0, size = 0.0;  // size: squared until the end
   // The bounding sphere and box of the points whose convex hull holds the face (nodes, control points).
   Vec3 box_lo = Vec3::Constant(std::numeric_limits<double>::infinity());
   Vec3 box_hi = -box_lo;
   const auto include = [&](const Vec3& x) {
-    radius = std::max(radius, (x - centre).norm());
+    squared_radius = std::max(squared_radius, (x - centre).squaredNorm());
     box_lo = box_lo.cwiseMin(x);
     box_hi = box_hi.cwiseMax(x);
   };
   for (int c : nodes) include(master.positions[static_cast<std::size_t>(c)]);
   for (int c : corners) {
     const Vec3& x = master.positions[static_cast<std::size_t>(c)];
-    for (int d : corners) size = std::max(size, (x - master.positions[static_cast<std::size_t>(d)]).norm());
+    for (int d : corners)
+      size = std::max(size, (x - master.positions[static_cast<std::size_t>(d)]).squaredNorm());
   }
+  size = std::sqrt(size);  // the longest corner distance (sqrt is monotonic: the same bits as the norms')
   // A curved face lies in the convex hull of its control points, not of its nodes: the sphere holds those.
   if (nodes.type == mesh::FaceType::kQuad8) {
     const geometry::SerendipityQuad quad8(face_positions<8>(master, nodes));
@@ -87,14 +89,14 @@ void bound_face(FaceIndex& index, const mesh::SurfaceMesh& master, std::span<con
     for (const Vec3& x : tri6.bezier_control_points()) include(x);
   } else if (corners.size() == 4 && kind_of(master, options, face) == SurfaceKind::kGregory) {
     const geometry::Configuration config = face_configuration(master, normals, SurfaceKind::kGregory, face);
-    if (!geometry::surface_defect(config, SurfaceKind::kGregory)) {
+    std::array<Vec3, 4> unit;
+    if (geometry::GregoryPatch::diagnose(config.nodes, config.normals, &unit) == geometry::GregoryDefect::kNone) {
       // The patch lies in the convex hull of its control points (each interior point mixes two of them).
-      const geometry::GregoryPatch patch(config.nodes, config.normals, geometry::GregoryPatch::Diagnosed{});
-      for (const Vec3& x : patch.control_points()) include(x);
+      for (const Vec3& x : geometry::GregoryPatch::control_points_of(config.nodes, unit)) include(x);
     }
   }
   index.centres[f] = centre;
-  index.radii[f] = radius;
+  index.radii[f] = std::sqrt(squared_radius);  // the largest distance: sqrt is monotonic
   index.box_lo[f] = box_lo;
   index.box_hi[f] = box_hi;
   index.sizes[f] = size;
@@ -135,17 +137,20 @@ FaceIndex index_faces(const mesh::SurfaceMesh& master, std::span<const Vec3> nor
                  (gregory && !(normals[i] == index.built_normals[i]));
     }
   }
-  index.bilinear.reset(options.narrow == NarrowPhase::kCertified ? n : 0);
-  // Slots for prepared triangles and quadratic certificates where the surface has such faces.
-  bool any_triangle = false, any_curved = false;
+  // Slots for bilinear certificates, prepared triangles and curved certificates where the surface has such
+  // faces (a Gregory surface constructs no bilinear slot: 29 MB a state for 1e5 faces, every page touched).
+  bool any_bilinear = false, any_triangle = false, any_curved = false;
   for (std::size_t f = 0; f < n; ++f) {
     const mesh::FaceType type = master.face_type(static_cast<int>(f));
+    const bool quad4 = type == mesh::FaceType::kQuad4;
+    const bool gregory_face =
+        quad4 && kind_of(master, options, static_cast<int>(f)) == SurfaceKind::kGregory;
+    any_bilinear = any_bilinear || (quad4 && !gregory_face);
     any_triangle = any_triangle || type == mesh::FaceType::kTri3;
-    any_curved = any_curved || type == mesh::FaceType::kQuad8 || type == mesh::FaceType::kTri6 ||
-                 (type == mesh::FaceType::kQuad4 &&
-                  kind_of(master, options, static_cast<int>(f)) == SurfaceKind::kGregory);
+    any_curved = any_curved || type == mesh::FaceType::kQuad8 || type == mesh::FaceType::kTri6 || gregory_face;
   }
   const bool certified = options.narrow == NarrowPhase::kCertified;
+  index.bilinear.reset(certified && any_bilinear ? n : 0);
   index.triangles.reset(certified && any_triangle ? n : 0);
   if (kept) {
     index.curved.keep(certified && any_curved ? n : 0);

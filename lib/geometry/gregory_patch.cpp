@@ -25,14 +25,13 @@ struct InteriorPair {
 /// b(t) = k(t) a(t) + h(t) c(t), with k, h linear in t, a(t) linear between the edge's binormals a0, a3
 /// and c(t) the edge's own tangent; b(t) then depends only on the edge's two nodes and normals, so the
 /// patch on the other side of the edge shares the tangent plane span(a(t), c(t)) (G1). b1, b2 are the
-/// inner Bernstein coefficients of that cubic.
-InteriorPair interior_points(const Vec3& x, const Vec3& n_x, const Vec3& x_other, const Vec3& y,
-                             const Vec3& n_y, const Vec3& y_other) {
-  const Vec3 y1 = edge_point(x, n_x, y);
-  const Vec3 y2 = edge_point(y, n_y, x);
+/// inner Bezier coefficients of that cubic. The edge points are the boundary's (computed once for the
+/// patch): y1 = E(X->Y), y2 = E(Y->X), x_side = E(X->X'), y_side = E(Y->Y').
+InteriorPair interior_points(const Vec3& x, const Vec3& n_x, const Vec3& y, const Vec3& n_y, const Vec3& y1,
+                             const Vec3& y2, const Vec3& x_side, const Vec3& y_side) {
   const Vec3 c0 = y1 - x, c1 = y2 - y1, c2 = y - y2;
-  const Vec3 b0 = edge_point(x, n_x, x_other) - x;
-  const Vec3 b3 = edge_point(y, n_y, y_other) - y;
+  const Vec3 b0 = x_side - x;
+  const Vec3 b3 = y_side - y;
   const Vec3 a0 = n_x.cross(y - x).normalized();
   const Vec3 a3 = n_y.cross(y - x).normalized();
   // a0 and c0 are an orthogonal basis of X's tangent plane, which holds b0: b0 = k0 a0 + h0 c0 exactly.
@@ -55,14 +54,16 @@ const char* defect_name(GregoryDefect defect) {
 
 }  // namespace
 
-GregoryDefect GregoryPatch::diagnose(const std::array<Vec3, 4>& nodes, const std::array<Vec3, 4>& normals) {
+GregoryDefect GregoryPatch::diagnose(const std::array<Vec3, 4>& nodes, const std::array<Vec3, 4>& normals,
+                                     std::array<Vec3, 4>* unit_normals) {
   for (int i = 0; i < 4; ++i) {
     if (!nodes[i].allFinite() || !normals[i].allFinite()) return GregoryDefect::kNonFinite;
   }
   std::array<Vec3, 4> unit{};
   for (int i = 0; i < 4; ++i) {
-    // stableNorm: a finite normal of any positive length, however large or small, is accepted.
-    if (!(normals[i].stableNorm() > 0.0)) return GregoryDefect::kZeroNormal;
+    // A finite normal of any positive length, however large or small, is accepted (stableNormalized scales
+    // by the largest component first): zero length is all components zero.
+    if ((normals[i].array() == 0.0).all()) return GregoryDefect::kZeroNormal;
     unit[i] = normals[i].stableNormalized();
   }
   const double min_projected = kMinProjectedEdgeRatio * max_node_distance(nodes);
@@ -73,6 +74,7 @@ GregoryDefect GregoryPatch::diagnose(const std::array<Vec3, 4>& nodes, const std
       if (!(projected.norm() > min_projected)) return GregoryDefect::kDegenerateEdge;
     }
   }
+  if (unit_normals != nullptr) *unit_normals = unit;
   return GregoryDefect::kNone;
 }
 
@@ -90,10 +92,23 @@ GregoryPatch::GregoryPatch(const std::array<Vec3, 4>& nodes, const std::array<Ve
   for (int i = 0; i < 4; ++i) normals_[i] = normals[i].stableNormalized();
   characteristic_length_ = max_node_distance(nodes_);
 
-  const Vec3 &a = nodes_[0], &b = nodes_[1], &c = nodes_[2], &d = nodes_[3];
-  const Vec3 &na = normals_[0], &nb = normals_[1], &nc = normals_[2], &nd = normals_[3];
-  auto at = [this](int i, int j) -> Vec3& { return control_[control_index(i, j)]; };
-  auto inner = [this](int i, int j, int k) -> Vec3& { return control_[interior_index(i, j, k)]; };
+  control_ = control_points_of(nodes_, normals_);
+
+  for (int k = 0; k < 16; ++k) base_[k] = control_[k];
+  for (int k = 0; k < 4; ++k) {
+    const int i = 1 + (k & 1), j = 1 + (k >> 1);
+    base_[control_index(i, j)] = control_[interior_index(i, j, 1)];
+    delta_[k] = control_[interior_index(i, j, 0)] - control_[interior_index(i, j, 1)];
+  }
+}
+
+std::array<Vec3, 20> GregoryPatch::control_points_of(const std::array<Vec3, 4>& nodes,
+                                                     const std::array<Vec3, 4>& unit_normals) {
+  std::array<Vec3, 20> control;
+  const Vec3 &a = nodes[0], &b = nodes[1], &c = nodes[2], &d = nodes[3];
+  const Vec3 &na = unit_normals[0], &nb = unit_normals[1], &nc = unit_normals[2], &nd = unit_normals[3];
+  auto at = [&control](int i, int j) -> Vec3& { return control[control_index(i, j)]; };
+  auto inner = [&control](int i, int j, int k) -> Vec3& { return control[interior_index(i, j, k)]; };
 
   at(0, 0) = a;
   at(3, 0) = b;
@@ -108,11 +123,12 @@ GregoryPatch::GregoryPatch(const std::array<Vec3, 4>& nodes, const std::array<Ve
   at(0, 2) = edge_point(d, nd, a);
   at(0, 1) = edge_point(a, na, d);
 
-  // Edge X->Y, X' = node before X, Y' = node after Y (counter-clockwise).
-  const InteriorPair ab = interior_points(a, na, d, b, nb, c);
-  const InteriorPair bc = interior_points(b, nb, a, c, nc, d);
-  const InteriorPair cd = interior_points(c, nc, b, d, nd, a);
-  const InteriorPair da = interior_points(d, nd, c, a, na, b);
+  // Edge X->Y, X' = node before X, Y' = node after Y (counter-clockwise); its four edge points are the
+  // boundary's: E(X->Y), E(Y->X), E(X->X'), E(Y->Y').
+  const InteriorPair ab = interior_points(a, na, b, nb, at(1, 0), at(2, 0), at(0, 1), at(3, 1));
+  const InteriorPair bc = interior_points(b, nb, c, nc, at(3, 1), at(3, 2), at(2, 0), at(2, 3));
+  const InteriorPair cd = interior_points(c, nc, d, nd, at(2, 3), at(1, 3), at(3, 2), at(0, 2));
+  const InteriorPair da = interior_points(d, nd, a, na, at(0, 2), at(0, 1), at(1, 3), at(1, 0));
   inner(1, 1, 0) = ab.near_x;  // P110
   inner(2, 1, 0) = ab.near_y;  // P210
   inner(2, 1, 1) = bc.near_x;  // P211
@@ -121,13 +137,7 @@ GregoryPatch::GregoryPatch(const std::array<Vec3, 4>& nodes, const std::array<Ve
   inner(1, 2, 0) = cd.near_y;  // P120
   inner(1, 2, 1) = da.near_x;  // P121
   inner(1, 1, 1) = da.near_y;  // P111
-
-  for (int k = 0; k < 16; ++k) base_[k] = control_[k];
-  for (int k = 0; k < 4; ++k) {
-    const int i = 1 + (k & 1), j = 1 + (k >> 1);
-    base_[control_index(i, j)] = control_[interior_index(i, j, 1)];
-    delta_[k] = control_[interior_index(i, j, 0)] - control_[interior_index(i, j, 1)];
-  }
+  return control;
 }
 
 }  // namespace contactnn::geometry

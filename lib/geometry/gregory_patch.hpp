@@ -65,8 +65,11 @@ class GregoryPatch {
 
   /// kNone when the constructor accepts these inputs, otherwise the first defect found. Cheap: a caller
   /// (the projection) uses it to report `invalid` / `degenerate` instead of catching.
+  /// `unit_normals`, where given, receives the normals normalised as the constructor does them (set where
+  /// the result is kNone).
   [[nodiscard]] static GregoryDefect diagnose(const std::array<Vec3, 4>& nodes,
-                                              const std::array<Vec3, 4>& normals);
+                                              const std::array<Vec3, 4>& normals,
+                                              std::array<Vec3, 4>* unit_normals = nullptr);
 
   /// P(u, v); any finite (u, v), see the class comment for the lines outside [0,1]^2.
   [[nodiscard]] Vec3 position(double u, double v) const noexcept;
@@ -87,6 +90,11 @@ class GregoryPatch {
   /// 12 = D, 1 = P10, 4 = P01, 5 = P110, 6 = P210, 9 = P120, 10 = P220, 16 = P111, 17 = P211,
   /// 18 = P121, 19 = P221. Use control_index / interior_index rather than the numbers.
   [[nodiscard]] const std::array<Vec3, 20>& control_points() const { return control_; }
+  /// The control points of the patch on `nodes` with unit normals `unit_normals` (each the constructor's
+  /// stableNormalized() of a node normal): control_points() bit for bit, without the evaluation form (a
+  /// search bounds every face of a state by them and builds the patch only for the faces it projects on).
+  [[nodiscard]] static std::array<Vec3, 20> control_points_of(const std::array<Vec3, 4>& nodes,
+                                                              const std::array<Vec3, 4>& unit_normals);
   /// Index of P_ij (i, j in 0..3) in control_points(); for interior (i, j) that of P_ij0.
   [[nodiscard]] static constexpr int control_index(int i, int j) { return i + 4 * j; }
   /// Index of interior point P_ijk (i, j in 1..2, k in 0..1) in control_points().

@@ -198,14 +198,17 @@ FaceClosestPoint nearest_of_interior_and_edges(const SurfaceT& surface, const Ve
   if (!std::isfinite(best)) return out;  // invalid: the surface has a non-finite value
 
   locate_on_quad(d, out);
-  const geometry::SurfacePoint p = surface.evaluate(out.param[0], out.param[1]);
-  out.point = p.position;
-  out.distance = (slave - p.position).norm();
-  const Vec3 n = p.d_s.cross(p.d_t);
+  report_at(surface.evaluate(out.param[0], out.param[1]), slave, out);
+  return out;
+}
+
+void report_at(const geometry::SurfacePoint& at, const Vec3& slave, FaceClosestPoint& out) {
+  out.point = at.position;
+  out.distance = (slave - at.position).norm();
+  const Vec3 n = at.d_s.cross(at.d_t);
   const double length = n.norm();
   out.normal = length > 0.0 && std::isfinite(length) ? Vec3(n / length) : Vec3(Vec3::Zero());
   out.status = std::isfinite(out.distance) ? Status::kOk : Status::kInvalid;
-  return out;
 }
 
 void locate_on_quad(ParamDomain d, FaceClosestPoint& out) {

@@ -252,13 +252,7 @@ std::array<double, 2> onto_triangle(const std::array<double, 2>& p) {
 /// Point, normal and distance of the face at `out.param`; status ok unless a value is not finite.
 template <class Face>
 void finish(const Face& face, const Vec3& slave, FaceClosestPoint& out) {
-  const SurfacePoint p = face.evaluate(out.param[0], out.param[1]);
-  out.point = p.position;
-  out.distance = (slave - p.position).norm();
-  const Vec3 n = p.d_s.cross(p.d_t);
-  const double length = n.norm();
-  out.normal = length > 0.0 && std::isfinite(length) ? Vec3(n / length) : Vec3(Vec3::Zero());
-  out.status = std::isfinite(out.distance) && out.point.allFinite() ? Status::kOk : Status::kInvalid;
+  report_at(face.evaluate(out.param[0], out.param[1]), slave, out);
 }
 
 /// The point of edge `edge` (from corner `edge` through its mid-side node, corners `corners` first) of `face`

@@ -489,6 +489,16 @@ TEST(GregoryPatch, RejectsInputsThatDefineNoPatch) {
                                  Vec3::UnitZ()};
   EXPECT_EQ(GregoryPatch::diagnose(nodes, extreme), GregoryDefect::kNone);
   EXPECT_LT((GregoryPatch(nodes, extreme).normals()[0] - Vec3::UnitZ()).norm(), kKnownTol);
+  // Down to the smallest subnormal: any component not zero is a direction.
+  extreme[0] = std::numeric_limits<double>::denorm_min() * Vec3(0, 0, 3);
+  EXPECT_EQ(GregoryPatch::diagnose(nodes, extreme), GregoryDefect::kNone);
+  EXPECT_LT((GregoryPatch(nodes, extreme).normals()[0] - Vec3::UnitZ()).norm(), kKnownTol);
+  // The normals the diagnosis hands back are the patch's own, bit for bit.
+  std::array<Vec3, 4> unit;
+  ASSERT_EQ(GregoryPatch::diagnose(nodes, extreme, &unit), GregoryDefect::kNone);
+  const GregoryPatch patch(nodes, extreme);
+  for (std::size_t i = 0; i < 4; ++i) EXPECT_EQ(unit[i], patch.normals()[i]) << i;
+  EXPECT_EQ(GregoryPatch::control_points_of(nodes, unit), patch.control_points());
 }
 
 TEST(GregoryPatch, ModelsTheSurfaceConcept) {
