@@ -147,12 +147,16 @@ std::optional<projection::FaceClosestPoint> certified(const CurvedCertificate& c
   bool converged = false;
   int iterations = 0;
   double squared = 0.0;  // |S - P|^2 at the last iterate evaluated (the converged point's, to rounding)
-  // The run's last evaluation, and whether it is at p (a run that ends on its residual: the report reuses it).
-  geometry::SurfacePoint last{};
+  // The run's last evaluation, and whether it is at p (a run that ends on its residual: the report reuses
+  // it).
+  geometry::SurfacePoint sp;
   bool last_at_p = false;
   for (int it = 1; it <= kMaxIterations; ++it) {
-    const geometry::SurfacePoint sp = face.evaluate(p[0], p[1]);
-    last = sp;
+    if (it == 1 && start == nullptr) {
+      sp = c.at_centre;
+    } else {
+      sp = face.evaluate(p[0], p[1]);
+    }
     const Vec3 r = relative - sp.position;
     squared = r.squaredNorm();
     const double r0 = sp.d_s.dot(r), r1 = sp.d_t.dot(r);
@@ -206,9 +210,9 @@ std::optional<projection::FaceClosestPoint> certified(const CurvedCertificate& c
   // 3. The certificate of a boundary point q: no descent into the face from it (Karush-Kuhn-Tucker; the edge
   //    search leaves it stationary along its edge). f being convex, q is then the face's minimum.
   const auto minimum_at = [&](const std::array<double, 2>& q) {
-    const geometry::SurfacePoint sp = face.evaluate(q[0], q[1]);
-    const Vec3 r = relative - sp.position;
-    const double g[2] = {-sp.d_s.dot(r), -sp.d_t.dot(r)};
+    const geometry::SurfacePoint at = face.evaluate(q[0], q[1]);
+    const Vec3 r = relative - at.position;
+    const double g[2] = {-at.d_s.dot(r), -at.d_t.dot(r)};
     const double tol = 1e-12 * (1.0 - kMargin) * c.lambda_floor;
     if (triangle) {
       // The directions to the triangle's vertices span the cone into the face from any point of its
@@ -250,7 +254,7 @@ std::optional<projection::FaceClosestPoint> certified(const CurvedCertificate& c
     } else {
       projection::locate_on_quad(gregory ? param_domain(SurfaceKind::kGregory) : ParamDomain{-1.0, 1.0}, out);
     }
-    projection::report_at(last, relative, out);
+    projection::report_at(sp, relative, out);
     if (out.status != Status::kOk) return std::nullopt;
     return out;
   }
@@ -349,7 +353,8 @@ CurvedCertificate CurvedCertificate::prepare(const geometry::SerendipityQuad& wo
       most_e = std::max(most_e, e[j][i].squaredNorm());
     }
   }
-  const Vec3 centre = face.evaluate(0.0, 0.0).d_s.cross(face.evaluate(0.0, 0.0).d_t);
+  c.at_centre = face.evaluate(0.0, 0.0);
+  const Vec3 centre = c.at_centre.d_s.cross(c.at_centre.d_t);
   const double norm = centre.norm();
   if (!(norm > 0.0) || !std::isfinite(norm)) return c;
   const Vec3 n = centre / norm;
@@ -391,6 +396,7 @@ CurvedCertificate CurvedCertificate::prepare(const geometry::QuadraticTriangle& 
   const double longest2 = std::max({e1.squaredNorm(), e2.squaredNorm(), (x[2] - x[1]).squaredNorm()});
   if (!(c.length > 0.0) || !std::isfinite(c.length) || !(e1.cross(e2).norm() > 1e-12 * longest2)) return c;
   const geometry::SurfacePoint centre = face.evaluate(1.0 / 3.0, 1.0 / 3.0);
+  c.at_centre = centre;
   c.curvature[0] = centre.d_ss;
   c.curvature[1] = centre.d_st;
   c.curvature[2] = centre.d_tt;
@@ -539,6 +545,7 @@ void CurvedCertificate::prepare_gregory(CurvedCertificate& c, const std::array<V
   // has small normal extent and mostly normal second derivatives, and r.P_ss <= |r.n| |P_ss.n| + |r_t|
   // |P_ss_t|.
   const geometry::SurfacePoint middle = face.evaluate(0.5, 0.5);
+  c.at_centre = middle;
   const Vec3 normal = middle.d_s.cross(middle.d_t);
   if (!(normal.norm() > 0.0) || !normal.allFinite()) return;
   c.gregory = CurvedCertificate::GregoryBounds{};

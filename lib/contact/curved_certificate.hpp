@@ -98,8 +98,11 @@ struct CurvedCertificate {
   std::array<Vec3, 8> curvature{};   ///< v_k: quad8 P_ss at t = -1, 1, P_tt at s = -1, 1, P_st at the
                                      ///< corners; tri6 P_ss, P_st, P_tt
   std::array<double, 8> lo{}, hi{};  ///< the range of Q.v_k over the relative control points Q
-  double lambda_floor = 0.0;         ///< lower bound of lambda_min(J^T J) over the face; 0: no certificate
-  double length = 0.0;               ///< the face's characteristic length (the reference's tolerances use it)
+  /// The face (relative) evaluated at a fresh run's first iterate, the centre of its domain: every fresh run
+  /// on the face starts there, so its first evaluation is made once per face (the same bits).
+  geometry::SurfacePoint at_centre{};
+  double lambda_floor = 0.0;  ///< lower bound of lambda_min(J^T J) over the face; 0: no certificate
+  double length = 0.0;        ///< the face's characteristic length (the reference's tolerances use it)
 
   /// The bounds for a quad8 / tri6 face (world or working units); lambda_floor 0 where the face is folded,
   /// degenerate (as the reference calls it) or not finite (then every slave takes the reference).

@@ -90,7 +90,8 @@ void bound_face(FaceIndex& index, const mesh::SurfaceMesh& master, std::span<con
   } else if (corners.size() == 4 && kind_of(master, options, face) == SurfaceKind::kGregory) {
     const geometry::Configuration config = face_configuration(master, normals, SurfaceKind::kGregory, face);
     std::array<Vec3, 4> unit;
-    if (geometry::GregoryPatch::diagnose(config.nodes, config.normals, &unit) == geometry::GregoryDefect::kNone) {
+    if (geometry::GregoryPatch::diagnose(config.nodes, config.normals, &unit) ==
+        geometry::GregoryDefect::kNone) {
       // The patch lies in the convex hull of its control points (each interior point mixes two of them).
       for (const Vec3& x : geometry::GregoryPatch::control_points_of(config.nodes, unit)) include(x);
     }
@@ -143,11 +144,11 @@ FaceIndex index_faces(const mesh::SurfaceMesh& master, std::span<const Vec3> nor
   for (std::size_t f = 0; f < n; ++f) {
     const mesh::FaceType type = master.face_type(static_cast<int>(f));
     const bool quad4 = type == mesh::FaceType::kQuad4;
-    const bool gregory_face =
-        quad4 && kind_of(master, options, static_cast<int>(f)) == SurfaceKind::kGregory;
+    const bool gregory_face = quad4 && kind_of(master, options, static_cast<int>(f)) == SurfaceKind::kGregory;
     any_bilinear = any_bilinear || (quad4 && !gregory_face);
     any_triangle = any_triangle || type == mesh::FaceType::kTri3;
-    any_curved = any_curved || type == mesh::FaceType::kQuad8 || type == mesh::FaceType::kTri6 || gregory_face;
+    any_curved =
+        any_curved || type == mesh::FaceType::kQuad8 || type == mesh::FaceType::kTri6 || gregory_face;
   }
   const bool certified = options.narrow == NarrowPhase::kCertified;
   index.bilinear.reset(certified && any_bilinear ? n : 0);

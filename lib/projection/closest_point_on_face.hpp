@@ -55,8 +55,8 @@ void locate_on_triangle(FaceClosestPoint& out);
 
 /// The report of the face point at out.param (located already) from the face's evaluation `at` there: its
 /// point, distance to `slave`, unit normal (zero where d_s x d_t is), status ok unless the distance is not
-/// finite. Every exact projection ends with it; a caller that has just evaluated the face at its answer passes
-/// that evaluation instead of making it again.
+/// finite. Every exact projection ends with it; a caller that has just evaluated the face at its answer
+/// passes that evaluation instead of making it again.
 void report_at(const geometry::SurfacePoint& at, const Vec3& slave, FaceClosestPoint& out);
 
 /// The closest point of `surface` (the closed parameter domain [lo, hi]^2) to `slave`.
