@@ -72,12 +72,16 @@ std::optional<projection::FaceClosestPoint> BilinearCertificate::closest_point(
   const double residual_floor = options.tol_residual * length * length;
   bool converged = false;
   int iterations = 0;
+  // The run's last evaluation; at p where the run ends on its residual (the report then reuses it).
+  geometry::SurfacePoint sp;
+  bool evaluated_at_p = false;
   for (int it = 1; it <= kMaxIterations; ++it) {
-    const geometry::SurfacePoint sp = patch.evaluate(p[0], p[1]);
+    sp = patch.evaluate(p[0], p[1]);
     const Vec3 r = relative - sp.position;
     const double r0 = sp.d_s.dot(r), r1 = sp.d_t.dot(r);
     if (std::abs(r0) <= residual_floor && std::abs(r1) <= residual_floor) {
       converged = true;
+      evaluated_at_p = true;
       iterations = it - 1;
       break;
     }
@@ -105,9 +109,22 @@ std::optional<projection::FaceClosestPoint> BilinearCertificate::closest_point(
   bool edges_farther = false;
   if (interior) {
     const double delta = 1.0 - std::max(std::abs(p[0]), std::abs(p[1]));
-    const double squared = (relative - patch.position(p[0], p[1])).squaredNorm();
+    const double squared =
+        (relative - (evaluated_at_p ? sp.position : patch.position(p[0], p[1]))).squaredNorm();
     edges_farther =
         delta > 0.0 && (1.0 - kMargin) * lambda_floor * delta * delta > 1e-8 * (squared + length * length);
+  }
+  if (edges_farther && evaluated_at_p) {
+    // The answer is p, inside the square (delta > 0: nothing to clamp), where the run has just evaluated the
+    // patch: the report nearest_of_interior_and_edges would make, without evaluating it again.
+    projection::FaceClosestPoint out;
+    out.param = p;
+    out.iterations = iterations;
+    projection::locate_on_quad(param_domain(SurfaceKind::kBilinear), out);
+    projection::report_at(sp, relative, out);
+    if (out.status != Status::kOk) return std::nullopt;
+    out.point += origin;
+    return out;
   }
   bool from_interior = false;
   projection::FaceClosestPoint out = projection::nearest_of_interior_and_edges(
@@ -117,9 +134,9 @@ std::optional<projection::FaceClosestPoint> BilinearCertificate::closest_point(
   // 3. The certificate of a boundary answer: no descent into the square (Karush-Kuhn-Tucker). Otherwise the
   //    square's interior holds a nearer point that the run did not reach: the reference decides.
   if (!from_interior) {
-    const geometry::SurfacePoint sp = patch.evaluate(out.param[0], out.param[1]);
-    const Vec3 r = relative - sp.position;
-    const double g[2] = {-sp.d_s.dot(r), -sp.d_t.dot(r)};
+    const geometry::SurfacePoint at = patch.evaluate(out.param[0], out.param[1]);
+    const Vec3 r = relative - at.position;
+    const double g[2] = {-at.d_s.dot(r), -at.d_t.dot(r)};
     const double tol = 1e-12 * (1.0 - kMargin) * lambda_floor;
     for (std::size_t k = 0; k < 2; ++k) {
       if (out.param[k] == 1.0 && g[k] > tol) return std::nullopt;
