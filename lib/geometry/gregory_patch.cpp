@@ -94,11 +94,28 @@ GregoryPatch::GregoryPatch(const std::array<Vec3, 4>& nodes, const std::array<Ve
 
   control_ = control_points_of(nodes_, normals_);
 
-  for (int k = 0; k < 16; ++k) base_[k] = control_[k];
+  std::array<Vec3, 16> base;
+  for (int k = 0; k < 16; ++k) base[k] = control_[k];
   for (int k = 0; k < 4; ++k) {
     const int i = 1 + (k & 1), j = 1 + (k >> 1);
-    base_[control_index(i, j)] = control_[interior_index(i, j, 1)];
+    base[control_index(i, j)] = control_[interior_index(i, j, 1)];
     delta_[k] = control_[interior_index(i, j, 0)] - control_[interior_index(i, j, 1)];
+  }
+  // The bicubic in powers: B_i(t) = sum_a kPower[i][a] t^a, so power_[a + 4 b] = sum_ij kPower[i][a]
+  // kPower[j][b] base[i + 4 j].
+  static constexpr double kPower[4][4] = {
+      {1.0, -3.0, 3.0, -1.0}, {0.0, 3.0, -6.0, 3.0}, {0.0, 0.0, 3.0, -3.0}, {0.0, 0.0, 0.0, 1.0}};
+  for (int a = 0; a < 4; ++a) {
+    for (int b = 0; b < 4; ++b) {
+      Vec3 sum = Vec3::Zero();
+      for (int i = 0; i < 4; ++i) {
+        for (int j = 0; j < 4; ++j) {
+          if (kPower[i][a] != 0.0 && kPower[j][b] != 0.0)
+            sum += (kPower[i][a] * kPower[j][b]) * base[i + 4 * j];
+        }
+      }
+      power_[static_cast<std::size_t>(a + 4 * b)] = sum;
+    }
   }
 }
 
