@@ -8,6 +8,7 @@
 #include <random>
 
 #include "contact/bilinear_certificate.hpp"
+#include "projection/closest_point_on_face.hpp"
 #include "projection/closest_point_oracle.hpp"
 
 namespace contactnn::contact {
@@ -55,6 +56,15 @@ Tally check_facet(const std::array<Vec3, 4>& nodes, std::mt19937_64& rng, int sl
     // No sampled point of the facet is nearer (a 101 x 101 grid of the square).
     const double sampled = testing::sampled_distance(patch, slave, -1.0, 1.0, 101);
     EXPECT_LE(fast->distance, sampled + rounding);
+    // An interior answer is the reference's report at its parameters, bit for bit (a run that ends on its
+    // residual reports from its own last evaluation: it must be the one at those parameters).
+    if (fast->location == Location::kFace) {
+      const projection::FaceClosestPoint report = projection::nearest_of_interior_and_edges(
+          certificate.patch, slave - certificate.origin, &fast->param, fast->iterations, nullptr, true);
+      EXPECT_EQ(fast->point, Vec3(report.point + certificate.origin)) << "slave " << slave.transpose();
+      EXPECT_EQ(fast->normal, report.normal);
+      EXPECT_EQ(fast->distance, report.distance);
+    }
   }
   return tally;
 }

@@ -12,6 +12,7 @@
 #include <stdexcept>
 #include <thread>
 #include <type_traits>
+#include <variant>
 #include <vector>
 
 #include "contact/curved_certificate.hpp"
@@ -121,6 +122,48 @@ struct Tally {
   int mismatched = 0;
 };
 
+/// An interior answer `fast` of `c` is the reference's report at its parameters, bit for bit (a run that ends
+/// on its residual reports from its own last evaluation, and a fresh run's first from the one kept at the
+/// centre: they must be the evaluations at those parameters).
+void expect_report_at_param(const CurvedCertificate& c, const Vec3& slave,
+                            const projection::FaceClosestPoint& fast) {
+  if (fast.location != Location::kFace) return;
+  const Vec3 relative = slave - c.origin;
+  projection::FaceClosestPoint report;
+  if (const auto* patch = std::get_if<geometry::GregoryPatch>(&c.face)) {
+    report = projection::nearest_of_interior_and_edges(*patch, relative, &fast.param, 0, nullptr, true);
+  } else if (const auto* quad8 = std::get_if<geometry::SerendipityQuad>(&c.face)) {
+    report = projection::quadratic_face_point(*quad8, relative, fast.param, 0);
+  } else if (const auto* tri6 = std::get_if<geometry::QuadraticTriangle>(&c.face)) {
+    report = projection::quadratic_face_point(*tri6, relative, fast.param, 0);
+  } else {
+    ADD_FAILURE() << "an answer without a face";
+    return;
+  }
+  EXPECT_EQ(fast.point, Vec3(report.point + c.origin)) << "slave " << slave.transpose();
+  EXPECT_EQ(fast.normal, report.normal) << "slave " << slave.transpose();
+  EXPECT_EQ(fast.distance, report.distance) << "slave " << slave.transpose();
+}
+
+TEST(CurvedCertificate, KeepsTheFaceEvaluatedAtTheCentreOfItsDomain) {
+  std::mt19937_64 rng(99);
+  const geometry::SerendipityQuad quad8 = random_quad8(rng, 0.1, 0.1, Vec3(2.0, 1.0, -3.0));
+  const geometry::QuadraticTriangle tri6 = random_tri6(rng, 0.1, 0.1, Vec3(2.0, 1.0, -3.0));
+  const GregoryFace gregory = random_gregory(rng, 0.1, 0.1, Vec3(2.0, 1.0, -3.0));
+  const auto same = [](const geometry::SurfacePoint& a, const geometry::SurfacePoint& b) {
+    return a.position == b.position && a.d_s == b.d_s && a.d_t == b.d_t && a.d_ss == b.d_ss &&
+           a.d_st == b.d_st && a.d_tt == b.d_tt;
+  };
+  const CurvedCertificate q = prepare(quad8), t = prepare(tri6), g = prepare(gregory);
+  ASSERT_GT(q.lambda_floor, 0.0);
+  ASSERT_GT(t.lambda_floor, 0.0);
+  ASSERT_GT(g.lambda_floor, 0.0);
+  EXPECT_TRUE(same(q.at_centre, std::get<geometry::SerendipityQuad>(q.face).evaluate(0.0, 0.0)));
+  EXPECT_TRUE(
+      same(t.at_centre, std::get<geometry::QuadraticTriangle>(t.face).evaluate(1.0 / 3.0, 1.0 / 3.0)));
+  EXPECT_TRUE(same(g.at_centre, std::get<geometry::GregoryPatch>(g.face).evaluate(0.5, 0.5)));
+}
+
 /// Random slave nodes around the face (parameters a little beyond it, heights up to `height`), from the
 /// centre and from a warm start: each certified answer against the reference.
 template <class Face>
@@ -153,6 +196,7 @@ Tally check_face(const Face& face, std::mt19937_64& rng, int slaves, double heig
                         std::abs(fast->distance - want.distance) <= 1e-10 * size &&
                         (fast->normal - want.normal).norm() <= 1e-8;
       if (!same) ++tally.mismatched;
+      expect_report_at_param(certificate, slave, *fast);
       EXPECT_TRUE(same) << "slave " << slave.transpose() << " location " << static_cast<int>(fast->location)
                         << " / " << static_cast<int>(want.location) << " param " << fast->param[0] << " "
                         << fast->param[1] << " / " << want.param[0] << " " << want.param[1] << " distance "
