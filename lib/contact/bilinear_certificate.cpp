@@ -70,19 +70,39 @@ std::optional<projection::FaceClosestPoint> BilinearCertificate::closest_point(
   // 1. One Newton run on grad f = 0 (undamped: f is strictly convex on the square and nearly quadratic).
   std::array<double, 2> p = start != nullptr ? *start : std::array<double, 2>{0.0, 0.0};
   const double residual_floor = options.tol_residual * length * length;
+  const double margin = options.domain_margin;
+  // 2. (below) As projection::closest_point_on_face: the interior point (clamped), then the edges, the
+  // nearest
+  //    wins. f grows by at least mu |q - p|^2 / 2 from the interior minimum p to any q (mu = (1 - kMargin) x
+  //    lambda_floor), so every edge point's squared distance exceeds p's by mu delta^2 at least, delta the
+  //    parameter distance from p to the boundary. Where that is 1e8 times the rounding of the squared
+  //    distances (1e-16 of |S - P|^2 + length^2), the edges cannot win and are not computed.
+  const auto edges_farther_from = [&](const std::array<double, 2>& q, double squared) {
+    const double delta = 1.0 - std::max(std::abs(q[0]), std::abs(q[1]));
+    return delta > 0.0 && (1.0 - kMargin) * lambda_floor * delta * delta > 1e-8 * (squared + length * length);
+  };
   bool converged = false;
   int iterations = 0;
-  // The run's last evaluation; at p where the run ends on its residual (the report then reuses it).
-  geometry::SurfacePoint sp;
-  bool evaluated_at_p = false;
   for (int it = 1; it <= kMaxIterations; ++it) {
-    sp = patch.evaluate(p[0], p[1]);
+    const geometry::SurfacePoint sp = patch.evaluate(p[0], p[1]);
     const Vec3 r = relative - sp.position;
     const double r0 = sp.d_s.dot(r), r1 = sp.d_t.dot(r);
     if (std::abs(r0) <= residual_floor && std::abs(r1) <= residual_floor) {
       converged = true;
-      evaluated_at_p = true;
       iterations = it - 1;
+      if (std::abs(p[0]) <= 1.0 + margin && std::abs(p[1]) <= 1.0 + margin &&
+          edges_farther_from(p, r.squaredNorm())) {
+        // The answer is p, inside the square (delta > 0: nothing to clamp), where the run has just evaluated
+        // the patch: the report nearest_of_interior_and_edges would make, without evaluating it again.
+        projection::FaceClosestPoint out;
+        out.param = p;
+        out.iterations = iterations;
+        projection::locate_on_quad(param_domain(SurfaceKind::kBilinear), out);
+        projection::report_at(sp, relative, out);
+        if (out.status != Status::kOk) return std::nullopt;
+        out.point += origin;
+        return out;
+      }
       break;
     }
     const double h00 = sp.d_s.squaredNorm(), h11 = sp.d_t.squaredNorm();
@@ -98,34 +118,9 @@ std::optional<projection::FaceClosestPoint> BilinearCertificate::closest_point(
       break;
     }
   }
-  const bool interior = converged && std::abs(p[0]) <= 1.0 + options.domain_margin &&
-                        std::abs(p[1]) <= 1.0 + options.domain_margin;
-
-  // 2. As projection::closest_point_on_face: the interior point (clamped), then the edges, the nearest wins.
-  //    f grows by at least mu |q - p|^2 / 2 from the interior minimum p to any q (mu = (1 - kMargin) x
-  //    lambda_floor), so every edge point's squared distance exceeds p's by mu delta^2 at least, delta the
-  //    parameter distance from p to the boundary. Where that is 1e8 times the rounding of the squared
-  //    distances (1e-16 of |S - P|^2 + length^2), the edges cannot win and are not computed.
-  bool edges_farther = false;
-  if (interior) {
-    const double delta = 1.0 - std::max(std::abs(p[0]), std::abs(p[1]));
-    const double squared =
-        (relative - (evaluated_at_p ? sp.position : patch.position(p[0], p[1]))).squaredNorm();
-    edges_farther =
-        delta > 0.0 && (1.0 - kMargin) * lambda_floor * delta * delta > 1e-8 * (squared + length * length);
-  }
-  if (edges_farther && evaluated_at_p) {
-    // The answer is p, inside the square (delta > 0: nothing to clamp), where the run has just evaluated the
-    // patch: the report nearest_of_interior_and_edges would make, without evaluating it again.
-    projection::FaceClosestPoint out;
-    out.param = p;
-    out.iterations = iterations;
-    projection::locate_on_quad(param_domain(SurfaceKind::kBilinear), out);
-    projection::report_at(sp, relative, out);
-    if (out.status != Status::kOk) return std::nullopt;
-    out.point += origin;
-    return out;
-  }
+  const bool interior = converged && std::abs(p[0]) <= 1.0 + margin && std::abs(p[1]) <= 1.0 + margin;
+  const bool edges_farther =
+      interior && edges_farther_from(p, (relative - patch.position(p[0], p[1])).squaredNorm());
   bool from_interior = false;
   projection::FaceClosestPoint out = projection::nearest_of_interior_and_edges(
       patch, relative, interior ? &p : nullptr, iterations, &from_interior, edges_farther);

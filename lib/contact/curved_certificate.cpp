@@ -144,26 +144,53 @@ std::optional<projection::FaceClosestPoint> certified(const CurvedCertificate& c
                             : triangle       ? std::array<double, 2>{1.0 / 3.0, 1.0 / 3.0}
                                              : std::array<double, 2>{mid, mid};
   const double residual_floor = options.tol_residual * c.length * c.length;
+  const double margin = options.domain_margin;
+  const auto inside = [&](const std::array<double, 2>& q) {
+    return triangle ? q[0] >= -margin && q[1] >= -margin && q[0] + q[1] <= 1.0 + margin
+                    : std::abs(q[0] - mid) <= half + margin && std::abs(q[1] - mid) <= half + margin;
+  };
+  // 2. (below) As the reference: the interior point (moved onto the face), then the edges, the nearest wins.
+  // f
+  //    grows by at least mu |q - p|^2 / 2 from the interior minimum p to any q of the face (mu = (1 -
+  //    kMargin) x lambda_floor), so every edge point's squared distance exceeds p's by mu delta^2 at least,
+  //    delta the parameter distance from p to the boundary. Where that is 1e8 times the rounding of the
+  //    squared distances (`squared_distance` p's), the edges cannot win and are not computed.
+  const auto edges_farther_from = [&](const std::array<double, 2>& q, double squared_distance) {
+    const double delta = triangle ? std::min({q[0], q[1], (1.0 - q[0] - q[1]) / std::sqrt(2.0)})
+                                  : half - std::max(std::abs(q[0] - mid), std::abs(q[1] - mid));
+    return delta > 0.0 &&
+           (1.0 - kMargin) * c.lambda_floor * delta * delta > 1e-8 * (squared_distance + c.length * c.length);
+  };
   bool converged = false;
   int iterations = 0;
   double squared = 0.0;  // |S - P|^2 at the last iterate evaluated (the converged point's, to rounding)
-  // The run's last evaluation, and whether it is at p (a run that ends on its residual: the report reuses
-  // it).
-  geometry::SurfacePoint sp;
-  bool last_at_p = false;
   for (int it = 1; it <= kMaxIterations; ++it) {
-    if (it == 1 && start == nullptr) {
-      sp = c.at_centre;
-    } else {
-      sp = face.evaluate(p[0], p[1]);
-    }
+    // A fresh run's first iterate is the centre, where the face's evaluation is kept (the same bits).
+    const bool at_centre = it == 1 && start == nullptr;
+    const geometry::SurfacePoint evaluated = at_centre ? geometry::SurfacePoint{} : face.evaluate(p[0], p[1]);
+    const geometry::SurfacePoint& sp = at_centre ? c.at_centre : evaluated;
     const Vec3 r = relative - sp.position;
     squared = r.squaredNorm();
     const double r0 = sp.d_s.dot(r), r1 = sp.d_t.dot(r);
     if (std::abs(r0) <= residual_floor && std::abs(r1) <= residual_floor) {
       converged = true;
-      last_at_p = true;
       iterations = it - 1;
+      if (inside(p) && edges_farther_from(p, squared)) {
+        // The answer is p, inside the face (delta > 0: nothing to clamp), where the run has just evaluated
+        // the face: the report step 2 would make, without evaluating it again.
+        projection::FaceClosestPoint out;
+        out.param = p;
+        out.iterations = iterations;
+        if (triangle) {
+          projection::locate_on_triangle(out);
+        } else {
+          projection::locate_on_quad(gregory ? param_domain(SurfaceKind::kGregory) : ParamDomain{-1.0, 1.0},
+                                     out);
+        }
+        projection::report_at(sp, relative, out);
+        if (out.status != Status::kOk) return std::nullopt;
+        return out;
+      }
       break;
     }
     const double h00 = sp.d_s.squaredNorm() - sp.d_ss.dot(r), h11 = sp.d_t.squaredNorm() - sp.d_tt.dot(r);
@@ -189,24 +216,8 @@ std::optional<projection::FaceClosestPoint> certified(const CurvedCertificate& c
       break;
     }
   }
-  const double margin = options.domain_margin;
-  const bool interior =
-      converged &&
-      (triangle ? p[0] >= -margin && p[1] >= -margin && p[0] + p[1] <= 1.0 + margin
-                : std::abs(p[0] - mid) <= half + margin && std::abs(p[1] - mid) <= half + margin);
-
-  // 2. As the reference: the interior point (moved onto the face), then the edges, the nearest wins. f grows
-  //    by at least mu |q - p|^2 / 2 from the interior minimum p to any q of the face (mu = (1 - kMargin) x
-  //    lambda_floor), so every edge point's squared distance exceeds p's by mu delta^2 at least, delta the
-  //    parameter distance from p to the boundary. Where that is 1e8 times the rounding of the squared
-  //    distances, the edges cannot win and are not computed.
-  bool edges_farther = false;
-  if (interior) {
-    const double delta = triangle ? std::min({p[0], p[1], (1.0 - p[0] - p[1]) / std::sqrt(2.0)})
-                                  : half - std::max(std::abs(p[0] - mid), std::abs(p[1] - mid));
-    edges_farther = delta > 0.0 &&
-                    (1.0 - kMargin) * c.lambda_floor * delta * delta > 1e-8 * (squared + c.length * c.length);
-  }
+  const bool interior = converged && inside(p);
+  const bool edges_farther = interior && edges_farther_from(p, squared);
   // 3. The certificate of a boundary point q: no descent into the face from it (Karush-Kuhn-Tucker; the edge
   //    search leaves it stationary along its edge). f being convex, q is then the face's minimum.
   const auto minimum_at = [&](const std::array<double, 2>& q) {
@@ -245,19 +256,6 @@ std::optional<projection::FaceClosestPoint> certified(const CurvedCertificate& c
       return projection::nearest_of_interior_and_quadratic_edges(face, relative, &q, its, nullptr, true);
     }
   };
-  if (interior && edges_farther && last_at_p) {
-    // The answer is p, inside the face (delta > 0: no clamping), where the run has just evaluated the face.
-    out.param = p;
-    out.iterations = iterations;
-    if (triangle) {
-      projection::locate_on_triangle(out);
-    } else {
-      projection::locate_on_quad(gregory ? param_domain(SurfaceKind::kGregory) : ParamDomain{-1.0, 1.0}, out);
-    }
-    projection::report_at(sp, relative, out);
-    if (out.status != Status::kOk) return std::nullopt;
-    return out;
-  }
   if (interior) {
     out = report(p, iterations);
     if (out.status != Status::kOk) return std::nullopt;
