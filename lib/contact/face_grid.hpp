@@ -78,6 +78,11 @@ class FaceGrid {
   [[nodiscard]] int face_near(const Vec3& x, std::span<const Vec3> centres, bool around = true) const;
 
  private:
+  /// offsets_ and entries_ from first_cell_ and last_cell_ for `cells` cells (build's last step).
+  void fill_cells(std::size_t cells);
+  /// The rows of cells (a y-row at each z) split among `threads` threads: thread t fills rows [split[t],
+  /// split[t + 1]), about as many faces starting in each part.
+  [[nodiscard]] std::vector<std::size_t> row_split(std::size_t rows, std::size_t threads) const;
   /// Cell (i, j, k)'s index in offsets_ (x fastest).
   [[nodiscard]] std::size_t cell_index(int i, int j, int k) const {
     return static_cast<std::size_t>((static_cast<long>(k) * dims_[1] + j) * static_cast<long>(dims_[0]) + i);

@@ -141,6 +141,9 @@ FaceIndex index_faces(const mesh::SurfaceMesh& master, std::span<const Vec3> nor
   // Slots for bilinear certificates, prepared triangles and curved certificates where the surface has such
   // faces (a Gregory surface constructs no bilinear slot: 29 MB a state for 1e5 faces, every page touched).
   bool any_bilinear = false, any_triangle = false, any_curved = false;
+#pragma omp parallel for reduction(||                                        \
+                                   : any_bilinear, any_triangle, any_curved) \
+    schedule(static) if (n >= 16384)
   for (std::size_t f = 0; f < n; ++f) {
     const mesh::FaceType type = master.face_type(static_cast<int>(f));
     const bool quad4 = type == mesh::FaceType::kQuad4;

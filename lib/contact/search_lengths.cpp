@@ -9,9 +9,11 @@
 namespace contactnn::contact {
 
 double working_unit(const mesh::SurfaceMesh& m) {
-  double largest = 0.0;
-  for (const Vec3& x : m.positions) {
-    const double a = x.cwiseAbs().maxCoeff();
+  double largest = 0.0;  // a maximum: the same at any thread count
+  const auto n = static_cast<long>(m.positions.size());
+#pragma omp parallel for reduction(max : largest) schedule(static) if (n >= 16384)
+  for (long i = 0; i < n; ++i) {
+    const double a = m.positions[static_cast<std::size_t>(i)].cwiseAbs().maxCoeff();
     if (std::isfinite(a)) largest = std::max(largest, a);
   }
   if (!(largest >= std::numeric_limits<double>::min())) return 1.0;

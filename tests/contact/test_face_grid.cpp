@@ -3,6 +3,7 @@
 // their margin. contact::NodeFaces: each node's faces against a scan of every face, and its rule for being
 // kept (matches) against moved nodes, a changed corner and another node count.
 #include <gtest/gtest.h>
+#include <omp.h>
 
 #include <algorithm>
 #include <cmath>
@@ -71,6 +72,33 @@ TEST(FaceGrid, ReportsEveryFaceWithinReachOnce) {
   FaceGrid grid;
   grid.build(b.lo, b.hi, 0.0);
   expect_exact_superset(grid, b, 0.0, 2);
+}
+
+TEST(FaceGrid, TheSameLayoutAtAnyThreadCount) {
+  // Enough faces for the threads to fill the cells (16384 and more): each cell lists its faces in face order
+  // whoever fills it, so every query visits the same faces in the same order at 1, 2 and 3 threads.
+  Boxes b = random_boxes(20000, 5);
+  b.lo.pop_back();  // a sheet: its rows split among the threads (with the lone far face, cells grow and the
+  b.hi.pop_back();  // sheet sits in one row of cells along z)
+  const int threads = omp_get_max_threads();
+  std::vector<FaceGrid> grids(3);
+  for (int t = 1; t <= 3; ++t) {
+    omp_set_num_threads(t);
+    grids[static_cast<std::size_t>(t - 1)].build(b.lo, b.hi, 0.05);
+  }
+  omp_set_num_threads(threads);
+  expect_exact_superset(grids[1], b, 0.05, 6);
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> at(-1.0, 21.0), z(-1.0, 1.0), reach(0.0, 2.0);
+  for (int q = 0; q < 500; ++q) {
+    const Vec3 x(at(rng), at(rng), z(rng));
+    const double r = reach(rng);
+    std::vector<std::vector<int>> visited(3);
+    for (std::size_t g = 0; g < 3; ++g)
+      grids[g].for_faces_near(x, r, [&](int f) { visited[g].push_back(f); });
+    ASSERT_EQ(visited[0], visited[1]) << "query " << q;
+    ASSERT_EQ(visited[0], visited[2]) << "query " << q;
+  }
 }
 
 TEST(FaceGrid, InflatedBoxesAndTheirMovement) {
