@@ -594,10 +594,11 @@ bool CurvedCertificate::convex_for(const Vec3& relative) const {
 }
 
 std::optional<projection::FaceClosestPoint> CurvedCertificate::closest_point(
-    const Vec3& slave, const projection::ProjectionOptions& options,
-    const std::array<double, 2>* start) const {
+    const Vec3& slave, const projection::ProjectionOptions& options, const std::array<double, 2>* start,
+    bool convex_checked) const {
   const Vec3 relative = slave - origin;
-  if (!(lambda_floor > 0.0) || !relative.allFinite() || !convex_for(relative)) return std::nullopt;
+  if (!(lambda_floor > 0.0) || !relative.allFinite() || !(convex_checked || convex_for(relative)))
+    return std::nullopt;
   std::optional<projection::FaceClosestPoint> out;
   if (const auto* tri6 = std::get_if<geometry::QuadraticTriangle>(&face)) {
     out = certified(*this, *tri6, relative, options, start);

@@ -123,10 +123,11 @@ struct CurvedCertificate {
   /// closest_point_on_quadratic_triangle, or closest_point_on_face for a Gregory patch) would report it
   /// (point in the caller's coordinates, location, normal, distance), when the certificate holds and the
   /// Newton run ends on a certified point; nothing otherwise. `start`: the first iterate (the centre when
-  /// null). `options`: the reference's tolerances.
+  /// null). `options`: the reference's tolerances. `convex_checked`: the caller has found convex_for true
+  /// for this slave (it is not tested again).
   [[nodiscard]] std::optional<projection::FaceClosestPoint> closest_point(
       const Vec3& slave, const projection::ProjectionOptions& options,
-      const std::array<double, 2>* start = nullptr) const;
+      const std::array<double, 2>* start = nullptr, bool convex_checked = false) const;
 };
 
 /// The certificates of one state's curved faces, each prepared on its first use: a face no slave reaches is

@@ -81,12 +81,12 @@ projection::FaceClosestPoint closest_on_face(const mesh::SurfaceMesh& master, st
                                              const SearchOptions& options, int f, const Vec3& slave,
                                              const BilinearCertificate* certificate,
                                              const std::array<double, 2>* start, int* reference_count,
-                                             const CurvedCertificate* curved) {
+                                             const CurvedCertificate* curved, bool curved_convex) {
   if (certificate != nullptr && certificate->lambda_floor > 0.0) {
     if (auto p = certificate->closest_point(slave, options.projection, start)) return *p;
   }
   if (curved != nullptr && curved->lambda_floor > 0.0) {
-    if (auto p = curved->closest_point(slave, options.projection, start)) return *p;
+    if (auto p = curved->closest_point(slave, options.projection, start, curved_convex)) return *p;
   }
   if (master.face_type(f) == mesh::FaceType::kTri3) {
     return projection::closest_point_on_triangle(triangle_nodes(master, f), slave);

@@ -62,13 +62,15 @@ R with_face_surface(const mesh::SurfaceMesh& master, std::span<const Vec3> norma
 /// Newton run first, from `start` (a tracked node's previous point on the face, in its own order) or the
 /// centre. Otherwise, or where the certificate does not hold, the reference (its grid of starts, never a warm
 /// start: a warm run can end on another stationary point than the face's nearest, on its boundary or, on a
-/// curved face, inside; issue 39), and *reference_count counts the face.
+/// curved face, inside; issue 39), and *reference_count counts the face. `curved_convex`: the caller has
+/// found `curved`'s convex_for true for this slave.
 projection::FaceClosestPoint closest_on_face(const mesh::SurfaceMesh& master, std::span<const Vec3> normals,
                                              const SearchOptions& options, int f, const Vec3& slave,
                                              const BilinearCertificate* certificate = nullptr,
                                              const std::array<double, 2>* start = nullptr,
                                              int* reference_count = nullptr,
-                                             const CurvedCertificate* curved = nullptr);
+                                             const CurvedCertificate* curved = nullptr,
+                                             bool curved_convex = false);
 
 /// n / |n|, or zero where |n| is zero or not finite.
 Vec3 unit_or_zero(const Vec3& n);

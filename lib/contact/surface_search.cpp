@@ -95,7 +95,7 @@ std::array<double, 2> rotate_param(std::array<double, 2> p, int k, SurfaceKind k
 projection::FaceClosestPoint closest_on_indexed_face(
     const mesh::SurfaceMesh& master, std::span<const Vec3> normals, const SearchOptions& options,
     const SearchOptions& checked, const FaceIndex& index, int f, const Vec3& slave,
-    const std::array<double, 2>* start, int* reference_count, double capture) {
+    const std::array<double, 2>* start, int* reference_count, double capture, bool curved_convex = false) {
   if (options.interior != nullptr) {
     const auto p = options.interior->locate(master, normals, kind_of(master, options, f), f, slave);
     if (p && p->distance <= capture) return *p;
@@ -105,7 +105,7 @@ projection::FaceClosestPoint closest_on_indexed_face(
                                                           slave);
   const SearchOptions& face_options = index.checked[static_cast<std::size_t>(f)] != 0 ? checked : options;
   return closest_on_face(master, normals, face_options, f, slave, certificate_of(index, f), start,
-                         reference_count, curved_of(index, master, normals, options, f));
+                         reference_count, curved_of(index, master, normals, options, f), curved_convex);
 }
 
 /// |S - c_f| - r_f and the distance to face f's box, the larger (SurfaceSearcher::lower_bound; the sphere's
@@ -513,16 +513,18 @@ void SurfaceSearcher::nearest_fresh(long slave_id, const Vec3& world_slave,
   KnownPoint known;
   const KnownPoint* first = nullptr;
   double reach = m.capture;
+  // A curved face's certificate holds for S (tested once: the projection is told).
+  const CurvedCertificate* curved =
+      nearest < 0 ? nullptr : curved_of(m.index, m.master, m.normals, m.options, nearest);
+  const bool curved_convex = curved != nullptr && curved->convex_for(slave - curved->origin);
   if (nearest < 0) {
     // No face in the cells around S: the scan gathers over the capture distance.
-  } else if (const CurvedCertificate* curved = curved_of(m.index, m.master, m.normals, m.options, nearest);
-             certificate_of(m.index, nearest) != nullptr ||
-             (curved != nullptr && curved->convex_for(slave - curved->origin)) ||
+  } else if (certificate_of(m.index, nearest) != nullptr || curved_convex ||
              m.master.face_type(nearest) == mesh::FaceType::kTri3) {
     known.face = nearest;
     known.point = closest_on_indexed_face(m.master, m.normals, m.options, m.checked_options, m.index, nearest,
                                           slave, hinted && hint->warm ? &hint->param : nullptr,
-                                          &known.reference_faces, m.capture);
+                                          &known.reference_faces, m.capture, curved_convex);
     first = &known;
     if (known.point.status == Status::kOk) reach = std::min(reach, known.point.distance);
   } else {
