@@ -161,6 +161,29 @@ TEST(FaceGrid, FaceNearIsAFaceOfTheCellsAround) {
   EXPECT_EQ(reported, 0);
 }
 
+TEST(NodeFaces, TheSameListsAtAnyThreadCount) {
+  // Enough faces for the threads to fill the lists (16384 and more), each list against a scan of every face.
+  const mesh::SurfaceMesh m = testing::searched_grid_surface(
+      150, 120, [](double i, double j) { return Vec3(i, j, 0.1 * std::sin(0.3 * i) * std::cos(0.2 * j)); });
+  ASSERT_GE(m.face_count(), 16384);
+  std::vector<std::vector<int>> want(m.positions.size());
+  for (int f = 0; f < m.face_count(); ++f) {
+    for (const int c : m.face_corners(f)) want[static_cast<std::size_t>(c)].push_back(f);
+  }
+  const int threads = omp_get_max_threads();
+  for (int t = 1; t <= 3; ++t) {
+    omp_set_num_threads(t);
+    const NodeFaces topology(m);
+    for (std::size_t node = 0; node < want.size(); ++node) {
+      const std::span<const int> got = topology.at(static_cast<int>(node));
+      ASSERT_EQ(std::vector<int>(got.begin(), got.end()), want[node])
+          << "node " << node << ", " << t << " threads";
+    }
+    EXPECT_TRUE(topology.matches(m));
+  }
+  omp_set_num_threads(threads);
+}
+
 TEST(NodeFaces, ListsEachNodesFacesAndIsKeptOnlyForTheSameConnectivity) {
   const auto wavy = [](double t) {
     return testing::searched_grid_surface(7, 5, [&](double i, double j) {
