@@ -126,6 +126,68 @@ double convex_edge_minimum(const std::array<Vec3, 4>& curve, const Vec3& slave) 
   return t;
 }
 
+/// A curved face's parameter domain as `certified` walks it: the triangle r, s >= 0, r + s <= 1, or the
+/// square of centre `mid` and half width `half` ([-1, 1]^2 for a quad8, [0, 1]^2 for a Gregory patch).
+struct Domain {
+  bool triangle = false;
+  double mid = 0.0, half = 1.0;
+
+  /// A fresh run's first iterate.
+  [[nodiscard]] std::array<double, 2> centre() const {
+    return triangle ? std::array<double, 2>{1.0 / 3.0, 1.0 / 3.0} : std::array<double, 2>{mid, mid};
+  }
+  /// How far q lies beyond the domain, in parameter units (negative inside).
+  [[nodiscard]] double outside(const std::array<double, 2>& q) const {
+    return triangle ? std::max({-q[0], -q[1], q[0] + q[1] - 1.0})
+                    : std::max(std::abs(q[0] - mid), std::abs(q[1] - mid)) - half;
+  }
+  /// q within `margin` of the domain (the reference's test of an interior stationary point).
+  [[nodiscard]] bool inside(const std::array<double, 2>& q, double margin) const {
+    return triangle ? q[0] >= -margin && q[1] >= -margin && q[0] + q[1] <= 1.0 + margin
+                    : std::abs(q[0] - mid) <= half + margin && std::abs(q[1] - mid) <= half + margin;
+  }
+  /// The parameter distance from q to the boundary (positive inside).
+  [[nodiscard]] double depth(const std::array<double, 2>& q) const {
+    return triangle ? std::min({q[0], q[1], (1.0 - q[0] - q[1]) / std::sqrt(2.0)})
+                    : half - std::max(std::abs(q[0] - mid), std::abs(q[1] - mid));
+  }
+  /// out.location and out.feature from out.param.
+  void locate(bool gregory, projection::FaceClosestPoint& out) const {
+    if (triangle) {
+      projection::locate_on_triangle(out);
+    } else {
+      projection::locate_on_quad(gregory ? param_domain(SurfaceKind::kGregory) : ParamDomain{-1.0, 1.0}, out);
+    }
+  }
+};
+
+/// Step 3 of `certified`, the certificate of a boundary point q: no descent into the face from it
+/// (Karush-Kuhn-Tucker; the edge search leaves it stationary along its edge). f being convex, q is then the
+/// face's minimum.
+template <class Face>
+bool no_descent_from(const CurvedCertificate& c, const Face& face, const Domain& d, const Vec3& relative,
+                     const std::array<double, 2>& q) {
+  const geometry::SurfacePoint at = face.evaluate(q[0], q[1]);
+  const Vec3 r = relative - at.position;
+  const double g[2] = {-at.d_s.dot(r), -at.d_t.dot(r)};
+  const double tol = 1e-12 * (1.0 - kMargin) * c.lambda_floor;
+  if (d.triangle) {
+    // The directions to the triangle's vertices span the cone into the face from any point of its boundary
+    // (along the point's own edge the slope is the edge search's rounding).
+    static constexpr std::array<std::array<double, 2>, 3> kVertex = {{{0.0, 0.0}, {1.0, 0.0}, {0.0, 1.0}}};
+    for (const auto& v : kVertex) {
+      if (g[0] * (v[0] - q[0]) + g[1] * (v[1] - q[1]) < -tol) return false;
+    }
+    return true;
+  }
+  // The square: at a bound, no descent back into it (a corner: both bounds, its whole cone).
+  for (std::size_t k = 0; k < 2; ++k) {
+    if (q[k] == d.mid - d.half && g[k] < -tol) return false;
+    if (q[k] == d.mid + d.half && g[k] > tol) return false;
+  }
+  return true;
+}
+
 /// The Newton run, the edges and the certificate of a boundary answer, for either face (Face: the face
 /// relative to its first node).
 template <class Face>
@@ -133,34 +195,24 @@ std::optional<projection::FaceClosestPoint> certified(const CurvedCertificate& c
                                                       const Vec3& relative,
                                                       const projection::ProjectionOptions& options,
                                                       const std::array<double, 2>* start) {
-  const bool triangle = c.triangle;
   constexpr bool gregory = std::is_same_v<Face, geometry::GregoryPatch>;
-  // The square's centre and half width ([-1, 1]^2 for a quad8, [0, 1]^2 for a Gregory patch), and how far
-  // outside it an iterate may go before the boundary decides: a Gregory patch's denominators vanish on lines
-  // through its corners just beyond the reference's box of 0.1.
-  constexpr double mid = gregory ? 0.5 : 0.0, half = gregory ? 0.5 : 1.0, escape = gregory ? 0.1 : 0.5;
-  // 1. One Newton run on grad f = 0 (undamped: f is strictly convex on the face).
-  std::array<double, 2> p = start != nullptr ? *start
-                            : triangle       ? std::array<double, 2>{1.0 / 3.0, 1.0 / 3.0}
-                                             : std::array<double, 2>{mid, mid};
+  // How far outside the domain an iterate may go before the boundary decides: a Gregory patch's denominators
+  // vanish on lines through its corners just beyond the reference's box of 0.1.
+  constexpr double escape = gregory ? 0.1 : 0.5;
+  const Domain d{c.triangle, gregory ? 0.5 : 0.0, gregory ? 0.5 : 1.0};
   const double residual_floor = options.tol_residual * c.length * c.length;
-  const double margin = options.domain_margin;
-  const auto inside = [&](const std::array<double, 2>& q) {
-    return triangle ? q[0] >= -margin && q[1] >= -margin && q[0] + q[1] <= 1.0 + margin
-                    : std::abs(q[0] - mid) <= half + margin && std::abs(q[1] - mid) <= half + margin;
-  };
   // 2. (below) As the reference: the interior point (moved onto the face), then the edges, the nearest wins.
-  // f
-  //    grows by at least mu |q - p|^2 / 2 from the interior minimum p to any q of the face (mu = (1 -
+  //    f grows by at least mu |q - p|^2 / 2 from the interior minimum p to any q of the face (mu = (1 -
   //    kMargin) x lambda_floor), so every edge point's squared distance exceeds p's by mu delta^2 at least,
   //    delta the parameter distance from p to the boundary. Where that is 1e8 times the rounding of the
   //    squared distances (`squared_distance` p's), the edges cannot win and are not computed.
   const auto edges_farther_from = [&](const std::array<double, 2>& q, double squared_distance) {
-    const double delta = triangle ? std::min({q[0], q[1], (1.0 - q[0] - q[1]) / std::sqrt(2.0)})
-                                  : half - std::max(std::abs(q[0] - mid), std::abs(q[1] - mid));
+    const double delta = d.depth(q);
     return delta > 0.0 &&
            (1.0 - kMargin) * c.lambda_floor * delta * delta > 1e-8 * (squared_distance + c.length * c.length);
   };
+  // 1. One Newton run on grad f = 0 (undamped: f is strictly convex on the face).
+  std::array<double, 2> p = start != nullptr ? *start : d.centre();
   bool converged = false;
   int iterations = 0;
   double squared = 0.0;  // |S - P|^2 at the last iterate evaluated (the converged point's, to rounding)
@@ -175,18 +227,13 @@ std::optional<projection::FaceClosestPoint> certified(const CurvedCertificate& c
     if (std::abs(r0) <= residual_floor && std::abs(r1) <= residual_floor) {
       converged = true;
       iterations = it - 1;
-      if (inside(p) && edges_farther_from(p, squared)) {
+      if (d.inside(p, options.domain_margin) && edges_farther_from(p, squared)) {
         // The answer is p, inside the face (delta > 0: nothing to clamp), where the run has just evaluated
         // the face: the report step 2 would make, without evaluating it again.
         projection::FaceClosestPoint out;
         out.param = p;
         out.iterations = iterations;
-        if (triangle) {
-          projection::locate_on_triangle(out);
-        } else {
-          projection::locate_on_quad(gregory ? param_domain(SurfaceKind::kGregory) : ParamDomain{-1.0, 1.0},
-                                     out);
-        }
+        d.locate(gregory, out);
         projection::report_at(sp, relative, out);
         if (out.status != Status::kOk) return std::nullopt;
         return out;
@@ -204,8 +251,7 @@ std::optional<projection::FaceClosestPoint> certified(const CurvedCertificate& c
     // stationary point lies outside and the face's minimum on its boundary, where the edges decide. Were it
     // inside after all, the boundary point fails step 3's test and the reference decides.
     const double step = std::max(std::abs(d0), std::abs(d1));
-    const double outside = triangle ? std::max({-p[0], -p[1], p[0] + p[1] - 1.0})
-                                    : std::max(std::abs(p[0] - mid), std::abs(p[1] - mid)) - half;
+    const double outside = d.outside(p);
     if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || outside > escape ||
         (it > 1 && outside > 10.0 * step)) {
       break;
@@ -216,31 +262,8 @@ std::optional<projection::FaceClosestPoint> certified(const CurvedCertificate& c
       break;
     }
   }
-  const bool interior = converged && inside(p);
+  const bool interior = converged && d.inside(p, options.domain_margin);
   const bool edges_farther = interior && edges_farther_from(p, squared);
-  // 3. The certificate of a boundary point q: no descent into the face from it (Karush-Kuhn-Tucker; the edge
-  //    search leaves it stationary along its edge). f being convex, q is then the face's minimum.
-  const auto minimum_at = [&](const std::array<double, 2>& q) {
-    const geometry::SurfacePoint at = face.evaluate(q[0], q[1]);
-    const Vec3 r = relative - at.position;
-    const double g[2] = {-at.d_s.dot(r), -at.d_t.dot(r)};
-    const double tol = 1e-12 * (1.0 - kMargin) * c.lambda_floor;
-    if (triangle) {
-      // The directions to the triangle's vertices span the cone into the face from any point of its
-      // boundary (along the point's own edge the slope is the edge search's rounding).
-      static constexpr std::array<std::array<double, 2>, 3> kVertex = {{{0.0, 0.0}, {1.0, 0.0}, {0.0, 1.0}}};
-      for (const auto& v : kVertex) {
-        if (g[0] * (v[0] - q[0]) + g[1] * (v[1] - q[1]) < -tol) return false;
-      }
-      return true;
-    }
-    // The square: at a bound, no descent back into it (a corner: both bounds, its whole cone).
-    for (std::size_t k = 0; k < 2; ++k) {
-      if (q[k] == mid - half && g[k] < -tol) return false;
-      if (q[k] == mid + half && g[k] > tol) return false;
-    }
-    return true;
-  };
 
   // The edges: each one's minimum by convex_edge_minimum (f is strictly convex along it), not the reference's
   // 33 samples; the same point to rounding. Nearest sphere first; an edge whose sphere is beyond the best
@@ -262,7 +285,7 @@ std::optional<projection::FaceClosestPoint> certified(const CurvedCertificate& c
     if (edges_farther) return out;
     best = (relative - face.position(out.param[0], out.param[1])).norm();
   }
-  const std::size_t corners = triangle ? 3 : 4;
+  const std::size_t corners = d.triangle ? 3 : 4;
   std::array<std::pair<double, std::size_t>, 4> order;
   for (std::size_t e = 0; e < corners; ++e)
     order[e] = {(relative - c.edge_centre[e]).norm() - c.edge_radius[e], e};
@@ -276,9 +299,9 @@ std::optional<projection::FaceClosestPoint> certified(const CurvedCertificate& c
     const double t = convex_edge_minimum(c.edge_curve[e], relative);
     const auto edge = static_cast<int>(e);
     const std::array<double, 2> q =
-        triangle  ? projection::triangle_edge_param(edge, t)
-        : gregory ? projection::domain_edge_param(edge, t, param_domain(SurfaceKind::kGregory))
-                  : projection::quad_edge_param(edge, t);
+        d.triangle ? projection::triangle_edge_param(edge, t)
+        : gregory  ? projection::domain_edge_param(edge, t, param_domain(SurfaceKind::kGregory))
+                   : projection::quad_edge_param(edge, t);
     const double distance = (relative - face.position(q[0], q[1])).norm();
     // Strictly nearer replaces (the interior first, as the reference); equal distances keep the lower edge,
     // as the reference's order does.
@@ -289,12 +312,13 @@ std::optional<projection::FaceClosestPoint> certified(const CurvedCertificate& c
       winner = e;
       // Without an interior point: the first edge point that is the face's minimum (step 3) is the answer;
       // every other edge point is farther by mu |q' - q|^2 / 2 in f (the same corner where they meet).
-      if (!interior && minimum_at(q)) break;
+      if (!interior && no_descent_from(c, face, d, relative, q)) break;
     }
   }
   if (!std::isfinite(best)) return std::nullopt;
-  if (!edge_wins) return out;                     // the interior point, nearer than every edge
-  if (!minimum_at(nearest)) return std::nullopt;  // the face holds a nearer point the run missed
+  if (!edge_wins) return out;  // the interior point, nearer than every edge
+  // 3. The face holds a nearer point the run missed, unless no descent leads into it from the edge's point.
+  if (!no_descent_from(c, face, d, relative, nearest)) return std::nullopt;
   if constexpr (gregory) {
     out = report(nearest, interior ? iterations : 0);
   } else {
