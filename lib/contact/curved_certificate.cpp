@@ -544,7 +544,7 @@ void gregory_edges(CurvedCertificate& c, const std::array<Vec3, 20>& q) {
 
 }  // namespace
 
-void CurvedCertificate::prepare_gregory(CurvedCertificate& c, const std::array<Vec3, 4>& nodes,
+void CurvedCertificate::prepare_gregory(CurvedCertificate& c, void* room, const std::array<Vec3, 4>& nodes,
                                         const std::array<Vec3, 4>& normals) {
   c.lambda_floor = 0.0;
   c.triangle = false;
@@ -559,7 +559,8 @@ void CurvedCertificate::prepare_gregory(CurvedCertificate& c, const std::array<V
     return;
   }
   const geometry::GregoryPatch& face =
-      c.face.emplace<geometry::GregoryPatch>(x, normals, geometry::GregoryPatch::Diagnosed{});
+      *::new (room) geometry::GregoryPatch(x, normals, geometry::GregoryPatch::Diagnosed{});
+  c.face = &face;
   c.length = face.characteristic_length();
   if (!(c.length > 0.0) || !std::isfinite(c.length) || geometry::is_degenerate_segment(face.nodes())) return;
   const std::array<Vec3, 20>& q = face.control_points();
@@ -596,7 +597,7 @@ void CurvedCertificate::prepare_gregory(CurvedCertificate& c, const std::array<V
 }
 
 bool CurvedCertificate::convex_for(const Vec3& relative) const {
-  if (std::holds_alternative<geometry::GregoryPatch>(face)) {
+  if (std::holds_alternative<const geometry::GregoryPatch*>(face)) {
     // lambda_max(M) <= max(|m00|, |m11|) + |m01|, each |r.v| <= |r.n| |v.n| + |r_t| |v_t|: |r.n| at most the
     // slave's height beyond the hull's range along n, |r_t| its distance across n plus the hull's.
     const Vec3 d = relative - gregory.centre;
@@ -626,8 +627,8 @@ std::optional<projection::FaceClosestPoint> CurvedCertificate::closest_point(
   std::optional<projection::FaceClosestPoint> out;
   if (const auto* tri6 = std::get_if<geometry::QuadraticTriangle>(&face)) {
     out = certified(*this, *tri6, relative, options, start);
-  } else if (const auto* patch = std::get_if<geometry::GregoryPatch>(&face)) {
-    out = certified(*this, *patch, relative, options, start);
+  } else if (const auto* patch = std::get_if<const geometry::GregoryPatch*>(&face)) {
+    out = certified(*this, **patch, relative, options, start);
   } else if (const auto* quad8 = std::get_if<geometry::SerendipityQuad>(&face)) {
     out = certified(*this, *quad8, relative, options, start);
   }

@@ -78,7 +78,11 @@ struct CurvedCertificate {
   bool triangle = false;       ///< a tri6 (nodes 0..5) rather than a quad8 (nodes 0..7) or a Gregory patch
   Vec3 origin = Vec3::Zero();  ///< the face's first node; everything below is relative to it
   /// The face on its nodes minus origin (as the reference moves it), built once.
-  std::variant<std::monostate, geometry::SerendipityQuad, geometry::QuadraticTriangle, geometry::GregoryPatch>
+  /// A Gregory patch (1.2 KB) is held where prepare_gregory was told to build it (CurvedCertificates' side
+  /// table), so that a quad8 or tri6 certificate does not carry its room (the certificates of a fresh state
+  /// are pages written anew).
+  std::variant<std::monostate, geometry::SerendipityQuad, geometry::QuadraticTriangle,
+               const geometry::GregoryPatch*>
       face;
   /// Each edge's sphere about the mean of its Bezier control points (the edge lies in their hull): the edges
   /// it shows farther than a nearer point are not searched.
@@ -112,8 +116,9 @@ struct CurvedCertificate {
   /// built relative to nodes[0] exactly as the reference builds it (closest_on_face's); the caller has found
   /// the world configuration sound (geometry::surface_defect). In place: a search prepares every face of
   /// every state. lambda_floor 0 where the patch does not exist, the face is degenerate or the bounds give
-  /// nothing.
-  static void prepare_gregory(CurvedCertificate& c, const std::array<Vec3, 4>& nodes,
+  /// nothing. `room`: uninitialised storage for one GregoryPatch that outlives `c` (the patch is built there
+  /// and `c.face` points to it).
+  static void prepare_gregory(CurvedCertificate& c, void* room, const std::array<Vec3, 4>& nodes,
                               const std::array<Vec3, 4>& normals);
 
   /// True when f is certified strictly convex on the face for `relative` (S minus origin).
@@ -132,7 +137,7 @@ struct CurvedCertificate {
 
 /// The certificates of one state's curved faces, each prepared on its first use: a face no slave reaches is
 /// never prepared and its memory never touched (a master's curved faces are mostly far from the slaves, and
-/// a certificate holds about 2 KB). Safe from any number of threads; the answers do not depend on which one
+/// a certificate holds about 1.5 KB). Safe from any number of threads; the answers do not depend on which one
 /// prepares a face.
 class CurvedCertificates {
  public:
@@ -148,6 +153,7 @@ class CurvedCertificates {
       return;
     }
     slots_.reset(faces);
+    patches_.reset(faces);
   }
   /// Face f's certificate made again on its next use.
   void forget(std::size_t f) { state_[f].store(kEmpty, std::memory_order_relaxed); }
@@ -161,12 +167,14 @@ class CurvedCertificates {
       for (std::size_t f = 0; f < faces; ++f) state_[f].store(kEmpty, std::memory_order_relaxed);
     }
     slots_.reset(faces);
+    patches_.reset(faces);
   }
 
   [[nodiscard]] bool empty() const { return slots_.empty(); }
 
-  /// Face f's certificate, made by prepare(CurvedCertificate&) (given a default one) on the first call for f;
-  /// a thread asking while another prepares it waits for it (and prepares it itself where that one threw).
+  /// Face f's certificate, made by prepare(CurvedCertificate&, void* room) (given a default one, and face f's
+  /// room for a Gregory patch) on the first call for f; a thread asking while another prepares it waits for
+  /// it (and prepares it itself where that one threw).
   template <class Prepare>
   const CurvedCertificate& get(std::size_t f, Prepare&& prepare) const {
     std::atomic<std::uint8_t>& state = state_[f];
@@ -175,7 +183,7 @@ class CurvedCertificates {
       if (seen == kReady) break;
       if (seen == kEmpty && state.compare_exchange_strong(seen, kPreparing, std::memory_order_acq_rel)) {
         try {
-          prepare(slots_.construct(f));
+          prepare(slots_.construct(f), patches_.room(f));
         } catch (...) {
           state.store(kEmpty, std::memory_order_release);  // another caller may prepare it again
           throw;
@@ -193,6 +201,9 @@ class CurvedCertificates {
   std::unique_ptr<std::atomic<std::uint8_t>[]> state_;
   std::size_t capacity_ = 0;
   mutable FaceSlots<CurvedCertificate> slots_;  ///< constructed by get(), under state_'s protocol
+  /// The Gregory faces' patches, each built in its room by the preparation of its face's certificate (pages
+  /// of other faces' rooms never touched).
+  mutable FaceSlots<geometry::GregoryPatch> patches_;
 };
 
 }  // namespace contactnn::contact

@@ -190,18 +190,20 @@ FaceIndex index_faces(const mesh::SurfaceMesh& master, std::span<const Vec3> nor
   const bool gregory =
       type == mesh::FaceType::kQuad4 && kind_of(master, options, face) == SurfaceKind::kGregory;
   if (type != mesh::FaceType::kQuad8 && type != mesh::FaceType::kTri6 && !gregory) return nullptr;
-  const CurvedCertificate& c = index.curved.get(static_cast<std::size_t>(face), [&](CurvedCertificate& out) {
-    const mesh::FaceNodes nodes = master.face_nodes(face);
-    if (type == mesh::FaceType::kQuad8) {
-      out = CurvedCertificate::prepare(geometry::SerendipityQuad(face_positions<8>(master, nodes)));
-    } else if (type == mesh::FaceType::kTri6) {
-      out = CurvedCertificate::prepare(geometry::QuadraticTriangle(face_positions<6>(master, nodes)));
-    } else {
-      const geometry::Configuration config = face_configuration(master, normals, SurfaceKind::kGregory, face);
-      if (!geometry::surface_defect(config, SurfaceKind::kGregory))
-        CurvedCertificate::prepare_gregory(out, config.nodes, config.normals);
-    }
-  });
+  const CurvedCertificate& c =
+      index.curved.get(static_cast<std::size_t>(face), [&](CurvedCertificate& out, void* room) {
+        const mesh::FaceNodes nodes = master.face_nodes(face);
+        if (type == mesh::FaceType::kQuad8) {
+          out = CurvedCertificate::prepare(geometry::SerendipityQuad(face_positions<8>(master, nodes)));
+        } else if (type == mesh::FaceType::kTri6) {
+          out = CurvedCertificate::prepare(geometry::QuadraticTriangle(face_positions<6>(master, nodes)));
+        } else {
+          const geometry::Configuration config =
+              face_configuration(master, normals, SurfaceKind::kGregory, face);
+          if (!geometry::surface_defect(config, SurfaceKind::kGregory))
+            CurvedCertificate::prepare_gregory(out, room, config.nodes, config.normals);
+        }
+      });
   return c.lambda_floor > 0.0 ? &c : nullptr;
 }
 

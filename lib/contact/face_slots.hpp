@@ -37,6 +37,8 @@ class FaceSlots {
 
   /// Slot f, constructed afresh (T's default), for the caller to fill.
   T& construct(std::size_t f) { return *::new (address(f)) T(); }
+  /// Slot f's storage, for the caller to construct a T in (placement new).
+  [[nodiscard]] void* room(std::size_t f) const { return address(f); }
   /// Slot f, as constructed. The same, const, for readers.
   [[nodiscard]] T& operator[](std::size_t f) { return *std::launder(reinterpret_cast<T*>(address(f))); }
   [[nodiscard]] const T& operator[](std::size_t f) const {

@@ -7,7 +7,9 @@
 
 #include <atomic>
 #include <cmath>
+#include <cstddef>
 #include <cstdio>
+#include <deque>
 #include <random>
 #include <stdexcept>
 #include <thread>
@@ -97,9 +99,18 @@ CurvedCertificate prepare(const geometry::SerendipityQuad& face) { return Curved
 CurvedCertificate prepare(const geometry::QuadraticTriangle& face) {
   return CurvedCertificate::prepare(face);
 }
+/// Room for the Gregory patches the test's certificates point to (kept to the end of the test program).
+void* patch_room() {
+  struct alignas(geometry::GregoryPatch) Room {
+    std::byte bytes[sizeof(geometry::GregoryPatch)];
+  };
+  static std::deque<Room> rooms;
+  return &rooms.emplace_back();
+}
+
 CurvedCertificate prepare_gregory(const std::array<Vec3, 4>& nodes, const std::array<Vec3, 4>& normals) {
   CurvedCertificate c;
-  CurvedCertificate::prepare_gregory(c, nodes, normals);
+  CurvedCertificate::prepare_gregory(c, patch_room(), nodes, normals);
   return c;
 }
 CurvedCertificate prepare(const GregoryFace& face) { return prepare_gregory(face.nodes, face.normals); }
@@ -130,8 +141,8 @@ void expect_report_at_param(const CurvedCertificate& c, const Vec3& slave,
   if (fast.location != Location::kFace) return;
   const Vec3 relative = slave - c.origin;
   projection::FaceClosestPoint report;
-  if (const auto* patch = std::get_if<geometry::GregoryPatch>(&c.face)) {
-    report = projection::nearest_of_interior_and_edges(*patch, relative, &fast.param, 0, nullptr, true);
+  if (const auto* patch = std::get_if<const geometry::GregoryPatch*>(&c.face)) {
+    report = projection::nearest_of_interior_and_edges(**patch, relative, &fast.param, 0, nullptr, true);
   } else if (const auto* quad8 = std::get_if<geometry::SerendipityQuad>(&c.face)) {
     report = projection::quadratic_face_point(*quad8, relative, fast.param, 0);
   } else if (const auto* tri6 = std::get_if<geometry::QuadraticTriangle>(&c.face)) {
@@ -161,7 +172,7 @@ TEST(CurvedCertificate, KeepsTheFaceEvaluatedAtTheCentreOfItsDomain) {
   EXPECT_TRUE(same(q.at_centre, std::get<geometry::SerendipityQuad>(q.face).evaluate(0.0, 0.0)));
   EXPECT_TRUE(
       same(t.at_centre, std::get<geometry::QuadraticTriangle>(t.face).evaluate(1.0 / 3.0, 1.0 / 3.0)));
-  EXPECT_TRUE(same(g.at_centre, std::get<geometry::GregoryPatch>(g.face).evaluate(0.5, 0.5)));
+  EXPECT_TRUE(same(g.at_centre, std::get<const geometry::GregoryPatch*>(g.face)->evaluate(0.5, 0.5)));
 }
 
 /// Random slave nodes around the face (parameters a little beyond it, heights up to `height`), from the
@@ -416,7 +427,7 @@ TEST(CurvedCertificates, EachFaceIsPreparedOnceWhateverTheThreadsAndAgainAfterAF
     threads.emplace_back([&, t] {
       for (std::size_t k = 0; k < kFaces; ++k) {
         const std::size_t f = (k * (2 * static_cast<std::size_t>(t) + 1)) % kFaces;
-        const CurvedCertificate& c = table.get(f, [&](CurvedCertificate& out) {
+        const CurvedCertificate& c = table.get(f, [&](CurvedCertificate& out, void*) {
           prepared[f].fetch_add(1);
           out.lambda_floor = static_cast<double>(f) + 1.0;
         });
@@ -429,15 +440,15 @@ TEST(CurvedCertificates, EachFaceIsPreparedOnceWhateverTheThreadsAndAgainAfterAF
   for (std::size_t f = 0; f < kFaces; ++f) EXPECT_EQ(prepared[f].load(), 1) << f;
   // A preparation that throws leaves the face to be prepared by the next caller (no caller waits forever).
   table.reset(kFaces);
-  EXPECT_THROW((void)table.get(5, [](CurvedCertificate&) { throw std::runtime_error("no"); }),
+  EXPECT_THROW((void)table.get(5, [](CurvedCertificate&, void*) { throw std::runtime_error("no"); }),
                std::runtime_error);
-  EXPECT_EQ(table.get(5, [](CurvedCertificate& out) { out.lambda_floor = 2.0; }).lambda_floor, 2.0);
+  EXPECT_EQ(table.get(5, [](CurvedCertificate& out, void*) { out.lambda_floor = 2.0; }).lambda_floor, 2.0);
   // keep() holds what was prepared, forget() one face: only it is prepared again.
   table.keep(kFaces);
   table.forget(7);
   int again = 0;
-  (void)table.get(5, [&](CurvedCertificate&) { ++again; });
-  (void)table.get(7, [&](CurvedCertificate&) { ++again; });
+  (void)table.get(5, [&](CurvedCertificate&, void*) { ++again; });
+  (void)table.get(7, [&](CurvedCertificate&, void*) { ++again; });
   EXPECT_EQ(again, 1);
 }
 
