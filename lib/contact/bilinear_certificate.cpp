@@ -71,12 +71,11 @@ std::optional<projection::FaceClosestPoint> BilinearCertificate::closest_point(
   std::array<double, 2> p = start != nullptr ? *start : std::array<double, 2>{0.0, 0.0};
   const double residual_floor = options.tol_residual * length * length;
   const double margin = options.domain_margin;
-  // 2. (below) As projection::closest_point_on_face: the interior point (clamped), then the edges, the
-  // nearest
-  //    wins. f grows by at least mu |q - p|^2 / 2 from the interior minimum p to any q (mu = (1 - kMargin) x
-  //    lambda_floor), so every edge point's squared distance exceeds p's by mu delta^2 at least, delta the
-  //    parameter distance from p to the boundary. Where that is 1e8 times the rounding of the squared
-  //    distances (1e-16 of |S - P|^2 + length^2), the edges cannot win and are not computed.
+  // Step 2 (below), as projection::closest_point_on_face: the interior point (clamped), then the edges, the
+  // nearest wins. f grows by at least mu |q - p|^2 / 2 from the interior minimum p to any q (mu = (1 -
+  // kMargin) x lambda_floor), so every edge point's squared distance exceeds p's by mu delta^2 at least,
+  // delta the parameter distance from p to the boundary. Where that is 1e8 times the rounding of the squared
+  // distances (1e-16 of |S - P|^2 + length^2), the edges cannot win and are not computed.
   const auto edges_farther_from = [&](const std::array<double, 2>& q, double squared) {
     const double delta = 1.0 - std::max(std::abs(q[0]), std::abs(q[1]));
     return delta > 0.0 && (1.0 - kMargin) * lambda_floor * delta * delta > 1e-8 * (squared + length * length);
