@@ -158,8 +158,9 @@ inline Vec3 GregoryPatch::position(double u, double v) const noexcept {
   const double su = 1.0 - u, sv = 1.0 - v;
   const double bu[4] = {su * su * su, 3.0 * u * su * su, 3.0 * u * u * su, u * u * u};
   const double bv[4] = {sv * sv * sv, 3.0 * v * sv * sv, 3.0 * v * v * sv, v * v * v};
-  // The bicubic by Horner's rule, in u within each power of v, then in v (evaluate()'s position, bit for
-  // bit).
+  // The bicubic by Horner's rule, in u within each power of v, then in v: the same bits as evaluate()'s
+  // bicubic part. The rational weights below are s / d, evaluate()'s s * (1 / d): the two positions may
+  // differ in the last bit.
   Vec3 row[4];
   for (int b = 0; b < 4; ++b) {
     const Vec3* a = &power_[static_cast<std::size_t>(4 * b)];
