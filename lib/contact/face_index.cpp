@@ -173,8 +173,14 @@ FaceIndex index_faces(const mesh::SurfaceMesh& master, std::span<const Vec3> nor
     bound_face(index, master, normals, options, face, nodes);
   }
   if (keep) {
-    index.built_positions.assign(master.positions.begin(), master.positions.end());
-    index.built_normals.assign(normals.begin(), gregory ? normals.end() : normals.begin());
+    // This state's positions and normals, copied in parallel (the tables are kept: resize allocates once).
+    index.built_positions.resize(node_count);
+    index.built_normals.resize(gregory ? node_count : 0);
+#pragma omp parallel for schedule(static) if (node_count >= 16384)
+    for (std::size_t i = 0; i < node_count; ++i) {
+      index.built_positions[i] = master.positions[i];
+      if (gregory) index.built_normals[i] = normals[i];
+    }
     index.built_unit = unit;
   } else {
     index.built_unit = 0.0;
