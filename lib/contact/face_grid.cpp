@@ -1,10 +1,10 @@
 #include "contact/face_grid.hpp"
 
-#include <omp.h>
-
 #include <algorithm>
 #include <array>
 #include <limits>
+
+#include "contact/parallel_lists.hpp"
 
 namespace contactnn::contact {
 
@@ -120,64 +120,28 @@ std::vector<std::size_t> FaceGrid::row_split(std::size_t rows, std::size_t threa
 }
 
 void FaceGrid::fill_cells(std::size_t cells) {
-  // Counted and filled in face order (CSR). The rows of cells (a y-row at each z) are split among the
-  // threads; each thread walks every face but counts and fills only its own rows' cells, so every cell lists
-  // its faces in face order: the layout a serial fill gives, at any thread count.
+  // Counted and filled in face order (CSR), in parallel with the serial layout (fill_lists). The threads own
+  // whole rows of cells (a y-row at each z), split where as many faces start (row_split).
   const std::size_t rows = static_cast<std::size_t>(dims_[1]) * static_cast<std::size_t>(dims_[2]);
   const auto row_cells = static_cast<std::size_t>(dims_[0]);
-  offsets_.resize(cells + 1);
-  offsets_[0] = 0;
-  entries_.clear();
-  std::vector<std::uint32_t> ends;  // each thread's count of entries, then the offset its rows start at
-  std::vector<std::size_t> split;   // thread t's rows: [split[t], split[t + 1])
-#pragma omp parallel if (faces_ >= 16384)
-  {
-    const auto threads = static_cast<std::size_t>(omp_get_num_threads());
-    const auto t = static_cast<std::size_t>(omp_get_thread_num());
-#pragma omp single
-    {
-      ends.assign(threads + 1, 0);
-      split = row_split(rows, threads);
-    }
-    // This thread's rows [row_lo, row_hi), and its cells' counts in offsets_[c + 1].
-    const std::size_t row_lo = split[t], row_hi = split[t + 1];
-    std::fill(offsets_.begin() + static_cast<std::ptrdiff_t>(row_lo * row_cells + 1),
-              offsets_.begin() + static_cast<std::ptrdiff_t>(row_hi * row_cells + 1), 0U);
-    // fn(cell) for each of face f's cells in this thread's rows, in the serial order.
-    const auto own_cells = [&](std::size_t f, auto&& fn) {
-      for (int k = first_cell_[f][2]; k <= last_cell_[f][2]; ++k) {
-        for (int j = first_cell_[f][1]; j <= last_cell_[f][1]; ++j) {
-          const std::size_t row =
-              static_cast<std::size_t>(k) * static_cast<std::size_t>(dims_[1]) + static_cast<std::size_t>(j);
-          if (row < row_lo || row >= row_hi) continue;
-          for (int i = first_cell_[f][0]; i <= last_cell_[f][0]; ++i) fn(cell_index(i, j, k));
-        }
+  const auto split = [&](std::size_t threads) {
+    std::vector<std::size_t> bounds = row_split(rows, threads);
+    for (std::size_t& b : bounds) b *= row_cells;
+    return bounds;
+  };
+  // fn(cell) for each of face f's cells in [lo, hi) (whole rows), in the serial order.
+  const auto own_cells = [&](std::size_t f, std::size_t lo, std::size_t hi, auto&& fn) {
+    const std::size_t row_lo = lo / row_cells, row_hi = hi / row_cells;
+    for (int k = first_cell_[f][2]; k <= last_cell_[f][2]; ++k) {
+      for (int j = first_cell_[f][1]; j <= last_cell_[f][1]; ++j) {
+        const std::size_t row =
+            static_cast<std::size_t>(k) * static_cast<std::size_t>(dims_[1]) + static_cast<std::size_t>(j);
+        if (row < row_lo || row >= row_hi) continue;
+        for (int i = first_cell_[f][0]; i <= last_cell_[f][0]; ++i) fn(cell_index(i, j, k));
       }
-    };
-    for (std::size_t f = 0; f < faces_; ++f) own_cells(f, [&](std::size_t c) { ++offsets_[c + 1]; });
-    // Each thread's running sums, then its start from the threads before it.
-    std::uint32_t sum = 0;
-    for (std::size_t c = row_lo * row_cells; c < row_hi * row_cells; ++c) {
-      sum += offsets_[c + 1];
-      offsets_[c + 1] = sum;
     }
-    ends[t + 1] = sum;
-#pragma omp barrier
-#pragma omp single
-    {
-      for (std::size_t k = 1; k <= threads; ++k) ends[k] += ends[k - 1];
-      entries_.resize(ends[threads]);
-    }
-    const std::uint32_t start = ends[t];
-    for (std::size_t c = row_lo * row_cells; c < row_hi * row_cells; ++c) offsets_[c + 1] += start;
-#pragma omp barrier
-    // The fill: each cell's next free entry, from its start (offsets_[c], the row before it's last sum).
-    std::vector<std::uint32_t> at(offsets_.begin() + static_cast<std::ptrdiff_t>(row_lo * row_cells),
-                                  offsets_.begin() + static_cast<std::ptrdiff_t>(row_hi * row_cells));
-    const std::size_t first = row_lo * row_cells;
-    for (std::size_t f = 0; f < faces_; ++f)
-      own_cells(f, [&](std::size_t c) { entries_[at[c - first]++] = static_cast<std::uint32_t>(f); });
-  }
+  };
+  fill_lists(faces_, cells, faces_ >= 16384, split, own_cells, offsets_, entries_);
 }
 
 bool FaceGrid::holds(std::span<const Vec3> box_lo, std::span<const Vec3> box_hi) const {

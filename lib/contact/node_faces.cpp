@@ -1,10 +1,10 @@
 #include "contact/node_faces.hpp"
 
-#include <omp.h>
-
 #include <algorithm>
 #include <cstddef>
 #include <vector>
+
+#include "contact/parallel_lists.hpp"
 
 namespace contactnn::contact {
 
@@ -21,50 +21,22 @@ NodeFaces::NodeFaces(const mesh::SurfaceMesh& master) {
     const std::span<const int> corners = master.face_corners(static_cast<int>(f));
     std::copy(corners.begin(), corners.end(), corners_.begin() + corner_start_[f]);
   }
-  // Counted, then filled in face order. The nodes are split among the threads, each counting and filling its
-  // own nodes' lists from every face in order: the serial lists at any thread count.
+  // Counted, then filled in face order, in parallel with the serial layout (fill_lists): the nodes split
+  // evenly among the threads.
   const std::size_t nodes = master.positions.size();
-  offsets_.resize(nodes + 1);
-  offsets_[0] = 0;
-  std::vector<int> ends;  // each thread's count, then the offset its nodes start at
-#pragma omp parallel if (n >= 16384)
-  {
-    const auto threads = static_cast<std::size_t>(omp_get_num_threads());
-    const auto t = static_cast<std::size_t>(omp_get_thread_num());
-#pragma omp single
-    ends.assign(threads + 1, 0);
-    const std::size_t lo = nodes * t / threads, hi = nodes * (t + 1) / threads;
-    std::fill(offsets_.begin() + static_cast<std::ptrdiff_t>(lo + 1),
-              offsets_.begin() + static_cast<std::ptrdiff_t>(hi + 1), 0);
-    const auto mine = [&](int c) {
-      return static_cast<std::size_t>(c) >= lo && static_cast<std::size_t>(c) < hi;
-    };
-    for (const int c : corners_)
-      if (mine(c)) ++offsets_[static_cast<std::size_t>(c) + 1];
-    int sum = 0;
-    for (std::size_t i = lo; i < hi; ++i) {
-      sum += offsets_[i + 1];
-      offsets_[i + 1] = sum;
+  const auto split = [&](std::size_t threads) {
+    std::vector<std::size_t> bounds(threads + 1);
+    for (std::size_t t = 0; t <= threads; ++t) bounds[t] = nodes * t / threads;
+    return bounds;
+  };
+  // fn(node) for each of face f's corners in [lo, hi), in the face's order.
+  const auto own_corners = [&](std::size_t f, std::size_t lo, std::size_t hi, auto&& fn) {
+    for (int k = corner_start_[f]; k < corner_start_[f + 1]; ++k) {
+      const auto c = static_cast<std::size_t>(corners_[static_cast<std::size_t>(k)]);
+      if (c >= lo && c < hi) fn(c);
     }
-    ends[t + 1] = sum;
-#pragma omp barrier
-#pragma omp single
-    {
-      for (std::size_t k = 1; k <= threads; ++k) ends[k] += ends[k - 1];
-      faces_.resize(static_cast<std::size_t>(ends[threads]));
-    }
-    for (std::size_t i = lo; i < hi; ++i) offsets_[i + 1] += ends[t];
-#pragma omp barrier
-    std::vector<int> at(offsets_.begin() + static_cast<std::ptrdiff_t>(lo),
-                        offsets_.begin() + static_cast<std::ptrdiff_t>(hi));
-    for (std::size_t f = 0; f < n; ++f) {
-      for (int k = corner_start_[f]; k < corner_start_[f + 1]; ++k) {
-        const int c = corners_[static_cast<std::size_t>(k)];
-        if (mine(c))
-          faces_[static_cast<std::size_t>(at[static_cast<std::size_t>(c) - lo]++)] = static_cast<int>(f);
-      }
-    }
-  }
+  };
+  fill_lists(n, nodes, n >= 16384, split, own_corners, offsets_, faces_);
 }
 
 bool NodeFaces::matches(const mesh::SurfaceMesh& master) const {
