@@ -80,6 +80,24 @@ std::optional<projection::FaceClosestPoint> BilinearCertificate::closest_point(
     const double delta = 1.0 - std::max(std::abs(q[0]), std::abs(q[1]));
     return delta > 0.0 && (1.0 - kMargin) * lambda_floor * delta * delta > 1e-8 * (squared + length * length);
   };
+  // The answer p where the run ends inside the square (delta > 0: nothing to clamp) and the edges cannot
+  // win, reported from the evaluation `sp` there: the report nearest_of_interior_and_edges would make,
+  // without evaluating the patch again. Nothing where they may win (the edges are then computed below).
+  const auto interior_answer = [&](const geometry::SurfacePoint& sp,
+                                   double squared) -> std::optional<projection::FaceClosestPoint> {
+    if (!(std::abs(p[0]) <= 1.0 + margin && std::abs(p[1]) <= 1.0 + margin && edges_farther_from(p, squared)))
+      return std::nullopt;
+    projection::FaceClosestPoint out;
+    out.param = p;
+    projection::locate_on_quad(param_domain(SurfaceKind::kBilinear), out);
+    projection::report_at(sp, relative, out);
+    return out;
+  };
+  const auto reported = [&](projection::FaceClosestPoint out, int iterations) {
+    out.iterations = iterations;
+    out.point += origin;
+    return out;
+  };
   bool converged = false;
   int iterations = 0;
   for (int it = 1; it <= kMaxIterations; ++it) {
@@ -89,18 +107,9 @@ std::optional<projection::FaceClosestPoint> BilinearCertificate::closest_point(
     if (std::abs(r0) <= residual_floor && std::abs(r1) <= residual_floor) {
       converged = true;
       iterations = it - 1;
-      if (std::abs(p[0]) <= 1.0 + margin && std::abs(p[1]) <= 1.0 + margin &&
-          edges_farther_from(p, r.squaredNorm())) {
-        // The answer is p, inside the square (delta > 0: nothing to clamp), where the run has just evaluated
-        // the patch: the report nearest_of_interior_and_edges would make, without evaluating it again.
-        projection::FaceClosestPoint out;
-        out.param = p;
-        out.iterations = iterations;
-        projection::locate_on_quad(param_domain(SurfaceKind::kBilinear), out);
-        projection::report_at(sp, relative, out);
-        if (out.status != Status::kOk) return std::nullopt;
-        out.point += origin;
-        return out;
+      if (const auto out = interior_answer(sp, r.squaredNorm())) {
+        if (out->status != Status::kOk) return std::nullopt;
+        return reported(*out, iterations);
       }
       break;
     }
@@ -114,6 +123,12 @@ std::optional<projection::FaceClosestPoint> BilinearCertificate::closest_point(
     if (std::max(std::abs(d0), std::abs(d1)) <= options.tol_param) {
       converged = true;
       iterations = it;
+      // The run ends at p: one evaluation there decides the edges and makes the report.
+      const geometry::SurfacePoint at = patch.evaluate(p[0], p[1]);
+      if (const auto out = interior_answer(at, (relative - at.position).squaredNorm())) {
+        if (out->status != Status::kOk) return std::nullopt;
+        return reported(*out, iterations);
+      }
       break;
     }
   }

@@ -53,6 +53,12 @@ class FaceGrid {
       lo[static_cast<std::size_t>(k)] = cell_of(x[k] - r, k);
       hi[static_cast<std::size_t>(k)] = cell_of(x[k] + r, k);
     }
+    if (lo == hi) {
+      // One cell: each of its faces once, without the test below.
+      const std::size_t c = cell_index(lo[0], lo[1], lo[2]);
+      for (std::uint32_t e = offsets_[c]; e < offsets_[c + 1]; ++e) fn(static_cast<int>(entries_[e]));
+      return;
+    }
     for (int k = lo[2]; k <= hi[2]; ++k) {
       for (int j = lo[1]; j <= hi[1]; ++j) {
         for (int i = lo[0]; i <= hi[0]; ++i) {

@@ -30,6 +30,9 @@ namespace {
 
 /// Distances within this fraction of the face size count as equal (SPEC 9's tie rule applies).
 constexpr double kTieTolerance = 1e-12;
+/// A list of a node's faces near it (NearFaces) reaches this fraction of the capture distance beyond its
+/// query at least.
+constexpr double kNearBudget = 0.1;
 
 using CentreTree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, PointCloud>,
                                                        PointCloud, 3, std::uint32_t>;
@@ -113,7 +116,8 @@ projection::FaceClosestPoint closest_on_indexed_face(
 /// The box's squared distance is tested first, with a relative slack far above its rounding: most faces a
 /// grid cell lists are then refused without a square root, and every face within reach gets
 /// face_lower_bound's own bits.
-double face_bound_within(const FaceIndex& index, const Vec3& slave, int face, double reach) {
+inline __attribute__((always_inline)) double face_bound_within(const FaceIndex& index, const Vec3& slave,
+                                                               int face, double reach) {
   const auto f = static_cast<std::size_t>(face);
   const Vec3 outside = (index.box_lo[f] - slave).cwiseMax(slave - index.box_hi[f]).cwiseMax(Vec3::Zero());
   const double squared = outside.squaredNorm();
@@ -341,6 +345,72 @@ struct SurfaceSearcher::Impl {
     return pair;
   }
 
+  /// Step 1 for a node with a list of its faces near it (NearFaces): the faces within `reach` of `slave`
+  /// from the list where it covers the reach at the surface's drift `drift`; otherwise gathered from the grid
+  /// over a larger radius, and the list made again from them.
+  void collect_near(const Vec3& slave, double reach, double drift, NearFaces& near,
+                    std::vector<std::pair<double, int>>& out) const {
+    constexpr double kSlack = 1.0 + 1e-9;
+    const auto within = [&](int face) {
+      const double bound = face_bound_within(index, slave, face, reach);
+      if (bound <= reach) out.emplace_back(bound, face);
+    };
+    // What the node's movement and the surface's drift have spent of the list's radius since it was made.
+    const double spent = ((slave - near.anchor).norm() + (drift - near.drift)) * kSlack;
+    if (near.radius >= 0.0F && spent + reach * kSlack <= static_cast<double>(near.radius)) {
+      if (near.count > static_cast<int>(NearFaces::kCapacity)) {
+        grid->for_faces_near(slave, reach, within);  // more faces near S than a list holds
+        return;
+      }
+      // Each face's box is now at least its distance at the list, less what has been spent: the faces from
+      // the first beyond the reach on are not near.
+      for (int k = 0; k < near.count; ++k) {
+        const auto u = static_cast<std::size_t>(k);
+        if (static_cast<double>(near.bounds[u]) - spent > reach * kSlack) break;
+        within(near.faces[u]);
+      }
+      return;
+    }
+    // A budget for the node's movement and the surface's drift before the list is made again: a tenth of the
+    // capture distance, or twice what was spent since the last list (a fast node lists farther rather than
+    // at every state).
+    const double budget =
+        std::max(kNearBudget * capture, near.radius >= 0.0F && std::isfinite(spent) ? 2.0 * spent : 0.0);
+    const double radius = reach * kSlack + budget;
+    const double squared = radius * radius * kSlack;
+    std::size_t count = 0;
+    grid->for_faces_near(slave, radius, [&](int face) {
+      const auto f = static_cast<std::size_t>(face);
+      const Vec3 outside = (index.box_lo[f] - slave).cwiseMax(slave - index.box_hi[f]).cwiseMax(Vec3::Zero());
+      const double box = outside.squaredNorm();
+      if (!(box <= squared)) return;
+      if (count < NearFaces::kCapacity) {
+        // In increasing order of the box's distance (rounded down), by insertion.
+        auto bound = static_cast<float>(std::sqrt(box) * (1.0 - 1e-9));
+        if (static_cast<double>(bound) > std::sqrt(box)) bound = std::nextafter(bound, 0.0F);
+        std::size_t at = count;
+        for (; at > 0 && near.bounds[at - 1] > bound; --at) {
+          near.bounds[at] = near.bounds[at - 1];
+          near.faces[at] = near.faces[at - 1];
+        }
+        near.bounds[at] = bound;
+        near.faces[at] = face;
+      }
+      ++count;
+      within(face);
+    });
+    auto rounded = static_cast<float>(radius);
+    if (static_cast<double>(rounded) > radius) rounded = std::nextafter(rounded, 0.0F);
+    if (!std::isfinite(rounded) || !std::isfinite(drift)) {
+      near.radius = -1.0F;
+      return;
+    }
+    near.count = static_cast<std::int32_t>(std::min(count, NearFaces::kCapacity + 1));
+    near.anchor = slave;
+    near.drift = drift;
+    near.radius = rounded;
+  }
+
   /// Step 1 in working units (faces_within): every face whose bound comes within `reach` of `slave`.
   void collect(const Vec3& slave, double reach, std::vector<std::pair<double, int>>& out,
                std::vector<std::pair<std::uint32_t, double>>& scratch, bool spheres_only) const {
@@ -455,6 +525,9 @@ double SurfaceSearcher::sphere_bound(const Vec3& slave, int face) const {
   return ((slave / impl_->unit - impl_->index.centres[f]).norm() - impl_->index.radii[f]) * impl_->unit;
 }
 
+std::span<const Vec3> SurfaceSearcher::box_lo() const { return impl_->index.box_lo; }
+std::span<const Vec3> SurfaceSearcher::box_hi() const { return impl_->index.box_hi; }
+
 const std::vector<Vec3>& SurfaceSearcher::centres() const {
   return impl_->unit == 1.0 ? impl_->index.centres : impl_->world_centres;
 }
@@ -488,7 +561,7 @@ NodeSegmentPair SurfaceSearcher::nearest_fresh(long slave_id, const Vec3& slave,
 void SurfaceSearcher::nearest_fresh(long slave_id, const Vec3& world_slave,
                                     std::vector<std::pair<double, int>>& candidates,
                                     std::vector<std::pair<std::uint32_t, double>>& scratch, Contact& contact,
-                                    const FaceHint* hint) const {
+                                    const FaceHint* hint, NearFaces* near, double drift) const {
   const Impl& m = *impl_;
   const Vec3 slave = world_slave / m.unit;
   candidates.clear();
@@ -539,7 +612,10 @@ void SurfaceSearcher::nearest_fresh(long slave_id, const Vec3& world_slave,
   // Where that does not hold (no point, or a best beyond), the scan runs again over the capture distance.
   const double band = kTieTolerance * m.largest_size;
   reach = std::min(m.capture, reach + 4.0 * band);
-  m.collect(slave, reach, candidates, scratch, false);
+  if (near != nullptr)
+    m.collect_near(slave, reach, drift, *near, candidates);
+  else
+    m.collect(slave, reach, candidates, scratch, false);
   search_one(m.master, m.normals, m.options, m.checked_options, m.index, m.capture, slave_id, slave,
              candidates, nullptr, false, first, contact);
   // |gap| is the scan's own distance of the best, bit for bit (a distance recomputed from the point may

@@ -132,6 +132,26 @@ struct FaceHint {
   bool warm = true;
 };
 
+/// A tracked node's faces near it (tracking.hpp, rule 5), kept from one state to the next: every face whose
+/// box came within `radius` of `anchor` at the state where the list was made, when the surface's drift (the
+/// sum over the states since of the largest movement of a face's box, SurfaceTracker's) was `drift`; each
+/// with its box's distance from `anchor` then, in increasing order (all in the searcher's working unit,
+/// rounded down). At a later state, with S moved by m from `anchor` and the drift grown by D, a face within
+/// reach r of S is listed where m + D + r <= radius, and it is not among the faces whose distance then was
+/// beyond m + D + r. The node's faces are then taken from here, not gathered from the grid's cells;
+/// otherwise the list is made again around S (SurfaceSearcher::nearest_fresh). The answers never depend on
+/// it.
+struct NearFaces {
+  static constexpr std::size_t kCapacity = 5;
+  Vec3 anchor = Vec3::Zero();
+  double drift = 0.0;
+  float radius = -1.0F;    ///< negative: no list
+  std::int32_t count = 0;  ///< kCapacity + 1: more faces than a list holds (the grid gathers them)
+  std::array<std::int32_t, kCapacity> faces{};
+  std::array<float, kCapacity> bounds{};
+};
+static_assert(sizeof(NearFaces) == 80);
+
 /// Buffers a caller keeps between states (a tracker's increments), so that a state's SurfaceSearcher writes
 /// its faces' tables (spheres, boxes, prepared faces and certificates) into the last state's memory instead
 /// of allocating it afresh: nothing is allocated per increment once warm, and no page is faulted in again. A
@@ -208,13 +228,19 @@ class SurfaceSearcher {
                                               std::vector<std::pair<std::uint32_t, double>>& scratch,
                                               const FaceHint* hint = nullptr) const;
   /// The same into `contact` (written once, in place: an FE code's buffer).
+  /// `near`: the node's faces near it (NearFaces), taken where they cover the reach and made again where
+  /// they do not, and `drift` the surface's drift at this state (a tracker's, kept per node between states;
+  /// the certified search's only).
   void nearest_fresh(long slave_id, const Vec3& slave, std::vector<std::pair<double, int>>& candidates,
                      std::vector<std::pair<std::uint32_t, double>>& scratch, Contact& contact,
-                     const FaceHint* hint = nullptr) const;
+                     const FaceHint* hint = nullptr, NearFaces* near = nullptr, double drift = 0.0) const;
   /// nearest's answer as a Contact.
   [[nodiscard]] Contact nearest_contact(long slave_id, const Vec3& slave,
                                         std::vector<std::pair<double, int>>& candidates,
                                         const FaceHint* hint = nullptr, Bounds bounds = Bounds::kExact) const;
+  /// Each face's bounding box, in the working unit (unit()).
+  [[nodiscard]] std::span<const Vec3> box_lo() const;
+  [[nodiscard]] std::span<const Vec3> box_hi() const;
   [[nodiscard]] const std::vector<Vec3>& centres() const;  ///< face centres (mean of the corners)
   [[nodiscard]] const std::vector<double>& radii() const;  ///< bounding-sphere radii
 

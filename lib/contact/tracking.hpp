@@ -23,9 +23,18 @@
 //     once warm); and each face's entries (sphere, box, prepared face, certificate) where none of its nodes,
 //     nor on a Gregory patch their normals, has moved: they are what would be computed again, bit for bit. A
 //     state's work on the master is then in proportion to the part of it that moves.
+//  5. Each node keeps the faces near it (NearFaces, surface_search.hpp): those whose box came within a
+//     radius of the node, the node's reach then plus a budget (a tenth of the capture distance, or twice what
+//     was spent of the last list's), with each box's distance then. The surface's drift is the largest
+//     movement of a face's box from one state to the next, summed over the states. While the node's movement
+//     since the list, plus the drift since, plus its reach stay within the radius, the node's faces within
+//     reach are among the listed ones whose distance then, less that movement and drift, is within reach:
+//     they are taken from the list (about one box tested per node), not gathered from the grid's cells.
+//     Otherwise the list is made again from the grid, over the larger radius, at the same query; a node with
+//     more faces near it than a list holds (five) gathers them from the grid until its budget is spent.
 // Then the scan as the fresh search's: the same faces, points and gaps (the tests and `replay` compare every
-// increment with a fresh search and count the differences). No list per node is kept: a node costs its
-// previous face and point.
+// increment with a fresh search and count the differences). A node costs its previous face and point, and
+// its list (80 bytes).
 //
 // NarrowPhase::kReference keeps the tracker as it was before the grid (the search it is measured against):
 // each node's list of the faces whose sphere came within capture + m at its build, valid while the node's
@@ -88,6 +97,9 @@ class SurfaceTracker {
   void step_hints(const mesh::SurfaceMesh& master, std::span<const Vec3> master_normals,
                   std::span<const long> slave_ids, std::span<const Vec3> slave_positions,
                   std::vector<Contact>& contacts, TrackingCounts* counts);
+  /// The largest movement of a face's box since the previous state (working unit; infinite where the faces
+  /// or the unit differ).
+  [[nodiscard]] double box_drift(const SurfaceSearcher& searcher) const;
   void step_lists(const mesh::SurfaceMesh& master, std::span<const Vec3> master_normals,
                   std::span<const long> slave_ids, std::span<const Vec3> slave_positions,
                   std::vector<Contact>& contacts, TrackingCounts* counts);
@@ -99,6 +111,10 @@ class SurfaceTracker {
   std::vector<double> drift_at_build_;                      ///< D0 of each node's list
   std::vector<std::vector<std::pair<double, int>>> lists_;  ///< each node's candidate faces (b_f, f), sorted
   std::vector<FaceHint> hints_;                ///< each node's previous face and point (face -1: none)
+  std::vector<NearFaces> near_;                ///< each node's faces near it (rule 5)
+  std::vector<Vec3> box_lo_, box_hi_;          ///< the previous state's face boxes (working unit)
+  double box_unit_ = 0.0;                      ///< their unit
+  double box_drift_ = 0.0;                     ///< rule 5's drift (working unit)
   int faces_ = -1;                             ///< the previous state's face count (the grid's tracker)
   FaceGrid grid_;                              ///< rule 1's broad phase
   std::shared_ptr<const NodeFaces> topology_;  ///< the faces at each node, kept while the faces are

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 #include <omp.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <random>
@@ -245,6 +246,101 @@ TEST(Tracking, TwoWarmRunsEndingOnTheirSharedEdgeGetTheGrid) {
   const FaceHint previous{0, {0.9001424304424398, 0.30042795947597628}};
   const NodeSegmentPair tracked = searcher.nearest(1, slave, candidates, &previous);
   expect_same({fresh}, {tracked}, 4);
+}
+
+TEST(Tracking, ANodesListIsMadeAroundItAndTakenWhileItCoversTheReach) {
+  // Rule 5 at one node: the list made at the first query, taken at the next (the node moved 0.01: the same
+  // answer as without a list), made again where the drift has spent its radius.
+  const mesh::SurfaceMesh m = sheet(0.0);
+  const std::vector<Vec3> normals = mesh::node_normals(m);
+  const SearchOptions options;
+  const SurfaceSearcher searcher(m, normals, options);
+  std::vector<std::pair<double, int>> candidates;
+  std::vector<std::pair<std::uint32_t, double>> scratch;
+  NearFaces near;
+  const Vec3 s(3.4, 2.6, 0.4 * std::sin(0.5 * 3.4) * std::cos(0.4 * 2.6) + 0.05);
+  Contact first;
+  searcher.nearest_fresh(1, s, candidates, scratch, first, nullptr, &near, 0.0);
+  ASSERT_EQ(first.status, PairStatus::kFound);
+  EXPECT_EQ(near.anchor, s);
+  ASSERT_GE(near.radius, 0.0F);
+  ASSERT_GE(near.count, 1);
+  ASSERT_LE(near.count, static_cast<int>(NearFaces::kCapacity));
+  const auto listed = [&](int face) {
+    return std::find(near.faces.begin(), near.faces.begin() + near.count, face) !=
+           near.faces.begin() + near.count;
+  };
+  EXPECT_TRUE(listed(first.face));
+  for (int k = 1; k < near.count; ++k)
+    EXPECT_LE(near.bounds[static_cast<std::size_t>(k - 1)], near.bounds[static_cast<std::size_t>(k)]);
+  // Every face within the list's radius is listed (the faces' own bounds, by brute force).
+  for (int f = 0; f < m.face_count(); ++f) {
+    if (searcher.lower_bound(s, f) <= 0.99 * static_cast<double>(near.radius)) {
+      EXPECT_TRUE(listed(f)) << f;
+    }
+  }
+  const Vec3 moved = s + Vec3(0.01, 0.0, 0.0);
+  const FaceHint hint{first.face, first.param};
+  Contact taken, without;
+  searcher.nearest_fresh(1, moved, candidates, scratch, taken, &hint, &near, 0.0);
+  EXPECT_EQ(near.anchor, s);  // taken, not made again
+  searcher.nearest_fresh(1, moved, candidates, scratch, without, &hint);
+  EXPECT_EQ(taken.face, without.face);
+  EXPECT_EQ(taken.point, without.point);
+  EXPECT_EQ(taken.gap, without.gap);
+  EXPECT_EQ(taken.candidates, without.candidates);
+  Contact drifted;
+  searcher.nearest_fresh(1, moved, candidates, scratch, drifted, &hint, &near, 10.0);
+  EXPECT_EQ(near.anchor, moved);  // made again
+  EXPECT_EQ(near.drift, 10.0);
+  EXPECT_EQ(drifted.gap, without.gap);
+}
+
+TEST(Tracking, AFaceMovingFarOntoANodeIsFoundThoughTheNodeStayed) {
+  // A sheet folded back over itself at height H: its overhang is 5 above the node (beyond capture) at the
+  // first increment, 0.2 above it at the second. The node does not move; its list (its face below, 0.3 away)
+  // is spent by the drift of the overhang's boxes, 4.5: the overhang is found, as fresh.
+  const auto folded = [](double h) {
+    return testing::searched_grid_surface(
+        6, 3, [h](double i, double j) { return i <= 3.0 ? Vec3(i, j, 0.0) : Vec3(6.0 - i, j, h); });
+  };
+  SearchOptions options;
+  options.capture_distance = 1.0;
+  SurfaceTracker tracker(options);
+  const std::vector<long> ids = {1};
+  const std::vector<Vec3> slave = {Vec3(1.5, 1.5, 0.3)};
+  for (const double h : {5.0, 0.5}) {
+    const mesh::SurfaceMesh m = folded(h);
+    const std::vector<Vec3> normals = mesh::node_normals(m);
+    const auto tracked = tracker.step(m, normals, ids, slave);
+    const auto fresh = surface_search(m, normals, ids, slave, options);
+    ASSERT_EQ(fresh[0].status, PairStatus::kFound);
+    EXPECT_NEAR(std::abs(fresh[0].label.gap), h == 5.0 ? 0.3 : 0.2, 1e-12);
+    expect_same(tracked, fresh, h == 5.0 ? 0 : 1);
+  }
+}
+
+TEST(Tracking, ANodeMovingWithinItsListFindsTheListedFaceNowNearer) {
+  // A flat strip rising steeply from x = 2 (z = 2 (x - 2)). The node, 0.3 above the flat face at x = 1.6, is
+  // 0.4 from the rising face's box: listed (capture 3: a budget of 0.3) but beyond the reach. At x = 1.85 it
+  // has moved 0.25, within the list's radius, and the rising face is 0.268 away, nearer than the flat one:
+  // its bound less the movement brings it into the reach. At x = 1.95 the list is made again.
+  const mesh::SurfaceMesh m = testing::searched_grid_surface(
+      4, 1, [](double i, double j) { return Vec3(i, j, 2.0 * std::max(0.0, i - 2.0)); });
+  const std::vector<Vec3> normals = mesh::node_normals(m);
+  SearchOptions options;
+  options.capture_distance = 3.0;
+  SurfaceTracker tracker(options);
+  const std::vector<long> ids = {1};
+  int increment = 0;
+  for (const double x : {1.6, 1.85, 1.95}) {
+    const std::vector<Vec3> slave = {Vec3(x, 0.5, 0.3)};
+    const auto tracked = tracker.step(m, normals, ids, slave);
+    const auto fresh = surface_search(m, normals, ids, slave, options);
+    ASSERT_EQ(fresh[0].status, PairStatus::kFound);
+    EXPECT_EQ(fresh[0].segment, x == 1.6 ? 1 : 2) << x;
+    expect_same(tracked, fresh, increment++);
+  }
 }
 
 TEST(Tracking, SameResultsForAnyThreadCount) {
