@@ -36,6 +36,8 @@ class FaceGrid {
   void build(std::span<const Vec3> box_lo, std::span<const Vec3> box_hi, double margin, double unit = 1.0);
   [[nodiscard]] bool empty() const { return faces_ == 0; }
   [[nodiscard]] double margin() const { return margin_; }
+  /// The side of a cell (the unit of the boxes).
+  [[nodiscard]] double cell() const { return cell_; }
   [[nodiscard]] double unit() const { return unit_; }
   /// Whether every face f's box lies inside the box it had at the build, inflated by the margin (then the
   /// grid still lists every face near a point: the queries stay exact).

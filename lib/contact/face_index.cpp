@@ -103,6 +103,15 @@ void bound_face(FaceIndex& index, const mesh::SurfaceMesh& master, std::span<con
   index.sizes[f] = size;
 }
 
+/// How far a point's distance to a box can move when the box moves from [was_lo, was_hi] to [lo, hi]: the
+/// norm of the largest movement of its bounds along each axis. A box that is not finite (its face never a
+/// candidate) moving to another that is not costs nothing; one becoming finite, or ceasing to, is infinite.
+double box_movement(const Vec3& was_lo, const Vec3& was_hi, const Vec3& lo, const Vec3& hi) {
+  const bool was = was_lo.allFinite() && was_hi.allFinite(), is = lo.allFinite() && hi.allFinite();
+  if (!was || !is) return was == is ? 0.0 : std::numeric_limits<double>::infinity();
+  return (lo - was_lo).cwiseAbs().cwiseMax((hi - was_hi).cwiseAbs()).norm();
+}
+
 }  // namespace
 
 FaceIndex index_faces(const mesh::SurfaceMesh& master, std::span<const Vec3> normals,
@@ -161,17 +170,22 @@ FaceIndex index_faces(const mesh::SurfaceMesh& master, std::span<const Vec3> nor
   } else {
     index.curved.reset(certified && any_curved ? n : 0);
   }
-  // Each face on its own (threads for a large surface: the answers do not depend on them).
-#pragma omp parallel for schedule(static) if (n >= 4096)
+  // Each face on its own (threads for a large surface: the answers do not depend on them), and the largest
+  // movement of a box since the kept index (FaceIndex::box_drift).
+  double drift = 0.0;
+#pragma omp parallel for reduction(max : drift) schedule(static) if (n >= 4096)
   for (std::size_t f = 0; f < n; ++f) {
     const auto face = static_cast<int>(f);
     const mesh::FaceNodes nodes = master.face_nodes(face);
     if (kept && std::none_of(nodes.begin(), nodes.end(),
                              [&](int c) { return moved[static_cast<std::size_t>(c)] != 0; }))
       continue;
+    const Vec3 was_lo = kept ? index.box_lo[f] : Vec3::Zero(), was_hi = kept ? index.box_hi[f] : Vec3::Zero();
     prepare_face(index, master, normals, options, face, nodes);
     bound_face(index, master, normals, options, face, nodes);
+    if (kept) drift = std::max(drift, box_movement(was_lo, was_hi, index.box_lo[f], index.box_hi[f]));
   }
+  index.box_drift = kept ? drift * (1.0 + 1e-12) : std::numeric_limits<double>::infinity();
   if (keep) {
     // This state's positions and normals, copied in parallel (the tables are kept: resize allocates once).
     index.built_positions.resize(node_count);

@@ -24,6 +24,9 @@ struct FaceIndex {
   std::vector<double> radii;         ///< bounding-sphere radius about the centre
   std::vector<Vec3> box_lo, box_hi;  ///< bounding box of the same points
   std::vector<double> sizes;         ///< longest corner distance
+  /// The largest movement of a face's box (box_movement) since the kept index's state, rounded up; infinite
+  /// where no index was kept (the first state, another unit or other faces).
+  double box_drift = 0.0;
   /// The faces at each surface node (node_faces.hpp): a kept one where the connectivity is the same.
   std::shared_ptr<const NodeFaces> topology;
   /// The positions and normals (working units) the faces' entries were computed from, where the index is kept

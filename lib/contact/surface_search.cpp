@@ -30,9 +30,10 @@ namespace {
 
 /// Distances within this fraction of the face size count as equal (SPEC 9's tie rule applies).
 constexpr double kTieTolerance = 1e-12;
-/// A list of a node's faces near it (NearFaces) reaches this fraction of the capture distance beyond its
-/// query at least.
+/// A list of a node's faces near it (NearFaces) reaches at least this fraction of a grid cell beyond its
+/// query, and at most the second.
 constexpr double kNearBudget = 0.1;
+constexpr double kNearBudgetMost = 0.5;
 
 using CentreTree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, PointCloud>,
                                                        PointCloud, 3, std::uint32_t>;
@@ -279,9 +280,10 @@ void search_one(const mesh::SurfaceMesh& master, std::span<const Vec3> normals, 
   best.gap = side < 0.0 ? -best_point.distance : best_point.distance;
   // The contact normal (Contact::normal): the face's at an interior point or where S is on the surface.
   best.normal = best_point.normal;
-  const double length = d.norm();
-  if (best.location != Location::kFace && best.gap != 0.0 && length > 0.0 && std::isfinite(length))
-    best.normal = (best.gap < 0.0 ? -d : d) / length;
+  if (best.location != Location::kFace && best.gap != 0.0) {
+    const double length = d.norm();
+    if (length > 0.0 && std::isfinite(length)) best.normal = (best.gap < 0.0 ? -d : d) / length;
+  }
 }
 
 Contact search_one(const mesh::SurfaceMesh& master, std::span<const Vec3> normals,
@@ -371,11 +373,12 @@ struct SurfaceSearcher::Impl {
       }
       return;
     }
-    // A budget for the node's movement and the surface's drift before the list is made again: a tenth of the
-    // capture distance, or twice what was spent since the last list (a fast node lists farther rather than
-    // at every state).
+    // A budget for the node's movement and the surface's drift before the list is made again: twice what was
+    // spent since the last list (a fast node lists farther rather than at every state), from a tenth to half
+    // of a grid cell (the query over the larger radius then reads few more cells than the reach's own).
+    const double twice = near.radius >= 0.0F && std::isfinite(spent) ? 2.0 * spent : 0.0;
     const double budget =
-        std::max(kNearBudget * capture, near.radius >= 0.0F && std::isfinite(spent) ? 2.0 * spent : 0.0);
+        std::min(std::max(kNearBudget * grid->cell(), twice), kNearBudgetMost * grid->cell());
     const double radius = reach * kSlack + budget;
     const double squared = radius * radius * kSlack;
     std::size_t count = 0;
@@ -525,8 +528,7 @@ double SurfaceSearcher::sphere_bound(const Vec3& slave, int face) const {
   return ((slave / impl_->unit - impl_->index.centres[f]).norm() - impl_->index.radii[f]) * impl_->unit;
 }
 
-std::span<const Vec3> SurfaceSearcher::box_lo() const { return impl_->index.box_lo; }
-std::span<const Vec3> SurfaceSearcher::box_hi() const { return impl_->index.box_hi; }
+double SurfaceSearcher::box_drift() const { return impl_->index.box_drift; }
 
 const std::vector<Vec3>& SurfaceSearcher::centres() const {
   return impl_->unit == 1.0 ? impl_->index.centres : impl_->world_centres;
@@ -563,7 +565,7 @@ void SurfaceSearcher::nearest_fresh(long slave_id, const Vec3& world_slave,
                                     std::vector<std::pair<std::uint32_t, double>>& scratch, Contact& contact,
                                     const FaceHint* hint, NearFaces* near, double drift) const {
   const Impl& m = *impl_;
-  const Vec3 slave = world_slave / m.unit;
+  const Vec3 slave = m.unit == 1.0 ? world_slave : Vec3(world_slave / m.unit);  // exact either way
   candidates.clear();
   // NarrowPhase::kReference is the search as it was before the certificate, its broad phase included.
   if (!slave.allFinite() || m.index.centres.empty() || m.options.brute_force_faces ||

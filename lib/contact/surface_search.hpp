@@ -238,9 +238,9 @@ class SurfaceSearcher {
   [[nodiscard]] Contact nearest_contact(long slave_id, const Vec3& slave,
                                         std::vector<std::pair<double, int>>& candidates,
                                         const FaceHint* hint = nullptr, Bounds bounds = Bounds::kExact) const;
-  /// Each face's bounding box, in the working unit (unit()).
-  [[nodiscard]] std::span<const Vec3> box_lo() const;
-  [[nodiscard]] std::span<const Vec3> box_hi() const;
+  /// The largest movement of a face's bounding box since the state of the storage it was given (working
+  /// unit): infinite without one, or where that state's faces, unit or positions could not be kept.
+  [[nodiscard]] double box_drift() const;
   [[nodiscard]] const std::vector<Vec3>& centres() const;  ///< face centres (mean of the corners)
   [[nodiscard]] const std::vector<double>& radii() const;  ///< bounding-sphere radii
 

@@ -25,8 +25,6 @@ void SurfaceTracker::reset() {
   lists_.clear();
   hints_.clear();
   near_.clear();
-  box_lo_.clear();
-  box_hi_.clear();
   box_drift_ = 0.0;
   centres_.clear();
   radii_.clear();
@@ -65,29 +63,6 @@ void SurfaceTracker::step(const mesh::SurfaceMesh& master, std::span<const Vec3>
   }
 }
 
-double SurfaceTracker::box_drift(const SurfaceSearcher& searcher) const {
-  const std::span<const Vec3> lo = searcher.box_lo(), hi = searcher.box_hi();
-  if (searcher.unit() != box_unit_ || lo.size() != box_lo_.size())
-    return std::numeric_limits<double>::infinity();
-  // A point's distance to a box moves by at most the norm of the largest movement of its bounds along each
-  // axis; the largest over the faces, rounded up (a relative 1e-12, far above the rounding of a norm).
-  const auto n = static_cast<long>(lo.size());
-  double largest = 0.0;
-#pragma omp parallel for reduction(max : largest) schedule(static) if (n >= 16384)
-  for (long f = 0; f < n; ++f) {
-    const auto u = static_cast<std::size_t>(f);
-    const Vec3 moved = (lo[u] - box_lo_[u]).cwiseAbs().cwiseMax((hi[u] - box_hi_[u]).cwiseAbs());
-    const double norm = moved.norm();
-    // A face whose box is not finite (now or before) is never listed; a finite one that was not moves
-    // arbitrarily far.
-    const bool finite = lo[u].allFinite() && hi[u].allFinite();
-    const bool was = box_lo_[u].allFinite() && box_hi_[u].allFinite();
-    const double d = finite && was ? norm : finite != was ? std::numeric_limits<double>::infinity() : 0.0;
-    largest = std::max(largest, d);
-  }
-  return largest * (1.0 + 1e-12);
-}
-
 void SurfaceTracker::step_hints(const mesh::SurfaceMesh& master, std::span<const Vec3> master_normals,
                                 std::span<const long> slave_ids, std::span<const Vec3> slave_positions,
                                 std::vector<Contact>& pairs, TrackingCounts* counts) {
@@ -108,14 +83,16 @@ void SurfaceTracker::step_hints(const mesh::SurfaceMesh& master, std::span<const
   const SurfaceSearcher searcher(master, master_normals, options_, &grid_, tracking_.grid_margin_relative,
                                  &topology_, &storage_);
   // Rule 5's drift: the largest movement of a face's box, summed over the states.
-  box_drift_ = same ? box_drift_ + box_drift(searcher) : 0.0;
+  box_drift_ = same ? box_drift_ + searcher.box_drift() : 0.0;
   if (!same || !std::isfinite(box_drift_)) {
     near_.assign(n, NearFaces{});
     box_drift_ = 0.0;
   }
-  box_lo_.assign(searcher.box_lo().begin(), searcher.box_lo().end());
-  box_hi_.assign(searcher.box_hi().begin(), searcher.box_hi().end());
-  box_unit_ = searcher.unit();
+  // Rule 5's lists at a state whose faces' boxes moved by at most 0.05 of a grid cell since the last (half a
+  // list's smallest budget: a list then lasts states). Where the master moves more per increment, every list
+  // would be made again at every state, at a larger radius than the grid's own query (replay's decks, whose
+  // tools move at each increment, took 3-10% longer): the grid gathers every node's faces.
+  const bool listed = !same || searcher.box_drift() <= 0.05 * grid_.cell();
   pairs.resize(n);
   // The nodes in Morton order, kept while the grid is (the order serves the caches, not the answers).
   if (!same || order_.size() != n || searcher.grid_rebuilt())
@@ -132,8 +109,8 @@ void SurfaceTracker::step_hints(const mesh::SurfaceMesh& master, std::span<const
       // Steps 2-3: the previous face first, from the previous point.
       const FaceHint* hint = hints_[i].face >= 0 ? &hints_[i] : nullptr;
       Contact& contact = pairs[i];
-      searcher.nearest_fresh(slave_ids[i], slave_positions[i], candidates, scratch, contact, hint, &near_[i],
-                             box_drift_);
+      searcher.nearest_fresh(slave_ids[i], slave_positions[i], candidates, scratch, contact, hint,
+                             listed ? &near_[i] : nullptr, box_drift_);
       hints_[i] = contact.status == PairStatus::kFound ? FaceHint{contact.face, contact.param} : FaceHint{};
       fresh += hint == nullptr;
       tracked += hint != nullptr;

@@ -24,14 +24,16 @@
 //     nor on a Gregory patch their normals, has moved: they are what would be computed again, bit for bit. A
 //     state's work on the master is then in proportion to the part of it that moves.
 //  5. Each node keeps the faces near it (NearFaces, surface_search.hpp): those whose box came within a
-//     radius of the node, the node's reach then plus a budget (a tenth of the capture distance, or twice what
-//     was spent of the last list's), with each box's distance then. The surface's drift is the largest
-//     movement of a face's box from one state to the next, summed over the states. While the node's movement
-//     since the list, plus the drift since, plus its reach stay within the radius, the node's faces within
-//     reach are among the listed ones whose distance then, less that movement and drift, is within reach:
-//     they are taken from the list (about one box tested per node), not gathered from the grid's cells.
-//     Otherwise the list is made again from the grid, over the larger radius, at the same query; a node with
-//     more faces near it than a list holds (five) gathers them from the grid until its budget is spent.
+//     radius of the node, the node's reach then plus a budget (twice what the node spent of its last list,
+//     from a tenth to half of a grid cell), with each box's distance then. The surface's drift is the largest
+//     movement of a face's box from one state to the next (FaceIndex::box_drift), summed over the states.
+//     While the node's movement since the list, plus the drift since, plus its reach stay within the radius,
+//     the node's faces within reach are among the listed ones whose distance then, less that movement and
+//     drift, is within reach: they are taken from the list (about one box tested per node), not gathered
+//     from the grid's cells. Otherwise the list is made again from the grid, over the larger radius, at the
+//     same query; a node with more faces near it than a list holds (five) gathers them from the grid until
+//     its budget is spent. A state whose boxes moved by more than 0.05 of a cell since the last uses no list
+//     (each would be made again at every state): the grid gathers every node's faces.
 // Then the scan as the fresh search's: the same faces, points and gaps (the tests and `replay` compare every
 // increment with a fresh search and count the differences). A node costs its previous face and point, and
 // its list (80 bytes).
@@ -97,9 +99,6 @@ class SurfaceTracker {
   void step_hints(const mesh::SurfaceMesh& master, std::span<const Vec3> master_normals,
                   std::span<const long> slave_ids, std::span<const Vec3> slave_positions,
                   std::vector<Contact>& contacts, TrackingCounts* counts);
-  /// The largest movement of a face's box since the previous state (working unit; infinite where the faces
-  /// or the unit differ).
-  [[nodiscard]] double box_drift(const SurfaceSearcher& searcher) const;
   void step_lists(const mesh::SurfaceMesh& master, std::span<const Vec3> master_normals,
                   std::span<const long> slave_ids, std::span<const Vec3> slave_positions,
                   std::vector<Contact>& contacts, TrackingCounts* counts);
@@ -112,8 +111,6 @@ class SurfaceTracker {
   std::vector<std::vector<std::pair<double, int>>> lists_;  ///< each node's candidate faces (b_f, f), sorted
   std::vector<FaceHint> hints_;                ///< each node's previous face and point (face -1: none)
   std::vector<NearFaces> near_;                ///< each node's faces near it (rule 5)
-  std::vector<Vec3> box_lo_, box_hi_;          ///< the previous state's face boxes (working unit)
-  double box_unit_ = 0.0;                      ///< their unit
   double box_drift_ = 0.0;                     ///< rule 5's drift (working unit)
   int faces_ = -1;                             ///< the previous state's face count (the grid's tracker)
   FaceGrid grid_;                              ///< rule 1's broad phase

@@ -139,7 +139,7 @@ std::string summary_md(const std::string& title, const ReplayOptions& options,
   md += std::to_string(rows.size()) + " increments, " + std::string(to_string(options.search.surface)) +
         " surface, " + std::to_string(options.threads) + " thread(s); timings are the fastest of " +
         std::to_string(options.repeats) +
-        " runs of each call (tracking: each run steps a copy of the tracker).\n\n";
+        " runs of each call (tracking: as many trackers, each stepped through every increment).\n\n";
   md += "## Surface search per increment (ns per slave node, over all increments)\n\n";
   md += "| phase | ns per slave node | ratio to fresh |\n|---|---|---|\n";
   md += "| scene (nodes moved, normals) | " + fmt("%.0f", per(t.scene_ns, t.slaves)) + " | |\n";

@@ -122,7 +122,15 @@ struct SurfaceMesh {
   }
   /// Face f's type and all its nodes, corners then mid-side nodes (SPEC 9's order).
   [[nodiscard]] FaceNodes face_nodes(int f) const;
-  [[nodiscard]] FaceType face_type(int f) const { return face_nodes(f).type; }
+  /// face_nodes(f).type, without copying the nodes (the searches ask it per slave point and face).
+  [[nodiscard]] FaceType face_type(int f) const {
+    const auto u = static_cast<std::size_t>(f);
+    const bool segment = u < segments.size();
+    const bool quad = segment || extra_faces[u - segments.size()][3] >= 0;
+    const std::vector<std::array<int, 4>>& mids = segment ? segment_midsides : extra_face_midsides;
+    const bool curved = !mids.empty() && mids[segment ? u : u - segments.size()][0] >= 0;
+    return curved ? (quad ? FaceType::kQuad8 : FaceType::kTri6) : (quad ? FaceType::kQuad4 : FaceType::kTri3);
+  }
   /// True when the mid-side lists are consistent with the faces (each empty or one entry per face).
   [[nodiscard]] bool midsides_consistent() const {
     return (segment_midsides.empty() || segment_midsides.size() == segments.size()) &&
