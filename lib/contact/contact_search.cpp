@@ -317,33 +317,51 @@ void ContactSearch::update(std::span<const double> coordinates, std::span<const 
        << ", " << x.z() << ")";
     throw NumericalError(os.str());
   };
-  for (std::size_t i = 0; i < m.surface.mesh_nodes.size(); ++i) {
-    const int c = m.surface.mesh_nodes[i];
-    require_finite(node_at(c), [&] { return "node " + std::to_string(m.surface.node_ids[i]); });
+  // The passes over the points below run on the handle's threads (a million slave points are four serial
+  // passes otherwise: the search's own 2-thread speed-up would be lost in them).
+  const ThreadCount team(m.options.threads);
+  const auto master_count = static_cast<long>(m.surface.mesh_nodes.size());
+  const auto point_count = static_cast<long>(n);
+  const auto slave_at = [&](std::size_t i) {
+    return m.free ? Vec3(free_points[3 * i], free_points[3 * i + 1], free_points[3 * i + 2])
+                  : node_at(m.slave_nodes[i]);
+  };
+  // The first point (in order) with a non-finite coordinate, found in parallel, named serially.
+  long bad_node = master_count, bad_point = point_count;
+#pragma omp parallel for reduction(min : bad_node) schedule(static) if (master_count >= 65536)
+  for (long i = 0; i < master_count; ++i) {
+    if (!node_at(m.surface.mesh_nodes[static_cast<std::size_t>(i)]).allFinite())
+      bad_node = std::min(bad_node, i);
   }
-  if (m.free) {
-    for (std::size_t i = 0; i < n; ++i) {
-      const Vec3 x(free_points[3 * i], free_points[3 * i + 1], free_points[3 * i + 2]);
-      require_finite(x, [&] { return "free point " + std::to_string(i); });
-    }
-  } else {
-    for (std::size_t i = 0; i < n; ++i) {
-      require_finite(node_at(m.slave_nodes[i]),
-                     [&] { return "slave node " + std::to_string(id_of(m.slave_nodes[i])); });
-    }
+#pragma omp parallel for reduction(min : bad_point) schedule(static) if (point_count >= 65536)
+  for (long i = 0; i < point_count; ++i) {
+    if (!slave_at(static_cast<std::size_t>(i)).allFinite()) bad_point = std::min(bad_point, i);
+  }
+  if (bad_node < master_count) {
+    const auto i = static_cast<std::size_t>(bad_node);
+    require_finite(node_at(m.surface.mesh_nodes[i]),
+                   [&] { return "node " + std::to_string(m.surface.node_ids[i]); });
+  }
+  if (bad_point < point_count) {
+    const auto i = static_cast<std::size_t>(bad_point);
+    require_finite(slave_at(i), [&] {
+      return m.free ? "free point " + std::to_string(i)
+                    : "slave node " + std::to_string(id_of(m.slave_nodes[i]));
+    });
   }
 
   // The state: positions, node normals, the search. A failure here (no memory) leaves the caller's arrays as
   // they were and the tracker reset (its next step fresh).
-  for (std::size_t i = 0; i < m.surface.mesh_nodes.size(); ++i)
-    m.surface.positions[i] = node_at(m.surface.mesh_nodes[i]);
-  for (std::size_t i = 0; i < n; ++i) {
-    m.slave_positions[i] = m.free ? Vec3(free_points[3 * i], free_points[3 * i + 1], free_points[3 * i + 2])
-                                  : node_at(m.slave_nodes[i]);
+#pragma omp parallel for schedule(static) if (master_count >= 65536)
+  for (long i = 0; i < master_count; ++i) {
+    const auto u = static_cast<std::size_t>(i);
+    m.surface.positions[u] = node_at(m.surface.mesh_nodes[u]);
   }
+#pragma omp parallel for schedule(static) if (point_count >= 65536)
+  for (long i = 0; i < point_count; ++i)
+    m.slave_positions[static_cast<std::size_t>(i)] = slave_at(static_cast<std::size_t>(i));
   try {
     if (m.options.quad4 == SurfaceKind::kGregory) m.normals = mesh::node_normals(m.surface);
-    const ThreadCount team(m.options.threads);
     m.counts = TrackingCounts{};
     if (m.options.tracking) {
       m.tracker.step(m.surface, m.normals, m.slave_ids, m.slave_positions, m.contacts, &m.counts);
@@ -356,7 +374,9 @@ void ContactSearch::update(std::span<const double> coordinates, std::span<const 
   }
 
   // The caller's arrays.
-  for (std::size_t i = 0; i < n; ++i) {
+#pragma omp parallel for schedule(static) if (point_count >= 65536)
+  for (long at = 0; at < point_count; ++at) {
+    const auto i = static_cast<std::size_t>(at);
     const Contact& p = m.contacts[i];
     const bool found = p.status == PairStatus::kFound;
     out.status[i] = static_cast<int>(found ? Status::kOk : Status::kNoSegment);
