@@ -14,7 +14,7 @@ std::size_t choose_plan(const std::vector<MethodMeasurement>& measured) {
   bool any = false;
   for (std::size_t i = 0; i < measured.size(); ++i) {
     if (!measured[i].reaches) continue;
-    if (!any || measured[i].batched_ns < measured[best].batched_ns) best = i;
+    if (!any || measured[i].batched_ns < kPlanNoise * measured[best].batched_ns) best = i;
     any = true;
   }
   if (any) return best;
