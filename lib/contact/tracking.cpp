@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <limits>
 
+#include "contact/face_surface.hpp"
 #include "core/error.hpp"
 
 namespace contactnn::contact {
@@ -24,6 +25,7 @@ void SurfaceTracker::reset() {
   drift_at_build_.clear();
   lists_.clear();
   hints_.clear();
+  answers_.clear();
   near_.clear();
   box_drift_ = 0.0;
   centres_.clear();
@@ -63,6 +65,21 @@ void SurfaceTracker::step(const mesh::SurfaceMesh& master, std::span<const Vec3>
   }
 }
 
+std::array<double, 2> SurfaceTracker::extrapolated(const mesh::SurfaceMesh& master, int face,
+                                                   const std::array<double, 2>& before,
+                                                   const std::array<double, 2>& last) const {
+  // A quadrilateral's domain is a square: the extrapolated point clamped into it. A triangle's start stays
+  // its last point.
+  if (master.face_corners(face).size() != 4) return last;
+  const ParamDomain d = param_domain(detail::kind_of(master, options_, face));
+  std::array<double, 2> next{};
+  for (std::size_t k = 0; k < 2; ++k) {
+    const double x = 2.0 * last[k] - before[k];
+    next[k] = std::isfinite(x) ? std::clamp(x, d.lo, d.hi) : last[k];
+  }
+  return next;
+}
+
 void SurfaceTracker::step_hints(const mesh::SurfaceMesh& master, std::span<const Vec3> master_normals,
                                 std::span<const long> slave_ids, std::span<const Vec3> slave_positions,
                                 std::vector<Contact>& pairs, TrackingCounts* counts) {
@@ -77,6 +94,7 @@ void SurfaceTracker::step_hints(const mesh::SurfaceMesh& master, std::span<const
     reset();
     ids_.assign(slave_ids.begin(), slave_ids.end());
     hints_.assign(n, FaceHint{});
+    answers_.assign(n, {0.0, 0.0});
     faces_ = master.face_count();
   }
   // Step 1: the grid kept while every face stays inside its box at the build, inflated by the margin.
@@ -111,7 +129,17 @@ void SurfaceTracker::step_hints(const mesh::SurfaceMesh& master, std::span<const
       Contact& contact = pairs[i];
       searcher.nearest_fresh(slave_ids[i], slave_positions[i], candidates, scratch, contact, hint,
                              listed ? &near_[i] : nullptr, box_drift_);
-      hints_[i] = contact.status == PairStatus::kFound ? FaceHint{contact.face, contact.param} : FaceHint{};
+      if (contact.status == PairStatus::kFound) {
+        // Rule 2's start at the next increment: on the same face as at the last, the point extrapolated from
+        // the last two answers (a steady motion's next answer; one Newton step fewer), else this answer.
+        const bool same_face = hint != nullptr && hint->face == contact.face;
+        hints_[i] =
+            FaceHint{contact.face, same_face ? extrapolated(master, contact.face, answers_[i], contact.param)
+                                             : contact.param};
+        answers_[i] = contact.param;
+      } else {
+        hints_[i] = FaceHint{};
+      }
       fresh += hint == nullptr;
       tracked += hint != nullptr;
       list_faces += static_cast<long>(candidates.size());

@@ -12,7 +12,10 @@
 //  2. A node that had a face at the previous increment starts from it (SurfaceSearcher::nearest_fresh's
 //     hint): that face's point, its distance bounding the faces the node gathers from the grid. A face with
 //     a certificate that holds for the node (bilinear_certificate.hpp, curved_certificate.hpp) is projected
-//     by one Newton run from the node's previous point on it; every other face by the fresh search's
+//     by one Newton run from the node's previous point on it (on a quadrilateral whose last two answers
+//     were both on it, from twice the last point less the one before, clamped into the domain: a steady
+//     motion's next point, one Newton step fewer; the certificate holds on the whole domain, so any start
+//     gives its answer); every other face by the fresh search's
 //     reference, and its nearest corner bounds the gathering. A warm start on a face without a certificate
 //     could end on another stationary point than the face's nearest (a farther local minimum of a Gregory
 //     patch around a slave node inside a closed body: issue 39), so none is made.
@@ -44,6 +47,7 @@
 // each list's faces pruned by their bounds less that movement.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -99,6 +103,10 @@ class SurfaceTracker {
   void step_hints(const mesh::SurfaceMesh& master, std::span<const Vec3> master_normals,
                   std::span<const long> slave_ids, std::span<const Vec3> slave_positions,
                   std::vector<Contact>& contacts, TrackingCounts* counts);
+  /// The start on `face` after the answers `before` and `last` on it (rule 2).
+  [[nodiscard]] std::array<double, 2> extrapolated(const mesh::SurfaceMesh& master, int face,
+                                                   const std::array<double, 2>& before,
+                                                   const std::array<double, 2>& last) const;
   void step_lists(const mesh::SurfaceMesh& master, std::span<const Vec3> master_normals,
                   std::span<const long> slave_ids, std::span<const Vec3> slave_positions,
                   std::vector<Contact>& contacts, TrackingCounts* counts);
@@ -109,14 +117,15 @@ class SurfaceTracker {
   std::vector<Vec3> anchors_;                               ///< S0 of each node's list
   std::vector<double> drift_at_build_;                      ///< D0 of each node's list
   std::vector<std::vector<std::pair<double, int>>> lists_;  ///< each node's candidate faces (b_f, f), sorted
-  std::vector<FaceHint> hints_;                ///< each node's previous face and point (face -1: none)
-  std::vector<NearFaces> near_;                ///< each node's faces near it (rule 5)
-  double box_drift_ = 0.0;                     ///< rule 5's drift (working unit)
-  int faces_ = -1;                             ///< the previous state's face count (the grid's tracker)
-  FaceGrid grid_;                              ///< rule 1's broad phase
-  std::shared_ptr<const NodeFaces> topology_;  ///< the faces at each node, kept while the faces are
-  SearchStorage storage_;                      ///< the faces' tables' buffers, reused from state to state
-  std::vector<Vec3> centres_;                  ///< the previous state's face spheres
+  std::vector<FaceHint> hints_;  ///< each node's previous face and its start there (face -1: none)
+  std::vector<std::array<double, 2>> answers_;  ///< each node's previous point on that face
+  std::vector<NearFaces> near_;                 ///< each node's faces near it (rule 5)
+  double box_drift_ = 0.0;                      ///< rule 5's drift (working unit)
+  int faces_ = -1;                              ///< the previous state's face count (the grid's tracker)
+  FaceGrid grid_;                               ///< rule 1's broad phase
+  std::shared_ptr<const NodeFaces> topology_;   ///< the faces at each node, kept while the faces are
+  SearchStorage storage_;                       ///< the faces' tables' buffers, reused from state to state
+  std::vector<Vec3> centres_;                   ///< the previous state's face spheres
   std::vector<double> radii_;
   double drift_ = 0.0;
   std::vector<std::uint32_t> order_;  ///< the slave nodes in Morton order (spatial_order), and its work space

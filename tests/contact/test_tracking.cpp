@@ -349,6 +349,28 @@ TEST(Tracking, ANodeMovingWithinItsListFindsTheListedFaceNowNearer) {
   }
 }
 
+TEST(Tracking, ASteadyNodeStartsFromItsExtrapolatedPoint) {
+  // A node sliding at a constant velocity over one flat face: from the third increment on, its start (rule
+  // 2: twice its last point less the one before) is its answer, and the certified run takes no Newton step
+  // (from its last point alone it takes one). The answers are the fresh search's.
+  const mesh::SurfaceMesh m =
+      testing::searched_grid_surface(1, 1, [](double i, double j) { return Vec3(4.0 * i, 4.0 * j, 0.0); });
+  const std::vector<Vec3> normals = mesh::node_normals(m);
+  const SearchOptions options;
+  SurfaceTracker tracker(options);
+  const std::vector<long> ids = {1};
+  std::vector<Contact> contacts;
+  for (int increment = 0; increment < 5; ++increment) {
+    const std::vector<Vec3> slave = {Vec3(1.0 + 0.3 * increment, 1.5 + 0.2 * increment, 0.4)};
+    tracker.step(m, normals, ids, slave, contacts);
+    ASSERT_EQ(contacts[0].status, PairStatus::kFound);
+    EXPECT_EQ(contacts[0].iterations, increment == 0 ? 1 : increment == 1 ? 1 : 0) << increment;
+    const auto fresh = surface_search(m, normals, ids, slave, options);
+    EXPECT_NEAR((contacts[0].point - fresh[0].point).norm(), 0.0, kSame) << increment;
+    EXPECT_NEAR(contacts[0].gap, fresh[0].label.gap, kSame) << increment;
+  }
+}
+
 TEST(Tracking, SameResultsForAnyThreadCount) {
   const History h = slaves(800);
   std::vector<std::vector<NodeSegmentPair>> runs;
