@@ -65,6 +65,26 @@ void SurfaceTracker::step(const mesh::SurfaceMesh& master, std::span<const Vec3>
   }
 }
 
+void SurfaceTracker::reorder() {
+  // near_ and answers_ follow the order the nodes are searched in (read in sequence: by node, a million
+  // slave ids in random order cost a cache miss each): each node's entries move from its place in the
+  // previous order to its place in the new.
+  const std::size_t n = order_.size();
+  place_.resize(n);
+  near_scratch_.resize(n);
+  answers_scratch_.resize(n);
+#pragma omp parallel for schedule(static) if (n >= 65536)
+  for (std::size_t k = 0; k < n; ++k) place_[previous_order_[k]] = static_cast<std::uint32_t>(k);
+#pragma omp parallel for schedule(static) if (n >= 65536)
+  for (std::size_t k = 0; k < n; ++k) {
+    const std::uint32_t from = place_[order_[k]];
+    near_scratch_[k] = near_[from];
+    answers_scratch_[k] = answers_[from];
+  }
+  near_.swap(near_scratch_);
+  answers_.swap(answers_scratch_);
+}
+
 std::array<double, 2> SurfaceTracker::extrapolated(const mesh::SurfaceMesh& master, int face,
                                                    const std::array<double, 2>& before,
                                                    const std::array<double, 2>& last) const {
@@ -113,8 +133,12 @@ void SurfaceTracker::step_hints(const mesh::SurfaceMesh& master, std::span<const
   const bool listed = !same || searcher.box_drift() <= 0.05 * grid_.cell();
   pairs.resize(n);
   // The nodes in Morton order, kept while the grid is (the order serves the caches, not the answers).
-  if (!same || order_.size() != n || searcher.grid_rebuilt())
+  if (!same || order_.size() != n || searcher.grid_rebuilt()) {
+    const bool kept = same && order_.size() == n;
+    if (kept) previous_order_.assign(order_.begin(), order_.end());
     spatial_order(slave_positions, order_, order_scratch_);
+    if (kept) reorder();
+  }
   const std::uint32_t* order = order_.data();
   long fresh = 0, tracked = 0, list_faces = 0;
 #pragma omp parallel reduction(+ : fresh, tracked, list_faces) if (n >= 512)
@@ -128,15 +152,15 @@ void SurfaceTracker::step_hints(const mesh::SurfaceMesh& master, std::span<const
       const FaceHint* hint = hints_[i].face >= 0 ? &hints_[i] : nullptr;
       Contact& contact = pairs[i];
       searcher.nearest_fresh(slave_ids[i], slave_positions[i], candidates, scratch, contact, hint,
-                             listed ? &near_[i] : nullptr, box_drift_);
+                             listed ? &near_[k] : nullptr, box_drift_);
       if (contact.status == PairStatus::kFound) {
         // Rule 2's start at the next increment: on the same face as at the last, the point extrapolated from
         // the last two answers (a steady motion's next answer; one Newton step fewer), else this answer.
         const bool same_face = hint != nullptr && hint->face == contact.face;
         hints_[i] =
-            FaceHint{contact.face, same_face ? extrapolated(master, contact.face, answers_[i], contact.param)
+            FaceHint{contact.face, same_face ? extrapolated(master, contact.face, answers_[k], contact.param)
                                              : contact.param};
-        answers_[i] = contact.param;
+        answers_[k] = contact.param;
       } else {
         hints_[i] = FaceHint{};
       }

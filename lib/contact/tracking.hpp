@@ -103,6 +103,8 @@ class SurfaceTracker {
   void step_hints(const mesh::SurfaceMesh& master, std::span<const Vec3> master_normals,
                   std::span<const long> slave_ids, std::span<const Vec3> slave_positions,
                   std::vector<Contact>& contacts, TrackingCounts* counts);
+  /// near_ and answers_ from previous_order_'s order to order_'s.
+  void reorder();
   /// The start on `face` after the answers `before` and `last` on it (rule 2).
   [[nodiscard]] std::array<double, 2> extrapolated(const mesh::SurfaceMesh& master, int face,
                                                    const std::array<double, 2>& before,
@@ -118,14 +120,19 @@ class SurfaceTracker {
   std::vector<double> drift_at_build_;                      ///< D0 of each node's list
   std::vector<std::vector<std::pair<double, int>>> lists_;  ///< each node's candidate faces (b_f, f), sorted
   std::vector<FaceHint> hints_;  ///< each node's previous face and its start there (face -1: none)
-  std::vector<std::array<double, 2>> answers_;  ///< each node's previous point on that face
-  std::vector<NearFaces> near_;                 ///< each node's faces near it (rule 5)
-  double box_drift_ = 0.0;                      ///< rule 5's drift (working unit)
-  int faces_ = -1;                              ///< the previous state's face count (the grid's tracker)
-  FaceGrid grid_;                               ///< rule 1's broad phase
-  std::shared_ptr<const NodeFaces> topology_;   ///< the faces at each node, kept while the faces are
-  SearchStorage storage_;                       ///< the faces' tables' buffers, reused from state to state
-  std::vector<Vec3> centres_;                   ///< the previous state's face spheres
+  /// In the order of order_ (reorder()): each node's previous point on its previous face, and its faces
+  /// near it (rule 5).
+  std::vector<std::array<double, 2>> answers_;
+  std::vector<NearFaces> near_;
+  std::vector<std::uint32_t> previous_order_, place_;  ///< reorder()'s work space
+  std::vector<std::array<double, 2>> answers_scratch_;
+  std::vector<NearFaces> near_scratch_;
+  double box_drift_ = 0.0;                     ///< rule 5's drift (working unit)
+  int faces_ = -1;                             ///< the previous state's face count (the grid's tracker)
+  FaceGrid grid_;                              ///< rule 1's broad phase
+  std::shared_ptr<const NodeFaces> topology_;  ///< the faces at each node, kept while the faces are
+  SearchStorage storage_;                      ///< the faces' tables' buffers, reused from state to state
+  std::vector<Vec3> centres_;                  ///< the previous state's face spheres
   std::vector<double> radii_;
   double drift_ = 0.0;
   std::vector<std::uint32_t> order_;  ///< the slave nodes in Morton order (spatial_order), and its work space
