@@ -68,6 +68,27 @@ struct ContactSearch::Impl {
 
   Impl(const ContactSearchOptions& o, std::unique_ptr<const FaceLocator> l, const SearchOptions& s)
       : options(o), locator(std::move(l)), search(s), tracker(s) {}
+
+  /// update's arguments' sizes (InvalidArgument naming the one that is not the handle's).
+  void check_sizes(std::span<const double> coordinates, std::span<const double> free_points,
+                   const ContactResults& out) const {
+    const std::size_t n = slave_ids.size();
+    CONTACTNN_REQUIRE_AS(InvalidArgument, coordinates.size() == 3 * static_cast<std::size_t>(node_count),
+                         "contact search update: " << coordinates.size() << " coordinates, expected 3 x "
+                                                   << node_count << " nodes = " << 3 * node_count);
+    if (free) {
+      CONTACTNN_REQUIRE_AS(InvalidArgument, free_points.size() == 3 * n,
+                           "contact search update: " << free_points.size()
+                                                     << " free-point coordinates, expected 3 x " << n
+                                                     << " points = " << 3 * n);
+    } else {
+      CONTACTNN_REQUIRE_AS(
+          InvalidArgument, free_points.empty(),
+          "contact search update: " << free_points.size()
+                                    << " free-point coordinates given to a search of slave nodes");
+    }
+    check_output_sizes("contact search update", out, n);
+  }
 };
 
 namespace {
@@ -284,21 +305,7 @@ void ContactSearch::update(std::span<const double> coordinates, std::span<const 
   Impl& m = *impl_;
   const std::size_t n = m.slave_ids.size();
   // Every argument checked before anything is written or the tracker moves.
-  CONTACTNN_REQUIRE_AS(InvalidArgument, coordinates.size() == 3 * static_cast<std::size_t>(m.node_count),
-                       "contact search update: " << coordinates.size() << " coordinates, expected 3 x "
-                                                 << m.node_count << " nodes = " << 3 * m.node_count);
-  if (m.free) {
-    CONTACTNN_REQUIRE_AS(InvalidArgument, free_points.size() == 3 * n,
-                         "contact search update: " << free_points.size()
-                                                   << " free-point coordinates, expected 3 x " << n
-                                                   << " points = " << 3 * n);
-  } else {
-    CONTACTNN_REQUIRE_AS(
-        InvalidArgument, free_points.empty(),
-        "contact search update: " << free_points.size()
-                                  << " free-point coordinates given to a search of slave nodes");
-  }
-  check_output_sizes("contact search update", out, n);
+  m.check_sizes(coordinates, free_points, out);
   const auto node_at = [&](int i) {
     const auto u = 3 * static_cast<std::size_t>(i);
     return Vec3(coordinates[u], coordinates[u + 1], coordinates[u + 2]);
