@@ -132,12 +132,12 @@ std::optional<projection::FaceClosestPoint> BilinearCertificate::closest_point(
       break;
     }
   }
+  // Both exits of a converged run above have answered wherever the edges cannot win (interior_answer, from
+  // an evaluation at p): here they may, and are computed.
   const bool interior = converged && std::abs(p[0]) <= 1.0 + margin && std::abs(p[1]) <= 1.0 + margin;
-  const bool edges_farther =
-      interior && edges_farther_from(p, (relative - patch.position(p[0], p[1])).squaredNorm());
   bool from_interior = false;
   projection::FaceClosestPoint out = projection::nearest_of_interior_and_edges(
-      patch, relative, interior ? &p : nullptr, iterations, &from_interior, edges_farther);
+      patch, relative, interior ? &p : nullptr, iterations, &from_interior, false);
   if (out.status != Status::kOk) return std::nullopt;
 
   // 3. The certificate of a boundary answer: no descent into the square (Karush-Kuhn-Tucker). Otherwise the

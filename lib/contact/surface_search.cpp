@@ -112,18 +112,27 @@ projection::FaceClosestPoint closest_on_indexed_face(
                          reference_count, curved_of(index, master, normals, options, f), curved_convex);
 }
 
+/// The squared distance from S to face f's box.
+double box_squared(const FaceIndex& index, const Vec3& slave, std::size_t f) {
+  const Vec3 outside = (index.box_lo[f] - slave).cwiseMax(slave - index.box_hi[f]).cwiseMax(Vec3::Zero());
+  return outside.squaredNorm();
+}
+
 /// |S - c_f| - r_f and the distance to face f's box, the larger (SurfaceSearcher::lower_bound; the sphere's
 /// is loose beside a flat face, the box's tight), where it is at most `reach`; otherwise some number above.
-/// The box's squared distance is tested first, with a relative slack far above its rounding: most faces a
-/// grid cell lists are then refused without a square root, and every face within reach gets
-/// face_lower_bound's own bits.
+/// `squared`: box_squared's. The box's squared distance is tested first, with a relative slack far above its
+/// rounding: most faces a grid cell lists are then refused without a square root, and every face within
+/// reach gets face_lower_bound's own bits.
+double bound_within(const FaceIndex& index, const Vec3& slave, std::size_t f, double squared, double reach) {
+  if (squared > reach * reach * (1.0 + 1e-12)) return std::numeric_limits<double>::infinity();
+  return std::max((slave - index.centres[f]).norm() - index.radii[f], std::sqrt(squared));
+}
+
+/// bound_within with face f's box distance.
 inline __attribute__((always_inline)) double face_bound_within(const FaceIndex& index, const Vec3& slave,
                                                                int face, double reach) {
   const auto f = static_cast<std::size_t>(face);
-  const Vec3 outside = (index.box_lo[f] - slave).cwiseMax(slave - index.box_hi[f]).cwiseMax(Vec3::Zero());
-  const double squared = outside.squaredNorm();
-  if (squared > reach * reach * (1.0 + 1e-12)) return std::numeric_limits<double>::infinity();
-  return std::max((slave - index.centres[f]).norm() - index.radii[f], std::sqrt(squared));
+  return bound_within(index, slave, f, box_squared(index, slave, f), reach);
 }
 
 /// The bound itself.
@@ -384,13 +393,13 @@ struct SurfaceSearcher::Impl {
     std::size_t count = 0;
     grid->for_faces_near(slave, radius, [&](int face) {
       const auto f = static_cast<std::size_t>(face);
-      const Vec3 outside = (index.box_lo[f] - slave).cwiseMax(slave - index.box_hi[f]).cwiseMax(Vec3::Zero());
-      const double box = outside.squaredNorm();
+      const double box = box_squared(index, slave, f);
       if (!(box <= squared)) return;
       if (count < NearFaces::kCapacity) {
         // In increasing order of the box's distance (rounded down), by insertion.
-        auto bound = static_cast<float>(std::sqrt(box) * (1.0 - 1e-9));
-        if (static_cast<double>(bound) > std::sqrt(box)) bound = std::nextafter(bound, 0.0F);
+        const double distance = std::sqrt(box);
+        auto bound = static_cast<float>(distance * (1.0 - 1e-9));
+        if (static_cast<double>(bound) > distance) bound = std::nextafter(bound, 0.0F);
         std::size_t at = count;
         for (; at > 0 && near.bounds[at - 1] > bound; --at) {
           near.bounds[at] = near.bounds[at - 1];
@@ -400,7 +409,8 @@ struct SurfaceSearcher::Impl {
         near.faces[at] = face;
       }
       ++count;
-      within(face);
+      const double bound = bound_within(index, slave, f, box, reach);  // within(face), its box at hand
+      if (bound <= reach) out.emplace_back(bound, face);
     });
     auto rounded = static_cast<float>(radius);
     if (static_cast<double>(rounded) > radius) rounded = std::nextafter(rounded, 0.0F);

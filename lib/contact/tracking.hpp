@@ -38,8 +38,8 @@
 //     its budget is spent. A state whose boxes moved by more than 0.05 of a cell since the last uses no list
 //     (each would be made again at every state): the grid gathers every node's faces.
 // Then the scan as the fresh search's: the same faces, points and gaps (the tests and `replay` compare every
-// increment with a fresh search and count the differences). A node costs its previous face and point, and
-// its list (80 bytes).
+// increment with a fresh search and count the differences). A node costs its previous face, start and
+// point, and its list (80 bytes).
 //
 // NarrowPhase::kReference keeps the tracker as it was before the grid (the search it is measured against):
 // each node's list of the faces whose sphere came within capture + m at its build, valid while the node's
