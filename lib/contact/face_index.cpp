@@ -56,15 +56,30 @@ void prepare_face(FaceIndex& index, const mesh::SurfaceMesh& master, std::span<c
   }
 }
 
-/// Face f's centre, sphere, box (of the points whose convex hull holds it: nodes, control points) and size.
-void bound_face(FaceIndex& index, const mesh::SurfaceMesh& master, std::span<const Vec3> normals,
-                const SearchOptions& options, int face, const mesh::FaceNodes& nodes) {
+/// Face f's centre (the mean of its corners) and size (the longest corner distance).
+void face_extent(FaceIndex& index, const mesh::SurfaceMesh& master, int face) {
   const auto f = static_cast<std::size_t>(face);
   const std::span<const int> corners = master.face_corners(face);
   Vec3 centre = Vec3::Zero();
   for (int c : corners) centre += master.positions[static_cast<std::size_t>(c)];
   centre /= static_cast<double>(corners.size());
-  double squared_radius = 0.0, size = 0.0;  // size: squared until the end
+  double size = 0.0;  // squared until the end
+  for (std::size_t i = 0; i < corners.size(); ++i) {
+    const Vec3& x = master.positions[static_cast<std::size_t>(corners[i])];
+    for (std::size_t j = i + 1; j < corners.size(); ++j)
+      size = std::max(size, (x - master.positions[static_cast<std::size_t>(corners[j])]).squaredNorm());
+  }
+  index.centres[f] = centre;
+  index.sizes[f] = std::sqrt(size);  // sqrt is monotonic: the same bits as the largest norm
+}
+
+/// Face f's centre, sphere, box (of the points whose convex hull holds it: nodes, control points) and size.
+void bound_face(FaceIndex& index, const mesh::SurfaceMesh& master, std::span<const Vec3> normals,
+                const SearchOptions& options, int face, const mesh::FaceNodes& nodes) {
+  const auto f = static_cast<std::size_t>(face);
+  face_extent(index, master, face);
+  const Vec3 centre = index.centres[f];
+  double squared_radius = 0.0;
   // The bounding sphere and box of the points whose convex hull holds the face (nodes, control points).
   Vec3 box_lo = Vec3::Constant(std::numeric_limits<double>::infinity());
   Vec3 box_hi = -box_lo;
@@ -74,12 +89,6 @@ void bound_face(FaceIndex& index, const mesh::SurfaceMesh& master, std::span<con
     box_hi = box_hi.cwiseMax(x);
   };
   for (int c : nodes) include(master.positions[static_cast<std::size_t>(c)]);
-  for (int c : corners) {
-    const Vec3& x = master.positions[static_cast<std::size_t>(c)];
-    for (int d : corners)
-      size = std::max(size, (x - master.positions[static_cast<std::size_t>(d)]).squaredNorm());
-  }
-  size = std::sqrt(size);  // the longest corner distance (sqrt is monotonic: the same bits as the norms')
   // A curved face lies in the convex hull of its control points, not of its nodes: the sphere holds those.
   if (nodes.type == mesh::FaceType::kQuad8) {
     const geometry::SerendipityQuad quad8(face_positions<8>(master, nodes));
@@ -87,7 +96,8 @@ void bound_face(FaceIndex& index, const mesh::SurfaceMesh& master, std::span<con
   } else if (nodes.type == mesh::FaceType::kTri6) {
     const geometry::QuadraticTriangle tri6(face_positions<6>(master, nodes));
     for (const Vec3& x : tri6.bezier_control_points()) include(x);
-  } else if (corners.size() == 4 && kind_of(master, options, face) == SurfaceKind::kGregory) {
+  } else if (master.face_corners(face).size() == 4 &&
+             kind_of(master, options, face) == SurfaceKind::kGregory) {
     const geometry::Configuration config = face_configuration(master, normals, SurfaceKind::kGregory, face);
     std::array<Vec3, 4> unit;
     if (geometry::GregoryPatch::diagnose(config.nodes, config.normals, &unit) ==
@@ -96,11 +106,73 @@ void bound_face(FaceIndex& index, const mesh::SurfaceMesh& master, std::span<con
       for (const Vec3& x : geometry::GregoryPatch::control_points_of(config.nodes, unit)) include(x);
     }
   }
-  index.centres[f] = centre;
   index.radii[f] = std::sqrt(squared_radius);  // the largest distance: sqrt is monotonic
   index.box_lo[f] = box_lo;
   index.box_hi[f] = box_hi;
-  index.sizes[f] = size;
+}
+
+/// How far a Gregory patch's control points (GregoryPatch::control_points_of, SPEC 3) can lie from its nodes,
+/// from the nodes and normals alone: L (2/3 + 11 rho / 9), L the longest node distance and rho the largest
+/// ratio of the two edges at a node projected on its tangent plane (larger over smaller); infinite where that
+/// ratio is not safely computed (an edge projected to less than 1e-6 L, a normal's length out of range).
+///   An edge point E(X->Y) = X + P_X (Y - X) / 3 lies within L / 3 of X. The interior point near X of edge XY
+/// is E(X->Y) + b1, b1 = ((k0 + k1) a0 + k0 a3 + 2 h0 c1 + h1 c0) / 3 with unit a0, a3; |k0|, |k1| <= L / 3
+/// (each the dot of a unit vector and an edge point's offset); |c0| <= L / 3, |c1| <= L + 2 L / 3; h0 =
+/// c0.b0 / c0.c0, so |h0| <= |b0| / |c0|, the ratio of X's two projected edges, and |h1| likewise at Y. So
+/// |b1| <= L (1 + 11 rho / 3) / 3, and the point lies within L / 3 + |b1| of X (the point near Y of Y alike).
+/// The bound is returned with a relative slack of 1e-6 (the rounding of the points and of rho).
+double gregory_reach(const geometry::Configuration& config) {
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  double longest = 0.0;  // squared
+  for (int i = 0; i < 4; ++i) {
+    for (int j = i + 1; j < 4; ++j)
+      longest = std::max(longest, (config.nodes[i] - config.nodes[j]).squaredNorm());
+  }
+  double rho = 1.0;  // squared
+  for (int i = 0; i < 4; ++i) {
+    const Vec3& n = config.normals[i];
+    const double nn = n.squaredNorm();
+    if (!(nn > 1e-150 && nn < 1e150)) return kInf;
+    const Vec3 next = config.nodes[(i + 1) % 4] - config.nodes[i];
+    const Vec3 prev = config.nodes[(i + 3) % 4] - config.nodes[i];
+    const double a = (next - (n.dot(next) / nn) * n).squaredNorm();
+    const double b = (prev - (n.dot(prev) / nn) * n).squaredNorm();
+    const double small = std::min(a, b);
+    if (!(small > 1e-12 * longest)) return kInf;
+    rho = std::max(rho, std::max(a, b) / small);
+  }
+  const double reach = std::sqrt(longest) * (2.0 / 3.0 + 11.0 / 9.0 * std::sqrt(rho)) * (1.0 + 1e-6);
+  return std::isfinite(reach) ? reach : kInf;
+}
+
+/// Face f's centre and size, and a box of it that may be loose (the index's box_lo, box_hi; a face bound as
+/// bound_face's otherwise): a Gregory patch's nodes' box widened by gregory_reach, with a slack for the
+/// rounding of points far from the origin.
+void loose_bound(FaceIndex& index, const mesh::SurfaceMesh& master, std::span<const Vec3> normals,
+                 const SearchOptions& options, int face, const mesh::FaceNodes& nodes) {
+  if (nodes.type != mesh::FaceType::kQuad4 || kind_of(master, options, face) != SurfaceKind::kGregory) {
+    bound_face(index, master, normals, options, face, nodes);
+    return;
+  }
+  const auto f = static_cast<std::size_t>(face);
+  face_extent(index, master, face);
+  const geometry::Configuration config = face_configuration(master, normals, SurfaceKind::kGregory, face);
+  Vec3 lo = config.nodes[0], hi = config.nodes[0];
+  for (const Vec3& x : config.nodes) {
+    lo = lo.cwiseMin(x);
+    hi = hi.cwiseMax(x);
+  }
+  const double widen =
+      gregory_reach(config) + 1e-12 * (lo.cwiseAbs().cwiseMax(hi.cwiseAbs()).maxCoeff() + index.sizes[f]);
+  index.box_lo[f] = lo - Vec3::Constant(widen);
+  index.box_hi[f] = hi + Vec3::Constant(widen);
+}
+
+/// Whether a face's box (finite) lies farther than `reach` from every point of `region`.
+bool beyond(const Vec3& lo, const Vec3& hi, const QueryRegion& region, double reach) {
+  if (!lo.allFinite() || !hi.allFinite()) return false;
+  const Vec3 gap = (lo - region.hi).cwiseMax(region.lo - hi).cwiseMax(Vec3::Zero());
+  return !(gap.squaredNorm() <= reach * reach);
 }
 
 /// How far a point's distance to a box can move when the box moves from [was_lo, was_hi] to [lo, hi]: the
@@ -112,11 +184,72 @@ double box_movement(const Vec3& was_lo, const Vec3& was_hi, const Vec3& lo, cons
   return (lo - was_lo).cwiseAbs().cwiseMax((hi - was_hi).cwiseAbs()).norm();
 }
 
+/// index_faces' faces, each on its own (threads for a large surface: the answers do not depend on them): the
+/// faces with a `moved` node where the index is `kept`, else all; and the largest movement of a box since the
+/// kept index (FaceIndex::box_drift).
+void index_each(FaceIndex& index, const mesh::SurfaceMesh& master, std::span<const Vec3> normals,
+                const SearchOptions& options, const std::vector<std::uint8_t>& moved, bool kept) {
+  const std::size_t n = index.centres.size();
+  double drift = 0.0;
+#pragma omp parallel for reduction(max : drift) schedule(static) if (n >= 4096)
+  for (std::size_t f = 0; f < n; ++f) {
+    const auto face = static_cast<int>(f);
+    const mesh::FaceNodes nodes = master.face_nodes(face);
+    if (kept && std::none_of(nodes.begin(), nodes.end(),
+                             [&](int c) { return moved[static_cast<std::size_t>(c)] != 0; }))
+      continue;
+    const Vec3 was_lo = kept ? index.box_lo[f] : Vec3::Zero(), was_hi = kept ? index.box_hi[f] : Vec3::Zero();
+    prepare_face(index, master, normals, options, face, nodes);
+    bound_face(index, master, normals, options, face, nodes);
+    if (kept) drift = std::max(drift, box_movement(was_lo, was_hi, index.box_lo[f], index.box_hi[f]));
+  }
+  index.box_drift = kept ? drift * (1.0 + 1e-12) : std::numeric_limits<double>::infinity();
+}
+
+/// index_faces' faces with a `region`: each face's centre, size and a box of it (loose_bound), the capture
+/// distance from the sizes (capture_distance's), then every face whose box lies beyond that distance of the
+/// region left out (its box empty, its sphere 0, nothing prepared) and the others prepared and bound.
+void index_region(FaceIndex& index, const mesh::SurfaceMesh& master, std::span<const Vec3> normals,
+                  const SearchOptions& options, const QueryRegion& region) {
+  const std::size_t n = index.centres.size();
+  double largest = 0.0;
+#pragma omp parallel for reduction(max : largest) schedule(static) if (n >= 4096)
+  for (std::size_t f = 0; f < n; ++f) {
+    const auto face = static_cast<int>(f);
+    loose_bound(index, master, normals, options, face, master.face_nodes(face));
+    largest = std::max(largest, index.sizes[f]);
+  }
+  const double capture =
+      options.capture_distance > 0.0 ? options.capture_distance : options.capture_relative * largest;
+  // Beyond the capture distance (with a slack far above bound_within's) no query point's reach finds a face.
+  const double reach = capture * (1.0 + 1e-6);
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  std::size_t left_out = 0;
+#pragma omp parallel for reduction(+ : left_out) schedule(static) if (n >= 4096)
+  for (std::size_t f = 0; f < n; ++f) {
+    const auto face = static_cast<int>(f);
+    if (beyond(index.box_lo[f], index.box_hi[f], region, reach)) {
+      index.box_lo[f] = Vec3::Constant(kInf);
+      index.box_hi[f] = Vec3::Constant(-kInf);
+      index.radii[f] = 0.0;
+      index.checked[f] = 0;
+      ++left_out;
+      continue;
+    }
+    const mesh::FaceNodes nodes = master.face_nodes(face);
+    prepare_face(index, master, normals, options, face, nodes);
+    if (nodes.type == mesh::FaceType::kQuad4 && kind_of(master, options, face) == SurfaceKind::kGregory)
+      bound_face(index, master, normals, options, face, nodes);
+  }
+  index.left_out = left_out;
+  index.box_drift = kInf;
+}
+
 }  // namespace
 
 FaceIndex index_faces(const mesh::SurfaceMesh& master, std::span<const Vec3> normals,
                       const SearchOptions& options, std::shared_ptr<const NodeFaces>* topology,
-                      FaceIndex&& recycled, double unit, bool keep) {
+                      FaceIndex&& recycled, double unit, bool keep, const QueryRegion* region) {
   FaceIndex index = std::move(recycled);  // its buffers: every moved face's entries rewritten below
   const auto n = static_cast<std::size_t>(master.face_count());
   index.centres.resize(n);
@@ -170,22 +303,12 @@ FaceIndex index_faces(const mesh::SurfaceMesh& master, std::span<const Vec3> nor
   } else {
     index.curved.reset(certified && any_curved ? n : 0);
   }
-  // Each face on its own (threads for a large surface: the answers do not depend on them), and the largest
-  // movement of a box since the kept index (FaceIndex::box_drift).
-  double drift = 0.0;
-#pragma omp parallel for reduction(max : drift) schedule(static) if (n >= 4096)
-  for (std::size_t f = 0; f < n; ++f) {
-    const auto face = static_cast<int>(f);
-    const mesh::FaceNodes nodes = master.face_nodes(face);
-    if (kept && std::none_of(nodes.begin(), nodes.end(),
-                             [&](int c) { return moved[static_cast<std::size_t>(c)] != 0; }))
-      continue;
-    const Vec3 was_lo = kept ? index.box_lo[f] : Vec3::Zero(), was_hi = kept ? index.box_hi[f] : Vec3::Zero();
-    prepare_face(index, master, normals, options, face, nodes);
-    bound_face(index, master, normals, options, face, nodes);
-    if (kept) drift = std::max(drift, box_movement(was_lo, was_hi, index.box_lo[f], index.box_hi[f]));
+  index.left_out = 0;
+  if (region != nullptr && !keep) {
+    index_region(index, master, normals, options, *region);
+  } else {
+    index_each(index, master, normals, options, moved, kept);
   }
-  index.box_drift = kept ? drift * (1.0 + 1e-12) : std::numeric_limits<double>::infinity();
   if (keep) {
     // This state's positions and normals, copied in parallel (the tables are kept: resize allocates once).
     index.built_positions.resize(node_count);

@@ -7,6 +7,7 @@
 #include <memory>
 #include <mutex>
 #include <nanoflann.hpp>
+#include <optional>
 #include <utility>
 
 #include "contact/bilinear_certificate.hpp"
@@ -312,13 +313,35 @@ SearchOptions with_face_checked(SearchOptions o) {
   return o;
 }
 
+/// The box of the finite `points` divided by `unit` (an empty box where none is finite).
+QueryRegion region_of(std::span<const Vec3> points, double unit) {
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  double lx = kInf, ly = kInf, lz = kInf, hx = -kInf, hy = -kInf, hz = -kInf;
+  const auto n = static_cast<long>(points.size());
+#pragma omp parallel for reduction(min                         \
+                                   : lx, ly, lz) reduction(max \
+                                                           : hx, hy, hz) schedule(static) if (n >= 16384)
+  for (long i = 0; i < n; ++i) {
+    const Vec3 p = points[static_cast<std::size_t>(i)] / unit;
+    if (!p.allFinite()) continue;
+    lx = std::min(lx, p.x());
+    ly = std::min(ly, p.y());
+    lz = std::min(lz, p.z());
+    hx = std::max(hx, p.x());
+    hy = std::max(hy, p.y());
+    hz = std::max(hz, p.z());
+  }
+  return QueryRegion{Vec3(lx, ly, lz), Vec3(hx, hy, hz)};
+}
+
 struct SurfaceSearcher::Impl {
   double unit;                                ///< world length = unit x working length
   std::unique_ptr<mesh::SurfaceMesh> scaled;  ///< the master in working units, where unit != 1
   const mesh::SurfaceMesh& master;            ///< the master in working units
   std::span<const Vec3> normals;              ///< unit vectors: the same in any unit
   SearchOptions options;
-  SearchOptions checked_options;  ///< options with projection.face_checked (FaceIndex::checked)
+  SearchOptions checked_options;      ///< options with projection.face_checked (FaceIndex::checked)
+  std::optional<QueryRegion> region;  ///< the box of the points it is asked about (working units), if given
   FaceIndex index;
   double capture = 0.0;
   double largest_radius = 0.0;
@@ -462,16 +485,21 @@ struct SurfaceSearcher::Impl {
   SearchStorage* storage = nullptr;  ///< where the tables go back when the searcher ends
 
   Impl(const mesh::SurfaceMesh& m, std::span<const Vec3> n, const SearchOptions& o, FaceGrid* kept,
-       double grid_margin_relative, std::shared_ptr<const NodeFaces>* topology, SearchStorage* kept_storage)
+       double grid_margin_relative, std::shared_ptr<const NodeFaces>* topology, SearchStorage* kept_storage,
+       std::span<const Vec3> queries)
       : unit(working_unit(m)),
         scaled(unit == 1.0 ? nullptr : std::make_unique<mesh::SurfaceMesh>(in_unit(m, unit))),
         master(scaled ? *scaled : m),
         normals(n),
         options(in_unit(o, unit)),
         checked_options(with_face_checked(options)),
+        region(kept_storage == nullptr && kept == nullptr && options.narrow != NarrowPhase::kReference &&
+                       !options.brute_force_faces && !queries.empty()
+                   ? std::optional<QueryRegion>(region_of(queries, unit))
+                   : std::nullopt),
         index(index_faces(master, n, options, topology,
                           kept_storage != nullptr ? std::move(kept_storage->tables().index) : FaceIndex{},
-                          unit, kept_storage != nullptr)),
+                          unit, kept_storage != nullptr, region ? &*region : nullptr)),
 
         largest_radius(index.radii.empty() ? 0.0 : *std::max_element(index.radii.begin(), index.radii.end())),
         largest_size(index.sizes.empty() ? 0.0 : *std::max_element(index.sizes.begin(), index.sizes.end())),
@@ -501,7 +529,8 @@ struct SurfaceSearcher::Impl {
 
 SurfaceSearcher::SurfaceSearcher(const mesh::SurfaceMesh& master, std::span<const Vec3> master_normals,
                                  const SearchOptions& options, FaceGrid* grid, double grid_margin_relative,
-                                 std::shared_ptr<const NodeFaces>* topology, SearchStorage* storage) {
+                                 std::shared_ptr<const NodeFaces>* topology, SearchStorage* storage,
+                                 std::span<const Vec3> queries) {
   const bool gregory = options.surface == SurfaceKind::kGregory;
   CONTACTNN_REQUIRE(!gregory || master_normals.size() == master.positions.size(),
                     "Gregory search needs one node normal per master node: "
@@ -515,8 +544,8 @@ SurfaceSearcher::SurfaceSearcher(const mesh::SurfaceMesh& master, std::span<cons
                         << master.segment_midsides.size() << " of " << master.segments.size()
                         << " segments and " << master.extra_face_midsides.size() << " of "
                         << master.extra_faces.size() << " extra faces (each list: none or all)");
-  impl_ =
-      std::make_unique<Impl>(master, master_normals, options, grid, grid_margin_relative, topology, storage);
+  impl_ = std::make_unique<Impl>(master, master_normals, options, grid, grid_margin_relative, topology,
+                                 storage, queries);
 }
 
 SurfaceSearcher::~SurfaceSearcher() = default;
@@ -539,6 +568,8 @@ double SurfaceSearcher::sphere_bound(const Vec3& slave, int face) const {
 }
 
 double SurfaceSearcher::box_drift() const { return impl_->index.box_drift; }
+
+std::size_t SurfaceSearcher::faces_left_out() const { return impl_->index.left_out; }
 
 const std::vector<Vec3>& SurfaceSearcher::centres() const {
   return impl_->unit == 1.0 ? impl_->index.centres : impl_->world_centres;
@@ -730,7 +761,9 @@ void surface_search(const mesh::SurfaceMesh& master, std::span<const Vec3> maste
                     const SearchOptions& options, std::vector<Contact>& contacts) {
   CONTACTNN_REQUIRE(slave_ids.size() == slave_positions.size(),
                     slave_ids.size() << " slave ids for " << slave_positions.size() << " positions");
-  const SurfaceSearcher searcher(master, master_normals, options);
+  // Every query is a slave node's: the faces beyond the capture distance of their box are left out.
+  const SurfaceSearcher searcher(master, master_normals, options, nullptr, 0.0, nullptr, nullptr,
+                                 slave_positions);
   const auto n = static_cast<long>(slave_ids.size());
   contacts.resize(static_cast<std::size_t>(n));
   // The slave nodes in Morton order (the search before the certificate, NarrowPhase::kReference, in theirs).

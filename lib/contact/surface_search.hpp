@@ -184,10 +184,15 @@ class SurfaceSearcher {
   /// only. `topology`: the faces at each node, a caller's kept between states, used where it matches the
   /// master's connectivity (NodeFaces::matches), else built afresh and put there (null: built for this
   /// searcher alone). `storage`: buffers kept between states (SearchStorage), taken by the searcher and given
-  /// back when it ends; it must outlive the searcher and serve one searcher at a time.
+  /// back when it ends; it must outlive the searcher and serve one searcher at a time. `queries`: the points
+  /// (world units) the searcher will be asked about, where the caller knows them: the certified search
+  /// without a caller's grid or storage then leaves out every face beyond the capture distance of their box
+  /// (neither bounded nor prepared: faces_left_out), and a query from elsewhere may miss a face. Empty: none
+  /// left out.
   SurfaceSearcher(const mesh::SurfaceMesh& master, std::span<const Vec3> master_normals,
                   const SearchOptions& options, FaceGrid* grid = nullptr, double grid_margin_relative = 0.0,
-                  std::shared_ptr<const NodeFaces>* topology = nullptr, SearchStorage* storage = nullptr);
+                  std::shared_ptr<const NodeFaces>* topology = nullptr, SearchStorage* storage = nullptr,
+                  std::span<const Vec3> queries = {});
   ~SurfaceSearcher();
   SurfaceSearcher(const SurfaceSearcher&) = delete;
   SurfaceSearcher& operator=(const SurfaceSearcher&) = delete;
@@ -241,6 +246,9 @@ class SurfaceSearcher {
   /// The largest movement of a face's bounding box since the state of the storage it was given (working
   /// unit): infinite without one, or where that state's faces, unit or positions could not be kept.
   [[nodiscard]] double box_drift() const;
+  /// The faces left out for lying beyond the capture distance of the queries' box (the constructor's
+  /// `queries`): their bounds are infinite and no query finds them.
+  [[nodiscard]] std::size_t faces_left_out() const;
   [[nodiscard]] const std::vector<Vec3>& centres() const;  ///< face centres (mean of the corners)
   [[nodiscard]] const std::vector<double>& radii() const;  ///< bounding-sphere radii
 

@@ -5,6 +5,7 @@
 #include <omp.h>
 
 #include <cmath>
+#include <cstdint>
 #include <random>
 #include <string>
 
@@ -404,6 +405,98 @@ TEST(SurfaceSearch, SameBitsInAnyNodeOrder) {
       ASSERT_EQ(a.point, b.point) << i;
     }
   }
+}
+
+/// Every field of two answers, bit for bit.
+void expect_same_contact(const Contact& a, const Contact& b, const std::string& where) {
+  EXPECT_EQ(a.status, b.status) << where;
+  EXPECT_EQ(a.face, b.face) << where;
+  EXPECT_EQ(a.location, b.location) << where;
+  EXPECT_EQ(a.param, b.param) << where;
+  EXPECT_EQ(a.point, b.point) << where;
+  EXPECT_EQ(a.gap, b.gap) << where;
+  EXPECT_EQ(a.normal, b.normal) << where;
+}
+
+/// Each slave's answer from `searcher` (nearest_fresh, no hint).
+std::vector<Contact> answers(const SurfaceSearcher& searcher, const std::vector<Vec3>& slaves) {
+  std::vector<Contact> out(slaves.size());
+  std::vector<std::pair<double, int>> candidates;
+  std::vector<std::pair<std::uint32_t, double>> scratch;
+  for (std::size_t i = 0; i < slaves.size(); ++i)
+    searcher.nearest_fresh(static_cast<long>(i) + 1, slaves[i], candidates, scratch, out[i]);
+  return out;
+}
+
+TEST(SurfaceSearch, FacesBeyondTheQueriesAreLeftOutAndEveryQueryGetsTheSameAnswer) {
+  // A wavy sheet of 30 x 30 faces with node normals turned at random by up to 0.4 (the Gregory patches then
+  // bulge off their nodes); the slave nodes over a corner of it, some beyond the capture distance.
+  const mesh::SurfaceMesh m = surface_of(
+      30, 30, [](double i, double j) { return Vec3(i, j, 0.6 * std::sin(i / 3.0) * std::cos(j / 4.0)); });
+  std::vector<Vec3> normals = mesh::node_normals(m);
+  std::mt19937_64 rng(41);
+  std::uniform_real_distribution<double> turn(-0.4, 0.4), x(1.0, 7.0), z(-1.5, 3.0);
+  for (Vec3& n : normals) n = (n + Vec3(turn(rng), turn(rng), turn(rng))).normalized();
+  std::vector<Vec3> slaves;
+  for (int i = 0; i < 400; ++i) slaves.emplace_back(x(rng), x(rng), z(rng));
+  for (const SurfaceKind surface : {SurfaceKind::kBilinear, SurfaceKind::kGregory}) {
+    SearchOptions options;
+    options.surface = surface;
+    const SurfaceSearcher all(m, normals, options);
+    const SurfaceSearcher near(m, normals, options, nullptr, 0.0, nullptr, nullptr, slaves);
+    EXPECT_EQ(all.faces_left_out(), 0U);
+    // The slaves' box is 6 x 6 faces; with the capture distance (sqrt 2) and the patches' bounds, at most
+    // 13 x 13 faces come within reach of it.
+    EXPECT_GE(near.faces_left_out(), 900U - 169U);
+    const std::vector<Contact> a = answers(all, slaves), b = answers(near, slaves);
+    int found = 0;
+    for (std::size_t i = 0; i < slaves.size(); ++i) {
+      expect_same_contact(a[i], b[i], "slave " + std::to_string(i));
+      found += a[i].status == PairStatus::kFound;
+    }
+    EXPECT_GT(found, 200);
+    EXPECT_LT(found, 400);  // some beyond the capture distance: no face within it, with or without the region
+    // A slave off the sheet's edge, 1.2 from it (the capture distance is sqrt 2): the edge face is kept.
+    const std::vector<Vec3> off = {Vec3(-1.2, 3.5, 0.0)};
+    const SurfaceSearcher edge(m, normals, options, nullptr, 0.0, nullptr, nullptr, off);
+    EXPECT_GE(edge.faces_left_out(), 900U - 30U);
+    const Contact answer = answers(edge, off)[0];
+    EXPECT_EQ(answer.status, PairStatus::kFound);
+    expect_same_contact(answers(all, off)[0], answer, "the slave off the edge");
+  }
+}
+
+TEST(SurfaceSearch, AGregoryPatchBulgingFarOffItsNodesIsKeptForAQueryNearItsTop) {
+  // One flat unit square whose node normals lean out from its centre: its Gregory patch rises about 0.2 above
+  // the nodes' plane. A slave 0.01 above its top, with a capture distance of 0.05, lies far beyond the
+  // capture distance of the nodes: the face is kept only if its bound holds the patch.
+  const mesh::SurfaceMesh m = surface_of(1, 1, [](double i, double j) { return Vec3(i, j, 0.0); });
+  std::vector<Vec3> normals;
+  for (const Vec3& x : m.positions) normals.push_back(Vec3(x.x() - 0.5, x.y() - 0.5, 0.5).normalized());
+  std::array<Vec3, 4> nodes, node_normals;
+  for (std::size_t k = 0; k < 4; ++k) {
+    nodes[k] = m.positions[static_cast<std::size_t>(m.segments[0][k])];
+    node_normals[k] = normals[static_cast<std::size_t>(m.segments[0][k])];
+  }
+  const Vec3 top = geometry::GregoryPatch(nodes, node_normals).position(0.5, 0.5);
+  ASSERT_GT(top.z(), 0.1);
+  SearchOptions options;
+  options.surface = SurfaceKind::kGregory;
+  options.capture_distance = 0.05;
+  const std::vector<Vec3> slave = {top + Vec3(0.0, 0.0, 0.01)};
+  const SurfaceSearcher all(m, normals, options);
+  const SurfaceSearcher near(m, normals, options, nullptr, 0.0, nullptr, nullptr, slave);
+  EXPECT_EQ(near.faces_left_out(), 0U);
+  const std::vector<Contact> a = answers(all, slave), b = answers(near, slave);
+  ASSERT_EQ(b[0].status, PairStatus::kFound);
+  EXPECT_NEAR(b[0].gap, 0.01, 1e-6);
+  expect_same_contact(a[0], b[0], "the slave above the top");
+  // Beyond the capture distance of the whole patch, the face is left out, and nothing is found either way.
+  const std::vector<Vec3> high = {top + Vec3(0.0, 0.0, 5.0)};
+  const SurfaceSearcher far(m, normals, options, nullptr, 0.0, nullptr, nullptr, high);
+  EXPECT_EQ(far.faces_left_out(), 1U);
+  expect_same_contact(answers(all, high)[0], answers(far, high)[0], "the slave far above");
+  EXPECT_EQ(answers(far, high)[0].status, PairStatus::kNoSegment);
 }
 
 }  // namespace
