@@ -243,15 +243,17 @@ const Scene& scene() {
 
 template <class Answer>
 void report(benchmark::State& state, const std::vector<Answer>& pairs) {
-  double candidates = 0.0, reference = 0.0;
+  double candidates = 0.0, reference = 0.0, iterations = 0.0;
   long found = 0;
   for (const auto& p : pairs) {
     candidates += p.candidates;
     reference += p.reference_faces;
     found += p.status == contact::PairStatus::kFound;
+    if constexpr (requires { p.iterations; }) iterations += p.iterations;
   }
   const double n = static_cast<double>(pairs.size());
   state.counters["candidates"] = candidates / n;
+  if (iterations > 0.0) state.counters["iterations"] = iterations / n;
   state.counters["reference_faces"] = reference / n;
   state.counters["found"] = static_cast<double>(found);
   state.counters["ns_per_slave"] = benchmark::Counter(

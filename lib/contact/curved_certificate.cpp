@@ -219,7 +219,15 @@ std::optional<projection::FaceClosestPoint> certified(const CurvedCertificate& c
   for (int it = 1; it <= kMaxIterations; ++it) {
     // A fresh run's first iterate is the centre, where the face's evaluation is kept (the same bits).
     const bool at_centre = it == 1 && start == nullptr;
-    const geometry::SurfacePoint evaluated = at_centre ? geometry::SurfacePoint{} : face.evaluate(p[0], p[1]);
+    // A Gregory patch's second derivatives only where the run goes on (a converged run reports from the
+    // point and its first derivatives; the same bits either way).
+    geometry::SurfacePoint evaluated;
+    [[maybe_unused]] geometry::GregoryPatch::Partial partial;
+    if constexpr (gregory) {
+      if (!at_centre) face.evaluate_first(p[0], p[1], partial, evaluated);
+    } else {
+      if (!at_centre) evaluated = face.evaluate(p[0], p[1]);
+    }
     const geometry::SurfacePoint& sp = at_centre ? c.at_centre : evaluated;
     const Vec3 r = relative - sp.position;
     squared = r.squaredNorm();
@@ -239,6 +247,9 @@ std::optional<projection::FaceClosestPoint> certified(const CurvedCertificate& c
         return out;
       }
       break;
+    }
+    if constexpr (gregory) {
+      if (!at_centre) face.complete(partial, evaluated);
     }
     const double h00 = sp.d_s.squaredNorm() - sp.d_ss.dot(r), h11 = sp.d_t.squaredNorm() - sp.d_tt.dot(r);
     const double h01 = sp.d_s.dot(sp.d_t) - sp.d_st.dot(r);

@@ -78,6 +78,14 @@ class GregoryPatch {
   /// d_s = dP/du, d_t = dP/dv, d_ss = d2P/du2, d_st = d2P/dudv, d_tt = d2P/dv2. No allocation.
   [[nodiscard]] SurfacePoint evaluate(double u, double v) const noexcept;
 
+  /// What evaluate() computes on its way to the second derivatives (evaluate_first keeps it for complete()).
+  struct Partial;
+  /// evaluate()'s position and first derivatives alone, the same bits (its second derivatives left as they
+  /// were): a Newton run that converges at (u, v) needs no more. `partial` keeps the rest of the way.
+  void evaluate_first(double u, double v, Partial& partial, SurfacePoint& out) const noexcept;
+  /// The second derivatives of evaluate_first's point into `out`, the same bits as evaluate()'s.
+  void complete(const Partial& partial, SurfacePoint& out) const noexcept;
+
   /// Length scale for relative tolerances: the longest edge or diagonal (as BilinearPatch).
   [[nodiscard]] double characteristic_length() const { return characteristic_length_; }
 
@@ -178,42 +186,79 @@ inline Vec3 GregoryPatch::position(double u, double v) const noexcept {
   return p;
 }
 
-inline SurfacePoint GregoryPatch::evaluate(double u, double v) const noexcept {
+struct GregoryPatch::Partial {
+  double u, v;
+  gregory_detail::Bernstein3 bu, bv;
+  gregory_detail::RationalWeight w[4];
+  Vec3 row[4], row_u[4];
+};
+
+inline void GregoryPatch::evaluate_first(double u, double v, Partial& partial,
+                                         SurfacePoint& out) const noexcept {
   using gregory_detail::bernstein3;
-  const gregory_detail::Bernstein3 bu = bernstein3(u), bv = bernstein3(v);
-  // Polynomial part: Horner's rule in u within each power of v (the row, its first and second u-derivatives),
-  // then in v.
-  Vec3 row[4], row_u[4], row_uu[4];
+  partial.u = u;
+  partial.v = v;
+  partial.bu = bernstein3(u);
+  partial.bv = bernstein3(v);
+  const gregory_detail::Bernstein3 &bu = partial.bu, &bv = partial.bv;
+  // Polynomial part: Horner's rule in u within each power of v (the row and its u-derivative), then in v.
+  Vec3* row = partial.row;
+  Vec3* row_u = partial.row_u;
   for (int b = 0; b < 4; ++b) {
     const Vec3* a = &power_[static_cast<std::size_t>(4 * b)];
     row[b] = ((a[3] * u + a[2]) * u + a[1]) * u + a[0];
     row_u[b] = (3.0 * a[3] * u + 2.0 * a[2]) * u + a[1];
-    row_uu[b] = 6.0 * a[3] * u + 2.0 * a[2];
   }
-  SurfacePoint out{((row[3] * v + row[2]) * v + row[1]) * v + row[0],
-                   ((row_u[3] * v + row_u[2]) * v + row_u[1]) * v + row_u[0],
-                   (3.0 * row[3] * v + 2.0 * row[2]) * v + row[1],
-                   ((row_uu[3] * v + row_uu[2]) * v + row_uu[1]) * v + row_uu[0],
-                   (3.0 * row_u[3] * v + 2.0 * row_u[2]) * v + row_u[1],
-                   6.0 * row[3] * v + 2.0 * row[2]};
+  out.position = ((row[3] * v + row[2]) * v + row[1]) * v + row[0];
+  out.d_s = ((row_u[3] * v + row_u[2]) * v + row_u[1]) * v + row_u[0];
+  out.d_t = (3.0 * row[3] * v + 2.0 * row[2]) * v + row[1];
   // Rational part f = B_i(u) B_j(v) w(u, v) times delta, differentiated by the full product and quotient
   // rules.
   const double s_of[2] = {u, 1.0 - u}, t_of[2] = {v, 1.0 - v};
   const double sign[2] = {1.0, -1.0};
   for (int k = 0; k < 4; ++k) {
     const int a = k & 1, b = k >> 1;  // a: s = u or 1-u (i = 1 + a); b: t = v or 1-v (j = 1 + b)
-    const gregory_detail::RationalWeight w =
+    const gregory_detail::RationalWeight& w = partial.w[k] =
         gregory_detail::rational_weight(s_of[a], t_of[b], sign[a], sign[b]);
-    const double p = bu.b[1 + a], p1 = bu.d1[1 + a], p2 = bu.d2[1 + a];
-    const double q = bv.b[1 + b], q1 = bv.d1[1 + b], q2 = bv.d2[1 + b];
+    const double p = bu.b[1 + a], p1 = bu.d1[1 + a];
+    const double q = bv.b[1 + b], q1 = bv.d1[1 + b];
     const Vec3& dk = delta_[k];
     out.position += (p * q * w.w) * dk;
     out.d_s += (p1 * q * w.w + p * q * w.w_u) * dk;
     out.d_t += (p * q1 * w.w + p * q * w.w_v) * dk;
+  }
+}
+
+inline void GregoryPatch::complete(const Partial& partial, SurfacePoint& out) const noexcept {
+  const double u = partial.u, v = partial.v;
+  const gregory_detail::Bernstein3 &bu = partial.bu, &bv = partial.bv;
+  const Vec3* row = partial.row;
+  const Vec3* row_u = partial.row_u;
+  Vec3 row_uu[4];
+  for (int b = 0; b < 4; ++b) {
+    const Vec3* a = &power_[static_cast<std::size_t>(4 * b)];
+    row_uu[b] = 6.0 * a[3] * u + 2.0 * a[2];
+  }
+  out.d_ss = ((row_uu[3] * v + row_uu[2]) * v + row_uu[1]) * v + row_uu[0];
+  out.d_st = (3.0 * row_u[3] * v + 2.0 * row_u[2]) * v + row_u[1];
+  out.d_tt = 6.0 * row[3] * v + 2.0 * row[2];
+  for (int k = 0; k < 4; ++k) {
+    const int a = k & 1, b = k >> 1;
+    const gregory_detail::RationalWeight& w = partial.w[k];
+    const double p = bu.b[1 + a], p1 = bu.d1[1 + a], p2 = bu.d2[1 + a];
+    const double q = bv.b[1 + b], q1 = bv.d1[1 + b], q2 = bv.d2[1 + b];
+    const Vec3& dk = delta_[k];
     out.d_ss += (p2 * q * w.w + 2.0 * p1 * q * w.w_u + p * q * w.w_uu) * dk;
     out.d_st += (p1 * q1 * w.w + p1 * q * w.w_v + p * q1 * w.w_u + p * q * w.w_uv) * dk;
     out.d_tt += (p * q2 * w.w + 2.0 * p * q1 * w.w_v + p * q * w.w_vv) * dk;
   }
+}
+
+inline SurfacePoint GregoryPatch::evaluate(double u, double v) const noexcept {
+  SurfacePoint out;
+  Partial partial;
+  evaluate_first(u, v, partial, out);
+  complete(partial, out);
   return out;
 }
 
