@@ -313,17 +313,18 @@ SearchOptions with_face_checked(SearchOptions o) {
   return o;
 }
 
-/// The box of the finite `points` divided by `unit` (an empty box where none is finite).
+/// The box of `points` divided by `unit` (a power of two: exact), a NaN coordinate ignored (an empty box
+/// where every one is NaN). An infinite coordinate widens the box to it: a region is only ever too large.
 QueryRegion region_of(std::span<const Vec3> points, double unit) {
   constexpr double kInf = std::numeric_limits<double>::infinity();
   double lx = kInf, ly = kInf, lz = kInf, hx = -kInf, hy = -kInf, hz = -kInf;
   const auto n = static_cast<long>(points.size());
+  // std::min(a, NaN) and std::max(a, NaN) are a.
 #pragma omp parallel for reduction(min                         \
                                    : lx, ly, lz) reduction(max \
-                                                           : hx, hy, hz) schedule(static) if (n >= 16384)
+                                                           : hx, hy, hz) schedule(static) if (n >= 65536)
   for (long i = 0; i < n; ++i) {
-    const Vec3 p = points[static_cast<std::size_t>(i)] / unit;
-    if (!p.allFinite()) continue;
+    const Vec3& p = points[static_cast<std::size_t>(i)];
     lx = std::min(lx, p.x());
     ly = std::min(ly, p.y());
     lz = std::min(lz, p.z());
@@ -331,7 +332,7 @@ QueryRegion region_of(std::span<const Vec3> points, double unit) {
     hy = std::max(hy, p.y());
     hz = std::max(hz, p.z());
   }
-  return QueryRegion{Vec3(lx, ly, lz), Vec3(hx, hy, hz)};
+  return QueryRegion{Vec3(lx, ly, lz) / unit, Vec3(hx, hy, hz) / unit};
 }
 
 struct SurfaceSearcher::Impl {

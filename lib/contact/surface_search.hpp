@@ -20,7 +20,10 @@
 //     face, which bound the patch: a quadratic face may bulge beyond its nodes) comes within the capture
 //     distance of S, and whose bounding box does (each face's bound is the larger of the two distances). A
 //     grid of the boxes (face_grid.hpp) finds them; NarrowPhase::kReference keeps the search as it was, a
-//     k-d tree over the centres (nanoflann); brute_force_faces tries every face (the oracle).
+//     k-d tree over the centres (nanoflann); brute_force_faces tries every face (the oracle). A fresh search
+//     (surface_search) leaves out every face beyond the capture distance of its slave nodes' box before
+//     bounding it: such a face is no node's candidate (a Gregory patch is first bounded from its nodes and
+//     normals alone, the control points computed only for the faces kept).
 //  2. Candidates in increasing order of their sphere's distance; the closest point on each (by its type, as
 //     above: the references of lib/projection; a bilinear quad4, a quad8, a tri6 or a Gregory patch by one
 //     Newton run where a convexity certificate proves its answer is the face's nearest,
