@@ -27,6 +27,8 @@ SearchStorage& SearchStorage::operator=(SearchStorage&&) noexcept = default;
 
 namespace {
 
+constexpr double kNoPlane = std::numeric_limits<double>::infinity();
+
 /// Face f's prepared forms: its prepared triangle (tri3), whether its bilinear facet passes the reference's
 /// checks and its certificate (bilinear quad4); a curved face's certificate forgotten (made again on its
 /// next use).
@@ -73,6 +75,28 @@ void face_extent(FaceIndex& index, const mesh::SurfaceMesh& master, int face) {
   index.sizes[f] = std::sqrt(size);  // sqrt is monotonic: the same bits as the largest norm
 }
 
+/// A triangle's EdgePlanes from the points whose convex hull holds it, its corners first (a degenerate or
+/// non-finite triangle: no planes, h infinite). h_e is rounded up by 1e-12 of the points' largest |P|_1, far
+/// above the rounding of m_e.P (3 eps |P|_1; bound_within rounds m_e.S down alike).
+EdgePlanes edge_planes(std::span<const Vec3> hull) {
+  const EdgePlanes none{{}, {kNoPlane, kNoPlane, kNoPlane}};
+  const Vec3 normal = (hull[1] - hull[0]).cross(hull[2] - hull[0]);
+  double scale = 0.0;
+  for (const Vec3& x : hull) scale = std::max(scale, x.cwiseAbs().sum());
+  EdgePlanes planes;
+  for (std::size_t e = 0; e < 3; ++e) {
+    const Vec3 out = (hull[(e + 1) % 3] - hull[e]).cross(normal);
+    const double length = out.norm();
+    if (!(length > 0.0) || !std::isfinite(length)) return none;
+    const Vec3 m = out * (1.0 / length);
+    double h = -std::numeric_limits<double>::infinity();
+    for (const Vec3& x : hull) h = std::max(h, m.dot(x));
+    planes.m[e] = m;
+    planes.h[e] = h + 1e-12 * scale;
+  }
+  return planes;
+}
+
 /// Face f's centre, sphere, box (of the points whose convex hull holds it: nodes, control points) and size.
 void bound_face(FaceIndex& index, const mesh::SurfaceMesh& master, std::span<const Vec3> normals,
                 const SearchOptions& options, int face, const mesh::FaceNodes& nodes) {
@@ -95,7 +119,12 @@ void bound_face(FaceIndex& index, const mesh::SurfaceMesh& master, std::span<con
     for (const Vec3& x : quad8.bezier_control_points()) include(x);
   } else if (nodes.type == mesh::FaceType::kTri6) {
     const geometry::QuadraticTriangle tri6(face_positions<6>(master, nodes));
-    for (const Vec3& x : tri6.bezier_control_points()) include(x);
+    const std::array<Vec3, 6> hull = tri6.bezier_control_points();
+    for (const Vec3& x : hull) include(x);
+    if (!index.planes.empty()) index.planes[f] = edge_planes(hull);
+  } else if (nodes.type == mesh::FaceType::kTri3) {
+    if (!index.planes.empty())
+      index.planes[f] = edge_planes(std::span<const Vec3>(detail::triangle_nodes(master, face)));
   } else if (master.face_corners(face).size() == 4 &&
              kind_of(master, options, face) == SurfaceKind::kGregory) {
     const geometry::Configuration config = face_configuration(master, normals, SurfaceKind::kGregory, face);
@@ -106,6 +135,8 @@ void bound_face(FaceIndex& index, const mesh::SurfaceMesh& master, std::span<con
       for (const Vec3& x : geometry::GregoryPatch::control_points_of(config.nodes, unit)) include(x);
     }
   }
+  if (!index.planes.empty() && nodes.type != mesh::FaceType::kTri3 && nodes.type != mesh::FaceType::kTri6)
+    index.planes[f].h.fill(kNoPlane);
   index.radii[f] = std::sqrt(squared_radius);  // the largest distance: sqrt is monotonic
   index.box_lo[f] = box_lo;
   index.box_hi[f] = box_hi;
@@ -282,9 +313,9 @@ FaceIndex index_faces(const mesh::SurfaceMesh& master, std::span<const Vec3> nor
   }
   // Slots for bilinear certificates, prepared triangles and curved certificates where the surface has such
   // faces (a Gregory surface constructs no bilinear slot: 29 MB a state for 1e5 faces, every page touched).
-  bool any_bilinear = false, any_triangle = false, any_curved = false;
-#pragma omp parallel for reduction(||                                        \
-                                   : any_bilinear, any_triangle, any_curved) \
+  bool any_bilinear = false, any_triangle = false, any_curved = false, any_tri6 = false;
+#pragma omp parallel for reduction(||                                                  \
+                                   : any_bilinear, any_triangle, any_curved, any_tri6) \
     schedule(static) if (n >= 16384)
   for (std::size_t f = 0; f < n; ++f) {
     const mesh::FaceType type = master.face_type(static_cast<int>(f));
@@ -292,12 +323,14 @@ FaceIndex index_faces(const mesh::SurfaceMesh& master, std::span<const Vec3> nor
     const bool gregory_face = quad4 && kind_of(master, options, static_cast<int>(f)) == SurfaceKind::kGregory;
     any_bilinear = any_bilinear || (quad4 && !gregory_face);
     any_triangle = any_triangle || type == mesh::FaceType::kTri3;
+    any_tri6 = any_tri6 || type == mesh::FaceType::kTri6;
     any_curved =
         any_curved || type == mesh::FaceType::kQuad8 || type == mesh::FaceType::kTri6 || gregory_face;
   }
   const bool certified = options.narrow == NarrowPhase::kCertified;
   index.bilinear.reset(certified && any_bilinear ? n : 0);
   index.triangles.reset(certified && any_triangle ? n : 0);
+  index.planes.resize(certified && (any_triangle || any_tri6) ? n : 0);
   if (kept) {
     index.curved.keep(certified && any_curved ? n : 0);
   } else {

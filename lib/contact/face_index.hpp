@@ -3,6 +3,7 @@
 // tracker's states (SearchStorage), each face's entries kept where none of its nodes has moved.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <span>
@@ -16,6 +17,16 @@
 #include "projection/closest_point_on_face.hpp"
 
 namespace contactnn::contact {
+
+/// A triangle's (tri3, tri6) three edge planes: the unit normal m_e of edge e in the face's plane, pointing
+/// out, and the largest m_e.P over the points whose convex hull holds the face. m_e.S - h_e is then a lower
+/// bound on S's distance to the face (tight beside the edge, where a triangle's box, which is its cell's
+/// box, is not: a slave node over one triangle of a cell is no longer a candidate of the other). A face
+/// without planes (not a triangle, or a degenerate one) has h = +inf.
+struct EdgePlanes {
+  std::array<Vec3, 3> m;
+  std::array<double, 3> h;
+};
 
 /// Everything the search needs of the faces, built per state (its buffers kept in a SearchStorage between
 /// states): centres, bounding radii, sizes, adjacency, prepared faces.
@@ -43,6 +54,9 @@ struct FaceIndex {
   /// The tri3 faces prepared (projection::PreparedTriangle; every face's slot, where the surface has a tri3
   /// face and the search is certified): their closest points without rebuilding their edges per slave.
   FaceSlots<projection::PreparedTriangle> triangles;  ///< the tri3 faces' slots constructed
+  /// Every face's EdgePlanes where the surface has a triangle and the search is certified (empty otherwise):
+  /// a triangle's bound is also the distance beyond its edges' planes.
+  std::vector<EdgePlanes> planes;
   /// The same for the curved faces: quad8, tri6 and Gregory patches (empty where the master has none or under
   /// kReference).
   CurvedCertificates curved;

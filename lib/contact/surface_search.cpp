@@ -119,14 +119,22 @@ double box_squared(const FaceIndex& index, const Vec3& slave, std::size_t f) {
   return outside.squaredNorm();
 }
 
-/// |S - c_f| - r_f and the distance to face f's box, the larger (SurfaceSearcher::lower_bound; the sphere's
-/// is loose beside a flat face, the box's tight), where it is at most `reach`; otherwise some number above.
-/// `squared`: box_squared's. The box's squared distance is tested first, with a relative slack far above its
-/// rounding: most faces a grid cell lists are then refused without a square root, and every face within
-/// reach gets face_lower_bound's own bits.
+/// |S - c_f| - r_f, the distance to face f's box and (a triangle's) the distance beyond its edges' planes
+/// (EdgePlanes), the largest (SurfaceSearcher::lower_bound; the sphere's is loose beside a flat face, the
+/// box's tight beside an axis-aligned one, the planes' beside a triangle's edge), where it is at most
+/// `reach`; otherwise some number above. `squared`: box_squared's. The box's squared distance is tested
+/// first, with a relative slack far above its rounding: most faces a grid cell lists are then refused without
+/// a square root, and every face within reach gets face_lower_bound's own bits.
 double bound_within(const FaceIndex& index, const Vec3& slave, std::size_t f, double squared, double reach) {
   if (squared > reach * reach * (1.0 + 1e-12)) return std::numeric_limits<double>::infinity();
-  return std::max((slave - index.centres[f]).norm() - index.radii[f], std::sqrt(squared));
+  double bound = std::max((slave - index.centres[f]).norm() - index.radii[f], std::sqrt(squared));
+  if (!index.planes.empty()) {
+    // m_e.S rounded down by far more than its rounding (3 eps |S|_1, m_e a unit vector).
+    const EdgePlanes& p = index.planes[f];
+    const double slack = 1e-15 * slave.cwiseAbs().sum();
+    for (std::size_t e = 0; e < 3; ++e) bound = std::max(bound, p.m[e].dot(slave) - p.h[e] - slack);
+  }
+  return bound;
 }
 
 /// bound_within with face f's box distance.

@@ -286,6 +286,45 @@ TEST(SurfaceSearch, TrianglesCountAndMeetTheQuadsAtSharedEdges) {
   EXPECT_LT(fold[1].label.gap, 0.0);
 }
 
+TEST(SurfaceSearch, ASlaveOverOneTriangleOfACellProjectsThatTriangleAlone) {
+  // The roof's strip of triangles (as above): each cell's two triangles share a diagonal, and each one's box
+  // is the whole cell's. A slave 0.05 over a triangle, 0.1 or more from each of its edges, is beyond the
+  // other triangle's edge plane (EdgePlanes): one face projected, not two.
+  mesh::SurfaceMesh m = surface_of(9, 4, roof);
+  const int nx = 9;
+  for (int i = 0; i <= nx; ++i) {
+    m.node_ids.push_back(static_cast<long>(m.node_ids.size()) + 1);
+    m.positions.push_back(roof(i, 5) - Vec3(0, 0, 0.3));
+    m.adjacency_offsets.push_back(m.adjacency_offsets.back());
+  }
+  const int base = (nx + 1) * 5;
+  std::vector<Vec3> slaves;
+  for (int i = 0; i < nx; ++i) {
+    const int a = i + (nx + 1) * 4, b = a + 1, c = base + i + 1, d = base + i;
+    m.extra_faces.push_back({a, b, c, -1});
+    m.extra_faces.push_back({a, c, d, -1});
+    for (int k = 0; k < 2; ++k) {
+      m.extra_face_faces.push_back({static_cast<int>(m.segments.size() + m.extra_faces.size()) - 1, 1});
+      m.extra_face_element_ids.push_back(1000 + static_cast<long>(m.extra_faces.size()));
+    }
+    for (const auto& [t, weights] : {std::pair{std::array{a, b, c}, Vec3(0.5, 0.3, 0.2)},
+                                     std::pair{std::array{a, c, d}, Vec3(0.5, 0.2, 0.3)}}) {
+      const Vec3 &x = m.positions[static_cast<std::size_t>(t[0])],
+                 &y = m.positions[static_cast<std::size_t>(t[1])],
+                 &z = m.positions[static_cast<std::size_t>(t[2])];
+      const Vec3 normal = (y - x).cross(z - x).normalized();
+      slaves.push_back(weights[0] * x + weights[1] * y + weights[2] * z + 0.05 * normal);
+    }
+  }
+  const auto found = search(m, slaves);
+  for (std::size_t i = 0; i < slaves.size(); ++i) {
+    ASSERT_EQ(found[i].status, PairStatus::kFound) << i;
+    EXPECT_EQ(m.face_corners(found[i].segment).size(), 3U) << i;
+    EXPECT_NEAR(found[i].label.gap, 0.05, kExact) << i;
+    EXPECT_EQ(found[i].candidates, 1) << i;
+  }
+}
+
 TEST(SurfaceSearch, EverySearchGivesTheUnitScalesAnswerAtScalesFrom1eMinus200To1e200) {
   // The closest points and the trees' squared radii need lengths whose fourth powers stay in the double
   // range: scaled by 1e-100 the surface search found no point for any slave node, by 1e100 it put every point
