@@ -42,6 +42,10 @@ class FaceGrid {
   /// Whether every face f's box lies inside the box it had at the build, inflated by the margin (then the
   /// grid still lists every face near a point: the queries stay exact).
   [[nodiscard]] bool holds(std::span<const Vec3> box_lo, std::span<const Vec3> box_hi) const;
+  /// The boxes the grid was last built for or found to hold, by the caller's stamp (FaceIndex::generation):
+  /// boxes of the same stamp are those boxes, bit for bit, so the grid holds them without a look.
+  void held(std::uint64_t stamp) { held_ = stamp; }
+  [[nodiscard]] std::uint64_t held() const { return held_; }
 
   /// fn(face) once for every face whose (build-time, inflated) box comes within `reach` of x, and maybe a
   /// few more; nothing for a non-finite x.
@@ -86,6 +90,7 @@ class FaceGrid {
   [[nodiscard]] int face_near(const Vec3& x, std::span<const Vec3> centres, bool around = true) const;
 
  private:
+  std::uint64_t held_ = 0;
   /// offsets_ and entries_ from first_cell_ and last_cell_ for `cells` cells (build's last step).
   void fill_cells(std::size_t cells);
   /// The rows of cells (a y-row at each z) split among `threads` threads: thread t fills rows [split[t],

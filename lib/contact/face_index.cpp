@@ -1,6 +1,7 @@
 #include "contact/face_index.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
 
@@ -303,12 +304,18 @@ FaceIndex index_faces(const mesh::SurfaceMesh& master, std::span<const Vec3> nor
   const bool gregory = options.surface == SurfaceKind::kGregory && normals.size() == node_count;
   const bool kept = same_faces && index.built_unit == unit && index.built_positions.size() == node_count &&
                     (!gregory || index.built_normals.size() == node_count);
+  // A kept index's positions and normals become this state's here (where keep asks for them again).
   std::vector<std::uint8_t> moved(node_count, 1);
+  bool any_moved = !kept;
   if (kept) {
-#pragma omp parallel for schedule(static) if (node_count >= 16384)
+#pragma omp parallel for reduction(|| : any_moved) schedule(static) if (node_count >= 16384)
     for (std::size_t i = 0; i < node_count; ++i) {
       moved[i] = !(master.positions[i] == index.built_positions[i]) ||
                  (gregory && !(normals[i] == index.built_normals[i]));
+      if (moved[i] == 0) continue;
+      any_moved = true;
+      index.built_positions[i] = master.positions[i];
+      if (gregory) index.built_normals[i] = normals[i];
     }
   }
   // Slots for bilinear certificates, prepared triangles and curved certificates where the surface has such
@@ -339,10 +346,15 @@ FaceIndex index_faces(const mesh::SurfaceMesh& master, std::span<const Vec3> nor
   index.left_out = 0;
   if (region != nullptr && !keep) {
     index_region(index, master, normals, options, *region);
-  } else {
+  } else if (any_moved) {
     index_each(index, master, normals, options, moved, kept);
+  } else {
+    index.box_drift = 0.0;  // kept, and no node has moved: every face's entries stay
   }
-  if (keep) {
+  // A new stamp where a box may have changed (FaceGrid::held).
+  static std::atomic<std::uint64_t> stamps{0};
+  if (any_moved) index.generation = stamps.fetch_add(1, std::memory_order_relaxed) + 1;
+  if (keep && !kept) {
     // This state's positions and normals, copied in parallel (the tables are kept: resize allocates once).
     index.built_positions.resize(node_count);
     index.built_normals.resize(gregory ? node_count : 0);
@@ -351,6 +363,8 @@ FaceIndex index_faces(const mesh::SurfaceMesh& master, std::span<const Vec3> nor
       index.built_positions[i] = master.positions[i];
       if (gregory) index.built_normals[i] = normals[i];
     }
+    index.built_unit = unit;
+  } else if (keep) {
     index.built_unit = unit;
   } else {
     index.built_unit = 0.0;

@@ -38,6 +38,9 @@ struct FaceIndex {
   /// The largest movement of a face's box (box_movement) since the kept index's state, rounded up; infinite
   /// where no index was kept (the first state, another unit or other faces).
   double box_drift = 0.0;
+  /// Changes (a fresh stamp, never 0) wherever a face's box may have changed since the index it was kept
+  /// from: an index of the same stamp holds the same boxes, bit for bit (FaceGrid::held).
+  std::uint64_t generation = 0;
   /// The faces at each surface node (node_faces.hpp): a kept one where the connectivity is the same.
   std::shared_ptr<const NodeFaces> topology;
   /// The positions and normals (working units) the faces' entries were computed from, where the index is kept

@@ -519,10 +519,14 @@ struct SurfaceSearcher::Impl {
         options.capture_distance > 0.0 ? options.capture_distance : options.capture_relative * largest_size;
     if (options.narrow != NarrowPhase::kReference && !options.brute_force_faces) {
       FaceGrid& g = kept != nullptr ? *kept : own_grid;
-      if (kept == nullptr || kept->unit() != unit || !kept->holds(index.box_lo, index.box_hi)) {
+      // A kept grid holds the boxes it held at the last state where no box has changed since (the same
+      // stamp).
+      if (kept == nullptr || kept->unit() != unit ||
+          !(kept->held() == index.generation || kept->holds(index.box_lo, index.box_hi))) {
         g.build(index.box_lo, index.box_hi, kept != nullptr ? grid_margin_relative * capture : 0.0, unit);
         grid_rebuilt = true;
       }
+      g.held(index.generation);
       grid = &g;
     }
     if (unit == 1.0) return;
