@@ -144,23 +144,20 @@ void bound_face(FaceIndex& index, const mesh::SurfaceMesh& master, std::span<con
 }
 
 /// How far a Gregory patch's control points (GregoryPatch::control_points_of, SPEC 3) can lie from its nodes,
-/// from the nodes and normals alone: L (2/3 + 11 rho / 9), L the longest node distance and rho the largest
-/// ratio of the two edges at a node projected on its tangent plane (larger over smaller); infinite where that
-/// ratio is not safely computed (an edge projected to less than 1e-6 L, a normal's length out of range).
+/// from the nodes and normals alone: L (2/3 + 11 rho / 9), L = `size` (the longest node distance,
+/// face_extent's) and rho the largest ratio of the two edges at a node projected on its tangent plane (larger
+/// over smaller); infinite where that ratio is not safely computed (an edge projected to less than 1e-6 L, a
+/// normal's length out of range).
 ///   An edge point E(X->Y) = X + P_X (Y - X) / 3 lies within L / 3 of X. The interior point near X of edge XY
 /// is E(X->Y) + b1, b1 = ((k0 + k1) a0 + k0 a3 + 2 h0 c1 + h1 c0) / 3 with unit a0, a3; |k0|, |k1| <= L / 3
 /// (each the dot of a unit vector and an edge point's offset); |c0| <= L / 3, |c1| <= L + 2 L / 3; h0 =
 /// c0.b0 / c0.c0, so |h0| <= |b0| / |c0|, the ratio of X's two projected edges, and |h1| likewise at Y. So
 /// |b1| <= L (1 + 11 rho / 3) / 3, and the point lies within L / 3 + |b1| of X (the point near Y of Y alike).
 /// The bound is returned with a relative slack of 1e-6 (the rounding of the points and of rho).
-double gregory_reach(const geometry::Configuration& config) {
+double gregory_reach(const geometry::Configuration& config, double size) {
   constexpr double kInf = std::numeric_limits<double>::infinity();
-  double longest = 0.0;  // squared
-  for (int i = 0; i < 4; ++i) {
-    for (int j = i + 1; j < 4; ++j)
-      longest = std::max(longest, (config.nodes[i] - config.nodes[j]).squaredNorm());
-  }
-  double rho = 1.0;  // squared
+  const double longest = size * size;  // the face's size (face_extent): its longest node distance, squared
+  double rho = 1.0;                    // squared
   for (int i = 0; i < 4; ++i) {
     const Vec3& n = config.normals[i];
     const double nn = n.squaredNorm();
@@ -173,7 +170,7 @@ double gregory_reach(const geometry::Configuration& config) {
     if (!(small > 1e-12 * longest)) return kInf;
     rho = std::max(rho, std::max(a, b) / small);
   }
-  const double reach = std::sqrt(longest) * (2.0 / 3.0 + 11.0 / 9.0 * std::sqrt(rho)) * (1.0 + 1e-6);
+  const double reach = size * (2.0 / 3.0 + 11.0 / 9.0 * std::sqrt(rho)) * (1.0 + 1e-6);
   return std::isfinite(reach) ? reach : kInf;
 }
 
@@ -194,14 +191,14 @@ void loose_bound(FaceIndex& index, const mesh::SurfaceMesh& master, std::span<co
     lo = lo.cwiseMin(x);
     hi = hi.cwiseMax(x);
   }
-  const double widen =
-      gregory_reach(config) + 1e-12 * (lo.cwiseAbs().cwiseMax(hi.cwiseAbs()).maxCoeff() + index.sizes[f]);
+  const double widen = gregory_reach(config, index.sizes[f]) +
+                       1e-12 * (lo.cwiseAbs().cwiseMax(hi.cwiseAbs()).maxCoeff() + index.sizes[f]);
   index.box_lo[f] = lo - Vec3::Constant(widen);
   index.box_hi[f] = hi + Vec3::Constant(widen);
 }
 
 /// Whether a face's box (finite) lies farther than `reach` from every point of `region`.
-bool beyond(const Vec3& lo, const Vec3& hi, const QueryRegion& region, double reach) {
+bool beyond(const Vec3& lo, const Vec3& hi, const PointBox& region, double reach) {
   if (!lo.allFinite() || !hi.allFinite()) return false;
   const Vec3 gap = (lo - region.hi).cwiseMax(region.lo - hi).cwiseMax(Vec3::Zero());
   return !(gap.squaredNorm() <= reach * reach);
@@ -242,7 +239,7 @@ void index_each(FaceIndex& index, const mesh::SurfaceMesh& master, std::span<con
 /// distance from the sizes (capture_distance's), then every face whose box lies beyond that distance of the
 /// region left out (its box empty, its sphere 0, nothing prepared) and the others prepared and bound.
 void index_region(FaceIndex& index, const mesh::SurfaceMesh& master, std::span<const Vec3> normals,
-                  const SearchOptions& options, const QueryRegion& region) {
+                  const SearchOptions& options, const PointBox& region) {
   const std::size_t n = index.centres.size();
   double largest = 0.0;
 #pragma omp parallel for reduction(max : largest) schedule(static) if (n >= 4096)
@@ -281,7 +278,7 @@ void index_region(FaceIndex& index, const mesh::SurfaceMesh& master, std::span<c
 
 FaceIndex index_faces(const mesh::SurfaceMesh& master, std::span<const Vec3> normals,
                       const SearchOptions& options, std::shared_ptr<const NodeFaces>* topology,
-                      FaceIndex&& recycled, double unit, bool keep, const QueryRegion* region) {
+                      FaceIndex&& recycled, double unit, bool keep, const PointBox* region) {
   FaceIndex index = std::move(recycled);  // its buffers: every moved face's entries rewritten below
   const auto n = static_cast<std::size_t>(master.face_count());
   index.centres.resize(n);

@@ -74,22 +74,18 @@ struct SearchStorage::Tables {
   FaceIndex index;  ///< the last state's, its buffers to be reused
 };
 
-/// The box of the points a searcher will be asked about (working units; lo > hi on an axis: no point).
-struct QueryRegion {
-  Vec3 lo, hi;
-};
-
 /// The index of `master`'s state (working units) with `normals` (Gregory) and `options`. `topology`: the
 /// faces at each node, kept by the caller (SurfaceSearcher's). `recycled`: a kept index whose buffers are
 /// reused and, with `keep` and the same `unit`, whose entries are kept for every face none of whose nodes
 /// (nor, on Gregory patches, normals) has moved since it was built; `keep`: record this state's positions for
-/// the next. `region` (not with `keep`): every face whose bound lies beyond the capture distance of it is
+/// the next. `region` (not with `keep`): the box of the points the searcher will be asked about (working
+/// units); every face whose bound lies beyond the capture distance of it is
 /// left out (FaceIndex::left_out), its box empty; a Gregory patch's bound first from its nodes alone (its
 /// control points computed only for the faces kept).
 [[nodiscard]] FaceIndex index_faces(const mesh::SurfaceMesh& master, std::span<const Vec3> normals,
                                     const SearchOptions& options, std::shared_ptr<const NodeFaces>* topology,
                                     FaceIndex&& recycled, double unit, bool keep,
-                                    const QueryRegion* region = nullptr);
+                                    const PointBox* region = nullptr);
 
 /// Face f's certificate, or null where it has none (NarrowPhase::kReference, or not a checked bilinear
 /// quad4).

@@ -25,7 +25,7 @@ std::uint64_t spread_bits(std::uint64_t x) {
 }  // namespace
 
 void spatial_order(std::span<const Vec3> points, std::vector<std::uint32_t>& order,
-                   std::vector<std::uint64_t>& scratch) {
+                   std::vector<std::uint64_t>& scratch, PointBox* box) {
   const std::size_t n = points.size();
   CONTACTNN_REQUIRE(n < (std::size_t{1} << 32), n << " points: at most 2^32 - 1");
   order.resize(n);
@@ -50,6 +50,7 @@ void spatial_order(std::span<const Vec3> points, std::vector<std::uint32_t>& ord
     if (i > 0 && points[i - 1].allFinite()) step += (x - points[i - 1]).norm();
   }
   const Vec3 lo(lo0, lo1, lo2), hi(hi0, hi1, hi2);
+  if (box != nullptr) *box = PointBox{lo, hi};
   // A mesh's own order (rows of a grid, an element's nodes together) steps a node spacing or two on average,
   // about extent / sqrt(n) on a surface; kept, it is at least as local as the Z curve. Only an order that
   // steps farther (a random one) is sorted.

@@ -321,36 +321,14 @@ SearchOptions with_face_checked(SearchOptions o) {
   return o;
 }
 
-/// The box of `points` divided by `unit` (a power of two: exact), a NaN coordinate ignored (an empty box
-/// where every one is NaN). An infinite coordinate widens the box to it: a region is only ever too large.
-QueryRegion region_of(std::span<const Vec3> points, double unit) {
-  constexpr double kInf = std::numeric_limits<double>::infinity();
-  double lx = kInf, ly = kInf, lz = kInf, hx = -kInf, hy = -kInf, hz = -kInf;
-  const auto n = static_cast<long>(points.size());
-  // std::min(a, NaN) and std::max(a, NaN) are a.
-#pragma omp parallel for reduction(min                         \
-                                   : lx, ly, lz) reduction(max \
-                                                           : hx, hy, hz) schedule(static) if (n >= 65536)
-  for (long i = 0; i < n; ++i) {
-    const Vec3& p = points[static_cast<std::size_t>(i)];
-    lx = std::min(lx, p.x());
-    ly = std::min(ly, p.y());
-    lz = std::min(lz, p.z());
-    hx = std::max(hx, p.x());
-    hy = std::max(hy, p.y());
-    hz = std::max(hz, p.z());
-  }
-  return QueryRegion{Vec3(lx, ly, lz) / unit, Vec3(hx, hy, hz) / unit};
-}
-
 struct SurfaceSearcher::Impl {
   double unit;                                ///< world length = unit x working length
   std::unique_ptr<mesh::SurfaceMesh> scaled;  ///< the master in working units, where unit != 1
   const mesh::SurfaceMesh& master;            ///< the master in working units
   std::span<const Vec3> normals;              ///< unit vectors: the same in any unit
   SearchOptions options;
-  SearchOptions checked_options;      ///< options with projection.face_checked (FaceIndex::checked)
-  std::optional<QueryRegion> region;  ///< the box of the points it is asked about (working units), if given
+  SearchOptions checked_options;   ///< options with projection.face_checked (FaceIndex::checked)
+  std::optional<PointBox> region;  ///< the box of the points it is asked about (working units), if given
   FaceIndex index;
   double capture = 0.0;
   double largest_radius = 0.0;
@@ -495,7 +473,7 @@ struct SurfaceSearcher::Impl {
 
   Impl(const mesh::SurfaceMesh& m, std::span<const Vec3> n, const SearchOptions& o, FaceGrid* kept,
        double grid_margin_relative, std::shared_ptr<const NodeFaces>* topology, SearchStorage* kept_storage,
-       std::span<const Vec3> queries)
+       const PointBox* queries)
       : unit(working_unit(m)),
         scaled(unit == 1.0 ? nullptr : std::make_unique<mesh::SurfaceMesh>(in_unit(m, unit))),
         master(scaled ? *scaled : m),
@@ -503,8 +481,8 @@ struct SurfaceSearcher::Impl {
         options(in_unit(o, unit)),
         checked_options(with_face_checked(options)),
         region(kept_storage == nullptr && kept == nullptr && options.narrow != NarrowPhase::kReference &&
-                       !options.brute_force_faces && !queries.empty()
-                   ? std::optional<QueryRegion>(region_of(queries, unit))
+                       !options.brute_force_faces && queries != nullptr
+                   ? std::optional<PointBox>(PointBox{queries->lo / unit, queries->hi / unit})
                    : std::nullopt),
         index(index_faces(master, n, options, topology,
                           kept_storage != nullptr ? std::move(kept_storage->tables().index) : FaceIndex{},
@@ -543,7 +521,7 @@ struct SurfaceSearcher::Impl {
 SurfaceSearcher::SurfaceSearcher(const mesh::SurfaceMesh& master, std::span<const Vec3> master_normals,
                                  const SearchOptions& options, FaceGrid* grid, double grid_margin_relative,
                                  std::shared_ptr<const NodeFaces>* topology, SearchStorage* storage,
-                                 std::span<const Vec3> queries) {
+                                 const PointBox* queries) {
   const bool gregory = options.surface == SurfaceKind::kGregory;
   CONTACTNN_REQUIRE(!gregory || master_normals.size() == master.positions.size(),
                     "Gregory search needs one node normal per master node: "
@@ -774,21 +752,24 @@ void surface_search(const mesh::SurfaceMesh& master, std::span<const Vec3> maste
                     const SearchOptions& options, std::vector<Contact>& contacts) {
   CONTACTNN_REQUIRE(slave_ids.size() == slave_positions.size(),
                     slave_ids.size() << " slave ids for " << slave_positions.size() << " positions");
-  // Every query is a slave node's: the faces beyond the capture distance of their box are left out.
-  const SurfaceSearcher searcher(master, master_normals, options, nullptr, 0.0, nullptr, nullptr,
-                                 slave_positions);
   const auto n = static_cast<long>(slave_ids.size());
-  contacts.resize(static_cast<std::size_t>(n));
-  // The slave nodes in Morton order (the search before the certificate, NarrowPhase::kReference, in theirs).
+  // The slave nodes in Morton order (the search before the certificate, NarrowPhase::kReference, in theirs),
+  // and their box: every query is a slave node's, so the faces beyond the capture distance of it are left
+  // out.
   thread_local std::vector<std::uint32_t> order;
   thread_local std::vector<std::uint64_t> codes;
-  if (options.narrow == NarrowPhase::kReference) {
+  PointBox box;
+  const bool reference = options.narrow == NarrowPhase::kReference;
+  if (reference) {
     CONTACTNN_REQUIRE(slave_ids.size() < (std::size_t{1} << 32), n << " slave nodes: at most 2^32 - 1");
     order.resize(static_cast<std::size_t>(n));
     for (std::size_t i = 0; i < order.size(); ++i) order[i] = static_cast<std::uint32_t>(i);
   } else {
-    spatial_order(slave_positions, order, codes);
+    spatial_order(slave_positions, order, codes, &box);
   }
+  const SurfaceSearcher searcher(master, master_normals, options, nullptr, 0.0, nullptr, nullptr,
+                                 reference ? nullptr : &box);
+  contacts.resize(static_cast<std::size_t>(n));
   const std::uint32_t* at = order.data();
 #pragma omp parallel if (n >= 512)
   {

@@ -155,6 +155,11 @@ struct NearFaces {
 };
 static_assert(sizeof(NearFaces) == 80);
 
+/// A box of points: the smallest holding every finite one (lo > hi on each axis where none is finite).
+struct PointBox {
+  Vec3 lo, hi;
+};
+
 /// Buffers a caller keeps between states (a tracker's increments), so that a state's SurfaceSearcher writes
 /// its faces' tables (spheres, boxes, prepared faces and certificates) into the last state's memory instead
 /// of allocating it afresh: nothing is allocated per increment once warm, and no page is faulted in again. A
@@ -187,15 +192,15 @@ class SurfaceSearcher {
   /// only. `topology`: the faces at each node, a caller's kept between states, used where it matches the
   /// master's connectivity (NodeFaces::matches), else built afresh and put there (null: built for this
   /// searcher alone). `storage`: buffers kept between states (SearchStorage), taken by the searcher and given
-  /// back when it ends; it must outlive the searcher and serve one searcher at a time. `queries`: the points
-  /// (world units) the searcher will be asked about, where the caller knows them: the certified search
-  /// without a caller's grid or storage then leaves out every face beyond the capture distance of their box
-  /// (neither bounded nor prepared: faces_left_out), and a query from elsewhere may miss a face. Empty: none
-  /// left out.
+  /// back when it ends; it must outlive the searcher and serve one searcher at a time. `queries`: the box
+  /// (world units) of the points the searcher will be asked about, where the caller knows them
+  /// (spatial_order gives it): the certified search without a caller's grid or storage then leaves out every
+  /// face beyond the capture distance of it (neither bounded nor prepared: faces_left_out), and a query from
+  /// elsewhere may miss a face. Null: none left out.
   SurfaceSearcher(const mesh::SurfaceMesh& master, std::span<const Vec3> master_normals,
                   const SearchOptions& options, FaceGrid* grid = nullptr, double grid_margin_relative = 0.0,
                   std::shared_ptr<const NodeFaces>* topology = nullptr, SearchStorage* storage = nullptr,
-                  std::span<const Vec3> queries = {});
+                  const PointBox* queries = nullptr);
   ~SurfaceSearcher();
   SurfaceSearcher(const SurfaceSearcher&) = delete;
   SurfaceSearcher& operator=(const SurfaceSearcher&) = delete;
@@ -266,9 +271,9 @@ class SurfaceSearcher {
 /// depend on it), and a random node order costs about what a mesh's own does. An order whose consecutive
 /// points lie a few spacings apart on average (a mesh's own, at most 8 extent / sqrt(n) a step) is kept as it
 /// is: measured on the large history's grid order, the Z curve was slower. `order` and `scratch` are resized
-/// and reused.
+/// and reused. `box`, where given: the points' PointBox (the same pass).
 void spatial_order(std::span<const Vec3> points, std::vector<std::uint32_t>& order,
-                   std::vector<std::uint64_t>& scratch);
+                   std::vector<std::uint64_t>& scratch, PointBox* box = nullptr);
 
 /// Steps 1-4 above for every slave node, in parallel (OpenMP); result i belongs to slave i; deterministic
 /// for any thread count. `master_normals`: unit node normals (mesh::node_normals) for Gregory, ignored for

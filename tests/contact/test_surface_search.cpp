@@ -34,6 +34,29 @@ Vec3 roof(double i, double j) {
   return Vec3(i, j, 0.5 * z);
 }
 
+/// The roof, then a strip of triangles along its far side y = 4..5, tilted down: each column a cell of two,
+/// (a, b, c) and (a, c, d) across its diagonal a-c.
+mesh::SurfaceMesh roof_with_triangles() {
+  mesh::SurfaceMesh m = surface_of(9, 4, roof);
+  const int nx = 9;
+  for (int i = 0; i <= nx; ++i) {
+    m.node_ids.push_back(static_cast<long>(m.node_ids.size()) + 1);
+    m.positions.push_back(roof(i, 5) - Vec3(0, 0, 0.3));
+    m.adjacency_offsets.push_back(m.adjacency_offsets.back());  // no segment at the new nodes
+  }
+  const int base = (nx + 1) * 5;  // first node of the new row
+  for (int i = 0; i < nx; ++i) {
+    const int a = i + (nx + 1) * 4, b = a + 1, c = base + i + 1, d = base + i;
+    m.extra_faces.push_back({a, b, c, -1});
+    m.extra_faces.push_back({a, c, d, -1});
+    for (int k = 0; k < 2; ++k) {
+      m.extra_face_faces.push_back({static_cast<int>(m.segments.size() + m.extra_faces.size()) - 1, 1});
+      m.extra_face_element_ids.push_back(1000 + static_cast<long>(m.extra_faces.size()));
+    }
+  }
+  return m;
+}
+
 std::vector<NodeSegmentPair> search(const mesh::SurfaceMesh& m, const std::vector<Vec3>& slaves,
                                     SearchOptions options = {}) {
   std::vector<long> ids(slaves.size());
@@ -244,24 +267,7 @@ TEST(SurfaceSearch, GregorySurfaceTreeEqualsBruteForceAndNoPatchSampleIsNearer) 
 }
 
 TEST(SurfaceSearch, TrianglesCountAndMeetTheQuadsAtSharedEdges) {
-  // The roof, then a strip of triangles along its far side y = 4..5 (two per column), tilted down.
-  mesh::SurfaceMesh m = surface_of(9, 4, roof);
-  const int nx = 9;
-  for (int i = 0; i <= nx; ++i) {
-    m.node_ids.push_back(static_cast<long>(m.node_ids.size()) + 1);
-    m.positions.push_back(roof(i, 5) - Vec3(0, 0, 0.3));
-    m.adjacency_offsets.push_back(m.adjacency_offsets.back());  // no segment at the new nodes
-  }
-  const int base = (nx + 1) * 5;  // first node of the new row
-  for (int i = 0; i < nx; ++i) {
-    const int a = i + (nx + 1) * 4, b = a + 1, c = base + i + 1, d = base + i;
-    m.extra_faces.push_back({a, b, c, -1});
-    m.extra_faces.push_back({a, c, d, -1});
-    for (int k = 0; k < 2; ++k) {
-      m.extra_face_faces.push_back({static_cast<int>(m.segments.size() + m.extra_faces.size()) - 1, 1});
-      m.extra_face_element_ids.push_back(1000 + static_cast<long>(m.extra_faces.size()));
-    }
-  }
+  const mesh::SurfaceMesh m = roof_with_triangles();
   const std::vector<Vec3> slaves = random_slaves(2000, 31);
   SearchOptions options;
   options.capture_distance = 1e3;
@@ -290,31 +296,17 @@ TEST(SurfaceSearch, ASlaveOverOneTriangleOfACellProjectsThatTriangleAlone) {
   // The roof's strip of triangles (as above): each cell's two triangles share a diagonal, and each one's box
   // is the whole cell's. A slave 0.05 over a triangle, 0.1 or more from each of its edges, is beyond the
   // other triangle's edge plane (EdgePlanes): one face projected, not two.
-  mesh::SurfaceMesh m = surface_of(9, 4, roof);
-  const int nx = 9;
-  for (int i = 0; i <= nx; ++i) {
-    m.node_ids.push_back(static_cast<long>(m.node_ids.size()) + 1);
-    m.positions.push_back(roof(i, 5) - Vec3(0, 0, 0.3));
-    m.adjacency_offsets.push_back(m.adjacency_offsets.back());
-  }
-  const int base = (nx + 1) * 5;
+  const mesh::SurfaceMesh m = roof_with_triangles();
   std::vector<Vec3> slaves;
-  for (int i = 0; i < nx; ++i) {
-    const int a = i + (nx + 1) * 4, b = a + 1, c = base + i + 1, d = base + i;
-    m.extra_faces.push_back({a, b, c, -1});
-    m.extra_faces.push_back({a, c, d, -1});
-    for (int k = 0; k < 2; ++k) {
-      m.extra_face_faces.push_back({static_cast<int>(m.segments.size() + m.extra_faces.size()) - 1, 1});
-      m.extra_face_element_ids.push_back(1000 + static_cast<long>(m.extra_faces.size()));
-    }
-    for (const auto& [t, weights] : {std::pair{std::array{a, b, c}, Vec3(0.5, 0.3, 0.2)},
-                                     std::pair{std::array{a, c, d}, Vec3(0.5, 0.2, 0.3)}}) {
-      const Vec3 &x = m.positions[static_cast<std::size_t>(t[0])],
-                 &y = m.positions[static_cast<std::size_t>(t[1])],
-                 &z = m.positions[static_cast<std::size_t>(t[2])];
-      const Vec3 normal = (y - x).cross(z - x).normalized();
-      slaves.push_back(weights[0] * x + weights[1] * y + weights[2] * z + 0.05 * normal);
-    }
+  for (std::size_t q = 0; q < m.extra_faces.size(); ++q) {
+    const std::array<int, 4>& t = m.extra_faces[q];
+    // A point inside each triangle, 0.1 or more from its edges in barycentric weight.
+    const Vec3 weights = q % 2 == 0 ? Vec3(0.5, 0.3, 0.2) : Vec3(0.5, 0.2, 0.3);
+    const Vec3 &x = m.positions[static_cast<std::size_t>(t[0])],
+               &y = m.positions[static_cast<std::size_t>(t[1])],
+               &z = m.positions[static_cast<std::size_t>(t[2])];
+    const Vec3 normal = (y - x).cross(z - x).normalized();
+    slaves.push_back(weights[0] * x + weights[1] * y + weights[2] * z + 0.05 * normal);
   }
   const auto found = search(m, slaves);
   for (std::size_t i = 0; i < slaves.size(); ++i) {
@@ -457,6 +449,15 @@ void expect_same_contact(const Contact& a, const Contact& b, const std::string& 
   EXPECT_EQ(a.normal, b.normal) << where;
 }
 
+/// The points' box, as surface_search takes it from spatial_order.
+PointBox box_of(const std::vector<Vec3>& points) {
+  std::vector<std::uint32_t> order;
+  std::vector<std::uint64_t> scratch;
+  PointBox box;
+  spatial_order(points, order, scratch, &box);
+  return box;
+}
+
 /// Each slave's answer from `searcher` (nearest_fresh, no hint).
 std::vector<Contact> answers(const SurfaceSearcher& searcher, const std::vector<Vec3>& slaves) {
   std::vector<Contact> out(slaves.size());
@@ -482,7 +483,8 @@ TEST(SurfaceSearch, FacesBeyondTheQueriesAreLeftOutAndEveryQueryGetsTheSameAnswe
     SearchOptions options;
     options.surface = surface;
     const SurfaceSearcher all(m, normals, options);
-    const SurfaceSearcher near(m, normals, options, nullptr, 0.0, nullptr, nullptr, slaves);
+    const PointBox slaves_box = box_of(slaves);
+    const SurfaceSearcher near(m, normals, options, nullptr, 0.0, nullptr, nullptr, &slaves_box);
     EXPECT_EQ(all.faces_left_out(), 0U);
     // The slaves' box is 6 x 6 faces; with the capture distance (sqrt 2) and the patches' bounds, at most
     // 13 x 13 faces come within reach of it.
@@ -497,7 +499,8 @@ TEST(SurfaceSearch, FacesBeyondTheQueriesAreLeftOutAndEveryQueryGetsTheSameAnswe
     EXPECT_LT(found, 400);  // some beyond the capture distance: no face within it, with or without the region
     // A slave off the sheet's edge, 1.2 from it (the capture distance is sqrt 2): the edge face is kept.
     const std::vector<Vec3> off = {Vec3(-1.2, 3.5, 0.0)};
-    const SurfaceSearcher edge(m, normals, options, nullptr, 0.0, nullptr, nullptr, off);
+    const PointBox off_box = box_of(off);
+    const SurfaceSearcher edge(m, normals, options, nullptr, 0.0, nullptr, nullptr, &off_box);
     EXPECT_GE(edge.faces_left_out(), 900U - 30U);
     const Contact answer = answers(edge, off)[0];
     EXPECT_EQ(answer.status, PairStatus::kFound);
@@ -524,7 +527,8 @@ TEST(SurfaceSearch, AGregoryPatchBulgingFarOffItsNodesIsKeptForAQueryNearItsTop)
   options.capture_distance = 0.05;
   const std::vector<Vec3> slave = {top + Vec3(0.0, 0.0, 0.01)};
   const SurfaceSearcher all(m, normals, options);
-  const SurfaceSearcher near(m, normals, options, nullptr, 0.0, nullptr, nullptr, slave);
+  const PointBox slave_box = box_of(slave);
+  const SurfaceSearcher near(m, normals, options, nullptr, 0.0, nullptr, nullptr, &slave_box);
   EXPECT_EQ(near.faces_left_out(), 0U);
   const std::vector<Contact> a = answers(all, slave), b = answers(near, slave);
   ASSERT_EQ(b[0].status, PairStatus::kFound);
@@ -532,7 +536,8 @@ TEST(SurfaceSearch, AGregoryPatchBulgingFarOffItsNodesIsKeptForAQueryNearItsTop)
   expect_same_contact(a[0], b[0], "the slave above the top");
   // Beyond the capture distance of the whole patch, the face is left out, and nothing is found either way.
   const std::vector<Vec3> high = {top + Vec3(0.0, 0.0, 5.0)};
-  const SurfaceSearcher far(m, normals, options, nullptr, 0.0, nullptr, nullptr, high);
+  const PointBox high_box = box_of(high);
+  const SurfaceSearcher far(m, normals, options, nullptr, 0.0, nullptr, nullptr, &high_box);
   EXPECT_EQ(far.faces_left_out(), 1U);
   expect_same_contact(answers(all, high)[0], answers(far, high)[0], "the slave far above");
   EXPECT_EQ(answers(far, high)[0].status, PairStatus::kNoSegment);
