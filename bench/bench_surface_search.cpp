@@ -159,7 +159,9 @@ void history_run(benchmark::State& state, std::size_t states, Run&& run) {
 void history_fresh(benchmark::State& state) {
   const History& h = history();
   history_run(state, h.positions.size(), [&](const contact::SearchOptions& options, auto& pairs) {
-    for (const auto& x : h.positions) contact::surface_search(h.master, h.normals, h.ids, x, options, pairs);
+    contact::SearchStorage storage;  // the faces' tables' memory, an FE code's from one increment to the next
+    for (const auto& x : h.positions)
+      contact::surface_search(h.master, h.normals, h.ids, x, options, pairs, &storage);
   });
 }
 
@@ -274,12 +276,13 @@ template <class Answer>
 void scene_fresh(benchmark::State& state, const Scene& s) {
   const contact::SearchOptions options = scene_options(state);
   std::vector<Answer> pairs;
+  contact::SearchStorage storage;
   // One search untimed first, as an FE code's increments after its first (and as the tracked benchmarks):
-  // its answers' buffer and the allocator's pages warm. A single cold call took 499 ns per node on the
+  // its answers' buffer and the faces' tables (storage) warm. A single cold call took 499 ns per node on the
   // quad8 sheet where warm calls take 382.
-  contact::surface_search(s.master, s.normals, s.ids, s.slaves, options, pairs);
+  contact::surface_search(s.master, s.normals, s.ids, s.slaves, options, pairs, &storage);
   for (auto _ : state) {
-    contact::surface_search(s.master, s.normals, s.ids, s.slaves, options, pairs);
+    contact::surface_search(s.master, s.normals, s.ids, s.slaves, options, pairs, &storage);
     benchmark::DoNotOptimize(pairs.data());
   }
   report(state, pairs);

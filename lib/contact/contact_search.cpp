@@ -63,6 +63,7 @@ struct ContactSearch::Impl {
   std::vector<Vec3> slave_positions;
   std::vector<Vec3> normals;  ///< Gregory node normals of the state
   SurfaceTracker tracker;
+  SearchStorage storage;  ///< the fresh search's tables' memory (tracking off), kept between updates
   std::vector<Contact> contacts;
   TrackingCounts counts;
 
@@ -373,7 +374,7 @@ void ContactSearch::update(std::span<const double> coordinates, std::span<const 
     if (m.options.tracking) {
       m.tracker.step(m.surface, m.normals, m.slave_ids, m.slave_positions, m.contacts, &m.counts);
     } else {
-      surface_search(m.surface, m.normals, m.slave_ids, m.slave_positions, m.search, m.contacts);
+      surface_search(m.surface, m.normals, m.slave_ids, m.slave_positions, m.search, m.contacts, &m.storage);
     }
   } catch (...) {
     m.tracker.reset();

@@ -287,10 +287,13 @@ FaceIndex index_faces(const mesh::SurfaceMesh& master, std::span<const Vec3> nor
   index.box_hi.resize(n);
   index.sizes.resize(n);
   index.checked.resize(n);
-  // The faces at each node: the kept ones where the connectivity has not changed.
+  // The faces at each node: the kept ones where the connectivity has not changed (the caller's, else the
+  // recycled index's).
   const bool same_faces = topology != nullptr && *topology != nullptr && (*topology)->matches(master);
   if (same_faces) {
     index.topology = *topology;
+  } else if (topology == nullptr && index.topology != nullptr && index.topology->matches(master)) {
+    // kept as it is
   } else {
     index.topology = std::make_shared<const NodeFaces>(master);
     if (topology != nullptr) *topology = index.topology;
@@ -299,7 +302,8 @@ FaceIndex index_faces(const mesh::SurfaceMesh& master, std::span<const Vec3> nor
   // its entries, bit for bit what they would be computed again.
   const std::size_t node_count = master.positions.size();
   const bool gregory = options.surface == SurfaceKind::kGregory && normals.size() == node_count;
-  const bool kept = same_faces && index.built_unit == unit && index.built_positions.size() == node_count &&
+  const bool kept = keep && same_faces && index.built_unit == unit &&
+                    index.built_positions.size() == node_count &&
                     (!gregory || index.built_normals.size() == node_count);
   // A kept index's positions and normals become this state's here (where keep asks for them again).
   std::vector<std::uint8_t> moved(node_count, 1);

@@ -11,6 +11,7 @@
 
 #include "contact/bilinear_certificate.hpp"
 #include "contact/curved_certificate.hpp"
+#include "contact/face_grid.hpp"
 #include "contact/face_slots.hpp"
 #include "contact/node_faces.hpp"
 #include "contact/surface_search.hpp"
@@ -72,16 +73,18 @@ struct FaceIndex {
 
 struct SearchStorage::Tables {
   FaceIndex index;  ///< the last state's, its buffers to be reused
+  FaceGrid grid;    ///< a fresh search's grid (SurfaceSearcher's own, built again), its buffers to be reused
 };
 
 /// The index of `master`'s state (working units) with `normals` (Gregory) and `options`. `topology`: the
-/// faces at each node, kept by the caller (SurfaceSearcher's). `recycled`: a kept index whose buffers are
-/// reused and, with `keep` and the same `unit`, whose entries are kept for every face none of whose nodes
-/// (nor, on Gregory patches, normals) has moved since it was built; `keep`: record this state's positions for
-/// the next. `region` (not with `keep`): the box of the points the searcher will be asked about (working
-/// units); every face whose bound lies beyond the capture distance of it is
-/// left out (FaceIndex::left_out), its box empty; a Gregory patch's bound first from its nodes alone (its
-/// control points computed only for the faces kept).
+/// faces at each node, kept by the caller (SurfaceSearcher's); null: the recycled index's where it has the
+/// master's connectivity, else built. `recycled`: a kept index whose buffers are reused and, with `keep` and
+/// the same `unit`, whose entries are kept for every face none of whose nodes (nor, on Gregory patches,
+/// normals) has moved since it was built (without `keep`, every entry is computed afresh: its memory alone
+/// is reused); `keep`: record this state's positions for the next. `region` (not with `keep`): the box of
+/// the points the searcher will be asked about (working units); every face whose bound lies beyond the
+/// capture distance of it is left out (FaceIndex::left_out), its box empty; a Gregory patch's bound first
+/// from its nodes alone (its control points computed only for the faces kept).
 [[nodiscard]] FaceIndex index_faces(const mesh::SurfaceMesh& master, std::span<const Vec3> normals,
                                     const SearchOptions& options, std::shared_ptr<const NodeFaces>* topology,
                                     FaceIndex&& recycled, double unit, bool keep,

@@ -480,13 +480,13 @@ struct SurfaceSearcher::Impl {
         normals(n),
         options(in_unit(o, unit)),
         checked_options(with_face_checked(options)),
-        region(kept_storage == nullptr && kept == nullptr && options.narrow != NarrowPhase::kReference &&
-                       !options.brute_force_faces && queries != nullptr
+        region(kept == nullptr && options.narrow != NarrowPhase::kReference && !options.brute_force_faces &&
+                       queries != nullptr
                    ? std::optional<PointBox>(PointBox{queries->lo / unit, queries->hi / unit})
                    : std::nullopt),
         index(index_faces(master, n, options, topology,
                           kept_storage != nullptr ? std::move(kept_storage->tables().index) : FaceIndex{},
-                          unit, kept_storage != nullptr, region ? &*region : nullptr)),
+                          unit, kept_storage != nullptr && queries == nullptr, region ? &*region : nullptr)),
 
         largest_radius(index.radii.empty() ? 0.0 : *std::max_element(index.radii.begin(), index.radii.end())),
         largest_size(index.sizes.empty() ? 0.0 : *std::max_element(index.sizes.begin(), index.sizes.end())),
@@ -496,6 +496,8 @@ struct SurfaceSearcher::Impl {
     capture =
         options.capture_distance > 0.0 ? options.capture_distance : options.capture_relative * largest_size;
     if (options.narrow != NarrowPhase::kReference && !options.brute_force_faces) {
+      // A fresh search's own grid in the storage's memory (built again below).
+      if (kept == nullptr && storage != nullptr) own_grid = std::move(storage->tables().grid);
       FaceGrid& g = kept != nullptr ? *kept : own_grid;
       // A kept grid holds the boxes it held at the last state where no box has changed since (the same
       // stamp).
@@ -514,7 +516,9 @@ struct SurfaceSearcher::Impl {
   Impl(const Impl&) = delete;
   Impl& operator=(const Impl&) = delete;
   ~Impl() {
-    if (storage != nullptr) storage->tables().index = std::move(index);
+    if (storage == nullptr) return;
+    storage->tables().index = std::move(index);
+    if (grid == &own_grid) storage->tables().grid = std::move(own_grid);
   }
 };
 
@@ -741,15 +745,16 @@ std::vector<NodeSegmentPair> surface_search(const mesh::SurfaceMesh& master,
 
 void surface_search(const mesh::SurfaceMesh& master, std::span<const Vec3> master_normals,
                     std::span<const long> slave_ids, std::span<const Vec3> slave_positions,
-                    const SearchOptions& options, std::vector<NodeSegmentPair>& pairs) {
+                    const SearchOptions& options, std::vector<NodeSegmentPair>& pairs,
+                    SearchStorage* storage) {
   std::vector<Contact> contacts;
-  surface_search(master, master_normals, slave_ids, slave_positions, options, contacts);
+  surface_search(master, master_normals, slave_ids, slave_positions, options, contacts, storage);
   to_pairs(master, master_normals, options, contacts, slave_positions, pairs);
 }
 
 void surface_search(const mesh::SurfaceMesh& master, std::span<const Vec3> master_normals,
                     std::span<const long> slave_ids, std::span<const Vec3> slave_positions,
-                    const SearchOptions& options, std::vector<Contact>& contacts) {
+                    const SearchOptions& options, std::vector<Contact>& contacts, SearchStorage* storage) {
   CONTACTNN_REQUIRE(slave_ids.size() == slave_positions.size(),
                     slave_ids.size() << " slave ids for " << slave_positions.size() << " positions");
   const auto n = static_cast<long>(slave_ids.size());
@@ -767,8 +772,8 @@ void surface_search(const mesh::SurfaceMesh& master, std::span<const Vec3> maste
   } else {
     spatial_order(slave_positions, order, codes, &box);
   }
-  const SurfaceSearcher searcher(master, master_normals, options, nullptr, 0.0, nullptr, nullptr,
-                                 reference ? nullptr : &box);
+  const SurfaceSearcher searcher(master, master_normals, options, nullptr, 0.0, nullptr,
+                                 reference ? nullptr : storage, reference ? nullptr : &box);
   contacts.resize(static_cast<std::size_t>(n));
   const std::uint32_t* at = order.data();
 #pragma omp parallel if (n >= 512)

@@ -160,10 +160,11 @@ struct PointBox {
   Vec3 lo, hi;
 };
 
-/// Buffers a caller keeps between states (a tracker's increments), so that a state's SurfaceSearcher writes
-/// its faces' tables (spheres, boxes, prepared faces and certificates) into the last state's memory instead
-/// of allocating it afresh: nothing is allocated per increment once warm, and no page is faulted in again. A
-/// copy starts empty (buffers, not state: the answers never depend on them).
+/// Buffers a caller keeps between states (a tracker's increments, or a fresh search's: surface_search), so
+/// that a state's SurfaceSearcher writes its faces' tables (spheres, boxes, prepared faces and certificates)
+/// and the faces at each node into the last state's memory instead of allocating it afresh: nothing is
+/// allocated per increment once warm, and no page is faulted in again. A copy starts empty (buffers, not
+/// state: the answers never depend on them).
 class SearchStorage {
  public:
   SearchStorage();
@@ -190,13 +191,15 @@ class SurfaceSearcher {
   /// holds this state's faces (FaceGrid::holds, in the same unit), else rebuilt with their boxes inflated by
   /// `grid_margin_relative` x the capture distance; null: the searcher builds its own. The certified search's
   /// only. `topology`: the faces at each node, a caller's kept between states, used where it matches the
-  /// master's connectivity (NodeFaces::matches), else built afresh and put there (null: built for this
-  /// searcher alone). `storage`: buffers kept between states (SearchStorage), taken by the searcher and given
-  /// back when it ends; it must outlive the searcher and serve one searcher at a time. `queries`: the box
-  /// (world units) of the points the searcher will be asked about, where the caller knows them
-  /// (spatial_order gives it): the certified search without a caller's grid or storage then leaves out every
-  /// face beyond the capture distance of it (neither bounded nor prepared: faces_left_out), and a query from
-  /// elsewhere may miss a face. Null: none left out.
+  /// master's connectivity (NodeFaces::matches), else built afresh and put there (null: the storage's where
+  /// it matches, else built for this searcher alone). `storage`: buffers kept between states
+  /// (SearchStorage), taken by the searcher and given back when it ends; it must outlive the searcher and
+  /// serve one searcher at a time. Each face's entries are kept from the storage's last state where none of
+  /// its nodes has moved, except with `queries`, where only the memory is reused. `queries`: the box (world
+  /// units) of the points the searcher will be asked about, where the caller knows them (spatial_order gives
+  /// it): the certified search without a caller's grid then leaves out every face beyond the capture
+  /// distance of it (neither bounded nor prepared: faces_left_out), and a query from elsewhere may miss a
+  /// face. Null: none left out.
   SurfaceSearcher(const mesh::SurfaceMesh& master, std::span<const Vec3> master_normals,
                   const SearchOptions& options, FaceGrid* grid = nullptr, double grid_margin_relative = 0.0,
                   std::shared_ptr<const NodeFaces>* topology = nullptr, SearchStorage* storage = nullptr,
@@ -284,14 +287,20 @@ void spatial_order(std::span<const Vec3> points, std::vector<std::uint32_t>& ord
                                                           std::span<const long> slave_ids,
                                                           std::span<const Vec3> slave_positions,
                                                           const SearchOptions& options);
-/// The same into `pairs` (resized to the slave nodes).
+/// The same into `pairs` (resized to the slave nodes); `storage` as below.
 void surface_search(const mesh::SurfaceMesh& master, std::span<const Vec3> master_normals,
                     std::span<const long> slave_ids, std::span<const Vec3> slave_positions,
-                    const SearchOptions& options, std::vector<NodeSegmentPair>& pairs);
+                    const SearchOptions& options, std::vector<NodeSegmentPair>& pairs,
+                    SearchStorage* storage = nullptr);
 /// The same as Contacts (resized to the slave nodes; its storage reused: an FE code's search at every
-/// increment allocates nothing for the answers once the buffer has its size).
+/// increment allocates nothing for the answers once the buffer has its size). `storage`: the faces' tables'
+/// memory kept between calls (an FE code's increments; every entry computed afresh, so the answers never
+/// depend on it: a fresh search's 9 MB of tables for 1e5 Gregory faces, zero-filled and faulted in at every
+/// call, cost 10 ms a call); null: allocated for this call. Ignored under NarrowPhase::kReference (the search
+/// as it was).
 void surface_search(const mesh::SurfaceMesh& master, std::span<const Vec3> master_normals,
                     std::span<const long> slave_ids, std::span<const Vec3> slave_positions,
-                    const SearchOptions& options, std::vector<Contact>& contacts);
+                    const SearchOptions& options, std::vector<Contact>& contacts,
+                    SearchStorage* storage = nullptr);
 
 }  // namespace contactnn::contact

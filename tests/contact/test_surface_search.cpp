@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 #include <omp.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <random>
@@ -541,6 +542,56 @@ TEST(SurfaceSearch, AGregoryPatchBulgingFarOffItsNodesIsKeptForAQueryNearItsTop)
   EXPECT_EQ(far.faces_left_out(), 1U);
   expect_same_contact(answers(all, high)[0], answers(far, high)[0], "the slave far above");
   EXPECT_EQ(answers(far, high)[0].status, PairStatus::kNoSegment);
+}
+
+TEST(SurfaceSearch, OneStorageServesFreshSearchesOfAnySurfaceWithTheSameBits) {
+  // A fresh search reuses the memory of a SearchStorage's tables, grid and faces at each node, never their
+  // entries: each search below, made with one storage after the others, answers bit for bit as without one.
+  const mesh::SurfaceMesh roof_quads = surface_of(9, 4, roof);
+  // The same roof with its faces numbered backwards: the node count is the same, the faces at each node are
+  // not (a storage's faces at each node, kept from the roof above, would name the wrong faces).
+  mesh::SurfaceMesh renumbered = roof_quads;
+  std::reverse(renumbered.segments.begin(), renumbered.segments.end());
+  std::reverse(renumbered.segment_faces.begin(), renumbered.segment_faces.end());
+  std::reverse(renumbered.segment_element_ids.begin(), renumbered.segment_element_ids.end());
+  mesh::set_adjacency(renumbered);
+  mesh::SurfaceMesh moved = renumbered;
+  for (Vec3& x : moved.positions) x += Vec3(0.1 * std::sin(x.y()), 0.0, 0.2 * std::cos(x.x()));
+  const std::vector<Vec3> slaves = random_slaves(3000, 43);
+  std::vector<long> ids(slaves.size());
+  for (std::size_t i = 0; i < ids.size(); ++i) ids[i] = static_cast<long>(i) + 1;
+  SearchStorage storage;
+  const auto expect_same_with_storage = [&](const mesh::SurfaceMesh& m, SurfaceKind surface,
+                                            const std::string& what) {
+    SearchOptions options;
+    options.surface = surface;
+    const std::vector<Vec3> normals = mesh::node_normals(m);
+    std::vector<Contact> alone, kept;
+    surface_search(m, normals, ids, slaves, options, alone);
+    surface_search(m, normals, ids, slaves, options, kept, &storage);
+    int edges = 0;
+    for (std::size_t i = 0; i < slaves.size(); ++i) {
+      expect_same_contact(alone[i], kept[i], what + ", slave " + std::to_string(i));
+      edges += alone[i].status == PairStatus::kFound && alone[i].location != Location::kFace;
+    }
+    EXPECT_GT(edges, 300) << what;  // the faces at each node matter: many points on edges and vertices
+  };
+  expect_same_with_storage(roof_quads, SurfaceKind::kBilinear, "the roof");
+  expect_same_with_storage(roof_quads, SurfaceKind::kGregory, "the roof's Gregory patches");
+  expect_same_with_storage(roof_with_triangles(), SurfaceKind::kBilinear, "the roof with triangles");
+  expect_same_with_storage(renumbered, SurfaceKind::kBilinear, "the roof renumbered");
+  // A searcher that keeps the faces' entries between states (a tracker's) in the same storage, then a fresh
+  // search of a moved state in it: neither takes the other's entries.
+  {
+    const std::vector<Vec3> normals = mesh::node_normals(renumbered);
+    const SurfaceSearcher keeping(renumbered, normals, SearchOptions{}, nullptr, 0.0, nullptr, &storage);
+    const SurfaceSearcher alone(renumbered, normals, SearchOptions{});
+    const std::vector<Contact> a = answers(alone, slaves), b = answers(keeping, slaves);
+    for (std::size_t i = 0; i < slaves.size(); ++i)
+      expect_same_contact(a[i], b[i], "keeping, slave " + std::to_string(i));
+  }
+  expect_same_with_storage(moved, SurfaceKind::kBilinear, "the renumbered roof moved");
+  expect_same_with_storage(moved, SurfaceKind::kGregory, "its Gregory patches");
 }
 
 }  // namespace
