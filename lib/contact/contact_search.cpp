@@ -305,7 +305,7 @@ void ContactSearch::update(std::span<const double> coordinates, std::span<const 
                            const ContactResults& out) {
   Impl& m = *impl_;
   const std::size_t n = m.slave_ids.size();
-  // Every argument checked before anything is written or the tracker moves.
+  // Every argument checked before the caller's arrays are written or the tracker moves.
   m.check_sizes(coordinates, free_points, out);
   const auto node_at = [&](int i) {
     const auto u = 3 * static_cast<std::size_t>(i);
@@ -325,7 +325,7 @@ void ContactSearch::update(std::span<const double> coordinates, std::span<const 
        << ", " << x.z() << ")";
     throw NumericalError(os.str());
   };
-  // The passes over the points below run on the handle's threads (a million slave points are four serial
+  // The passes over the points below run on the handle's threads (a million slave points are three serial
   // passes otherwise: the search's own 2-thread speed-up would be lost in them).
   const ThreadCount team(m.options.threads);
   const auto master_count = static_cast<long>(m.surface.mesh_nodes.size());
@@ -334,40 +334,33 @@ void ContactSearch::update(std::span<const double> coordinates, std::span<const 
     return m.free ? Vec3(free_points[3 * i], free_points[3 * i + 1], free_points[3 * i + 2])
                   : node_at(m.slave_nodes[i]);
   };
-  // The first point (in order) with a non-finite coordinate, found in parallel, named serially.
+  // The state's positions, copied in, and the first point (in order) with a non-finite coordinate, found in
+  // the same parallel pass and named serially. A failure leaves the caller's arrays as they were and the
+  // tracker where it was (the next update copies every position again).
   long bad_node = master_count, bad_point = point_count;
 #pragma omp parallel for reduction(min : bad_node) schedule(static) if (master_count >= 65536)
   for (long i = 0; i < master_count; ++i) {
-    if (!node_at(m.surface.mesh_nodes[static_cast<std::size_t>(i)]).allFinite())
-      bad_node = std::min(bad_node, i);
+    const auto u = static_cast<std::size_t>(i);
+    m.surface.positions[u] = node_at(m.surface.mesh_nodes[u]);
+    if (!m.surface.positions[u].allFinite()) bad_node = std::min(bad_node, i);
   }
 #pragma omp parallel for reduction(min : bad_point) schedule(static) if (point_count >= 65536)
   for (long i = 0; i < point_count; ++i) {
-    if (!slave_at(static_cast<std::size_t>(i)).allFinite()) bad_point = std::min(bad_point, i);
+    const auto u = static_cast<std::size_t>(i);
+    m.slave_positions[u] = slave_at(u);
+    if (!m.slave_positions[u].allFinite()) bad_point = std::min(bad_point, i);
   }
   if (bad_node < master_count) {
     const auto i = static_cast<std::size_t>(bad_node);
-    require_finite(node_at(m.surface.mesh_nodes[i]),
-                   [&] { return "node " + std::to_string(m.surface.node_ids[i]); });
+    require_finite(m.surface.positions[i], [&] { return "node " + std::to_string(m.surface.node_ids[i]); });
   }
   if (bad_point < point_count) {
     const auto i = static_cast<std::size_t>(bad_point);
-    require_finite(slave_at(i), [&] {
+    require_finite(m.slave_positions[i], [&] {
       return m.free ? "free point " + std::to_string(i)
                     : "slave node " + std::to_string(id_of(m.slave_nodes[i]));
     });
   }
-
-  // The state: positions, node normals, the search. A failure here (no memory) leaves the caller's arrays as
-  // they were and the tracker reset (its next step fresh).
-#pragma omp parallel for schedule(static) if (master_count >= 65536)
-  for (long i = 0; i < master_count; ++i) {
-    const auto u = static_cast<std::size_t>(i);
-    m.surface.positions[u] = node_at(m.surface.mesh_nodes[u]);
-  }
-#pragma omp parallel for schedule(static) if (point_count >= 65536)
-  for (long i = 0; i < point_count; ++i)
-    m.slave_positions[static_cast<std::size_t>(i)] = slave_at(static_cast<std::size_t>(i));
   try {
     if (m.options.quad4 == SurfaceKind::kGregory) m.normals = mesh::node_normals(m.surface);
     m.counts = TrackingCounts{};
