@@ -217,6 +217,26 @@ void contact_to_world(Contact& contact, double unit) {
   contact.gap *= unit;
 }
 
+/// The answer's fields from the winning face's closest point `p` and the pseudo-normal direction `n` there
+/// (step 4).
+void report_best(Contact& best, const projection::FaceClosestPoint& p, const Vec3& n, const Vec3& slave) {
+  best.status = PairStatus::kFound;
+  best.location = p.location;
+  best.point = p.point;
+  best.iterations = p.iterations;
+  best.param = p.param;
+  best.by_method = p.by_method;
+  const Vec3 d = slave - p.point;
+  const double side = d.dot(n);
+  best.gap = side < 0.0 ? -p.distance : p.distance;
+  // The contact normal (Contact::normal): the face's at an interior point or where S is on the surface.
+  best.normal = p.normal;
+  if (best.location != Location::kFace && best.gap != 0.0) {
+    const double length = d.norm();
+    if (length > 0.0 && std::isfinite(length)) best.normal = (best.gap < 0.0 ? -d : d) / length;
+  }
+}
+
 /// Steps 2-4 of the header for one slave node, given its candidate faces (unordered; with `loose`, sorted by
 /// bounds that are at most each face's own: SurfaceSearcher::nearest).
 /// `checked`: `options` with projection.face_checked set, for the faces FaceIndex::checked marks.
@@ -286,22 +306,27 @@ void search_one(const mesh::SurfaceMesh& master, std::span<const Vec3> normals, 
     best.candidates = 0;
     return;
   }
-  best.status = PairStatus::kFound;
-  best.location = best_point.location;
-  best.point = best_point.point;
-  best.iterations = best_point.iterations;
-  best.param = best_point.param;
-  best.by_method = best_point.by_method;
-  const Vec3 n = pseudo_normal(master, normals, options, index, best.face, best_point);
-  const Vec3 d = slave - best_point.point;
-  const double side = d.dot(n);
-  best.gap = side < 0.0 ? -best_point.distance : best_point.distance;
-  // The contact normal (Contact::normal): the face's at an interior point or where S is on the surface.
-  best.normal = best_point.normal;
-  if (best.location != Location::kFace && best.gap != 0.0) {
-    const double length = d.norm();
-    if (length > 0.0 && std::isfinite(length)) best.normal = (best.gap < 0.0 ? -d : d) / length;
-  }
+  report_best(best, best_point, pseudo_normal(master, normals, options, index, best.face, best_point), slave);
+}
+
+/// search_one's answer where its candidates are the known face alone and the known point lies inside that
+/// face, within the capture distance: that point, reported without the scan (true); false otherwise (the
+/// scan decides). A general test (every other candidate's bound beyond the point and its tie band) cost what
+/// it saved on the large history.
+bool known_alone(const KnownPoint* known, const std::vector<std::pair<double, int>>& candidates,
+                 double capture, long slave_id, const Vec3& slave, Contact& best) {
+  if (known == nullptr || candidates.size() != 1 || candidates[0].second != known->face) return false;
+  const projection::FaceClosestPoint& p = known->point;
+  if (p.status != Status::kOk || p.location != Location::kFace || !(p.distance <= capture) ||
+      candidates[0].first > capture)
+    return false;
+  std::construct_at(&best);
+  best.slave_id = slave_id;
+  best.reference_faces = known->reference_faces;
+  best.face = known->face;
+  best.candidates = 1;
+  report_best(best, p, p.normal, slave);  // inside the face: its normal is the pseudo-normal
+  return true;
 }
 
 Contact search_one(const mesh::SurfaceMesh& master, std::span<const Vec3> normals,
@@ -654,8 +679,10 @@ void SurfaceSearcher::nearest_fresh(long slave_id, const Vec3& world_slave,
     m.collect_near(slave, reach, drift, *near, candidates);
   else
     m.collect(slave, reach, candidates, scratch, false);
-  search_one(m.master, m.normals, m.options, m.checked_options, m.index, m.capture, slave_id, slave,
-             candidates, nullptr, false, first, contact);
+  if (!known_alone(first, candidates, m.capture, slave_id, slave, contact)) {
+    search_one(m.master, m.normals, m.options, m.checked_options, m.index, m.capture, slave_id, slave,
+               candidates, nullptr, false, first, contact);
+  }
   // |gap| is the scan's own distance of the best, bit for bit (a distance recomputed from the point may
   // differ by the rounding of the face's origin, as much as the band itself far from the origin).
   const bool complete =
