@@ -158,8 +158,9 @@ void history_run(benchmark::State& state, std::size_t states, Run&& run) {
 
 void history_fresh(benchmark::State& state) {
   const History& h = history();
+  // The faces' tables' memory, kept from one increment to the next (as an FE code's handle keeps it).
+  contact::SearchStorage storage;
   history_run(state, h.positions.size(), [&](const contact::SearchOptions& options, auto& pairs) {
-    contact::SearchStorage storage;  // the faces' tables' memory, an FE code's from one increment to the next
     for (const auto& x : h.positions)
       contact::surface_search(h.master, h.normals, h.ids, x, options, pairs, &storage);
   });

@@ -42,19 +42,15 @@ void prepare_face(FaceIndex& index, const mesh::SurfaceMesh& master, std::span<c
     index.triangles.construct(f) = projection::prepare_triangle(detail::triangle_nodes(master, face));
   if (!index.bilinear.empty()) index.bilinear.construct(f);  // lambda_floor 0: no certificate
   if (nodes.type == mesh::FaceType::kQuad4 && kind_of(master, options, face) == SurfaceKind::kBilinear) {
-    // closest_on_face's patch: the face's configuration relative to its first node.
-    geometry::Configuration config = face_configuration(master, normals, SurfaceKind::kBilinear, face);
-    const Vec3 origin = config.nodes[0];
-    if (origin.allFinite()) {
-      for (Vec3& x : config.nodes) x -= origin;
-      const geometry::BilinearPatch patch(config.nodes);
-      index.checked[f] =
-          std::isfinite(patch.characteristic_length()) && !geometry::is_degenerate_segment(patch.nodes()) ? 1
-                                                                                                          : 0;
-      if (index.checked[f] != 0 && !index.bilinear.empty()) {
-        index.bilinear[f] = BilinearCertificate::prepare(
-            face_configuration(master, normals, SurfaceKind::kBilinear, face).nodes);
-      }
+    // closest_on_face's patch: the face's configuration relative to its first node, as the certificate
+    // builds it (its patch and length; a face with a node that is not finite is not checked).
+    const geometry::Configuration config = face_configuration(master, normals, SurfaceKind::kBilinear, face);
+    const bool finite = std::all_of(config.nodes.begin(), config.nodes.end(),
+                                    [&](const Vec3& x) { return (x - config.nodes[0]).allFinite(); });
+    if (config.nodes[0].allFinite() && finite) {
+      const BilinearCertificate c = BilinearCertificate::prepare(config.nodes);
+      index.checked[f] = std::isfinite(c.length) && !geometry::is_degenerate_segment(c.patch.nodes()) ? 1 : 0;
+      if (index.checked[f] != 0 && !index.bilinear.empty()) index.bilinear[f] = c;
     }
   }
 }
