@@ -639,8 +639,13 @@ void SurfaceSearcher::nearest_fresh(long slave_id, const Vec3& world_slave,
   // answer does not depend on it; a nearer one gathers fewer candidates).
   const bool hinted =
       hint != nullptr && hint->face >= 0 && hint->face < static_cast<int>(m.index.centres.size());
-  // A hint that is not warm (a neighbouring node's face) is taken where S's own cell lists no face.
-  int nearest = hinted && hint->warm ? hint->face : m.grid->face_near(slave, m.index.centres, !hinted);
+  // A hint that is not warm (a neighbouring node's face) is taken where S lies in its box (a search in the
+  // slaves' order: the grid cell's faces cost 9% of a fresh search on the large history) or where S's own
+  // cell lists no face.
+  int nearest =
+      hinted && (hint->warm || box_squared(m.index, slave, static_cast<std::size_t>(hint->face)) == 0.0)
+          ? hint->face
+          : m.grid->face_near(slave, m.index.centres, !hinted);
   if (nearest < 0 && hinted) nearest = hint->face;
   // Its distance d bounds the answer's: where the face has a certificate (or is a flat triangle), its closest
   // point, computed once and taken again by the scan; otherwise (a curved face's certificate included, where
