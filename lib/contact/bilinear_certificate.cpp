@@ -64,8 +64,16 @@ bool BilinearCertificate::convex_for(const Vec3& relative) const {
 std::optional<projection::FaceClosestPoint> BilinearCertificate::closest_point(
     const Vec3& slave, const projection::ProjectionOptions& options,
     const std::array<double, 2>* start) const {
+  projection::FaceClosestPoint out;
+  if (!closest_point(slave, options, start, out)) return std::nullopt;
+  return out;
+}
+
+bool BilinearCertificate::closest_point(const Vec3& slave, const projection::ProjectionOptions& options,
+                                        const std::array<double, 2>* start,
+                                        projection::FaceClosestPoint& out) const {
   const Vec3 relative = slave - origin;
-  if (!(lambda_floor > 0.0) || !relative.allFinite() || !convex_for(relative)) return std::nullopt;
+  if (!(lambda_floor > 0.0) || !relative.allFinite() || !convex_for(relative)) return false;
 
   // 1. One Newton run on grad f = 0 (undamped: f is strictly convex on the square and nearly quadratic).
   std::array<double, 2> p = start != nullptr ? *start : std::array<double, 2>{0.0, 0.0};
@@ -81,22 +89,19 @@ std::optional<projection::FaceClosestPoint> BilinearCertificate::closest_point(
     return delta > 0.0 && (1.0 - kMargin) * lambda_floor * delta * delta > 1e-8 * (squared + length * length);
   };
   // The answer p where the run ends inside the square (delta > 0: nothing to clamp) and the edges cannot
-  // win, reported from the evaluation `sp` there: the report nearest_of_interior_and_edges would make,
-  // without evaluating the patch again. Nothing where they may win (the edges are then computed below).
-  const auto interior_answer = [&](const geometry::SurfacePoint& sp,
-                                   double squared) -> std::optional<projection::FaceClosestPoint> {
+  // win, reported into `out` from the evaluation `sp` there: the report nearest_of_interior_and_edges would
+  // make, without evaluating the patch again (every field written; none of them where the edges may win:
+  // they are then computed below).
+  const auto interior_answer = [&](const geometry::SurfacePoint& sp, double squared, int its) {
     if (!(std::abs(p[0]) <= 1.0 + margin && std::abs(p[1]) <= 1.0 + margin && edges_farther_from(p, squared)))
-      return std::nullopt;
-    projection::FaceClosestPoint out;
+      return false;
     out.param = p;
     projection::locate_on_quad(param_domain(SurfaceKind::kBilinear), out);
     projection::report_at(sp, relative, out);
-    return out;
-  };
-  const auto reported = [&](projection::FaceClosestPoint out, int iterations) {
-    out.iterations = iterations;
+    out.iterations = its;
+    out.by_method = false;
     out.point += origin;
-    return out;
+    return true;
   };
   bool converged = false;
   int iterations = 0;
@@ -107,10 +112,7 @@ std::optional<projection::FaceClosestPoint> BilinearCertificate::closest_point(
     if (std::abs(r0) <= residual_floor && std::abs(r1) <= residual_floor) {
       converged = true;
       iterations = it - 1;
-      if (const auto out = interior_answer(sp, r.squaredNorm())) {
-        if (out->status != Status::kOk) return std::nullopt;
-        return reported(*out, iterations);
-      }
+      if (interior_answer(sp, r.squaredNorm(), iterations)) return out.status == Status::kOk;
       break;
     }
     const double h00 = sp.d_s.squaredNorm(), h11 = sp.d_t.squaredNorm();
@@ -125,10 +127,8 @@ std::optional<projection::FaceClosestPoint> BilinearCertificate::closest_point(
       iterations = it;
       // The run ends at p: one evaluation there decides the edges and makes the report.
       const geometry::SurfacePoint at = patch.evaluate(p[0], p[1]);
-      if (const auto out = interior_answer(at, (relative - at.position).squaredNorm())) {
-        if (out->status != Status::kOk) return std::nullopt;
-        return reported(*out, iterations);
-      }
+      if (interior_answer(at, (relative - at.position).squaredNorm(), iterations))
+        return out.status == Status::kOk;
       break;
     }
   }
@@ -136,9 +136,9 @@ std::optional<projection::FaceClosestPoint> BilinearCertificate::closest_point(
   // an evaluation at p): here they may, and are computed.
   const bool interior = converged && std::abs(p[0]) <= 1.0 + margin && std::abs(p[1]) <= 1.0 + margin;
   bool from_interior = false;
-  projection::FaceClosestPoint out = projection::nearest_of_interior_and_edges(
-      patch, relative, interior ? &p : nullptr, iterations, &from_interior, false);
-  if (out.status != Status::kOk) return std::nullopt;
+  out = projection::nearest_of_interior_and_edges(patch, relative, interior ? &p : nullptr, iterations,
+                                                  &from_interior, false);
+  if (out.status != Status::kOk) return false;
 
   // 3. The certificate of a boundary answer: no descent into the square (Karush-Kuhn-Tucker). Otherwise the
   //    square's interior holds a nearer point that the run did not reach: the reference decides.
@@ -148,12 +148,12 @@ std::optional<projection::FaceClosestPoint> BilinearCertificate::closest_point(
     const double g[2] = {-at.d_s.dot(r), -at.d_t.dot(r)};
     const double tol = 1e-12 * (1.0 - kMargin) * lambda_floor;
     for (std::size_t k = 0; k < 2; ++k) {
-      if (out.param[k] == 1.0 && g[k] > tol) return std::nullopt;
-      if (out.param[k] == -1.0 && g[k] < -tol) return std::nullopt;
+      if (out.param[k] == 1.0 && g[k] > tol) return false;
+      if (out.param[k] == -1.0 && g[k] < -tol) return false;
     }
   }
   out.point += origin;
-  return out;
+  return true;
 }
 
 }  // namespace contactnn::contact

@@ -61,6 +61,11 @@ struct BilinearCertificate {
   [[nodiscard]] std::optional<projection::FaceClosestPoint> closest_point(
       const Vec3& slave, const projection::ProjectionOptions& options,
       const std::array<double, 2>* start = nullptr) const;
+  /// The same into `out` (true), written field by field where the caller keeps it (an answer built aside and
+  /// copied was read back across its own stores: a store-forwarding stall per slave node); false: nothing
+  /// certified (`out` then holds no answer).
+  bool closest_point(const Vec3& slave, const projection::ProjectionOptions& options,
+                     const std::array<double, 2>* start, projection::FaceClosestPoint& out) const;
 };
 
 }  // namespace contactnn::contact

@@ -191,10 +191,9 @@ bool no_descent_from(const CurvedCertificate& c, const Face& face, const Domain&
 /// The Newton run, the edges and the certificate of a boundary answer, for either face (Face: the face
 /// relative to its first node).
 template <class Face>
-std::optional<projection::FaceClosestPoint> certified(const CurvedCertificate& c, const Face& face,
-                                                      const Vec3& relative,
-                                                      const projection::ProjectionOptions& options,
-                                                      const std::array<double, 2>* start) {
+bool certified(const CurvedCertificate& c, const Face& face, const Vec3& relative,
+               const projection::ProjectionOptions& options, const std::array<double, 2>* start,
+               projection::FaceClosestPoint& out) {
   constexpr bool gregory = std::is_same_v<Face, geometry::GregoryPatch>;
   // How far outside the domain an iterate may go before the boundary decides: a Gregory patch's denominators
   // vanish on lines through its corners just beyond the reference's box of 0.1.
@@ -238,13 +237,12 @@ std::optional<projection::FaceClosestPoint> certified(const CurvedCertificate& c
       if (d.inside(p, options.domain_margin) && edges_farther_from(p, squared)) {
         // The answer is p, inside the face (delta > 0: nothing to clamp), where the run has just evaluated
         // the face: the report step 2 would make, without evaluating it again.
-        projection::FaceClosestPoint out;
         out.param = p;
         out.iterations = iterations;
+        out.by_method = false;
         d.locate(gregory, out);
         projection::report_at(sp, relative, out);
-        if (out.status != Status::kOk) return std::nullopt;
-        return out;
+        return out.status == Status::kOk;
       }
       break;
     }
@@ -279,7 +277,6 @@ std::optional<projection::FaceClosestPoint> certified(const CurvedCertificate& c
   // The edges: each one's minimum by convex_edge_minimum (f is strictly convex along it), not the reference's
   // 33 samples; the same point to rounding. Nearest sphere first; an edge whose sphere is beyond the best
   // point (with a margin for rounding) cannot win.
-  projection::FaceClosestPoint out;
   double best = std::numeric_limits<double>::infinity();
   // The report of the point q of the closed face, as the reference's (its steps 2 and 3 for a point that has
   // already won).
@@ -292,8 +289,8 @@ std::optional<projection::FaceClosestPoint> certified(const CurvedCertificate& c
   };
   if (interior) {
     out = report(p, iterations);
-    if (out.status != Status::kOk) return std::nullopt;
-    if (edges_farther) return out;
+    if (out.status != Status::kOk) return false;
+    if (edges_farther) return true;
     best = (relative - face.position(out.param[0], out.param[1])).norm();
   }
   const std::size_t corners = d.triangle ? 3 : 4;
@@ -326,17 +323,16 @@ std::optional<projection::FaceClosestPoint> certified(const CurvedCertificate& c
       if (!interior && no_descent_from(c, face, d, relative, q)) break;
     }
   }
-  if (!std::isfinite(best)) return std::nullopt;
-  if (!edge_wins) return out;  // the interior point, nearer than every edge
+  if (!std::isfinite(best)) return false;
+  if (!edge_wins) return true;  // the interior point, nearer than every edge
   // 3. The face holds a nearer point the run missed, unless no descent leads into it from the edge's point.
-  if (!no_descent_from(c, face, d, relative, nearest)) return std::nullopt;
+  if (!no_descent_from(c, face, d, relative, nearest)) return false;
   if constexpr (gregory) {
     out = report(nearest, interior ? iterations : 0);
   } else {
     out = projection::quadratic_face_point(face, relative, nearest, interior ? iterations : 0);
   }
-  if (out.status != Status::kOk) return std::nullopt;
-  return out;
+  return out.status == Status::kOk;
 }
 
 /// The certificate's face: `world` relative to its first node (c.origin), with its edges' spheres and its
@@ -632,19 +628,27 @@ bool CurvedCertificate::convex_for(const Vec3& relative) const {
 std::optional<projection::FaceClosestPoint> CurvedCertificate::closest_point(
     const Vec3& slave, const projection::ProjectionOptions& options, const std::array<double, 2>* start,
     bool convex_checked) const {
+  projection::FaceClosestPoint out;
+  if (!closest_point(slave, options, start, convex_checked, out)) return std::nullopt;
+  return out;
+}
+
+bool CurvedCertificate::closest_point(const Vec3& slave, const projection::ProjectionOptions& options,
+                                      const std::array<double, 2>* start, bool convex_checked,
+                                      projection::FaceClosestPoint& out) const {
   const Vec3 relative = slave - origin;
   if (!(lambda_floor > 0.0) || !relative.allFinite() || !(convex_checked || convex_for(relative)))
-    return std::nullopt;
-  std::optional<projection::FaceClosestPoint> out;
+    return false;
+  bool found = false;
   if (const auto* tri6 = std::get_if<geometry::QuadraticTriangle>(&face)) {
-    out = certified(*this, *tri6, relative, options, start);
+    found = certified(*this, *tri6, relative, options, start, out);
   } else if (const auto* patch = std::get_if<const geometry::GregoryPatch*>(&face)) {
-    out = certified(*this, **patch, relative, options, start);
+    found = certified(*this, **patch, relative, options, start, out);
   } else if (const auto* quad8 = std::get_if<geometry::SerendipityQuad>(&face)) {
-    out = certified(*this, *quad8, relative, options, start);
+    found = certified(*this, *quad8, relative, options, start, out);
   }
-  if (out) out->point += origin;
-  return out;
+  if (found) out.point += origin;
+  return found;
 }
 
 }  // namespace contactnn::contact

@@ -133,6 +133,11 @@ struct CurvedCertificate {
   [[nodiscard]] std::optional<projection::FaceClosestPoint> closest_point(
       const Vec3& slave, const projection::ProjectionOptions& options,
       const std::array<double, 2>* start = nullptr, bool convex_checked = false) const;
+  /// The same into `out` (true), written where the caller keeps it (BilinearCertificate's); false: nothing
+  /// certified (`out` then holds no answer).
+  bool closest_point(const Vec3& slave, const projection::ProjectionOptions& options,
+                     const std::array<double, 2>* start, bool convex_checked,
+                     projection::FaceClosestPoint& out) const;
 };
 
 /// The certificates of one state's curved faces, each prepared on its first use: a face no slave reaches is

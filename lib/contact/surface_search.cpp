@@ -659,14 +659,24 @@ void SurfaceSearcher::nearest_fresh(long slave_id, const Vec3& world_slave,
   const CurvedCertificate* curved =
       nearest < 0 ? nullptr : curved_of(m.index, m.master, m.normals, m.options, nearest);
   const bool curved_convex = curved != nullptr && curved->convex_for(slave - curved->origin);
+  const BilinearCertificate* certificate = nearest < 0 ? nullptr : certificate_of(m.index, nearest);
+  const std::array<double, 2>* start = hinted && hint->warm ? &hint->param : nullptr;
   if (nearest < 0) {
     // No face in the cells around S: the scan gathers over the capture distance.
-  } else if (certificate_of(m.index, nearest) != nullptr || curved_convex ||
+  } else if (m.options.interior == nullptr &&
+             ((certificate != nullptr &&
+               certificate->closest_point(slave, m.options.projection, start, known.point)) ||
+              (curved_convex &&
+               curved->closest_point(slave, m.options.projection, start, true, known.point)))) {
+    // closest_on_indexed_face's first answer (a certificate's), written where it is kept.
+    known.face = nearest;
+    first = &known;
+    reach = std::min(reach, known.point.distance);
+  } else if (certificate != nullptr || curved_convex ||
              m.master.face_type(nearest) == mesh::FaceType::kTri3) {
     known.face = nearest;
     known.point = closest_on_indexed_face(m.master, m.normals, m.options, m.checked_options, m.index, nearest,
-                                          slave, hinted && hint->warm ? &hint->param : nullptr,
-                                          &known.reference_faces, m.capture, curved_convex);
+                                          slave, start, &known.reference_faces, m.capture, curved_convex);
     first = &known;
     if (known.point.status == Status::kOk) reach = std::min(reach, known.point.distance);
   } else {
