@@ -672,6 +672,14 @@ void SurfaceSearcher::nearest_fresh(long slave_id, const Vec3& world_slave,
     known.face = nearest;
     first = &known;
     reach = std::min(reach, known.point.distance);
+  } else if (m.options.interior == nullptr && !m.index.triangles.empty() &&
+             m.master.face_type(nearest) == mesh::FaceType::kTri3) {
+    // closest_on_indexed_face's answer of a prepared triangle, the same way.
+    projection::closest_point_on_prepared_triangle(m.index.triangles[static_cast<std::size_t>(nearest)],
+                                                   slave, known.point);
+    known.face = nearest;
+    first = &known;
+    if (known.point.status == Status::kOk) reach = std::min(reach, known.point.distance);
   } else if (certificate != nullptr || curved_convex ||
              m.master.face_type(nearest) == mesh::FaceType::kTri3) {
     known.face = nearest;

@@ -276,9 +276,16 @@ PreparedTriangle prepare_triangle(const std::array<Vec3, 3>& nodes) {
 
 FaceClosestPoint closest_point_on_prepared_triangle(const PreparedTriangle& triangle, const Vec3& slave) {
   FaceClosestPoint out;
+  closest_point_on_prepared_triangle(triangle, slave, out);
+  return out;
+}
+
+void closest_point_on_prepared_triangle(const PreparedTriangle& triangle, const Vec3& slave,
+                                        FaceClosestPoint& out) {
   if (triangle.status != Status::kOk || !finite(slave)) {
+    out = FaceClosestPoint{};
     out.status = finite(slave) ? triangle.status : Status::kInvalid;
-    return out;
+    return;
   }
   const std::array<Vec3, 3>& nodes = triangle.nodes;
   const Vec3& e1 = triangle.chords[0];
@@ -310,7 +317,8 @@ FaceClosestPoint closest_point_on_prepared_triangle(const PreparedTriangle& tria
   out.normal = triangle.normal;
   out.distance = (slave - out.point).norm();
   out.status = std::isfinite(out.distance) ? Status::kOk : Status::kInvalid;
-  return out;
+  out.iterations = 0;
+  out.by_method = false;
 }
 
 FaceClosestPoint closest_point_on_triangle(const std::array<Vec3, 3>& nodes, const Vec3& slave) {

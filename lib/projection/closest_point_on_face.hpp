@@ -119,5 +119,9 @@ struct PreparedTriangle {
 /// closest_point_on_triangle(triangle.nodes, slave), bit for bit (it is this with the triangle prepared).
 [[nodiscard]] FaceClosestPoint closest_point_on_prepared_triangle(const PreparedTriangle& triangle,
                                                                   const Vec3& slave);
+/// The same into `out`, every field written where the caller keeps it (an answer returned and copied at
+/// once is read back across its own stores: a store-forwarding stall per query).
+void closest_point_on_prepared_triangle(const PreparedTriangle& triangle, const Vec3& slave,
+                                        FaceClosestPoint& out);
 
 }  // namespace contactnn::projection
