@@ -668,7 +668,9 @@ void SurfaceSearcher::nearest_fresh(long slave_id, const Vec3& world_slave,
                certificate->closest_point(slave, m.options.projection, start, known.point)) ||
               (curved_convex &&
                curved->closest_point(slave, m.options.projection, start, true, known.point)))) {
-    // closest_on_indexed_face's first answer (a certificate's), written where it is kept.
+    // closest_on_indexed_face's first answer (a certificate's), written where it is kept. This repeats its
+    // dispatch on purpose: the same answer through closest_on_indexed_face and closest_on_face with an
+    // out-parameter measured 7% slower on the large history's tracked search (140 -> 151-156 ns, paired).
     known.face = nearest;
     first = &known;
     reach = std::min(reach, known.point.distance);
