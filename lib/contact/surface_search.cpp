@@ -1,6 +1,7 @@
 #include "contact/surface_search.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -31,10 +32,10 @@ namespace {
 
 /// Distances within this fraction of the face size count as equal (SPEC 9's tie rule applies).
 constexpr double kTieTolerance = 1e-12;
-/// A list of a node's faces near it (NearFaces) reaches at least this fraction of a grid cell beyond its
-/// query, and at most the second.
-constexpr double kNearBudget = 0.1;
-constexpr double kNearBudgetMost = 0.5;
+/// A list of a node's faces near it (NearFaces) reaches this fraction of a grid cell beyond its query; a list
+/// cut short to the faces it holds, at least the second.
+constexpr double kNearBudget = 1.0;
+constexpr double kNearBudgetLeast = 0.1;
 
 using CentreTree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, PointCloud>,
                                                        PointCloud, 3, std::uint32_t>;
@@ -113,6 +114,13 @@ projection::FaceClosestPoint closest_on_indexed_face(
                          reference_count, curved_of(index, master, normals, options, f), curved_convex);
 }
 
+/// The largest float at most x (x >= 0: a positive float rounded up steps down by one in its last bit, as
+/// std::nextafter towards 0, without its library call; NaN for NaN).
+float float_below(double x) {
+  const auto f = static_cast<float>(x);
+  return static_cast<double>(f) > x ? std::bit_cast<float>(std::bit_cast<std::uint32_t>(f) - 1U) : f;
+}
+
 /// The squared distance from S to face f's box.
 double box_squared(const FaceIndex& index, const Vec3& slave, std::size_t f) {
   const Vec3 outside = (index.box_lo[f] - slave).cwiseMax(slave - index.box_hi[f]).cwiseMax(Vec3::Zero());
@@ -124,10 +132,13 @@ double box_squared(const FaceIndex& index, const Vec3& slave, std::size_t f) {
 /// box's tight beside an axis-aligned one, the planes' beside a triangle's edge), where it is at most
 /// `reach`; otherwise some number above. `squared`: box_squared's. The box's squared distance is tested
 /// first, with a relative slack far above its rounding: most faces a grid cell lists are then refused without
-/// a square root, and every face within reach gets face_lower_bound's own bits.
-double bound_within(const FaceIndex& index, const Vec3& slave, std::size_t f, double squared, double reach) {
+/// a square root, and every face within reach gets face_lower_bound's own bits. `distance`: sqrt(squared),
+/// where the caller has it (negative: computed here).
+double bound_within(const FaceIndex& index, const Vec3& slave, std::size_t f, double squared, double reach,
+                    double distance = -1.0) {
   if (squared > reach * reach * (1.0 + 1e-12)) return std::numeric_limits<double>::infinity();
-  double bound = std::max((slave - index.centres[f]).norm() - index.radii[f], std::sqrt(squared));
+  double bound = std::max((slave - index.centres[f]).norm() - index.radii[f],
+                          distance >= 0.0 ? distance : std::sqrt(squared));
   if (!index.planes.empty()) {
     // m_e.S rounded down by far more than its rounding (3 eps |S|_1, m_e a unit vector).
     const EdgePlanes& p = index.planes[f];
@@ -418,41 +429,51 @@ struct SurfaceSearcher::Impl {
       }
       return;
     }
-    // A budget for the node's movement and the surface's drift before the list is made again: twice what was
-    // spent since the last list (a fast node lists farther rather than at every state), from a tenth to half
-    // of a grid cell (the query over the larger radius then reads few more cells than the reach's own).
-    const double twice = near.radius >= 0.0F && std::isfinite(spent) ? 2.0 * spent : 0.0;
-    const double budget =
-        std::min(std::max(kNearBudget * grid->cell(), twice), kNearBudgetMost * grid->cell());
-    const double radius = reach * kSlack + budget;
+    // A budget for the node's movement and the surface's drift before the list is made again: a grid cell
+    // (half a face's box side, face_grid.hpp). The query over the larger radius reads a few cells more, once
+    // for the states the list lasts: on the large history's tracked search, a tenth of a cell (twice what was
+    // spent since, up to half a cell) made 22% of the lists again at each state, and took 1.2 times as long.
+    const double radius = reach * kSlack + kNearBudget * grid->cell();
     const double squared = radius * radius * kSlack;
     std::size_t count = 0;
+    // The nearest box (rounded down) of a face the list does not keep.
+    float beyond = std::numeric_limits<float>::infinity();
     grid->for_faces_near(slave, radius, [&](int face) {
       const auto f = static_cast<std::size_t>(face);
       const double box = box_squared(index, slave, f);
       if (!(box <= squared)) return;
-      if (count < NearFaces::kCapacity) {
-        // In increasing order of the box's distance (rounded down), by insertion.
-        const double distance = std::sqrt(box);
-        auto bound = static_cast<float>(distance * (1.0 - 1e-9));
-        if (static_cast<double>(bound) > distance) bound = std::nextafter(bound, 0.0F);
-        std::size_t at = count;
+      // In increasing order of the box's distance (rounded down), by insertion: the kCapacity nearest.
+      const double distance = std::sqrt(box);
+      const float bound = float_below(distance * (1.0 - 1e-9));
+      constexpr std::size_t kLast = NearFaces::kCapacity - 1;
+      if (count < NearFaces::kCapacity || bound < near.bounds[kLast]) {
+        std::size_t at = std::min(count, kLast);
+        if (count > kLast) beyond = std::min(beyond, near.bounds[kLast]);
         for (; at > 0 && near.bounds[at - 1] > bound; --at) {
           near.bounds[at] = near.bounds[at - 1];
           near.faces[at] = near.faces[at - 1];
         }
         near.bounds[at] = bound;
         near.faces[at] = face;
+      } else {
+        beyond = std::min(beyond, bound);
       }
       ++count;
-      const double bound = bound_within(index, slave, f, box, reach);  // within(face), its box at hand
-      if (bound <= reach) out.emplace_back(bound, face);
+      const double within_bound = bound_within(index, slave, f, box, reach, distance);  // within(face)
+      if (within_bound <= reach) out.emplace_back(within_bound, face);
     });
-    auto rounded = static_cast<float>(radius);
-    if (static_cast<double>(rounded) > radius) rounded = std::nextafter(rounded, 0.0F);
+    float rounded = float_below(radius);
     if (!std::isfinite(rounded) || !std::isfinite(drift)) {
       near.radius = -1.0F;
       return;
+    }
+    // More faces than a list holds: it lists every face nearer than the nearest it leaves out (a shorter
+    // radius), where that leaves at least kNearBudgetLeast of a cell beyond the reach; otherwise the grid
+    // gathers the node's faces while the list's radius lasts.
+    if (count > NearFaces::kCapacity &&
+        static_cast<double>(beyond) >= reach * kSlack + kNearBudgetLeast * grid->cell()) {
+      rounded = std::min(rounded, beyond);
+      count = NearFaces::kCapacity;
     }
     near.count = static_cast<std::int32_t>(std::min(count, NearFaces::kCapacity + 1));
     near.anchor = slave;

@@ -141,7 +141,9 @@ struct FaceHint {
 /// with its box's distance from `anchor` then, in increasing order (all in the searcher's working unit,
 /// rounded down). At a later state, with S moved by m from `anchor` and the drift grown by D, a face within
 /// reach r of S is listed where m + D + r <= radius, and it is not among the faces whose distance then was
-/// beyond m + D + r. The node's faces are then taken from here, not gathered from the grid's cells;
+/// beyond m + D + r. Where more faces came within the radius than the list holds, it holds the nearest and
+/// `radius` is at most the nearest box it left out (or, with count kCapacity + 1, it holds no face that
+/// counts). The node's faces are then taken from here, not gathered from the grid's cells;
 /// otherwise the list is made again around S (SurfaceSearcher::nearest_fresh). The answers never depend on
 /// it.
 struct NearFaces {

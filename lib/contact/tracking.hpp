@@ -27,16 +27,18 @@
 //     nor on a Gregory patch their normals, has moved: they are what would be computed again, bit for bit. A
 //     state's work on the master is then in proportion to the part of it that moves.
 //  5. Each node keeps the faces near it (NearFaces, surface_search.hpp): those whose box came within a
-//     radius of the node, the node's reach then plus a budget (twice what the node spent of its last list,
-//     from a tenth to half of a grid cell), with each box's distance then. The surface's drift is the largest
+//     radius of the node, the node's reach then plus a budget of one grid cell, with each box's distance
+//     then. The surface's drift is the largest
 //     movement of a face's box from one state to the next (FaceIndex::box_drift), summed over the states.
 //     While the node's movement since the list, plus the drift since, plus its reach stay within the radius,
 //     the node's faces within reach are among the listed ones whose distance then, less that movement and
 //     drift, is within reach: they are taken from the list (about one box tested per node), not gathered
 //     from the grid's cells. Otherwise the list is made again from the grid, over the larger radius, at the
-//     same query; a node with more faces near it than a list holds (five) gathers them from the grid until
-//     its budget is spent. A state whose boxes moved by more than 0.05 of a cell since the last uses no list
-//     (each would be made again at every state): the grid gathers every node's faces.
+//     same query. Where more faces come within the radius than a list holds (five), the list keeps the
+//     nearest and its radius shrinks to the nearest box it leaves out; where that is less than a tenth of a
+//     cell beyond the reach, the node gathers its faces from the grid until its budget is spent. A state
+//     whose boxes moved by more than 0.05 of a cell since the last uses no list (each would be made again at
+//     every state): the grid gathers every node's faces.
 // Then the scan as the fresh search's: the same faces, points and gaps (the tests and `replay` compare every
 // increment with a fresh search and count the differences). A node costs its previous face, start and
 // point, and its list (80 bytes).

@@ -296,6 +296,58 @@ TEST(Tracking, ANodesListIsMadeAroundItAndTakenWhileItCoversTheReach) {
   EXPECT_EQ(drifted.gap, without.gap);
 }
 
+TEST(Tracking, AListWithMoreFacesThanItHoldsKeepsTheNearestAndShrinksItsRadius) {
+  // A node 0.3 over a face of a flat unit grid, 0.1 off its centre along y: its own face's box is 0.3 away,
+  // its four edge neighbours' 0.5 to 0.67, the two diagonal ones below 0.71, all within the list's radius
+  // (the reach, 0.3, plus a grid cell of half a face). The list keeps the five nearest, whichever order the
+  // grid gives them in, and its radius is at most 0.71 (every face nearer than it is listed); a move within
+  // that takes the list, and answers as without one.
+  const mesh::SurfaceMesh m =
+      testing::searched_grid_surface(6, 6, [](double i, double j) { return Vec3(i, j, 0.0); });
+  const std::vector<Vec3> normals = mesh::node_normals(m);
+  SearchOptions options;
+  options.capture_distance = 1.0;
+  const SurfaceSearcher searcher(m, normals, options);
+  std::vector<std::pair<double, int>> candidates;
+  std::vector<std::pair<std::uint32_t, double>> scratch;
+  NearFaces near;
+  const Vec3 s(2.5, 2.4, 0.3);
+  Contact first;
+  searcher.nearest_fresh(1, s, candidates, scratch, first, nullptr, &near, 0.0);
+  ASSERT_EQ(first.status, PairStatus::kFound);
+  ASSERT_EQ(near.count, static_cast<int>(NearFaces::kCapacity));  // a list, not the grid's
+  const double diagonal = std::sqrt(0.25 + 0.16 + 0.09);
+  EXPECT_LE(static_cast<double>(near.radius), diagonal);
+  EXPECT_GT(static_cast<double>(near.radius), 0.99 * diagonal);
+  const auto listed = [&](int face) {
+    return std::find(near.faces.begin(), near.faces.begin() + near.count, face) !=
+           near.faces.begin() + near.count;
+  };
+  int within = 0;
+  for (int f = 0; f < m.face_count(); ++f) {
+    if (searcher.lower_bound(s, f) < static_cast<double>(near.radius)) {
+      ++within;
+      EXPECT_TRUE(listed(f)) << f;
+    }
+  }
+  EXPECT_EQ(within, 5);
+  // 0.2 along x: spent 0.2 and the reach 0.3 stay within the radius.
+  const Vec3 moved = s + Vec3(0.2, 0.0, 0.0);
+  const FaceHint hint{first.face, first.param};
+  Contact taken, without;
+  searcher.nearest_fresh(1, moved, candidates, scratch, taken, &hint, &near, 0.0);
+  EXPECT_EQ(near.anchor, s);  // taken, not made again
+  searcher.nearest_fresh(1, moved, candidates, scratch, without, &hint);
+  EXPECT_EQ(taken.face, without.face);
+  EXPECT_EQ(taken.point, without.point);
+  EXPECT_EQ(taken.gap, without.gap);
+  EXPECT_EQ(taken.candidates, without.candidates);
+  // 0.5 along x: beyond the radius, made again.
+  const Vec3 far = s + Vec3(0.5, 0.0, 0.0);
+  searcher.nearest_fresh(1, far, candidates, scratch, taken, &hint, &near, 0.0);
+  EXPECT_EQ(near.anchor, far);
+}
+
 TEST(Tracking, AFaceMovingOntoANodeIsFoundThoughTheNodeStayed) {
   // A sheet folded back over itself at height H: its overhang is lowered from 0.8 to 0.4 above the sheet by
   // 0.02 an increment (within rule 5's drift for lists), then dropped from 5 to 0.2 in one (beyond it). The
