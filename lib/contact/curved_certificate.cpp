@@ -70,6 +70,30 @@ void edge_sphere(CurvedCertificate& c, std::size_t e, std::span<const Vec3> q) {
   c.edge_radius[e] = (1.0 + 1e-12) * radius;
 }
 
+/// Edge e's chord end C(1) (the sum of its curve's coefficients: the same bits when prepared and searched).
+Vec3 edge_end(const CurvedCertificate& c, std::size_t e) {
+  const std::array<Vec3, 4>& k = c.edge_curve[e];
+  return ((k[0] + k[1]) + k[2]) + k[3];
+}
+
+/// The distance from x to the segment from a to b.
+double segment_distance(const Vec3& x, const Vec3& a, const Vec3& b) {
+  const Vec3 d = b - a;
+  const double dd = d.squaredNorm();
+  const double t = dd > 0.0 ? std::clamp((x - a).dot(d) / dd, 0.0, 1.0) : 0.0;
+  return (x - a - t * d).norm();
+}
+
+/// Edge e's bulge (CurvedCertificate::edge_bulge) from its Bezier control points `q`, its curve set.
+void edge_chord(CurvedCertificate& c, std::size_t e, std::span<const Vec3> q) {
+  const Vec3& a = c.edge_curve[e][0];
+  const Vec3 b = edge_end(c, e);
+  double bulge = 0.0;
+  for (const Vec3& x : q) bulge = std::max(bulge, segment_distance(x, a, b));
+  // The control points' distances, and the chord's ends (rounded sums), to far above their rounding.
+  c.edge_bulge[e] = (1.0 + 1e-9) * bulge + 1e-12 * (c.edge_radius[e] + a.norm() + b.norm());
+}
+
 /// Each quadratic edge's sphere (about its Bezier control points X, 2 M - (X + Y) / 2, Y) and its curve
 /// C(t) = X (1 - t)(1 - 2t) + 4 M t (1 - t) + Y t (2t - 1) in powers of t.
 void quadratic_edges(CurvedCertificate& c, std::span<const Vec3> x, std::size_t corners) {
@@ -80,6 +104,7 @@ void quadratic_edges(CurvedCertificate& c, std::span<const Vec3> x, std::size_t 
     const std::array<Vec3, 3> q = {a, b, Vec3(2.0 * m - 0.5 * (a + b))};  // summed in this order, as before
     edge_sphere(c, e, q);
     c.edge_curve[e] = {a, Vec3(-3.0 * a + 4.0 * m - b), Vec3(2.0 * a - 4.0 * m + 2.0 * b), Vec3::Zero()};
+    edge_chord(c, e, q);
   }
 }
 
@@ -275,8 +300,8 @@ bool certified(const CurvedCertificate& c, const Face& face, const Vec3& relativ
   const bool edges_farther = interior && edges_farther_from(p, squared);
 
   // The edges: each one's minimum by convex_edge_minimum (f is strictly convex along it), not the reference's
-  // 33 samples; the same point to rounding. Nearest sphere first; an edge whose sphere is beyond the best
-  // point (with a margin for rounding) cannot win.
+  // 33 samples; the same point to rounding. Nearest sphere first; an edge whose sphere or chord (chord_bound)
+  // is beyond the best point (with a margin for rounding) cannot win.
   double best = std::numeric_limits<double>::infinity();
   // The report of the point q of the closed face, as the reference's (its steps 2 and 3 for a point that has
   // already won).
@@ -303,7 +328,11 @@ bool certified(const CurvedCertificate& c, const Face& face, const Vec3& relativ
   std::size_t winner = 0;
   for (std::size_t k = 0; k < corners; ++k) {
     const auto [bound, e] = order[k];
-    if (bound > best + 1e-12 * (best + c.length)) break;
+    const double margin = 1e-12 * (best + c.length);
+    if (bound > best + margin) break;
+    // The chord's bound, where the sphere's leaves the edge in (0 beside a nearly straight edge: a node over
+    // a tri6 sheet's shared edge searched all three edges of both faces).
+    if (c.chord_bound(e, relative) > best + margin) continue;
     const double t = convex_edge_minimum(c.edge_curve[e], relative);
     const auto edge = static_cast<int>(e);
     const std::array<double, 2> q =
@@ -546,6 +575,7 @@ void gregory_edges(CurvedCertificate& c, const std::array<Vec3, 20>& q) {
     edge_sphere(c, u, p);
     c.edge_curve[u] = {p[0], Vec3(3.0 * (p[1] - p[0])), Vec3(3.0 * (p[0] - 2.0 * p[1] + p[2])),
                        Vec3(p[3] - p[0] + 3.0 * (p[1] - p[2]))};
+    edge_chord(c, u, p);
   }
 }
 
@@ -601,6 +631,10 @@ void CurvedCertificate::prepare_gregory(CurvedCertificate& c, void* room, const 
     sigma = std::max(sigma, smallest * (1.0 - 1e-12) - 0.5 * change);
   }
   c.lambda_floor = sigma > 0.0 && std::isfinite(sigma) ? sigma * sigma * (1.0 - 1e-12) : 0.0;
+}
+
+double CurvedCertificate::chord_bound(std::size_t e, const Vec3& relative) const {
+  return segment_distance(relative, edge_curve[e][0], edge_end(*this, e)) - edge_bulge[e];
 }
 
 bool CurvedCertificate::convex_for(const Vec3& relative) const {

@@ -88,6 +88,11 @@ struct CurvedCertificate {
   /// it shows farther than a nearer point are not searched.
   std::array<Vec3, 4> edge_centre{};
   std::array<double, 4> edge_radius{};
+  /// Each edge's largest distance from its chord, the segment from edge_curve's C(0) to its C(1) as
+  /// edge_end computes it (the largest over its Bezier control points, whose hull holds the edge; a little
+  /// larger, for rounding): the distance to the chord less this bounds the edge's distance from below,
+  /// tightly beside a nearly straight edge, where the sphere's is 0 over most of the face.
+  std::array<double, 4> edge_bulge{};
   /// Each edge's curve C(t) = sum_k edge_curve[e][k] t^k, t in [0, 1] along the edge's free parameter
   /// (quadratic for quad8 and tri6, cubic for the Gregory patch).
   std::array<std::array<Vec3, 4>, 4> edge_curve{};
@@ -123,6 +128,9 @@ struct CurvedCertificate {
 
   /// True when f is certified strictly convex on the face for `relative` (S minus origin).
   [[nodiscard]] bool convex_for(const Vec3& relative) const;
+  /// A lower bound of the distance from `relative` (S minus origin) to edge e by its chord: the distance to
+  /// the segment from C(0) to C(1), less edge_bulge[e].
+  [[nodiscard]] double chord_bound(std::size_t e, const Vec3& relative) const;
 
   /// The closest point of the face to `slave` as projection::closest_point_on_serendipity_quad (or
   /// closest_point_on_quadratic_triangle, or closest_point_on_face for a Gregory patch) would report it

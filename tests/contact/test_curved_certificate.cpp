@@ -254,6 +254,54 @@ TEST(CurvedCertificate, GregoryAnswersAsTheReference) {
   check_faces(random_gregory, 0.1, 3.0, 0.0, "gregory");
 }
 
+TEST(CurvedCertificate, EachEdgesChordBoundsItsDistanceFromBelow) {
+  // chord_bound(e, S) is at most S's distance to edge e, sampled at 4001 points of the face's own edge (the
+  // reference's positions at the edge's parameters), for faces with edges bent by up to half their length;
+  // and beside a straight edge it is that distance.
+  std::mt19937_64 rng(17);
+  std::uniform_real_distribution<double> u(-1.0, 2.0);
+  int checked = 0;
+  const auto check = [&](const CurvedCertificate& c, const auto& face, int edges, bool triangle,
+                         bool gregory) {
+    ASSERT_GT(c.lambda_floor, 0.0);
+    for (int s = 0; s < 50; ++s) {
+      const Vec3 slave(u(rng), u(rng), 0.5 * u(rng));
+      const Vec3 relative = slave - c.origin;
+      for (int e = 0; e < edges; ++e) {
+        double nearest = std::numeric_limits<double>::infinity();
+        for (int k = 0; k <= 4000; ++k) {
+          const double t = k / 4000.0;
+          const std::array<double, 2> q =
+              triangle  ? projection::triangle_edge_param(e, t)
+              : gregory ? projection::domain_edge_param(e, t, param_domain(SurfaceKind::kGregory))
+                        : projection::quad_edge_param(e, t);
+          nearest = std::min(nearest, (relative - face.position(q[0], q[1])).norm());
+        }
+        EXPECT_LE(c.chord_bound(static_cast<std::size_t>(e), relative), nearest + 1e-12) << e;
+        ++checked;
+      }
+    }
+  };
+  for (int f = 0; f < 20; ++f) {
+    const geometry::QuadraticTriangle tri6 = random_tri6(rng, 0.1, 0.5, Vec3::Zero());
+    const CurvedCertificate c6 = prepare(tri6);
+    if (c6.lambda_floor > 0.0) check(c6, *std::get_if<geometry::QuadraticTriangle>(&c6.face), 3, true, false);
+    const geometry::SerendipityQuad quad8 = random_quad8(rng, 0.1, 0.5, Vec3::Zero());
+    const CurvedCertificate c8 = prepare(quad8);
+    if (c8.lambda_floor > 0.0) check(c8, *std::get_if<geometry::SerendipityQuad>(&c8.face), 4, false, false);
+    const CurvedCertificate cg = prepare(random_gregory(rng, 0.1, 0.5, Vec3::Zero()));
+    if (cg.lambda_floor > 0.0)
+      check(cg, **std::get_if<const geometry::GregoryPatch*>(&cg.face), 4, false, true);
+  }
+  EXPECT_GT(checked, 3000);
+  // A flat tri6 with straight edges: the bound is the distance to the edge itself, to rounding.
+  const geometry::QuadraticTriangle flat(
+      {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0.5, 0, 0), Vec3(0.5, 0.5, 0), Vec3(0, 0.5, 0)});
+  const CurvedCertificate c = prepare(flat);
+  EXPECT_NEAR(c.chord_bound(0, Vec3(0.3, -0.4, 0.3)), 0.5, 1e-9);
+  EXPECT_NEAR(c.chord_bound(2, Vec3(-0.2, 2.0, 0.0)), std::sqrt(0.04 + 1.0), 1e-9);
+}
+
 /// g(u, v) = B_1(u) B_1(v) u / (u + v) (curved_certificate.hpp), written out here.
 double g(double u, double v) {
   return 9.0 * u * (1.0 - u) * (1.0 - u) * v * (1.0 - v) * (1.0 - v) * u / (u + v);

@@ -423,6 +423,46 @@ TEST(Tracking, ASteadyNodeStartsFromItsExtrapolatedPoint) {
   }
 }
 
+TEST(Tracking, ASteadyNodeOnATri6FaceStartsFromItsExtrapolatedPoint) {
+  // The same on a flat tri6 face (corners (0, 0), (4, 0), (0, 4), mid-side nodes between): its parameters are
+  // x / 4 and y / 4, so the extrapolated start is the answer from the third increment on. A node sliding on
+  // across the hypotenuse is started from its extrapolated point moved back into the triangle, and answers
+  // as fresh.
+  mesh::SurfaceMesh m;
+  m.positions = {Vec3(0, 0, 0), Vec3(4, 0, 0), Vec3(0, 4, 0), Vec3(2, 0, 0), Vec3(2, 2, 0), Vec3(0, 2, 0)};
+  for (int k = 0; k < 6; ++k) {
+    m.node_ids.push_back(k + 1);
+    m.mesh_nodes.push_back(k);
+  }
+  m.extra_faces = {{0, 1, 2, -1}};
+  m.extra_face_midsides = {{3, 4, 5, -1}};
+  m.extra_face_faces = {{0, 1}};
+  m.extra_face_element_ids = {1};
+  ASSERT_EQ(m.face_type(0), mesh::FaceType::kTri6);
+  const std::vector<Vec3> normals;  // none: no Gregory face
+  const SearchOptions options;
+  for (const bool across : {false, true}) {
+    SurfaceTracker tracker(options);
+    const std::vector<long> ids = {1};
+    std::vector<Contact> contacts;
+    for (int increment = 0; increment < 8; ++increment) {
+      const std::vector<Vec3> slave = {across ? Vec3(1.2 + 0.3 * increment, 1.5 + 0.3 * increment, 0.4)
+                                              : Vec3(0.5 + 0.2 * increment, 0.6 + 0.15 * increment, 0.4)};
+      tracker.step(m, normals, ids, slave, contacts);
+      ASSERT_EQ(contacts[0].status, PairStatus::kFound);
+      if (!across) {
+        EXPECT_EQ(contacts[0].location, Location::kFace);
+        EXPECT_EQ(contacts[0].iterations, increment <= 1 ? 1 : 0) << increment;
+      }
+      const auto fresh = surface_search(m, normals, ids, slave, options);
+      ASSERT_EQ(fresh[0].status, PairStatus::kFound);
+      EXPECT_EQ(contacts[0].location, fresh[0].location) << across << " " << increment;
+      EXPECT_NEAR((contacts[0].point - fresh[0].point).norm(), 0.0, kSame) << across << " " << increment;
+      EXPECT_NEAR(contacts[0].gap, fresh[0].label.gap, kSame) << across << " " << increment;
+    }
+  }
+}
+
 TEST(Tracking, SameResultsForAnyThreadCount) {
   const History h = slaves(800);
   std::vector<std::vector<NodeSegmentPair>> runs;
