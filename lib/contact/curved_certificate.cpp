@@ -312,6 +312,22 @@ bool certified(const CurvedCertificate& c, const Face& face, const Vec3& relativ
       return projection::nearest_of_interior_and_quadratic_edges(face, relative, &q, its, nullptr, true);
     }
   };
+  if constexpr (gregory) {
+    if (edges_farther) {
+      // The run ended on its step inside the face: report's answer at p (clamped onto the face), from the
+      // point's position and first derivatives alone (report evaluates the second too; the same bits).
+      const ParamDomain g = param_domain(SurfaceKind::kGregory);
+      out.param = {std::clamp(p[0], g.lo, g.hi), std::clamp(p[1], g.lo, g.hi)};
+      out.iterations = iterations;
+      out.by_method = false;
+      d.locate(true, out);
+      geometry::GregoryPatch::Partial partial;
+      geometry::SurfacePoint at;
+      face.evaluate_first(out.param[0], out.param[1], partial, at);
+      projection::report_at(at, relative, out);
+      return out.status == Status::kOk;
+    }
+  }
   if (interior) {
     out = report(p, iterations);
     if (out.status != Status::kOk) return false;
